@@ -1,0 +1,28 @@
+"""stability: Monte Carlo studies of rigid-body rotation.
+
+Notation, used everywhere in the package:
+
+- Principal moments of inertia ``I1, I2, I3`` (kg m^2) about body axes 1, 2, 3. Kernels work in
+  a canonical frame where ``I1 <= I2 <= I3`` (axis 2 intermediate); the public API takes the
+  axes in the order the user gives them.
+- ``w`` = (w1, w2, w3): body-frame angular velocity (rad/s); ``m = I w``: body angular momentum
+  (kg m^2/s); ``L = |m|``; kinetic energy ``E = (I1 w1^2 + I2 w2^2 + I3 w3^2) / 2`` (J).
+- ``R``: attitude, the body-to-space rotation; ``h``: step size (s).
+- Euler's equations, torque-free: ``I1 w1' = (I2 - I3) w2 w3`` and cyclic, i.e. ``m' = m x w``.
+- Steady spin ``W`` about axis 3, linearised: ``w1'' = -Omega^2 w1`` with
+  ``Omega^2 = (I3 - I1)(I3 - I2) W^2 / (I1 I2)``: > 0 (oscillation) for the largest or smallest
+  axis, < 0 (growth at rate ``sqrt(-Omega^2)``) for the intermediate one.
+"""
+
+from importlib.metadata import PackageNotFoundError, version
+
+from .body import RigidBody
+from .integrate import integrate
+from .integrators import METHODS, MethodSpec, method_spec
+
+try:
+    __version__ = version("stability")
+except PackageNotFoundError:  # running from a source tree that was not installed
+    __version__ = "0.1.0"
+
+__all__ = ["METHODS", "MethodSpec", "RigidBody", "integrate", "method_spec", "__version__"]

@@ -1,0 +1,31 @@
+"""The integrator registry.
+
+``METHODS`` maps a short lowercase name to the :class:`~stability.integrators.spec.MethodSpec`
+of that method; ``method_spec(name)`` looks one up and names the known ones when it is missing.
+
+To add a method: write its step kernel and spec in the module of its family, then add the spec
+to ``_ALL`` below. Tests parametrized over ``METHODS`` (order, invariants) cover it from then on.
+"""
+
+from .composition import LP4, LP6, LP8
+from .lie_poisson import LP2
+from .rk4 import RK4
+from .spec import MethodSpec, body_params
+
+_ALL = (RK4, LP2, LP4, LP6, LP8)
+
+METHODS: dict[str, MethodSpec] = {spec.name: spec for spec in _ALL}
+
+
+def method_spec(name) -> MethodSpec:
+    """Return the spec registered under ``name``; ``ValueError`` listing the known names if none."""
+    if isinstance(name, MethodSpec):
+        return name
+    try:
+        return METHODS[name]
+    except (KeyError, TypeError):
+        known = ", ".join(METHODS)
+        raise ValueError(f"unknown method {name!r}; known methods: {known}") from None
+
+
+__all__ = ["METHODS", "MethodSpec", "body_params", "method_spec"]

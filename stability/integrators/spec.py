@@ -1,0 +1,138 @@
+"""What an integrator is: its step kernel and the facts it declares about itself.
+
+Every method registers one :class:`MethodSpec`. Its kernel has one signature::
+
+    step(m1, m2, m3, h, p, s) -> (d1, d2, d3, iterations)
+
+It takes the body angular momentum ``m = I w`` in the *canonical frame* (moments sorted
+ascending, ``I1 <= I2 <= I3``), the step ``h`` in s, the float64 parameter array ``p`` made by
+``spec.params(moments, h)`` and the stage index ``s`` (0 <= s < ``spec.stages``), and returns the
+*increment* of ``m`` made by that stage (so the driver can add the step's total with compensated
+summation) and the number of nonlinear-solver iterations it used (0 for explicit methods, -1
+when an implicit solve failed to converge). A one-stage method does the whole step at s = 0; a
+composition runs its sub-flows as stages, each applied to ``m`` plus the increments of the
+earlier stages, so the driver's loop over members stays innermost and vectorizes for every
+stage. Kernels are ``njit(inline="always")`` so that the loop inlines them.
+
+Checklist for a new method (see ``stability/integrators/__init__.py``):
+
+1. Write the step kernel in a module of its family, with the equation it implements tagged.
+2. Declare a ``MethodSpec`` beside it: order, what it preserves, cost, reference.
+3. Add it to ``METHODS``; the generic order and invariant tests pick it up from there.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+from typing import Callable
+
+import numpy as np
+
+# Layout of the common parameter array (canonical frame, I1 <= I2 <= I3).
+P_I1, P_I2, P_I3 = 0, 1, 2  #: moments of inertia
+P_INV1, P_INV2, P_INV3 = 3, 4, 5  #: 1 / I_i
+#: Coefficients of m' = m x w written without cancellation:
+#: m1' = A1 m2 m3, m2' = A2 m3 m1, m3' = A3 m1 m2 with
+#: A1 = (I2 - I3) / (I2 I3), A2 = (I3 - I1) / (I3 I1), A3 = (I1 - I2) / (I1 I2).
+P_A1, P_A2, P_A3 = 6, 7, 8
+N_BODY_PARAMS = 9
+
+
+def body_params(moments, h: float = 0.0) -> np.ndarray:
+    """Common kernel parameters for canonical moments ``(I1, I2, I3)``; see the layout above.
+
+    Differences of inverse moments are formed as (I_j - I_k) / (I_j I_k), which is exact to a
+    rounding for nearly symmetric bodies, where 1/I_k - 1/I_j would cancel.
+    """
+    I1, I2, I3 = (float(x) for x in moments)
+    p = np.empty(N_BODY_PARAMS)
+    p[P_I1], p[P_I2], p[P_I3] = I1, I2, I3
+    p[P_INV1], p[P_INV2], p[P_INV3] = 1.0 / I1, 1.0 / I2, 1.0 / I3
+    p[P_A1] = (I2 - I3) / (I2 * I3)
+    p[P_A2] = (I3 - I1) / (I3 * I1)
+    p[P_A3] = (I1 - I2) / (I1 * I2)
+    return p
+
+
+@dataclass(frozen=True)
+class MethodSpec:
+    """A registered integrator: its kernel and what it declares about itself.
+
+    Attributes
+    ----------
+    name : str
+        Short lowercase registry key (``"rk4"``, ``"lp2"``...).
+    title : str
+        Human name, e.g. "classical Runge-Kutta".
+    order : float
+        Global order of accuracy; ``math.inf`` for the exact flow.
+    step : numba dispatcher
+        The step kernel, signature in the module docstring.
+    params : callable
+        ``params(moments, h) -> float64 array`` for the kernel (canonical moments).
+    family : str
+        Method family ("Runge-Kutta", "Lie-Poisson splitting", ...).
+    poisson : bool
+        Symplectic / Poisson map of the free-body Lie-Poisson structure.
+    preserves_casimir : bool
+        Keeps |L| = |m| to round-off.
+    preserves_energy : bool
+        Keeps the kinetic energy to round-off (or solver tolerance).
+    symmetric : bool
+        Time-reversible (self-adjoint) one-step map.
+    implicit : bool
+        Needs a nonlinear solve per step.
+    evaluations : int
+        Cost unit per step: right-hand-side evaluations, or exactly solved sub-flows (rotations).
+    reference : str
+        Where the method comes from.
+    stages : int
+        Stages per step (kernel calls with s = 0 .. stages - 1).
+    attitude : bool
+        Can carry the attitude R (or quaternion) when asked.
+    note : str
+        One sentence on when to use it.
+    """
+
+    name: str
+    title: str
+    order: float
+    step: object = field(repr=False)
+    params: Callable = field(repr=False, default=body_params)
+    family: str = ""
+    poisson: bool = False
+    preserves_casimir: bool = False
+    preserves_energy: bool = False
+    symmetric: bool = False
+    implicit: bool = False
+    evaluations: int = 1
+    reference: str = ""
+    stages: int = 1
+    attitude: bool = False
+    note: str = ""
+
+    @property
+    def explicit(self) -> bool:
+        return not self.implicit
+
+    @property
+    def is_exact(self) -> bool:
+        return math.isinf(self.order)
+
+    def describe(self) -> dict:
+        """The declared facts as a plain dict (for tables and Dataset attributes)."""
+        return {
+            "name": self.name,
+            "title": self.title,
+            "order": "exact" if self.is_exact else int(self.order),
+            "family": self.family,
+            "poisson": self.poisson,
+            "preserves_casimir": self.preserves_casimir,
+            "preserves_energy": self.preserves_energy,
+            "symmetric": self.symmetric,
+            "implicit": self.implicit,
+            "evaluations": self.evaluations,
+            "attitude": self.attitude,
+            "reference": self.reference,
+        }
