@@ -8,7 +8,7 @@ import xarray as xr
 from . import conventions as cv
 from .body import RigidBody
 from .checks import positive_float, positive_int, step_count, vectors3
-from .driver import propagate
+from .driver import propagate, untrusted
 from .integrators import method_spec
 
 
@@ -63,7 +63,7 @@ def integrate(body: RigidBody, w0, t_end, h, method="rk4", save_every=1, progres
     steps = np.arange(m.shape[0]) * save_every
     status = int(result.status[0])
     if status != cv.STATUS_OK:
-        w[steps > result.fail_step[0]] = np.nan
+        w[untrusted(steps, result.fail_step)[0]] = np.nan
     ds = xr.Dataset(
         {
             "w": (
