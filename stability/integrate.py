@@ -49,6 +49,11 @@ def integrate(body: RigidBody, w0, t_end, h, method="rk4", save_every=1, progres
     h = positive_float("h", h, "s")
     save_every = positive_int("save_every", save_every)
     n_steps = step_count(t_end, h)
+    if n_steps % save_every:
+        raise ValueError(
+            f"save_every = {save_every} does not divide the {n_steps} steps of t_end / h, so the "
+            f"final state would not be kept; choose save_every among the divisors of {n_steps}"
+        )
 
     moments = body.moments
     result = propagate(spec, moments, (moments * w0)[None, :], h, n_steps, save_every, progress)
