@@ -37,6 +37,11 @@ from .integrators.spec import P_INV1
 
 #: Members per block: the vector loop's trip count (a multiple of the SIMD width).
 BLOCK = 64
+#: Steps between finiteness checks (a check every step costs RK4 ~20% of its speed). Inf and
+#: NaN are absorbing, so a failure is caught at the next check: ``fail_step`` is the step
+#: count at the first check that found the state non-finite, at most CHECK_EVERY - 1 steps late;
+#: ``untrusted`` says which samples to mask.
+CHECK_EVERY = 8
 
 # Columns of the per-member tracking state (float64, carried between chunked calls).
 T_PREV_A = 0  #: spin-axis component w_a at the previous step (rad/s)
@@ -63,13 +68,18 @@ def _kahan_add(x, c, j, d):
 
 
 @njit(inline="always")
-def _commit(x1, x2, x3, c1, c2, c3, j, e1, e2, e3, n, bad, first_bad):
-    """Add one step's increment to member j and note the first step where it went non-finite."""
+def _commit(x1, x2, x3, c1, c2, c3, j, e1, e2, e3):
+    """Add one step's increment to member j."""
     _kahan_add(x1, c1, j, e1)
     _kahan_add(x2, c2, j, e2)
     _kahan_add(x3, c3, j, e3)
+
+
+@njit(inline="always")
+def _check_finite(x1, x2, x3, j, n, bad, first_bad):
+    """Note the first checked step at which member j is no longer finite (inf/NaN absorb)."""
     total = x1[j] + x2[j] + x3[j]
-    now_bad = 1 if total - total != 0.0 else 0  # inf or NaN somewhere
+    now_bad = 1 if total - total != 0.0 else 0
     first_bad[j] = n if (now_bad == 1 and bad[j] == 0) else first_bad[j]
     bad[j] |= now_bad
 
@@ -80,16 +90,20 @@ def _component(x1, x2, x3, j, index):
 
 
 @njit(inline="always")
-def _crossing(track, j, col_prev, col_count, col_first, col_last, v, t_prev, h):
-    """Record a sign change of v since the previous step (time by linear interpolation)."""
-    prev = track[j, col_prev]
-    if (prev >= 0.0) != (v >= 0.0):
-        t_cross = t_prev + h * prev / (prev - v)
-        track[j, col_count] += 1.0
-        if track[j, col_count] == 1.0:
-            track[j, col_first] = t_cross
-        track[j, col_last] = t_cross
-    track[j, col_prev] = v
+def _crossing(tr, j, col_prev, col_count, col_first, col_last, v, t_prev, h):
+    """Record a sign change of v since the previous step (time by linear interpolation).
+
+    Branch-free (selects only), so the tracking pass vectorizes across members; ``tr`` is the
+    block's (N_TRACK, BLOCK) tracking state.
+    """
+    prev = tr[col_prev, j]
+    crossed = (prev >= 0.0) != (v >= 0.0)
+    t_cross = t_prev + h * prev / (prev - v)  # only used where crossed, so prev != v
+    count = tr[col_count, j] + (1.0 if crossed else 0.0)
+    tr[col_first, j] = t_cross if (crossed and count == 1.0) else tr[col_first, j]
+    tr[col_last, j] = t_cross if crossed else tr[col_last, j]
+    tr[col_count, j] = count
+    tr[col_prev, j] = v
 
 
 @functools.cache
@@ -118,8 +132,10 @@ def member_loop(step):
         n_members = m.shape[0]
         n_blocks = (n_members + BLOCK - 1) // BLOCK
         tracking = axes[0] >= 0
-        ia, ib, ic = axes[0], axes[1], axes[2]
-        n_levels = levels.shape[0]
+        ia, ib, ic = max(axes[0], 0), max(axes[1], 0), max(axes[2], 0)
+        inv_a, inv_b, inv_c = p[P_INV1 + ia], p[P_INV1 + ib], p[P_INV1 + ic]
+        padded = np.full(levels.shape[0] + 1, np.inf)
+        padded[: levels.shape[0]] = levels
         for b in prange(n_blocks):
             lo = b * BLOCK
             size = min(BLOCK, n_members - lo)
@@ -136,6 +152,13 @@ def member_loop(step):
             nonconv = np.zeros(BLOCK, dtype=np.int64)
             first_bad = np.full(BLOCK, -1, dtype=np.int64)
             iters = np.zeros(BLOCK, dtype=np.int64)
+            tr = np.zeros((N_TRACK, BLOCK))
+            hit = np.zeros(BLOCK, dtype=np.int64)
+            amp_now = np.zeros(BLOCK)
+            if tracking:
+                for col in range(N_TRACK):
+                    for j in range(size):
+                        tr[col, j] = track[lo + j, col]
             for j in range(size):
                 x1[j] = m[lo + j, 0]
                 x2[j] = m[lo + j, 1]
@@ -148,7 +171,7 @@ def member_loop(step):
                 if n_stages == 1:
                     for j in range(size):
                         e1, e2, e3, it = step(x1[j], x2[j], x3[j], h, p, 0)
-                        _commit(x1, x2, x3, c1, c2, c3, j, e1, e2, e3, n, bad, first_bad)
+                        _commit(x1, x2, x3, c1, c2, c3, j, e1, e2, e3)
                         iters[j] += it if it > 0 else 0
                         nonconv[j] |= 1 if it < 0 else 0
                 else:
@@ -167,27 +190,33 @@ def member_loop(step):
                             iters[j] += it if it > 0 else 0
                             nonconv[j] |= 1 if it < 0 else 0
                     for j in range(size):
-                        _commit(x1, x2, x3, c1, c2, c3, j, d1[j], d2[j], d3[j], n, bad, first_bad)
+                        _commit(x1, x2, x3, c1, c2, c3, j, d1[j], d2[j], d3[j])
+                if (n + 1) % CHECK_EVERY == 0 or n == n_steps - 1:
+                    for j in range(size):
+                        _check_finite(x1, x2, x3, j, n, bad, first_bad)
                 if tracking:
                     t_prev = (step0 + n) * h
                     for j in range(size):
-                        g = lo + j
-                        va = _component(x1, x2, x3, j, ia) * p[P_INV1 + ia]
-                        vb = _component(x1, x2, x3, j, ib) * p[P_INV1 + ib]
-                        vc = _component(x1, x2, x3, j, ic) * p[P_INV1 + ic]
-                        _crossing(track, g, T_PREV_A, T_COUNT_A, T_FIRST_A, T_LAST_A, va, t_prev, h)
-                        _crossing(track, g, T_PREV_B, T_COUNT_B, T_FIRST_B, T_LAST_B, vb, t_prev, h)
+                        va = _component(x1, x2, x3, j, ia) * inv_a
+                        vb = _component(x1, x2, x3, j, ib) * inv_b
+                        vc = _component(x1, x2, x3, j, ic) * inv_c
+                        _crossing(tr, j, T_PREV_A, T_COUNT_A, T_FIRST_A, T_LAST_A, va, t_prev, h)
+                        _crossing(tr, j, T_PREV_B, T_COUNT_B, T_FIRST_B, T_LAST_B, vb, t_prev, h)
                         amp = np.sqrt(vb * vb + vc * vc)
-                        track[g, T_MAX_AMP] = max(track[g, T_MAX_AMP], amp)
-                        level = int(track[g, T_NEXT_LEVEL])
-                        if level < n_levels and amp >= levels[level]:
+                        tr[T_MAX_AMP, j] = max(tr[T_MAX_AMP, j], amp)
+                        target = padded[int(tr[T_NEXT_LEVEL, j])]  # +inf past the last level
+                        hit[j] = 1 if amp >= target else 0
+                        amp_now[j] = amp
+                    for j in range(size):
+                        if hit[j] == 1:
                             # At most one level per step; times clamped to this step's interval.
-                            prev_amp = track[g, T_PREV_AMP]
-                            frac = (levels[level] - prev_amp) / (amp - prev_amp)
-                            frac = min(max(frac, 0.0), 1.0)
-                            passage[g, level] = t_prev + h * frac
-                            track[g, T_NEXT_LEVEL] = level + 1.0
-                        track[g, T_PREV_AMP] = amp
+                            level = int(tr[T_NEXT_LEVEL, j])
+                            prev_amp = tr[T_PREV_AMP, j]
+                            frac = (padded[level] - prev_amp) / (amp_now[j] - prev_amp)
+                            passage[lo + j, level] = t_prev + h * min(max(frac, 0.0), 1.0)
+                            tr[T_NEXT_LEVEL, j] = level + 1.0
+                    for j in range(size):
+                        tr[T_PREV_AMP, j] = amp_now[j]
                 if save_every > 0 and (n + 1) % save_every == 0:
                     for j in range(size):
                         saved[lo + j, k, 0] = x1[j]
@@ -202,9 +231,12 @@ def member_loop(step):
                 comp[lo + j, 1] = c2[j]
                 comp[lo + j, 2] = c3[j]
                 iterations[lo + j] += iters[j]
+                if tracking:
+                    for col in range(N_TRACK):
+                        track[lo + j, col] = tr[col, j]
                 if bad[j] != 0 and status[lo + j] == 0:
                     status[lo + j] = 1  # STATUS_NONFINITE
-                    fail_step[lo + j] = step0 + first_bad[j]
+                    fail_step[lo + j] = step0 + first_bad[j] + 1
                 elif nonconv[j] != 0 and status[lo + j] == 0:
                     status[lo + j] = 3  # STATUS_NOT_CONVERGED
                     fail_step[lo + j] = step0
@@ -223,8 +255,8 @@ class Propagation:
     saved : ndarray, shape (N, n_saved, 3)
         Body angular momentum after steps ``save_every, 2 save_every, ...`` (initial excluded).
     status, fail_step, iterations : ndarray, shape (N,)
-        Per-member status code (``stability.conventions``), global step index of the failure
-        (-1 if none), and the number of nonlinear-solver iterations used.
+        Per-member status code (``stability.conventions``), the step count at which the failure
+        was detected (-1 if none; see ``untrusted``), and the nonlinear-solver iterations used.
     steps_done : int
         Steps completed (fewer than asked if the run was interrupted).
     interrupted : bool
@@ -247,6 +279,26 @@ class Propagation:
     wall_time: float = 0.0
     compile_time: float = 0.0
     extras: dict = field(default_factory=dict)
+
+
+def untrusted(steps, fail_step):
+    """Mask of samples that may be past a failure.
+
+    Parameters
+    ----------
+    steps : ndarray of int, shape (n,)
+        Step count of each sample (0 for the initial state).
+    fail_step : ndarray of int, shape (N,)
+        ``Propagation.fail_step``.
+
+    Returns
+    -------
+    ndarray of bool, shape (N, n)
+        True where the sample must be masked: at or after the last check that could have
+        missed the failure (``CHECK_EVERY`` steps before its detection).
+    """
+    fail = np.asarray(fail_step)[:, None]
+    return (fail >= 0) & (np.asarray(steps)[None, :] > fail - CHECK_EVERY)
 
 
 _NO_AXES = np.full(3, -1, dtype=np.int64)
