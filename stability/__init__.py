@@ -17,6 +17,7 @@ Notation, used everywhere in the package:
 from importlib.metadata import PackageNotFoundError, version
 
 from .body import RigidBody
+from .exact import exact_omega, flip_interval, full_period
 from .integrate import integrate
 from .integrators import METHODS, MethodSpec, method_spec
 
@@ -25,4 +26,4 @@ try:
 except PackageNotFoundError:  # running from a source tree that was not installed
     __version__ = "0.1.0"
 
-__all__ = ["METHODS", "MethodSpec", "RigidBody", "integrate", "method_spec", "__version__"]
+__all__ = ["METHODS", "MethodSpec", "RigidBody", "exact_omega", "flip_interval", "full_period", "integrate", "method_spec", "__version__"]
