@@ -494,9 +494,11 @@ def flip_interval_asymptote(body: RigidBody, w0) -> float:
 
     From K = ln(4/k') + O(k'^2 ln k') (Abramowitz & Stegun 17.3.26; DLMF 19.12.1) and
     nu -> lambda as k' -> 0 (literature.md section 1.5), with lambda = W sqrt((I2 - I1)(I3 - I2)
-    / (I1 I3)) at W = sqrt(2E / I2), axes sorted. Its relative error is O(k'^2): 2e-5 at
-    k'^2 = 1e-4 for I = (1, 2, 3). Only defined for three distinct moments and off the
-    separatrix, where it is ``inf`` like :func:`flip_interval`.
+    / (I1 I3)) at W = sqrt(2E / I2), axes sorted, and the exact k'^2 of the state. Its relative
+    error is O(k'^2): for I = (1, 2, 3) and w0 = (1e-2, 1, 0) (k'^2 = 1e-4) it gives 20.754696
+    against 2K/nu = 20.754610 (4e-6). (The 20.755042 of literature.md 1.5 is the same formula
+    with the leading-order k' = eps and W = 1.) ``inf`` on the separatrix, like
+    :func:`flip_interval`.
 
     Returns
     -------
