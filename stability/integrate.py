@@ -144,7 +144,9 @@ def _unit_quaternion(q0):
     try:
         q = np.array(q0, dtype=float)
     except (TypeError, ValueError):
-        raise ValueError(f"q0 must be 4 numbers (a unit quaternion, scalar first), got {q0!r}") from None
+        raise ValueError(
+            f"q0 must be 4 numbers (a unit quaternion, scalar first), got {q0!r}"
+        ) from None
     if q.shape != (4,) or not np.all(np.isfinite(q)):
         raise ValueError(
             f"q0 must be 4 finite numbers (a unit quaternion, scalar first), got {q0!r}"
@@ -160,7 +162,9 @@ def _unit_quaternion(q0):
 def _add_attitude(ds, q0, result, mask):
     """Add ``q`` and ``q_norm_error`` (time) from an attitude run to ``ds`` in place."""
     q = np.concatenate([q0[None, :], result.extras["q_saved"][0]], axis=0)
-    norm_error = np.concatenate([[np.linalg.norm(q0) - 1.0], result.extras["q_norm_error_saved"][0]])
+    norm_error = np.concatenate(
+        [[np.linalg.norm(q0) - 1.0], result.extras["q_norm_error_saved"][0]]
+    )
     if mask is not None:
         q[mask] = np.nan
         norm_error[mask] = np.nan

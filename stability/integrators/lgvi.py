@@ -13,11 +13,14 @@ equation becomes the vector equation (g = h Pi_k; shared/notes/literature.md 3.3
     grad G = hat(g) + (g . f) Id + f g^T - 2 J,                                  (2)
 
 solved here by Newton's method from ``f = h w / 2``, each iteration one 3x3 solve by Cramer's
-rule, until the Newton correction is at most ``LGVI_TOL`` times the largest component of f
-(3 iterations at h |w| = 0.1; quadratic convergence makes the last correction's own error
-negligible), at most ``LGVI_MAX_ITER`` iterations. Non-convergence (h far too large: (2) then has
-no solution, since |vee(F J_d - J_d F^T)| is bounded) returns a zero increment and -1 iterations,
-which the member loop reports as status 3; it is never silent.
+rule, run to round-off: it stops when the Newton correction is zero or no smaller than the
+previous one (1-norms), provided it is at most ``LGVI_TOL`` times |f|; at most
+``LGVI_MAX_ITER`` iterations. That takes ~4-5 iterations at h |w| ~ 0.1 where a 1e-14 tolerance
+would stop after 3, and buys a 10 times smaller energy error over 1e5 steps (5e-15 against
+4e-14; the same effect as for the fixed-point solvers: Hairer, McLachlan & Razakarivony, BIT 48
+(2008)). Non-convergence (h far too large: (2) then has no solution, since |vee(F J_d - J_d F^T)|
+is bounded) returns a zero increment and -1 iterations, which the member loop reports as status
+3; it is never silent.
 
 Second order, symplectic, symmetric; R stays orthogonal by construction, and for the free body
 it keeps E and |m| exactly (to round-off and the solver tolerance). For the torque-free body this
@@ -26,13 +29,15 @@ agree to round-off); it is kept as its own entry because its Newton solve is rob
 fixed-point sweep slows down (h |w| near 1) and because the LGVI form takes torques M(R) directly.
 """
 
+import numpy as np
 from numba import njit
 
 from .rotations import cayley_increment, cayley_quaternion, quaternion_increment, solve3
 from .spec import P_I1, P_I2, P_I3, P_INV1, P_INV2, P_INV3, MethodSpec, body_params
 
-#: Newton stopping rule for (2): max_i |df_i| <= LGVI_TOL max_i |f_i| (about 45 ulps, safely
-#: above the round-off floor of G; the converged f is then accurate to round-off).
+#: Newton stopping rule for (2): the correction sum_i |df_i| is 0 or has stopped decreasing,
+#: and is at most LGVI_TOL sum_i |f_i| (about 45 ulps: a guard against accepting a stagnation
+#: far from the solution).
 LGVI_TOL = 1e-14
 #: Newton iterations allowed before the step is declared not converged.
 LGVI_MAX_ITER = 20
@@ -42,13 +47,14 @@ LGVI_MAX_ITER = 20
 def lgvi_solve(m1, m2, m3, h, p):
     """Newton's method for the Cayley vector f of (2); returns ``(f1, f2, f3, iterations)``.
 
-    iterations is -1 if the tolerance was not met within ``LGVI_MAX_ITER`` iterations.
+    iterations is -1 if Newton did not settle within ``LGVI_MAX_ITER`` iterations.
     """
     I1, I2, I3 = p[P_I1], p[P_I2], p[P_I3]
     g1, g2, g3 = h * m1, h * m2, h * m3
     hh = 0.5 * h
     f1, f2, f3 = hh * m1 * p[P_INV1], hh * m2 * p[P_INV2], hh * m3 * p[P_INV3]
     iterations = -1
+    previous = np.inf
     for it in range(LGVI_MAX_ITER):
         gf = g1 * f1 + g2 * f2 + g3 * f3
         # G(f) = g + g x f + (g . f) f - 2 J f, Eq. (2)
@@ -65,9 +71,14 @@ def lgvi_solve(m1, m2, m3, h, p):
         f1 += df1
         f2 += df2
         f3 += df3
-        if max(abs(df1), abs(df2), abs(df3)) <= LGVI_TOL * max(abs(f1), abs(f2), abs(f3)):
+        # 1-norms: a sum propagates NaN, where max() could skip it and "converge" on NaN
+        change = abs(df1) + abs(df2) + abs(df3)
+        size = abs(f1) + abs(f2) + abs(f3)
+        settled = change == 0.0 or change >= previous
+        if settled and change <= LGVI_TOL * size and size < np.inf:  # finite: overflow is failure
             iterations = it + 1
             break
+        previous = change
     return f1, f2, f3, iterations
 
 
@@ -115,7 +126,7 @@ LGVI = MethodSpec(
     attitude=True,
     attitude_step=lgvi_attitude_step,
     note=(
-        "the DMV map with a Newton solve (3 iterations at h |w| = 0.1, robust up to h |w| ~ 1); "
+        "the DMV map with a Newton solve (~4-5 iterations at h |w| ~ 0.1, robust up to h |w| ~ 1); "
         "attitude native; E and |L| to round-off"
     ),
 )

@@ -66,7 +66,7 @@ def exp_coefficients(theta):
 
 @njit(inline="always")
 def rotate_increment(k1, k2, k3, v1, v2, v3, a, b):
-    """``exp(hat k) v - v = a (k x v) + b k x (k x v)`` with the coefficients of ``exp_coefficients``."""
+    """``exp(hat k) v - v = a (k x v) + b k x (k x v)``, a and b from ``exp_coefficients``."""
     u1, u2, u3 = cross(k1, k2, k3, v1, v2, v3)
     w1, w2, w3 = cross(k1, k2, k3, u1, u2, u3)
     return a * u1 + b * w1, a * u2 + b * w2, a * u3 + b * w3
