@@ -184,7 +184,8 @@ def attitude_loop(kernel):
     ``comp`` (N, 7) carries the Kahan compensation of (m, q) between calls; ``saved_m`` (N, k, 3)
     and ``saved_q`` (N, k, 4), k = n_steps // save_every, receive the state after every
     ``save_every``-th step (0 saves nothing); ``status`` (N,) int8, ``fail_step`` (N,) int64 and
-    ``iterations`` (N,) int64 are updated in place as in ``stability.driver.member_loop``.
+    ``iterations`` (N,) int64 are updated in place as in ``stability.driver.member_loop``
+    (finiteness is checked every step here, so ``fail_step`` is the exact step count).
     """
 
     @njit(error_model="numpy")
@@ -278,7 +279,7 @@ def attitude_loop(kernel):
             iterations[g] += iters[j]
             if bad[j] != 0 and status[g] == STATUS_OK:
                 status[g] = STATUS_NONFINITE
-                fail_step[g] = step0 + first_bad[j]
+                fail_step[g] = step0 + first_bad[j] + 1  # step count, as in the driver
             elif nonconv[j] != 0 and status[g] == STATUS_OK:
                 status[g] = STATUS_NOT_CONVERGED
                 fail_step[g] = step0

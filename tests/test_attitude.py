@@ -22,7 +22,7 @@ from stability.attitude import (
     quaternion_to_matrix,
     spatial_angular_momentum,
 )
-from stability.conventions import STATUS_NOT_CONVERGED
+from stability.conventions import STATUS_NONFINITE, STATUS_NOT_CONVERGED, STATUS_OK
 from stability.driver import propagate
 
 # Unsorted moments (canonical frame = a cyclic relabelling) and a tilted start, so the frame
@@ -161,6 +161,10 @@ def test_attitude_loop_is_bitwise_independent_of_chunks_and_threads(name):
 def test_attitude_failure_is_flagged():
     run = propagate_attitude("dmv", MOMENTS, (MOMENTS * W0)[None, :], Q0, 10.0, 3)
     assert run.status[0] == STATUS_NOT_CONVERGED
+    overflow = np.array([MOMENTS * W0, [1e200, 1e200, 1e200]])
+    run = propagate_attitude("rk4", MOMENTS, overflow, Q0, 0.1, 50)
+    assert list(run.status) == [STATUS_OK, STATUS_NONFINITE]
+    assert list(run.fail_step) == [-1, 1]  # checked every step: the exact step count
     body = stability.RigidBody(*MOMENTS, physical=False)
     ds = stability.integrate(body, W0, 20.0, 10.0, "lgvi", attitude=True, q0=Q0)
     assert ds.attrs["status"] == "not_converged"
