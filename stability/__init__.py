@@ -26,3 +26,7 @@ except PackageNotFoundError:  # running from a source tree that was not installe
     __version__ = "0.1.0"
 
 __all__ = ["METHODS", "MethodSpec", "RigidBody", "integrate", "method_spec", "__version__"]
+
+from .ensemble import ensemble_memory, run_ensemble  # noqa: E402
+
+__all__ += ["ensemble_memory", "run_ensemble"]
