@@ -28,5 +28,6 @@ except PackageNotFoundError:  # running from a source tree that was not installe
 __all__ = ["METHODS", "MethodSpec", "RigidBody", "integrate", "method_spec", "__version__"]
 
 from .ensemble import ensemble_memory, run_ensemble  # noqa: E402
+from .io import load, save  # noqa: E402
 
-__all__ += ["ensemble_memory", "run_ensemble"]
+__all__ += ["ensemble_memory", "load", "run_ensemble", "save"]
