@@ -16,7 +16,8 @@ Notation, used everywhere in the package:
 
 from importlib.metadata import PackageNotFoundError, version
 
-from .body import RigidBody
+from .analytic import axis_stability, growth_rate, omega_squared, oscillation_frequency
+from .body import Part, RigidBody
 from .integrate import integrate
 from .integrators import METHODS, MethodSpec, method_spec
 
@@ -25,7 +26,8 @@ try:
 except PackageNotFoundError:  # running from a source tree that was not installed
     __version__ = "0.1.0"
 
-__all__ = ["METHODS", "MethodSpec", "RigidBody", "integrate", "method_spec", "__version__"]
+__all__ = ["METHODS", "MethodSpec", "Part", "RigidBody", "__version__", "axis_stability",
+           "growth_rate", "integrate", "method_spec", "omega_squared", "oscillation_frequency"]
 
 from .ensemble import ensemble_memory, run_ensemble  # noqa: E402
 from .io import load, save  # noqa: E402

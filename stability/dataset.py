@@ -23,8 +23,8 @@ variable                     dims              units    meaning
 ``first_flip_time``          member            s        time of the first of them
 ``last_flip_time``           member            s        time of the last of them
 ``mean_flip_interval``       member            s        (last - first) / (count - 1)
-``perp_crossing_count``      member            1        sign changes of w_b, b the axis after
-                                                        the spin axis in cyclic order
+``perp_crossing_count``      member            1        sign changes of w_b, b the lower of
+                                                        the two axes other than the spin axis
 ``first_perp_crossing``      member            s        time of the first of them
 ``last_perp_crossing``       member            s        time of the last of them
 ``max_perp_amplitude``       member            rad s-1  max of sqrt(w_b^2 + w_c^2)
@@ -34,8 +34,9 @@ variable                     dims              units    meaning
 ``angular_momentum_error``   member            1        (|L|(end) - |L|(0)) / |L|(0)
 ============================ ================= ======== =====================================
 
-Times of events that did not happen (no flip, a level never reached) are NaN for members whose
-``status`` is ok. A member whose status is not ok has every float variable NaN (``w`` included)
+Events are tracked at every step, times interpolated linearly within the step; the start
+counts (a level the start reaches is passed at time 0). Times of events that did not happen
+(no flip, a level never reached) are NaN for members whose ``status`` is ok. A member whose status is not ok has every float variable NaN (``w`` included)
 except ``w0`` and ``fail_time``: its numbers are masked, never stored as valid data; counts are
 float64 so that they can be masked too.
 
@@ -89,11 +90,10 @@ VARIABLES = {
     "last_flip_time": ("time of the last flip (sign change of the spin-axis component)", _S),
     "mean_flip_interval": ("mean time between flips, (last - first) / (count - 1)", _S),
     "perp_crossing_count": (
-        "number of sign changes of the first perpendicular component of w", _ONE),
-    "first_perp_crossing": ("time of the first sign change of the first perpendicular "
-                            "component of w", _S),
-    "last_perp_crossing": ("time of the last sign change of the first perpendicular "
-                           "component of w", _S),
+        "number of sign changes of w_b, b the lower of the two axes other than the spin axis",
+        _ONE),
+    "first_perp_crossing": ("time of the first sign change of w_b", _S),
+    "last_perp_crossing": ("time of the last sign change of w_b", _S),
     "max_perp_amplitude": ("maximum perpendicular amplitude sqrt(w_b^2 + w_c^2)", _RAD_S),
     "passage_time": ("first time the perpendicular amplitude reaches the level", _S),
     "energy_error": ("relative kinetic-energy error at the end, (E - E0) / E0", _ONE),

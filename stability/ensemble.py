@@ -6,7 +6,8 @@ caller gives), and every member is advanced by the one parallel member loop of
 :mod:`stability.driver`. The result is an xarray Dataset (schema in :mod:`stability.dataset`):
 the time series ``w`` (unless ``summaries_only``) and per-member summaries: flips (sign changes
 of the spin-axis component), crossings of a perpendicular component, the maximum perpendicular
-amplitude, the first passage of that amplitude through given levels, the end-of-run relative
+amplitude and the first passage of that amplitude through given levels (all tracked at every
+step inside the member loop, so also without a time series), the end-of-run relative
 errors of energy and |L|, and a status code. A member whose state stops being finite, whose
 invariants leave ``divergence_tolerance`` or whose implicit solve fails is flagged and all its
 numbers are NaN.
@@ -39,7 +40,7 @@ from .dataset import (
     summary_bytes,
     threading_layer,
 )
-from .driver import BLOCK, propagate
+from .driver import propagate
 from .integrators import method_spec
 
 log = logging.getLogger(__name__)
@@ -60,10 +61,6 @@ LARGE_RUN_BYTES = 2**30
 #: Default perpendicular-amplitude levels of ``passage_time``, as fractions of the spin:
 #: half decades from 1e-6 to 1 (13 levels).
 DEFAULT_LEVELS = 10.0 ** (np.arange(-12, 1) / 2.0)
-
-#: Budget (bytes) for the sampled trajectories of one compute chunk of a summaries-only run,
-#: whose summaries are computed from samples (see ``_track``).
-TRACKING_BUFFER_BYTES = 256 * 2**20
 
 #: Working copies of the time series a time-series run holds at its peak (the driver's buffer,
 #: its conversion out of the canonical frame, and the Dataset's ``w``).
@@ -121,8 +118,8 @@ def seed_sequence(seed) -> np.random.SeedSequence:
 def perturbed_starts(axis, spin, epsilon, members, seed=0, direction=None) -> np.ndarray:
     """Initial angular velocities: steady spin about ``axis`` plus a perpendicular perturbation.
 
-    ``w0_j = spin e_a + epsilon spin (cos(phi_j) e_b + sin(phi_j) e_c)`` with (a, b, c) the axes
-    in cyclic order and ``phi_j`` uniform in [0, 2 pi), drawn from one PCG64 stream per
+    ``w0_j = spin e_a + epsilon spin (cos(phi_j) e_b + sin(phi_j) e_c)`` with b < c the other
+    two axes and ``phi_j`` uniform in [0, 2 pi), drawn from one PCG64 stream per
     :data:`RNG_CHUNK` members (child c of ``SeedSequence(seed)``), so member j gets the same start
     whatever ``members`` is; or ``w0_j = spin e_a + epsilon spin d / |d|`` for a fixed direction d.
 
@@ -156,7 +153,7 @@ def perturbed_starts(axis, spin, epsilon, members, seed=0, direction=None) -> np
         w0 += epsilon * spin * _perpendicular_direction(direction, a)
         return w0
     phi = _random_angles(seed_sequence(seed), members)
-    b, c = (a + 1) % 3, (a + 2) % 3
+    b, c = _perpendicular_axes(a)
     w0[:, b] = epsilon * spin * np.cos(phi)
     w0[:, c] = epsilon * spin * np.sin(phi)
     return w0
@@ -232,15 +229,17 @@ def run_ensemble(
     method : str, default "lp2"
         A name from ``stability.METHODS``.
     save_every : int, default 1
-        Sample w every ``save_every`` steps. The summaries are measured on these samples
-        (crossing times linearly interpolated), in summaries-only runs too.
+        Keep w every ``save_every`` steps (time-series runs). The summaries do not depend on
+        it: they are tracked at every step inside the member loop.
     direction : array_like, shape (3,), optional
         Fixed perturbation direction perpendicular to ``axis`` (all members start alike).
     starts : array_like, shape (N, 3), optional
         The initial angular velocities in rad/s, instead of ``spin``/``epsilon``/``direction``.
     summaries_only : bool, default False
-        Keep only the per-member summaries (no ``w`` time series, no memory limit): for
-        ensembles of 1e6 members and more.
+        Keep only the per-member summaries (no ``w`` time series, no memory limit; memory
+        about ``ensemble_memory(members, 0)``, ~250 bytes a member): for ensembles of 1e6
+        members and more, and for many small ensembles. The summaries are bitwise those of the
+        time-series run.
     levels : array_like, shape (n_levels,), optional
         Ascending perpendicular-amplitude levels in rad/s for ``passage_time``; default
         :data:`DEFAULT_LEVELS` times the spin (with ``starts``, times the median |w0|).
@@ -293,13 +292,13 @@ def run_ensemble(
     t_end = positive_float("t_end", t_end, "s")
     n_steps = step_count(t_end, h)
     save_every = positive_int("save_every", save_every)
-    if n_steps % save_every:
+    if not isinstance(summaries_only, (bool, np.bool_)):
+        raise ValueError(f"summaries_only must be True or False, got {summaries_only!r}")
+    if n_steps % save_every and not summaries_only:
         raise ValueError(
             f"t_end / h = {n_steps} steps is not a multiple of save_every = {save_every}; "
             "choose save_every dividing the number of steps"
         )
-    if not isinstance(summaries_only, (bool, np.bool_)):
-        raise ValueError(f"summaries_only must be True or False, got {summaries_only!r}")
     ss = seed_sequence(seed)
     if starts is not None:
         if spin is not None or epsilon is not None or direction is not None:
@@ -359,13 +358,7 @@ def run_ensemble(
             f"above max_memory = {format_bytes(max_memory)}; raise save_every, use fewer "
             "members, pass summaries_only=True (per-member summaries only), or raise max_memory"
         )
-    if chunk_members is None:
-        if summaries_only:
-            per_member = PEAK_COPIES * n_time * 3 * 8
-            chunk_members = max(BLOCK, TRACKING_BUFFER_BYTES // per_member)
-        else:
-            chunk_members = n_members
-    chunk_members = min(chunk_members, n_members)
+    chunk_members = min(chunk_members or n_members, n_members)
     level = logging.WARNING if stored > LARGE_RUN_BYTES else logging.INFO
     log.log(
         level,
@@ -443,10 +436,10 @@ def run_ensemble(
             "steps_done": run.steps_done,
             "interrupted": int(run.interrupted),
             "time_series": int(not summaries_only),
-            "summary_sampling": (
-                f"flips, crossings, amplitudes and passages measured on samples every "
-                f"{save_every * h:g} s (every {save_every} steps), crossing and passage times "
-                "linearly interpolated"
+            "summary_tracking": (
+                "flips, crossings, the largest amplitude and level passages tracked at every "
+                "step inside the member loop, times linearly interpolated within the step; "
+                "the start counts (levels it reaches are passed at time 0)"
             ),
             "divergence_tolerance": divergence_tolerance,
             "numba_threading_layer": layer,
@@ -488,7 +481,7 @@ class _Run:
 
 def _run(body, spec, w0, h, n_steps, save_every, a, levels, summaries_only, tolerance,
          chunk_members, chunk_steps, progress) -> _Run:
-    """Propagate the members in chunks of ``chunk_members`` and measure their summaries.
+    """Propagate the members in chunks of ``chunk_members``, tracking their summaries.
 
     If Ctrl-C stops a chunk, the result holds the chunks completed before it; if it stopped
     the first chunk, that chunk up to the steps it completed.
@@ -504,32 +497,31 @@ def _run(body, spec, w0, h, n_steps, save_every, a, levels, summaries_only, tole
     steps_done, interrupted, done = n_steps, False, 0
     for lo in range(0, n, chunk_members):
         hi = min(lo + chunk_members, n)
-        prop = propagate(
-            spec, moments, w0[lo:hi] * moments, h, n_steps, save_every, progress, chunk_steps
+        prop, track = _propagate_tracked(
+            spec, moments, w0[lo:hi], h, n_steps, 0 if summaries_only else save_every, a,
+            levels, progress, chunk_steps,
         )
         wall += prop.wall_time
         compile_time += prop.compile_time
         if prop.interrupted and lo > 0:  # keep the chunks that completed
             interrupted = True
             break
-        k = prop.saved.shape[1]
-        w = w_all[lo:hi, : k + 1] if w_all is not None else np.empty((hi - lo, k + 1, 3))
-        w[:, 0] = w0[lo:hi]
-        np.divide(prop.saved, moments, out=w[:, 1:])
-        prop.saved = None  # release the driver's copy
-        t = np.arange(k + 1) * save_every * h
-        # The one place where the summaries' raw events are measured.
-        track = _track(w, t, a, levels)
         chunk_status, chunk_fail, errors = _member_status(prop, w0[lo:hi], moments, h, tolerance)
         chunk = _summaries(track, errors)
         bad = chunk_status != cv.STATUS_OK
         for value in chunk.values():
             value[bad] = np.nan
-        w[bad] = np.nan
         for name, value in chunk.items():
             if name not in summaries:
                 summaries[name] = np.empty((n,) + value.shape[1:])
             summaries[name][lo:hi] = value
+        if w_all is not None:
+            k = prop.saved.shape[1]
+            w = w_all[lo:hi, : k + 1]
+            w[:, 0] = w0[lo:hi]
+            np.divide(prop.saved, moments, out=w[:, 1:])
+            w[bad] = np.nan
+        prop.saved = None  # release the driver's copy before the next chunk
         status[lo:hi] = chunk_status
         fail_time[lo:hi] = chunk_fail
         done = hi
@@ -552,6 +544,36 @@ def _run(body, spec, w0, h, n_steps, save_every, a, levels, summaries_only, tole
     )
 
 
+def _propagate_tracked(spec, moments, w0, h, n_steps, save_every, a, levels, progress,
+                       chunk_steps):
+    """Run the driver with its in-loop tracking (every step) and count the start in.
+
+    The driver sees the state after each step; here the start joins in: levels the start
+    already reaches are passed at t = 0 (and are not handed to the driver, which takes at most
+    one level per step), and the maximum amplitude includes the start.
+
+    Returns
+    -------
+    prop : Propagation
+    track : dict of ndarray
+        The driver's ``extras`` with ``passage_time`` (N, len(levels)) for all ``levels``.
+    """
+    b, c = _perpendicular_axes(a)
+    amplitude0 = np.hypot(w0[:, b], w0[:, c])
+    skip = int(np.searchsorted(levels, amplitude0.min(), side="right"))
+    prop = propagate(
+        spec, moments, w0 * moments, h, n_steps, save_every, progress, chunk_steps,
+        track_axis=a, levels=levels[skip:],
+    )
+    track = dict(prop.extras)
+    passage = np.zeros((w0.shape[0], levels.size))
+    passage[:, skip:] = track["passage_time"]
+    passage[levels[None, :] <= amplitude0[:, None]] = 0.0
+    track["passage_time"] = passage
+    track["max_perp_amplitude"] = np.maximum(track["max_perp_amplitude"], amplitude0)
+    return prop, track
+
+
 def _member_status(prop, w0, moments, h, tolerance):
     """Per-member status, failure time and end-of-run invariant errors.
 
@@ -569,7 +591,7 @@ def _member_status(prop, w0, moments, h, tolerance):
         momentum_error = (momentum - momentum0) / momentum0
         worst = np.maximum(np.abs(energy_error), np.abs(momentum_error))
     status = prop.status.copy()
-    fail_time = np.where(status != cv.STATUS_OK, (prop.fail_step + 1) * h, np.nan)
+    fail_time = np.where(status != cv.STATUS_OK, prop.fail_step * h, np.nan)
     # "not (worst <= tolerance)" also catches a NaN error the driver did not see.
     diverged = (status == cv.STATUS_OK) & ~(worst <= tolerance)
     status[diverged] = cv.STATUS_DIVERGED
@@ -580,7 +602,7 @@ def _member_status(prop, w0, moments, h, tolerance):
 
 
 def _summaries(track: dict, errors: dict) -> dict:
-    """The Dataset's summary variables from the raw events of ``_track`` (or the driver)."""
+    """The Dataset's summary variables from the tracked events and the invariant errors."""
     count = track["axis_crossings"].astype(float)
     first = track["first_axis_crossing"]
     last = track["last_axis_crossing"]
@@ -601,83 +623,6 @@ def _summaries(track: dict, errors: dict) -> dict:
     }
 
 
-def _track(w, t, a, levels) -> dict:
-    """Events on sampled trajectories, with the keys of the driver's in-kernel tracking.
-
-    Parameters
-    ----------
-    w : ndarray, shape (N, S, 3)
-        Angular velocity samples in rad/s, the start first.
-    t : ndarray, shape (S,)
-        Sample times in s.
-    a : int
-        Spin axis, 0-based; the perpendicular components are b = a + 1 and c = a + 2 (mod 3).
-    levels : ndarray, shape (n_levels,)
-        Ascending amplitude levels in rad/s.
-
-    Returns
-    -------
-    dict of ndarray
-        ``axis_crossings`` (N,) int, ``first_axis_crossing``, ``last_axis_crossing`` (N,) s;
-        the same three for component b (``perp_crossings``, ``first_perp_crossing``,
-        ``last_perp_crossing``); ``max_perp_amplitude`` (N,) rad/s; ``passage_time``
-        (N, n_levels) s. Crossing times are interpolated linearly between samples; NaN where
-        there was none.
-    """
-    b, c = (a + 1) % 3, (a + 2) % 3
-    out = {}
-    for key, component in (("axis", a), ("perp", b)):
-        count, first, last = _crossings(w[:, :, component], t)
-        out[f"{key}_crossings"] = count
-        out[f"first_{key}_crossing"] = first
-        out[f"last_{key}_crossing"] = last
-    amplitude = np.hypot(w[:, :, b], w[:, :, c])
-    out["max_perp_amplitude"] = amplitude.max(axis=1)
-    out["passage_time"] = _passages(amplitude, t, levels)
-    return out
-
-
-def _crossings(y, t):
-    """Sign changes of ``y`` (N, S) along axis 1: count, first and last time (interpolated)."""
-    n, s = y.shape
-    if s < 2:
-        return np.zeros(n, dtype=np.int64), np.full(n, np.nan), np.full(n, np.nan)
-    negative = y < 0.0
-    change = negative[:, 1:] != negative[:, :-1]
-    count = change.sum(axis=1)
-    rows = np.arange(n)
-
-    def time_at(k):
-        y0, y1 = y[rows, k], y[rows, k + 1]
-        with np.errstate(invalid="ignore", divide="ignore"):
-            fraction = y0 / (y0 - y1)  # y0 and y1 differ in sign (y0 may be 0)
-        return np.where(count > 0, t[k] + fraction * (t[k + 1] - t[k]), np.nan)
-
-    first = time_at(np.argmax(change, axis=1))
-    last = time_at(s - 2 - np.argmax(change[:, ::-1], axis=1))
-    return count, first, last
-
-
-def _passages(amplitude, t, levels):
-    """First time ``amplitude`` (N, S) reaches each level, interpolated; NaN if never."""
-    n, s = amplitude.shape
-    out = np.full((n, levels.size), np.nan)
-    running_max = np.maximum.accumulate(amplitude, axis=1)
-    rows = np.arange(n)
-    for i, level in enumerate(levels):
-        k = np.sum(running_max < level, axis=1)  # index of the first sample at or above level
-        reached = k < s
-        at_start = k == 0
-        between = reached & ~at_start
-        kk = np.where(between, k, 1)
-        a0, a1 = amplitude[rows, kk - 1], amplitude[rows, kk]
-        with np.errstate(invalid="ignore", divide="ignore"):
-            fraction = (level - a0) / (a1 - a0)
-        out[between, i] = (t[kk - 1] + fraction * (t[kk] - t[kk - 1]))[between]
-        out[at_start, i] = t[0]
-    return out
-
-
 # --- input helpers ----------------------------------------------------------------------------
 
 
@@ -686,6 +631,12 @@ def _axis_index(axis) -> int:
     if isinstance(axis, bool) or not isinstance(axis, numbers.Integral) or axis not in (1, 2, 3):
         raise ValueError(f"axis must be the principal axis 1, 2 or 3, got {axis!r}")
     return int(axis) - 1
+
+
+def _perpendicular_axes(a: int) -> tuple[int, int]:
+    """The two axes other than ``a`` (0-based), lowest first, as the driver's tracking uses."""
+    b, c = (x for x in (0, 1, 2) if x != a)
+    return b, c
 
 
 def _nonnegative_float(name, value) -> float:

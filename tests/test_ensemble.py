@@ -240,7 +240,7 @@ def test_flips_match_dop853_zero_crossings():
     assert np.all(ds.status.values == cv.STATUS_OK)
     for j, w0 in enumerate(starts):
         sol = solve_ivp(_euler_rhs, (0.0, 100.0), w0, method="DOP853", rtol=1e-12, atol=1e-14,
-                        events=(lambda t, w: w[1], lambda t, w: w[2]))
+                        events=(lambda t, w: w[1], lambda t, w: w[0]))  # w_b = w1 here
         flips, perp = sol.t_events
         assert ds.flip_count.values[j] == len(flips) >= 4
         np.testing.assert_allclose(ds.first_flip_time.values[j], flips[0], rtol=1e-7)
@@ -259,12 +259,14 @@ def test_flips_match_dop853_zero_crossings():
 def test_perpendicular_amplitude_grows_at_the_linear_rate():
     # Amplitude from 1e-8 W: the passages of 1e-6 W and 1e-3 W lie in the linear phase, where
     # the amplitude grows like exp(lambda t); lp2's O(h^2) bias in the rate is ~2e-6 here.
-    ds = run_ensemble(BODY, 2, 1.0, 1e-8, 128, h=0.01, t_end=30.0, summaries_only=True,
+    # A start near the stable eigendirection grows late: 40 s leave room for the slowest.
+    ds = run_ensemble(BODY, 2, 1.0, 1e-8, 128, h=0.01, t_end=40.0, summaries_only=True,
                       levels=[1e-6, 1e-3])
     t = ds.passage_time.values
     rate = math.log(1e3) / (t[:, 1] - t[:, 0])
     np.testing.assert_allclose(rate, LAMBDA, rtol=1e-4)
-    assert np.all(ds.flip_count.values == 0)  # not yet at the first flip
+    flips = ds.first_flip_time.values
+    assert np.all(np.isnan(flips) | (flips > t[:, 1]))  # flips come after the linear phase
 
 
 def test_stable_axes_oscillate_at_omega_and_never_flip():
