@@ -173,3 +173,10 @@ def test_load_and_save_errors(summaries, tmp_path):
         stability.save(summaries, tmp_path / "nowhere" / "run.nc")
     with pytest.raises(ValueError, match="xarray.Dataset"):
         stability.save(summaries.energy_error, tmp_path / "run.nc")
+
+
+def test_integrate_dataset_round_trips_too(tmp_path):
+    ds = stability.integrate(BODY, [0.01, 1.0, 0.0], t_end=5.0, h=0.1, method="rk4")
+    assert ds.attrs["Conventions"] == "CF-1.10" and "integrate" in ds.attrs["history"]
+    back = stability.load(stability.save(ds, tmp_path / "one.nc"))
+    xr.testing.assert_identical(back, ds)
