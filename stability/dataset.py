@@ -36,9 +36,10 @@ variable                     dims              units    meaning
 
 Events are tracked at every step, times interpolated linearly within the step; the start
 counts (a level the start reaches is passed at time 0). Times of events that did not happen
-(no flip, a level never reached) are NaN for members whose ``status`` is ok. A member whose status is not ok has every float variable NaN (``w`` included)
-except ``w0`` and ``fail_time``: its numbers are masked, never stored as valid data; counts are
-float64 so that they can be masked too.
+(no flip, a level never reached) are NaN for members whose ``status`` is ok. A member whose
+status is not ok has every float variable NaN (``w`` included) except ``w0`` and
+``fail_time``: its numbers are masked, never stored as valid data; counts are float64 so that
+they can be masked too.
 
 Global attributes: ``Conventions``, ``title``, ``source``, ``history`` (one timestamped line per
 command that made or changed the Dataset, see :func:`append_history`), ``references``, the body
