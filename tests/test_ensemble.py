@@ -256,6 +256,15 @@ def test_flips_match_dop853_zero_crossings():
     np.testing.assert_allclose(ds.mean_flip_interval.values[0], 20.754610, rtol=1e-7)
 
 
+def test_mean_flip_interval_matches_the_exact_2k_over_nu():
+    # Random directions give each member its own k' and so its own 2K/nu (18.9 to 27.8 s here).
+    ds = run_ensemble(BODY, 2, 1.0, 1e-2, 64, h=0.01, t_end=150.0, method="rk4", seed=5,
+                      summaries_only=True)
+    exact = np.array([stability.flip_interval(BODY, w0) for w0 in ds.w0.values])
+    assert np.ptp(exact) > 5.0 and np.all(ds.flip_count.values >= 5)
+    np.testing.assert_allclose(ds.mean_flip_interval.values, exact, rtol=1e-8)
+
+
 def test_perpendicular_amplitude_grows_at_the_linear_rate():
     # Amplitude from 1e-8 W: the passages of 1e-6 W and 1e-3 W lie in the linear phase, where
     # the amplitude grows like exp(lambda t); lp2's O(h^2) bias in the rate is ~2e-6 here.
