@@ -259,7 +259,7 @@ def _exact(body, w0, t_end):
     """Exact w at ``t_end`` for every start (rows of ``w0``)."""
     from .exact import exact_omega
 
-    return np.asarray(exact_omega(body, w0, np.array([t_end])), dtype=float).reshape(w0.shape)
+    return np.array([exact_omega(body, w, t_end) for w in w0], dtype=float)
 
 
 def _threading_layer() -> str:

@@ -18,7 +18,6 @@ from __future__ import annotations
 import argparse
 import shlex
 import sys
-import time
 
 EXIT_USAGE = 2
 EXIT_INTERRUPTED = 130
@@ -168,7 +167,7 @@ def _cmd_run(args) -> int:
 
         sys.stdout.write(to_toml(config))
         return 0
-    history = f"{time.strftime('%Y-%m-%dT%H:%M:%S%z')} stability " + shlex.join(args.argv)
+    history = "stability " + shlex.join(args.argv)  # the Dataset's history line adds the time
     summary = run_study(
         config,
         out_dir=args.out,

@@ -100,8 +100,9 @@ _UNIT_IN_LABEL = re.compile(r"\(([^()]+)\)\s*$")
 def missing_units(fig: Figure) -> list[str]:
     """Axis labels of ``fig`` that do not end in ``(unit)``; empty when every axis is labelled.
 
-    Checks the x and y (and, for 3-D axes, z) labels of every visible axes that has data or
-    ticks; colour bars count as axes too.
+    Checks the x and y (and, for 3-D axes, z) labels of every visible axes; an axis whose tick
+    labels are hidden (the upper panels of a shared x axis) is labelled by its neighbour and
+    skipped; colour bars count as axes too.
     """
     problems = []
     for k, ax in enumerate(fig.axes):
@@ -114,10 +115,20 @@ def missing_units(fig: Figure) -> list[str]:
         for name, get in getters.items():
             if name in ("x", "y") and _colorbar_side(ax) not in (None, name):
                 continue
+            if not _shows_tick_labels(ax, name):
+                continue  # e.g. the upper panels of a shared x axis: labelled below
             text = get()
             if not _UNIT_IN_LABEL.search(text or ""):
                 problems.append(f"{title}: {name} label {text!r} has no unit")
     return problems
+
+
+def _shows_tick_labels(ax, name) -> bool:
+    axis = {"x": ax.xaxis, "y": ax.yaxis}.get(name)
+    if axis is None:
+        return True
+    ticks = axis.get_major_ticks()
+    return not ticks or any(t.label1.get_visible() or t.label2.get_visible() for t in ticks)
 
 
 def _colorbar_side(ax):

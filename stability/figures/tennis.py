@@ -84,7 +84,8 @@ def flips_figure(ds, body, axis, member=None, samples=2000):
         ax.set_ylabel(label(f"w{i + 1}", cv.UNITS_ANGULAR_VELOCITY))
         if i + 1 == axis:
             ax.set_title(f"w{axis}: spin axis, changes sign at every flip", loc="left", fontsize=9)
-    axes[0].legend(loc="upper right", ncols=3, framealpha=0.9)
+    handles, labels = axes[0].get_legend_handles_labels()
+    fig.legend(handles, labels, loc="outside lower center", ncols=3, framealpha=0.9)
     axes[-1].set_xlabel(label("time", cv.UNITS_TIME))
     interval = ds.mean_flip_interval.values[j]
     exact_interval = ds.exact_flip_interval.values[j] if "exact_flip_interval" in ds else np.nan
@@ -110,8 +111,7 @@ def polhode_figure(ds, body, axis=None, levels=(0.12, 0.35, 0.6, 0.82, 0.96), sa
     ``2E/L^2 = 1/I_centre + f (1/I_intermediate - 1/I_centre)`` for f in ``levels`` (f = 0 is the
     centre, f = 1 the separatrix), each followed for one full period with the exact solution
     (:func:`stability.exact_omega`), together with its mirror image. The separatrix D2 = 0 is
-    drawn from its closed form: two great circles through the saddles m = +-|L| e_b,
-    ``m_a / m_c = +-sqrt(Ia (Ic - Ib) / (Ic (Ib - Ia)))`` (sorted moments Ia <= Ib <= Ic).
+    drawn from its closed form (:func:`separatrix_circles`).
     Left: 3-D view of the near side; right: the hemisphere around the saddle seen head-on.
     """
     import stability
@@ -136,15 +136,7 @@ def polhode_figure(ds, body, axis=None, levels=(0.12, 0.35, 0.6, 0.82, 0.96), sa
             m /= np.linalg.norm(m, axis=1, keepdims=True)
             curves += [m, -m]
         families.append((centre, curves))
-    ratio = np.sqrt(Ia * (Ic - Ib) / (Ic * (Ib - Ia))) if Ic > Ib > Ia else 1.0
-    s = np.linspace(0.0, 2.0 * np.pi, 721)
-    e_b = np.eye(3)[b]
-    separatrix = []
-    for sign in (1.0, -1.0):
-        n = np.zeros(3)
-        n[a], n[c] = ratio, sign
-        n /= np.linalg.norm(n)
-        separatrix.append(np.cos(s)[:, None] * e_b + np.sin(s)[:, None] * n)
+    separatrix = separatrix_circles(body)
 
     fig = new_figure(12.0, 6.0)
     grid = fig.add_gridspec(1, 2, width_ratios=(1.15, 1.0))
@@ -275,6 +267,34 @@ def growth_figure(ds, body, axis):
     ax.set_title(f"Exponential growth away from the {_axis_word(body, axis)} axis, then "
                  f"saturation at the flip\n{_subtitle(ds, body, axis)}", fontsize=10)
     return fig
+
+
+def separatrix_circles(body, samples=721):
+    """The separatrix D2 = 0 on the unit sphere of m/|L|: two great circles through +-e_b.
+
+    On |m| = 1, D2 = L^2 - 2E Ib = Ia (Ia - Ib) w_a^2 + Ic (Ic - Ib) w_c^2 vanishes where
+    ``m_a^2 (Ib - Ia) / Ia = m_c^2 (Ic - Ib) / Ic``: the planes
+    ``m_c = +-m_a sqrt(Ic (Ib - Ia) / (Ia (Ic - Ib)))`` through the intermediate axis e_b
+    (sorted moments Ia <= Ib <= Ic).
+
+    Returns
+    -------
+    list of two ndarrays, shape (samples, 3)
+        Unit vectors along the body's own axes.
+    """
+    order = np.argsort(body.moments, kind="stable")
+    a, b, c = order
+    Ia, Ib, Ic = body.moments[order]
+    s = np.linspace(0.0, 2.0 * np.pi, samples)
+    circles = []
+    for sign in (1.0, -1.0):
+        n = np.zeros(3)
+        # n spans the plane with e_b; n_c / n_a = +-sqrt(Ic (Ib - Ia) / (Ia (Ic - Ib))).
+        n[a] = np.sqrt(Ia * (Ic - Ib))
+        n[c] = sign * np.sqrt(Ic * (Ib - Ia))
+        n /= np.linalg.norm(n)
+        circles.append(np.cos(s)[:, None] * np.eye(3)[b] + np.sin(s)[:, None] * n)
+    return circles
 
 
 def _others(axis):
