@@ -177,7 +177,8 @@ def bench(members=10_000, steps=1000, threads=None, methods=None, scipy=True, nu
             from scipy.integrate import solve_ivp
         except ImportError:
             report.skipped.append(
-                "scipy DOP853: SciPy is not installed (it is a test extra: pip install -e '.[test]')"
+                "scipy DOP853: SciPy is not installed (it comes with the test extra: "
+                "pip install -e '.[test]')"
             )
         else:
             log("timing scipy DOP853 on the whole ensemble as one system ...")
@@ -194,7 +195,10 @@ def bench(members=10_000, steps=1000, threads=None, methods=None, scipy=True, nu
 
 
 def euler_coefficients(moments):
-    """``(A1, A2, A3)`` of m' = m x I^-1 m in the body's own axes: ``A1 = (I2 - I3) / (I2 I3)``..."""
+    """``(A1, A2, A3)`` of m' = m x I^-1 m in the body's own axes, ``A1 = (I2 - I3) / (I2 I3)``.
+
+    The same cancellation-free form as the kernels' ``body_params`` (cyclic in 1, 2, 3).
+    """
     I1, I2, I3 = (float(x) for x in moments)
     return (I2 - I3) / (I2 * I3), (I3 - I1) / (I3 * I1), (I1 - I2) / (I1 * I2)
 

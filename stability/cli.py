@@ -66,8 +66,10 @@ def build_parser() -> argparse.ArgumentParser:
         description="Run a study file (TOML): validate it, run the ensemble, write the Dataset "
         "(netCDF) and the figures into the output folder, print a summary table.",
     )
-    run.add_argument("study", metavar="STUDY.toml", help="study file, e.g. studies/tennis_racket.toml")
-    run.add_argument("--out", metavar="DIR", help="output folder (default: [output] dir of the file)")
+    run.add_argument("study", metavar="STUDY.toml",
+                     help="study file, e.g. studies/tennis_racket.toml")
+    run.add_argument("--out", metavar="DIR",
+                     help="output folder (default: [output] dir of the file)")
     run.add_argument("--members", type=_positive_int, metavar="N", help="ensemble size")
     run.add_argument(
         "--threads", type=_positive_int, metavar="N", help="Numba threads (default: all cores)"

@@ -53,7 +53,9 @@ BAD = {
         '[body]\npreset = "phone"\nmoments = [1.0, 2.0, 3.0]\n',
         ["[body] give only one of preset, moments"],
     ),
-    "unphysical moments": ("[body]\nmoments = [1.0, 2.0, 4.0]\n", ["[body]", "triangle inequality"]),
+    "unphysical moments": (
+        "[body]\nmoments = [1.0, 2.0, 4.0]\n", ["[body]", "triangle inequality"]
+    ),
     "t_end not whole steps": (
         "[integration]\nt_end = 10.001\n", ["[integration] t_end must be a whole number of steps"]
     ),

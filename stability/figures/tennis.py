@@ -1,4 +1,4 @@
-"""Figures of the tennis-racket study, from its Dataset (``stability run studies/tennis_racket.toml``).
+"""Figures of the tennis-racket study (``stability run studies/tennis_racket.toml``).
 
 1. :func:`flips_figure`: w1, w2, w3 of one member against time, the exact solution overlaid.
 2. :func:`polhode_figure`: polhodes on the |L| sphere around all three axes, the separatrix.
@@ -76,7 +76,8 @@ def flips_figure(ds, body, axis, member=None, samples=2000):
     h = ds.attrs.get("h", float("nan"))
     for i, ax in enumerate(axes):
         for k, tf in enumerate(flips):
-            ax.axvline(tf, color="0.6", lw=0.8, ls=":", label="flip (w%d = 0)" % axis if k == 0 else None)
+            ax.axvline(tf, color="0.6", lw=0.8, ls=":",
+                       label=f"flip (w{axis} = 0)" if k == 0 else None)
         ax.plot(t, w[:, i], "o", ms=3.0, color=AXIS_COLORS[i],
                 label=f"numerical ({method}, h = {h:g} s)")
         ax.plot(t_fine, exact[:, i], "-", lw=1.0, color=EXACT_COLOR,
@@ -119,7 +120,6 @@ def polhode_figure(ds, body, axis=None, levels=(0.12, 0.35, 0.6, 0.82, 0.96), sa
     I = body.moments
     order = np.argsort(I, kind="stable")  # body axes (0-based) of the smallest ... largest
     a, b, c = order
-    Ia, Ib, Ic = I[order]
     families = []  # (centre axis index, list of (n, 3) arrays of m/|L|)
     for centre in (a, c):
         curves = []

@@ -168,7 +168,8 @@ def run_study(
     if existing and not overwrite:
         shown = ", ".join(str(p) for p in existing[:2]) + (" ..." if len(existing) > 2 else "")
         raise ValueError(
-            f"{shown} already exists; pass --overwrite to replace it, or --out DIR for another folder"
+            f"{shown} already exists; pass --overwrite to replace it, "
+            "or --out DIR for another folder"
         )
     out.mkdir(parents=True, exist_ok=True)
     return kind.run(

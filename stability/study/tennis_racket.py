@@ -20,6 +20,7 @@ is about ``(a / rate)^2 / 2``).
 from __future__ import annotations
 
 import math
+import sys
 import time
 from pathlib import Path
 
@@ -162,14 +163,21 @@ def run(config: dict, out_dir: Path, *, overwrite=False, threads=None, progress=
         flip interval (measured and exact), invariant errors, wall time, member-steps/s.
     """
     import stability
+    from stability.ensemble import format_bytes
 
     from .config import to_toml
 
+    say = _reporter(progress)
     t_start = time.perf_counter()
     body = _body(config)
     axis = spin_axis(body, config["spin"]["axis"])
     spin = config["spin"]["rate"]
     ens, integ = config["ensemble"], config["integration"]
+    steps = round(integ["t_end"] / integ["h"])
+    memory = stability.ensemble_memory(ens["members"], steps // integ["save_every"])
+    say(f"{body.name}: {ens['members']} members x {steps} steps of {integ['method']} "
+        f"(h = {integ['h']:g} s), w kept every {integ['save_every']} steps: "
+        f"{format_bytes(memory)} of results")
     ds = stability.run_ensemble(
         body, axis, spin, ens["epsilon"], ens["members"],
         h=integ["h"], t_end=integ["t_end"], seed=ens["seed"], method=integ["method"],
@@ -177,18 +185,28 @@ def run(config: dict, out_dir: Path, *, overwrite=False, threads=None, progress=
         config=config, command=history or f"stability run ({NAME})",
     )
     t_ensemble = time.perf_counter() - t_start
+    say("exact flip intervals and the growth-rate fit ...")
     ds = analyse(ds, body, axis, spin, ens["epsilon"], config["analysis"])
     ds.attrs["title"] = config["title"]
 
     out = config["output"]
     files = [out_dir / out["dataset"]]
+    say(f"writing {files[0]} ...")
     stability.save(ds, files[0], overwrite=overwrite)
     (out_dir / "config.toml").write_text(to_toml(config), encoding="utf-8")
     files.append(out_dir / "config.toml")
     if out["figures"]:
+        say("drawing the figures ...")
         files += draw_figures(ds, body, axis, out_dir, out["formats"])
     wall = time.perf_counter() - t_start
     return summarize(ds, out_dir, files, wall, t_ensemble)
+
+
+def _reporter(progress):
+    """Print a stage of the run on stderr, unless progress output is off."""
+    if progress is False:
+        return lambda message: None
+    return lambda message: print(message, file=sys.stderr, flush=True)
 
 
 def _body(config: dict):
