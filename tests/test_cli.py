@@ -70,7 +70,8 @@ def test_dry_run_prints_the_resolved_config(capsys):
 
 def test_quick_run_writes_dataset_and_figures(tmp_path, capsys):
     out = tmp_path / "quick"
-    args = ["run", str(TENNIS), "--quick", "--members", "64", "--out", str(out), "--no-progress"]
+    args = ["run", str(TENNIS), "--quick", "--members", "64", "--out", str(out), "--no-progress",
+            "--threads", "1"]
     assert main(args) == 0
     printed = capsys.readouterr().out
     for row in ("growth rate sqrt(-Omega^2) (analytic)", "growth rate fitted",
