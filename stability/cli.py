@@ -16,6 +16,7 @@ line on stderr with exit status 2, never a traceback; ``--debug`` shows the trac
 from __future__ import annotations
 
 import argparse
+import os
 import shlex
 import sys
 
@@ -138,6 +139,10 @@ def main(argv=None) -> int:
     except KeyboardInterrupt:
         print("stability: interrupted", file=sys.stderr)
         return EXIT_INTERRUPTED
+    except BrokenPipeError:  # output piped into e.g. `head`, which stopped reading
+        devnull = os.open(os.devnull, os.O_WRONLY)
+        os.dup2(devnull, sys.stdout.fileno())
+        return 1
     except (ValueError, OSError) as exc:  # user errors: bad file, bad value, existing output
         if args.debug:
             raise
