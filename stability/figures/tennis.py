@@ -306,53 +306,63 @@ def flip_interval_figure(ds, body, axis, max_points=3000):
     """Figure 4: measured flip intervals against the exact 2K/nu and the ln(4/k') asymptote.
 
     Left: histograms over members of the measured mean flip interval and of the exact 2K/nu of
-    each member's start. Right: flip interval against ln(4/k') (k' ~ epsilon, so the axis is
-    ln(1/epsilon) up to a constant): measured (dots), exact 2K/nu, and the asymptote
-    (2/lambda) ln(4/k') (literature notes 1.5).
+    each member's start. Middle: flip interval against ln(4/k') (k' is proportional to epsilon
+    for a given direction, so the axis is ln(1/epsilon) up to a constant): measured (dots),
+    exact 2K/nu, and the asymptote (2/lambda) ln(4/k') (literature notes 1.5). Right: the
+    relative differences from 2K/nu of the measured intervals and of the asymptote.
     """
     ok = (ds.status == cv.STATUS_OK).values
     measured = ds.mean_flip_interval.values
     exact = ds.exact_flip_interval.values
-    kprime = ds.complementary_modulus.values
+    asymptote = ds.flip_interval_asymptote.values
+    x = np.log(4.0 / ds.complementary_modulus.values)
     rate = ds.attrs["growth_rate_analytic"]
     good = ok & np.isfinite(measured) & np.isfinite(exact)
     n_good, n_ok = int(good.sum()), int(ok.sum())
 
-    fig = new_figure(11.5, 4.6)
-    left, right = fig.subplots(1, 2)
+    fig = new_figure(15.0, 4.8)
+    left, middle, right = fig.subplots(1, 3, width_ratios=(1.1, 1.0, 1.0))
     if n_good:
         both = np.concatenate([measured[good], exact[good]])
         lo, hi = np.quantile(both, [0.0, 0.99])
         bins = np.linspace(lo, hi, 60)
         left.hist(measured[good], bins=bins, color=ENSEMBLE_COLOR, alpha=0.6,
-                  label=f"measured mean interval ({n_good} of {n_ok} members with ≥ 2 flips)")
+                  label=f"measured mean interval\n({n_good} of {n_ok} members with ≥ 2 flips)")
         left.hist(exact[good], bins=bins, histtype="step", color=EXACT_COLOR, lw=1.5,
                   label="exact 2K/ν of each member's start")
         med = np.median(measured[good])
         left.axvline(med, color="crimson", lw=1.2, ls="--", label=f"median {med:.4f} s")
     left.set_xlabel(label("flip interval", cv.UNITS_TIME))
     left.set_ylabel(label("members per bin", "count"))
-    left.set_title("Flip intervals over the ensemble (1 % longest not shown)")
+    left.set_title("Over the ensemble (1 % longest not shown)")
     left.legend(loc="upper right", framealpha=0.9)
 
-    x = np.log(4.0 / kprime)
     if n_good:
         idx = np.flatnonzero(good)
         if idx.size > max_points:
             idx = np.random.default_rng(0).choice(idx, max_points, replace=False)
-        right.plot(x[idx], measured[idx], "o", ms=2.5, color=ENSEMBLE_COLOR, alpha=0.6,
-                   label="measured (one dot per member)")
-        order = np.argsort(x[good])
-        right.plot(x[good][order], exact[good][order], "-", color=EXACT_COLOR, lw=1.2,
-                   label="exact 2K/ν")
-        asymptote = ds.flip_interval_asymptote.values[good][order]
-        right.plot(x[good][order], asymptote, "--", color="crimson", lw=1.5,
-                   label=f"asymptote (2/λ) ln(4/k′), λ ≈ {rate:.4f} 1/s")
-        err = np.abs(measured[good] - exact[good]) / exact[good]
-        right.set_title(f"Against ln(4/k′) ∝ ln(1/ε): max |measured − exact| / exact = "
-                        f"{err.max():.1e}", fontsize=9.5)
-    right.set_xlabel(label("ln(4/k′), k′ = complementary modulus", cv.UNITS_DIMENSIONLESS))
-    right.set_ylabel(label("flip interval", cv.UNITS_TIME))
-    right.legend(loc="upper left", framealpha=0.9)
+        order = np.flatnonzero(good)[np.argsort(x[good])]
+        middle.plot(x[idx], measured[idx], "o", ms=2.5, color=ENSEMBLE_COLOR, alpha=0.6,
+                    label="measured (one dot per member)")
+        middle.plot(x[order], exact[order], "-", color=EXACT_COLOR, lw=1.2, label="exact 2K/ν")
+        middle.plot(x[order], asymptote[order], "--", color="crimson", lw=1.5,
+                    label=f"asymptote (2/λ) ln(4/k′), λ ≈ {rate:.4f} 1/s")
+
+        rel_measured = (measured - exact) / exact
+        rel_asymptote = (asymptote - exact) / exact
+        right.plot(x[idx], rel_measured[idx], "o", ms=2.5, color=ENSEMBLE_COLOR, alpha=0.6,
+                   label=f"measured (max |·| = {np.max(np.abs(rel_measured[good])):.1e})")
+        right.plot(x[order], rel_asymptote[order], "--", color="crimson", lw=1.5,
+                   label=f"asymptote (max |·| = {np.max(np.abs(rel_asymptote[good])):.1e})")
+        right.axhline(0.0, color=EXACT_COLOR, lw=1.0)
+        right.ticklabel_format(axis="y", style="sci", scilimits=(-2, 2))
+    middle.set_xlabel(label("ln(4/k′), k′ = complementary modulus ∝ ε", cv.UNITS_DIMENSIONLESS))
+    middle.set_ylabel(label("flip interval", cv.UNITS_TIME))
+    middle.set_title("The ln(1/ε) law")
+    middle.legend(loc="upper left", framealpha=0.9)
+    right.set_xlabel(label("ln(4/k′)", cv.UNITS_DIMENSIONLESS))
+    right.set_ylabel(label("(interval − 2K/ν) / (2K/ν)", cv.UNITS_DIMENSIONLESS))
+    right.set_title("Relative difference from the exact 2K/ν")
+    right.legend(loc="best", framealpha=0.9)
     fig.suptitle(_subtitle(ds, body, axis), fontsize=10)
     return fig

@@ -414,33 +414,14 @@ def set_value(raw: dict, dotted: str, text: str, source: str = "--set") -> None:
 
 
 def to_toml(config: dict) -> str:
-    """Write a resolved configuration as TOML text (read back by ``tomllib`` unchanged).
+    """A resolved configuration as TOML text, as stored in a Dataset's ``config_toml``.
 
-    Handles what study schemas hold: strings, booleans, integers, finite floats, flat lists of
-    them, top-level keys and one level of sections.
+    The same writer as the Dataset's (:func:`stability.dataset.config_toml`), so the copy a run
+    writes next to its Dataset and the attribute inside it are the same text.
     """
-    lines = []
-    for name, value in config.items():
-        if not isinstance(value, dict):
-            lines.append(f"{name} = {_toml_value(value)}")
-    for name, table in config.items():
-        if isinstance(table, dict):
-            lines.append(f"\n[{name}]")
-            for key, value in table.items():
-                lines.append(f"{key} = {_toml_value(value)}")
-    return "\n".join(lines).lstrip("\n") + "\n"
+    from ..dataset import config_toml
 
-
-def _toml_value(value) -> str:
-    if isinstance(value, float):
-        if not math.isfinite(value):
-            return {math.inf: "inf", -math.inf: "-inf"}.get(value, "nan")
-        return repr(value)
-    if isinstance(value, (list, tuple)):
-        return "[" + ", ".join(_toml_value(v) for v in value) + "]"
-    if isinstance(value, (bool, int, str)):
-        return _show(value)
-    raise TypeError(f"cannot write {type(value).__name__} {value!r} as TOML")
+    return config_toml(config)
 
 
 #: The key every study file starts with: the kind of study it is.
