@@ -13,7 +13,7 @@ each of ``members`` members nudged by 1e-4 of the spin in a random perpendicular
 - a plain NumPy RK4 on the same arrays of members (no Numba): what vectorizing over members
   without compiling buys.
 
-Each row also gives the largest error of w at the end over members, against the exact solution,
+Each timing is the best of ``repeat`` runs. Each row also gives the largest error of w at the end over members, against the exact solution,
 so that speeds are compared at a known accuracy. Timings depend on the machine and its load;
 this module prints numbers and asserts nothing about them.
 """
@@ -73,6 +73,7 @@ class BenchReport:
     h: float
     body: object
     axis: int
+    repeat: int = 1
     rows: list = field(default_factory=list)
     skipped: list = field(default_factory=list)
     environment: dict = field(default_factory=dict)
@@ -97,7 +98,7 @@ def workload(members: int, seed: int = 0):
 
 
 def bench(members=10_000, steps=1000, threads=None, methods=None, scipy=True, numpy=True,
-          log=None) -> BenchReport:
+          repeat=3, log=None) -> BenchReport:
     """Time every method (and SciPy DOP853, NumPy RK4) on one ensemble; see the module docstring.
 
     Parameters
@@ -111,6 +112,8 @@ def bench(members=10_000, steps=1000, threads=None, methods=None, scipy=True, nu
     scipy, numpy : bool
         Also time SciPy's DOP853 (skipped, and said so, if SciPy is not installed) and the
         NumPy RK4.
+    repeat : int
+        Runs per timing; the shortest wall time is kept (the least disturbed by other load).
     log : callable, optional
         Called with a line of text before each timing (progress).
 
@@ -126,6 +129,7 @@ def bench(members=10_000, steps=1000, threads=None, methods=None, scipy=True, nu
 
     members = positive_int("members", members)
     steps = positive_int("steps", steps)
+    repeat = positive_int("repeat", repeat)
     most = numba.config.NUMBA_NUM_THREADS
     if threads is None:
         threads = [t for t in (1, 2) if t <= most]
@@ -144,7 +148,7 @@ def bench(members=10_000, steps=1000, threads=None, methods=None, scipy=True, nu
     m0 = w0 * moments
     t_end = steps * H
     reference = _exact(body, w0, t_end)
-    report = BenchReport(members, steps, H, body, axis)
+    report = BenchReport(members, steps, H, body, axis, repeat)
 
     before = numba.get_num_threads()
     try:
@@ -153,13 +157,14 @@ def bench(members=10_000, steps=1000, threads=None, methods=None, scipy=True, nu
             for n_threads in threads:
                 numba.set_num_threads(n_threads)
                 log(f"timing {spec.name} on {n_threads} thread(s) ...")
-                result = propagate(spec, moments, m0, H, steps, save_every=0, progress=False)
+                runs = [propagate(spec, moments, m0, H, steps, save_every=0, progress=False)
+                        for _ in range(repeat)]
                 if compile_time is None:
-                    compile_time = result.compile_time
-                error = _error(result.m_final / moments, reference)
+                    compile_time = runs[0].compile_time
+                wall = min(run.wall_time for run in runs)
+                error = _error(runs[0].m_final / moments, reference)
                 report.rows.append(BenchRow(
-                    spec.name, n_threads, result.wall_time,
-                    members * steps / result.wall_time, error,
+                    spec.name, n_threads, wall, members * steps / wall, error,
                     f"compile {compile_time:.1f} s" if n_threads == threads[0] else "",
                 ))
     finally:
@@ -183,12 +188,17 @@ def bench(members=10_000, steps=1000, threads=None, methods=None, scipy=True, nu
         else:
             log("timing scipy DOP853 on the whole ensemble as one system ...")
             report.environment["scipy"] = sp.__version__
-            report.rows.append(_time_scipy(solve_ivp, moments, w0, t_end, steps, reference))
+            rows = [_time_scipy(solve_ivp, moments, w0, t_end, steps, reference)
+                    for _ in range(repeat)]
+            report.rows.append(min(rows, key=lambda row: row.wall))
     if numpy:
         log("timing the NumPy RK4 ...")
-        t0 = time.perf_counter()
-        m = numpy_rk4(moments, m0, H, steps)
-        wall = time.perf_counter() - t0
+        walls = []
+        for _ in range(repeat):
+            t0 = time.perf_counter()
+            m = numpy_rk4(moments, m0, H, steps)
+            walls.append(time.perf_counter() - t0)
+        wall = min(walls)
         report.rows.append(BenchRow("numpy RK4", 1, wall, members * steps / wall,
                                     _error(m / moments, reference), "NumPy arrays over members"))
     return report
@@ -300,7 +310,7 @@ def format_report(report: BenchReport) -> str:
     table = [header]
     for r in rows:
         table.append((
-            r.solver, str(r.threads), f"{r.wall:.3f}", f"{r.rate:.3g}",
+            r.solver, str(r.threads), f"{r.wall:.3g}", f"{r.rate:.3g}",
             _ratio(r.rate, numpy_rate), _ratio(r.rate, scipy_rate),
             f"{r.error:.1e}" if math.isfinite(r.error) else "-", r.note,
         ))
@@ -312,8 +322,9 @@ def format_report(report: BenchReport) -> str:
     for note in report.skipped:
         lines.append(f"skipped: {note}")
     lines.append("")
-    lines.append("member-steps/s = members x steps / wall time (SciPy: the same count for the "
-                 "same time span, with its own adaptive steps); x A = speed relative to A.")
+    lines.append("member-steps/s = members x steps / wall time, the best of "
+                 f"{report.repeat} runs (SciPy: the same count for the same time span, with its "
+                 "own adaptive steps); x A = speed relative to A.")
     return "\n".join(lines)
 
 

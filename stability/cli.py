@@ -6,7 +6,7 @@
                              [--set SECTION.KEY=VALUE ...] [--dry-run] [--no-progress]
     stability studies [KIND]          # the study kinds and the keys of their files
     stability methods                 # the integrator registry as a table
-    stability bench [--members N] [--steps N] [--threads N ...]
+    stability bench [--members N] [--steps N] [--threads N ...] [--methods NAME ...] [--repeat N]
 
 A mistake by the user (a bad study file, a bad option, an output that exists) is reported as one
 line on stderr with exit status 2, never a traceback; ``--debug`` shows the traceback instead.
@@ -117,6 +117,8 @@ def build_parser() -> argparse.ArgumentParser:
                        help="thread counts to time (default: 1 and 2)")
     bench.add_argument("--methods", nargs="+", metavar="NAME",
                        help="integrators to time (default: all registered)")
+    bench.add_argument("--repeat", type=_positive_int, default=3, metavar="N",
+                       help="runs per timing, the best kept (default 3)")
     bench.add_argument("--no-scipy", action="store_true", help="skip scipy DOP853")
     bench.add_argument("--no-numpy", action="store_true", help="skip the NumPy RK4")
     bench.set_defaults(func=_cmd_bench)
@@ -269,6 +271,7 @@ def _cmd_bench(args) -> int:
         methods=args.methods,
         scipy=not args.no_scipy,
         numpy=not args.no_numpy,
+        repeat=args.repeat,
         log=lambda line: print(line, file=sys.stderr, flush=True),
     )
     print(format_report(report))

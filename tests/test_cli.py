@@ -151,7 +151,8 @@ def test_numpy_baseline_is_the_same_rk4_as_the_kernel():
 
 
 def test_bench_prints_its_table(capsys):
-    args = ["bench", "--members", "64", "--steps", "20", "--methods", "rk4", "--threads", "1"]
+    args = ["bench", "--members", "64", "--steps", "20", "--methods", "rk4", "--threads", "1",
+            "--repeat", "1"]
     assert main(args) == 0
     lines = capsys.readouterr().out.splitlines()
     header = next(k for k, line in enumerate(lines) if line.startswith("solver"))
@@ -163,7 +164,8 @@ def test_bench_prints_its_table(capsys):
 
 
 def test_bench_measures_every_solver_at_known_accuracy():
-    report = bench_module.bench(members=64, steps=20, threads=[1], methods=["rk4", "lp2"])
+    report = bench_module.bench(members=64, steps=20, threads=[1], methods=["rk4", "lp2"],
+                                repeat=2)
     rows = {row.solver: row for row in report.rows}
     assert set(rows) == {"rk4", "lp2", "scipy DOP853", "numpy RK4"}
     for row in rows.values():
