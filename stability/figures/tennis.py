@@ -131,6 +131,8 @@ def polhode_figure(ds, body, axis=None, levels=(0.12, 0.35, 0.6, 0.82, 0.96), sa
             m0[centre], m0[b] = np.cos(theta), np.sin(theta)
             w0 = m0 / I
             period = float(stability.full_period(body, w0))
+            if not np.isfinite(period):
+                continue  # a steady spin (equal moments): a fixed point, no orbit to draw
             t = np.linspace(0.0, period, samples)
             m = np.asarray(stability.exact_omega(body, w0, t), dtype=float) * I
             m /= np.linalg.norm(m, axis=1, keepdims=True)
@@ -233,8 +235,8 @@ def growth_figure(ds, body, axis):
     fitted = ds.attrs["growth_rate_fitted"]
     intercept = ds.attrs["growth_fit_intercept"]
     t0, t1 = np.asarray(ds.attrs["growth_fit_window"], dtype=float)
-    first_flip = np.nanmedian(ds.first_flip_time.values)
-    t_show = t[-1] if not np.isfinite(first_flip) else min(t[-1], 2.0 * first_flip)
+    first_flips = ds.first_flip_time.values[np.isfinite(ds.first_flip_time.values)]
+    t_show = min(t[-1], 2.0 * np.median(first_flips)) if first_flips.size else t[-1]
     shown = t <= t_show
 
     fig = new_figure(7.5, 4.8)
@@ -264,8 +266,13 @@ def growth_figure(ds, body, axis):
     ax.set_ylabel(label(f"perpendicular amplitude √(w{_others(axis)[0]}² + w{_others(axis)[1]}²)",
                         cv.UNITS_ANGULAR_VELOCITY))
     ax.legend(loc="lower right", framealpha=0.9)
-    ax.set_title(f"Exponential growth away from the {_axis_word(body, axis)} axis, then "
-                 f"saturation at the flip\n{_subtitle(ds, body, axis)}", fontsize=10)
+    if rate > 0:
+        headline = (f"Exponential growth away from the {_axis_word(body, axis)} axis, then "
+                    "saturation at the flip")
+    else:
+        headline = (f"Bounded oscillation about the {_axis_word(body, axis)} axis "
+                    f"(Ω² = {ds.attrs['omega_squared']:.4g} 1/s² > 0: stable)")
+    ax.set_title(f"{headline}\n{_subtitle(ds, body, axis)}", fontsize=10)
     return fig
 
 
@@ -335,7 +342,6 @@ def flip_interval_figure(ds, body, axis, max_points=3000):
     left.set_xlabel(label("flip interval", cv.UNITS_TIME))
     left.set_ylabel(label("members per bin", "count"))
     left.set_title("Over the ensemble (1 % longest not shown)")
-    left.legend(loc="upper right", framealpha=0.9)
 
     if n_good:
         idx = np.flatnonzero(good)
@@ -359,10 +365,14 @@ def flip_interval_figure(ds, body, axis, max_points=3000):
     middle.set_xlabel(label("ln(4/k′), k′ = complementary modulus ∝ ε", cv.UNITS_DIMENSIONLESS))
     middle.set_ylabel(label("flip interval", cv.UNITS_TIME))
     middle.set_title("The ln(1/ε) law")
-    middle.legend(loc="upper left", framealpha=0.9)
     right.set_xlabel(label("ln(4/k′)", cv.UNITS_DIMENSIONLESS))
     right.set_ylabel(label("(interval − 2K/ν) / (2K/ν)", cv.UNITS_DIMENSIONLESS))
     right.set_title("Relative difference from the exact 2K/ν")
-    right.legend(loc="best", framealpha=0.9)
+    for ax, where in ((left, "upper right"), (middle, "upper left"), (right, "best")):
+        if n_good:
+            ax.legend(loc=where, framealpha=0.9)
+        else:
+            ax.text(0.5, 0.5, "no member flipped twice", transform=ax.transAxes,
+                    ha="center", va="center", color="0.4")
     fig.suptitle(_subtitle(ds, body, axis), fontsize=10)
     return fig

@@ -152,9 +152,9 @@ def run_study(
     StudySummary
     """
     if isinstance(study, dict):
-        config = study
-        kind = study_kind(config.get(STUDY_KEY))
+        kind = study_kind(study.get(STUDY_KEY))
         source = source or "<config>"
+        config = kind.resolve(study, source)  # a resolved configuration resolves to itself
     else:
         kind, config, source = load_study(
             study, overrides=overrides, members=members, quick=quick

@@ -408,7 +408,7 @@ def summarize(ds, out_dir, files, wall, t_ensemble) -> StudySummary:
     }
     rows = [
         ("members (ok / all)", f"{n_ok} / {n}", ""),
-        ("Omega^2 (analytic)", f"{values['omega_squared']:.6g}", "s-2"),
+        ("Omega^2 (analytic)", f"{values['omega_squared'] + 0.0:.6g}", "s-2"),  # no "-0"
         ("growth rate sqrt(-Omega^2) (analytic)", f"{rate:.6f}", "s-1"),
         ("growth rate fitted (median, linear phase)", f"{fitted:.6f}", "s-1"),
         ("  relative error of the fit", f"{rel:.1e}", ""),
