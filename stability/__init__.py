@@ -30,3 +30,8 @@ except PackageNotFoundError:  # running from a source tree that was not installe
 __all__ = ["METHODS", "MethodSpec", "Part", "RigidBody", "__version__", "axis_stability",
            "exact_omega", "flip_interval", "full_period",
            "growth_rate", "integrate", "method_spec", "omega_squared", "oscillation_frequency"]
+
+from .ensemble import ensemble_memory, run_ensemble  # noqa: E402
+from .io import load, save  # noqa: E402
+
+__all__ += ["ensemble_memory", "load", "run_ensemble", "save"]
