@@ -19,6 +19,8 @@ from importlib.metadata import PackageNotFoundError, version
 from .body import RigidBody
 from .integrate import integrate
 from .integrators import METHODS, MethodSpec, method_spec
+from . import accessor  # noqa: F401  (registers the ds.stability accessor)
+from .estimators import flip_statistics, measured_frequency, measured_growth_rate, measured_omega_squared, member_regimes  # noqa: E501
 
 try:
     __version__ = version("stability")
@@ -26,3 +28,4 @@ except PackageNotFoundError:  # running from a source tree that was not installe
     __version__ = "0.1.0"
 
 __all__ = ["METHODS", "MethodSpec", "RigidBody", "integrate", "method_spec", "__version__"]
+__all__ += ["flip_statistics", "measured_frequency", "measured_growth_rate", "measured_omega_squared", "member_regimes"]  # noqa: E501
