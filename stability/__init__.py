@@ -16,7 +16,8 @@ Notation, used everywhere in the package:
 
 from importlib.metadata import PackageNotFoundError, version
 
-from .body import RigidBody
+from .analytic import axis_stability, growth_rate, omega_squared, oscillation_frequency
+from .body import Part, RigidBody
 from .integrate import integrate
 from .integrators import METHODS, MethodSpec, method_spec
 from . import accessor  # noqa: F401  (registers the ds.stability accessor)
@@ -27,5 +28,6 @@ try:
 except PackageNotFoundError:  # running from a source tree that was not installed
     __version__ = "0.1.0"
 
-__all__ = ["METHODS", "MethodSpec", "RigidBody", "integrate", "method_spec", "__version__"]
+__all__ = ["METHODS", "MethodSpec", "Part", "RigidBody", "__version__", "axis_stability",
+           "growth_rate", "integrate", "method_spec", "omega_squared", "oscillation_frequency"]
 __all__ += ["flip_statistics", "measured_frequency", "measured_growth_rate", "measured_omega_squared", "member_regimes"]  # noqa: E501

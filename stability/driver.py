@@ -8,6 +8,11 @@ compensated summation (Hairer, Lubich & Wanner, GNI, VIII.5), so round-off does 
 linearly over long runs. Kernels never raise: a member whose state stops being finite, or whose
 implicit solve fails, gets a status code and the index of the step where it happened.
 
+Optionally the loop *tracks* each member without storing its time series (summaries-only runs):
+sign changes of the spin-axis component (flips) and of one perpendicular component
+(oscillations), the largest perpendicular amplitude, and the first time the perpendicular
+amplitude reaches each of a ladder of levels (growth rates).
+
 ``propagate`` is the Python side: it converts to the canonical frame, runs the loop in chunks
 (progress bar, Ctrl-C ends the run cleanly after the chunk in flight and returns what was done),
 and converts back.
@@ -26,11 +31,31 @@ import numpy as np
 from numba import njit, prange
 
 from .body import canonical_frame, from_canonical, to_canonical
-from .conventions import STATUS_NONFINITE, STATUS_NOT_CONVERGED, STATUS_OK
+from .conventions import STATUS_OK
 from .integrators import method_spec
+from .integrators.spec import P_INV1
 
 #: Members per block: the vector loop's trip count (a multiple of the SIMD width).
 BLOCK = 64
+#: Steps between finiteness checks (a check every step costs RK4 ~20% of its speed). Inf and
+#: NaN are absorbing, so a failure is caught at the next check: ``fail_step`` is the step
+#: count at the first check that found the state non-finite, at most CHECK_EVERY - 1 steps late;
+#: ``untrusted`` says which samples to mask.
+CHECK_EVERY = 8
+
+# Columns of the per-member tracking state (float64, carried between chunked calls).
+T_PREV_A = 0  #: spin-axis component w_a at the previous step (rad/s)
+T_PREV_B = 1  #: first perpendicular component w_b at the previous step
+T_PREV_AMP = 2  #: perpendicular amplitude sqrt(w_b^2 + w_c^2) at the previous step
+T_COUNT_A = 3  #: sign changes of w_a so far (flips)
+T_FIRST_A = 4  #: time of the first sign change of w_a (s), NaN before
+T_LAST_A = 5  #: time of the latest sign change of w_a (s)
+T_COUNT_B = 6  #: sign changes of w_b
+T_FIRST_B = 7
+T_LAST_B = 8
+T_MAX_AMP = 9  #: largest perpendicular amplitude so far
+T_NEXT_LEVEL = 10  #: index of the next amplitude level to reach
+N_TRACK = 11
 
 
 @njit(inline="always")
@@ -43,15 +68,38 @@ def _kahan_add(x, c, j, d):
 
 
 @njit(inline="always")
-def _commit(x1, x2, x3, c1, c2, c3, j, e1, e2, e3, n, bad, first_bad):
-    """Add one step's increment to member j and note the first step where it went non-finite."""
+def _commit(x1, x2, x3, c1, c2, c3, j, e1, e2, e3):
+    """Add one step's increment to member j."""
     _kahan_add(x1, c1, j, e1)
     _kahan_add(x2, c2, j, e2)
     _kahan_add(x3, c3, j, e3)
+
+
+@njit(inline="always")
+def _check_finite(x1, x2, x3, j, n, bad, first_bad):
+    """Note the first checked step at which member j is no longer finite (inf/NaN absorb)."""
     total = x1[j] + x2[j] + x3[j]
-    now_bad = 1 if total - total != 0.0 else 0  # inf or NaN somewhere
+    now_bad = 1 if total - total != 0.0 else 0
     first_bad[j] = n if (now_bad == 1 and bad[j] == 0) else first_bad[j]
     bad[j] |= now_bad
+
+
+@njit(inline="always")
+def _component(x1, x2, x3, j, index):
+    return x1[j] if index == 0 else (x2[j] if index == 1 else x3[j])
+
+
+@njit(inline="always")
+def _crossing(track, j, col_prev, col_count, col_first, col_last, v, t_prev, h):
+    """Record a sign change of v since the previous step (time by linear interpolation)."""
+    prev = track[j, col_prev]
+    if (prev >= 0.0) != (v >= 0.0):
+        t_cross = t_prev + h * prev / (prev - v)
+        track[j, col_count] += 1.0
+        if track[j, col_count] == 1.0:
+            track[j, col_first] = t_cross
+        track[j, col_last] = t_cross
+    track[j, col_prev] = v
 
 
 @functools.cache
@@ -60,21 +108,28 @@ def member_loop(step):
 
     The returned function advances ``m`` (N, 3) in place by ``n_steps`` steps of size ``h``::
 
-        advance(m, comp, p, h, n_stages, n_steps, save_every, saved,
-                status, fail_step, iterations, step0)
+        advance(m, comp, p, h, n_stages, n_steps, save_every, saved, status, fail_step,
+                iterations, step0, axes, track, levels, passage)
 
     ``comp`` (N, 3) carries the Kahan compensation between calls; ``saved`` (N, n_steps //
     save_every, 3) receives the state after every ``save_every``-th step (``save_every = 0``
     saves nothing); ``status`` (N,) int8, ``fail_step`` (N,) int64 and ``iterations`` (N,) int64
-    are updated in place; ``step0`` is the global index of the first step (for ``fail_step``).
+    are updated in place; ``step0`` is the global index of the first step. Tracking is on when
+    ``axes[0] >= 0``: ``axes`` holds the canonical indices of the spin axis, the first and the
+    second perpendicular axis; ``track`` (N, N_TRACK) and ``passage`` (N, len(levels)) are
+    updated in place (passage times of the perpendicular amplitude through ``levels``).
     """
 
     @njit(parallel=True, error_model="numpy")
     def advance(
-        m, comp, p, h, n_stages, n_steps, save_every, saved, status, fail_step, iterations, step0
+        m, comp, p, h, n_stages, n_steps, save_every, saved, status, fail_step, iterations,
+        step0, axes, track, levels, passage,
     ):
         n_members = m.shape[0]
         n_blocks = (n_members + BLOCK - 1) // BLOCK
+        tracking = axes[0] >= 0
+        ia, ib, ic = axes[0], axes[1], axes[2]
+        n_levels = levels.shape[0]
         for b in prange(n_blocks):
             lo = b * BLOCK
             size = min(BLOCK, n_members - lo)
@@ -103,7 +158,7 @@ def member_loop(step):
                 if n_stages == 1:
                     for j in range(size):
                         e1, e2, e3, it = step(x1[j], x2[j], x3[j], h, p, 0)
-                        _commit(x1, x2, x3, c1, c2, c3, j, e1, e2, e3, n, bad, first_bad)
+                        _commit(x1, x2, x3, c1, c2, c3, j, e1, e2, e3)
                         iters[j] += it if it > 0 else 0
                         nonconv[j] |= 1 if it < 0 else 0
                 else:
@@ -122,7 +177,30 @@ def member_loop(step):
                             iters[j] += it if it > 0 else 0
                             nonconv[j] |= 1 if it < 0 else 0
                     for j in range(size):
-                        _commit(x1, x2, x3, c1, c2, c3, j, d1[j], d2[j], d3[j], n, bad, first_bad)
+                        _commit(x1, x2, x3, c1, c2, c3, j, d1[j], d2[j], d3[j])
+                if (n + 1) % CHECK_EVERY == 0 or n == n_steps - 1:
+                    for j in range(size):
+                        _check_finite(x1, x2, x3, j, n, bad, first_bad)
+                if tracking:
+                    t_prev = (step0 + n) * h
+                    for j in range(size):
+                        g = lo + j
+                        va = _component(x1, x2, x3, j, ia) * p[P_INV1 + ia]
+                        vb = _component(x1, x2, x3, j, ib) * p[P_INV1 + ib]
+                        vc = _component(x1, x2, x3, j, ic) * p[P_INV1 + ic]
+                        _crossing(track, g, T_PREV_A, T_COUNT_A, T_FIRST_A, T_LAST_A, va, t_prev, h)
+                        _crossing(track, g, T_PREV_B, T_COUNT_B, T_FIRST_B, T_LAST_B, vb, t_prev, h)
+                        amp = np.sqrt(vb * vb + vc * vc)
+                        track[g, T_MAX_AMP] = max(track[g, T_MAX_AMP], amp)
+                        level = int(track[g, T_NEXT_LEVEL])
+                        if level < n_levels and amp >= levels[level]:
+                            # At most one level per step; times clamped to this step's interval.
+                            prev_amp = track[g, T_PREV_AMP]
+                            frac = (levels[level] - prev_amp) / (amp - prev_amp)
+                            frac = min(max(frac, 0.0), 1.0)
+                            passage[g, level] = t_prev + h * frac
+                            track[g, T_NEXT_LEVEL] = level + 1.0
+                        track[g, T_PREV_AMP] = amp
                 if save_every > 0 and (n + 1) % save_every == 0:
                     for j in range(size):
                         saved[lo + j, k, 0] = x1[j]
@@ -139,7 +217,7 @@ def member_loop(step):
                 iterations[lo + j] += iters[j]
                 if bad[j] != 0 and status[lo + j] == 0:
                     status[lo + j] = 1  # STATUS_NONFINITE
-                    fail_step[lo + j] = step0 + first_bad[j]
+                    fail_step[lo + j] = step0 + first_bad[j] + 1
                 elif nonconv[j] != 0 and status[lo + j] == 0:
                     status[lo + j] = 3  # STATUS_NOT_CONVERGED
                     fail_step[lo + j] = step0
@@ -156,10 +234,10 @@ class Propagation:
     m_final : ndarray, shape (N, 3)
         Body angular momentum after the last completed step.
     saved : ndarray, shape (N, n_saved, 3)
-        Body angular momentum at steps ``save_every, 2 save_every, ...`` (initial state excluded).
+        Body angular momentum after steps ``save_every, 2 save_every, ...`` (initial excluded).
     status, fail_step, iterations : ndarray, shape (N,)
-        Per-member status code, global step index of the failure (-1 if none), and the number
-        of nonlinear-solver iterations used.
+        Per-member status code (``stability.conventions``), the step count at which the failure
+        was detected (-1 if none; see ``untrusted``), and the nonlinear-solver iterations used.
     steps_done : int
         Steps completed (fewer than asked if the run was interrupted).
     interrupted : bool
@@ -168,6 +246,8 @@ class Propagation:
         Seconds spent in the loop, compilation excluded.
     compile_time : float
         Seconds spent compiling (first use of a method in the process).
+    extras : dict of ndarray
+        Tracking results when ``track_axis`` was given (see :func:`propagate`).
     """
 
     m_final: np.ndarray
@@ -182,19 +262,47 @@ class Propagation:
     extras: dict = field(default_factory=dict)
 
 
+def untrusted(steps, fail_step):
+    """Mask of samples that may be past a failure.
+
+    Parameters
+    ----------
+    steps : ndarray of int, shape (n,)
+        Step count of each sample (0 for the initial state).
+    fail_step : ndarray of int, shape (N,)
+        ``Propagation.fail_step``.
+
+    Returns
+    -------
+    ndarray of bool, shape (N, n)
+        True where the sample must be masked: at or after the last check that could have
+        missed the failure (``CHECK_EVERY`` steps before its detection).
+    """
+    fail = np.asarray(fail_step)[:, None]
+    return (fail >= 0) & (np.asarray(steps)[None, :] > fail - CHECK_EVERY)
+
+
+_NO_AXES = np.full(3, -1, dtype=np.int64)
+_NO_LEVELS = np.zeros(0)
+
+
 def _compiled(advance, p):
-    """Compile ``advance`` for the standard argument types, return the seconds it took."""
+    """Compile ``advance`` for the standard argument types; return the seconds it took."""
     t0 = time.perf_counter()
     if not advance.signatures:
-        dummy = np.zeros((1, 3))
+        one = np.zeros((1, 3))
         advance(
-            dummy.copy(), dummy.copy(), p, 0.0, 1, 0, 0, np.zeros((1, 0, 3)),
-            np.zeros(1, np.int8), np.full(1, -1, np.int64), np.zeros(1, np.int64), 0,
+            one.copy(), one.copy(), p, 0.0, 1, 0, 0, np.zeros((1, 0, 3)), np.zeros(1, np.int8),
+            np.full(1, -1, np.int64), np.zeros(1, np.int64), 0, _NO_AXES,
+            np.zeros((1, N_TRACK)), _NO_LEVELS, np.zeros((1, 0)),
         )
     return time.perf_counter() - t0
 
 
-def propagate(method, moments, m0, h, n_steps, save_every=0, progress=None, chunk_steps=None):
+def propagate(
+    method, moments, m0, h, n_steps, save_every=0, progress=None, chunk_steps=None,
+    track_axis=None, levels=None,
+):
     """Advance an ensemble of body angular momenta with a registered method.
 
     Parameters
@@ -216,6 +324,16 @@ def propagate(method, moments, m0, h, n_steps, save_every=0, progress=None, chun
     chunk_steps : int, optional
         Steps per kernel call (rounded to a multiple of ``save_every``); by default chosen so a
         call takes about 0.25 s.
+    track_axis : int, optional
+        Body axis (0-based) of the spin; turns on tracking, returned in ``extras``:
+        ``axis_crossings``, ``first_axis_crossing``, ``last_axis_crossing`` (sign changes of
+        w_a: count, and times in s by linear interpolation, NaN if none); ``perp_crossings``,
+        ``first_perp_crossing``, ``last_perp_crossing`` (the same for the first perpendicular
+        component, the lowest body axis other than ``track_axis``); ``max_perp_amplitude``
+        (rad/s, over the steps taken; the initial state excluded); ``passage_time`` (N,
+        len(levels)): first time sqrt(w_b^2 + w_c^2) reaches each level (NaN if never).
+    levels : array_like, optional
+        Ascending perpendicular-amplitude levels in rad/s for ``passage_time``.
 
     Returns
     -------
@@ -234,42 +352,45 @@ def propagate(method, moments, m0, h, n_steps, save_every=0, progress=None, chun
     n_saved = n_steps // save_every if save_every > 0 else 0
     saved = np.full((n_members, n_saved, 3), np.nan)
 
+    if track_axis is None:
+        axes, track = _NO_AXES, np.zeros((0, N_TRACK))
+        levels, passage = _NO_LEVELS, np.zeros((0, 0))
+    else:
+        axes, track, levels, passage = _tracking_state(
+            m, moments[perm], perm, int(track_axis), levels
+        )
+
     advance = member_loop(spec.step)
     compile_time = _compiled(advance, p)
 
-    # Calibrate the chunk length on a short first call unless the caller fixed it.
     unit = save_every if save_every > 0 else 1
     done = 0
     k_saved = 0
     wall = 0.0
-    interrupted = False
     bar = None
     chunk = chunk_steps
     with _deferred_interrupt() as interrupt:
         while done < n_steps and not interrupt.requested:
-            if chunk is None:
-                this = min(n_steps - done, max(unit, (64 // unit) * unit))
-            else:
-                this = min(n_steps - done, max(unit, (int(chunk) // unit) * unit))
+            # The first call is short and calibrates the chunk length, unless it was fixed.
+            wanted = 64 if chunk is None else int(chunk)
+            this = min(n_steps - done, max(unit, (wanted // unit) * unit))
             k_this = this // save_every if save_every > 0 else 0
-            out = saved[:, k_saved : k_saved + k_this, :]
-            buffer = np.empty((n_members, k_this, 3)) if k_this else np.empty((n_members, 0, 3))
+            buffer = np.empty((n_members, k_this, 3))
             t0 = time.perf_counter()
             advance(
-                m, comp, p, h, spec.stages, this, save_every, buffer,
-                status, fail_step, iterations, done,
+                m, comp, p, h, spec.stages, this, save_every, buffer, status, fail_step,
+                iterations, done, axes, track, levels, passage,
             )
             dt = time.perf_counter() - t0
             wall += dt
-            out[...] = buffer
+            saved[:, k_saved : k_saved + k_this, :] = buffer
             done += this
             k_saved += k_this
             if chunk_steps is None:
                 rate = this / max(dt, 1e-9)
                 chunk = max(unit, int(0.25 * rate))
                 if bar is None and progress is not False:
-                    expected = (n_steps - done) / rate
-                    if progress or expected > 2.0:
+                    if progress or (n_steps - done) / rate > 2.0:
                         bar = _progress_bar(n_steps, done, spec.name)
             if bar is not None:
                 bar.update(this)
@@ -277,6 +398,7 @@ def propagate(method, moments, m0, h, n_steps, save_every=0, progress=None, chun
     if bar is not None:
         bar.close()
 
+    extras = {} if track_axis is None else _tracking_results(track, passage)
     return Propagation(
         m_final=from_canonical(m, perm, signs),
         saved=from_canonical(saved[:, :k_saved], perm, signs),
@@ -287,7 +409,42 @@ def propagate(method, moments, m0, h, n_steps, save_every=0, progress=None, chun
         interrupted=interrupted,
         wall_time=wall,
         compile_time=compile_time,
+        extras=extras,
     )
+
+
+def _tracking_state(m, canonical_moments, perm, track_axis, levels):
+    """Canonical axis indices and initial tracking arrays for spin about body ``track_axis``."""
+    if track_axis not in (0, 1, 2):
+        raise ValueError(f"track_axis must be 0, 1 or 2 (a body axis), got {track_axis}")
+    others = [a for a in (0, 1, 2) if a != track_axis]
+    where = {int(body_axis): i for i, body_axis in enumerate(perm)}  # body axis -> canonical
+    axes = np.array([where[track_axis], where[others[0]], where[others[1]]], dtype=np.int64)
+    levels = _NO_LEVELS if levels is None else np.asarray(levels, dtype=float)
+    if levels.ndim != 1 or np.any(np.diff(levels) <= 0) or np.any(~np.isfinite(levels)):
+        raise ValueError("levels must be a 1-D array of finite, strictly ascending amplitudes")
+    w = m / canonical_moments
+    track = np.zeros((m.shape[0], N_TRACK))
+    track[:, T_PREV_A] = w[:, axes[0]]
+    track[:, T_PREV_B] = w[:, axes[1]]
+    track[:, T_PREV_AMP] = np.hypot(w[:, axes[1]], w[:, axes[2]])
+    for col in (T_FIRST_A, T_LAST_A, T_FIRST_B, T_LAST_B):
+        track[:, col] = np.nan
+    passage = np.full((m.shape[0], levels.size), np.nan)
+    return axes, track, np.ascontiguousarray(levels), passage
+
+
+def _tracking_results(track, passage):
+    return {
+        "axis_crossings": track[:, T_COUNT_A].astype(np.int64),
+        "first_axis_crossing": track[:, T_FIRST_A].copy(),
+        "last_axis_crossing": track[:, T_LAST_A].copy(),
+        "perp_crossings": track[:, T_COUNT_B].astype(np.int64),
+        "first_perp_crossing": track[:, T_FIRST_B].copy(),
+        "last_perp_crossing": track[:, T_LAST_B].copy(),
+        "max_perp_amplitude": track[:, T_MAX_AMP].copy(),
+        "passage_time": passage,
+    }
 
 
 class _Interrupt:
@@ -315,4 +472,4 @@ def _deferred_interrupt():
 def _progress_bar(total, initial, label):
     from tqdm.auto import tqdm
 
-    return tqdm(total=total, initial=initial, unit="step", desc=f"{label}", leave=False)
+    return tqdm(total=total, initial=initial, unit="step", desc=label, leave=False)

@@ -8,7 +8,7 @@ import xarray as xr
 from . import conventions as cv
 from .body import RigidBody
 from .checks import positive_float, positive_int, step_count, vectors3
-from .driver import propagate
+from .driver import propagate, untrusted
 from .integrators import method_spec
 
 
@@ -49,6 +49,11 @@ def integrate(body: RigidBody, w0, t_end, h, method="rk4", save_every=1, progres
     h = positive_float("h", h, "s")
     save_every = positive_int("save_every", save_every)
     n_steps = step_count(t_end, h)
+    if n_steps % save_every:
+        raise ValueError(
+            f"save_every = {save_every} does not divide the {n_steps} steps of t_end / h, so the "
+            f"final state would not be kept; choose save_every among the divisors of {n_steps}"
+        )
 
     moments = body.moments
     result = propagate(spec, moments, (moments * w0)[None, :], h, n_steps, save_every, progress)
@@ -58,7 +63,7 @@ def integrate(body: RigidBody, w0, t_end, h, method="rk4", save_every=1, progres
     steps = np.arange(m.shape[0]) * save_every
     status = int(result.status[0])
     if status != cv.STATUS_OK:
-        w[steps > result.fail_step[0]] = np.nan
+        w[untrusted(steps, result.fail_step)[0]] = np.nan
     ds = xr.Dataset(
         {
             "w": (

@@ -1,0 +1,124 @@
+"""Every registered method: measured order against a reference, and its declared invariants.
+
+Thresholds in one table per property, one row per method (``INVARIANT_BOUNDS``).
+"""
+
+import math
+
+import numpy as np
+import pytest
+
+import stability
+from stability.driver import propagate
+from stability.integrators.composition import KAHAN_LI6, KAHAN_LI8, SUZUKI4
+
+from .helpers import reference_omega
+
+W0 = np.array([0.3, 1.0, 0.9])
+T_ORDER = 8.0
+#: Errors used for the slope fit: above the reference's accuracy, below the pre-asymptotic range.
+ORDER_WINDOW = (1e-11, 1e-4)
+
+FINITE_ORDER = [name for name, spec in stability.METHODS.items() if not spec.is_exact]
+EXACT = [name for name, spec in stability.METHODS.items() if spec.is_exact]
+
+
+def final_error(body, method, h, w_ref):
+    ds = stability.integrate(body, W0, T_ORDER, h, method, save_every=round(T_ORDER / h))
+    return np.max(np.abs(ds.w.values[-1] - w_ref))
+
+
+@pytest.mark.parametrize("name", FINITE_ORDER)
+def test_measured_order_matches_declared(name, body123):
+    """Slope of log(error) against log(h), fitted over the asymptotic range, within 0.1."""
+    spec = stability.METHODS[name]
+    w_ref = reference_omega(body123, W0, T_ORDER)
+    steps = np.unique(np.round(4 * 2.0 ** (np.arange(0, 16) / 2)).astype(int))
+    hs, errors = [], []
+    for n in steps:
+        h = T_ORDER / n
+        err = final_error(body123, name, h, w_ref)
+        if ORDER_WINDOW[0] < err < ORDER_WINDOW[1]:
+            hs.append(h)
+            errors.append(err)
+        if err < ORDER_WINDOW[0]:
+            break
+    assert len(hs) >= 3, f"{name}: too few step sizes in the asymptotic window: {errors}"
+    slope = np.polyfit(np.log(hs), np.log(errors), 1)[0]
+    assert abs(slope - spec.order) < 0.1, f"{name}: measured order {slope:.3f}, declared {spec.order}"
+
+
+@pytest.mark.parametrize("name", EXACT)
+def test_exact_methods_have_no_step_size_error(name, body123):
+    w_ref = reference_omega(body123, W0, T_ORDER)
+    for h in (2.0, 0.5, 0.1):
+        assert final_error(body123, name, h, w_ref) < 1e-12
+
+
+def invariants(moments, m):
+    """Relative |m| and energy of states m (..., 3) against the first one."""
+    L = np.linalg.norm(m, axis=-1)
+    E = 0.5 * np.sum(m * m / moments, axis=-1)
+    return np.abs(L / L[0] - 1.0), E / E[0] - 1.0
+
+
+CASIMIR = [name for name, spec in stability.METHODS.items() if spec.preserves_casimir]
+
+
+@pytest.mark.parametrize("name", CASIMIR)
+def test_casimir_to_round_off(name):
+    """|L| kept to <= 1e-13 relative: over 1e6 steps (h = 0.01, t = 1e4) for lp2 and lp4,
+    over 1e5 steps for the costlier methods."""
+    n_steps = 1_000_000 if name in ("lp2", "lp4") else 100_000
+    moments = np.array([1.0, 2.0, 3.0])
+    m0 = (moments * W0)[None, :]
+    run = propagate(name, moments, m0, 0.01, n_steps, save_every=n_steps // 100)
+    dL, _ = invariants(moments, np.concatenate([m0, run.saved[0]]))
+    assert dL.max() <= 1e-13
+
+
+def test_lp2_energy_error_is_bounded():
+    """Poisson map: the energy error oscillates at O(h^2) with no secular growth."""
+    moments = np.array([1.0, 2.0, 3.0])
+    m0 = (moments * W0)[None, :]
+    run = propagate("lp2", moments, m0, 0.1, 200_000, save_every=100)  # t = 2e4
+    _, dE = invariants(moments, np.concatenate([m0, run.saved[0]]))
+    early = np.abs(dE[: dE.size // 100]).max()  # t <= 200
+    late = np.abs(dE[dE.size // 2 :]).max()  # 1e4 <= t <= 2e4
+    assert 1e-6 < early < 1e-3  # O(h^2) at h = 0.1
+    assert late < 2.0 * early
+
+
+def test_rk4_energy_drifts_linearly_and_dissipatively():
+    """RK4's energy error grows linearly in t (literature notes 4.1: -5.45e-6 at t = 100)."""
+    moments = np.array([1.0, 2.0, 3.0])
+    m0 = (moments * W0)[None, :]
+    run = propagate("rk4", moments, m0, 0.1, 10_000, save_every=1000)  # t = 100, ..., 1000
+    _, dE = invariants(moments, np.concatenate([m0, run.saved[0]]))
+    assert dE[1] < 0 and dE[10] < 0
+    assert dE[10] / dE[1] == pytest.approx(10.0, rel=0.05)
+    assert dE[1] == pytest.approx(-5.45e-6, rel=0.02)
+
+
+@pytest.mark.parametrize(
+    "weights, order", [(SUZUKI4, 4), (KAHAN_LI6, 6), (KAHAN_LI8, 8)], ids=["lp4", "lp6", "lp8"]
+)
+def test_composition_weights_are_consistent(weights, order):
+    """Palindromic, sum to 1, and sum g^k = 0 for the odd k in 3 .. order - 1."""
+    g = np.array(weights)
+    np.testing.assert_array_equal(g, g[::-1])
+    assert math.fsum(g) == pytest.approx(1.0, abs=1e-15)
+    for k in range(3, order, 2):
+        assert abs(np.sum(g**k)) < 1e-14, f"sum g^{k} = {np.sum(g**k)}"
+
+
+def test_registry_names_one_order_each():
+    for name, spec in stability.METHODS.items():
+        assert spec.name == name
+        assert spec.order >= 1
+        assert spec.reference
+
+
+def test_unknown_method_lists_known_ones(body123):
+    with pytest.raises(ValueError, match="unknown method 'rk5'.*rk4.*lp2"):
+        stability.integrate(body123, W0, 1.0, 0.1, method="rk5")
