@@ -5,14 +5,14 @@ forms the package writes:
 
 - a **time series**: ``w`` (member, time, axis) in rad s-1 (or (time, axis) for one trajectory,
   as ``integrate`` returns);
-- **summaries only**: per-member ``passage_time`` (member, level), the first time the
-  perpendicular amplitude ``sqrt(w_b^2 + w_c^2)`` reaches each ``level`` (rad s-1), the zero
-  crossings of the spin-axis component (``axis_crossings``, ``first_axis_crossing``,
-  ``last_axis_crossing``) and of the first perpendicular component (``perp_crossings``,
-  ``first_perp_crossing``, ``last_perp_crossing``), ``max_perp_amplitude`` and the start ``w0``
-  (member, axis).
+- **summaries only** (as ``run_ensemble(..., summaries_only=True)`` writes them): per-member
+  ``passage_time`` (member, level), the first time the perpendicular amplitude
+  ``sqrt(w_b^2 + w_c^2)`` reaches each ``level`` (rad s-1), the sign changes of the spin-axis
+  component (``flip_count``, ``first_flip_time``, ``last_flip_time``) and of one perpendicular
+  component (``perp_crossing_count``, ``first_perp_crossing``, ``last_perp_crossing``),
+  ``max_perp_amplitude``, ``status`` and the start ``w0`` (member, axis).
 
-Here ``b < c`` are the two axes perpendicular to the spin axis. Every member is first put in a
+Here ``b`` and ``c`` are the two axes perpendicular to the spin axis. Every member is first put in a
 **regime** from its own data, so that no rate is forced on a departure that is not exponential
 (:func:`member_regimes`):
 
@@ -85,10 +85,10 @@ REGIME_SIGN = {
 # Names of the summaries-only variables (see the module docstring).
 PASSAGE = "passage_time"
 LEVEL = "level"
-AXIS_CROSSINGS = "axis_crossings"
-FIRST_AXIS_CROSSING = "first_axis_crossing"
-LAST_AXIS_CROSSING = "last_axis_crossing"
-PERP_CROSSINGS = "perp_crossings"
+AXIS_CROSSINGS = "flip_count"
+FIRST_AXIS_CROSSING = "first_flip_time"
+LAST_AXIS_CROSSING = "last_flip_time"
+PERP_CROSSINGS = "perp_crossing_count"
 FIRST_PERP_CROSSING = "first_perp_crossing"
 LAST_PERP_CROSSING = "last_perp_crossing"
 MAX_PERP = "max_perp_amplitude"
@@ -313,19 +313,19 @@ def _members_from_summaries(ds, axis, spin):
         raise ValueError("summaries-only Dataset needs 'w0' (member, axis) or attrs['epsilon']")
 
     def get(name):
-        return np.asarray(ds[name].transpose(cv.MEMBER).values)
+        return np.asarray(ds[name].transpose(cv.MEMBER).values, dtype=float)
+
+    def count(name):  # counts may be stored as float with NaN for masked members
+        return np.nan_to_num(get(name), nan=0.0).astype(np.int64)
 
     return Members(
         axis=axis, spin=spin, member=np.asarray(passage[cv.MEMBER].values), a0=a0,
-        valid=_status_ok(ds, n), t=None, amp=None, levels=levels,
+        valid=_status_ok(ds, n) & np.isfinite(get(MAX_PERP)), t=None, amp=None, levels=levels,
         passage=np.asarray(passage.values, dtype=float),
-        axis_crossings=get(AXIS_CROSSINGS).astype(np.int64),
-        first_axis=get(FIRST_AXIS_CROSSING).astype(float),
-        last_axis=get(LAST_AXIS_CROSSING).astype(float),
-        perp_crossings=get(PERP_CROSSINGS).astype(np.int64),
-        first_perp=get(FIRST_PERP_CROSSING).astype(float),
-        last_perp=get(LAST_PERP_CROSSING).astype(float),
-        max_perp=get(MAX_PERP).astype(float), w0=w0,
+        axis_crossings=count(AXIS_CROSSINGS), first_axis=get(FIRST_AXIS_CROSSING),
+        last_axis=get(LAST_AXIS_CROSSING), perp_crossings=count(PERP_CROSSINGS),
+        first_perp=get(FIRST_PERP_CROSSING), last_perp=get(LAST_PERP_CROSSING),
+        max_perp=get(MAX_PERP), w0=w0,
     )
 
 

@@ -90,10 +90,10 @@ def summaries_from_separatrix(n_members, levels, lam=LAM, seed=3):
     return xr.Dataset(
         {
             "passage_time": (("member", "level"), passage),
-            "axis_crossings": (("member",), np.ones(n_members, dtype=int)),
-            "first_axis_crossing": (("member",), t0),
-            "last_axis_crossing": (("member",), t0),
-            "perp_crossings": (("member",), np.zeros(n_members, dtype=int)),
+            "flip_count": (("member",), np.ones(n_members)),
+            "first_flip_time": (("member",), t0),
+            "last_flip_time": (("member",), t0),
+            "perp_crossing_count": (("member",), np.zeros(n_members)),
             "first_perp_crossing": (("member",), nan),
             "last_perp_crossing": (("member",), nan),
             "max_perp_amplitude": (("member",), np.full(n_members, a_max)),
