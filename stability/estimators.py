@@ -215,6 +215,8 @@ def members(ds: xr.Dataset, axis=None, spin=None) -> Members:
     -------
     Members
     """
+    if isinstance(ds, Members):
+        return ds
     if not isinstance(ds, xr.Dataset):
         raise ValueError(f"expected an xarray.Dataset, got {type(ds).__name__}")
     if "w" in ds and cv.TIME in ds["w"].dims:
@@ -326,6 +328,52 @@ def _members_from_summaries(ds, axis, spin):
         last_axis=get(LAST_AXIS_CROSSING), perp_crossings=count(PERP_CROSSINGS),
         first_perp=get(FIRST_PERP_CROSSING), last_perp=get(LAST_PERP_CROSSING),
         max_perp=get(MAX_PERP), w0=w0,
+    )
+
+
+def tracked_members(extras: dict, w0, axis: int, spin: float, levels, status=None) -> Members:
+    """Members from the driver's in-kernel tracking (``propagate(..., track_axis=axis - 1)``).
+
+    Parameters
+    ----------
+    extras : dict
+        ``Propagation.extras``: ``axis_crossings``, ``first_axis_crossing``,
+        ``last_axis_crossing``, ``perp_crossings``, ``first_perp_crossing``,
+        ``last_perp_crossing``, ``max_perp_amplitude`` (N,), ``passage_time`` (N, n_levels).
+    w0 : array_like, shape (N, 3)
+        Starts, body frame, rad/s.
+    axis : int
+        Spin axis, 1-based (the tracked one).
+    spin : float
+        Spin in rad/s.
+    levels : array_like, shape (n_levels,)
+        The ascending levels of ``passage_time``, rad/s.
+    status : array_like, shape (N,), optional
+        Per-member status codes; members not ``STATUS_OK`` are left out of every estimate.
+
+    Returns
+    -------
+    Members
+    """
+    w0 = np.atleast_2d(np.asarray(w0, dtype=float))
+    axis = int(axis)
+    b, c = perpendicular_axes(axis)
+    n = w0.shape[0]
+    valid = np.ones(n, dtype=bool) if status is None else np.asarray(status) == cv.STATUS_OK
+    max_perp = np.asarray(extras["max_perp_amplitude"], dtype=float)
+    a0 = np.hypot(w0[:, b - 1], w0[:, c - 1])
+    return Members(
+        axis=axis, spin=abs(float(spin)), member=np.arange(n), a0=a0,
+        valid=valid & np.isfinite(max_perp), t=None, amp=None,
+        levels=np.asarray(levels, dtype=float),
+        passage=np.asarray(extras["passage_time"], dtype=float),
+        axis_crossings=np.asarray(extras["axis_crossings"]).astype(np.int64),
+        first_axis=np.asarray(extras["first_axis_crossing"], dtype=float),
+        last_axis=np.asarray(extras["last_axis_crossing"], dtype=float),
+        perp_crossings=np.asarray(extras["perp_crossings"]).astype(np.int64),
+        first_perp=np.asarray(extras["first_perp_crossing"], dtype=float),
+        last_perp=np.asarray(extras["last_perp_crossing"], dtype=float),
+        max_perp=np.maximum(max_perp, a0), w0=w0,
     )
 
 
@@ -624,6 +672,92 @@ def _ensemble_regime(regime, valid):
     return best if counts[best] > MAJORITY * r.size else REGIME_UNDETERMINED
 
 
+#: Units and long names of the ensemble estimates (scalars of :func:`omega_squared_estimate`
+#: and :func:`flip_estimate`), for every Dataset that stores them.
+ESTIMATE_ATTRS = {
+    "regime": _regime_attrs("regime of the ensemble's motion"),
+    "omega_squared_measured": {
+        "long_name": "measured Omega^2 (-rate^2 for growth, +frequency^2 for oscillation)",
+        "units": cv.UNITS_RATE_SQUARED},
+    "omega_squared_measured_stderr": {
+        "long_name": "standard error of the measured Omega^2", "units": cv.UNITS_RATE_SQUARED},
+    "omega_squared": {"long_name": "analytic Omega^2 of linear theory",
+                      "units": cv.UNITS_RATE_SQUARED},
+    "relative_error": {"long_name": "(measured - analytic) / |analytic| Omega^2",
+                       "units": cv.UNITS_DIMENSIONLESS},
+    "sign_agrees": {"long_name": "regime sign equals the sign of the analytic Omega^2",
+                    "units": cv.UNITS_DIMENSIONLESS},
+    "growth_rate": {"long_name": "exponential growth rate", "units": cv.UNITS_RATE},
+    "growth_rate_stderr": {"long_name": "standard error of the growth rate",
+                           "units": cv.UNITS_RATE},
+    "oscillation_frequency": {"long_name": "oscillation angular frequency",
+                              "units": cv.UNITS_ANGULAR_VELOCITY},
+    "oscillation_frequency_stderr": {"long_name": "standard error of the oscillation frequency",
+                                     "units": cv.UNITS_ANGULAR_VELOCITY},
+    "drift_rate": {"long_name": "slope of the perpendicular amplitude (algebraic drift)",
+                   "units": "rad s-2"},
+    "n_fitted": {"long_name": "members that gave a rate or a frequency",
+                 "units": cv.UNITS_DIMENSIONLESS},
+    "first_flip_time_mean": {"long_name": "mean time of the first flip", "units": cv.UNITS_TIME},
+    "first_flip_time_stderr": {"long_name": "standard error of the first-flip time",
+                               "units": cv.UNITS_TIME},
+    "flip_interval_mean": {"long_name": "mean flip interval", "units": cv.UNITS_TIME},
+    "flip_interval_stderr": {"long_name": "standard error of the flip interval",
+                             "units": cv.UNITS_TIME},
+    "flip_interval_exact_mean": {"long_name": "mean exact flip interval 2K/nu",
+                                 "units": cv.UNITS_TIME},
+    "flip_interval_asymptote_mean": {
+        "long_name": "mean asymptotic flip interval (2/lambda) ln(4/k')", "units": cv.UNITS_TIME},
+    "flip_interval_relative_error": {
+        "long_name": "mean (measured - exact) / exact flip interval",
+        "units": cv.UNITS_DIMENSIONLESS},
+    "flip_interval_relative_error_stderr": {
+        "long_name": "standard error of the flip-interval relative error",
+        "units": cv.UNITS_DIMENSIONLESS},
+    "n_flips_mean": {"long_name": "mean number of flips per member",
+                     "units": cv.UNITS_DIMENSIONLESS},
+    "n_with_interval": {"long_name": "members with two or more flips",
+                        "units": cv.UNITS_DIMENSIONLESS},
+}
+
+
+def omega_squared_estimate(mem: Members, analytic=None, *, low_factor=WINDOW_LOW_FACTOR,
+                           high_fraction=WINDOW_HIGH_FRACTION) -> dict:
+    """The numbers of :func:`measured_omega_squared` as a dict, from gathered members.
+
+    For loops over many ensembles (the stability map), where building a Dataset per ensemble
+    would cost more than the estimate. Keys: those of ``ESTIMATE_ATTRS`` from ``regime`` to
+    ``n_fitted`` (Python scalars), and ``member_regime`` (ndarray, shape (N,)).
+    """
+    regime, _, _, drift = _classify(mem)
+    rate = _member_rates(mem, regime, low_factor, high_fraction)
+    freq = _member_frequencies(mem, regime)
+    r_mean, r_se, r_n = _mean_stderr(rate)
+    f_mean, f_se, f_n = _mean_stderr(freq)
+    d_mean, _, _ = _mean_stderr(drift)
+    ens = _ensemble_regime(regime, mem.valid)
+    n_fitted = 0
+    if ens == REGIME_EXPONENTIAL and r_n:
+        value, err, n_fitted = -(r_mean**2), 2.0 * r_mean * r_se, r_n
+    elif ens == REGIME_OSCILLATION and f_n:
+        value, err, n_fitted = f_mean**2, 2.0 * f_mean * f_se, f_n
+    else:
+        value, err = math.nan, math.nan
+    analytic = math.nan if analytic is None else float(analytic)
+    rel = (value - analytic) / abs(analytic) if analytic != 0.0 else math.nan
+    sign = REGIME_SIGN[ens]
+    agrees = bool(sign == np.sign(analytic)) if math.isfinite(sign) else False
+    if math.isfinite(analytic) and analytic != 0.0 and math.isfinite(value):
+        agrees = agrees and bool(np.sign(value) == np.sign(analytic))
+    return {
+        "regime": ens, "omega_squared_measured": value, "omega_squared_measured_stderr": err,
+        "omega_squared": analytic, "relative_error": rel, "sign_agrees": agrees,
+        "growth_rate": r_mean, "growth_rate_stderr": r_se,
+        "oscillation_frequency": f_mean, "oscillation_frequency_stderr": f_se,
+        "drift_rate": d_mean, "n_fitted": n_fitted, "member_regime": regime,
+    }
+
+
 def measured_omega_squared(ds: xr.Dataset, axis=None, spin=None, *, analytic=None,
                            low_factor=WINDOW_LOW_FACTOR,
                            high_fraction=WINDOW_HIGH_FRACTION) -> xr.Dataset:
@@ -636,7 +770,7 @@ def measured_omega_squared(ds: xr.Dataset, axis=None, spin=None, *, analytic=Non
 
     Parameters
     ----------
-    ds : xarray.Dataset
+    ds : xarray.Dataset or Members
         One ensemble, time series or summaries only.
     axis, spin : optional
         Spin axis (1-based) and spin (rad/s); by default from ``ds.attrs``.
@@ -653,64 +787,20 @@ def measured_omega_squared(ds: xr.Dataset, axis=None, spin=None, *, analytic=Non
         (s-2), ``growth_rate``, ``oscillation_frequency`` (and their standard errors),
         ``drift_rate`` (rad s-2, algebraic drift), ``omega_squared`` (analytic, s-2),
         ``relative_error`` ((measured - analytic) / |analytic|), ``sign_agrees`` (the regime's
-        sign against the analytic sign; a zero analytic value agrees with drift or neutral);
-        per member ``member_regime``.
+        sign against the analytic sign; a zero analytic value agrees with drift or neutral),
+        ``n_fitted``; per member ``member_regime``.
     """
     mem = members(ds, axis, spin)
-    regime, _, _, drift = _classify(mem)
-    rate = _member_rates(mem, regime, low_factor, high_fraction)
-    freq = _member_frequencies(mem, regime)
-    r_mean, r_se, r_n = _mean_stderr(rate)
-    f_mean, f_se, f_n = _mean_stderr(freq)
-    d_mean, d_se, _ = _mean_stderr(drift)
-    ens = _ensemble_regime(regime, mem.valid)
-    if ens == REGIME_EXPONENTIAL and r_n:
-        value, err = -r_mean**2, 2.0 * r_mean * r_se
-    elif ens == REGIME_OSCILLATION and f_n:
-        value, err = f_mean**2, 2.0 * f_mean * f_se
-    else:
-        value, err = math.nan, math.nan
-    if analytic is None:
+    if analytic is None and isinstance(ds, xr.Dataset):
         analytic = _analytic_from_attrs(ds, mem)
-    analytic = math.nan if analytic is None else float(analytic)
-    rel = (value - analytic) / abs(analytic) if analytic != 0.0 else math.nan
-    sign = REGIME_SIGN[ens]
-    agrees = bool(sign == np.sign(analytic)) if math.isfinite(sign) else False
-    if math.isfinite(analytic) and analytic != 0.0 and math.isfinite(value):
-        agrees = agrees and bool(np.sign(value) == np.sign(analytic))
-    u2 = cv.UNITS_RATE_SQUARED
-    return xr.Dataset(
-        {
-            "regime": ((), np.int8(ens), _regime_attrs("regime of the ensemble's motion")),
-            "omega_squared_measured": ((), value, {
-                "long_name": "measured Omega^2 (-rate^2 for growth, +frequency^2 for oscillation)",
-                "units": u2}),
-            "omega_squared_measured_stderr": ((), err, {
-                "long_name": "standard error of the measured Omega^2", "units": u2}),
-            "omega_squared": ((), analytic, {
-                "long_name": "analytic Omega^2 of linear theory", "units": u2}),
-            "relative_error": ((), rel, {
-                "long_name": "(measured - analytic) / |analytic| Omega^2",
-                "units": cv.UNITS_DIMENSIONLESS}),
-            "sign_agrees": ((), agrees, {
-                "long_name": "regime sign equals the sign of the analytic Omega^2"}),
-            "growth_rate": ((), r_mean, {"long_name": "exponential growth rate",
-                                         "units": cv.UNITS_RATE}),
-            "growth_rate_stderr": ((), r_se, {"long_name": "standard error of the growth rate",
-                                              "units": cv.UNITS_RATE}),
-            "oscillation_frequency": ((), f_mean, {"long_name": "oscillation angular frequency",
-                                                   "units": cv.UNITS_ANGULAR_VELOCITY}),
-            "oscillation_frequency_stderr": ((), f_se, {
-                "long_name": "standard error of the oscillation frequency",
-                "units": cv.UNITS_ANGULAR_VELOCITY}),
-            "drift_rate": ((), d_mean, {
-                "long_name": "slope of the perpendicular amplitude (algebraic drift)",
-                "units": "rad s-2"}),
-            "member_regime": ((cv.MEMBER,), regime, _regime_attrs("regime of each member")),
-        },
-        coords={cv.MEMBER: mem.member},
-        attrs={"axis": mem.axis, "spin": mem.spin},
-    )
+    est = omega_squared_estimate(mem, analytic, low_factor=low_factor,
+                                 high_fraction=high_fraction)
+    regime = est.pop("member_regime")
+    data = {name: ((), value, ESTIMATE_ATTRS[name]) for name, value in est.items()}
+    data["regime"] = ((), np.int8(est["regime"]), ESTIMATE_ATTRS["regime"])
+    data["member_regime"] = ((cv.MEMBER,), regime, _regime_attrs("regime of each member"))
+    return xr.Dataset(data, coords={cv.MEMBER: mem.member},
+                      attrs={"axis": mem.axis, "spin": mem.spin})
 
 
 def _analytic_from_attrs(ds, mem):
@@ -727,41 +817,88 @@ def _analytic_from_attrs(ds, mem):
 # Flips
 
 
-def complementary_modulus_squared(moments, w0) -> np.ndarray:
-    """k'^2 = 1 - k^2 of the elliptic solution from each start, without cancellation.
+def exact_flip_intervals(body, axis: int, w0):
+    """Each start's exact flip interval 2K/nu and its asymptote (2/lambda) ln(4/k').
 
-    Literature notes 1.1-1.2: with the moments sorted (I1 <= I2 <= I3) and
-    D1 = I2(I2-I1) w2^2 + I3(I3-I1) w3^2, D2 = I1(I1-I2) w1^2 + I3(I3-I2) w3^2,
-    D3 = I1(I3-I1) w1^2 + I2(I3-I2) w2^2:
-    k'^2 = (I3-I1) D2 / ((I3-I2) D1) if D2 > 0, else (I3-I1)(-D2) / ((I2-I1) D3).
+    Defined for spin about the intermediate axis only (flips happen there); NaN elsewhere.
 
     Parameters
     ----------
-    moments : array_like, shape (3,)
-        Principal moments, any order.
+    body : RigidBody
+    axis : int
+        Spin axis, 1-based.
     w0 : array_like, shape (N, 3)
         Starts, body frame, rad/s.
 
     Returns
     -------
-    ndarray, shape (N,)
-        k'^2; NaN where a moment difference vanishes (symmetric bodies have no flips).
+    exact, asymptote : ndarray, shape (N,)
+        In s (:func:`stability.exact.flip_interval`, :func:`stability.exact.flip_interval_asymptote`;
+        literature notes 1.5, Abramowitz-Stegun 17.3.26).
     """
-    moments = np.asarray(moments, dtype=float)
-    order = np.argsort(moments, kind="stable")
-    I1, I2, I3 = moments[order]
-    w = np.atleast_2d(np.asarray(w0, dtype=float))[:, order]
-    w1, w2, w3 = w[:, 0], w[:, 1], w[:, 2]
-    D1 = I2 * (I2 - I1) * w2**2 + I3 * (I3 - I1) * w3**2
-    D2 = I1 * (I1 - I2) * w1**2 + I3 * (I3 - I2) * w3**2
-    D3 = I1 * (I3 - I1) * w1**2 + I2 * (I3 - I2) * w2**2
+    w0 = np.atleast_2d(np.asarray(w0, dtype=float))
+    exact = np.full(w0.shape[0], np.nan)
+    asymptote = np.full(w0.shape[0], np.nan)
+    if _is_intermediate(body.moments, axis):
+        from .exact import flip_interval, flip_interval_asymptote
+
+        for j, w in enumerate(w0):
+            exact[j] = flip_interval(body, w)
+            asymptote[j] = flip_interval_asymptote(body, w)
+    return exact, asymptote
+
+
+def flip_estimate(mem: Members, exact=None, asymptote=None) -> dict:
+    """The numbers of :func:`flip_statistics` as a dict, from gathered members.
+
+    Parameters
+    ----------
+    mem : Members
+    exact, asymptote : ndarray, shape (N,), optional
+        Each member's exact flip interval and its asymptote (:func:`exact_flip_intervals`).
+
+    Returns
+    -------
+    dict
+        Per member (ndarray, shape (N,)): ``n_flips``, ``first_flip_time``, ``flip_interval``,
+        ``flip_interval_exact``, ``flip_interval_asymptote``; scalars: the ``ESTIMATE_ATTRS``
+        keys from ``first_flip_time_mean`` to ``n_with_interval``.
+    """
+    n_members = mem.a0.size
+    nan = np.full(n_members, np.nan)
+    exact = nan if exact is None else np.asarray(exact, dtype=float)
+    asymptote = nan if asymptote is None else np.asarray(asymptote, dtype=float)
+    n = np.where(mem.valid, mem.axis_crossings, 0).astype(np.int64)
+    first = np.where(mem.valid & (n >= 1), mem.first_axis, np.nan)
     with np.errstate(invalid="ignore", divide="ignore"):
-        a = (I3 - I1) * D2 / ((I3 - I2) * D1)
-        b = (I3 - I1) * (-D2) / ((I2 - I1) * D3)
-    out = np.where(D2 > 0, a, b)
-    if I2 == I1 or I3 == I2:
-        out[:] = np.nan
-    return out
+        interval = np.where(n >= 2, (mem.last_axis - mem.first_axis) / (n - 1), np.nan)
+        rel = (interval - exact) / exact
+    has = np.isfinite(interval)
+    first_m, first_se, _ = _mean_stderr(first)
+    int_m, int_se, n_int = _mean_stderr(interval)
+    rel_m, rel_se, _ = _mean_stderr(rel)
+    return {
+        "n_flips": np.where(mem.valid, n, 0), "first_flip_time": first,
+        "flip_interval": interval, "flip_interval_exact": exact,
+        "flip_interval_asymptote": asymptote,
+        "first_flip_time_mean": first_m, "first_flip_time_stderr": first_se,
+        "flip_interval_mean": int_m, "flip_interval_stderr": int_se,
+        "flip_interval_exact_mean": _mean_stderr(np.where(has, exact, np.nan))[0],
+        "flip_interval_asymptote_mean": _mean_stderr(np.where(has, asymptote, np.nan))[0],
+        "flip_interval_relative_error": rel_m, "flip_interval_relative_error_stderr": rel_se,
+        "n_flips_mean": float(n[mem.valid].mean()) if mem.valid.any() else math.nan,
+        "n_with_interval": n_int,
+    }
+
+
+#: Long names of the per-member flip variables.
+_FLIP_MEMBER_NAMES = {
+    "n_flips": ("sign changes of the spin-axis component", cv.UNITS_DIMENSIONLESS),
+    "first_flip_time": ("time of the first flip", cv.UNITS_TIME),
+    "flip_interval": ("mean time between flips", cv.UNITS_TIME),
+    "flip_interval_exact": ("exact flip interval 2K/nu of the member's start", cv.UNITS_TIME),
+    "flip_interval_asymptote": ("asymptotic flip interval (2/lambda) ln(4/k')", cv.UNITS_TIME),
+}
 
 
 def flip_statistics(ds: xr.Dataset, axis=None, spin=None, *, body=None) -> xr.Dataset:
@@ -770,13 +907,12 @@ def flip_statistics(ds: xr.Dataset, axis=None, spin=None, *, body=None) -> xr.Da
     A flip is a sign change of the spin-axis component (the body turning over, +w -> -w about
     the intermediate axis). Per member: the number of flips, the time of the first, and the mean
     interval ``(t_last - t_first) / (n - 1)`` (n >= 2). Beside them the exact interval ``2K/nu``
-    of the member's own start (``stability.flip_interval``) and the small-perturbation
-    asymptote ``(2 / lambda) ln(4 / k')`` (literature 1.5, Abramowitz-Stegun 17.3.26), with
-    lambda the analytic growth rate.
+    of the member's own start and the small-perturbation asymptote ``(2 / lambda) ln(4 / k')``
+    (:func:`exact_flip_intervals`).
 
     Parameters
     ----------
-    ds : xarray.Dataset
+    ds : xarray.Dataset or Members
         One ensemble, time series or summaries only (the start ``w0`` is needed for the exact
         values).
     axis, spin : optional
@@ -791,66 +927,29 @@ def flip_statistics(ds: xr.Dataset, axis=None, spin=None, *, body=None) -> xr.Da
         Per member (member): ``n_flips``, ``first_flip_time``, ``flip_interval``,
         ``flip_interval_exact``, ``flip_interval_asymptote`` (s); scalars: their means over
         members (``*_mean``), ``flip_interval_relative_error`` (mean over members of
-        (measured - exact) / exact) and its standard error.
+        (measured - exact) / exact) and its standard error, ``n_flips_mean``,
+        ``n_with_interval``.
     """
     mem = members(ds, axis, spin)
-    n = mem.axis_crossings.astype(np.int64)
-    valid = mem.valid
-    first = np.where(valid & (n >= 1), mem.first_axis, np.nan)
-    with np.errstate(invalid="ignore", divide="ignore"):
-        interval = np.where(valid & (n >= 2), (mem.last_axis - mem.first_axis) / (n - 1), np.nan)
-    exact = np.full(n.size, np.nan)
-    asym = np.full(n.size, np.nan)
-    if body is None and all(k in ds.attrs for k in ("I1", "I2", "I3")):
+    if body is None and isinstance(ds, xr.Dataset) and all(
+        k in ds.attrs for k in ("I1", "I2", "I3")
+    ):
         from .body import RigidBody
 
         body = RigidBody(ds.attrs["I1"], ds.attrs["I2"], ds.attrs["I3"], physical=False)
-    if body is not None and mem.w0 is not None and _is_intermediate(body.moments, mem.axis):
-        exact, asym = _exact_intervals(body, mem)
-    with np.errstate(invalid="ignore", divide="ignore"):
-        rel = np.where(np.isfinite(interval), (interval - exact) / exact, np.nan)
-    u = cv.UNITS_TIME
-    first_m, first_se, _ = _mean_stderr(first)
-    int_m, int_se, n_int = _mean_stderr(interval)
-    ex_m, _, _ = _mean_stderr(np.where(np.isfinite(interval), exact, np.nan))
-    as_m, _, _ = _mean_stderr(np.where(np.isfinite(interval), asym, np.nan))
-    rel_m, rel_se, _ = _mean_stderr(rel)
-    per = (cv.MEMBER,)
-    return xr.Dataset(
-        {
-            "n_flips": (per, np.where(valid, n, 0), {
-                "long_name": "sign changes of the spin-axis component",
-                "units": cv.UNITS_DIMENSIONLESS}),
-            "first_flip_time": (per, first, {"long_name": "time of the first flip", "units": u}),
-            "flip_interval": (per, interval, {"long_name": "mean time between flips",
-                                              "units": u}),
-            "flip_interval_exact": (per, exact, {
-                "long_name": "exact flip interval 2K/nu of the member's start", "units": u}),
-            "flip_interval_asymptote": (per, asym, {
-                "long_name": "asymptotic flip interval (2/lambda) ln(4/k')", "units": u}),
-            "first_flip_time_mean": ((), first_m, {"long_name": "mean time of the first flip",
-                                                   "units": u}),
-            "first_flip_time_stderr": ((), first_se, {
-                "long_name": "standard error of the first-flip time", "units": u}),
-            "flip_interval_mean": ((), int_m, {"long_name": "mean flip interval", "units": u}),
-            "flip_interval_stderr": ((), int_se, {
-                "long_name": "standard error of the flip interval", "units": u}),
-            "flip_interval_exact_mean": ((), ex_m, {
-                "long_name": "mean exact flip interval 2K/nu", "units": u}),
-            "flip_interval_asymptote_mean": ((), as_m, {
-                "long_name": "mean asymptotic flip interval (2/lambda) ln(4/k')", "units": u}),
-            "flip_interval_relative_error": ((), rel_m, {
-                "long_name": "mean (measured - exact) / exact flip interval",
-                "units": cv.UNITS_DIMENSIONLESS}),
-            "flip_interval_relative_error_stderr": ((), rel_se, {
-                "long_name": "standard error of the flip-interval relative error",
-                "units": cv.UNITS_DIMENSIONLESS}),
-            "n_with_interval": ((), n_int, {"long_name": "members with two or more flips",
-                                            "units": cv.UNITS_DIMENSIONLESS}),
-        },
-        coords={cv.MEMBER: mem.member},
-        attrs={"axis": mem.axis, "spin": mem.spin},
-    )
+    exact = asymptote = None
+    if body is not None and mem.w0 is not None:
+        exact, asymptote = exact_flip_intervals(body, mem.axis, mem.w0)
+    est = flip_estimate(mem, exact, asymptote)
+    data = {}
+    for name, value in est.items():
+        if name in _FLIP_MEMBER_NAMES:
+            long_name, units = _FLIP_MEMBER_NAMES[name]
+            data[name] = ((cv.MEMBER,), value, {"long_name": long_name, "units": units})
+        else:
+            data[name] = ((), value, ESTIMATE_ATTRS[name])
+    return xr.Dataset(data, coords={cv.MEMBER: mem.member},
+                      attrs={"axis": mem.axis, "spin": mem.spin})
 
 
 def _is_intermediate(moments, axis):
@@ -859,24 +958,12 @@ def _is_intermediate(moments, axis):
     return bool(others.min() < moments[axis - 1] < others.max())
 
 
-def _exact_intervals(body, mem):
-    from .analytic import omega_squared
-    from .exact import flip_interval
-
-    w0 = mem.w0
-    exact = np.asarray([flip_interval(body, w) for w in w0], dtype=float)
-    lam = math.sqrt(-omega_squared(body, mem.axis, mem.spin))
-    with np.errstate(invalid="ignore", divide="ignore"):
-        kp = np.sqrt(complementary_modulus_squared(body.moments, w0))
-        asym = (2.0 / lam) * np.log(4.0 / kp)  # K(k) ~ ln(4/k'), A&S 17.3.26
-    return exact, asym
-
-
 __all__ = [
     "DEPARTURE_FACTOR", "MIN_CROSSINGS", "MIN_POINTS", "Members", "REGIME_ALGEBRAIC",
     "REGIME_EXPONENTIAL", "REGIME_MEANINGS", "REGIME_NEUTRAL", "REGIME_OSCILLATION",
     "REGIME_UNDETERMINED", "WINDOW_HIGH_FRACTION", "WINDOW_LOW_FACTOR",
-    "complementary_modulus_squared", "flip_statistics", "measured_frequency",
-    "measured_growth_rate", "measured_omega_squared", "member_regimes", "members",
-    "perpendicular_axes", "zero_crossings",
+    "ESTIMATE_ATTRS", "exact_flip_intervals", "flip_estimate", "flip_statistics",
+    "measured_frequency", "measured_growth_rate", "measured_omega_squared", "member_regimes",
+    "members", "omega_squared_estimate", "perpendicular_axes", "tracked_members",
+    "zero_crossings",
 ]

@@ -203,25 +203,6 @@ def test_zero_crossings_interpolates_and_counts():
     np.testing.assert_allclose(last, [3 * np.pi - 0.1, (6 * np.pi - 0.1) / 2], atol=1e-6)
 
 
-def test_complementary_modulus_matches_one_minus_k_squared():
-    moments = np.array([1.0, 2.0, 3.0])
-    w0 = np.array([[1e-2, 1.0, 0.0], [0.0, 1.0, 1e-2], [0.3, 1.0, 0.9]])
-    kp2 = est.complementary_modulus_squared(moments, w0)
-    I1, I2, I3 = moments
-    for w, value in zip(w0, kp2):
-        D1 = I2 * (I2 - I1) * w[1] ** 2 + I3 * (I3 - I1) * w[2] ** 2
-        D2 = I1 * (I1 - I2) * w[0] ** 2 + I3 * (I3 - I2) * w[2] ** 2
-        D3 = I1 * (I3 - I1) * w[0] ** 2 + I2 * (I3 - I2) * w[1] ** 2
-        k2 = (I2 - I1) * D3 / ((I3 - I2) * D1) if D2 > 0 else (I3 - I2) * D1 / ((I2 - I1) * D3)
-        assert value == pytest.approx(1 - k2, rel=1e-10)
-    # Literature 1.5: for a start (eps, W, 0), k'^2 ~ (I3-I1) I1 (I2-I1) eps^2 / (I2 (I2-I1)(I3-I2) W^2).
-    eps = 1e-6
-    lead = (I3 - I1) * I1 * (I2 - I1) * eps**2 / (I2 * (I2 - I1) * (I3 - I2))
-    assert est.complementary_modulus_squared(moments, [[eps, 1.0, 0.0]])[0] == pytest.approx(
-        lead, rel=1e-9
-    )
-
-
 def test_degenerate_axis_drifts_linearly_without_growth_or_flip():
     # ERRATA 3: I1 = I2, spin about axis 1: w3 exactly constant, w2 drifts linearly at
     # (I3 - I1) W w3 / I1, no exponential growth and no flip.
