@@ -204,7 +204,7 @@ def members(ds: xr.Dataset, axis=None, spin=None) -> Members:
 
     Parameters
     ----------
-    ds : xarray.Dataset
+    ds : xarray.Dataset or Members
         ``w`` (member, time, axis) or (time, axis), or the summaries-only variables.
     axis : int, optional
         Spin axis (1, 2 or 3); default ``ds.attrs["axis"]``, else the largest initial component.
@@ -474,7 +474,7 @@ def member_regimes(ds: xr.Dataset, axis=None, spin=None) -> xr.Dataset:
 
     Parameters
     ----------
-    ds : xarray.Dataset
+    ds : xarray.Dataset or Members
         One ensemble, time series or summaries only (see the module docstring).
     axis : int, optional
         Spin axis, 1-based; by default from ``ds.attrs``.
@@ -523,7 +523,7 @@ def _classify(mem: Members):
     drift, lin_rms, _ = _linear_fit(t, a)
     flipped = mem.axis_crossings >= 1
     oscillating = (~flipped) & (mem.perp_crossings >= MIN_CROSSINGS)
-    departed = flipped | (mem.max_perp >= DEPARTURE_FACTOR * mem.a0)
+    departed = flipped | (mem.max_perp > DEPARTURE_FACTOR * mem.a0)
     fitted = n_pts >= MIN_POINTS
     regime = np.full(n, REGIME_UNDETERMINED, dtype=np.int8)
     growth = departed & ~oscillating & fitted
@@ -583,7 +583,7 @@ def measured_growth_rate(
 
     Parameters
     ----------
-    ds : xarray.Dataset
+    ds : xarray.Dataset or Members
         One ensemble, time series or summaries only (module docstring).
     axis, spin : optional
         Spin axis (1-based) and spin (rad/s); by default from ``ds.attrs``.
@@ -623,7 +623,7 @@ def measured_frequency(ds: xr.Dataset, axis=None, spin=None) -> xr.Dataset:
 
     Parameters
     ----------
-    ds : xarray.Dataset
+    ds : xarray.Dataset or Members
         One ensemble, time series or summaries only.
     axis, spin : optional
         Spin axis (1-based) and spin (rad/s); by default from ``ds.attrs``.
