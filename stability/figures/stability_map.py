@@ -92,7 +92,7 @@ def map_figure(ds, method=None):
     fig = new_figure(11.5, 6.6)
     axes = fig.subplots(2, 3)
     log_err = np.log10(np.maximum(worst_rel, 1e-12))
-    err_lo = float(np.nanmin(log_err)) if np.isfinite(log_err).any() else -8.0
+    err_lo = max(float(np.nanmin(log_err)) if np.isfinite(log_err).any() else -8.0, -9.0)
     err_hi = max(float(np.nanmax(log_err)) if np.isfinite(log_err).any() else -3.0,
                  np.log10(float(ds.attrs["tolerance"])))
     for k in range(3):
@@ -100,8 +100,8 @@ def map_figure(ds, method=None):
         pc = ax.tripcolor(tri, analytic_fine[k], cmap="RdBu_r", norm=norm, shading="gouraud",
                           rasterized=True)
         ok = np.isfinite(shown[:, k])
-        ax.scatter(I1[ok], I2[ok], c=shown[ok, k], cmap="RdBu_r", norm=norm, s=9,
-                   edgecolors="0.25", linewidths=0.3, zorder=3,
+        ax.scatter(I1[ok], I2[ok], c=shown[ok, k], cmap="RdBu_r", norm=norm, s=7,
+                   edgecolors="0.2", linewidths=0.15, zorder=3,
                    label="measured (same colour scale)")
         drift = np.any(regime[:, :, k] == est.REGIME_ALGEBRAIC, axis=0)
         still = np.any(regime[:, :, k] == est.REGIME_NEUTRAL, axis=0)
@@ -165,7 +165,7 @@ def scatter_figure(ds):
     tol = float(ds.attrs["tolerance"])
     floor = float(ds.attrs["min_omega_squared"])
     analytic = ds.omega_squared_normalised.values
-    fig = new_figure(10.5, 4.6)
+    fig = new_figure(12.0, 4.8)
     left, right = fig.subplots(1, 2)
     lim = [float(np.nanmin(analytic)) * 1.05 - 0.02, float(np.nanmax(analytic)) * 1.05 + 0.02]
     left.plot(lim, lim, color=EXACT_COLOR, lw=0.8, label="measured = analytic")
@@ -189,8 +189,8 @@ def scatter_figure(ds):
     n_neu = int(np.sum(reg == est.REGIME_NEUTRAL))
     right.axhline(tol, color="k", ls="--", lw=0.8, label=f"bar {tol:g}")
     right.axvline(floor, color="0.5", ls=":", lw=0.8, label=f"|Ω²|/W² = {floor:g}")
-    right.plot([], [], " ", label=f"Ω² = 0 (all methods): {n_alg} algebraic drift, "
-                                  f"{n_neu} no departure; no rate fitted")
+    right.plot([], [], " ", label=f"Ω² = 0 (all methods): no rate fitted;\n{n_alg} algebraic "
+                                  f"drift, {n_neu} no departure")
     left.set_xlabel(label("analytic Ω² / W²", "1"))
     left.set_ylabel(label("measured Ω² / W²", "1"))
     left.set_title("measured against analytic: −rate² (growth), +frequency² (oscillation)",
@@ -201,7 +201,7 @@ def scatter_figure(ds):
     right.set_xlabel(label("|analytic Ω²| / W²", "1"))
     right.set_ylabel(label("|measured − analytic| / |analytic|", "1"))
     right.set_title("relative error of Ω²", fontsize=9)
-    right.legend(loc="lower left", fontsize=6.5)
+    right.legend(loc="upper left", bbox_to_anchor=(1.01, 1.0), fontsize=7)
     return fig
 
 
