@@ -253,3 +253,35 @@ def test_bad_input_is_refused_clearly():
         est.measured_growth_rate(xr.Dataset({"x": ("member", [1.0])}))
     with pytest.raises(ValueError, match="xarray.Dataset"):
         est.measured_growth_rate(w)
+
+
+def test_estimators_on_run_ensemble_datasets_series_and_summaries():
+    # The same members, saved as time series or as summaries only, give the same Omega^2
+    # (within the stderr of the passage-time interpolation) and match linear theory to 1e-4.
+    body = stability.RigidBody(1.0, 2.0, 3.0)
+    common = dict(h=0.05, t_end=130.0, method="rk4", seed=3, progress=False)
+    levels = SPIN * 10.0 ** (np.arange(-56, 1) / 8)
+    series = stability.run_ensemble(body, 2, SPIN, 1e-7, 64, levels=levels, **common)
+    summaries = stability.run_ensemble(body, 2, SPIN, 1e-7, 64, levels=levels,
+                                       summaries_only=True, **common)
+    assert "w" not in summaries
+    analytic = float(stability.omega_squared(body, 2, SPIN))
+    results = [est.measured_omega_squared(ds, low_factor=300) for ds in (series, summaries)]
+    for res in results:
+        assert res.regime == est.REGIME_EXPONENTIAL and bool(res.sign_agrees)
+        assert float(res.omega_squared) == analytic  # taken from the Dataset's attributes
+        assert abs(float(res.relative_error)) < 1e-4
+    a, b = (float(r.omega_squared_measured) for r in results)
+    assert abs(a - b) < 4 * float(results[1].omega_squared_measured_stderr) + 1e-6 * abs(a)
+    # Flips: every member flips at least twice in 130 s, at the exact interval 2K/nu.
+    flips = est.flip_statistics(summaries)
+    assert int(flips.n_with_interval) == 64
+    assert abs(float(flips.flip_interval_relative_error)) < 1e-3
+    exact = flips.flip_interval_exact.values
+    assert np.all(np.isfinite(exact))
+    np.testing.assert_allclose(flips.flip_interval_asymptote.values, exact, rtol=1e-6)
+    # Stable axis 3 of the same body: oscillation at sqrt(Omega^2).
+    stable = stability.run_ensemble(body, 3, SPIN, 1e-4, 16, summaries_only=True, **common)
+    res = est.measured_omega_squared(stable)
+    assert res.regime == est.REGIME_OSCILLATION
+    assert abs(float(res.relative_error)) < 1e-5
