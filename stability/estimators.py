@@ -27,12 +27,18 @@ Here ``b`` and ``c`` are the two axes perpendicular to the spin axis. Every memb
   far longer than the run).
 
 The **growth rate** of an exponential member is the least-squares slope of ``ln A`` against
-``t`` over the linear phase only: from ``WINDOW_LOW_FACTOR`` times the initial amplitude (the
-decaying mode ``e^{-lambda t}`` that starts with the growing one is then ~1e-4 of it) up to
-``WINDOW_HIGH_FRACTION`` of the smaller of the spin and the member's saturation amplitude (its
-largest perpendicular amplitude once it has flipped), where nonlinear terms are ~1e-4 relative
-(literature notes 1.4 and 2.2). From passage times the same fit is the slope of ``ln(level)``
-against the passage time. Uncertainties are standard errors of the mean over members.
+``t`` over the linear phase only: from ``low_factor`` (default ``WINDOW_LOW_FACTOR``) times the
+initial amplitude, where the decaying mode ``e^{-lambda t}`` that starts with the growing one
+has fallen to ~``1 / low_factor^2`` of it, up to ``WINDOW_HIGH_FRACTION`` of the smaller of the
+spin and the member's saturation amplitude (its largest perpendicular amplitude once it has
+flipped), where nonlinear terms are ~1e-4 relative (literature notes 1.4 and 2.2). Next to the
+equal-moment edges the two eigenvectors are nearly parallel and the decaying mode starts larger
+than a0; there a lower edge of 300 a0 and a start of 1e-7 of the spin (three decades of window)
+bring the estimator's own bias to a few 1e-6 (the stability map's settings). From passage times
+the same fit is the slope of ``ln(level)`` against the passage time; a tracker that interpolates
+the passage linearly in A between steps h adds an error up to ``lambda h^2 / 8`` per level, which
+averages out over members and shows in the standard error. Uncertainties are standard errors of
+the mean over members.
 
 Measured ``Omega^2`` is ``-rate^2`` for growth and ``+frequency^2`` for oscillation
 (``w_b'' = -Omega^2 w_b``, ERRATA 2), to put beside the analytic value.
