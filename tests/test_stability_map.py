@@ -146,11 +146,11 @@ def test_flip_sweep_follows_the_exact_interval_and_the_log_law(small_map):
 
 def test_dataset_is_labelled_and_figures_carry_units(small_map):
     summary, ds = small_map
-    for name, var in ds.variables.items():
-        if var.dtype.kind in "fiu" and name not in ("shape", "flip_shape"):
-            assert "long_name" in var.attrs, name
-        if var.dtype.kind == "f":
-            assert "units" in var.attrs, name
+    for name, var in ds.data_vars.items():
+        assert "long_name" in var.attrs and "units" in var.attrs, name
+    for name in ("I1", "I2", "I3", "h", "level", "epsilon", "edge_time"):
+        assert ds[name].attrs["units"], name
+    assert np.all(ds.status.values == 0) and np.all(ds.members_failed.values == 0)
     assert {"shape", "axis", "method"} <= set(ds.dims)
     assert {"I1", "I2", "I3"} <= set(ds.coords)
     for make in (figures.map_figure, figures.scatter_figure, figures.flip_interval_figure,

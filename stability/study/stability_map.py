@@ -369,6 +369,7 @@ def compute(config: dict, progress=None):
     out["regime"] = np.zeros(shape3, dtype=np.int8)
     out["sign_agrees"] = np.zeros(shape3, dtype=np.int8)
     out["members_failed"] = np.zeros(shape3, dtype=np.int32)
+    out["status"] = np.zeros(shape3, dtype=np.int8)
     half = {"omega_squared_measured": nan.copy(), "regime": np.zeros(shape3, dtype=np.int8)}
     first_exact = {}
     total = sum(len(shapes) for _, _, shapes, _ in runs) * 3
@@ -410,6 +411,7 @@ def compute(config: dict, progress=None):
                 out["regime"][i, s, a - 1] = e["regime"]
                 out["sign_agrees"][i, s, a - 1] = e["sign_agrees"]
                 out["members_failed"][i, s, a - 1] = int(np.sum(prop.status != cv.STATUS_OK))
+                out["status"][i, s, a - 1] = int(np.max(prop.status))
                 out["energy_error_max"][i, s, a - 1] = _energy_error(I, w0, prop.m_final)
                 bar.update(1)
     bar.close()
@@ -613,6 +615,10 @@ def _dataset(config, specs, moments, edges, omega2, t_end, levels, out, half, bi
         "sign_agrees": ((M, S, A), out["sign_agrees"], {
             **est.ESTIMATE_ATTRS["sign_agrees"], "flag_values": np.array([0, 1], dtype=np.int8),
             "flag_meanings": "no yes"}),
+        "status": ((M, S, A), out["status"], {
+            "long_name": "worst member status of the ensemble",
+            "flag_values": np.array(cv.STATUS_FLAG_VALUES, dtype=np.int8),
+            "flag_meanings": cv.STATUS_MEANINGS, "units": one}),
         "members_failed": ((M, S, A), out["members_failed"], {
             "long_name": "members whose status is not ok (left out of the estimates)",
             "units": one}),
