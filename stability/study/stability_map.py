@@ -385,6 +385,9 @@ def compute(config: dict, progress=None):
                 n_steps = max(1, int(math.ceil(t_end[s, a - 1] / h - 1e-9)))
                 prop = propagate(spec, I, w0 * I, h, n_steps, progress=False,
                                  track_axis=a - 1, levels=levels)
+                if prop.interrupted:  # Ctrl-C: the driver stopped this run; stop the map
+                    bar.close()
+                    raise KeyboardInterrupt
                 member_steps += members * prop.steps_done
                 loop_time += prop.wall_time
                 mem = est.tracked_members(prop.extras, w0, a, spin, levels, prop.status)
