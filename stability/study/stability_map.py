@@ -11,9 +11,9 @@ equal moments are exactly equal) holds ``(n + 1)(n + 2) / 2 - 1`` shapes (the ro
 For every shape and each of its three axes, an ensemble of ``members`` starts at steady spin
 ``W`` about the axis plus a perturbation ``epsilon W`` in a random perpendicular direction
 (:func:`stability.ensemble.perturbed_starts`, the same directions for every ensemble) and runs
-summaries-only (:func:`stability.driver.propagate` with in-kernel tracking: flips, crossings,
-largest perpendicular amplitude, passage times through amplitude levels), so memory stays a few
-numbers per member. The run lasts ``horizon / |Omega|`` (up to ``t_max``; ``t_neutral`` where
+summaries-only (:func:`stability.run_ensemble` with ``summaries_only=True``: flips, crossings,
+largest perpendicular amplitude and passage times through amplitude levels, tracked at every
+step inside the member loop), so memory stays a few numbers per member. The run lasts ``horizon / |Omega|`` (up to ``t_max``; ``t_neutral`` where
 Omega^2 = 0): enough for two flips of an unstable axis (the first comes after about
 ln(1/epsilon) / lambda, then one every 2 ln(1/epsilon) / lambda) and for ten periods of a stable
 one; it depends on |Omega^2| only, never on its sign.
@@ -330,21 +330,22 @@ def compute(config: dict, progress=None):
 
     from .. import conventions as cv
     from .. import estimators as est
-    from ..driver import propagate
     from ..ensemble import perturbed_starts
     from ..integrators import method_spec
 
     spin = config["spin"]["rate"]
     ens, integ, ana = config["ensemble"], config["integration"], config["analysis"]
-    members, eps = ens["members"], ens["epsilon"]
+    members, eps, seed = ens["members"], ens["epsilon"], ens["seed"]
     moments, edges = shape_grid(config["grid"]["divisions"])
     n_shapes = moments.shape[0]
+    bodies = [stability.RigidBody(*I, name=f"shape {s}") for s, I in enumerate(moments)]
     axes = np.array(cv.AXES)
-    omega2 = np.array([[float(stability.omega_squared(I, a, spin)) for a in axes]
-                       for I in moments])
+    omega2 = np.array([[float(stability.omega_squared(b, a, spin)) for a in axes]
+                       for b in bodies])
     t_end = horizons(omega2, integ["horizon"], integ["t_max"], integ["t_neutral"])
     levels = amplitude_levels(spin, eps, ana["levels_per_decade"])
-    starts = {a: perturbed_starts(a, spin, eps, members, ens["seed"]) for a in axes}
+    # The same random directions for every ensemble about an axis (run_ensemble draws them so).
+    starts = {a: perturbed_starts(a, spin, eps, members, seed) for a in axes}
 
     specs = [method_spec(m) for m in integ["methods"]]
     # The exact flow first: its per-member flip times are the reference of the others.
@@ -357,10 +358,9 @@ def compute(config: dict, progress=None):
 
     exact_flip = {}  # (s, a) -> (exact 2K/nu, asymptote) per member, unstable axes only
     for s in range(n_shapes):
-        body = stability.RigidBody(*moments[s], physical=False)
         for a in axes:
             if omega2[s, a - 1] < 0:
-                exact_flip[s, a] = est.exact_flip_intervals(body, a, starts[a])
+                exact_flip[s, a] = est.exact_flip_intervals(bodies[s], a, starts[a])
 
     n_methods = len(specs)
     shape3 = (n_methods, n_shapes, 3)
@@ -379,18 +379,19 @@ def compute(config: dict, progress=None):
     for i, h, shapes, is_half in runs:
         spec = specs[i]
         for s in shapes:
-            I = moments[s]
             for a in axes:
-                w0 = starts[a]
                 n_steps = max(1, int(math.ceil(t_end[s, a - 1] / h - 1e-9)))
-                prop = propagate(spec, I, w0 * I, h, n_steps, progress=False,
-                                 track_axis=a - 1, levels=levels)
-                if prop.interrupted:  # Ctrl-C: the driver stopped this run; stop the map
+                run = stability.run_ensemble(
+                    bodies[s], int(a), spin, eps, members, h=h, t_end=n_steps * h, seed=seed,
+                    method=spec.name, summaries_only=True, levels=levels, progress=False,
+                    command=f"stability run ({NAME})",
+                )
+                if run.attrs["interrupted"]:  # Ctrl-C stopped this ensemble: stop the map
                     bar.close()
                     raise KeyboardInterrupt
-                member_steps += members * prop.steps_done
-                loop_time += prop.wall_time
-                mem = est.tracked_members(prop.extras, w0, a, spin, levels, prop.status)
+                member_steps += run.attrs["members"] * run.attrs["steps_done"]
+                loop_time += run.attrs["wall_time"]
+                mem = est.members(run)
                 e = est.omega_squared_estimate(mem, omega2[s, a - 1], low_factor=ana["window_low"],
                                                high_fraction=ana["window_high"])
                 if is_half:
@@ -399,6 +400,8 @@ def compute(config: dict, progress=None):
                     bar.update(1)
                     continue
                 exact, asymptote = exact_flip.get((s, a), (None, None))
+                if exact is not None and not np.array_equal(run.w0.values, starts[a]):
+                    exact, asymptote = est.exact_flip_intervals(bodies[s], a, run.w0.values)
                 f = est.flip_estimate(mem, exact, asymptote)
                 if spec.is_exact:
                     first_exact[s, a] = f["first_flip_time"]
@@ -411,11 +414,12 @@ def compute(config: dict, progress=None):
                         out[name][i, s, a - 1] = e[name]
                     elif name in f:
                         out[name][i, s, a - 1] = f[name]
+                status = run.status.values
                 out["regime"][i, s, a - 1] = e["regime"]
                 out["sign_agrees"][i, s, a - 1] = e["sign_agrees"]
-                out["members_failed"][i, s, a - 1] = int(np.sum(prop.status != cv.STATUS_OK))
-                out["status"][i, s, a - 1] = int(np.max(prop.status))
-                out["energy_error_max"][i, s, a - 1] = _energy_error(I, w0, prop.m_final)
+                out["members_failed"][i, s, a - 1] = int(np.sum(status != cv.STATUS_OK))
+                out["status"][i, s, a - 1] = int(np.max(status))
+                out["energy_error_max"][i, s, a - 1] = _nanmax_abs(run.energy_error.values)
                 bar.update(1)
     bar.close()
 
@@ -448,12 +452,10 @@ def _finite_mean(x):
     return float(x.mean()) if x.size else math.nan
 
 
-def _energy_error(moments, w0, m_final):
-    """Largest relative kinetic-energy change over members at the end of a run."""
-    e0 = 0.5 * np.sum(moments * w0 * w0, axis=1)
-    e1 = 0.5 * np.sum(m_final * m_final / moments, axis=1)
-    with np.errstate(invalid="ignore"):
-        return float(np.nanmax(np.abs(e1 - e0) / e0))
+def _nanmax_abs(x):
+    x = np.abs(np.asarray(x, dtype=float))
+    x = x[np.isfinite(x)]
+    return float(x.max()) if x.size else math.nan
 
 
 class _NoBar:
@@ -488,7 +490,6 @@ def flip_sweep(config: dict, specs) -> dict:
     import stability
 
     from .. import estimators as est
-    from ..driver import propagate
 
     spin = config["spin"]["rate"]
     pairs = config["flips"]["shapes"]
@@ -502,18 +503,18 @@ def flip_sweep(config: dict, specs) -> dict:
     asymptote = np.full_like(exact, np.nan)
     rate = np.array([float(stability.growth_rate(I, 2, spin)) for I in moments])
     for f, I in enumerate(moments):
-        body = stability.RigidBody(*I, physical=False)
+        body = stability.RigidBody(*I, name=f"flip shape {f}")
         exact[f], asymptote[f] = est.exact_flip_intervals(body, 2, w0)
         t_end = 2.6 * float(np.nanmax(exact[f]))
         for i, spec in enumerate(specs):
             h = config["integration"]["h"][i]
-            prop = propagate(spec, I, w0 * I, h, int(math.ceil(t_end / h)), progress=False,
-                             track_axis=1)
-            n = prop.extras["axis_crossings"]
-            with np.errstate(invalid="ignore", divide="ignore"):
-                interval = (prop.extras["last_axis_crossing"] - prop.extras["first_axis_crossing"]
-                            ) / (n - 1)
-            measured[i, f] = np.where((n >= 2) & (prop.status == 0), interval, np.nan)
+            run = stability.run_ensemble(
+                body, 2, starts=w0, h=h, t_end=h * math.ceil(t_end / h), method=spec.name,
+                summaries_only=True, progress=False, command=f"stability run ({NAME})",
+            )
+            if run.attrs["interrupted"]:
+                raise KeyboardInterrupt
+            measured[i, f] = run.mean_flip_interval.values  # NaN below two flips or not ok
     return {"moments": moments, "epsilons": epsilons, "measured": measured, "exact": exact,
             "asymptote": asymptote, "growth_rate": rate}
 
