@@ -112,12 +112,12 @@ def member_loop(step):
 
     The returned function advances ``m`` (N, 3) in place by ``n_steps`` steps of size ``h``::
 
-        advance(m, comp, p, h, n_stages, n_steps, save_every, saved, status, fail_step,
+        advance(m, comp, p, h, n_stages, n_steps, save_every, saved, k0, status, fail_step,
                 iterations, step0, axes, track, levels, passage)
 
-    ``comp`` (N, 3) carries the Kahan compensation between calls; ``saved`` (N, n_steps //
-    save_every, 3) receives the state after every ``save_every``-th step (``save_every = 0``
-    saves nothing); ``status`` (N,) int8, ``fail_step`` (N,) int64 and ``iterations`` (N,) int64
+    ``comp`` (N, 3) carries the Kahan compensation between calls; ``saved[:, k0 + k]`` receives
+    the state after step ``(k + 1) * save_every`` of this call (``save_every = 0`` saves
+    nothing); ``status`` (N,) int8, ``fail_step`` (N,) int64 and ``iterations`` (N,) int64
     are updated in place; ``step0`` is the global index of the first step. Tracking is on when
     ``axes[0] >= 0``: ``axes`` holds the canonical indices of the spin axis, the first and the
     second perpendicular axis; ``track`` (N, N_TRACK) and ``passage`` (N, len(levels)) are
@@ -126,7 +126,7 @@ def member_loop(step):
 
     @njit(parallel=True, error_model="numpy")
     def advance(
-        m, comp, p, h, n_stages, n_steps, save_every, saved, status, fail_step, iterations,
+        m, comp, p, h, n_stages, n_steps, save_every, saved, k0, status, fail_step, iterations,
         step0, axes, track, levels, passage,
     ):
         n_members = m.shape[0]
@@ -167,7 +167,7 @@ def member_loop(step):
                 c1[j] = comp[lo + j, 0]
                 c2[j] = comp[lo + j, 1]
                 c3[j] = comp[lo + j, 2]
-            k = 0
+            k = k0
             for n in range(n_steps):
                 if n_stages == 1:
                     for j in range(size):
@@ -313,7 +313,7 @@ def _compiled(advance, p):
     if not advance.signatures:
         one = np.zeros((1, 3))
         advance(
-            one.copy(), one.copy(), p, 0.0, 1, 0, 0, np.zeros((1, 1, 3))[:, :0, :], np.zeros(1, np.int8),
+            one.copy(), one.copy(), p, 0.0, 1, 0, 0, np.zeros((1, 0, 3)), 0, np.zeros(1, np.int8),
             np.full(1, -1, np.int64), np.zeros(1, np.int64), 0, _NO_AXES,
             np.zeros((1, N_TRACK)), _NO_LEVELS, np.zeros((1, 0)),
         )
@@ -396,10 +396,9 @@ def propagate(
             wanted = 64 if chunk is None else int(chunk)
             this = min(n_steps - done, max(unit, (wanted // unit) * unit))
             k_this = this // save_every if save_every > 0 else 0
-            buffer = saved[:, k_saved : k_saved + k_this, :]
             t0 = time.perf_counter()
             advance(
-                m, comp, p, h, spec.stages, this, save_every, buffer, status, fail_step,
+                m, comp, p, h, spec.stages, this, save_every, saved, k_saved, status, fail_step,
                 iterations, done, axes, track, levels, passage,
             )
             dt = time.perf_counter() - t0
@@ -411,7 +410,8 @@ def propagate(
                 chunk = max(unit, int(0.25 * rate))
                 if bar is None and progress is not False:
                     if progress or (n_steps - done) / rate > 2.0:
-                        bar = _progress_bar(n_steps, done, spec.name)
+                        bar = _progress_bar(n_steps, done, spec.name)  # counts this chunk
+                        continue
             if bar is not None:
                 bar.update(this)
         interrupted = interrupt.requested
