@@ -27,7 +27,7 @@ class StabilityAccessor:
         return estimators.member_regimes(self._ds, **kwargs)
 
     def measured_growth_rate(self, **kwargs) -> xr.Dataset:
-        """Growth rate on the linear phase; see :func:`stability.estimators.measured_growth_rate`."""
+        """Growth rate on the linear phase; :func:`stability.estimators.measured_growth_rate`."""
         return estimators.measured_growth_rate(self._ds, **kwargs)
 
     def measured_frequency(self, **kwargs) -> xr.Dataset:

@@ -839,7 +839,8 @@ def exact_flip_intervals(body, axis: int, w0):
     Returns
     -------
     exact, asymptote : ndarray, shape (N,)
-        In s (:func:`stability.exact.flip_interval`, :func:`stability.exact.flip_interval_asymptote`;
+        In s (:func:`stability.exact.flip_interval` and
+        :func:`stability.exact.flip_interval_asymptote`;
         literature notes 1.5, Abramowitz-Stegun 17.3.26).
     """
     w0 = np.atleast_2d(np.asarray(w0, dtype=float))

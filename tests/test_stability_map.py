@@ -94,7 +94,7 @@ def test_small_map_meets_the_accuracy_bar(small_map):
     ok = np.isfinite(measured)
     assert np.all(np.sign(measured[ok]) == np.sign(np.broadcast_to(norm, measured.shape)[ok]))
     # The bias check ran at h/2 on every third shape, and rk4's bias there is tiny.
-    bias = ds.step_bias.sel({"method": "rk4"}).values
+    bias = ds.step_bias.sel(integrator="rk4").values
     assert np.isfinite(bias[::3][bar[::3]]).all()
     assert np.nanmax(np.abs(bias)) < 1e-4
 
@@ -134,7 +134,7 @@ def test_edge_series_drift_linearly_with_the_distinct_component_fixed(small_map)
 def test_flip_sweep_follows_the_exact_interval_and_the_log_law(small_map):
     _, ds = small_map
     exact = ds.sweep_flip_interval_exact.values[0]
-    measured = ds.sweep_flip_interval.sel({"method": "rk4"}).values[0]
+    measured = ds.sweep_flip_interval.sel(integrator="rk4").values[0]
     np.testing.assert_allclose(measured, exact, rtol=1e-4)
     # Epsilon falls by 100 per point: each adds (2 / lambda) ln 100 to the asymptote
     # (2 / lambda) ln(4 / k'), since k' is proportional to epsilon up to O(epsilon^2).
@@ -151,7 +151,7 @@ def test_dataset_is_labelled_and_figures_carry_units(small_map):
     for name in ("I1", "I2", "I3", "h", "level", "epsilon", "edge_time"):
         assert ds[name].attrs["units"], name
     assert np.all(ds.status.values == 0) and np.all(ds.members_failed.values == 0)
-    assert {"shape", "axis", "method"} <= set(ds.dims)
+    assert {"shape", "axis", "integrator"} <= set(ds.dims)
     assert {"I1", "I2", "I3"} <= set(ds.coords)
     for make in (figures.map_figure, figures.scatter_figure, figures.flip_interval_figure,
                  figures.edges_figure):

@@ -74,9 +74,9 @@ def map_figure(ds, method=None):
     norm = TwoSlopeNorm(vcenter=0.0, vmin=min(vmin, -1e-3), vmax=max(vmax, 1e-3))
     if method is None:
         pick = slice(None)
-        which = "worst over " + ", ".join(str(m) for m in ds.method.values)
+        which = "worst over " + ", ".join(str(m) for m in ds.integrator.values)
     else:
-        pick = [list(ds.method.values).index(method)]
+        pick = [list(ds.integrator.values).index(method)]
         which = method
     measured = ds.omega_squared_measured.values[pick] / spin**2
     rel = np.abs(ds.relative_error.values[pick])
@@ -169,7 +169,7 @@ def scatter_figure(ds):
     left, right = fig.subplots(1, 2)
     lim = [float(np.nanmin(analytic)) * 1.05 - 0.02, float(np.nanmax(analytic)) * 1.05 + 0.02]
     left.plot(lim, lim, color=EXACT_COLOR, lw=0.8, label="measured = analytic")
-    for k, method in enumerate(ds.method.values):
+    for k, method in enumerate(ds.integrator.values):
         h = float(ds.h.values[k])
         marker = _MARKERS[k % len(_MARKERS)]
         measured = ds.omega_squared_measured.values[k] / spin**2
@@ -234,7 +234,7 @@ def flip_interval_figure(ds, samples=120):
                  label=f"I = ({I[0]:.3g}, {I[1]:.3g}, 1): exact 2K/ν")
         top.plot(fine, asymptote, color=color, lw=0.9, ls="--",
                  label="(2/λ) ln(4/k′)" if f == 0 else None)
-        for k, method in enumerate(ds.method.values):
+        for k, method in enumerate(ds.integrator.values):
             marker = _MARKERS[k % len(_MARKERS)]
             measured = ds.sweep_flip_interval.values[k, f]
             top.plot(eps, measured, ls="none", marker=marker, ms=4.5, mfc="none", color=color,

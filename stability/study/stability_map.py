@@ -13,10 +13,11 @@ For every shape and each of its three axes, an ensemble of ``members`` starts at
 (:func:`stability.ensemble.perturbed_starts`, the same directions for every ensemble) and runs
 summaries-only (:func:`stability.run_ensemble` with ``summaries_only=True``: flips, crossings,
 largest perpendicular amplitude and passage times through amplitude levels, tracked at every
-step inside the member loop), so memory stays a few numbers per member. The run lasts ``horizon / |Omega|`` (up to ``t_max``; ``t_neutral`` where
-Omega^2 = 0): enough for two flips of an unstable axis (the first comes after about
-ln(1/epsilon) / lambda, then one every 2 ln(1/epsilon) / lambda) and for ten periods of a stable
-one; it depends on |Omega^2| only, never on its sign.
+step inside the member loop), so memory stays a few numbers per member. The run lasts
+``horizon / |Omega|`` (up to ``t_max``; ``t_neutral`` where Omega^2 = 0): enough for two flips
+of an unstable axis (the first comes after about ln(1/epsilon) / lambda, then one every
+2 ln(1/epsilon) / lambda) and for ten periods of a stable one; it depends on |Omega^2| only,
+never on its sign.
 
 Each ensemble is classified and measured by :mod:`stability.estimators` (regime; growth rate
 on the linear phase or frequency from zero crossings; Omega^2 = -rate^2 or +frequency^2; flips
@@ -30,9 +31,10 @@ Also: a flip-interval sweep (a few shapes, perturbation along the smallest axis,
 edges and the sphere showing the algebraic (linear in t) departure with the distinct-axis
 component constant and no flip (ERRATA 3).
 
-Outputs: the Dataset (dims method, shape, axis; the sweep on flip_shape, epsilon; the edge time
-series on edge_case, edge_time), the resolved configuration and four figures
-(:mod:`stability.figures.stability_map`).
+Outputs: the Dataset (dims integrator, shape, axis, where an integrator is a registry method
+at its step h and is not called "method" so that ``ds.sel(integrator="rk4")`` works; the sweep
+on flip_shape, epsilon; the edge time series on edge_case, edge_time), the resolved
+configuration and four figures (:mod:`stability.figures.stability_map`).
 """
 
 from __future__ import annotations
@@ -434,7 +436,7 @@ def compute(config: dict, progress=None):
     return ds, {"member_steps": member_steps, "loop_time": loop_time}
 
 
-#: Float estimates stored per (method, shape, axis).
+#: Float estimates stored per (integrator, shape, axis).
 _MAP_FLOATS = (
     "omega_squared_measured", "omega_squared_measured_stderr", "relative_error",
     "growth_rate", "growth_rate_stderr", "oscillation_frequency",
@@ -603,7 +605,7 @@ def _dataset(config, specs, moments, edges, omega2, t_end, levels, out, half, bi
     from ..dataset import software_attrs
 
     spin = config["spin"]["rate"]
-    M, S, A = "method", "shape", cv.AXIS
+    M, S, A = "integrator", "shape", cv.AXIS
     one, s2 = cv.UNITS_DIMENSIONLESS, cv.UNITS_RATE_SQUARED
     data = {
         "omega_squared": ((S, A), omega2, {
@@ -757,7 +759,7 @@ def summarize(ds, config, out_dir, files, wall, compute_time, work) -> StudySumm
     rows.append(("members per ensemble, perturbation epsilon",
                  f"{members}, {ds.attrs['epsilon']:g}", ""))
     passed_all = True
-    for k, method in enumerate(ds.method.values):
+    for k, method in enumerate(ds.integrator.values):
         h = float(ds.h.values[k])
         rel = ds.relative_error.values[k]
         sign = ds.sign_agrees.values[k].astype(bool)
@@ -790,7 +792,7 @@ def summarize(ds, config, out_dir, files, wall, compute_time, work) -> StudySumm
             rows.append((f"{tag}: rel. error at I = ({float(ds.I1[s]):.4g}, "
                          f"{float(ds.I2[s]):.4g}, 1), axis 2 / literature bias",
                          f"{rel[s, 1]:.1e} / {predicted:.1e}",
-                         f"+- {float(ds.omega_squared_measured_stderr.values[k, s, 1]) / lam**2:.0e}"
+                         f"+- {float(ds.omega_squared_measured_stderr[k, s, 1]) / lam**2:.0e}"
                          " (stderr); literature notes 4.1"))
         flip_rel = ds.flip_interval_relative_error.values[k]
         if np.isfinite(flip_rel).any():
@@ -840,7 +842,7 @@ def summarize(ds, config, out_dir, files, wall, compute_time, work) -> StudySumm
     exact = ds.sweep_flip_interval_exact.values
     with np.errstate(invalid="ignore", divide="ignore"):
         rel = np.abs(sweep - exact[None]) / exact[None]
-    for k, method in enumerate(ds.method.values):
+    for k, method in enumerate(ds.integrator.values):
         for lo in (1e-6,):
             sel = ds.epsilon.values >= lo
             if np.isfinite(rel[k][:, sel]).any():
