@@ -14,7 +14,8 @@ the LGVI and the implicit midpoint rule multiply by their Cayley rotation F; RKM
 never depends on its norm. Renormalisation policy, therefore: none inside the loop; q is carried
 with compensated summation like m, normalised only on output, and its norm error ``|q| - 1`` is
 reported. For the methods whose r_n is a unit quaternion (all but RK4) that error is round-off
-(at most 1.5e-14 after 1e5 steps in the tests); for RK4 it is its truncation error, O((h |w|)^6) per step.
+(at most 1.5e-14 after 1e5 steps in the tests); for RK4 it is its truncation error,
+O((h |w|)^6) per step.
 
 A run without attitude stays 3 numbers per member and goes through ``stability.driver``
 unchanged; ``propagate_attitude`` is the same loop layout with 7 numbers per member: blocks of
