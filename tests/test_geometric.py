@@ -165,7 +165,8 @@ def test_poisson_methods_keep_the_lie_poisson_bracket(name):
     starts = np.vstack([m] + [m + s * eps * e for e in np.eye(3) for s in (1.0, -1.0)])
     run = propagate(name, MOMENTS, starts, 0.2, 1)
     image = run.m_final
-    jacobian = np.column_stack([(image[1 + 2 * i] - image[2 + 2 * i]) / (2 * eps) for i in (0, 1, 2)])
+    columns = [(image[1 + 2 * i] - image[2 + 2 * i]) / (2 * eps) for i in (0, 1, 2)]
+    jacobian = np.column_stack(columns)
     residual = jacobian @ hat(m) @ jacobian.T - hat(image[0])
     size = np.max(np.abs(residual)) / np.linalg.norm(m)
     if stability.METHODS[name].poisson:
