@@ -18,6 +18,7 @@ from importlib.metadata import PackageNotFoundError, version
 
 from .analytic import axis_stability, growth_rate, omega_squared, oscillation_frequency
 from .body import Part, RigidBody
+from .exact import exact_omega, flip_interval, full_period
 from .integrate import integrate
 from .integrators import METHODS, MethodSpec, method_spec
 
@@ -27,4 +28,10 @@ except PackageNotFoundError:  # running from a source tree that was not installe
     __version__ = "0.1.0"
 
 __all__ = ["METHODS", "MethodSpec", "Part", "RigidBody", "__version__", "axis_stability",
+           "exact_omega", "flip_interval", "full_period",
            "growth_rate", "integrate", "method_spec", "omega_squared", "oscillation_frequency"]
+
+from .ensemble import ensemble_memory, run_ensemble  # noqa: E402
+from .io import load, save  # noqa: E402
+
+__all__ += ["ensemble_memory", "load", "run_ensemble", "save"]

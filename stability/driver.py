@@ -90,16 +90,20 @@ def _component(x1, x2, x3, j, index):
 
 
 @njit(inline="always")
-def _crossing(track, j, col_prev, col_count, col_first, col_last, v, t_prev, h):
-    """Record a sign change of v since the previous step (time by linear interpolation)."""
-    prev = track[j, col_prev]
-    if (prev >= 0.0) != (v >= 0.0):
-        t_cross = t_prev + h * prev / (prev - v)
-        track[j, col_count] += 1.0
-        if track[j, col_count] == 1.0:
-            track[j, col_first] = t_cross
-        track[j, col_last] = t_cross
-    track[j, col_prev] = v
+def _crossing(tr, j, col_prev, col_count, col_first, col_last, v, t_prev, h):
+    """Record a sign change of v since the previous step (time by linear interpolation).
+
+    Branch-free (selects only), so the tracking pass vectorizes across members; ``tr`` is the
+    block's (N_TRACK, BLOCK) tracking state.
+    """
+    prev = tr[col_prev, j]
+    crossed = (prev >= 0.0) != (v >= 0.0)
+    t_cross = t_prev + h * prev / (prev - v)  # only used where crossed, so prev != v
+    count = tr[col_count, j] + (1.0 if crossed else 0.0)
+    tr[col_first, j] = t_cross if (crossed and count == 1.0) else tr[col_first, j]
+    tr[col_last, j] = t_cross if crossed else tr[col_last, j]
+    tr[col_count, j] = count
+    tr[col_prev, j] = v
 
 
 @functools.cache
@@ -128,8 +132,10 @@ def member_loop(step):
         n_members = m.shape[0]
         n_blocks = (n_members + BLOCK - 1) // BLOCK
         tracking = axes[0] >= 0
-        ia, ib, ic = axes[0], axes[1], axes[2]
-        n_levels = levels.shape[0]
+        ia, ib, ic = max(axes[0], 0), max(axes[1], 0), max(axes[2], 0)
+        inv_a, inv_b, inv_c = p[P_INV1 + ia], p[P_INV1 + ib], p[P_INV1 + ic]
+        padded = np.full(levels.shape[0] + 1, np.inf)
+        padded[: levels.shape[0]] = levels
         for b in prange(n_blocks):
             lo = b * BLOCK
             size = min(BLOCK, n_members - lo)
@@ -146,6 +152,13 @@ def member_loop(step):
             nonconv = np.zeros(BLOCK, dtype=np.int64)
             first_bad = np.full(BLOCK, -1, dtype=np.int64)
             iters = np.zeros(BLOCK, dtype=np.int64)
+            tr = np.zeros((N_TRACK, BLOCK))
+            hit = np.zeros(BLOCK, dtype=np.int64)
+            amp_now = np.zeros(BLOCK)
+            if tracking:
+                for col in range(N_TRACK):
+                    for j in range(size):
+                        tr[col, j] = track[lo + j, col]
             for j in range(size):
                 x1[j] = m[lo + j, 0]
                 x2[j] = m[lo + j, 1]
@@ -184,23 +197,26 @@ def member_loop(step):
                 if tracking:
                     t_prev = (step0 + n) * h
                     for j in range(size):
-                        g = lo + j
-                        va = _component(x1, x2, x3, j, ia) * p[P_INV1 + ia]
-                        vb = _component(x1, x2, x3, j, ib) * p[P_INV1 + ib]
-                        vc = _component(x1, x2, x3, j, ic) * p[P_INV1 + ic]
-                        _crossing(track, g, T_PREV_A, T_COUNT_A, T_FIRST_A, T_LAST_A, va, t_prev, h)
-                        _crossing(track, g, T_PREV_B, T_COUNT_B, T_FIRST_B, T_LAST_B, vb, t_prev, h)
+                        va = _component(x1, x2, x3, j, ia) * inv_a
+                        vb = _component(x1, x2, x3, j, ib) * inv_b
+                        vc = _component(x1, x2, x3, j, ic) * inv_c
+                        _crossing(tr, j, T_PREV_A, T_COUNT_A, T_FIRST_A, T_LAST_A, va, t_prev, h)
+                        _crossing(tr, j, T_PREV_B, T_COUNT_B, T_FIRST_B, T_LAST_B, vb, t_prev, h)
                         amp = np.sqrt(vb * vb + vc * vc)
-                        track[g, T_MAX_AMP] = max(track[g, T_MAX_AMP], amp)
-                        level = int(track[g, T_NEXT_LEVEL])
-                        if level < n_levels and amp >= levels[level]:
+                        tr[T_MAX_AMP, j] = max(tr[T_MAX_AMP, j], amp)
+                        target = padded[int(tr[T_NEXT_LEVEL, j])]  # +inf past the last level
+                        hit[j] = 1 if amp >= target else 0
+                        amp_now[j] = amp
+                    for j in range(size):
+                        if hit[j] == 1:
                             # At most one level per step; times clamped to this step's interval.
-                            prev_amp = track[g, T_PREV_AMP]
-                            frac = (levels[level] - prev_amp) / (amp - prev_amp)
-                            frac = min(max(frac, 0.0), 1.0)
-                            passage[g, level] = t_prev + h * frac
-                            track[g, T_NEXT_LEVEL] = level + 1.0
-                        track[g, T_PREV_AMP] = amp
+                            level = int(tr[T_NEXT_LEVEL, j])
+                            prev_amp = tr[T_PREV_AMP, j]
+                            frac = (padded[level] - prev_amp) / (amp_now[j] - prev_amp)
+                            passage[lo + j, level] = t_prev + h * min(max(frac, 0.0), 1.0)
+                            tr[T_NEXT_LEVEL, j] = level + 1.0
+                    for j in range(size):
+                        tr[T_PREV_AMP, j] = amp_now[j]
                 if save_every > 0 and (n + 1) % save_every == 0:
                     for j in range(size):
                         saved[lo + j, k, 0] = x1[j]
@@ -215,6 +231,9 @@ def member_loop(step):
                 comp[lo + j, 1] = c2[j]
                 comp[lo + j, 2] = c3[j]
                 iterations[lo + j] += iters[j]
+                if tracking:
+                    for col in range(N_TRACK):
+                        track[lo + j, col] = tr[col, j]
                 if bad[j] != 0 and status[lo + j] == 0:
                     status[lo + j] = 1  # STATUS_NONFINITE
                     fail_step[lo + j] = step0 + first_bad[j] + 1

@@ -8,6 +8,7 @@ import xarray as xr
 from . import conventions as cv
 from .body import RigidBody
 from .checks import positive_float, positive_int, step_count, vectors3
+from .dataset import provenance_attrs, storable_attrs
 from .driver import propagate, untrusted
 from .integrators import method_spec
 
@@ -76,19 +77,18 @@ def integrate(body: RigidBody, w0, t_end, h, method="rk4", save_every=1, progres
             cv.TIME: (cv.TIME, steps * h, {"long_name": "time", "units": cv.UNITS_TIME}),
             cv.AXIS: (cv.AXIS, np.array(cv.AXES), {"long_name": "principal axis"}),
         },
-        attrs={
-            "title": f"torque-free rotation of {body!r} by {spec.name}",
-            "body": repr(body),
-            "I1": body.I1,
-            "I2": body.I2,
-            "I3": body.I3,
-            "method": spec.name,
-            "method_order": "exact" if spec.is_exact else int(spec.order),
-            "h": h,
-            "save_every": save_every,
-            "steps": result.steps_done,
-            "status": cv.STATUS_MEANINGS.split()[status],
-            "interrupted": int(result.interrupted),
-        },
+        attrs=storable_attrs(
+            {
+                **provenance_attrs(
+                    f"torque-free rotation of {body!r} by {spec.name}", body, spec, h,
+                    f"stability.integrate({body!r}, w0={w0.tolist()}, t_end={t_end!r}, "
+                    f"h={h!r}, method={spec.name!r}, save_every={save_every})",
+                ),
+                "save_every": save_every,
+                "steps": result.steps_done,
+                "status": cv.STATUS_MEANINGS.split()[status],
+                "interrupted": int(result.interrupted),
+            }
+        ),
     )
     return ds

@@ -8,11 +8,12 @@ to ``_ALL`` below. Tests parametrized over ``METHODS`` (order, invariants) cover
 """
 
 from .composition import LP4, LP6, LP8
+from .exact_flow import EXACT
 from .lie_poisson import LP2
 from .rk4 import RK4
 from .spec import MethodSpec, body_params
 
-_ALL = (RK4, LP2, LP4, LP6, LP8)
+_ALL = (RK4, LP2, LP4, LP6, LP8, EXACT)
 
 METHODS: dict[str, MethodSpec] = {spec.name: spec for spec in _ALL}
 

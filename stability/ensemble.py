@@ -1,0 +1,712 @@
+"""Perturbed ensembles about a steady spin: ``run_ensemble`` and its per-member summaries.
+
+Member j starts at steady spin ``W`` about a principal axis plus a perturbation of size
+``epsilon W`` perpendicular to it, in a random direction (or a fixed one, or from starts the
+caller gives), and every member is advanced by the one parallel member loop of
+:mod:`stability.driver`. The result is an xarray Dataset (schema in :mod:`stability.dataset`):
+the time series ``w`` (unless ``summaries_only``) and per-member summaries: flips (sign changes
+of the spin-axis component), crossings of a perpendicular component, the maximum perpendicular
+amplitude and the first passage of that amplitude through given levels (all tracked at every
+step inside the member loop, so also without a time series), the end-of-run relative
+errors of energy and |L|, and a status code. A member whose state stops being finite, whose
+invariants leave ``divergence_tolerance`` or whose implicit solve fails is flagged and all its
+numbers are NaN.
+
+Reproducibility: the random directions are drawn outside compiled code, from one
+``numpy.random.SeedSequence`` child per :data:`RNG_CHUNK` members (child c draws the members
+``RNG_CHUNK c ... RNG_CHUNK (c + 1) - 1``), and each member is advanced independently of the
+others. So the Dataset is bitwise the same for any number of threads and any compute chunking,
+and an ensemble of N members is the first N members of any larger one with the same seed.
+"""
+
+from __future__ import annotations
+
+import contextlib
+import logging
+import math
+import numbers
+from dataclasses import dataclass
+
+import numba
+import numpy as np
+
+from . import conventions as cv
+from .body import RigidBody
+from .checks import positive_float, positive_int, step_count, vectors3
+from .dataset import (
+    config_toml,
+    ensemble_dataset,
+    provenance_attrs,
+    summary_bytes,
+    threading_layer,
+)
+from .driver import propagate
+from .integrators import method_spec
+
+log = logging.getLogger(__name__)
+
+#: Members per SeedSequence child. Fixed, so that the draws never depend on how the
+#: computation is chunked; changing it changes every random ensemble.
+RNG_CHUNK = 4096
+
+#: Default relative energy / |L| error at the end above which a member is "diverged".
+DEFAULT_DIVERGENCE_TOLERANCE = 1e-2
+
+#: Default limit (bytes) on the stored data of a time-series run; summaries-only runs have none.
+DEFAULT_MAX_MEMORY = 4 * 2**30
+
+#: Runs whose stored data exceed this many bytes are announced with a logging warning.
+LARGE_RUN_BYTES = 2**30
+
+#: Default perpendicular-amplitude levels of ``passage_time``, as fractions of the spin:
+#: half decades from 1e-6 to 1 (13 levels).
+DEFAULT_LEVELS = 10.0 ** (np.arange(-12, 1) / 2.0)
+
+#: Working copies of the time series a time-series run holds at its peak (the driver's buffer,
+#: its conversion out of the canonical frame, and the Dataset's ``w``).
+PEAK_COPIES = 3
+
+
+def ensemble_memory(members: int, n_saved: int, n_levels: int = DEFAULT_LEVELS.size) -> int:
+    """Bytes of the Dataset ``run_ensemble`` returns.
+
+    Parameters
+    ----------
+    members : int
+        Number of members N.
+    n_saved : int
+        Saved samples per member after the start (``t_end / (h save_every)``); 0 for a
+        summaries-only run.
+    n_levels : int, optional
+        Number of ``passage_time`` levels.
+
+    Returns
+    -------
+    int
+        ``N (n_saved + 1) 3 8`` bytes of time series (``w`` in float64, start included; none if
+        ``n_saved`` is 0) plus the per-member summaries. A time-series run needs about
+        :data:`PEAK_COPIES` times the time series while it builds the Dataset.
+    """
+    members = positive_int("members", members)
+    n_saved = positive_int("n_saved", n_saved, allow_zero=True)
+    series = members * (n_saved + 1) * 3 * 8 if n_saved > 0 else 0
+    return series + members * summary_bytes(n_levels)
+
+
+def format_bytes(n: float) -> str:
+    """``n`` bytes in binary units, e.g. ``"1.5 GiB"``."""
+    for unit in ("B", "KiB", "MiB", "GiB", "TiB"):
+        if abs(n) < 1024.0 or unit == "TiB":
+            return f"{n:.0f} {unit}" if unit == "B" else f"{n:.1f} {unit}"
+        n /= 1024.0
+
+
+def seed_sequence(seed) -> np.random.SeedSequence:
+    """``seed`` (int >= 0, ``None`` for fresh entropy, or a SeedSequence) as a SeedSequence."""
+    if isinstance(seed, np.random.SeedSequence):
+        return seed
+    if seed is None:
+        return np.random.SeedSequence()
+    if isinstance(seed, bool) or not isinstance(seed, numbers.Integral) or seed < 0:
+        raise ValueError(
+            f"seed must be an integer >= 0, None (fresh entropy, recorded in the Dataset) or a "
+            f"numpy.random.SeedSequence, got {seed!r}"
+        )
+    return np.random.SeedSequence(int(seed))
+
+
+def perturbed_starts(axis, spin, epsilon, members, seed=0, direction=None) -> np.ndarray:
+    """Initial angular velocities: steady spin about ``axis`` plus a perpendicular perturbation.
+
+    ``w0_j = spin e_a + epsilon spin (cos(phi_j) e_b + sin(phi_j) e_c)`` with b < c the other
+    two axes and ``phi_j`` uniform in [0, 2 pi), drawn from one PCG64 stream per
+    :data:`RNG_CHUNK` members (child c of ``SeedSequence(seed)``), so member j gets the same start
+    whatever ``members`` is; or ``w0_j = spin e_a + epsilon spin d / |d|`` for a fixed direction d.
+
+    Parameters
+    ----------
+    axis : int
+        Principal axis 1, 2 or 3 of the spin.
+    spin : float
+        Spin rate W in rad/s, > 0.
+    epsilon : float
+        Size of the perturbation relative to the spin, >= 0.
+    members : int
+        Number of members N.
+    seed : int, None or numpy.random.SeedSequence, default 0
+    direction : array_like, shape (3,), optional
+        A fixed perturbation direction, perpendicular to ``axis``.
+
+    Returns
+    -------
+    ndarray, shape (N, 3)
+        Body-frame angular velocities in rad/s; the component along ``axis`` is exactly
+        ``spin`` and the perpendicular part has norm ``epsilon spin`` (to rounding).
+    """
+    a = _axis_index(axis)
+    spin = positive_float("spin", spin, "rad/s")
+    epsilon = _nonnegative_float("epsilon", epsilon)
+    members = positive_int("members", members)
+    w0 = np.zeros((members, 3))
+    w0[:, a] = spin
+    if direction is not None:
+        w0 += epsilon * spin * _perpendicular_direction(direction, a)
+        return w0
+    phi = _random_angles(seed_sequence(seed), members)
+    b, c = _perpendicular_axes(a)
+    w0[:, b] = epsilon * spin * np.cos(phi)
+    w0[:, c] = epsilon * spin * np.sin(phi)
+    return w0
+
+
+def _random_angles(ss: np.random.SeedSequence, members: int) -> np.ndarray:
+    """Angles uniform in [0, 2 pi): chunk c of RNG_CHUNK members from child c of ``ss``."""
+    phi = np.empty(members)
+    for c, lo in enumerate(range(0, members, RNG_CHUNK)):
+        # The c-th child of ss.spawn(...), built directly so that ss is not mutated.
+        child = np.random.SeedSequence(
+            ss.entropy, spawn_key=tuple(ss.spawn_key) + (c,), pool_size=ss.pool_size
+        )
+        rng = np.random.Generator(np.random.PCG64(child))
+        hi = min(lo + RNG_CHUNK, members)
+        phi[lo:hi] = rng.uniform(0.0, 2.0 * math.pi, size=hi - lo)
+    return phi
+
+
+def run_ensemble(
+    body: RigidBody,
+    axis: int,
+    spin: float | None = None,
+    epsilon: float | None = None,
+    members: int | None = None,
+    *,
+    h: float,
+    t_end: float,
+    seed=0,
+    method: str = "lp2",
+    save_every: int = 1,
+    direction=None,
+    starts=None,
+    summaries_only: bool = False,
+    levels=None,
+    divergence_tolerance: float = DEFAULT_DIVERGENCE_TOLERANCE,
+    max_memory: float = DEFAULT_MAX_MEMORY,
+    threads: int | None = None,
+    progress: bool | None = None,
+    chunk_members: int | None = None,
+    chunk_steps: int | None = None,
+    config: dict | None = None,
+    command: str | None = None,
+):
+    """Run an ensemble of perturbed steady spins and return it as a labelled Dataset.
+
+    Every member is advanced by the parallel member loop (:func:`stability.driver.propagate`)
+    with the method ``method``; the members are independent, so the cost is
+    ``members x t_end / h`` steps (of order 1e7 member-steps/s per core for ``lp2``, a few
+    times more for ``rk4``). The result does not depend on ``threads``, ``chunk_members`` or
+    ``chunk_steps``, bit for bit.
+
+    Parameters
+    ----------
+    body : RigidBody
+    axis : int
+        Principal axis (1, 2 or 3, as the body numbers them) of the steady spin. Flips are sign
+        changes of the component of w along it.
+    spin : float
+        Spin rate W in rad/s, > 0 (not with ``starts``).
+    epsilon : float
+        Perturbation size relative to the spin, >= 0: member j starts at
+        ``W e_axis + epsilon W u_j`` with ``u_j`` a unit vector perpendicular to the axis, in a
+        random direction (see :func:`perturbed_starts`) or ``direction`` (not with ``starts``).
+    members : int
+        Number of members N (with ``starts``: optional, must equal ``len(starts)``).
+    h : float
+        Step in s; for ``lp2`` about 0.01 / W to 0.05 / W, for ``rk4`` up to about 0.1 / W.
+    t_end : float
+        Horizon in s: a whole number of steps, and of ``save_every`` steps.
+    seed : int, None or numpy.random.SeedSequence, default 0
+        Seed of the random directions; ``None`` draws fresh entropy. The entropy is recorded
+        in the Dataset (``seed_entropy``), which is enough to repeat the run.
+    method : str, default "lp2"
+        A name from ``stability.METHODS``.
+    save_every : int, default 1
+        Keep w every ``save_every`` steps (time-series runs). The summaries do not depend on
+        it: they are tracked at every step inside the member loop.
+    direction : array_like, shape (3,), optional
+        Fixed perturbation direction perpendicular to ``axis`` (all members start alike).
+    starts : array_like, shape (N, 3), optional
+        The initial angular velocities in rad/s, instead of ``spin``/``epsilon``/``direction``.
+    summaries_only : bool, default False
+        Keep only the per-member summaries (no ``w`` time series, no memory limit; memory
+        about ``ensemble_memory(members, 0)``, ~250 bytes a member): for ensembles of 1e6
+        members and more, and for many small ensembles. The summaries are bitwise those of the
+        time-series run.
+    levels : array_like, shape (n_levels,), optional
+        Ascending perpendicular-amplitude levels in rad/s for ``passage_time``; default
+        :data:`DEFAULT_LEVELS` times the spin (with ``starts``, times the median |w0|).
+    divergence_tolerance : float, default 1e-2
+        A member whose relative energy or |L| error at the end exceeds this is "diverged".
+    max_memory : float, default 4 GiB
+        Refuse a time-series run whose Dataset (:func:`ensemble_memory`) would exceed this
+        many bytes.
+    threads : int, optional
+        Numba threads for this run (restored afterwards); default: Numba's current setting.
+    progress : bool, optional
+        Progress bar; by default shown for runs expected to take more than 2 s.
+    chunk_members, chunk_steps : int, optional
+        Members per driver call and steps per kernel call. They change memory use and the
+        progress bar, never the result.
+    config : dict, optional
+        The caller's whole resolved configuration (e.g. a study file), stored as TOML in the
+        ``config_toml`` attribute; by default the resolved arguments of this call.
+    command : str, optional
+        The command recorded as the first ``history`` line; default: this call.
+
+    Returns
+    -------
+    xarray.Dataset
+        Dims ``member``, ``time``, ``axis``, ``level``; variables ``w`` (member, time, axis)
+        unless ``summaries_only``, ``w0``, ``status`` and the summaries (see
+        :mod:`stability.dataset`). If Ctrl-C stopped the run, ``interrupted`` is 1 and the
+        Dataset holds what was done (``steps_done``).
+
+    Raises
+    ------
+    ValueError
+        For any invalid argument, or a time-series run above ``max_memory``; before any
+        compiled code runs.
+
+    Examples
+    --------
+    >>> body = stability.RigidBody(1.0, 2.0, 3.0)
+    >>> ds = stability.run_ensemble(body, axis=2, spin=1.0, epsilon=1e-3, members=1000,
+    ...                             h=0.01, t_end=60.0, save_every=10)
+    >>> float(ds.mean_flip_interval.median())  # doctest: +SKIP
+    28.7
+    """
+    # --- validate everything before compiled code runs -------------------------------------
+    if not isinstance(body, RigidBody):
+        raise ValueError(f"body must be a stability.RigidBody, got {type(body).__name__}")
+    a = _axis_index(axis)
+    spec = method_spec(method)
+    h = positive_float("h", h, "s")
+    t_end = positive_float("t_end", t_end, "s")
+    n_steps = step_count(t_end, h)
+    save_every = positive_int("save_every", save_every)
+    if not isinstance(summaries_only, (bool, np.bool_)):
+        raise ValueError(f"summaries_only must be True or False, got {summaries_only!r}")
+    if n_steps % save_every and not summaries_only:
+        raise ValueError(
+            f"t_end / h = {n_steps} steps is not a multiple of save_every = {save_every}; "
+            "choose save_every dividing the number of steps"
+        )
+    ss = seed_sequence(seed)
+    if starts is not None:
+        if spin is not None or epsilon is not None or direction is not None:
+            raise ValueError(
+                "starts= gives the initial angular velocities itself; leave spin, epsilon "
+                "and direction out (None) when you pass it"
+            )
+        w0 = vectors3("starts", starts, "rad/s")
+        if w0.ndim != 2:
+            raise ValueError(f"starts must have shape (members, 3), got {w0.shape}")
+        if members is not None and positive_int("members", members) != w0.shape[0]:
+            raise ValueError(
+                f"members = {members} but starts has {w0.shape[0]} rows; leave members out "
+                "or make them agree"
+            )
+        if np.any(np.all(w0 == 0.0, axis=1)):
+            raise ValueError("starts has a row w0 = 0 (a body at rest); every member must spin")
+        start_kind = "given"
+        spin_ref = float(np.median(np.linalg.norm(w0, axis=1)))
+    else:
+        if spin is None or epsilon is None or members is None:
+            raise ValueError("give spin, epsilon and members (or starts=)")
+        spin = positive_float("spin", spin, "rad/s")
+        epsilon = _nonnegative_float("epsilon", epsilon)
+        members = positive_int("members", members)
+        if direction is not None:
+            direction = _perpendicular_direction(direction, a)
+        start_kind = "random_perpendicular" if direction is None else "fixed_direction"
+        spin_ref = spin
+        w0 = None
+    n_members = w0.shape[0] if w0 is not None else members
+    levels = _levels(levels, spin_ref)
+    divergence_tolerance = positive_float("divergence_tolerance", divergence_tolerance)
+    max_memory = positive_float("max_memory", max_memory, "bytes")
+    if threads is not None:
+        threads = positive_int("threads", threads)
+        if threads > numba.config.NUMBA_NUM_THREADS:
+            raise ValueError(
+                f"threads must be between 1 and {numba.config.NUMBA_NUM_THREADS} "
+                f"(NUMBA_NUM_THREADS, set before numba is imported), got {threads}"
+            )
+    if chunk_members is not None:
+        chunk_members = positive_int("chunk_members", chunk_members)
+    if chunk_steps is not None:
+        chunk_steps = positive_int("chunk_steps", chunk_steps)
+    if config is not None:
+        config_text = config_toml(config)
+
+    # --- memory -----------------------------------------------------------------------------
+    n_saved = n_steps // save_every
+    n_time = n_saved + 1
+    stored = ensemble_memory(n_members, 0 if summaries_only else n_saved, levels.size)
+    if not summaries_only and stored > max_memory:
+        raise ValueError(
+            f"the time series of {n_members} members x {n_time} samples x 3 doubles would "
+            f"take {format_bytes(stored)} (about {PEAK_COPIES}x that while the run builds it), "
+            f"above max_memory = {format_bytes(max_memory)}; raise save_every, use fewer "
+            "members, pass summaries_only=True (per-member summaries only), or raise max_memory"
+        )
+    chunk_members = min(chunk_members or n_members, n_members)
+    level = logging.WARNING if stored > LARGE_RUN_BYTES else logging.INFO
+    log.log(
+        level,
+        "run_ensemble: %d members x %d steps of %s (%.3g member-steps); Dataset %s "
+        "(%s per member)%s",
+        n_members, n_steps, spec.name, float(n_members) * n_steps, format_bytes(stored),
+        format_bytes(stored / n_members),
+        "" if summaries_only else f", about {PEAK_COPIES}x that at the peak",
+    )
+
+    # --- starts -----------------------------------------------------------------------------
+    if w0 is None:
+        w0 = perturbed_starts(axis, spin, epsilon, members, ss, direction)
+
+    # --- run --------------------------------------------------------------------------------
+    with _numba_threads(threads):
+        run = _run(
+            body, spec, w0, h, n_steps, save_every, a, levels, summaries_only,
+            divergence_tolerance, chunk_members, chunk_steps, progress,
+        )
+        layer = threading_layer()
+        used_threads = numba.get_num_threads()
+
+    # --- Dataset ----------------------------------------------------------------------------
+    resolved = {
+        "body": {"name": body.name, "I1": body.I1, "I2": body.I2, "I3": body.I3,
+                 "physical": body.physical},
+        "axis": a + 1,
+        "spin": spin,
+        "epsilon": epsilon,
+        "members": n_members,
+        "start_kind": start_kind,
+        "direction": direction,
+        "seed": ss.entropy,
+        "seed_spawn_key": list(ss.spawn_key),
+        "method": spec.name,
+        "h": h,
+        "t_end": t_end,
+        "save_every": save_every,
+        "summaries_only": bool(summaries_only),
+        "levels": levels,
+        "divergence_tolerance": divergence_tolerance,
+        "threads": threads,
+    }
+    if command is None:
+        command = _call_repr(body, resolved)
+    title = (
+        f"{run.members}-member ensemble: {body.name} {body.moments.tolist()} kg m2, "
+        + (f"spin {spin:g} rad/s about axis {a + 1}, perturbation {epsilon:g} of the spin"
+           if start_kind != "given" else f"given starts, spin axis {a + 1}")
+        + f", {spec.name}, h = {h:g} s"
+        + (" (partial: interrupted)" if run.interrupted else "")
+    )
+    attrs = provenance_attrs(title, body, spec, h, command)
+    attrs.update(
+        {
+            "axis": a + 1,
+            "start_kind": start_kind,
+            **({"spin": spin, "epsilon": epsilon} if start_kind != "given" else {}),
+            **({"direction": direction} if direction is not None else {}),
+            "members": run.members,
+            "members_requested": n_members,
+            "seed_entropy": str(ss.entropy),
+            "seed_spawn_key": str(tuple(ss.spawn_key)),
+            "seed_spawn_scheme": (
+                f"member j uses child j // {RNG_CHUNK} of numpy.random.SeedSequence("
+                "seed_entropy, spawn_key=seed_spawn_key) (SeedSequence.spawn), a "
+                "numpy.random.Generator(PCG64) drawing the angles of its "
+                f"{RNG_CHUNK} members in order from uniform(0, 2 pi)"
+            ),
+            "rng_chunk_members": RNG_CHUNK,
+            "t_end": t_end,
+            "save_every": save_every,
+            "steps": n_steps,
+            "steps_done": run.steps_done,
+            "interrupted": int(run.interrupted),
+            "time_series": int(not summaries_only),
+            "summary_tracking": (
+                "flips, crossings, the largest amplitude and level passages tracked at every "
+                "step inside the member loop, times linearly interpolated within the step; "
+                "the start counts (levels it reaches are passed at time 0)"
+            ),
+            "divergence_tolerance": divergence_tolerance,
+            "numba_threading_layer": layer,
+            "numba_num_threads": used_threads,
+            "wall_time": run.wall_time,
+            "compile_time": run.compile_time,
+            "member_steps_per_second": (
+                run.members * run.steps_done / run.wall_time if run.wall_time > 0 else 0.0
+            ),
+            "config_toml": config_text if config is not None else config_toml(
+                {"run_ensemble": resolved}),
+        }
+    )
+    return ensemble_dataset(
+        run.w0, run.status, run.fail_time, run.summaries, levels, attrs,
+        time=run.time, w=run.w,
+    )
+
+
+# --- the run ----------------------------------------------------------------------------------
+
+
+@dataclass
+class _Run:
+    """Everything ``_run`` measured, for the members that completed."""
+
+    members: int
+    w0: np.ndarray
+    status: np.ndarray
+    fail_time: np.ndarray
+    summaries: dict
+    time: np.ndarray | None
+    w: np.ndarray | None
+    steps_done: int
+    interrupted: bool
+    wall_time: float
+    compile_time: float
+
+
+def _run(body, spec, w0, h, n_steps, save_every, a, levels, summaries_only, tolerance,
+         chunk_members, chunk_steps, progress) -> _Run:
+    """Propagate the members in chunks of ``chunk_members``, tracking their summaries.
+
+    If Ctrl-C stops a chunk, the result holds the chunks completed before it; if it stopped
+    the first chunk, that chunk up to the steps it completed.
+    """
+    moments = body.moments
+    n = w0.shape[0]
+    n_time = n_steps // save_every + 1
+    w_all = None if summaries_only else np.empty((n, n_time, 3))
+    status = np.empty(n, dtype=np.int8)
+    fail_time = np.empty(n)
+    summaries = {}
+    wall = compile_time = 0.0
+    steps_done, interrupted, done = n_steps, False, 0
+    for lo in range(0, n, chunk_members):
+        hi = min(lo + chunk_members, n)
+        prop, track = _propagate_tracked(
+            spec, moments, w0[lo:hi], h, n_steps, 0 if summaries_only else save_every, a,
+            levels, progress, chunk_steps,
+        )
+        wall += prop.wall_time
+        compile_time += prop.compile_time
+        if prop.interrupted and lo > 0:  # keep the chunks that completed
+            interrupted = True
+            break
+        chunk_status, chunk_fail, errors = _member_status(prop, w0[lo:hi], moments, h, tolerance)
+        chunk = _summaries(track, errors)
+        bad = chunk_status != cv.STATUS_OK
+        for value in chunk.values():
+            value[bad] = np.nan
+        for name, value in chunk.items():
+            if hi - lo == n:  # one chunk: no copy
+                summaries[name] = value
+                continue
+            if name not in summaries:
+                summaries[name] = np.empty((n,) + value.shape[1:])
+            summaries[name][lo:hi] = value
+        if w_all is not None:
+            k = prop.saved.shape[1]
+            w = w_all[lo:hi, : k + 1]
+            w[:, 0] = w0[lo:hi]
+            np.divide(prop.saved, moments, out=w[:, 1:])
+            w[bad] = np.nan
+        prop.saved = None  # release the driver's copy before the next chunk
+        status[lo:hi] = chunk_status
+        fail_time[lo:hi] = chunk_fail
+        done = hi
+        if prop.interrupted:  # the first chunk: keep the steps it completed
+            interrupted, steps_done = True, prop.steps_done
+            break
+    n_kept_time = steps_done // save_every + 1
+    return _Run(
+        members=done,
+        w0=w0[:done],
+        status=status[:done],
+        fail_time=fail_time[:done],
+        summaries={name: value[:done] for name, value in summaries.items()},
+        time=None if summaries_only else np.arange(n_kept_time) * save_every * h,
+        w=None if summaries_only else w_all[:done, :n_kept_time],
+        steps_done=steps_done,
+        interrupted=interrupted,
+        wall_time=wall,
+        compile_time=compile_time,
+    )
+
+
+def _propagate_tracked(spec, moments, w0, h, n_steps, save_every, a, levels, progress,
+                       chunk_steps):
+    """Run the driver with its in-loop tracking (every step) and count the start in.
+
+    The driver sees the state after each step; here the start joins in: levels the start
+    already reaches are passed at t = 0 (and are not handed to the driver, which takes at most
+    one level per step), and the maximum amplitude includes the start.
+
+    Returns
+    -------
+    prop : Propagation
+    track : dict of ndarray
+        The driver's ``extras`` with ``passage_time`` (N, len(levels)) for all ``levels``.
+    """
+    b, c = _perpendicular_axes(a)
+    amplitude0 = np.hypot(w0[:, b], w0[:, c])
+    skip = int(np.searchsorted(levels, amplitude0.min(), side="right"))
+    prop = propagate(
+        spec, moments, w0 * moments, h, n_steps, save_every, progress, chunk_steps,
+        track_axis=a, levels=levels[skip:],
+    )
+    track = dict(prop.extras)
+    passage = np.zeros((w0.shape[0], levels.size))
+    passage[:, skip:] = track["passage_time"]
+    passage[levels[None, :] <= amplitude0[:, None]] = 0.0
+    track["passage_time"] = passage
+    track["max_perp_amplitude"] = np.maximum(track["max_perp_amplitude"], amplitude0)
+    return prop, track
+
+
+def _member_status(prop, w0, moments, h, tolerance):
+    """Per-member status, failure time and end-of-run invariant errors.
+
+    The driver reports non-finite states and solver failures; here members whose relative
+    energy or |L| error at the end exceeds ``tolerance`` become ``STATUS_DIVERGED``.
+    """
+    m0 = w0 * moments
+    m = prop.m_final
+    energy0 = 0.5 * np.sum(m0 * w0, axis=1)  # E = w . I w / 2
+    energy = 0.5 * np.sum(m * m / moments, axis=1)
+    momentum0 = np.linalg.norm(m0, axis=1)
+    momentum = np.linalg.norm(m, axis=1)
+    with np.errstate(invalid="ignore", over="ignore"):
+        energy_error = (energy - energy0) / energy0
+        momentum_error = (momentum - momentum0) / momentum0
+        worst = np.maximum(np.abs(energy_error), np.abs(momentum_error))
+    status = prop.status.copy()
+    fail_time = np.where(status != cv.STATUS_OK, prop.fail_step * h, np.nan)
+    # "not (worst <= tolerance)" also catches a NaN error the driver did not see.
+    diverged = (status == cv.STATUS_OK) & ~(worst <= tolerance)
+    status[diverged] = cv.STATUS_DIVERGED
+    fail_time[diverged] = prop.steps_done * h
+    return status, fail_time, {
+        "energy_error": energy_error, "angular_momentum_error": momentum_error,
+    }
+
+
+def _summaries(track: dict, errors: dict) -> dict:
+    """The Dataset's summary variables from the tracked events and the invariant errors."""
+    count = track["axis_crossings"].astype(float)
+    first = track["first_axis_crossing"]
+    last = track["last_axis_crossing"]
+    with np.errstate(invalid="ignore", divide="ignore"):
+        interval = np.where(count >= 2, (last - first) / (count - 1.0), np.nan)
+    return {
+        "flip_count": count,
+        "first_flip_time": np.array(first, dtype=float),
+        "last_flip_time": np.array(last, dtype=float),
+        "mean_flip_interval": interval,
+        "perp_crossing_count": track["perp_crossings"].astype(float),
+        "first_perp_crossing": np.array(track["first_perp_crossing"], dtype=float),
+        "last_perp_crossing": np.array(track["last_perp_crossing"], dtype=float),
+        "max_perp_amplitude": np.array(track["max_perp_amplitude"], dtype=float),
+        "passage_time": np.array(track["passage_time"], dtype=float),
+        "energy_error": np.array(errors["energy_error"], dtype=float),
+        "angular_momentum_error": np.array(errors["angular_momentum_error"], dtype=float),
+    }
+
+
+# --- input helpers ----------------------------------------------------------------------------
+
+
+def _axis_index(axis) -> int:
+    """Principal axis 1, 2 or 3 as a 0-based index, else ValueError."""
+    if isinstance(axis, bool) or not isinstance(axis, numbers.Integral) or axis not in (1, 2, 3):
+        raise ValueError(f"axis must be the principal axis 1, 2 or 3, got {axis!r}")
+    return int(axis) - 1
+
+
+def _perpendicular_axes(a: int) -> tuple[int, int]:
+    """The two axes other than ``a`` (0-based), lowest first, as the driver's tracking uses."""
+    b, c = (x for x in (0, 1, 2) if x != a)
+    return b, c
+
+
+def _nonnegative_float(name, value) -> float:
+    try:
+        x = float(value)
+    except (TypeError, ValueError):
+        raise ValueError(f"{name} must be a number, got {value!r}") from None
+    if not math.isfinite(x) or x < 0.0:
+        raise ValueError(f"{name} must be finite and >= 0, got {value!r}")
+    return x
+
+
+def _perpendicular_direction(direction, a) -> np.ndarray:
+    """``direction`` as a unit vector; ValueError unless it is perpendicular to axis a."""
+    d = vectors3("direction", direction)
+    if d.ndim != 1:
+        raise ValueError(f"direction must have shape (3,), got {d.shape}")
+    norm = float(np.linalg.norm(d))
+    if norm == 0.0:
+        raise ValueError("direction must be a nonzero vector perpendicular to the spin axis")
+    if abs(d[a]) > 1e-12 * norm:
+        raise ValueError(
+            f"direction {d.tolist()} is not perpendicular to axis {a + 1}: its component "
+            f"along that axis is {d[a]!r}; set it to 0"
+        )
+    d = d.copy()
+    d[a] = 0.0
+    return d / norm
+
+
+def _levels(levels, spin_ref) -> np.ndarray:
+    """Validated ascending amplitude levels in rad/s (default: DEFAULT_LEVELS x spin)."""
+    if levels is None:
+        return DEFAULT_LEVELS * spin_ref
+    try:
+        x = np.array(levels, dtype=float)
+    except (TypeError, ValueError):
+        raise ValueError(f"levels must be numbers in rad/s, got {levels!r}") from None
+    if x.ndim != 1 or x.size < 1:
+        raise ValueError(f"levels must be a 1-D list of amplitudes in rad/s, got {levels!r}")
+    if not np.all(np.isfinite(x)) or np.any(x <= 0.0) or np.any(np.diff(x) <= 0.0):
+        raise ValueError(f"levels must be finite, > 0 and strictly ascending, got {levels!r}")
+    return x
+
+
+@contextlib.contextmanager
+def _numba_threads(threads):
+    """Run with ``threads`` Numba threads and restore the previous number afterwards."""
+    if threads is None:
+        yield
+        return
+    previous = numba.get_num_threads()
+    numba.set_num_threads(threads)
+    try:
+        yield
+    finally:
+        numba.set_num_threads(previous)
+
+
+def _call_repr(body, resolved) -> str:
+    """The call that made the Dataset, for its first ``history`` line."""
+    keys = ("axis", "spin", "epsilon", "members", "seed", "method", "h", "t_end", "save_every",
+            "summaries_only")
+    args = ", ".join(f"{k}={resolved[k]!r}" for k in keys if resolved[k] is not None)
+    if resolved["start_kind"] == "given":
+        args += ", starts=<given>"
+    if resolved["direction"] is not None:
+        args += f", direction={list(resolved['direction'])}"
+    return f"stability.run_ensemble({body!r}, {args})"

@@ -1,0 +1,131 @@
+"""Datasets to netCDF4 files and back: ``save(ds, path)`` and ``load(path)``.
+
+``save`` writes netCDF4 through xarray with zlib compression (level 4, byte shuffle) and chunks
+along ``member``, to a temporary file in the target's directory that is renamed over the target
+only when complete (``os.replace`` is atomic on one filesystem), so an interrupted write never
+leaves a broken file; it refuses to replace an existing file unless asked. ``load`` reads the
+file back into memory and returns a Dataset identical (``xarray.testing.assert_identical``) to
+the one saved. ``time`` is float seconds with the UDUNITS units "s", which xarray does not
+decode to timedelta (it would for "seconds"); ``load`` passes ``decode_timedelta=False`` all the
+same, and so should other readers.
+"""
+
+from __future__ import annotations
+
+import os
+import uuid
+from pathlib import Path
+
+import numpy as np
+import xarray as xr
+
+from . import conventions as cv
+from .dataset import check_storable
+
+#: zlib compression level (1 fastest ... 9 smallest); 4 is near the knee of size against time.
+COMPLEVEL = 4
+
+#: Target size of one netCDF chunk in bytes (a chunk holds whole members).
+CHUNK_BYTES = 4 * 2**20
+
+
+def save(ds: xr.Dataset, path, overwrite: bool = False) -> Path:
+    """Write ``ds`` to the netCDF4 file ``path``, atomically.
+
+    Parameters
+    ----------
+    ds : xarray.Dataset
+        Attributes must be str, numbers or 1-D numeric arrays (no bool, no None).
+    path : str or path-like
+        Target file, conventionally ``*.nc``. Its directory must exist.
+    overwrite : bool, default False
+        Replace an existing file.
+
+    Returns
+    -------
+    pathlib.Path
+        The path written.
+
+    Raises
+    ------
+    FileExistsError
+        If ``path`` exists and ``overwrite`` is False.
+    ValueError
+        If an attribute or variable cannot be stored in netCDF (nothing is written).
+    """
+    path = Path(path)
+    if not isinstance(ds, xr.Dataset):
+        raise ValueError(f"save() writes an xarray.Dataset, got {type(ds).__name__}")
+    if path.exists() and not overwrite:
+        raise FileExistsError(
+            f"{path} already exists; pass overwrite=True (stability run: --overwrite) to "
+            "replace it, or choose another path"
+        )
+    if path.is_dir():
+        raise ValueError(f"{path} is a directory; give a file name such as {path / 'run.nc'}")
+    if not path.parent.is_dir():
+        raise ValueError(f"directory {path.parent} does not exist; create it first")
+    check_storable(ds)
+    encoding = _encoding(ds)
+    temporary = path.with_name(f".{path.name}.{os.getpid()}.{uuid.uuid4().hex[:8]}.tmp")
+    try:
+        _write(ds, temporary, encoding)
+        os.replace(temporary, path)
+    except BaseException:  # including KeyboardInterrupt: never leave the partial file
+        temporary.unlink(missing_ok=True)
+        raise
+    return path
+
+
+def load(path) -> xr.Dataset:
+    """Read a file written by :func:`save` into memory.
+
+    Parameters
+    ----------
+    path : str or path-like
+
+    Returns
+    -------
+    xarray.Dataset
+        Identical to the Dataset saved; ``time`` stays float seconds (``decode_timedelta``
+        off). The file is closed on return.
+
+    Raises
+    ------
+    FileNotFoundError
+        If ``path`` does not exist.
+    """
+    path = Path(path)
+    if not path.exists():
+        raise FileNotFoundError(f"no such file: {path}")
+    with xr.open_dataset(path, engine="netcdf4", decode_timedelta=False) as ds:
+        return ds.load()
+
+
+def _write(ds: xr.Dataset, path: Path, encoding: dict) -> None:
+    """The write itself (one function, so tests can make it fail)."""
+    ds.to_netcdf(path, mode="w", format="NETCDF4", engine="netcdf4", encoding=encoding)
+
+
+def _encoding(ds: xr.Dataset) -> dict:
+    """Compression and member-aligned chunks for every numeric variable.
+
+    Chunks hold whole members (all times and axes) and about :data:`CHUNK_BYTES`; coordinates
+    get no fill value (they are never missing), so reading adds no attributes.
+    """
+    encoding = {}
+    for name, var in ds.variables.items():
+        if var.dtype.kind not in "iuf" or var.ndim == 0:
+            continue
+        enc = {"zlib": True, "complevel": COMPLEVEL, "shuffle": True, "dtype": var.dtype}
+        if name in ds.coords:
+            enc["_FillValue"] = None
+        shape = var.shape
+        if cv.MEMBER in var.dims:
+            i = var.dims.index(cv.MEMBER)
+            per_member = var.dtype.itemsize * int(np.prod(shape)) // max(shape[i], 1)
+            chunk = list(shape)
+            chunk[i] = max(1, min(shape[i], CHUNK_BYTES // max(per_member, 1)))
+            enc["chunksizes"] = tuple(max(1, c) for c in chunk)
+        encoding[name] = enc
+    return encoding

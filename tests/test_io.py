@@ -1,0 +1,182 @@
+"""save / load: netCDF4 round trip, compression, atomic writes, overwrite refusal, history."""
+
+import tomllib
+
+import netCDF4
+import numpy as np
+import pytest
+import xarray as xr
+
+import stability
+from stability import io
+from stability.dataset import append_history, check_storable, config_toml, storable_attrs
+
+BODY = stability.RigidBody(1.0, 2.0, 3.0, name="test body")
+
+
+@pytest.fixture(scope="module")
+def series():
+    """A time-series ensemble with flagged members (RK4 at h W from 0.3 to 6)."""
+    spins = np.geomspace(1.0, 20.0, 20)
+    starts = np.column_stack([0.01 * spins, spins, 0.02 * spins])
+    ds = stability.run_ensemble(BODY, 2, starts=starts, method="rk4", h=0.3, t_end=30.0)
+    assert set(np.unique(ds.status.values)) > {0}  # some members are masked (NaN)
+    return ds
+
+
+@pytest.fixture(scope="module")
+def summaries():
+    return stability.run_ensemble(BODY, 2, 1.0, 1e-3, 300, h=0.05, t_end=50.0,
+                                  summaries_only=True, seed=None)
+
+
+@pytest.mark.parametrize("name", ["series", "summaries"])
+def test_round_trip_is_identical(name, request, tmp_path):
+    ds = request.getfixturevalue(name)
+    path = stability.save(ds, tmp_path / "run.nc")
+    back = stability.load(path)
+    xr.testing.assert_identical(back, ds)
+    for var in ds.variables:
+        assert back[var].dtype == ds[var].dtype, var
+
+
+def test_time_stays_float_seconds(series, tmp_path):
+    path = stability.save(series, tmp_path / "run.nc")
+    back = stability.load(path)
+    assert back.time.dtype == np.float64 and back.time.attrs["units"] == "s"
+    np.testing.assert_array_equal(back.time.values, series.time.values)
+    with netCDF4.Dataset(path) as nc:  # what other tools see
+        assert nc["time"].dtype == np.float64 and nc["time"].units == "s"
+        assert "_FillValue" not in nc["time"].ncattrs()
+    # xarray decodes durations from units such as "seconds" (by default before 2025.01), never
+    # from the UDUNITS "s" the package writes; the control shows the check can fail.
+    try:
+        by_units = xr.coders.CFTimedeltaCoder(decode_via_units=True)
+    except (AttributeError, TypeError):  # older xarray: decode_timedelta=True decodes via units
+        by_units = True
+    with xr.open_dataset(path, decode_timedelta=by_units) as opened:
+        assert opened.time.dtype == np.float64
+    seconds = ("time", [0.0, 1.0], {"units": "seconds"})
+    control = series[["energy_error"]].assign_coords(time=seconds)
+    control.to_netcdf(tmp_path / "control.nc")
+    with xr.open_dataset(tmp_path / "control.nc", decode_timedelta=by_units) as opened:
+        assert opened.time.dtype.kind == "m"
+
+
+def test_file_is_compressed_and_chunked_along_member(series, tmp_path):
+    path = stability.save(series, tmp_path / "run.nc")
+    with netCDF4.Dataset(path) as nc:
+        assert nc.Conventions == "CF-1.10"
+        for name in ("w", "status", "passage_time", "energy_error"):
+            filters = nc[name].filters()
+            assert filters["zlib"] and filters["complevel"] == 4 and filters["shuffle"], name
+            chunks = nc[name].chunking()
+            assert chunks != "contiguous"
+            assert list(chunks[1:]) == list(nc[name].shape[1:]), name  # whole members
+        assert nc["status"].dtype == np.int8
+
+
+def test_existing_file_is_not_overwritten_unless_asked(series, summaries, tmp_path):
+    path = stability.save(series, tmp_path / "run.nc")
+    before = path.read_bytes()
+    with pytest.raises(FileExistsError, match="overwrite=True"):
+        stability.save(summaries, path)
+    assert path.read_bytes() == before
+    stability.save(summaries, path, overwrite=True)
+    xr.testing.assert_identical(stability.load(path), summaries)
+
+
+@pytest.mark.parametrize("error", [RuntimeError("disk full"), KeyboardInterrupt()])
+def test_interrupted_write_leaves_no_file(series, tmp_path, monkeypatch, error):
+    real = io._write
+
+    def write_then_fail(ds, path, encoding):
+        real(ds, path, encoding)  # the temporary file is complete on disk ...
+        assert path.exists() and path.parent == tmp_path
+        raise error  # ... and the write is interrupted before the rename
+
+    monkeypatch.setattr(io, "_write", write_then_fail)
+    with pytest.raises(type(error)):
+        stability.save(series, tmp_path / "run.nc")
+    assert list(tmp_path.iterdir()) == []  # neither the target nor the temporary file
+
+
+def test_interrupted_overwrite_keeps_the_old_file(series, summaries, tmp_path, monkeypatch):
+    path = stability.save(summaries, tmp_path / "run.nc")
+    before = path.read_bytes()
+
+    def fail(ds, path, encoding):
+        path.write_bytes(b"CDF half-written")
+        raise OSError("interrupted")
+
+    monkeypatch.setattr(io, "_write", fail)
+    with pytest.raises(OSError):
+        stability.save(series, path, overwrite=True)
+    assert path.read_bytes() == before
+    assert [p.name for p in tmp_path.iterdir()] == ["run.nc"]
+
+
+def test_unstorable_attributes_are_refused_before_writing(summaries, tmp_path):
+    for bad, message in [(True, "bool"), (None, "NoneType"), ([1, 2], "list"),
+                         (np.array([1.0]), "one-element"), ({"a": 1}, "dict")]:
+        ds = summaries.copy()
+        ds.attrs = {**summaries.attrs, "flag": bad}
+        with pytest.raises(ValueError, match=f"attribute 'flag' of the Dataset .*{message}"):
+            stability.save(ds, tmp_path / "bad.nc")
+    ds = summaries.copy()
+    ds["energy_error"].attrs["ok"] = False
+    with pytest.raises(ValueError, match="variable 'energy_error'"):
+        stability.save(ds, tmp_path / "bad.nc")
+    assert list(tmp_path.iterdir()) == []
+
+
+def test_storable_attrs_converts_what_it_can():
+    out = storable_attrs({"a": True, "b": np.float32(0.5), "c": (1, 2), "d": np.array([3.0]),
+                          "e": np.int64(4), "f": "text"})
+    assert out["a"] == 1 and type(out["a"]) is int
+    assert out["b"] == 0.5 and type(out["b"]) is float
+    np.testing.assert_array_equal(out["c"], [1, 2])
+    assert out["d"] == 3.0 and type(out["d"]) is float
+    assert type(out["e"]) is int and out["f"] == "text"
+    with pytest.raises(ValueError, match="attribute 'g'"):
+        storable_attrs({"g": None})
+
+
+def test_history_appends_one_timestamped_line(summaries, tmp_path):
+    changed = append_history(summaries, "stability plot run.nc\n--format png")
+    lines = changed.attrs["history"].split("\n")
+    assert lines[0] == summaries.attrs["history"]
+    assert len(lines) == 2 and lines[1].endswith(": stability plot run.nc --format png")
+    assert lines[1][:4].isdigit() and lines[1][19] == "Z"  # 2026-01-01T00:00:00Z: ...
+    assert "\n" not in summaries.attrs["history"]  # the original is unchanged
+    back = stability.load(stability.save(changed, tmp_path / "run.nc"))
+    assert back.attrs["history"] == changed.attrs["history"]
+    check_storable(back)
+
+
+def test_config_toml_round_trips_through_toml_and_netcdf(summaries, tmp_path):
+    config = {"study": {"members": np.int64(300), "eps": [1e-3, 1e-4], "skip": None},
+              "seed": 2**100}
+    text = config_toml(config)
+    assert tomllib.loads(text) == {"study": {"members": 300, "eps": [1e-3, 1e-4]},
+                                   "seed": str(2**100)}
+    entropy = int(summaries.attrs["seed_entropy"])  # fresh 128-bit entropy, kept exactly
+    assert entropy > 2**64
+    back = stability.load(stability.save(summaries, tmp_path / "run.nc"))
+    assert tomllib.loads(back.attrs["config_toml"])["run_ensemble"]["seed"] == str(entropy)
+
+
+def test_load_and_save_errors(summaries, tmp_path):
+    with pytest.raises(FileNotFoundError, match="no such file"):
+        stability.load(tmp_path / "missing.nc")
+    with pytest.raises(ValueError, match="does not exist"):
+        stability.save(summaries, tmp_path / "nowhere" / "run.nc")
+    with pytest.raises(ValueError, match="xarray.Dataset"):
+        stability.save(summaries.energy_error, tmp_path / "run.nc")
+
+
+def test_integrate_dataset_round_trips_too(tmp_path):
+    ds = stability.integrate(BODY, [0.01, 1.0, 0.0], t_end=5.0, h=0.1, method="rk4")
+    assert ds.attrs["Conventions"] == "CF-1.10" and "integrate" in ds.attrs["history"]
+    back = stability.load(stability.save(ds, tmp_path / "one.nc"))
+    xr.testing.assert_identical(back, ds)
