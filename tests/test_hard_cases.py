@@ -43,34 +43,12 @@ ROUNDOFF = 1e-13
 def exact_w(body, w0, t):
     """The exact w at times ``t`` (n,) from ``w0`` (3,); shape (n, 3)."""
     t = np.atleast_1d(np.asarray(t, dtype=float))
-    if hasattr(stability, "exact_omega"):
-        return np.asarray(stability.exact_omega(body, np.asarray(w0, float), t), dtype=float)
-    from scipy.integrate import solve_ivp
-
-    from .helpers import euler_rhs
-
-    sol = solve_ivp(euler_rhs(body.moments), (0.0, t[-1]), np.asarray(w0, float),
-                    method="DOP853", rtol=1e-13, atol=1e-15 * np.linalg.norm(w0), t_eval=t)
-    return sol.y.T
+    return stability.exact_omega(body, np.asarray(w0, float), t)
 
 
 def flip_interval(body, w0):
     """2K/nu: the time between sign changes of the intermediate component (s)."""
-    if hasattr(stability, "flip_interval"):
-        return float(stability.flip_interval(body, np.asarray(w0, float)))
-    from scipy.special import ellipkm1
-
-    I = np.sort(body.moments)
-    w = np.asarray(w0, float)[np.argsort(body.moments)]
-    D1, D2, D3 = invariant_differences(I, w)
-    I1, I2, I3 = I
-    if D2 > 0:  # literature notes 1.1
-        nu = math.sqrt((I3 - I2) * D1 / (I1 * I2 * I3))
-        m1 = (I3 - I1) * D2 / ((I3 - I2) * D1)
-    else:  # 1.2
-        nu = math.sqrt((I2 - I1) * D3 / (I1 * I2 * I3))
-        m1 = (I3 - I1) * (-D2) / ((I2 - I1) * D3)
-    return 2.0 * ellipkm1(m1) / nu
+    return stability.flip_interval(body, np.asarray(w0, float))
 
 
 def separatrix_w(moments, w0, t):
@@ -415,10 +393,12 @@ def test_fast_spin_long_horizon_keeps_invariants(name):
 def test_step_far_too_large_is_flagged_not_returned(name):
     """h |w| = 50: no method may return such a step as a plausible number.
 
-    - Explicit methods that do not keep |L| blow up: every member flagged non-finite, and
-      ``integrate`` returns NaN after the failure, never the overflowed numbers.
-    - Explicit methods that keep |L| (rotations) stay finite with |L| exact: the state is
-      bounded by construction, only its phase is meaningless.
+    - Explicit methods that do not keep |L| blow up: every member is flagged non-finite, and
+      its numbers are masked (``run_ensemble``: every float variable NaN; ``integrate``: NaN
+      after the failure), never returned as the overflowed values.
+    - Explicit methods that keep |L| (rotations) stay finite with |L| exact, but their energy is
+      scrambled: a member whose energy error exceeds the divergence tolerance is flagged
+      diverged and masked (nearly all of them), the rest are within the tolerance.
     - Implicit methods either report non-convergence (status 3) or, where the solve converged,
       return a step that keeps what they declare to keep (E and |L| to the solver tolerance).
     - The exact flow is exact at any step.
@@ -428,26 +408,38 @@ def test_step_far_too_large_is_flagged_not_returned(name):
     rng = np.random.default_rng(5)
     w0 = rng.standard_normal((64, 3))
     h = 50.0 / np.linalg.norm(w0, axis=1).max()
-    w_end, _, run = run_w(name, body, w0, h, 40)
+    n = 40
+    w_end, _, run = run_w(name, body, w0, h, n)
     m0, m1 = body.moments * w0, body.moments * w_end
     error_l = np.abs(np.linalg.norm(m1, axis=1) / np.linalg.norm(m0, axis=1) - 1.0)
     error_e = np.abs(np.sum(m1 * w_end, axis=1) / np.sum(m0 * w0, axis=1) - 1.0)
     ok = run.status == cv.STATUS_OK
+    ds = stability.run_ensemble(body, 2, starts=w0, h=h, t_end=n * h, method=name,
+                                save_every=n, progress=False)
+    flagged = ds.status.values != cv.STATUS_OK
+    for var in ("w", "energy_error", "angular_momentum_error", "max_perp_amplitude"):
+        assert np.isnan(ds[var].values[flagged]).all(), var
     if spec.is_exact:
-        assert ok.all()
-        reference = np.array([exact_w(body, w, [40 * h])[0] for w in w0])
+        assert ok.all() and not flagged.any()
+        reference = np.array([exact_w(body, w, [n * h])[0] for w in w0])
         assert relative(w_end, reference).max() <= 1e-10
     elif spec.implicit:
         assert set(np.unique(run.status)) <= {cv.STATUS_OK, cv.STATUS_NOT_CONVERGED}
         assert np.all(error_l[ok] <= 1e-12)
         if spec.preserves_energy:
             assert np.all(error_e[ok] <= 1e-12)
+        np.testing.assert_array_equal(flagged, ~ok)
     elif spec.preserves_casimir:
         assert ok.all() and np.all(np.isfinite(w_end))
         assert error_l.max() <= 1e-13
+        tolerance = 1e-2  # run_ensemble's default divergence tolerance
+        np.testing.assert_array_equal(flagged, error_e > tolerance)
+        assert np.all(ds.status.values[flagged] == cv.STATUS_DIVERGED)
+        assert flagged.mean() > 0.9
     else:
         assert np.all(run.status == cv.STATUS_NONFINITE)
-        ds = stability.integrate(body, w0[0], 40 * h, h, method=name)
-        assert ds.attrs["status"] == "non_finite"
-        assert np.isnan(ds.w.values[-1]).all()
-        assert np.all(np.isfinite(ds.w.values) | np.isnan(ds.w.values))
+        assert np.all(ds.status.values == cv.STATUS_NONFINITE)
+        one = stability.integrate(body, w0[0], n * h, h, method=name)
+        assert one.attrs["status"] == "non_finite"
+        assert np.isnan(one.w.values[-1]).all()
+        assert np.all(np.isfinite(one.w.values) | np.isnan(one.w.values))

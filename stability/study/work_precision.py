@@ -44,8 +44,12 @@ import xarray as xr
 
 from .. import conventions as cv
 from ..body import RigidBody
+from ..dataset import CONVENTIONS, history_line, software_attrs
 from ..driver import propagate
+from ..ensemble import perturbed_starts
+from ..exact import exact_omega
 from ..integrators import METHODS, method_spec
+from ..io import save
 from .config import ConfigError, Key, Schema, Section, StudyKind, StudySummary, to_toml
 
 NAME = "work_precision"
@@ -215,17 +219,11 @@ def spin_axis(body: RigidBody, which: str) -> int:
 
 
 def ensemble_starts(axis: int, spin: float, epsilon: float, members: int, seed: int):
-    """Starts ``spin e_axis + epsilon spin (cos phi e_b + sin phi e_c)``, phi uniform; (N, 3)."""
-    try:
-        from ..ensemble import perturbed_starts
-    except ImportError:  # before run_ensemble lands: the same construction, one stream
-        a = axis - 1
-        phi = np.random.default_rng(np.random.SeedSequence(seed)).uniform(0, 2 * np.pi, members)
-        w0 = np.zeros((members, 3))
-        w0[:, a] = spin
-        w0[:, (a + 1) % 3] = epsilon * spin * np.cos(phi)
-        w0[:, (a + 2) % 3] = epsilon * spin * np.sin(phi)
-        return w0
+    """Starts ``spin e_axis + epsilon spin (cos phi e_b + sin phi e_c)``, phi uniform; (N, 3).
+
+    The draws of :func:`stability.ensemble.perturbed_starts`, so a member here starts where
+    the same member of ``run_ensemble`` with the same seed does.
+    """
     return perturbed_starts(axis, spin, epsilon, members, seed=seed)
 
 
@@ -243,31 +241,11 @@ def exact_final_w(body: RigidBody, w0, t_end: float) -> np.ndarray:
     Returns
     -------
     ndarray, shape (N, 3)
-        The exact solution (``stability.exact_omega``) at ``t_end``.
+        The exact solution (:func:`stability.exact_omega`, ~1e-14 relative) at ``t_end``.
     """
-    import stability
-
     w0 = np.atleast_2d(np.asarray(w0, dtype=float))
-    exact_omega = getattr(stability, "exact_omega", None)
-    if exact_omega is None:
-        return _dop853_final_w(body.moments, w0, t_end, rtol=1e-13, atol=1e-16)
-    t = np.array([float(t_end)])
-    out = np.empty_like(w0)
-    for j in range(w0.shape[0]):
-        out[j] = exact_omega(body, w0[j], t)[0]
-    return out
-
-
-def _dop853_final_w(moments, w0, t_end, rtol, atol):
-    """Until the exact solution lands: DOP853 at tight tolerance, members one at a time."""
-    from scipy.integrate import solve_ivp
-
-    rhs = _euler_rhs(moments, 1)
-    out = np.empty_like(w0)
-    for j in range(w0.shape[0]):
-        sol = solve_ivp(rhs, (0.0, t_end), w0[j], method="DOP853", rtol=rtol, atol=atol)
-        out[j] = sol.y[:, -1]
-    return out
+    t = float(t_end)
+    return np.array([exact_omega(body, w, t) for w in w0]).reshape(w0.shape)
 
 
 def conditioning_floor(body: RigidBody, w0, t_end: float, w_ref, seed: int = 0) -> np.ndarray:
@@ -605,20 +583,11 @@ def work_precision_dataset(config, body, results, floors, long_results, wall_tot
 
 
 def _global_attrs(config, body, wall_total) -> dict:
-    try:
-        from ..dataset import software_attrs
-        software = software_attrs()
-    except ImportError:  # before the dataset module lands
-        import numba
-
-        from .. import __version__
-        software = {"source": f"stability {__version__}", "numba_version": numba.__version__,
-                    "numba_num_threads": int(numba.get_num_threads())}
     tennis, stable, long = config["tennis"], config["stable"], config["long"]
     return {
-        "Conventions": "CF-1.10",
+        "Conventions": CONVENTIONS,
         "title": config["title"],
-        **software,
+        **software_attrs(),
         "references": "literature notes (shared/notes/literature.md) sections 1.5, 3, 4; "
                       "Hairer, Lubich & Wanner, Geometric Numerical Integration (2006)",
         "body": repr(body),
@@ -810,11 +779,10 @@ def run(config: dict, out_dir: Path, *, overwrite=False, threads=None, progress=
         ds, wall = measure(config, progress=progress)
     finally:
         numba.set_num_threads(previous_threads)
-    if history:
-        ds.attrs["history"] = _history_line(history)
+    ds.attrs["history"] = history_line(history or f"stability run ({NAME})")
     out = config["output"]
     out_dir = Path(out_dir)
-    files = [_save(ds, out_dir / out["dataset"], overwrite)]
+    files = [save(ds, out_dir / out["dataset"], overwrite=overwrite)]
     table = out_dir / out["table"]
     table.write_text(markdown_report(ds), encoding="utf-8")
     (out_dir / "config.toml").write_text(to_toml(config), encoding="utf-8")
@@ -892,25 +860,6 @@ def _describe(bar, text):
 def _advance(bar):
     if bar is not None:
         bar.update(1)
-
-
-def _history_line(command: str) -> str:
-    try:
-        from ..dataset import history_line
-    except ImportError:  # before the dataset module lands
-        return " ".join(str(command).split())
-    return history_line(command)
-
-
-def _save(ds: xr.Dataset, path: Path, overwrite: bool) -> Path:
-    try:
-        from ..io import save
-    except ImportError:  # before the io module lands
-        if path.exists() and not overwrite:
-            raise FileExistsError(f"{path} already exists; pass --overwrite") from None
-        ds.to_netcdf(path)
-        return path
-    return save(ds, path, overwrite=overwrite)
 
 
 def summarize(ds: xr.Dataset, out_dir: Path, files, wall: float) -> StudySummary:
