@@ -175,8 +175,10 @@ def test_envelope_and_slope_classify_drift():
     assert wp.drift_kind(wp.log_slope(t, 1e-5 * np.sin(t))) == "bounded"
     assert wp.drift_kind(wp.log_slope(t, 1e-9 * t)) == "linear drift"
     rng = np.random.default_rng(0)
-    walk = 1e-16 * np.cumsum(rng.standard_normal(t.size))
-    assert wp.drift_kind(wp.log_slope(t, walk)) == "random walk (round-off)"
+    walk = np.cumsum(rng.standard_normal(t.size))  # ~ sqrt(t)
+    assert wp.drift_kind(wp.log_slope(t, 1e-10 * walk), 1e-8) == "random walk"
+    assert wp.drift_kind(wp.log_slope(t, 1e-16 * walk), 1e-14).startswith("round-off, grows like t^0.")
+    assert wp.drift_kind(wp.log_slope(t, 1e-16 * np.sin(t)), 1e-16) == "round-off, bounded"
 
 
 def test_step_grid_runs_from_h_max_to_h_min():

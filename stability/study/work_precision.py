@@ -70,6 +70,8 @@ TARGETS = (1e-2, 1e-4, 1e-6, 1e-8, 1e-10, 1e-12)
 #: below BOUNDED_SLOPE "bounded", above DRIFT_SLOPE "linear drift", between them "random walk".
 BOUNDED_SLOPE = 0.25
 DRIFT_SLOPE = 0.75
+#: Relative invariant errors below this are round-off (~1e4 ulps), whatever their slope.
+ROUNDOFF_LEVEL = 1e-12
 
 #: Kernel runs shorter than MIN_TIMING seconds are repeated up to REPEATS times and the fastest
 #: time is kept (``timed_propagate``).
@@ -474,15 +476,24 @@ def log_slope(t, err, decades=2.0) -> float:
     return float(np.polyfit(np.log(t[keep]), np.log(err[keep]), 1)[0])
 
 
-def drift_kind(slope: float) -> str:
-    """"bounded", "random walk" or "linear drift" from a long-horizon log-log slope."""
+def drift_kind(slope: float, size: float = math.inf) -> str:
+    """In words, the behaviour of an invariant's error from its long-run log-log slope and size.
+
+    "bounded" (slope < BOUNDED_SLOPE), "linear drift" (slope > DRIFT_SLOPE) or "random walk"
+    in between; an error that stays below ROUNDOFF_LEVEL is "round-off", and its slope then
+    tells an unbiased random walk (t^(1/2), Brouwer's law) from a biased one (closer to t).
+    """
     if not np.isfinite(slope):
         return "n/a"
+    if size <= ROUNDOFF_LEVEL:
+        if slope < BOUNDED_SLOPE:
+            return "round-off, bounded"
+        return f"round-off, grows like t^{slope:.2f}"
     if slope < BOUNDED_SLOPE:
         return "bounded"
     if slope > DRIFT_SLOPE:
         return "linear drift"
-    return "random walk (round-off)"
+    return "random walk"
 
 
 # ------------------------------------------------------------------------------------ dataset
@@ -692,7 +703,8 @@ def invariants_table(ds: xr.Dataset) -> str:
             continue
         l_err = ds.drift_momentum.sel({"method": m}).values
         slope = float(ds.drift_slope.sel({"method": m}))
-        lines.append(f"| {m} | {e[-1]:.2g} | {l_err[-1]:.2g} | {slope:.2f} | {drift_kind(slope)} |")
+        kind = drift_kind(slope, float(np.nanmax(envelope(e))))
+        lines.append(f"| {m} | {e[-1]:.2g} | {l_err[-1]:.2g} | {slope:.2f} | {kind} |")
     return "\n".join(lines)
 
 
@@ -885,8 +897,9 @@ def summarize(ds: xr.Dataset, out_dir: Path, files, wall: float) -> StudySummary
     for m in methods:
         slope = float(ds.drift_slope.sel({"method": m}))
         if np.isfinite(slope):
-            rows.append((f"long-run energy error, {m}", f"{drift_kind(slope)} "
-                         f"(slope {slope:.2f})", ""))
+            size = float(np.nanmax(envelope(ds.drift_energy.sel({"method": m}).values)))
+            rows.append((f"long-run energy error, {m}", f"{drift_kind(slope, size)} "
+                         f"(slope {slope:.2f}, max {size:.1e})", ""))
             values[f"drift_slope_{m}"] = slope
     rows.append(("run time", f"{wall:.1f}", "s"))
     values["wall_time"] = wall
