@@ -112,12 +112,12 @@ def member_loop(step):
 
     The returned function advances ``m`` (N, 3) in place by ``n_steps`` steps of size ``h``::
 
-        advance(m, comp, p, h, n_stages, n_steps, save_every, saved, status, fail_step,
+        advance(m, comp, p, h, n_stages, n_steps, save_every, saved, k0, status, fail_step,
                 iterations, step0, axes, track, levels, passage)
 
-    ``comp`` (N, 3) carries the Kahan compensation between calls; ``saved`` (N, n_steps //
-    save_every, 3) receives the state after every ``save_every``-th step (``save_every = 0``
-    saves nothing); ``status`` (N,) int8, ``fail_step`` (N,) int64 and ``iterations`` (N,) int64
+    ``comp`` (N, 3) carries the Kahan compensation between calls; ``saved[:, k0 + k]`` receives
+    the state after step ``(k + 1) * save_every`` of this call (``save_every = 0`` saves
+    nothing); ``status`` (N,) int8, ``fail_step`` (N,) int64 and ``iterations`` (N,) int64
     are updated in place; ``step0`` is the global index of the first step. Tracking is on when
     ``axes[0] >= 0``: ``axes`` holds the canonical indices of the spin axis, the first and the
     second perpendicular axis; ``track`` (N, N_TRACK) and ``passage`` (N, len(levels)) are
@@ -126,7 +126,7 @@ def member_loop(step):
 
     @njit(parallel=True, error_model="numpy")
     def advance(
-        m, comp, p, h, n_stages, n_steps, save_every, saved, status, fail_step, iterations,
+        m, comp, p, h, n_stages, n_steps, save_every, saved, k0, status, fail_step, iterations,
         step0, axes, track, levels, passage,
     ):
         n_members = m.shape[0]
@@ -134,8 +134,9 @@ def member_loop(step):
         tracking = axes[0] >= 0
         ia, ib, ic = max(axes[0], 0), max(axes[1], 0), max(axes[2], 0)
         inv_a, inv_b, inv_c = p[P_INV1 + ia], p[P_INV1 + ib], p[P_INV1 + ic]
-        padded = np.full(levels.shape[0] + 1, np.inf)
-        padded[: levels.shape[0]] = levels
+        n_levels = levels.shape[0]
+        padded = np.full(n_levels + 1, np.inf)  # the sentinel keeps the gather in bounds
+        padded[:n_levels] = levels
         for b in prange(n_blocks):
             lo = b * BLOCK
             size = min(BLOCK, n_members - lo)
@@ -166,7 +167,7 @@ def member_loop(step):
                 c1[j] = comp[lo + j, 0]
                 c2[j] = comp[lo + j, 1]
                 c3[j] = comp[lo + j, 2]
-            k = 0
+            k = k0
             for n in range(n_steps):
                 if n_stages == 1:
                     for j in range(size):
@@ -208,13 +209,14 @@ def member_loop(step):
                         hit[j] = 1 if amp >= target else 0
                         amp_now[j] = amp
                     for j in range(size):
-                        if hit[j] == 1:
-                            # At most one level per step; times clamped to this step's interval.
-                            level = int(tr[T_NEXT_LEVEL, j])
+                        level = int(tr[T_NEXT_LEVEL, j])
+                        while hit[j] == 1 and level < n_levels and amp_now[j] >= padded[level]:
+                            # Linear interpolation, clamped to this step's interval.
                             prev_amp = tr[T_PREV_AMP, j]
                             frac = (padded[level] - prev_amp) / (amp_now[j] - prev_amp)
                             passage[lo + j, level] = t_prev + h * min(max(frac, 0.0), 1.0)
-                            tr[T_NEXT_LEVEL, j] = level + 1.0
+                            level += 1
+                        tr[T_NEXT_LEVEL, j] = level
                     for j in range(size):
                         tr[T_PREV_AMP, j] = amp_now[j]
                 if save_every > 0 and (n + 1) % save_every == 0:
@@ -311,7 +313,7 @@ def _compiled(advance, p):
     if not advance.signatures:
         one = np.zeros((1, 3))
         advance(
-            one.copy(), one.copy(), p, 0.0, 1, 0, 0, np.zeros((1, 0, 3)), np.zeros(1, np.int8),
+            one.copy(), one.copy(), p, 0.0, 1, 0, 0, np.zeros((1, 0, 3)), 0, np.zeros(1, np.int8),
             np.full(1, -1, np.int64), np.zeros(1, np.int64), 0, _NO_AXES,
             np.zeros((1, N_TRACK)), _NO_LEVELS, np.zeros((1, 0)),
         )
@@ -349,8 +351,8 @@ def propagate(
         w_a: count, and times in s by linear interpolation, NaN if none); ``perp_crossings``,
         ``first_perp_crossing``, ``last_perp_crossing`` (the same for the first perpendicular
         component, the lowest body axis other than ``track_axis``); ``max_perp_amplitude``
-        (rad/s, over the steps taken; the initial state excluded); ``passage_time`` (N,
-        len(levels)): first time sqrt(w_b^2 + w_c^2) reaches each level (NaN if never).
+        (rad/s, the start included); ``passage_time`` (N, len(levels)): first time
+        sqrt(w_b^2 + w_c^2) reaches each level (0 for levels the start reaches, NaN if never).
     levels : array_like, optional
         Ascending perpendicular-amplitude levels in rad/s for ``passage_time``.
 
@@ -369,7 +371,7 @@ def propagate(
     fail_step = np.full(n_members, -1, dtype=np.int64)
     iterations = np.zeros(n_members, dtype=np.int64)
     n_saved = n_steps // save_every if save_every > 0 else 0
-    saved = np.full((n_members, n_saved, 3), np.nan)
+    saved = np.empty((n_members, n_saved, 3))
 
     if track_axis is None:
         axes, track = _NO_AXES, np.zeros((0, N_TRACK))
@@ -394,15 +396,13 @@ def propagate(
             wanted = 64 if chunk is None else int(chunk)
             this = min(n_steps - done, max(unit, (wanted // unit) * unit))
             k_this = this // save_every if save_every > 0 else 0
-            buffer = np.empty((n_members, k_this, 3))
             t0 = time.perf_counter()
             advance(
-                m, comp, p, h, spec.stages, this, save_every, buffer, status, fail_step,
+                m, comp, p, h, spec.stages, this, save_every, saved, k_saved, status, fail_step,
                 iterations, done, axes, track, levels, passage,
             )
             dt = time.perf_counter() - t0
             wall += dt
-            saved[:, k_saved : k_saved + k_this, :] = buffer
             done += this
             k_saved += k_this
             if chunk_steps is None:
@@ -410,7 +410,8 @@ def propagate(
                 chunk = max(unit, int(0.25 * rate))
                 if bar is None and progress is not False:
                     if progress or (n_steps - done) / rate > 2.0:
-                        bar = _progress_bar(n_steps, done, spec.name)
+                        bar = _progress_bar(n_steps, done, spec.name)  # counts this chunk
+                        continue
             if bar is not None:
                 bar.update(this)
         interrupted = interrupt.requested
@@ -443,13 +444,19 @@ def _tracking_state(m, canonical_moments, perm, track_axis, levels):
     if levels.ndim != 1 or np.any(np.diff(levels) <= 0) or np.any(~np.isfinite(levels)):
         raise ValueError("levels must be a 1-D array of finite, strictly ascending amplitudes")
     w = m / canonical_moments
+    amplitude0 = np.hypot(w[:, axes[1]], w[:, axes[2]])
     track = np.zeros((m.shape[0], N_TRACK))
     track[:, T_PREV_A] = w[:, axes[0]]
     track[:, T_PREV_B] = w[:, axes[1]]
-    track[:, T_PREV_AMP] = np.hypot(w[:, axes[1]], w[:, axes[2]])
+    track[:, T_PREV_AMP] = amplitude0
+    track[:, T_MAX_AMP] = amplitude0
     for col in (T_FIRST_A, T_LAST_A, T_FIRST_B, T_LAST_B):
         track[:, col] = np.nan
+    # Levels the start already reaches are passed at t = 0.
     passage = np.full((m.shape[0], levels.size), np.nan)
+    reached = levels[None, :] <= amplitude0[:, None]
+    passage[reached] = 0.0
+    track[:, T_NEXT_LEVEL] = reached.sum(axis=1)
     return axes, track, np.ascontiguousarray(levels), passage
 
 

@@ -550,32 +550,12 @@ def _run(body, spec, w0, h, n_steps, save_every, a, levels, summaries_only, tole
 
 def _propagate_tracked(spec, moments, w0, h, n_steps, save_every, a, levels, progress,
                        chunk_steps):
-    """Run the driver with its in-loop tracking (every step) and count the start in.
-
-    The driver sees the state after each step; here the start joins in: levels the start
-    already reaches are passed at t = 0 (and are not handed to the driver, which takes at most
-    one level per step), and the maximum amplitude includes the start.
-
-    Returns
-    -------
-    prop : Propagation
-    track : dict of ndarray
-        The driver's ``extras`` with ``passage_time`` (N, len(levels)) for all ``levels``.
-    """
-    b, c = _perpendicular_axes(a)
-    amplitude0 = np.hypot(w0[:, b], w0[:, c])
-    skip = int(np.searchsorted(levels, amplitude0.min(), side="right"))
+    """Run the driver with its in-loop tracking; returns the Propagation and its ``extras``."""
     prop = propagate(
         spec, moments, w0 * moments, h, n_steps, save_every, progress, chunk_steps,
-        track_axis=a, levels=levels[skip:],
+        track_axis=a, levels=levels,
     )
-    track = dict(prop.extras)
-    passage = np.zeros((w0.shape[0], levels.size))
-    passage[:, skip:] = track["passage_time"]
-    passage[levels[None, :] <= amplitude0[:, None]] = 0.0
-    track["passage_time"] = passage
-    track["max_perp_amplitude"] = np.maximum(track["max_perp_amplitude"], amplitude0)
-    return prop, track
+    return prop, dict(prop.extras)
 
 
 def _member_status(prop, w0, moments, h, tolerance):

@@ -116,3 +116,15 @@ def test_tracked_oscillation_about_the_largest_axis():
     assert omega == pytest.approx(1.0, rel=1e-6)
     assert e["axis_crossings"][0] == 0
     assert e["max_perp_amplitude"][0] == pytest.approx(1e-4, rel=1e-3)
+
+
+def test_one_compiled_signature_serves_every_kind_of_run():
+    """Saving, tracking and chunking must not trigger a second compilation (timed loops)."""
+    from stability.driver import member_loop
+    from stability.integrators import method_spec
+
+    m0 = starts(70)
+    propagate("rk4", MOMENTS, m0, 0.01, 100, save_every=10, chunk_steps=30)
+    propagate("rk4", MOMENTS, m0, 0.01, 100, track_axis=1, levels=[1e-3, 1e-2])
+    propagate("rk4", MOMENTS, m0, 0.01, 100)
+    assert len(member_loop(method_spec("rk4").step).signatures) == 1

@@ -1,0 +1,334 @@
+"""``stability bench``: member-steps per second of every integrator, against SciPy and NumPy.
+
+One workload for everyone: the tennis-racket preset spun at 10 rad/s about its intermediate axis,
+each of ``members`` members nudged by 1e-4 of the spin in a random perpendicular direction,
+``steps`` steps of h = 2 ms (the default tennis-racket study's step). Timed on it, in one run:
+
+- every registered method through the parallel member loop (:func:`stability.driver.propagate`,
+  nothing saved), with 1 and 2 threads (compile time excluded and reported apart);
+- SciPy's ``solve_ivp`` with DOP853 on the whole ensemble as one system of 3N equations (a
+  vectorized right-hand side over the members), at a tolerance that gives an error comparable
+  to RK4's at this h; its speed is quoted as the equivalent member-steps/s, members x steps /
+  wall time, since it chooses its own steps;
+- a plain NumPy RK4 on the same arrays of members (no Numba): what vectorizing over members
+  without compiling buys.
+
+Each timing is the best of ``repeat`` runs. Each row also gives the largest error of w at the end over members, against the exact solution,
+so that speeds are compared at a known accuracy. Timings depend on the machine and its load;
+this module prints numbers and asserts nothing about them.
+"""
+
+from __future__ import annotations
+
+import math
+import time
+from dataclasses import dataclass, field
+
+import numpy as np
+
+#: The workload: body preset, spin (rad/s), perturbation, step (s).
+BODY_PRESET = "tennis_racket"
+SPIN = 10.0
+EPSILON = 1e-4
+H = 2e-3
+#: DOP853 tolerances: relative, and absolute in units of the spin.
+SCIPY_RTOL = 1e-10
+SCIPY_ATOL = 1e-10
+
+
+@dataclass
+class BenchRow:
+    """One timed solver.
+
+    Attributes
+    ----------
+    solver : str
+        Method name, ``"scipy DOP853"`` or ``"numpy RK4"``.
+    threads : int
+        Threads it ran on (1 for SciPy and NumPy).
+    wall : float
+        Seconds for the whole workload, compilation excluded.
+    rate : float
+        Member-steps per second (equivalent for adaptive SciPy).
+    error : float
+        Max over members of |w(T) - w_exact(T)| in rad/s (NaN if not measured).
+    note : str
+        Extra facts (compile time, function evaluations).
+    """
+
+    solver: str
+    threads: int
+    wall: float
+    rate: float
+    error: float = math.nan
+    note: str = ""
+
+
+@dataclass
+class BenchReport:
+    """What ``bench`` measured, with the workload it ran."""
+
+    members: int
+    steps: int
+    h: float
+    body: object
+    axis: int
+    repeat: int = 1
+    rows: list = field(default_factory=list)
+    skipped: list = field(default_factory=list)
+    environment: dict = field(default_factory=dict)
+
+
+def workload(members: int, seed: int = 0):
+    """Body, spin axis (1-based) and starts ``w0`` (members, 3) in rad/s of the benchmark."""
+    from .analytic import intermediate_axis
+    from .body import RigidBody
+
+    body = RigidBody.preset(BODY_PRESET)
+    axis = int(intermediate_axis(body))
+    rng = np.random.default_rng(np.random.SeedSequence(seed))
+    phi = rng.uniform(0.0, 2.0 * np.pi, members)
+    a = axis - 1
+    b, c = (a + 1) % 3, (a + 2) % 3
+    w0 = np.zeros((members, 3))
+    w0[:, a] = SPIN
+    w0[:, b] = EPSILON * SPIN * np.cos(phi)
+    w0[:, c] = EPSILON * SPIN * np.sin(phi)
+    return body, axis, w0
+
+
+def bench(members=10_000, steps=1000, threads=None, methods=None, scipy=True, numpy=True,
+          repeat=3, log=None) -> BenchReport:
+    """Time every method (and SciPy DOP853, NumPy RK4) on one ensemble; see the module docstring.
+
+    Parameters
+    ----------
+    members, steps : int
+        Ensemble size and steps per member.
+    threads : sequence of int, optional
+        Thread counts for the Numba methods; default (1, 2), capped at the cores Numba has.
+    methods : sequence of str, optional
+        Registry names; default all of ``stability.METHODS``.
+    scipy, numpy : bool
+        Also time SciPy's DOP853 (skipped, and said so, if SciPy is not installed) and the
+        NumPy RK4.
+    repeat : int
+        Runs per timing; the shortest wall time is kept (the least disturbed by other load).
+    log : callable, optional
+        Called with a line of text before each timing (progress).
+
+    Returns
+    -------
+    BenchReport
+    """
+    import numba
+
+    from .checks import positive_int
+    from .driver import propagate
+    from .integrators import METHODS, method_spec
+
+    members = positive_int("members", members)
+    steps = positive_int("steps", steps)
+    repeat = positive_int("repeat", repeat)
+    most = numba.config.NUMBA_NUM_THREADS
+    if threads is None:
+        threads = [t for t in (1, 2) if t <= most]
+    threads = [positive_int("threads", t) for t in threads]
+    too_many = [t for t in threads if t > most]
+    if too_many:
+        raise ValueError(
+            f"threads must be <= {most}, the cores Numba started with (NUMBA_NUM_THREADS), "
+            f"got {too_many[0]}"
+        )
+    specs = [method_spec(name) for name in (methods or list(METHODS))]
+    log = log or (lambda line: None)
+
+    body, axis, w0 = workload(members)
+    moments = body.moments
+    m0 = w0 * moments
+    t_end = steps * H
+    reference = _exact(body, w0, t_end)
+    report = BenchReport(members, steps, H, body, axis, repeat)
+
+    before = numba.get_num_threads()
+    try:
+        for spec in specs:
+            compile_time = None
+            for n_threads in threads:
+                numba.set_num_threads(n_threads)
+                log(f"timing {spec.name} on {n_threads} thread(s) ...")
+                runs = [propagate(spec, moments, m0, H, steps, save_every=0, progress=False)
+                        for _ in range(repeat)]
+                if compile_time is None:
+                    compile_time = runs[0].compile_time
+                wall = min(run.wall_time for run in runs)
+                error = _error(runs[0].m_final / moments, reference)
+                report.rows.append(BenchRow(
+                    spec.name, n_threads, wall, members * steps / wall, error,
+                    f"compile {compile_time:.1f} s" if n_threads == threads[0] else "",
+                ))
+    finally:
+        numba.set_num_threads(before)
+    report.environment = {
+        "numba": numba.__version__,
+        "threading_layer": _threading_layer(),
+        "cores": most,
+        "numpy": np.__version__,
+    }
+
+    if scipy:
+        try:
+            import scipy as sp
+            from scipy.integrate import solve_ivp
+        except ImportError:
+            report.skipped.append(
+                "scipy DOP853: SciPy is not installed (it comes with the test extra: "
+                "pip install -e '.[test]')"
+            )
+        else:
+            log("timing scipy DOP853 on the whole ensemble as one system ...")
+            report.environment["scipy"] = sp.__version__
+            rows = [_time_scipy(solve_ivp, moments, w0, t_end, steps, reference)
+                    for _ in range(repeat)]
+            report.rows.append(min(rows, key=lambda row: row.wall))
+    if numpy:
+        log("timing the NumPy RK4 ...")
+        walls = []
+        for _ in range(repeat):
+            t0 = time.perf_counter()
+            m = numpy_rk4(moments, m0, H, steps)
+            walls.append(time.perf_counter() - t0)
+        wall = min(walls)
+        report.rows.append(BenchRow("numpy RK4", 1, wall, members * steps / wall,
+                                    _error(m / moments, reference), "NumPy arrays over members"))
+    return report
+
+
+def euler_coefficients(moments):
+    """``(A1, A2, A3)`` of m' = m x I^-1 m in the body's own axes, ``A1 = (I2 - I3) / (I2 I3)``.
+
+    The same cancellation-free form as the kernels' ``body_params`` (cyclic in 1, 2, 3).
+    """
+    I1, I2, I3 = (float(x) for x in moments)
+    return (I2 - I3) / (I2 * I3), (I3 - I1) / (I3 * I1), (I1 - I2) / (I1 * I2)
+
+
+def numpy_rk4(moments, m0, h, steps):
+    """Classical RK4 on Euler's equations with NumPy arrays over members (no Numba).
+
+    Parameters
+    ----------
+    moments : array_like, shape (3,)
+        Principal moments in kg m^2.
+    m0 : ndarray, shape (N, 3)
+        Initial body angular momenta m = I w.
+    h : float
+        Step in s.
+    steps : int
+
+    Returns
+    -------
+    ndarray, shape (N, 3)
+        m after ``steps`` steps.
+    """
+    A1, A2, A3 = euler_coefficients(moments)
+    m1, m2, m3 = (np.array(m0[:, i], dtype=float) for i in range(3))
+    half, sixth = 0.5 * h, h / 6.0
+    for _ in range(steps):
+        a1, a2, a3 = A1 * m2 * m3, A2 * m3 * m1, A3 * m1 * m2
+        p1, p2, p3 = m1 + half * a1, m2 + half * a2, m3 + half * a3
+        b1, b2, b3 = A1 * p2 * p3, A2 * p3 * p1, A3 * p1 * p2
+        p1, p2, p3 = m1 + half * b1, m2 + half * b2, m3 + half * b3
+        c1, c2, c3 = A1 * p2 * p3, A2 * p3 * p1, A3 * p1 * p2
+        p1, p2, p3 = m1 + h * c1, m2 + h * c2, m3 + h * c3
+        d1, d2, d3 = A1 * p2 * p3, A2 * p3 * p1, A3 * p1 * p2
+        m1 = m1 + sixth * (a1 + 2.0 * (b1 + c1) + d1)
+        m2 = m2 + sixth * (a2 + 2.0 * (b2 + c2) + d2)
+        m3 = m3 + sixth * (a3 + 2.0 * (b3 + c3) + d3)
+    return np.stack([m1, m2, m3], axis=1)
+
+
+def _time_scipy(solve_ivp, moments, w0, t_end, steps, reference) -> BenchRow:
+    """DOP853 on the 3N-dimensional system, the right-hand side vectorized over members."""
+    A1, A2, A3 = euler_coefficients(moments)
+    members = w0.shape[0]
+
+    def rhs(t, y):
+        m1, m2, m3 = y[:members], y[members : 2 * members], y[2 * members :]
+        return np.concatenate([A1 * m2 * m3, A2 * m3 * m1, A3 * m1 * m2])
+
+    y0 = (w0 * moments).T.ravel()
+    t0 = time.perf_counter()
+    sol = solve_ivp(rhs, (0.0, t_end), y0, method="DOP853", rtol=SCIPY_RTOL,
+                    atol=SCIPY_ATOL * SPIN * float(np.max(moments)), t_eval=[t_end])
+    wall = time.perf_counter() - t0
+    m = sol.y[:, -1].reshape(3, members).T
+    return BenchRow(
+        "scipy DOP853", 1, wall, members * steps / wall, _error(m / moments, reference),
+        f"rtol {SCIPY_RTOL:g}, {sol.nfev} evaluations of the 3N system",
+    )
+
+
+def _exact(body, w0, t_end):
+    """Exact w at ``t_end`` for every start (rows of ``w0``)."""
+    from .exact import exact_omega
+
+    return np.array([exact_omega(body, w, t_end) for w in w0], dtype=float)
+
+
+def _threading_layer() -> str:
+    import numba
+
+    try:
+        return str(numba.threading_layer())
+    except ValueError:  # no parallel code has run
+        return "no parallel run"
+
+
+def _error(w, reference) -> float:
+    return float(np.max(np.abs(w - reference)))
+
+
+def format_report(report: BenchReport) -> str:
+    """The measurements as a table, with speed ratios against NumPy RK4 and SciPy DOP853."""
+    rows = report.rows
+    by_name = {r.solver: r for r in rows}
+    numpy_rate = by_name["numpy RK4"].rate if "numpy RK4" in by_name else math.nan
+    scipy_rate = by_name["scipy DOP853"].rate if "scipy DOP853" in by_name else math.nan
+    env = report.environment
+    lines = [
+        f"workload: {report.members} members x {report.steps} steps of h = {report.h:g} s "
+        f"(t = {report.steps * report.h:g} s): {report.body.name} spun at {SPIN:g} rad/s about "
+        f"axis {report.axis}, perturbation {EPSILON:g}",
+        f"numba {env.get('numba', '?')} ({env.get('threading_layer', '?')}, "
+        f"{env.get('cores', '?')} threads available), numpy {env.get('numpy', '?')}"
+        + (f", scipy {env['scipy']}" if "scipy" in env else ""),
+        "",
+    ]
+    header = ("solver", "threads", "wall (s)", "member-steps/s", "x NumPy RK4",
+              "x SciPy DOP853", "max |w error| (rad/s)", "note")
+    table = [header]
+    for r in rows:
+        table.append((
+            r.solver, str(r.threads), f"{r.wall:.3g}", f"{r.rate:.3g}",
+            _ratio(r.rate, numpy_rate), _ratio(r.rate, scipy_rate),
+            f"{r.error:.1e}" if math.isfinite(r.error) else "-", r.note,
+        ))
+    widths = [max(len(row[i]) for row in table) for i in range(len(header))]
+    for k, row in enumerate(table):
+        lines.append("  ".join(cell.ljust(w) for cell, w in zip(row, widths)).rstrip())
+        if k == 0:
+            lines.append("  ".join("-" * w for w in widths))
+    for note in report.skipped:
+        lines.append(f"skipped: {note}")
+    lines.append("")
+    lines.append("member-steps/s = members x steps / wall time, the best of "
+                 f"{report.repeat} runs (SciPy: the same count for the same time span, with its "
+                 "own adaptive steps); x A = speed relative to A.")
+    return "\n".join(lines)
+
+
+def _ratio(rate, reference) -> str:
+    if not (math.isfinite(rate) and math.isfinite(reference)) or reference <= 0:
+        return "-"
+    return f"{rate / reference:.3g}"

@@ -1,0 +1,138 @@
+"""Shared figure helpers: one look for every figure, labels that carry units, PNG + PDF output.
+
+Figures are built on ``matplotlib.figure.Figure`` directly (no ``pyplot``), so making them never
+opens a window, needs no display and leaves no global state behind. Every axis label is written
+``"quantity (unit)"`` by :func:`label`; :func:`missing_units` lists the axes that break that rule
+(the tests call it on every figure).
+"""
+
+from __future__ import annotations
+
+import re
+from pathlib import Path
+
+from matplotlib.figure import Figure
+
+#: Colours of body axes 1, 2, 3 in every figure (colour-blind safe, from matplotlib's tab10).
+AXIS_COLORS = ("#1f77b4", "#ff7f0e", "#2ca02c")
+#: Colour of exact / analytic curves drawn over numerical results.
+EXACT_COLOR = "black"
+#: Colour of an ensemble's median and its spread band.
+ENSEMBLE_COLOR = "#1f77b4"
+
+#: UDUNITS strings (as stored in Datasets) written the way a reader expects on an axis.
+_PRETTY_UNITS = {
+    "rad s-1": "rad/s",
+    "s-1": "1/s",
+    "s-2": "1/s²",
+    "kg m2": "kg m²",
+    "kg m2 s-1": "kg m²/s",
+    "1": "dimensionless",
+    "": "dimensionless",
+}
+
+FORMATS = ("png", "pdf", "svg")
+
+_STYLE = {
+    "font.size": 10,
+    "axes.titlesize": 10,
+    "axes.labelsize": 10,
+    "legend.fontsize": 8.5,
+    "axes.grid": True,
+    "grid.alpha": 0.3,
+    "axes.spines.top": False,
+    "axes.spines.right": False,
+    "savefig.dpi": 150,
+}
+
+
+def pretty_unit(unit: str) -> str:
+    """A UDUNITS unit string (``"rad s-1"``) as shown on an axis (``"rad/s"``)."""
+    return _PRETTY_UNITS.get(unit, unit)
+
+
+def label(quantity: str, unit: str) -> str:
+    """Axis label ``"quantity (unit)"``; ``unit`` in UDUNITS spelling or as shown."""
+    return f"{quantity} ({pretty_unit(unit)})"
+
+
+def new_figure(width: float = 7.0, height: float = 4.5) -> Figure:
+    """An empty figure with constrained layout; size in inches. Build it inside :func:`styled`."""
+    return Figure(figsize=(width, height), layout="constrained")
+
+
+def styled(function):
+    """Decorator: build the figure inside the package's rc style (fonts, grid, spines)."""
+    import functools
+
+    import matplotlib as mpl
+
+    @functools.wraps(function)
+    def wrapper(*args, **kwargs):
+        with mpl.rc_context(_STYLE):
+            return function(*args, **kwargs)
+
+    return wrapper
+
+
+def save(fig: Figure, out_dir, stem: str, formats=("png", "pdf"), dpi: int = 150) -> list[Path]:
+    """Write ``fig`` as ``out_dir/stem.<format>`` for each format; return the paths written.
+
+    The file is written under a temporary name and renamed, so an interrupted run never leaves
+    a truncated figure behind.
+    """
+    out_dir = Path(out_dir)
+    paths = []
+    for fmt in formats:
+        if fmt not in FORMATS:
+            raise ValueError(f"figure format must be one of {', '.join(FORMATS)}, got {fmt!r}")
+        path = out_dir / f"{stem}.{fmt}"
+        partial = out_dir / f".{stem}.{fmt}.part"
+        fig.savefig(partial, format=fmt, dpi=dpi)
+        partial.replace(path)
+        paths.append(path)
+    return paths
+
+
+_UNIT_IN_LABEL = re.compile(r"\(([^()]+)\)\s*$")
+
+
+def missing_units(fig: Figure) -> list[str]:
+    """Axis labels of ``fig`` that do not end in ``(unit)``; empty when every axis is labelled.
+
+    Checks the x and y (and, for 3-D axes, z) labels of every visible axes; an axis whose tick
+    labels are hidden (the upper panels of a shared x axis) is labelled by its neighbour and
+    skipped; colour bars count as axes too.
+    """
+    problems = []
+    for k, ax in enumerate(fig.axes):
+        if not ax.get_visible() or not ax.axison:
+            continue
+        getters = {"x": ax.get_xlabel, "y": ax.get_ylabel}
+        if hasattr(ax, "get_zlabel"):
+            getters["z"] = ax.get_zlabel
+        title = ax.get_title() or f"axes {k}"
+        for name, get in getters.items():
+            if name in ("x", "y") and _colorbar_side(ax) not in (None, name):
+                continue
+            if not _shows_tick_labels(ax, name):
+                continue  # e.g. the upper panels of a shared x axis: labelled below
+            text = get()
+            if not _UNIT_IN_LABEL.search(text or ""):
+                problems.append(f"{title}: {name} label {text!r} has no unit")
+    return problems
+
+
+def _shows_tick_labels(ax, name) -> bool:
+    axis = {"x": ax.xaxis, "y": ax.yaxis}.get(name)
+    if axis is None:
+        return True
+    ticks = axis.get_major_ticks()
+    return not ticks or any(t.label1.get_visible() or t.label2.get_visible() for t in ticks)
+
+
+def _colorbar_side(ax):
+    """For a colour bar's axes, the side ("x" or "y") that carries its label; else None."""
+    if getattr(ax, "_colorbar", None) is None:
+        return None
+    return "y" if ax._colorbar.orientation == "vertical" else "x"

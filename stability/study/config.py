@@ -1,0 +1,512 @@
+"""Study files: a declarative schema per study kind, validation, and the resolved configuration.
+
+A study file is TOML. The top-level key ``study`` names the kind (a key of
+``stability.study.STUDIES``); the rest are sections (``[body]``, ``[spin]``, ``[ensemble]``,
+``[integration]``, ``[output]`` ...) whose keys each kind declares as data: a :class:`Key` gives
+the type, the default, the allowed values or range, the unit and a one-line description.
+:func:`resolve` checks a parsed file against that schema and returns the *resolved*
+configuration (every key present, defaults filled in), which is what a run uses and what is
+stored, as TOML text (:func:`to_toml`), in the ``config_toml`` attribute of its Dataset.
+
+Every problem is reported as one :class:`ConfigError` whose message is one line naming the file,
+the section, the key and what is allowed, e.g.::
+
+    studies/x.toml: [ensemble] members must be an integer >= 1, got -5
+
+and nothing is run or written before the whole file has passed.
+"""
+
+from __future__ import annotations
+
+import difflib
+import json
+import math
+import tomllib
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Any, Callable
+
+#: Default of a key that has no default: the file must set it.
+REQUIRED = object()
+#: Default of a key that may be left unset (it is then absent from the resolved configuration).
+UNSET = None
+
+_KINDS = ("int", "float", "str", "bool", "floats", "strs")
+
+
+class ConfigError(ValueError):
+    """A study file (or a command-line override of one) that does not fit its schema.
+
+    ``str(error)`` is one line: ``<source>: [<section>] <key> <what is wrong>``.
+    """
+
+    def __init__(self, message: str, source: str = "", section: str = "", key: str = ""):
+        self.source = source
+        self.section = section
+        self.key = key
+        self.detail = message
+        where = f"[{section}] " if section else ""
+        prefix = f"{source}: " if source else ""
+        super().__init__(f"{prefix}{where}{key + ' ' if key else ''}{message}")
+
+
+@dataclass(frozen=True)
+class Key:
+    """One setting of a study file, declared as data.
+
+    Attributes
+    ----------
+    name : str
+        The key as written in the file.
+    kind : str or tuple of str
+        ``"int"``, ``"float"`` (an integer is accepted and converted), ``"str"``, ``"bool"``,
+        ``"floats"`` (a list of numbers), ``"strs"`` (a list of strings), or a tuple of these
+        when more than one type is allowed.
+    default : object
+        Value used when the file does not set the key; :data:`REQUIRED` if it must be set;
+        :data:`UNSET` (None) if it may stay unset.
+    doc : str
+        One line saying what the key means (shown by ``stability run --help-study``).
+    unit : str
+        Unit of a number (UDUNITS spelling), "" if none.
+    choices : tuple or callable, optional
+        Allowed values (for lists: allowed elements), or a function returning them (for
+        registries that may grow, such as the integrator names).
+    minimum, maximum : float, optional
+        Allowed range of a number (or of every element of a list of numbers).
+    exclusive_minimum : bool
+        The minimum itself is not allowed (``> minimum`` rather than ``>= minimum``).
+    length : int, optional
+        Required length of a list.
+    """
+
+    name: str
+    kind: str | tuple[str, ...]
+    default: Any
+    doc: str
+    unit: str = ""
+    choices: tuple | Callable[[], tuple] | None = None
+    minimum: float | None = None
+    maximum: float | None = None
+    exclusive_minimum: bool = False
+    length: int | None = None
+
+    def __post_init__(self):
+        kinds = self.kinds
+        if not kinds or any(k not in _KINDS for k in kinds):
+            raise ValueError(f"Key {self.name!r}: kind must be among {_KINDS}, got {self.kind!r}")
+
+    @property
+    def kinds(self) -> tuple[str, ...]:
+        return (self.kind,) if isinstance(self.kind, str) else tuple(self.kind)
+
+    def allowed_choices(self) -> tuple | None:
+        return self.choices() if callable(self.choices) else self.choices
+
+    def allowed(self) -> str:
+        """What the key accepts, in words: ``"an integer >= 1"``, ``"one of "rk4", "lp2""``."""
+        choices = self.allowed_choices()
+        unit = f" (in {self.unit})" if self.unit else ""
+        if choices is not None:
+            listed = ", ".join(_show(c) for c in choices)
+            if set(self.kinds) & {"floats", "strs"}:
+                size = f"{self.length} " if self.length else ""
+                return f"a list of {size}values from {listed}"
+            return f"one of {listed}"
+        words = []
+        for kind in self.kinds:
+            words.append(
+                {
+                    "int": "an integer",
+                    "float": "a number",
+                    "str": "a string",
+                    "bool": "true or false",
+                    "floats": f"a list of {self.length or ''} numbers".replace("  ", " "),
+                    "strs": f"a list of {self.length or ''} strings".replace("  ", " "),
+                }[kind]
+            )
+        text = " or ".join(words)
+        bounds = []
+        if self.minimum is not None:
+            bounds.append(f"{'>' if self.exclusive_minimum else '>='} {self.minimum:g}")
+        if self.maximum is not None:
+            bounds.append(f"<= {self.maximum:g}")
+        if bounds:
+            each = " each" if set(self.kinds) & {"floats"} else ""
+            text += f"{each} " + " and ".join(bounds)
+        return text + unit
+
+    def check(self, value):
+        """Return ``value`` converted to the key's type, or raise ``ValueError(self.allowed())``."""
+        for kind in self.kinds:
+            converted = _convert(kind, value, self.length)
+            if converted is not _MISMATCH:
+                break
+        else:
+            raise ValueError(self.allowed())
+        choices = self.allowed_choices()
+        items = converted if isinstance(converted, list) else [converted]
+        for item in items:
+            if choices is not None and item not in choices:
+                raise ValueError(self.allowed())
+            if isinstance(item, (int, float)) and not isinstance(item, bool):
+                if not math.isfinite(item):
+                    raise ValueError(self.allowed())
+                if self.minimum is not None and (
+                    item < self.minimum or (self.exclusive_minimum and item == self.minimum)
+                ):
+                    raise ValueError(self.allowed())
+                if self.maximum is not None and item > self.maximum:
+                    raise ValueError(self.allowed())
+        return converted
+
+
+_MISMATCH = object()
+
+
+def _convert(kind, value, length):
+    if kind == "bool":
+        return value if isinstance(value, bool) else _MISMATCH
+    if kind == "int":
+        return value if isinstance(value, int) and not isinstance(value, bool) else _MISMATCH
+    if kind == "float":
+        if isinstance(value, bool) or not isinstance(value, (int, float)):
+            return _MISMATCH
+        return float(value)
+    if kind == "str":
+        return value if isinstance(value, str) else _MISMATCH
+    if kind in ("floats", "strs"):
+        if not isinstance(value, list) or (length is not None and len(value) != length):
+            return _MISMATCH
+        element = "float" if kind == "floats" else "str"
+        out = [_convert(element, v, None) for v in value]
+        return _MISMATCH if any(v is _MISMATCH for v in out) else out
+    raise AssertionError(kind)
+
+
+@dataclass(frozen=True)
+class Section:
+    """A ``[section]`` of a study file: its keys and a one-line description.
+
+    ``exclusive`` lists groups of keys of which a file may set at most one (e.g. a body given
+    by ``preset`` or by ``moments``); when it sets one, the defaults of the others are dropped.
+    """
+
+    name: str
+    doc: str
+    keys: tuple[Key, ...]
+    exclusive: tuple[tuple[str, ...], ...] = ()
+
+    def key(self, name: str) -> Key:
+        for k in self.keys:
+            if k.name == name:
+                return k
+        raise KeyError(name)
+
+
+@dataclass(frozen=True)
+class Schema:
+    """All sections of one study kind (the top-level ``study`` key is added by :func:`resolve`)."""
+
+    sections: tuple[Section, ...]
+    top: tuple[Key, ...] = field(default_factory=tuple)
+
+    def section(self, name: str) -> Section:
+        for s in self.sections:
+            if s.name == name:
+                return s
+        raise KeyError(name)
+
+    def describe(self) -> str:
+        """The schema as an annotated TOML skeleton with defaults (for ``--help-study``)."""
+        lines = []
+        for key in self.top:
+            lines.append(_describe_key(key))
+        for section in self.sections:
+            lines.append(f"\n[{section.name}]  # {section.doc}")
+            for group in section.exclusive:
+                lines.append(f"# set at most one of: {', '.join(group)}")
+            for key in section.keys:
+                lines.append(_describe_key(key))
+        return "\n".join(lines).lstrip("\n")
+
+
+def _describe_key(key: Key) -> str:
+    if key.default is REQUIRED:
+        value = "<required>"
+    elif key.default is UNSET:
+        value = "<unset>"
+    else:
+        value = _show(key.default)
+    return f"{key.name} = {value}  # {key.doc}; {key.allowed()}"
+
+
+def _show(value) -> str:
+    """A value as it would be written in TOML (strings quoted, booleans lowercase)."""
+    if isinstance(value, bool):
+        return "true" if value else "false"
+    if isinstance(value, str):
+        return json.dumps(value)
+    if isinstance(value, float):
+        return repr(value)
+    if isinstance(value, (list, tuple)):
+        return "[" + ", ".join(_show(v) for v in value) + "]"
+    return str(value)
+
+
+def _type_name(value) -> str:
+    return {bool: "boolean", int: "integer", float: "number", str: "string", list: "list",
+            dict: "table"}.get(type(value), type(value).__name__)
+
+
+def read(path) -> dict:
+    """Parse a study file; a missing file or bad TOML is a one-line :class:`ConfigError`."""
+    path = Path(path)
+    try:
+        text = path.read_text(encoding="utf-8")
+    except FileNotFoundError:
+        raise ConfigError("no such file", str(path)) from None
+    except (OSError, UnicodeDecodeError) as exc:
+        raise ConfigError(f"cannot read the file ({exc.__class__.__name__}: {exc})",
+                          str(path)) from None
+    return parse(text, str(path))
+
+
+def parse(text: str, source: str = "<study>") -> dict:
+    """Parse TOML text; a syntax error becomes a one-line :class:`ConfigError`."""
+    try:
+        return tomllib.loads(text)
+    except tomllib.TOMLDecodeError as exc:
+        raise ConfigError(f"not valid TOML: {exc}", source) from None
+
+
+def resolve(raw: dict, schema: Schema, source: str = "<study>") -> dict:
+    """Check a parsed study file against ``schema`` and fill in the defaults.
+
+    Parameters
+    ----------
+    raw : dict
+        The parsed TOML (top-level keys and one dict per section).
+    schema : Schema
+        The study kind's schema.
+    source : str
+        File name used in error messages.
+
+    Returns
+    -------
+    dict
+        ``{top-level key: value, section: {key: value}}`` with every declared key present
+        (keys whose default is :data:`UNSET` and that the file leaves out are omitted).
+
+    Raises
+    ------
+    ConfigError
+        For the first unknown section or key, wrong type, value out of range, or missing
+        required key; the message is one line naming the key and what is allowed.
+    """
+    top_names = [k.name for k in schema.top]
+    section_names = [s.name for s in schema.sections]
+    resolved: dict = {}
+    for name, value in raw.items():
+        if isinstance(value, dict):
+            if name not in section_names:
+                raise ConfigError(
+                    f"unknown section [{name}]{_did_you_mean(name, section_names)}; "
+                    f"allowed sections: {', '.join(f'[{s}]' for s in section_names)}",
+                    source,
+                )
+        elif name not in top_names:
+            hint = _did_you_mean(name, top_names)
+            if name in section_names:
+                raise ConfigError(
+                    f"[{name}] must be a section (a TOML table), got {_show(value)}", source
+                )
+            raise ConfigError(
+                f"unknown top-level key {name!r}{hint}; allowed: "
+                + ", ".join(top_names + [f"[{s}]" for s in section_names]),
+                source,
+            )
+    for key in schema.top:
+        resolved_value = _resolve_key(key, raw, source, "")
+        if resolved_value is not UNSET:
+            resolved[key.name] = resolved_value
+    for section in schema.sections:
+        given = raw.get(section.name, {})
+        names = [k.name for k in section.keys]
+        for name in given:
+            if name not in names:
+                raise ConfigError(
+                    f"unknown key {name!r}{_did_you_mean(name, names)}; "
+                    f"allowed keys: {', '.join(names)}",
+                    source,
+                    section.name,
+                )
+        dropped = set()
+        for group in section.exclusive:
+            chosen = [name for name in group if name in given]
+            if len(chosen) > 1:
+                raise ConfigError(
+                    f"give only one of {', '.join(group)}, got {', '.join(chosen)}",
+                    source, section.name,
+                )
+            if chosen:
+                dropped.update(name for name in group if name != chosen[0])
+        out = {}
+        for key in section.keys:
+            if key.name in dropped:
+                continue
+            value = _resolve_key(key, given, source, section.name)
+            if value is not UNSET:
+                out[key.name] = value
+        resolved[section.name] = out
+    return resolved
+
+
+def _resolve_key(key: Key, given: dict, source: str, section: str):
+    if key.name not in given:
+        if key.default is REQUIRED:
+            raise ConfigError(f"is required: set it to {key.allowed()}", source, section, key.name)
+        default = key.default
+        return list(default) if isinstance(default, tuple) else default
+    value = given[key.name]
+    try:
+        return key.check(value)
+    except ValueError as exc:
+        raise ConfigError(
+            f"must be {exc}, got {_show(value)}{_type_hint(key, value)}",
+            source, section, key.name,
+        ) from None
+
+
+def _type_hint(key: Key, value) -> str:
+    """`` (a string)`` when the type is wrong, so "got 5" vs "got "5"" is not a puzzle."""
+    for kind in key.kinds:
+        if _convert(kind, value, None) is not _MISMATCH:
+            return ""
+    return f" (a {_type_name(value)})"
+
+
+def _did_you_mean(name: str, options) -> str:
+    close = difflib.get_close_matches(name, list(options), n=1, cutoff=0.6)
+    return f" (did you mean {close[0]!r}?)" if close else ""
+
+
+def set_value(raw: dict, dotted: str, text: str, source: str = "--set") -> None:
+    """Apply a command-line override ``section.key=value`` (value in TOML syntax) to ``raw``.
+
+    ``text`` is parsed as a TOML value, so ``5``, ``1e-4``, ``"lp2"`` and ``[1, 2, 3]`` mean what
+    they mean in the file; a bare word that is not TOML (``lp2``) is taken as a string.
+    """
+    section, _, key = dotted.partition(".")
+    if not key or not section:
+        raise ConfigError(
+            f"override {dotted!r} must name a section and a key, as in ensemble.members=100",
+            source,
+        )
+    try:
+        value = tomllib.loads(f"v = {text}")["v"]
+    except tomllib.TOMLDecodeError:
+        value = text
+    table = raw.setdefault(section, {})
+    if not isinstance(table, dict):
+        raise ConfigError(f"[{section}] is not a section", source)
+    table[key] = value
+
+
+def to_toml(config: dict) -> str:
+    """A resolved configuration as TOML text, as stored in a Dataset's ``config_toml``.
+
+    The same writer as the Dataset's (:func:`stability.dataset.config_toml`), so the copy a run
+    writes next to its Dataset and the attribute inside it are the same text.
+    """
+    from ..dataset import config_toml
+
+    return config_toml(config)
+
+
+#: The key every study file starts with: the kind of study it is.
+STUDY_KEY = "study"
+
+
+@dataclass(frozen=True)
+class StudyKind:
+    """A kind of study: its schema, how to run it, and what the generic options map to.
+
+    Attributes
+    ----------
+    name : str
+        The value of ``study = "..."`` in a study file, and the registry key.
+    title : str
+        One line saying what the study shows.
+    schema : Schema
+        Sections and keys of its study files.
+    run : callable
+        ``run(config, out_dir, *, overwrite, threads, progress, history) -> StudySummary``:
+        runs the resolved ``config`` and writes the outputs into ``out_dir`` (a Path that exists).
+    outputs : callable
+        ``outputs(config) -> list[str]``: the file names (relative to the output folder) a run
+        writes, so that a run refuses to start rather than overwrite them after minutes of work.
+    check : callable, optional
+        ``check(config, source) -> config``: checks that involve several keys (raise
+        :class:`ConfigError`); may complete the configuration (e.g. drop a default that another
+        key replaces).
+    quick : dict
+        ``{section: {key: value}}`` overrides for ``--quick``: a small run for tests and demos.
+    members_key : tuple of str, optional
+        ``(section, key)`` that ``--members`` sets; None if the kind has no such count.
+    """
+
+    name: str
+    title: str
+    schema: Schema
+    run: Callable
+    outputs: Callable
+    check: Callable | None = None
+    quick: dict = field(default_factory=dict)
+    members_key: tuple[str, str] | None = None
+
+    def resolve(self, raw: dict, source: str = "<study>") -> dict:
+        """Validate a parsed study file of this kind; return the resolved configuration."""
+        raw = dict(raw)
+        kind = raw.pop(STUDY_KEY, self.name)
+        if kind != self.name:
+            raise ConfigError(f"study is {_show(kind)}, expected {_show(self.name)}", source)
+        config = {STUDY_KEY: self.name}
+        config.update(resolve(raw, self.schema, source))
+        if self.check is not None:
+            config = self.check(config, source)
+        return config
+
+
+@dataclass
+class StudySummary:
+    """What a study run reports: headline numbers and the files it wrote.
+
+    Attributes
+    ----------
+    study : str
+        Study kind.
+    out_dir : Path
+        Folder the files were written to.
+    files : list of Path
+        Files written.
+    rows : list of (str, str, str)
+        ``(quantity, value, unit)`` for the summary table printed at the end of a run.
+    values : dict
+        The same numbers as floats, keyed by short names (for tests and scripts).
+    """
+
+    study: str
+    out_dir: Path
+    files: list = field(default_factory=list)
+    rows: list = field(default_factory=list)
+    values: dict = field(default_factory=dict)
+
+    def table(self) -> str:
+        """The rows as an aligned plain-text table."""
+        if not self.rows:
+            return ""
+        w0 = max(len(r[0]) for r in self.rows)
+        w1 = max(len(r[1]) for r in self.rows)
+        lines = [f"{q:<{w0}}  {v:>{w1}}  {u}".rstrip() for q, v, u in self.rows]
+        return "\n".join(lines)

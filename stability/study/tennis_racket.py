@@ -1,0 +1,438 @@
+"""The tennis-racket study: an ensemble spun about the intermediate axis flips, again and again.
+
+A real-looking body (a preset such as the tennis racket, or given moments) spins at ``rate``
+about a principal axis (by default the intermediate one), each member perturbed by ``epsilon``
+(relative to the spin) in a random direction perpendicular to it. The study runs the ensemble
+with :func:`stability.run_ensemble`, adds the analytic answers (Omega^2, the growth rate
+``sqrt(-Omega^2)``, each member's exact flip interval 2K/nu and its asymptote
+(2/lambda) ln(4/k'), literature notes 1.5 and 2.1), fits the growth rate of the median
+perpendicular amplitude over the linear phase, saves the Dataset and draws the four figures of
+:mod:`stability.figures.tennis`.
+
+The fit: ``a(t) = sqrt(w_b^2 + w_c^2)`` (the two components perpendicular to the spin axis) is
+taken per member, and the median over members of ``ln a`` is fitted by a straight line over the
+*linear phase*: from the first time the median amplitude exceeds ``fit_above`` times its start
+``epsilon * rate`` (the decaying eigenmode has died out) to the last time before it exceeds
+``fit_below * rate`` (before the nonlinearity bends the curve, whose relative effect on the slope
+is about ``(a / rate)^2 / 2``).
+"""
+
+from __future__ import annotations
+
+import math
+import sys
+import time
+from pathlib import Path
+
+import numpy as np
+
+from .config import UNSET, ConfigError, Key, Schema, Section, StudyKind, StudySummary
+
+NAME = "tennis_racket"
+
+#: Spin axes a study file may name: a body axis, or the axis with that moment.
+AXIS_NAMES = ("smallest", "intermediate", "largest")
+
+#: Figure file stems, in the order of the issue: flips, polhodes, growth, flip intervals.
+FIGURES = ("fig1_flips", "fig2_polhodes", "fig3_growth", "fig4_flip_intervals")
+
+
+def _preset_names() -> tuple:
+    from ..body import RigidBody
+
+    return tuple(RigidBody.presets())
+
+
+def _method_names() -> tuple:
+    from ..integrators import METHODS
+
+    return tuple(METHODS)
+
+
+SCHEMA = Schema(
+    top=(Key("title", "str", "Tennis-racket flips of a perturbed spin about the intermediate axis",
+             "one line describing the run (the Dataset's title)"),),
+    sections=(
+        Section("body", "the rigid body: a preset, or its principal moments", (
+            Key("preset", "str", "tennis_racket", "a body from RigidBody.presets()",
+                choices=_preset_names),
+            Key("moments", "floats", UNSET, "principal moments I1, I2, I3 (instead of preset)",
+                unit="kg m2", minimum=0.0, exclusive_minimum=True, length=3),
+            Key("physical", "bool", True,
+                "require the triangle inequality of real bodies (false: mathematical body)"),
+            Key("name", "str", UNSET, "label of a body given by moments"),
+        ), exclusive=(("preset", "moments"),)),
+        Section("spin", "the steady spin that is perturbed", (
+            Key("axis", ("int", "str"), "intermediate",
+                "principal axis of the spin: 1, 2, 3, or the axis with that moment",
+                choices=(1, 2, 3) + AXIS_NAMES),
+            Key("rate", "float", 10.0, "spin rate W", unit="rad s-1",
+                minimum=0.0, exclusive_minimum=True),
+        )),
+        Section("ensemble", "the perturbed members", (
+            Key("members", "int", 10_000, "number of members", minimum=1),
+            Key("epsilon", "float", 1e-4,
+                "perturbation size relative to the spin, in a random perpendicular direction",
+                minimum=0.0, exclusive_minimum=True, maximum=1.0),
+            Key("seed", "int", 1, "seed of the random directions (numpy SeedSequence entropy)",
+                minimum=0),
+        )),
+        Section("integration", "the integrator and the time grid", (
+            Key("method", "str", "rk4", "integrator (stability methods lists them)",
+                choices=_method_names),
+            Key("h", "float", 2e-3, "step", unit="s", minimum=0.0, exclusive_minimum=True),
+            Key("t_end", "float", 10.0, "horizon: a whole number of save_every steps", unit="s",
+                minimum=0.0, exclusive_minimum=True),
+            Key("save_every", "int", 25, "keep w every save_every steps", minimum=1),
+        )),
+        Section("analysis", "the growth-rate fit over the linear phase", (
+            Key("fit_above", "float", 10.0,
+                "start the fit when the median amplitude exceeds this times epsilon * rate",
+                minimum=1.0, exclusive_minimum=True),
+            Key("fit_below", "float", 0.03,
+                "end the fit before the median amplitude exceeds this times rate",
+                minimum=0.0, exclusive_minimum=True, maximum=1.0),
+        )),
+        Section("output", "where the results go", (
+            Key("dir", "str", "results/tennis_racket",
+                "output folder (relative to the current directory)"),
+            Key("dataset", "str", "tennis_racket.nc", "file name of the Dataset (netCDF)"),
+            Key("figures", "bool", True, "draw the four figures"),
+            Key("formats", "strs", ["png", "pdf"], "figure formats",
+                choices=("png", "pdf", "svg")),
+        )),
+    ),
+)
+
+#: ``--quick``: a small ensemble over two flip intervals, for tests and a first look.
+QUICK = {"ensemble": {"members": 256}, "integration": {"t_end": 5.0}}
+
+
+def check(config: dict, source: str) -> dict:
+    """Checks across keys: body given once, a whole number of samples, a non-empty fit window."""
+    body, integ, analysis = config["body"], config["integration"], config["analysis"]
+    if "moments" not in body and "name" in body:
+        raise ConfigError("name labels a body given by moments; a preset has its own name",
+                          source, "body", "name")
+    n_steps = integ["t_end"] / integ["h"]
+    if abs(n_steps - round(n_steps)) > 1e-9 * n_steps or round(n_steps) < 1:
+        raise ConfigError(
+            f"must be a whole number of steps h = {integ['h']} s, got t_end / h = {n_steps:.12g}",
+            source, "integration", "t_end",
+        )
+    n_steps = round(n_steps)
+    if n_steps % integ["save_every"]:
+        raise ConfigError(
+            f"must divide the number of steps t_end / h = {n_steps}, got {integ['save_every']}",
+            source, "integration", "save_every",
+        )
+    start = analysis["fit_above"] * config["ensemble"]["epsilon"]
+    if start >= analysis["fit_below"]:
+        raise ConfigError(
+            f"must be > fit_above * [ensemble] epsilon = {start:g} (the fit window is "
+            f"empty), got {analysis['fit_below']}",
+            source, "analysis", "fit_below",
+        )
+    try:
+        _body(config)
+    except ValueError as exc:
+        raise ConfigError(str(exc), source, "body") from None
+    return config
+
+
+def outputs(config: dict) -> list[str]:
+    """Files a run writes into the output folder."""
+    out = config["output"]
+    names = [out["dataset"], "config.toml"]
+    if out["figures"]:
+        names += [f"{stem}.{fmt}" for stem in FIGURES for fmt in out["formats"]]
+    return names
+
+
+# ----------------------------------------------------------------------------------- the run
+
+
+def run(config: dict, out_dir: Path, *, overwrite=False, threads=None, progress=None,
+        history=None) -> StudySummary:
+    """Run the study described by the resolved ``config``; write its files into ``out_dir``.
+
+    Returns
+    -------
+    StudySummary
+        Rows: analytic Omega^2 and growth rate, fitted rate and its relative error, median
+        flip interval (measured and exact), invariant errors, wall time, member-steps/s.
+    """
+    import stability
+    from stability.ensemble import format_bytes
+
+    from .config import to_toml
+
+    say = _reporter(progress)
+    t_start = time.perf_counter()
+    body = _body(config)
+    axis = spin_axis(body, config["spin"]["axis"])
+    spin = config["spin"]["rate"]
+    ens, integ = config["ensemble"], config["integration"]
+    steps = round(integ["t_end"] / integ["h"])
+    memory = stability.ensemble_memory(ens["members"], steps // integ["save_every"])
+    say(f"{body.name}: {ens['members']} members x {steps} steps of {integ['method']} "
+        f"(h = {integ['h']:g} s), w kept every {integ['save_every']} steps: "
+        f"{format_bytes(memory)} of results")
+    ds = stability.run_ensemble(
+        body, axis, spin, ens["epsilon"], ens["members"],
+        h=integ["h"], t_end=integ["t_end"], seed=ens["seed"], method=integ["method"],
+        save_every=integ["save_every"], threads=threads, progress=progress,
+        config=config, command=history or f"stability run ({NAME})",
+    )
+    t_ensemble = time.perf_counter() - t_start
+    say("exact flip intervals and the growth-rate fit ...")
+    ds = analyse(ds, body, axis, spin, ens["epsilon"], config["analysis"])
+    ds.attrs["title"] = config["title"]
+
+    out = config["output"]
+    files = [out_dir / out["dataset"]]
+    say(f"writing {files[0]} ...")
+    stability.save(ds, files[0], overwrite=overwrite)
+    (out_dir / "config.toml").write_text(to_toml(config), encoding="utf-8")
+    files.append(out_dir / "config.toml")
+    if out["figures"]:
+        say("drawing the figures ...")
+        files += draw_figures(ds, body, axis, out_dir, out["formats"])
+    wall = time.perf_counter() - t_start
+    return summarize(ds, out_dir, files, wall, t_ensemble)
+
+
+def _reporter(progress):
+    """Print a stage of the run on stderr, unless progress output is off."""
+    if progress is False:
+        return lambda message: None
+    return lambda message: print(message, file=sys.stderr, flush=True)
+
+
+def _body(config: dict):
+    from ..body import RigidBody
+
+    b = config["body"]
+    if "moments" in b:
+        return RigidBody(*b["moments"], physical=b["physical"], name=b.get("name", "body"))
+    return RigidBody.preset(b["preset"])
+
+
+def spin_axis(body, axis) -> int:
+    """Body axis (1, 2 or 3) of ``axis``: a number, or "smallest", "intermediate", "largest"."""
+    if axis in (1, 2, 3):
+        return int(axis)
+    order = np.argsort(body.moments, kind="stable")
+    return int(order[AXIS_NAMES.index(axis)]) + 1
+
+
+# ------------------------------------------------------------------------------ the analysis
+
+
+def perpendicular_amplitude(w, axis: int):
+    """``sqrt(w_b^2 + w_c^2)``: the part of ``w`` perpendicular to body ``axis`` (1, 2, 3).
+
+    Parameters
+    ----------
+    w : xarray.DataArray
+        Angular velocity with an ``axis`` dimension (coordinates 1, 2, 3), in rad/s.
+    axis : int
+
+    Returns
+    -------
+    xarray.DataArray
+        Same dims as ``w`` without ``axis``, in rad/s.
+    """
+    others = [a for a in (1, 2, 3) if a != axis]
+    perp = w.sel(axis=others)
+    amp = np.sqrt((perp**2).sum("axis", skipna=False))
+    amp.attrs = {"long_name": f"amplitude perpendicular to axis {axis}", "units": "rad s-1"}
+    return amp
+
+
+def fit_growth(time, amplitude, low, high):
+    """Least-squares slope of ``ln(amplitude)`` where ``low < amplitude < high`` first holds.
+
+    Parameters
+    ----------
+    time : ndarray, shape (n,)
+        Times in s, ascending.
+    amplitude : ndarray, shape (n,)
+        A positive, growing amplitude (e.g. the ensemble median), any unit.
+    low, high : float
+        Window in the units of ``amplitude``: from the first sample above ``low`` up to the last
+        sample below ``high`` that follows it without a gap.
+
+    Returns
+    -------
+    rate : float
+        Slope in 1/s (NaN if the window holds fewer than 3 samples).
+    intercept : float
+        ``ln(amplitude)`` of the fitted line at t = 0.
+    window : tuple of float
+        First and last time of the window, in s.
+    """
+    amplitude = np.asarray(amplitude, dtype=float)
+    time = np.asarray(time, dtype=float)
+    above = np.flatnonzero(amplitude > low)
+    if above.size == 0:
+        return math.nan, math.nan, (math.nan, math.nan)
+    i0 = int(above[0])
+    i1 = i0
+    while i1 + 1 < amplitude.size and low < amplitude[i1 + 1] < high:
+        i1 += 1
+    if i1 - i0 + 1 < 3 or not amplitude[i0] < high:
+        return math.nan, math.nan, (float(time[i0]), float(time[i1]))
+    rate, intercept = np.polyfit(time[i0 : i1 + 1], np.log(amplitude[i0 : i1 + 1]), 1)
+    return float(rate), float(intercept), (float(time[i0]), float(time[i1]))
+
+
+def exact_flip_statistics(body, w0):
+    """Each start's exact flip interval 2K/nu, its asymptote (2/lambda) ln(4/k'), and k'.
+
+    Parameters
+    ----------
+    body : RigidBody
+    w0 : ndarray, shape (N, 3)
+        Initial body-frame angular velocities in rad/s.
+
+    Returns
+    -------
+    interval, asymptote, kprime : ndarray, shape (N,)
+        In s, s and dimensionless (literature notes 1.5; :mod:`stability.exact`).
+    """
+    from ..exact import elliptic_parameters, flip_interval, flip_interval_asymptote
+
+    n = w0.shape[0]
+    interval, asymptote, kprime = np.empty(n), np.empty(n), np.empty(n)
+    for j in range(n):
+        interval[j] = flip_interval(body, w0[j])
+        asymptote[j] = flip_interval_asymptote(body, w0[j])
+        kprime[j] = math.sqrt(elliptic_parameters(body, w0[j])[1])
+    return interval, asymptote, kprime
+
+
+def analyse(ds, body, axis, spin, epsilon, analysis):
+    """Add the analytic answers and the fitted growth rate to the ensemble Dataset.
+
+    Adds ``exact_flip_interval`` and ``flip_interval_asymptote`` (member, s),
+    ``complementary_modulus`` (member), ``perp_amplitude_median`` / ``_p10`` / ``_p90`` (time,
+    rad/s over members with status ok), and attributes ``omega_squared`` (s-2),
+    ``growth_rate_analytic``, ``growth_rate_fitted`` (s-1) and ``fit_window`` (s).
+    """
+    import stability
+
+    from .. import conventions as cv
+
+    omega2 = float(stability.omega_squared(body, axis, spin))
+    rate = float(stability.growth_rate(body, axis, spin))
+    ok = ds.status == cv.STATUS_OK
+    exact, asymptote, kprime = exact_flip_statistics(body, ds.w0.values)
+
+    amp = perpendicular_amplitude(ds.w.where(ok), axis)
+    quantiles = amp.quantile([0.1, 0.5, 0.9], dim=cv.MEMBER, skipna=True)
+    median = quantiles.sel(quantile=0.5).values
+    fitted, intercept, window = fit_growth(
+        ds[cv.TIME].values, median,
+        analysis["fit_above"] * epsilon * spin, analysis["fit_below"] * spin,
+    )
+
+    s, one, rad_s = cv.UNITS_TIME, cv.UNITS_DIMENSIONLESS, cv.UNITS_ANGULAR_VELOCITY
+    ds = ds.assign(
+        exact_flip_interval=(cv.MEMBER, exact, {
+            "long_name": "exact flip interval 2K(k)/nu of the member's start", "units": s}),
+        flip_interval_asymptote=(cv.MEMBER, asymptote, {
+            "long_name": "small-perturbation asymptote (2/lambda) ln(4/k') of the flip interval",
+            "units": s}),
+        complementary_modulus=(cv.MEMBER, kprime, {
+            "long_name": "complementary modulus k' of the member's Jacobi functions",
+            "units": one}),
+    )
+    for q, name in ((0.1, "p10"), (0.5, "median"), (0.9, "p90")):
+        ds[f"perp_amplitude_{name}"] = (cv.TIME, quantiles.sel(quantile=q).values, {
+            "long_name": f"{name} over ok members of the amplitude perpendicular to axis {axis}",
+            "units": rad_s})
+    ds.attrs.update({
+        "spin_axis_resolved": axis,
+        "omega_squared": omega2,
+        "omega_squared_units": cv.UNITS_RATE_SQUARED,
+        "growth_rate_analytic": rate,
+        "growth_rate_fitted": fitted,
+        "growth_rate_units": cv.UNITS_RATE,
+        "growth_fit_intercept": intercept,
+        "growth_fit_window": np.array(window),
+    })
+    return ds
+
+
+def draw_figures(ds, body, axis, out_dir, formats):
+    """Draw and save the four figures; return the paths written."""
+    from ..figures import tennis
+    from ..figures.style import save
+
+    paths = []
+    for stem, make in zip(FIGURES, (tennis.flips_figure, tennis.polhode_figure,
+                                    tennis.growth_figure, tennis.flip_interval_figure)):
+        fig = make(ds, body, axis)
+        paths += save(fig, out_dir, stem, formats)
+    return paths
+
+
+def summarize(ds, out_dir, files, wall, t_ensemble) -> StudySummary:
+    """The summary table of a finished run."""
+    from .. import conventions as cv
+
+    ok = (ds.status == cv.STATUS_OK).values
+    n_ok, n = int(ok.sum()), ok.size
+    rate, fitted = ds.attrs["growth_rate_analytic"], ds.attrs["growth_rate_fitted"]
+    rel = (fitted - rate) / rate if rate > 0 else math.nan
+    measured = ds.mean_flip_interval.values[ok]
+    exact = ds.exact_flip_interval.values[ok]
+    both = np.isfinite(measured) & np.isfinite(exact)
+    flip_err = np.abs(measured[both] - exact[both]) / exact[both]
+    e_err = np.nanmax(np.abs(ds.energy_error.values[ok])) if n_ok else math.nan
+    l_err = np.nanmax(np.abs(ds.angular_momentum_error.values[ok])) if n_ok else math.nan
+    steps = int(ds.attrs["steps_done"])
+    loop = float(ds.attrs["wall_time"])
+    values = {
+        "members": n, "members_ok": n_ok,
+        "omega_squared": ds.attrs["omega_squared"],
+        "growth_rate": rate, "growth_rate_fitted": fitted, "growth_rate_rel_error": rel,
+        "median_flip_interval": float(np.median(measured[both])) if both.any() else math.nan,
+        "median_exact_flip_interval": float(np.median(exact[both])) if both.any() else math.nan,
+        "max_flip_interval_rel_error": float(flip_err.max()) if both.any() else math.nan,
+        "max_energy_error": float(e_err), "max_angular_momentum_error": float(l_err),
+        "wall_time": wall, "ensemble_time": t_ensemble, "integration_time": loop,
+        "compile_time": float(ds.attrs["compile_time"]),
+        "member_steps_per_s": n * steps / loop if loop > 0 else math.nan,
+    }
+    rows = [
+        ("members (ok / all)", f"{n_ok} / {n}", ""),
+        ("Omega^2 (analytic)", f"{values['omega_squared'] + 0.0:.6g}", "s-2"),  # no "-0"
+        ("growth rate sqrt(-Omega^2) (analytic)", f"{rate:.6f}", "s-1"),
+        ("growth rate fitted (median, linear phase)", f"{fitted:.6f}", "s-1"),
+        ("  relative error of the fit", f"{rel:.1e}", ""),
+        ("median flip interval, measured", f"{values['median_flip_interval']:.6f}", "s"),
+        ("median flip interval, exact 2K/nu", f"{values['median_exact_flip_interval']:.6f}", "s"),
+        ("  max relative difference over members",
+         f"{values['max_flip_interval_rel_error']:.1e}", ""),
+        ("max |relative energy error|", f"{values['max_energy_error']:.1e}", ""),
+        ("max |relative |L| error|", f"{values['max_angular_momentum_error']:.1e}", ""),
+        ("wall time (all: compile, run, analysis, files)", f"{wall:.1f}", "s"),
+        ("  integration / Numba compile", f"{loop:.2f} / {values['compile_time']:.1f}", "s"),
+        (f"member-steps per second ({n} x {steps} steps)",
+         f"{values['member_steps_per_s']:.3g}", "s-1"),
+    ]
+    return StudySummary(NAME, Path(out_dir), files, rows, values)
+
+
+STUDY = StudyKind(
+    name=NAME,
+    title="tennis-racket study",
+    schema=SCHEMA,
+    run=run,
+    outputs=outputs,
+    check=check,
+    quick=QUICK,
+    members_key=("ensemble", "members"),
+)

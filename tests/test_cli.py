@@ -1,0 +1,176 @@
+"""The ``stability`` command: run (quick, end to end), methods, studies, bench, user errors."""
+
+import subprocess
+import sys
+import tomllib
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+import stability
+from stability import bench as bench_module
+from stability.cli import main
+from stability.driver import propagate
+from stability.study import load_study
+from stability.study.tennis_racket import FIGURES, fit_growth
+
+ROOT = Path(__file__).resolve().parents[1]
+TENNIS = ROOT / "studies" / "tennis_racket.toml"
+
+
+def test_methods_lists_every_registered_method(capsys):
+    assert main(["methods"]) == 0
+    out = capsys.readouterr().out.splitlines()
+    rows = {line.split()[0]: line for line in out[2:] if line.strip()}
+    assert set(stability.METHODS) <= set(rows)
+    for name, spec in stability.METHODS.items():
+        facts = spec.describe()
+        assert str(facts["order"]) == rows[name].split()[1]
+        assert facts["title"] in rows[name]
+
+
+def test_studies_lists_kinds_and_their_keys(capsys):
+    assert main(["studies"]) == 0
+    assert "tennis_racket" in capsys.readouterr().out
+    assert main(["studies", "tennis_racket"]) == 0
+    out = capsys.readouterr().out
+    for key in ("members = 10000", "epsilon = 0.0001", 'method = "rk4"', "fit_below = 0.03"):
+        assert key in out
+    assert main(["studies", "nope"]) == 2
+    err = capsys.readouterr().err.strip()
+    assert err == "stability studies: error: unknown study kind 'nope'; known kinds: tennis_racket"
+
+
+def test_usage_errors_are_one_line(capsys, tmp_path):
+    assert main(["frobnicate"]) == 2
+    err = capsys.readouterr().err
+    assert len(err.strip().splitlines()) == 1 and "invalid choice" in err
+    assert main(["run", str(TENNIS), "--threads", "999", "--out", str(tmp_path / "o")]) == 2
+    err = capsys.readouterr().err.strip()
+    assert len(err.splitlines()) == 1 and "threads must be a whole number from 1 to" in err
+    assert not (tmp_path / "o").exists()
+
+
+def test_python_dash_m_runs_the_same_command():
+    done = subprocess.run(
+        [sys.executable, "-m", "stability", "--version"], capture_output=True, text=True,
+        cwd=ROOT, timeout=120,
+    )
+    assert done.returncode == 0
+    assert done.stdout.strip() == f"stability {stability.__version__}"
+
+
+def test_dry_run_prints_the_resolved_config(capsys):
+    assert main(["run", str(TENNIS), "--quick", "--members", "12", "--dry-run"]) == 0
+    printed = tomllib.loads(capsys.readouterr().out)
+    assert printed == load_study(TENNIS, quick=True, members=12)[1]
+    assert printed["ensemble"]["members"] == 12
+
+
+def test_quick_run_writes_dataset_and_figures(tmp_path, capsys):
+    out = tmp_path / "quick"
+    args = ["run", str(TENNIS), "--quick", "--members", "64", "--out", str(out), "--no-progress",
+            "--threads", "1"]
+    assert main(args) == 0
+    printed = capsys.readouterr().out
+    for row in ("growth rate sqrt(-Omega^2) (analytic)", "growth rate fitted",
+                "median flip interval, exact 2K/nu", "max |relative energy error|",
+                "member-steps per second"):
+        assert row in printed
+    written = sorted(p.name for p in out.iterdir())
+    expected = ["config.toml", "tennis_racket.nc"] + [
+        f"{stem}.{fmt}" for stem in FIGURES for fmt in ("png", "pdf")
+    ]
+    assert written == sorted(expected)
+
+    ds = stability.load(out / "tennis_racket.nc")
+    assert ds.w.dims == ("member", "time", "axis") and ds.sizes["member"] == 64
+    assert ds.w.attrs["units"] == "rad s-1"
+    config = tomllib.loads(ds.attrs["config_toml"])
+    assert config == load_study(TENNIS, quick=True, members=64)[1]
+    assert config == tomllib.loads((out / "config.toml").read_text())
+    assert "stability run" in ds.attrs["history"]
+    for name in ("exact_flip_interval", "flip_interval_asymptote", "perp_amplitude_median"):
+        assert ds[name].attrs["units"] in ("s", "rad s-1")
+    ok = ds.status == 0
+    assert int(ok.sum()) == 64
+    # Measured flip intervals agree with the exact 2K/nu: rk4 at h = 2 ms, crossings located
+    # within the step (measured: 5e-7 relative over 10,000 members).
+    rel = abs(ds.mean_flip_interval - ds.exact_flip_interval) / ds.exact_flip_interval
+    assert float(rel.max()) < 1e-5
+
+    # A second run refuses to overwrite, before running anything; --overwrite replaces.
+    before = {p.name: p.stat().st_mtime_ns for p in out.iterdir()}
+    assert main(args) == 2
+    err = capsys.readouterr().err.strip()
+    assert len(err.splitlines()) == 1 and "already exists; pass --overwrite" in err
+    assert {p.name: p.stat().st_mtime_ns for p in out.iterdir()} == before
+    assert main(args + ["--overwrite", "--set", "output.figures=false"]) == 0
+
+
+def test_default_study_fits_the_analytic_growth_rate(tmp_path, capsys):
+    """The default study's members, seed, step and sampling; the horizon cut to 1.5 s (the
+    fit window ends near 0.7 s, so the fitted number is the default run's own)."""
+    out = tmp_path / "rate"
+    args = ["run", str(TENNIS), "--out", str(out), "--no-progress",
+            "--set", "integration.t_end=1.5", "--set", "output.figures=false"]
+    assert main(args) == 0
+    capsys.readouterr()
+    ds = stability.load(out / "tennis_racket.nc")
+    assert ds.sizes["member"] == 10_000
+    analytic = ds.attrs["growth_rate_analytic"]
+    fitted = ds.attrs["growth_rate_fitted"]
+    t0, t1 = ds.attrs["growth_fit_window"]
+    assert 0.0 < t0 < t1 < 1.5
+    assert analytic == pytest.approx(float(np.sqrt(-ds.attrs["omega_squared"])), rel=1e-15)
+    assert abs(fitted - analytic) < 1e-3
+    assert abs(fitted - analytic) / analytic < 1e-3
+
+
+def test_fit_growth_recovers_a_known_rate():
+    t = np.linspace(0.0, 3.0, 61)
+    rate = 2.5
+    amplitude = 1e-4 * np.exp(rate * t)
+    fitted, intercept, (t0, t1) = fit_growth(t, amplitude, 1e-3, 1e-1)
+    assert fitted == pytest.approx(rate, rel=1e-12)
+    assert intercept == pytest.approx(np.log(1e-4), abs=1e-10)
+    assert 1e-4 * np.exp(rate * t0) > 1e-3 and 1e-4 * np.exp(rate * t1) < 1e-1
+    # Saturation after the window does not enter the fit.
+    saturated = np.minimum(amplitude, 0.5)
+    assert fit_growth(t, saturated, 1e-3, 1e-1)[0] == pytest.approx(rate, rel=1e-12)
+    assert np.isnan(fit_growth(t, amplitude, 1e3, 1e4)[0])
+
+
+def test_numpy_baseline_is_the_same_rk4_as_the_kernel():
+    body, axis, w0 = bench_module.workload(40)
+    m0 = w0 * body.moments
+    m_numpy = bench_module.numpy_rk4(body.moments, m0, 2e-3, 50)
+    m_numba = propagate("rk4", body.moments, m0, 2e-3, 50, progress=False).m_final
+    np.testing.assert_allclose(m_numpy, m_numba, rtol=1e-13, atol=1e-16)
+
+
+def test_bench_prints_its_table(capsys):
+    args = ["bench", "--members", "64", "--steps", "20", "--methods", "rk4", "--threads", "1",
+            "--repeat", "1"]
+    assert main(args) == 0
+    lines = capsys.readouterr().out.splitlines()
+    header = next(k for k, line in enumerate(lines) if line.startswith("solver"))
+    for column in ("member-steps/s", "x NumPy RK4", "x SciPy DOP853", "max |w error|"):
+        assert column in lines[header]
+    body = [line for line in lines[header + 2:] if line.strip()]
+    solvers = [line.split("  ")[0].strip() for line in body[:3]]
+    assert solvers == ["rk4", "scipy DOP853", "numpy RK4"]
+
+
+def test_bench_measures_every_solver_at_known_accuracy():
+    report = bench_module.bench(members=64, steps=20, threads=[1], methods=["rk4", "lp2"],
+                                repeat=2)
+    rows = {row.solver: row for row in report.rows}
+    assert set(rows) == {"rk4", "lp2", "scipy DOP853", "numpy RK4"}
+    for row in rows.values():
+        assert row.wall > 0 and row.rate == pytest.approx(64 * 20 / row.wall)
+        # 20 steps of 2 ms near steady spin: every solver within 1e-6 rad/s of the exact w.
+        assert row.error < 1e-6
+    # The NumPy baseline runs the same RK4 as the kernel: the same error to round-off.
+    assert rows["numpy RK4"].error == pytest.approx(rows["rk4"].error, rel=1e-3, abs=1e-13)

@@ -1,0 +1,90 @@
+"""Figures of the tennis-racket study: they build, every axis carries a unit, they show what
+they claim (numerical samples on the exact curve, the separatrix on D2 = 0)."""
+
+import numpy as np
+import pytest
+from matplotlib.figure import Figure
+
+import stability
+from stability.analytic import intermediate_axis, invariant_differences
+from stability.figures import tennis
+from stability.figures.style import label, missing_units, save
+from stability.study import tennis_racket as study
+
+SPIN, EPSILON = 10.0, 1e-4
+
+
+@pytest.fixture(scope="module")
+def analysed():
+    """A small tennis-racket ensemble over two flip intervals, analysed as the study does."""
+    body = stability.RigidBody.preset("tennis_racket")
+    axis = int(intermediate_axis(body))
+    ds = stability.run_ensemble(
+        body, axis, SPIN, EPSILON, 96, h=2e-3, t_end=5.0, seed=3, method="rk4",
+        save_every=25, progress=False,
+    )
+    ds = study.analyse(ds, body, axis, SPIN, EPSILON, {"fit_above": 10.0, "fit_below": 0.03})
+    return ds, body, axis
+
+
+FIGURES = [tennis.flips_figure, tennis.polhode_figure, tennis.growth_figure,
+           tennis.flip_interval_figure]
+
+
+@pytest.mark.parametrize("make", FIGURES, ids=lambda f: f.__name__)
+def test_figure_builds_with_units_and_a_legend(make, analysed, tmp_path):
+    fig = make(*analysed)
+    assert isinstance(fig, Figure)
+    assert missing_units(fig) == []
+    assert fig.legends or any(ax.get_legend() is not None for ax in fig.axes)
+    png, pdf = save(fig, tmp_path, "figure", ("png", "pdf"))
+    assert png.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
+    assert pdf.read_bytes()[:5] == b"%PDF-"
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["figure.pdf", "figure.png"]
+
+
+def test_missing_units_finds_a_bare_label():
+    fig = Figure()
+    ax = fig.subplots()
+    ax.plot([0, 1], [0, 1])
+    ax.set_xlabel(label("time", "s"))
+    ax.set_ylabel("amplitude")
+    assert missing_units(fig) == ["axes 0: y label 'amplitude' has no unit"]
+    assert label("w1", "rad s-1") == "w1 (rad/s)"
+
+
+def test_flips_figure_shows_numerical_samples_on_the_exact_curve(analysed):
+    ds, body, axis = analysed
+    member = tennis.typical_member(ds)
+    fig = tennis.flips_figure(ds, body, axis, member=member)
+    t = ds.time.values
+    exact = stability.exact_omega(body, ds.w0.values[member], t)
+    for i, ax in enumerate(fig.axes):
+        markers = [line for line in ax.lines if line.get_marker() == "o"]
+        assert len(markers) == 1
+        x, y = markers[0].get_data()
+        np.testing.assert_array_equal(x, t)
+        # rk4 at h = 2 ms over two flips: agreement to about 1e-6 of the spin.
+        np.testing.assert_allclose(y, exact[:, i], rtol=0, atol=1e-5 * SPIN)
+    # The member flipped: its spin-axis component changed sign at least twice.
+    assert np.count_nonzero(np.diff(np.signbit(exact[:, axis - 1]))) >= 2
+
+
+def test_separatrix_is_on_d2_zero_and_the_unit_sphere():
+    body = stability.RigidBody.preset("tennis_racket")
+    for m in tennis.separatrix_circles(body):
+        np.testing.assert_allclose(np.linalg.norm(m, axis=1), 1.0, atol=1e-15)
+        d1, d2, d3 = invariant_differences(body, m / body.moments)
+        assert np.max(np.abs(d2) / d1) < 1e-13
+
+
+def test_growth_figure_draws_the_analytic_slope(analysed):
+    ds, body, axis = analysed
+    fig = tennis.growth_figure(ds, body, axis)
+    (ax,) = fig.axes
+    analytic = [line for line in ax.lines if line.get_label().startswith("analytic slope")]
+    assert len(analytic) == 1
+    t, y = analytic[0].get_data()
+    slope = np.diff(np.log(y)) / np.diff(t)
+    np.testing.assert_allclose(slope, ds.attrs["growth_rate_analytic"], rtol=1e-9)
+    assert ax.get_yscale() == "log"
