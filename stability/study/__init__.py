@@ -13,7 +13,7 @@ from __future__ import annotations
 
 from pathlib import Path
 
-from . import tennis_racket
+from . import tennis_racket, work_precision
 from .config import (
     REQUIRED,
     STUDY_KEY,
@@ -33,6 +33,7 @@ from .config import (
 
 STUDIES: dict[str, StudyKind] = {
     "tennis_racket": tennis_racket.STUDY,
+    "work_precision": work_precision.STUDY,
 }
 
 
