@@ -21,6 +21,8 @@ from .body import Part, RigidBody
 from .exact import exact_omega, flip_interval, full_period
 from .integrate import integrate
 from .integrators import METHODS, MethodSpec, method_spec
+from . import accessor  # noqa: F401  (registers the ds.stability accessor)
+from .estimators import flip_statistics, measured_frequency, measured_growth_rate, measured_omega_squared, member_regimes  # noqa: E501
 
 try:
     __version__ = version("stability")
@@ -35,3 +37,4 @@ from .ensemble import ensemble_memory, run_ensemble  # noqa: E402
 from .io import load, save  # noqa: E402
 
 __all__ += ["ensemble_memory", "load", "run_ensemble", "save"]
+__all__ += ["flip_statistics", "measured_frequency", "measured_growth_rate", "measured_omega_squared", "member_regimes"]  # noqa: E501

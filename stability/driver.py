@@ -211,9 +211,16 @@ def member_loop(step):
                     for j in range(size):
                         level = int(tr[T_NEXT_LEVEL, j])
                         while hit[j] == 1 and level < n_levels and amp_now[j] >= padded[level]:
-                            # Linear interpolation, clamped to this step's interval.
+                            # Interpolate ln(amplitude), which is linear in t during exponential
+                            # growth (linear interpolation of the amplitude biases rates by
+                            # ~(h lambda)^2 / 8); clamped to this step's interval.
                             prev_amp = tr[T_PREV_AMP, j]
-                            frac = (padded[level] - prev_amp) / (amp_now[j] - prev_amp)
+                            if prev_amp > 0.0 and amp_now[j] > prev_amp:
+                                frac = np.log(padded[level] / prev_amp) / np.log(
+                                    amp_now[j] / prev_amp
+                                )
+                            else:
+                                frac = (padded[level] - prev_amp) / (amp_now[j] - prev_amp)
                             passage[lo + j, level] = t_prev + h * min(max(frac, 0.0), 1.0)
                             level += 1
                         tr[T_NEXT_LEVEL, j] = level
