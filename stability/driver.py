@@ -107,8 +107,11 @@ def _crossing(tr, j, col_prev, col_count, col_first, col_last, v, t_prev, h):
 
 
 @functools.cache
-def member_loop(step):
+def member_loop(step, staged=False):
     """Compile (once per process) the ensemble loop around the stage kernel ``step``.
+
+    ``staged`` selects, at compile time, the loop for methods of several stages (increments
+    summed per step) or the direct one for single-stage methods, so each kernel is inlined once.
 
     The returned function advances ``m`` (N, 3) in place by ``n_steps`` steps of size ``h``::
 
@@ -124,133 +127,160 @@ def member_loop(step):
     updated in place (passage times of the perpendicular amplitude through ``levels``).
     """
 
+    block = _block_loop(step, staged)
+
     @njit(parallel=True, error_model="numpy")
     def advance(
         m, comp, p, h, n_stages, n_steps, save_every, saved, k0, status, fail_step, iterations,
         step0, axes, track, levels, passage,
     ):
-        n_members = m.shape[0]
-        n_blocks = (n_members + BLOCK - 1) // BLOCK
-        tracking = axes[0] >= 0
-        ia, ib, ic = max(axes[0], 0), max(axes[1], 0), max(axes[2], 0)
-        inv_a, inv_b, inv_c = p[P_INV1 + ia], p[P_INV1 + ib], p[P_INV1 + ic]
+        n_blocks = (m.shape[0] + BLOCK - 1) // BLOCK
         n_levels = levels.shape[0]
         padded = np.full(n_levels + 1, np.inf)  # the sentinel keeps the gather in bounds
         padded[:n_levels] = levels
         for b in prange(n_blocks):
-            lo = b * BLOCK
-            size = min(BLOCK, n_members - lo)
-            x1 = np.empty(BLOCK)
-            x2 = np.empty(BLOCK)
-            x3 = np.empty(BLOCK)
-            c1 = np.empty(BLOCK)
-            c2 = np.empty(BLOCK)
-            c3 = np.empty(BLOCK)
-            d1 = np.zeros(BLOCK)
-            d2 = np.zeros(BLOCK)
-            d3 = np.zeros(BLOCK)
-            bad = np.zeros(BLOCK, dtype=np.int64)
-            nonconv = np.zeros(BLOCK, dtype=np.int64)
-            first_bad = np.full(BLOCK, -1, dtype=np.int64)
-            iters = np.zeros(BLOCK, dtype=np.int64)
-            tr = np.zeros((N_TRACK, BLOCK))
-            hit = np.zeros(BLOCK, dtype=np.int64)
-            amp_now = np.zeros(BLOCK)
-            if tracking:
-                for col in range(N_TRACK):
-                    for j in range(size):
-                        tr[col, j] = track[lo + j, col]
-            for j in range(size):
-                x1[j] = m[lo + j, 0]
-                x2[j] = m[lo + j, 1]
-                x3[j] = m[lo + j, 2]
-                c1[j] = comp[lo + j, 0]
-                c2[j] = comp[lo + j, 1]
-                c3[j] = comp[lo + j, 2]
-            k = k0
-            for n in range(n_steps):
-                if n_stages == 1:
-                    for j in range(size):
-                        e1, e2, e3, it = step(x1[j], x2[j], x3[j], h, p, 0)
-                        _commit(x1, x2, x3, c1, c2, c3, j, e1, e2, e3)
-                        iters[j] += it if it > 0 else 0
-                        nonconv[j] |= 1 if it < 0 else 0
-                else:
-                    for j in range(size):
-                        d1[j] = 0.0
-                        d2[j] = 0.0
-                        d3[j] = 0.0
-                    for s in range(n_stages):
-                        for j in range(size):
-                            e1, e2, e3, it = step(
-                                x1[j] + d1[j], x2[j] + d2[j], x3[j] + d3[j], h, p, s
-                            )
-                            d1[j] += e1
-                            d2[j] += e2
-                            d3[j] += e3
-                            iters[j] += it if it > 0 else 0
-                            nonconv[j] |= 1 if it < 0 else 0
-                    for j in range(size):
-                        _commit(x1, x2, x3, c1, c2, c3, j, d1[j], d2[j], d3[j])
-                if (n + 1) % CHECK_EVERY == 0 or n == n_steps - 1:
-                    for j in range(size):
-                        _check_finite(x1, x2, x3, j, n, bad, first_bad)
-                if tracking:
-                    t_prev = (step0 + n) * h
-                    for j in range(size):
-                        va = _component(x1, x2, x3, j, ia) * inv_a
-                        vb = _component(x1, x2, x3, j, ib) * inv_b
-                        vc = _component(x1, x2, x3, j, ic) * inv_c
-                        _crossing(tr, j, T_PREV_A, T_COUNT_A, T_FIRST_A, T_LAST_A, va, t_prev, h)
-                        _crossing(tr, j, T_PREV_B, T_COUNT_B, T_FIRST_B, T_LAST_B, vb, t_prev, h)
-                        amp = np.sqrt(vb * vb + vc * vc)
-                        tr[T_MAX_AMP, j] = max(tr[T_MAX_AMP, j], amp)
-                        target = padded[int(tr[T_NEXT_LEVEL, j])]  # +inf past the last level
-                        hit[j] = 1 if amp >= target else 0
-                        amp_now[j] = amp
-                    for j in range(size):
-                        level = int(tr[T_NEXT_LEVEL, j])
-                        while hit[j] == 1 and level < n_levels and amp_now[j] >= padded[level]:
-                            # Interpolate ln(amplitude), which is linear in t during exponential
-                            # growth (linear interpolation of the amplitude biases rates by
-                            # ~(h lambda)^2 / 8); clamped to this step's interval.
-                            prev_amp = tr[T_PREV_AMP, j]
-                            if prev_amp > 0.0 and amp_now[j] > prev_amp:
-                                frac = np.log(padded[level] / prev_amp) / np.log(
-                                    amp_now[j] / prev_amp
-                                )
-                            else:
-                                frac = (padded[level] - prev_amp) / (amp_now[j] - prev_amp)
-                            passage[lo + j, level] = t_prev + h * min(max(frac, 0.0), 1.0)
-                            level += 1
-                        tr[T_NEXT_LEVEL, j] = level
-                    for j in range(size):
-                        tr[T_PREV_AMP, j] = amp_now[j]
-                if save_every > 0 and (n + 1) % save_every == 0:
-                    for j in range(size):
-                        saved[lo + j, k, 0] = x1[j]
-                        saved[lo + j, k, 1] = x2[j]
-                        saved[lo + j, k, 2] = x3[j]
-                    k += 1
-            for j in range(size):
-                m[lo + j, 0] = x1[j]
-                m[lo + j, 1] = x2[j]
-                m[lo + j, 2] = x3[j]
-                comp[lo + j, 0] = c1[j]
-                comp[lo + j, 1] = c2[j]
-                comp[lo + j, 2] = c3[j]
-                iterations[lo + j] += iters[j]
-                if tracking:
-                    for col in range(N_TRACK):
-                        track[lo + j, col] = tr[col, j]
-                if bad[j] != 0 and status[lo + j] == 0:
-                    status[lo + j] = 1  # STATUS_NONFINITE
-                    fail_step[lo + j] = step0 + first_bad[j] + 1
-                elif nonconv[j] != 0 and status[lo + j] == 0:
-                    status[lo + j] = 3  # STATUS_NOT_CONVERGED
-                    fail_step[lo + j] = step0
+            block(
+                b, m, comp, p, h, n_stages, n_steps, save_every, saved, k0, status, fail_step,
+                iterations, step0, axes, track, padded, passage,
+            )
 
     return advance
+
+
+def _block_loop(step, staged):
+    """The serial work of one block of members (compiled apart from the parallel loop).
+
+    Keeping the inlined step out of the ``prange`` body lets Numba compile the parallel part
+    once, small, and the block loop as ordinary serial code: compilation is several times
+    faster and the vectorized member loops are the same.
+    """
+
+    @njit(error_model="numpy")
+    def block(
+        b, m, comp, p, h, n_stages, n_steps, save_every, saved, k0, status, fail_step,
+        iterations, step0, axes, track, padded, passage,
+    ):
+        n_members = m.shape[0]
+        tracking = axes[0] >= 0
+        ia, ib, ic = max(axes[0], 0), max(axes[1], 0), max(axes[2], 0)
+        inv_a, inv_b, inv_c = p[P_INV1 + ia], p[P_INV1 + ib], p[P_INV1 + ic]
+        n_levels = padded.shape[0] - 1
+        lo = b * BLOCK
+        size = min(BLOCK, n_members - lo)
+        x1 = np.empty(BLOCK)
+        x2 = np.empty(BLOCK)
+        x3 = np.empty(BLOCK)
+        c1 = np.empty(BLOCK)
+        c2 = np.empty(BLOCK)
+        c3 = np.empty(BLOCK)
+        d1 = np.zeros(BLOCK)
+        d2 = np.zeros(BLOCK)
+        d3 = np.zeros(BLOCK)
+        bad = np.zeros(BLOCK, dtype=np.int64)
+        nonconv = np.zeros(BLOCK, dtype=np.int64)
+        first_bad = np.full(BLOCK, -1, dtype=np.int64)
+        first_nonconv = np.full(BLOCK, -1, dtype=np.int64)
+        iters = np.zeros(BLOCK, dtype=np.int64)
+        tr = np.zeros((N_TRACK, BLOCK))
+        hit = np.zeros(BLOCK, dtype=np.int64)
+        amp_now = np.zeros(BLOCK)
+        if tracking:
+            for col in range(N_TRACK):
+                for j in range(size):
+                    tr[col, j] = track[lo + j, col]
+        for j in range(size):
+            x1[j] = m[lo + j, 0]
+            x2[j] = m[lo + j, 1]
+            x3[j] = m[lo + j, 2]
+            c1[j] = comp[lo + j, 0]
+            c2[j] = comp[lo + j, 1]
+            c3[j] = comp[lo + j, 2]
+        k = k0
+        for n in range(n_steps):
+            if not staged:  # a compile-time constant: Numba prunes the other branch
+                for j in range(size):
+                    e1, e2, e3, it = step(x1[j], x2[j], x3[j], h, p, 0)
+                    _commit(x1, x2, x3, c1, c2, c3, j, e1, e2, e3)
+                    iters[j] += it if it > 0 else 0
+                    first_nonconv[j] = n if (it < 0 and nonconv[j] == 0) else first_nonconv[j]
+                    nonconv[j] |= 1 if it < 0 else 0
+            else:
+                for j in range(size):
+                    d1[j] = 0.0
+                    d2[j] = 0.0
+                    d3[j] = 0.0
+                for s in range(n_stages):
+                    for j in range(size):
+                        e1, e2, e3, it = step(
+                            x1[j] + d1[j], x2[j] + d2[j], x3[j] + d3[j], h, p, s
+                        )
+                        d1[j] += e1
+                        d2[j] += e2
+                        d3[j] += e3
+                        iters[j] += it if it > 0 else 0
+                        first_nonconv[j] = n if (it < 0 and nonconv[j] == 0) else first_nonconv[j]
+                        nonconv[j] |= 1 if it < 0 else 0
+                for j in range(size):
+                    _commit(x1, x2, x3, c1, c2, c3, j, d1[j], d2[j], d3[j])
+            if (n + 1) % CHECK_EVERY == 0 or n == n_steps - 1:
+                for j in range(size):
+                    _check_finite(x1, x2, x3, j, n, bad, first_bad)
+            if tracking:
+                t_prev = (step0 + n) * h
+                for j in range(size):
+                    va = _component(x1, x2, x3, j, ia) * inv_a
+                    vb = _component(x1, x2, x3, j, ib) * inv_b
+                    vc = _component(x1, x2, x3, j, ic) * inv_c
+                    _crossing(tr, j, T_PREV_A, T_COUNT_A, T_FIRST_A, T_LAST_A, va, t_prev, h)
+                    _crossing(tr, j, T_PREV_B, T_COUNT_B, T_FIRST_B, T_LAST_B, vb, t_prev, h)
+                    amp = np.sqrt(vb * vb + vc * vc)
+                    tr[T_MAX_AMP, j] = max(tr[T_MAX_AMP, j], amp)
+                    target = padded[int(tr[T_NEXT_LEVEL, j])]  # +inf past the last level
+                    hit[j] = 1 if amp >= target else 0
+                    amp_now[j] = amp
+                for j in range(size):
+                    level = int(tr[T_NEXT_LEVEL, j])
+                    while hit[j] == 1 and level < n_levels and amp_now[j] >= padded[level]:
+                        # Interpolate ln(amplitude), which is linear in t during exponential
+                        # growth (linear interpolation of the amplitude biases rates by
+                        # ~(h lambda)^2 / 8); clamped to this step's interval.
+                        prev_amp = tr[T_PREV_AMP, j]
+                        if prev_amp > 0.0 and amp_now[j] > prev_amp:
+                            frac = np.log(padded[level] / prev_amp) / np.log(
+                                amp_now[j] / prev_amp
+                            )
+                        else:
+                            frac = (padded[level] - prev_amp) / (amp_now[j] - prev_amp)
+                        passage[lo + j, level] = t_prev + h * min(max(frac, 0.0), 1.0)
+                        level += 1
+                    tr[T_NEXT_LEVEL, j] = level
+                for j in range(size):
+                    tr[T_PREV_AMP, j] = amp_now[j]
+            if save_every > 0 and (n + 1) % save_every == 0:
+                for j in range(size):
+                    saved[lo + j, k, 0] = x1[j]
+                    saved[lo + j, k, 1] = x2[j]
+                    saved[lo + j, k, 2] = x3[j]
+                k += 1
+        for j in range(size):
+            m[lo + j, 0] = x1[j]
+            m[lo + j, 1] = x2[j]
+            m[lo + j, 2] = x3[j]
+            comp[lo + j, 0] = c1[j]
+            comp[lo + j, 1] = c2[j]
+            comp[lo + j, 2] = c3[j]
+            iterations[lo + j] += iters[j]
+            if tracking:
+                for col in range(N_TRACK):
+                    track[lo + j, col] = tr[col, j]
+            if bad[j] != 0 and status[lo + j] == 0:
+                status[lo + j] = 1  # STATUS_NONFINITE
+                fail_step[lo + j] = step0 + first_bad[j] + 1
+            elif nonconv[j] != 0 and status[lo + j] == 0:
+                status[lo + j] = 3  # STATUS_NOT_CONVERGED
+                fail_step[lo + j] = step0 + first_nonconv[j] + 1
+
+    return block
 
 
 @dataclass
@@ -388,7 +418,7 @@ def propagate(
             m, moments[perm], perm, int(track_axis), levels
         )
 
-    advance = member_loop(spec.step)
+    advance = member_loop(spec.step, spec.stages > 1)
     compile_time = _compiled(advance, p)
 
     unit = save_every if save_every > 0 else 1

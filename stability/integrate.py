@@ -1,4 +1,8 @@
-"""One trajectory, any registered method: ``integrate(body, w0, t_end, h, method)``."""
+"""One trajectory, any registered method: ``integrate(body, w0, t_end, h, method)``.
+
+With ``attitude=True`` the body-to-space attitude quaternion comes too (``stability.attitude``);
+without it the run goes through the 3-number member loop of ``stability.driver`` unchanged.
+"""
 
 from __future__ import annotations
 
@@ -8,12 +12,16 @@ import xarray as xr
 from . import conventions as cv
 from .body import RigidBody
 from .checks import positive_float, positive_int, step_count, vectors3
+from .attitude import IDENTITY, attitude_kernel, attitude_methods, propagate_attitude
 from .dataset import provenance_attrs, storable_attrs
 from .driver import propagate, untrusted
 from .integrators import method_spec
 
 
-def integrate(body: RigidBody, w0, t_end, h, method="rk4", save_every=1, progress=None):
+def integrate(
+    body: RigidBody, w0, t_end, h, method="rk4", save_every=1, progress=None, attitude=False,
+    q0=None,
+):
     """Integrate the torque-free Euler equations from ``w0`` and return the trajectory.
 
     Parameters
@@ -31,13 +39,30 @@ def integrate(body: RigidBody, w0, t_end, h, method="rk4", save_every=1, progres
         Keep every ``save_every``-th step (the initial state is always kept).
     progress : bool, optional
         Progress bar; by default shown for runs expected to take more than 2 s.
+    attitude : bool, default False
+        Also propagate the attitude, with the method's own attitude update (methods that can:
+        ``stability.attitude.attitude_methods()``).
+    q0 : array_like, shape (4,), optional
+        Initial body-to-space attitude as a unit quaternion, scalar first; default the identity
+        (body axes along the space axes). Only with ``attitude=True``.
 
     Returns
     -------
     xarray.Dataset
         Variable ``w`` (time, axis) in rad s-1; coordinates ``time`` (s) and ``axis`` (1, 2, 3);
-        attributes naming the body, the method, its order, ``h`` and the run's status.
-        After a non-finite state the remaining samples are NaN and ``status`` says so.
+        attributes naming the body, the method, its order, ``h``, the run's status and the
+        nonlinear-solver iterations (``solver_iterations``, 0 for explicit methods).
+        After a non-finite or failed state the remaining samples are NaN and ``status`` says so.
+        With ``attitude=True`` also ``q`` (time, quaternion_component), the unit quaternion of
+        the body-to-space rotation (normalised on output), and ``q_norm_error`` (time), the
+        norm error ``|q| - 1`` of the quaternion the method carried (not renormalised in the
+        loop; see ``stability.attitude``).
+
+    Raises
+    ------
+    ValueError
+        For a bad body, w0, t_end, h or save_every; for ``attitude=True`` with a method that
+        cannot carry the attitude; for q0 that is not a finite unit quaternion.
     """
     if not isinstance(body, RigidBody):
         raise ValueError(f"body must be a stability.RigidBody, got {type(body).__name__}")
@@ -56,15 +81,30 @@ def integrate(body: RigidBody, w0, t_end, h, method="rk4", save_every=1, progres
             f"final state would not be kept; choose save_every among the divisors of {n_steps}"
         )
 
+    if attitude:
+        if attitude_kernel(spec) is None:
+            raise ValueError(
+                f"method {spec.name!r} cannot carry the attitude; use one of "
+                + ", ".join(attitude_methods())
+            )
+        q0 = _unit_quaternion(q0)
+    elif q0 is not None:
+        raise ValueError("q0 is the initial attitude and needs attitude=True")
+
     moments = body.moments
-    result = propagate(spec, moments, (moments * w0)[None, :], h, n_steps, save_every, progress)
+    m0 = (moments * w0)[None, :]
+    if attitude:
+        result = propagate_attitude(spec, moments, m0, q0, h, n_steps, save_every, progress)
+    else:
+        result = propagate(spec, moments, m0, h, n_steps, save_every, progress)
 
     m = np.concatenate([(moments * w0)[None, :], result.saved[0]], axis=0)
     w = m / moments
     steps = np.arange(m.shape[0]) * save_every
     status = int(result.status[0])
-    if status != cv.STATUS_OK:
-        w[untrusted(steps, result.fail_step)[0]] = np.nan
+    mask = untrusted(steps, result.fail_step)[0] if status != cv.STATUS_OK else None
+    if mask is not None:
+        w[mask] = np.nan
     ds = xr.Dataset(
         {
             "w": (
@@ -82,13 +122,73 @@ def integrate(body: RigidBody, w0, t_end, h, method="rk4", save_every=1, progres
                 **provenance_attrs(
                     f"torque-free rotation of {body!r} by {spec.name}", body, spec, h,
                     f"stability.integrate({body!r}, w0={w0.tolist()}, t_end={t_end!r}, "
-                    f"h={h!r}, method={spec.name!r}, save_every={save_every})",
+                    f"h={h!r}, method={spec.name!r}, save_every={save_every}"
+                    + (f", attitude=True, q0={q0.tolist()})" if attitude else ")"),
                 ),
                 "save_every": save_every,
                 "steps": result.steps_done,
                 "status": cv.STATUS_MEANINGS.split()[status],
                 "interrupted": int(result.interrupted),
+                "solver_iterations": int(result.iterations[0]),
             }
         ),
     )
+    if attitude:
+        _add_attitude(ds, q0, result, mask)
     return ds
+
+
+def _unit_quaternion(q0):
+    """``q0`` as a float array of shape (4,) with norm 1 (to 1e-9); the identity if None."""
+    if q0 is None:
+        return IDENTITY.copy()
+    try:
+        q = np.array(q0, dtype=float)
+    except (TypeError, ValueError):
+        raise ValueError(
+            f"q0 must be 4 numbers (a unit quaternion, scalar first), got {q0!r}"
+        ) from None
+    if q.shape != (4,) or not np.all(np.isfinite(q)):
+        raise ValueError(
+            f"q0 must be 4 finite numbers (a unit quaternion, scalar first), got {q0!r}"
+        )
+    norm = float(np.linalg.norm(q))
+    if abs(norm - 1.0) > 1e-9:
+        raise ValueError(
+            f"q0 must be a unit quaternion, got |q0| = {norm!r}; divide it by its norm"
+        )
+    return q
+
+
+def _add_attitude(ds, q0, result, mask):
+    """Add ``q`` and ``q_norm_error`` (time) from an attitude run to ``ds`` in place."""
+    q = np.concatenate([q0[None, :], result.extras["q_saved"][0]], axis=0)
+    norm_error = np.concatenate(
+        [[np.linalg.norm(q0) - 1.0], result.extras["q_norm_error_saved"][0]]
+    )
+    if mask is not None:
+        q[mask] = np.nan
+        norm_error[mask] = np.nan
+    ds["q"] = (
+        (cv.TIME, cv.QUATERNION),
+        q,
+        {
+            "long_name": "attitude quaternion, body to space (scalar first)",
+            "units": cv.UNITS_DIMENSIONLESS,
+            "comment": "R(q) maps body components to space components; q' = q (0, w) / 2",
+        },
+    )
+    ds["q_norm_error"] = (
+        (cv.TIME,),
+        norm_error,
+        {
+            "long_name": "norm error |q| - 1 of the carried attitude quaternion",
+            "units": cv.UNITS_DIMENSIONLESS,
+            "comment": "q is carried without renormalisation and normalised on output",
+        },
+    )
+    ds.coords[cv.QUATERNION] = (
+        (cv.QUATERNION,),
+        np.arange(4),
+        {"long_name": "quaternion component (0: scalar part cos(angle/2))"},
+    )

@@ -9,11 +9,15 @@ to ``_ALL`` below. Tests parametrized over ``METHODS`` (order, invariants) cover
 
 from .composition import LP4, LP6, LP8
 from .exact_flow import EXACT
+from .lgvi import LGVI
 from .lie_poisson import LP2
+from .midpoint import MIDPOINT
+from .moser_veselov import DMV, DMV4
+from .munthe_kaas import RKMK4
 from .rk4 import RK4
 from .spec import MethodSpec, body_params
 
-_ALL = (RK4, LP2, LP4, LP6, LP8, EXACT)
+_ALL = (RK4, LP2, LP4, LP6, LP8, EXACT, DMV, DMV4, LGVI, RKMK4, MIDPOINT)
 
 METHODS: dict[str, MethodSpec] = {spec.name: spec for spec in _ALL}
 

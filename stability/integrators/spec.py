@@ -91,6 +91,14 @@ class MethodSpec:
         Stages per step (kernel calls with s = 0 .. stages - 1).
     attitude : bool
         Can carry the attitude R (or quaternion) when asked.
+    attitude_step : numba dispatcher or None
+        The kernel that advances (m, q) together (see ``stability.attitude``)::
+
+            attitude_step(m1, m2, m3, q0, q1, q2, q3, h, p, s)
+                -> (d1, d2, d3, e0, e1, e2, e3, iterations)
+
+        returning the increments of m (identical to ``step``'s) and of the body-to-space unit
+        quaternion q (scalar first). ``None`` when the method has no attitude kernel of its own.
     note : str
         One sentence on when to use it.
     """
@@ -111,6 +119,7 @@ class MethodSpec:
     stages: int = 1
     attitude: bool = False
     note: str = ""
+    attitude_step: object = field(repr=False, default=None)
 
     @property
     def explicit(self) -> bool:
