@@ -104,6 +104,27 @@ def test_long_horizon_tells_bounded_from_drifting_errors(quick):
             assert momentum.max() < 1e-13, f"{method}: |L| error {momentum.max():.1e}"
 
 
+def test_attitude_errors_for_the_methods_that_carry_it(quick):
+    """Every method that carries the attitude has attitude errors at every step size, falling
+    from the coarsest to the finest step; the others have none. The DOP853 reference is
+    checked on its w part against the exact solution."""
+    from stability.attitude import attitude_methods
+
+    _, ds, _ = quick
+    carriers = attitude_methods()
+    assert float(ds.attitude_reference_error.sel(metric="p99").max()) < 1e-10
+    for method in ds.method.values:
+        sel = ds.sel({"workload": "stable", "method": method})
+        ran = np.isfinite(sel.wall_time.values)
+        error = sel.attitude_error.sel(metric="max").values[ran]
+        if method in carriers:
+            assert np.all(np.isfinite(error)) and np.all(error >= 0), method
+            if error.size > 1:
+                assert error[-1] < error[0], f"{method}: {error}"
+        else:
+            assert np.all(np.isnan(error)), method
+
+
 def test_conditioning_floor_is_measured(quick):
     """One rounding of each start moves the exact w(T) of the tennis ensemble by more than that
     of the stable ensemble: the tennis floor is the one the max error runs into."""
