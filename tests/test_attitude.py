@@ -73,9 +73,8 @@ def test_every_method_with_a_rotation_structure_carries_the_attitude():
     assert set(ATTITUDE_STEPS) == set(attitude_methods())
     assert "exact" not in attitude_methods()
     for name in attitude_methods():
-        # rk4 carries the attitude through its twin in integrators/kinematics.py; its spec's
-        # declared flag is still False.
-        assert stability.METHODS[name].attitude or name == "rk4"
+        # rk4 and the Lie-Poisson methods carry it through their twins (integrators/kinematics.py).
+        assert stability.METHODS[name].attitude
 
 
 @pytest.mark.parametrize("name", sorted(ATTITUDE_STEPS))

@@ -44,6 +44,7 @@ RK4 = MethodSpec(
     family="Runge-Kutta",
     symmetric=False,
     evaluations=4,
+    attitude=True,  # through its twin kernel in integrators/kinematics.py
     reference="Kutta (1901); Hairer, Norsett & Wanner, Solving ODEs I, Table II.1.2",
     note="cheapest per step and most accurate per unit work on short horizons; energy drifts linearly",
 )
