@@ -109,7 +109,8 @@ def invariant_drift_figure(ds):
 
     The error reached so far (running maximum over [0, t] of the RMS over the long run's
     members, so a bounded oscillation shows as a plateau); zeros (exact to the last bit) are
-    left out of the log plot. Guides: t^(1/2) (round-off random walk, Brouwer's law) and t^1 (linear drift).
+    left out of the log plot. Guides: t^(1/2) (round-off random walk, Brouwer's law) and t^1
+    (linear drift).
     """
     styles = _method_styles(ds)
     t = ds.long_time.values

@@ -13,7 +13,10 @@ compilation excluded) for the whole ensemble and per member-step, the work (righ
 evaluations or exactly solved sub-flows, ``spec.evaluations`` x steps, and nonlinear-solver
 iterations per step), and errors at the end against the exact solution: the max, 99th
 percentile and median over members of the relative error of w, and of the relative energy and
-|L| errors. A third workload, the **long horizon** (``>= 1e6`` steps of a few members at a fixed
+|L| errors; for the methods that carry the attitude (``stability.attitude``), the first
+``[attitude] members`` also run with it, and their attitude error (the angle between the
+method's rotation and a DOP853 reference on (w, q) at rtol = 1e-13, the exact attitude not
+being in the package) gets the same statistics. A third workload, the **long horizon** (``>= 1e6`` steps of a few members at a fixed
 h), records the energy and |L| error against time, whose log-log slope says whether a method's
 invariant error is bounded (0), a round-off random walk (1/2, Brouwer's law) or a linear drift
 (1).
@@ -428,7 +431,8 @@ def sweep_method(spec, body, w0, w_ref, t_end, counts, budget, stop_error,
     identity, and their attitude errors against ``q_ref`` (n, 4) are recorded.
 
     A step count whose predicted kernel time (the last point's time scaled by the step ratio)
-    would take the method's total past ``budget`` seconds is not run; the sweep also stops once
+    would take the method's total (of the w runs' timed kernels) past ``budget`` seconds is
+    not run; the sweep also stops once
     the median relative w error is below ``stop_error`` or has not improved for three points
     (the conditioning floor).
     """
@@ -593,7 +597,8 @@ def _sweep_arrays(results, methods, n_sweep):
 
 
 _VARIABLES = {
-    "w_error": ("relative error of w at the end, |w - w_exact| / |w_exact|", cv.UNITS_DIMENSIONLESS),
+    "w_error": ("relative error of w at the end, |w - w_exact| / |w_exact|",
+                cv.UNITS_DIMENSIONLESS),
     "energy_error": ("relative kinetic-energy error at the end, |E / E0 - 1|",
                      cv.UNITS_DIMENSIONLESS),
     "momentum_error": ("relative angular-momentum error at the end, | |L| / |L0| - 1 |",
@@ -605,7 +610,8 @@ _VARIABLES = {
                   cv.UNITS_TIME),
     "member_step_time": ("wall time per member and step", cv.UNITS_TIME),
     "steps": ("steps per member", cv.UNITS_DIMENSIONLESS),
-    "evaluations": ("right-hand-side evaluations or exact sub-flows per member", cv.UNITS_DIMENSIONLESS),
+    "evaluations": ("right-hand-side evaluations or exact sub-flows per member",
+                    cv.UNITS_DIMENSIONLESS),
     "iterations": ("nonlinear-solver iterations per step, mean over members",
                    cv.UNITS_DIMENSIONLESS),
     "failed": ("members flagged non-finite, diverged or not converged", cv.UNITS_DIMENSIONLESS),
@@ -655,7 +661,8 @@ def work_precision_dataset(config, body, results, floors, long_results, wall_tot
     coords = {
         "workload": ("workload", list(WORKLOADS), {"long_name": "workload"}),
         "method": ("method", methods, {"long_name": "integrator (registry name; dop853: scipy)"}),
-        "sweep": ("sweep", np.arange(n_sweep), {"long_name": "index in the step-size or tolerance sweep"}),
+        "sweep": ("sweep", np.arange(n_sweep),
+                  {"long_name": "index in the step-size or tolerance sweep"}),
         "metric": ("metric", list(METRICS), {"long_name": "statistic over members"}),
         "long_time": ("long_time", t, {"long_name": "time in the long-horizon run",
                                        "units": cv.UNITS_TIME}),
