@@ -40,7 +40,7 @@ def test_studies_lists_kinds_and_their_keys(capsys):
     assert main(["studies", "nope"]) == 2
     err = capsys.readouterr().err.strip()
     assert err == ("stability studies: error: unknown study kind 'nope'; known kinds: "
-                   "stability_map, tennis_racket")
+                   "stability_map, tennis_racket, work_precision")
 
 
 def test_usage_errors_are_one_line(capsys, tmp_path):

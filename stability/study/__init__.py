@@ -13,7 +13,7 @@ from __future__ import annotations
 
 from pathlib import Path
 
-from . import stability_map, tennis_racket
+from . import stability_map, tennis_racket, work_precision
 from .config import (
     REQUIRED,
     STUDY_KEY,
@@ -34,6 +34,7 @@ from .config import (
 STUDIES: dict[str, StudyKind] = {
     "stability_map": stability_map.STUDY,
     "tennis_racket": tennis_racket.STUDY,
+    "work_precision": work_precision.STUDY,
 }
 
 

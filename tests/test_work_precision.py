@@ -1,0 +1,234 @@
+"""The speed-against-error study: its quick mode end to end, and the pieces it is built from."""
+
+import math
+
+import numpy as np
+import pytest
+import xarray as xr
+
+import stability
+from stability.figures.style import missing_units
+from stability.figures.work_precision import invariant_drift_figure, work_precision_figure
+from stability.study import ConfigError, load_study, run_study
+from stability.study import work_precision as wp
+
+STUDY_FILE = "studies/work_precision.toml"
+
+
+@pytest.fixture(scope="module")
+def quick(tmp_path_factory):
+    """The study file in quick mode, run once for the module: (summary, Dataset, folder)."""
+    out = tmp_path_factory.mktemp("work_precision")
+    summary = run_study(STUDY_FILE, out, quick=True, progress=False)
+    ds = xr.open_dataset(out / "work_precision.nc", decode_timedelta=False).load()
+    return summary, ds, out
+
+
+def test_quick_study_writes_dataset_figures_and_table(quick):
+    summary, ds, out = quick
+    for name in ("work_precision.nc", "work_precision.md", "config.toml",
+                 "work_precision.png", "work_precision.pdf",
+                 "invariant_drift.png", "invariant_drift.pdf"):
+        assert (out / name).is_file(), name
+    assert list(ds.method.values) == list(stability.METHODS) + [wp.SCIPY]
+    assert list(ds.workload.values) == list(wp.WORKLOADS)
+    assert list(ds.metric.values) == list(wp.METRICS)
+    for name, var in {**ds.data_vars, **ds.coords}.items():
+        if name in ("workload", "method", "sweep", "metric"):
+            continue
+        assert var.attrs.get("units") is not None and var.attrs.get("long_name"), name
+    assert "config_toml" in ds.attrs
+    assert summary.values["wall_time"] > 0
+
+
+def test_every_method_ran_both_workloads_without_failures(quick):
+    _, ds, _ = quick
+    for method in stability.METHODS:
+        for workload in wp.WORKLOADS:
+            sel = ds.sel({"workload": workload, "method": method})
+            ran = np.isfinite(sel.wall_time.values)
+            assert ran.any(), f"{method} did not run on {workload}"
+            assert np.all(sel.failed.values[ran] == 0)
+            assert np.all(sel.evaluations.values[ran] == stability.METHODS[method].evaluations
+                          * sel.steps.values[ran])
+
+
+def test_errors_shrink_at_the_declared_order(quick):
+    """On the stable ensemble, the max error over the sweep falls like h^p: the fitted slope
+    over the points above round-off is within 0.3 of the declared order."""
+    _, ds, _ = quick
+    fitted = 0
+    for method, spec in stability.METHODS.items():
+        if spec.is_exact:
+            continue
+        sel = ds.sel({"workload": "stable", "method": method})
+        h = sel.h.values
+        err = sel.w_error.sel(metric="max").values
+        keep = np.isfinite(err) & (err > 1e-11) & (err < 1e-2)
+        if np.count_nonzero(keep) < 3:
+            continue
+        slope = np.polyfit(np.log(h[keep]), np.log(err[keep]), 1)[0]
+        assert abs(slope - spec.order) < 0.3, f"{method}: slope {slope:.2f}"
+        fitted += 1
+    assert fitted >= 2
+
+
+def test_scipy_runs_on_the_same_ensembles(quick):
+    """DOP853 ran every tolerance: tighter rtol, more evaluations and a smaller error."""
+    _, ds, _ = quick
+    for workload in wp.WORKLOADS:
+        sel = ds.sel({"workload": workload, "method": wp.SCIPY})
+        ran = np.isfinite(sel.rtol.values)
+        rtol = sel.rtol.values[ran]
+        assert np.all(np.diff(rtol) < 0)
+        assert np.all(np.diff(sel.evaluations.values[ran]) > 0)
+        err = sel.w_error.sel(metric="median").values[ran]
+        assert err[-1] < err[0]
+
+
+def test_long_horizon_tells_bounded_from_drifting_errors(quick):
+    """Energy error over the long run: round-off only for methods that keep the energy, bounded
+    for the other Poisson maps, a linear drift (slope ~1) for the rest."""
+    _, ds, _ = quick
+    for method, spec in stability.METHODS.items():
+        energy = np.abs(ds.drift_energy.sel({"method": method}).values)
+        slope = float(ds.drift_slope.sel({"method": method}))
+        if spec.preserves_energy or spec.is_exact:
+            assert energy.max() < 1e-12, f"{method}: energy error {energy.max():.1e}"
+        elif spec.poisson:
+            assert wp.drift_kind(slope) == "bounded", f"{method}: slope {slope:.2f}"
+        else:
+            assert slope == pytest.approx(1.0, abs=0.1), f"{method}: slope {slope:.2f}"
+        if spec.preserves_casimir or spec.is_exact:
+            momentum = np.abs(ds.drift_momentum.sel({"method": method}).values)
+            assert momentum.max() < 1e-13, f"{method}: |L| error {momentum.max():.1e}"
+
+
+def test_attitude_errors_for_the_methods_that_carry_it(quick):
+    """Every method that carries the attitude has attitude errors at every step size, falling
+    from the coarsest to the finest step; the others have none. The DOP853 reference is
+    checked on its w part against the exact solution."""
+    from stability.attitude import attitude_methods
+
+    _, ds, _ = quick
+    carriers = attitude_methods()
+    assert float(ds.attitude_reference_error.sel(metric="p99").max()) < 1e-10
+    for method in ds.method.values:
+        sel = ds.sel({"workload": "stable", "method": method})
+        ran = np.isfinite(sel.wall_time.values)
+        error = sel.attitude_error.sel(metric="max").values[ran]
+        if method in carriers:
+            assert np.all(np.isfinite(error)) and np.all(error >= 0), method
+            if error.size > 1:
+                assert error[-1] < error[0], f"{method}: {error}"
+        else:
+            assert np.all(np.isnan(error)), method
+
+
+def test_conditioning_floor_is_measured(quick):
+    """One rounding of each start moves the exact w(T) of the tennis ensemble by more than that
+    of the stable ensemble: the tennis floor is the one the max error runs into."""
+    _, ds, _ = quick
+    floor = ds.floor
+    assert np.all(np.isfinite(floor.values)) and np.all(floor.values > 0)
+    assert float(floor.sel(workload="tennis", metric="max")) > float(
+        floor.sel(workload="stable", metric="max"))
+
+
+def test_markdown_table_names_a_winner_per_accuracy(quick):
+    summary, ds, out = quick
+    text = (out / "work_precision.md").read_text()
+    table = wp.winner_table(ds, "stable")
+    assert table in text
+    rows = table.splitlines()[2:]
+    assert len(rows) == len(wp.TARGETS)
+    for target, row in zip(wp.TARGETS, rows):
+        cells = [c.strip() for c in row.strip("|").split("|")]
+        times = {m: wp.time_to_reach(ds, "stable", m, target) for m in ds.method.values}
+        reached = {m: t for m, t in times.items() if np.isfinite(t)}
+        if reached:
+            assert cells[1] == f"**{min(reached, key=reached.get)}**"
+        else:
+            assert cells[1] == "none"
+
+
+def test_figures_label_every_axis_with_units(quick):
+    _, ds, _ = quick
+    for fig in (work_precision_figure(ds), invariant_drift_figure(ds)):
+        assert missing_units(fig) == []
+
+
+# ------------------------------------------------------------------------------ the pieces
+
+
+def synthetic(err, wall, failed=None):
+    """A one-workload, one-method Dataset with the given sweep of p99 errors and wall times."""
+    n = len(err)
+    w_error = np.full((1, 1, n, 3), np.nan)
+    w_error[0, 0, :, 1] = err
+    return xr.Dataset(
+        {
+            "w_error": (("workload", "method", "sweep", "metric"), w_error),
+            "wall_time": (("workload", "method", "sweep"), np.array(wall, float)[None, None]),
+            "failed": (("workload", "method", "sweep"),
+                       np.zeros((1, 1, n)) if failed is None else np.array(failed)[None, None]),
+        },
+        coords={"workload": ["w"], "method": ["m"], "metric": list(wp.METRICS)},
+    )
+
+
+def test_time_to_reach_interpolates_in_log_log():
+    ds = synthetic([1e-2, 1e-4, 1e-6], [1.0, 10.0, 100.0])
+    assert wp.time_to_reach(ds, "w", "m", 1e-4) == pytest.approx(10.0)
+    assert wp.time_to_reach(ds, "w", "m", 1e-3) == pytest.approx(math.sqrt(10.0))
+    assert wp.time_to_reach(ds, "w", "m", 1e-1) == pytest.approx(1.0)
+    assert math.isnan(wp.time_to_reach(ds, "w", "m", 1e-7))
+
+
+def test_time_to_reach_ignores_points_with_failed_members():
+    ds = synthetic([1e-2, 1e-6, 1e-8], [1.0, 10.0, 100.0], failed=[0, 3, 0])
+    # the failed point at 10 s is skipped: 1e-6 lies 2/3 of the way (in log) from 1 s to 100 s
+    assert wp.time_to_reach(ds, "w", "m", 1e-6) == pytest.approx(100.0 ** (2 / 3))
+
+
+def test_envelope_and_slope_classify_drift():
+    t = np.linspace(1.0, 1e4, 10_000)
+    assert wp.drift_kind(wp.log_slope(t, 1e-5 * np.sin(t))) == "bounded"
+    assert wp.drift_kind(wp.log_slope(t, 1e-9 * t)) == "linear drift"
+    rng = np.random.default_rng(0)
+    walk = np.cumsum(rng.standard_normal(t.size))  # ~ sqrt(t)
+    assert wp.drift_kind(wp.log_slope(t, 1e-10 * walk), 1e-8) == "random walk"
+    kind = wp.drift_kind(wp.log_slope(t, 1e-16 * walk), 1e-14)
+    assert kind.startswith("round-off, grows like t^0.")
+    assert wp.drift_kind(wp.log_slope(t, 1e-16 * np.sin(t)), 1e-16) == "round-off, bounded"
+
+
+def test_step_grid_runs_from_h_max_to_h_min():
+    counts = wp.step_grid(50.0, 0.5, 1e-3, 2)
+    assert counts[0] == 100 and np.all(np.diff(counts) > 0)
+    h = 50.0 / counts
+    assert h[-1] >= 1e-3 and h[-1] / 2**0.5 < 1e-3 * 1.01
+    np.testing.assert_allclose(h[:-1] / h[1:], 2**0.5, rtol=0.02)
+
+
+@pytest.mark.parametrize(
+    "override, message",
+    [
+        (("sweep.h_min", "1.0"), r"\[sweep\] h_min must be <= h_max"),
+        (("body.moments", "[1.0, 1.0, 1.5]"), r"\[body\] moments must be three distinct"),
+        (("sweep.methods", '["rk5"]'), r"\[sweep\] methods must be a list of values from"),
+        (("long.samples", "10000000"), r"\[long\] samples must be <= steps"),
+        (("tennis.membres", "5"), r"unknown key 'membres' \(did you mean 'members'\?\)"),
+    ],
+)
+def test_bad_study_files_get_one_line_naming_the_key(override, message):
+    with pytest.raises(ConfigError, match=message):
+        load_study(STUDY_FILE, overrides=[override])
+
+
+def test_default_study_file_is_valid_and_covers_the_registry():
+    kind, config, _ = load_study(STUDY_FILE)
+    assert kind.name == "work_precision"
+    assert config["sweep"]["methods"] == []  # every registered method
+    assert config["tennis"]["members"] == 10_000
+    assert config["long"]["steps"] >= 1_000_000
