@@ -38,7 +38,7 @@ from numba import njit, prange
 
 from .body import canonical_frame, from_canonical, to_canonical
 from .conventions import STATUS_NONFINITE, STATUS_NOT_CONVERGED, STATUS_OK
-from .driver import BLOCK, Propagation, _deferred_interrupt, _kahan_add, _progress_bar
+from .driver import BLOCK, Propagation, _kahan_add, run_in_chunks
 from .integrators import METHODS, method_spec
 from .integrators.kinematics import ATTITUDE_TWINS
 
@@ -383,41 +383,20 @@ def propagate_attitude(
     advance = attitude_loop(kernel)
     compile_time = _compiled(advance, p)
 
-    unit = save_every if save_every > 0 else 1
-    done = 0
-    k_saved = 0
-    wall = 0.0
-    bar = None
-    chunk = chunk_steps
-    with _deferred_interrupt() as interrupt:
-        while done < n_steps and not interrupt.requested:
-            wanted = 64 if chunk is None else int(chunk)
-            this = min(n_steps - done, max(unit, (wanted // unit) * unit))
-            k_this = this // save_every if save_every > 0 else 0
-            buffer_m = np.empty((n_members, k_this, 3))
-            buffer_q = np.empty((n_members, k_this, 4))
-            t0 = time.perf_counter()
-            advance(
-                m, q, comp, p, h, spec.stages, this, save_every, buffer_m, buffer_q, status,
-                fail_step, iterations, done,
-            )
-            dt = time.perf_counter() - t0
-            wall += dt
-            saved_m[:, k_saved : k_saved + k_this] = buffer_m
-            saved_q[:, k_saved : k_saved + k_this] = buffer_q
-            done += this
-            k_saved += k_this
-            if chunk_steps is None:
-                rate = this / max(dt, 1e-9)
-                chunk = max(unit, int(0.25 * rate))
-                if bar is None and progress is not False:
-                    if progress or (n_steps - done) / rate > 2.0:
-                        bar = _progress_bar(n_steps, done, spec.name)
-            if bar is not None:
-                bar.update(this)
-        interrupted = interrupt.requested
-    if bar is not None:
-        bar.close()
+    def run_chunk(steps_this, done, k_saved):
+        k_this = steps_this // save_every if save_every > 0 else 0
+        buffer_m = np.empty((n_members, k_this, 3))  # contiguous: one compiled signature
+        buffer_q = np.empty((n_members, k_this, 4))
+        advance(
+            m, q, comp, p, h, spec.stages, steps_this, save_every, buffer_m, buffer_q, status,
+            fail_step, iterations, done,
+        )
+        saved_m[:, k_saved : k_saved + k_this] = buffer_m
+        saved_q[:, k_saved : k_saved + k_this] = buffer_q
+
+    done, k_saved, wall, interrupted = run_in_chunks(
+        run_chunk, n_steps, save_every, chunk_steps, progress, spec.name
+    )
 
     norm_final = np.linalg.norm(q, axis=-1)  # of the carried quaternion, canonical frame
     norm_saved = np.linalg.norm(saved_q[:, :k_saved], axis=-1)

@@ -399,39 +399,15 @@ def propagate(
     advance = member_loop(spec.step, spec.stages > 1)
     compile_time = _compiled(advance, p)
 
-    unit = save_every if save_every > 0 else 1
-    done = 0
-    k_saved = 0
-    wall = 0.0
-    bar = None
-    chunk = chunk_steps
-    with _deferred_interrupt() as interrupt:
-        while done < n_steps and not interrupt.requested:
-            # The first call is short and calibrates the chunk length, unless it was fixed.
-            wanted = 64 if chunk is None else int(chunk)
-            this = min(n_steps - done, max(unit, (wanted // unit) * unit))
-            k_this = this // save_every if save_every > 0 else 0
-            t0 = time.perf_counter()
-            advance(
-                m, comp, p, h, spec.stages, this, save_every, saved, k_saved, status, fail_step,
-                iterations, done, axes, track, levels, passage,
-            )
-            dt = time.perf_counter() - t0
-            wall += dt
-            done += this
-            k_saved += k_this
-            if chunk_steps is None:
-                rate = this / max(dt, 1e-9)
-                chunk = max(unit, int(0.25 * rate))
-                if bar is None and progress is not False:
-                    if progress or (n_steps - done) / rate > 2.0:
-                        bar = _progress_bar(n_steps, done, spec.name)  # counts this chunk
-                        continue
-            if bar is not None:
-                bar.update(this)
-        interrupted = interrupt.requested
-    if bar is not None:
-        bar.close()
+    def run_chunk(steps_this, done, k_saved):
+        advance(
+            m, comp, p, h, spec.stages, steps_this, save_every, saved, k_saved, status, fail_step,
+            iterations, done, axes, track, levels, passage,
+        )
+
+    done, k_saved, wall, interrupted = run_in_chunks(
+        run_chunk, n_steps, save_every, chunk_steps, progress, spec.name
+    )
 
     extras = {} if track_axis is None else _tracking_results(track, passage)
     return Propagation(
@@ -446,6 +422,53 @@ def propagate(
         compile_time=compile_time,
         extras=extras,
     )
+
+
+def run_in_chunks(run_chunk, n_steps, save_every, chunk_steps, progress, label):
+    """Call ``run_chunk(steps, done, k_saved)`` until ``n_steps`` steps are done.
+
+    Chunks are whole numbers of save intervals; without ``chunk_steps`` the first call is short
+    (64 steps) and calibrates chunks of about 0.25 s. A progress bar appears when the rest is
+    expected to take more than 2 s (or when ``progress`` is True); Ctrl-C sets a flag that ends
+    the run after the chunk in flight, so the state always matches the steps done.
+
+    Returns
+    -------
+    done, k_saved : int
+        Steps completed and samples saved.
+    wall : float
+        Seconds spent in ``run_chunk``.
+    interrupted : bool
+    """
+    unit = save_every if save_every > 0 else 1
+    done = 0
+    k_saved = 0
+    wall = 0.0
+    bar = None
+    chunk = chunk_steps
+    with _deferred_interrupt() as interrupt:
+        while done < n_steps and not interrupt.requested:
+            wanted = 64 if chunk is None else int(chunk)
+            this = min(n_steps - done, max(unit, (wanted // unit) * unit))
+            t0 = time.perf_counter()
+            run_chunk(this, done, k_saved)
+            dt = time.perf_counter() - t0
+            wall += dt
+            done += this
+            k_saved += this // save_every if save_every > 0 else 0
+            if chunk_steps is None:
+                rate = this / max(dt, 1e-9)
+                chunk = max(unit, int(0.25 * rate))
+                if bar is None and progress is not False:
+                    if progress or (n_steps - done) / rate > 2.0:
+                        bar = _progress_bar(n_steps, done, label)  # counts this chunk
+                        continue
+            if bar is not None:
+                bar.update(this)
+        interrupted = interrupt.requested
+    if bar is not None:
+        bar.close()
+    return done, k_saved, wall, interrupted
 
 
 def _tracking_state(m, canonical_moments, perm, track_axis, levels):
