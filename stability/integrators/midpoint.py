@@ -34,7 +34,12 @@ hence a quadratic invariant of the joint system) is kept to the solver tolerance
 import numpy as np
 from numba import njit
 
-from .rotations import cayley_quaternion, quaternion_increment
+from .rotations import (
+    cayley_quaternion,
+    quaternion_increment,
+    unless_failed,
+    unless_failed_attitude,
+)
 from .spec import P_A1, P_A2, P_A3, P_INV1, P_INV2, P_INV3, MethodSpec, body_params
 
 #: Fixed-point stopping rule for (3): the change sum_i |y_i^new - y_i| is 0 or has stopped
@@ -74,18 +79,16 @@ def midpoint_solve(m1, m2, m3, h, p):
 def midpoint_step(m1, m2, m3, h, p, s):
     """One implicit midpoint step: increment ``h f(y)`` and sweeps (-1, zero increment: failed)."""
     y1, y2, y3, it = midpoint_solve(m1, m2, m3, h, p)
-    ok = it > 0
     d1 = h * p[P_A1] * y2 * y3
     d2 = h * p[P_A2] * y3 * y1
     d3 = h * p[P_A3] * y1 * y2
-    return (d1 if ok else 0.0), (d2 if ok else 0.0), (d3 if ok else 0.0), it
+    return unless_failed(d1, d2, d3, it)
 
 
 @njit(inline="always", error_model="numpy")
 def midpoint_attitude_step(m1, m2, m3, q0, q1, q2, q3, h, p, s):
     """Implicit midpoint on (m, R): also ``q <- q (1, f)/sqrt(1 + |f|^2)``, f = (h/2) I^-1 y."""
     y1, y2, y3, it = midpoint_solve(m1, m2, m3, h, p)
-    ok = it > 0
     d1 = h * p[P_A1] * y2 * y3
     d2 = h * p[P_A2] * y3 * y1
     d3 = h * p[P_A3] * y1 * y2
@@ -93,11 +96,7 @@ def midpoint_attitude_step(m1, m2, m3, q0, q1, q2, q3, h, p, s):
     f1, f2, f3 = hh * y1 * p[P_INV1], hh * y2 * p[P_INV2], hh * y3 * p[P_INV3]
     r0, r1, r2, r3 = cayley_quaternion(f1, f2, f3)
     e0, e1, e2, e3 = quaternion_increment(q0, q1, q2, q3, r0, r1, r2, r3)
-    return (
-        (d1 if ok else 0.0), (d2 if ok else 0.0), (d3 if ok else 0.0),
-        (e0 if ok else 0.0), (e1 if ok else 0.0), (e2 if ok else 0.0), (e3 if ok else 0.0),
-        it,
-    )
+    return unless_failed_attitude(d1, d2, d3, e0, e1, e2, e3, it)
 
 
 MIDPOINT = MethodSpec(

@@ -38,7 +38,12 @@ modification depends only on invariants that the map keeps, E and |m| stay exact
 import numpy as np
 from numba import njit
 
-from .rotations import cayley_quaternion, quaternion_increment
+from .rotations import (
+    cayley_quaternion,
+    quaternion_increment,
+    unless_failed,
+    unless_failed_attitude,
+)
 from .spec import N_BODY_PARAMS, P_I1, P_I2, P_I3, P_INV1, P_INV2, P_INV3, MethodSpec, body_params
 
 #: Fixed-point stopping rule for (1): the change sum_i |c_i^new - c_i| is 0 or has stopped
@@ -136,8 +141,7 @@ def _dmv4(m1, m2, m3, h, p):
 def dmv_step(m1, m2, m3, h, p, s):
     """One DMV step; increment of m and fixed-point sweeps (-1 and a zero increment if failed)."""
     d1, d2, d3, c1, c2, c3, it = _dmv(m1, m2, m3, h, p)
-    ok = it > 0
-    return (d1 if ok else 0.0), (d2 if ok else 0.0), (d3 if ok else 0.0), it
+    return unless_failed(d1, d2, d3, it)
 
 
 @njit(inline="always", error_model="numpy")
@@ -146,20 +150,14 @@ def dmv_attitude_step(m1, m2, m3, q0, q1, q2, q3, h, p, s):
     d1, d2, d3, c1, c2, c3, it = _dmv(m1, m2, m3, h, p)
     r0, r1, r2, r3 = cayley_quaternion(c1, c2, c3)
     e0, e1, e2, e3 = quaternion_increment(q0, q1, q2, q3, r0, r1, r2, r3)
-    ok = it > 0
-    return (
-        (d1 if ok else 0.0), (d2 if ok else 0.0), (d3 if ok else 0.0),
-        (e0 if ok else 0.0), (e1 if ok else 0.0), (e2 if ok else 0.0), (e3 if ok else 0.0),
-        it,
-    )
+    return unless_failed_attitude(d1, d2, d3, e0, e1, e2, e3, it)
 
 
 @njit(inline="always", error_model="numpy")
 def dmv4_step(m1, m2, m3, h, p, s):
     """One order-4 modified-inertia DMV step; increment of m and fixed-point sweeps."""
     d1, d2, d3, c1, c2, c3, it = _dmv4(m1, m2, m3, h, p)
-    ok = it > 0
-    return (d1 if ok else 0.0), (d2 if ok else 0.0), (d3 if ok else 0.0), it
+    return unless_failed(d1, d2, d3, it)
 
 
 @njit(inline="always", error_model="numpy")
@@ -168,12 +166,7 @@ def dmv4_attitude_step(m1, m2, m3, q0, q1, q2, q3, h, p, s):
     d1, d2, d3, c1, c2, c3, it = _dmv4(m1, m2, m3, h, p)
     r0, r1, r2, r3 = cayley_quaternion(c1, c2, c3)
     e0, e1, e2, e3 = quaternion_increment(q0, q1, q2, q3, r0, r1, r2, r3)
-    ok = it > 0
-    return (
-        (d1 if ok else 0.0), (d2 if ok else 0.0), (d3 if ok else 0.0),
-        (e0 if ok else 0.0), (e1 if ok else 0.0), (e2 if ok else 0.0), (e3 if ok else 0.0),
-        it,
-    )
+    return unless_failed_attitude(d1, d2, d3, e0, e1, e2, e3, it)
 
 
 DMV = MethodSpec(

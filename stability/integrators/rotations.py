@@ -112,3 +112,21 @@ def cayley_increment(m1, m2, m3, f1, f2, f3):
     v1, v2, v3 = cross(f1, f2, f3, -u1, -u2, -u3)  # f x (f x m)
     scale = 2.0 / (1.0 + f1 * f1 + f2 * f2 + f3 * f3)
     return scale * (u1 + v1), scale * (u2 + v2), scale * (u3 + v3)
+
+
+@njit(inline="always")
+def unless_failed(d1, d2, d3, it):
+    """``(d1, d2, d3, it)``, with a zero increment when the solve failed (``it <= 0``)."""
+    ok = it > 0
+    return (d1 if ok else 0.0), (d2 if ok else 0.0), (d3 if ok else 0.0), it
+
+
+@njit(inline="always")
+def unless_failed_attitude(d1, d2, d3, e0, e1, e2, e3, it):
+    """Increments of m and q, both zero when the solve failed (``it <= 0``)."""
+    ok = it > 0
+    return (
+        (d1 if ok else 0.0), (d2 if ok else 0.0), (d3 if ok else 0.0),
+        (e0 if ok else 0.0), (e1 if ok else 0.0), (e2 if ok else 0.0), (e3 if ok else 0.0),
+        it,
+    )
