@@ -13,6 +13,12 @@ each of ``members`` members nudged by 1e-4 of the spin in a random perpendicular
 - a plain NumPy RK4 on the same arrays of members (no Numba): what vectorizing over members
   without compiling buys.
 
+Then, on workload W1 (:data:`W1`: I = (1, 2, 3), 10,000 members near the intermediate axis,
+T = 100 s, h = 0.01), what the engine costs (:func:`engine_costs`): a plain uncompensated RK4
+loop blocked for SIMD (:mod:`stability.engine.reference`), the engine's RK4 loop without and
+with compensated summation, and ``run_ensemble(summaries_only=True)`` (the loop with its
+tracking), each as member-steps/s and as a fraction of the plain loop, all in one process.
+
 Each timing is the best of ``repeat`` runs. Each row also gives the largest error of w at the end over members, against the exact solution,
 so that speeds are compared at a known accuracy. Timings depend on the machine and its load;
 this module prints numbers and asserts nothing about them.
@@ -64,6 +70,11 @@ class BenchRow:
     note: str = ""
 
 
+#: Workload W1 of :func:`engine_costs`.
+W1 = {"moments": (1.0, 2.0, 3.0), "axis": 2, "spin": 1.0, "epsilon": 1e-3, "members": 10_000,
+      "t_end": 100.0, "h": 0.01}
+
+
 @dataclass
 class BenchReport:
     """What ``bench`` measured, with the workload it ran."""
@@ -75,6 +86,7 @@ class BenchReport:
     axis: int
     repeat: int = 1
     rows: list = field(default_factory=list)
+    engine_rows: list = field(default_factory=list)
     skipped: list = field(default_factory=list)
     environment: dict = field(default_factory=dict)
 
@@ -98,7 +110,7 @@ def workload(members: int, seed: int = 0):
 
 
 def bench(members=10_000, steps=1000, threads=None, methods=None, scipy=True, numpy=True,
-          repeat=3, log=None) -> BenchReport:
+          repeat=3, log=None, engine=True) -> BenchReport:
     """Time every method (and SciPy DOP853, NumPy RK4) on one ensemble; see the module docstring.
 
     Parameters
@@ -112,6 +124,8 @@ def bench(members=10_000, steps=1000, threads=None, methods=None, scipy=True, nu
     scipy, numpy : bool
         Also time SciPy's DOP853 (skipped, and said so, if SciPy is not installed) and the
         NumPy RK4.
+    engine : bool
+        Also measure what the engine costs on workload W1 (:func:`engine_costs`).
     repeat : int
         Runs per timing; the shortest wall time is kept (the least disturbed by other load).
     log : callable, optional
@@ -160,12 +174,12 @@ def bench(members=10_000, steps=1000, threads=None, methods=None, scipy=True, nu
                 runs = [propagate(spec, moments, m0, H, steps, save_every=0, progress=False)
                         for _ in range(repeat)]
                 if compile_time is None:
-                    compile_time = runs[0].compile_time
+                    compile_time = runs[0].compile_time  # or the load from the disk cache
                 wall = min(run.wall_time for run in runs)
                 error = _error(runs[0].m_final / moments, reference)
                 report.rows.append(BenchRow(
                     spec.name, n_threads, wall, members * steps / wall, error,
-                    f"compile {compile_time:.1f} s" if n_threads == threads[0] else "",
+                    f"compile/load {compile_time:.2f} s" if n_threads == threads[0] else "",
                 ))
     finally:
         numba.set_num_threads(before)
@@ -201,7 +215,70 @@ def bench(members=10_000, steps=1000, threads=None, methods=None, scipy=True, nu
         wall = min(walls)
         report.rows.append(BenchRow("numpy RK4", 1, wall, members * steps / wall,
                                     _error(m / moments, reference), "NumPy arrays over members"))
+    if engine:
+        log("timing the engine against a plain RK4 loop on workload W1 ...")
+        report.engine_rows = engine_costs(repeat=repeat)
     return report
+
+
+def engine_costs(repeat=3, workload=None) -> list[BenchRow]:
+    """Member-steps/s on W1 of a plain RK4 loop and of the engine's, with all threads.
+
+    Rows: the plain uncompensated loop (:func:`stability.engine.reference.plain_rk4`); the
+    engine's RK4 loop with an uncompensated update; the engine's loop as every run uses it
+    (compensated); ``run_ensemble(summaries_only=True)`` (compensated, with tracking; its rate
+    is the loop's, from the Dataset's ``member_steps_per_second``). The best of ``repeat`` runs.
+    """
+    import numba
+
+    from .body import RigidBody
+    from .engine import propagate_groups
+    from .engine.reference import plain_rk4
+    from .ensemble import perturbed_starts, run_ensemble
+    from .integrators.spec import body_params
+    from .scenes import SCENES
+
+    w = dict(W1, **(workload or {}))
+    moments = np.array(w["moments"], dtype=float)
+    members, h = int(w["members"]), float(w["h"])
+    steps = int(round(w["t_end"] / h))
+    m0 = perturbed_starts(w["axis"], w["spin"], w["epsilon"], members, seed=0) * moments
+    p = body_params(np.sort(moments), h)
+    scene = SCENES["free_body"]
+    threads = numba.get_num_threads()
+    work = members * steps
+
+    def best(run):
+        return min(run() for _ in range(repeat))
+
+    def plain():
+        m = m0.copy()
+        t0 = time.perf_counter()
+        plain_rk4(m, p, h, steps)
+        return time.perf_counter() - t0
+
+    def engine_loop(compensated):
+        return lambda: propagate_groups(
+            scene, "rk4", m0, p[None, :], [members], h, steps, compensated=compensated,
+            progress=False).wall_time
+
+    def ensemble():
+        ds = run_ensemble(RigidBody(*moments), w["axis"], w["spin"], w["epsilon"], members,
+                          h=h, t_end=w["t_end"], method="rk4", summaries_only=True,
+                          progress=False)
+        return work / ds.attrs["member_steps_per_second"]
+
+    plain_rk4(m0.copy(), p, h, 1)  # compile or load once, outside the timings
+    rows = []
+    for name, run, note in (
+        ("plain RK4 loop", plain, "uncompensated, no checks: the reference"),
+        ("engine rk4, uncompensated", engine_loop(False), "the engine's loop, m += dm"),
+        ("engine rk4", engine_loop(True), "compensated (every run)"),
+        ("run_ensemble rk4, summaries only", ensemble, "compensated + tracking"),
+    ):
+        wall = best(run)
+        rows.append(BenchRow(name, threads, wall, work / wall, note=note))
+    return rows
 
 
 def euler_coefficients(moments):
@@ -325,6 +402,27 @@ def format_report(report: BenchReport) -> str:
     lines.append("member-steps/s = members x steps / wall time, the best of "
                  f"{report.repeat} runs (SciPy: the same count for the same time span, with its "
                  "own adaptive steps); x A = speed relative to A.")
+    if report.engine_rows:
+        lines += ["", _engine_table(report.engine_rows)]
+    return "\n".join(lines)
+
+
+def _engine_table(rows) -> str:
+    w = W1
+    reference = rows[0].rate
+    table = [("loop", "threads", "wall (s)", "member-steps/s", "x plain", "note")]
+    for r in rows:
+        table.append((r.solver, str(r.threads), f"{r.wall:.3g}", f"{r.rate:.3g}",
+                      _ratio(r.rate, reference), r.note))
+    widths = [max(len(row[i]) for row in table) for i in range(len(table[0]))]
+    lines = [
+        f"what the engine costs, workload W1: I = {w['moments']}, {w['members']} members near "
+        f"axis {w['axis']} (perturbation {w['epsilon']:g}), T = {w['t_end']:g} s, h = {w['h']:g}",
+    ]
+    for k, row in enumerate(table):
+        lines.append("  ".join(cell.ljust(n) for cell, n in zip(row, widths)).rstrip())
+        if k == 0:
+            lines.append("  ".join("-" * n for n in widths))
     return "\n".join(lines)
 
 

@@ -40,7 +40,7 @@ from .dataset import (
     summary_bytes,
     threading_layer,
 )
-from .driver import propagate
+from .driver import propagate_many
 from .integrators import method_spec
 
 log = logging.getLogger(__name__)
@@ -284,7 +284,93 @@ def run_ensemble(
     >>> float(ds.mean_flip_interval.median())  # doctest: +SKIP
     28.7
     """
-    # --- validate everything before compiled code runs -------------------------------------
+    plan = _plan(
+        body, axis, spin, epsilon, members, h=h, t_end=t_end, seed=seed, method=method,
+        save_every=save_every, direction=direction, starts=starts, summaries_only=summaries_only,
+        levels=levels, divergence_tolerance=divergence_tolerance, max_memory=max_memory,
+        chunk_members=chunk_members, chunk_steps=chunk_steps, config=config, command=command,
+    )
+    with _numba_threads(_threads(threads)):
+        (run,) = _run([plan], progress)
+        return _dataset(plan, run, threads)
+
+
+def run_ensembles(calls, *, threads=None, progress=None) -> list:
+    """Run many ensembles together, each exactly as :func:`run_ensemble` runs it alone.
+
+    The ensembles that share a method (and the kind of output) are advanced in one parallel call
+    of the member loop, so many small ensembles (a map over body shapes, a sweep of steps) keep
+    every core busy, where one after another each would use one block of members on one core.
+    Each Dataset is bitwise the one :func:`run_ensemble` returns for the same arguments.
+
+    Parameters
+    ----------
+    calls : sequence of dict
+        Keyword arguments of :func:`run_ensemble`, one dict per ensemble (``body``, ``axis``,
+        ``spin``, ... ; not ``threads``, ``progress``, ``chunk_members``).
+    threads : int, optional
+        Numba threads for the whole batch.
+    progress : bool, optional
+        Progress bar per call of the loop.
+
+    Returns
+    -------
+    list of xarray.Dataset
+        In the order of ``calls``. If Ctrl-C stopped the batch, the Datasets of the ensembles it
+        stopped say so (``interrupted``), as :func:`run_ensemble`'s do.
+    """
+    plans = []
+    for k, call in enumerate(calls):
+        call = dict(call)
+        bad = {"threads", "progress", "chunk_members"} & set(call)
+        if bad:
+            raise ValueError(f"calls[{k}]: {sorted(bad)[0]} is set for the whole batch, not per "
+                             "ensemble; pass it to run_ensembles")
+        plans.append(_plan(**call))
+    batches: dict = {}
+    for k, plan in enumerate(plans):
+        key = (plan.spec.name, plan.summaries_only, plan.save_every, plan.levels.size)
+        batches.setdefault(key, []).append(k)
+    runs = [None] * len(plans)
+    with _numba_threads(_threads(threads)):
+        for indices in batches.values():
+            for k, run in zip(indices, _run([plans[k] for k in indices], progress)):
+                runs[k] = run
+        return [_dataset(plan, run, threads) for plan, run in zip(plans, runs)]
+
+
+@dataclass
+class _Plan:
+    """One validated ensemble: everything :func:`run_ensemble` resolved before running."""
+
+    body: RigidBody
+    spec: object
+    a: int
+    w0: np.ndarray
+    h: float
+    t_end: float
+    n_steps: int
+    save_every: int
+    summaries_only: bool
+    levels: np.ndarray
+    tolerance: float
+    chunk_members: int
+    chunk_steps: int | None
+    resolved: dict
+    start_kind: str
+    spin: float | None
+    epsilon: float | None
+    direction: np.ndarray | None
+    ss: np.random.SeedSequence
+    config_text: str | None
+    command: str | None
+
+
+def _plan(body, axis, spin=None, epsilon=None, members=None, *, h, t_end, seed=0, method="lp2",
+          save_every=1, direction=None, starts=None, summaries_only=False, levels=None,
+          divergence_tolerance=DEFAULT_DIVERGENCE_TOLERANCE, max_memory=DEFAULT_MAX_MEMORY,
+          chunk_members=None, chunk_steps=None, config=None, command=None) -> _Plan:
+    """Validate the arguments of :func:`run_ensemble` and draw the starts; ValueError if bad."""
     if not isinstance(body, RigidBody):
         raise ValueError(f"body must be a stability.RigidBody, got {type(body).__name__}")
     a = _axis_index(axis)
@@ -334,19 +420,11 @@ def run_ensemble(
     levels = _levels(levels, spin_ref)
     divergence_tolerance = positive_float("divergence_tolerance", divergence_tolerance)
     max_memory = positive_float("max_memory", max_memory, "bytes")
-    if threads is not None:
-        threads = positive_int("threads", threads)
-        if threads > numba.config.NUMBA_NUM_THREADS:
-            raise ValueError(
-                f"threads must be between 1 and {numba.config.NUMBA_NUM_THREADS} "
-                f"(NUMBA_NUM_THREADS, set before numba is imported), got {threads}"
-            )
     if chunk_members is not None:
         chunk_members = positive_int("chunk_members", chunk_members)
     if chunk_steps is not None:
         chunk_steps = positive_int("chunk_steps", chunk_steps)
-    if config is not None:
-        config_text = config_toml(config)
+    config_text = config_toml(config) if config is not None else None
 
     # --- memory -----------------------------------------------------------------------------
     n_saved = n_steps // save_every
@@ -374,16 +452,6 @@ def run_ensemble(
     if w0 is None:
         w0 = perturbed_starts(axis, spin, epsilon, members, ss, direction)
 
-    # --- run --------------------------------------------------------------------------------
-    with _numba_threads(threads):
-        run = _run(
-            body, spec, w0, h, n_steps, save_every, a, levels, summaries_only,
-            divergence_tolerance, chunk_members, chunk_steps, progress,
-        )
-        layer = threading_layer()
-        used_threads = numba.get_num_threads()
-
-    # --- Dataset ----------------------------------------------------------------------------
     resolved = {
         "body": {"name": body.name, "I1": body.I1, "I2": body.I2, "I3": body.I3,
                  "physical": body.physical},
@@ -402,8 +470,41 @@ def run_ensemble(
         "summaries_only": bool(summaries_only),
         "levels": levels,
         "divergence_tolerance": divergence_tolerance,
-        "threads": threads,
+        "threads": None,
     }
+    return _Plan(
+        body=body, spec=spec, a=a, w0=w0, h=h, t_end=t_end, n_steps=n_steps,
+        save_every=save_every, summaries_only=bool(summaries_only), levels=levels,
+        tolerance=divergence_tolerance, chunk_members=chunk_members, chunk_steps=chunk_steps,
+        resolved=resolved, start_kind=start_kind, spin=spin, epsilon=epsilon,
+        direction=direction, ss=ss, config_text=config_text, command=command,
+    )
+
+
+def _threads(threads):
+    """``threads`` checked against the cores Numba started with (None: leave as it is)."""
+    if threads is None:
+        return None
+    threads = positive_int("threads", threads)
+    if threads > numba.config.NUMBA_NUM_THREADS:
+        raise ValueError(
+            f"threads must be between 1 and {numba.config.NUMBA_NUM_THREADS} "
+            f"(NUMBA_NUM_THREADS, set before numba is imported), got {threads}"
+        )
+    return threads
+
+
+def _dataset(plan: _Plan, run, threads):
+    """The Dataset of one ensemble from its plan and its run."""
+    body, spec, a, h = plan.body, plan.spec, plan.a, plan.h
+    spin, epsilon, start_kind, direction = plan.spin, plan.epsilon, plan.start_kind, plan.direction
+    ss, t_end, save_every, levels = plan.ss, plan.t_end, plan.save_every, plan.levels
+    n_members, n_steps = plan.w0.shape[0], plan.n_steps
+    summaries_only, divergence_tolerance = plan.summaries_only, plan.tolerance
+    layer = threading_layer()
+    used_threads = numba.get_num_threads()
+    resolved = dict(plan.resolved, threads=threads)
+    command = plan.command
     if command is None:
         command = _call_repr(body, resolved)
     title = (
@@ -450,7 +551,7 @@ def run_ensemble(
             "member_steps_per_second": (
                 run.members * run.steps_done / run.wall_time if run.wall_time > 0 else 0.0
             ),
-            "config_toml": config_text if config is not None else config_toml(
+            "config_toml": plan.config_text if plan.config_text is not None else config_toml(
                 {"run_ensemble": resolved}),
         }
     )
@@ -480,67 +581,106 @@ class _Run:
     compile_time: float
 
 
-def _run(body, spec, w0, h, n_steps, save_every, a, levels, summaries_only, tolerance,
-         chunk_members, chunk_steps, progress) -> _Run:
-    """Propagate the members in chunks of ``chunk_members``, tracking their summaries.
+def _run(plans, progress) -> list:
+    """Propagate the members of ``plans`` (one method), tracking their summaries.
 
-    If Ctrl-C stops a chunk, the result holds the chunks completed before it; if it stopped
-    the first chunk, that chunk up to the steps it completed.
+    One plan runs in chunks of its ``chunk_members``; several plans run together, one group
+    each, in one call of the member loop. If Ctrl-C stops a single plan's chunk, the result
+    holds the chunks completed before it; if it stopped the first chunk, that chunk up to the
+    steps it completed. A stopped batch keeps the steps every ensemble completed.
     """
-    moments = body.moments
-    n = w0.shape[0]
-    n_time = n_steps // save_every + 1
-    w_all = None if summaries_only else np.empty((n, n_time, 3))
-    status = np.empty(n, dtype=np.int8)
-    fail_time = np.empty(n)
-    summaries = {}
-    wall = compile_time = 0.0
-    steps_done, interrupted, done = n_steps, False, 0
-    for lo in range(0, n, chunk_members):
-        hi = min(lo + chunk_members, n)
-        prop, track = _propagate_tracked(
-            spec, moments, w0[lo:hi], h, n_steps, 0 if summaries_only else save_every, a,
-            levels, progress, chunk_steps,
-        )
-        wall += prop.wall_time
-        compile_time += prop.compile_time
+    if len(plans) == 1:
+        return [_run_chunked(plans[0], progress)]
+    prop = _propagate_tracked(plans, progress, None)
+    work = np.array([plan.w0.shape[0] * plan.n_steps for plan in plans], dtype=float)
+    runs, lo = [], 0
+    for g, plan in enumerate(plans):
+        n = plan.w0.shape[0]
+        steps = int(prop.steps_done[g])
+        part = _Part(prop, slice(lo, lo + n), slice(0, n), steps, work[g] / work.sum())
+        runs.append(_finish(plan, [part], n, steps, prop.interrupted))
+        lo += n
+    return runs
+
+
+@dataclass
+class _Part:
+    """Members ``rows`` of a propagation that are the plan's members ``mine``.
+
+    ``share`` is the fraction of the propagation's time that counts for them (their share of
+    the member-steps of a batch).
+    """
+
+    prop: object
+    rows: slice
+    mine: slice
+    steps_done: int
+    share: float = 1.0
+
+
+def _run_chunked(plan, progress) -> _Run:
+    """One plan, ``chunk_members`` members per call."""
+    n = plan.w0.shape[0]
+    parts = []
+    steps_done, interrupted, done = plan.n_steps, False, 0
+    for lo in range(0, n, plan.chunk_members):
+        hi = min(lo + plan.chunk_members, n)
+        prop = _propagate_tracked([plan], progress, slice(lo, hi))
         if prop.interrupted and lo > 0:  # keep the chunks that completed
             interrupted = True
             break
-        chunk_status, chunk_fail, errors = _member_status(prop, w0[lo:hi], moments, h, tolerance)
-        chunk = _summaries(track, errors)
+        parts.append(_Part(prop, slice(0, hi - lo), slice(lo, hi), int(prop.steps_done[0])))
+        done = hi
+        if prop.interrupted:  # the first chunk: keep the steps it completed
+            interrupted, steps_done = True, int(prop.steps_done[0])
+            break
+    return _finish(plan, parts, done, steps_done, interrupted)
+
+
+def _finish(plan, parts, done, steps_done, interrupted) -> _Run:
+    """Status, summaries and time series of the plan's members ``0:done`` from ``parts``."""
+    moments, h = plan.body.moments, plan.h
+    w0 = plan.w0[:done]
+    n_kept_time = steps_done // plan.save_every + 1
+    w_all = None if plan.summaries_only else np.empty((done, n_kept_time, 3))
+    status = np.empty(done, dtype=np.int8)
+    fail_time = np.empty(done)
+    summaries = {}
+    wall = compile_time = 0.0
+    for part in parts:
+        prop, rows, mine = part.prop, part.rows, part.mine
+        wall += part.share * prop.wall_time
+        compile_time += part.share * prop.compile_time
+        chunk_status, chunk_fail, errors = _member_status(
+            prop.status[rows], prop.fail_step[rows], prop.x_final[rows], w0[mine], moments, h,
+            plan.tolerance, part.steps_done,
+        )
+        chunk = _summaries({name: value[rows] for name, value in prop.extras.items()}, errors)
         bad = chunk_status != cv.STATUS_OK
         for value in chunk.values():
             value[bad] = np.nan
         for name, value in chunk.items():
-            if hi - lo == n:  # one chunk: no copy
+            if len(parts) == 1:  # one part: no copy
                 summaries[name] = value
                 continue
             if name not in summaries:
-                summaries[name] = np.empty((n,) + value.shape[1:])
-            summaries[name][lo:hi] = value
+                summaries[name] = np.empty((done,) + value.shape[1:])
+            summaries[name][mine] = value
         if w_all is not None:
-            k = prop.saved.shape[1]
-            w = w_all[lo:hi, : k + 1]
-            w[:, 0] = w0[lo:hi]
-            np.divide(prop.saved, moments, out=w[:, 1:])
+            w = w_all[mine]
+            w[:, 0] = w0[mine]
+            np.divide(prop.saved[rows, : n_kept_time - 1], moments, out=w[:, 1:])
             w[bad] = np.nan
-        prop.saved = None  # release the driver's copy before the next chunk
-        status[lo:hi] = chunk_status
-        fail_time[lo:hi] = chunk_fail
-        done = hi
-        if prop.interrupted:  # the first chunk: keep the steps it completed
-            interrupted, steps_done = True, prop.steps_done
-            break
-    n_kept_time = steps_done // save_every + 1
+        status[mine] = chunk_status
+        fail_time[mine] = chunk_fail
     return _Run(
         members=done,
-        w0=w0[:done],
-        status=status[:done],
-        fail_time=fail_time[:done],
-        summaries={name: value[:done] for name, value in summaries.items()},
-        time=None if summaries_only else np.arange(n_kept_time) * save_every * h,
-        w=None if summaries_only else w_all[:done, :n_kept_time],
+        w0=w0,
+        status=status,
+        fail_time=fail_time,
+        summaries=summaries,
+        time=None if plan.summaries_only else np.arange(n_kept_time) * plan.save_every * h,
+        w=w_all,
         steps_done=steps_done,
         interrupted=interrupted,
         wall_time=wall,
@@ -548,24 +688,27 @@ def _run(body, spec, w0, h, n_steps, save_every, a, levels, summaries_only, tole
     )
 
 
-def _propagate_tracked(spec, moments, w0, h, n_steps, save_every, a, levels, progress,
-                       chunk_steps):
-    """Run the driver with its in-loop tracking; returns the Propagation and its ``extras``."""
-    prop = propagate(
-        spec, moments, w0 * moments, h, n_steps, save_every, progress, chunk_steps,
-        track_axis=a, levels=levels,
+def _propagate_tracked(plans, progress, rows):
+    """One call of the member loop over ``plans`` (members ``rows`` of a single plan)."""
+    starts = [plan.w0 if rows is None else plan.w0[rows] for plan in plans]
+    first = plans[0]
+    return propagate_many(
+        first.spec, [plan.body.moments for plan in plans],
+        np.concatenate([w * plan.body.moments for w, plan in zip(starts, plans)]),
+        [w.shape[0] for w in starts], [plan.h for plan in plans],
+        [plan.n_steps for plan in plans], 0 if first.summaries_only else first.save_every,
+        progress, first.chunk_steps if len(plans) == 1 else None,
+        track_axes=[plan.a for plan in plans], levels=[plan.levels for plan in plans],
     )
-    return prop, dict(prop.extras)
 
 
-def _member_status(prop, w0, moments, h, tolerance):
+def _member_status(loop_status, fail_step, m, w0, moments, h, tolerance, steps_done):
     """Per-member status, failure time and end-of-run invariant errors.
 
-    The driver reports non-finite states and solver failures; here members whose relative
+    The loop reports non-finite states and solver failures; here members whose relative
     energy or |L| error at the end exceeds ``tolerance`` become ``STATUS_DIVERGED``.
     """
     m0 = w0 * moments
-    m = prop.m_final
     energy0 = 0.5 * np.sum(m0 * w0, axis=1)  # E = w . I w / 2
     energy = 0.5 * np.sum(m * m / moments, axis=1)
     momentum0 = np.linalg.norm(m0, axis=1)
@@ -574,12 +717,12 @@ def _member_status(prop, w0, moments, h, tolerance):
         energy_error = (energy - energy0) / energy0
         momentum_error = (momentum - momentum0) / momentum0
         worst = np.maximum(np.abs(energy_error), np.abs(momentum_error))
-    status = prop.status.copy()
-    fail_time = np.where(status != cv.STATUS_OK, prop.fail_step * h, np.nan)
+    status = loop_status.copy()
+    fail_time = np.where(status != cv.STATUS_OK, fail_step * h, np.nan)
     # "not (worst <= tolerance)" also catches a NaN error the driver did not see.
     diverged = (status == cv.STATUS_OK) & ~(worst <= tolerance)
     status[diverged] = cv.STATUS_DIVERGED
-    fail_time[diverged] = prop.steps_done * h
+    fail_time[diverged] = steps_done * h
     return status, fail_time, {
         "energy_error": energy_error, "angular_momentum_error": momentum_error,
     }

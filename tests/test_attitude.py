@@ -23,7 +23,7 @@ from stability.attitude import (
     spatial_angular_momentum,
 )
 from stability.conventions import STATUS_NONFINITE, STATUS_NOT_CONVERGED, STATUS_OK
-from stability.driver import propagate
+from stability.driver import CHECK_EVERY, propagate
 
 # Unsorted moments (canonical frame = a cyclic relabelling) and a tilted start, so the frame
 # conversions of m and q are exercised.
@@ -163,7 +163,8 @@ def test_attitude_failure_is_flagged():
     overflow = np.array([MOMENTS * W0, [1e200, 1e200, 1e200]])
     run = propagate_attitude("rk4", MOMENTS, overflow, Q0, 0.1, 50)
     assert list(run.status) == [STATUS_OK, STATUS_NONFINITE]
-    assert list(run.fail_step) == [-1, 1]  # checked every step: the exact step count
+    assert run.fail_step[0] == -1  # found at the first finiteness check, as for every scene
+    assert 1 <= run.fail_step[1] <= CHECK_EVERY
     body = stability.RigidBody(*MOMENTS, physical=False)
     ds = stability.integrate(body, W0, 20.0, 10.0, "lgvi", attitude=True, q0=Q0)
     assert ds.attrs["status"] == "not_converged"

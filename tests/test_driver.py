@@ -126,11 +126,12 @@ def test_tracked_oscillation_about_the_largest_axis():
 
 def test_one_compiled_signature_serves_every_kind_of_run():
     """Saving, tracking and chunking must not trigger a second compilation (timed loops)."""
-    from stability.driver import member_loop
-    from stability.integrators import method_spec
+    from stability.engine import compiled_loop
+    from stability.scenes import SCENES
 
     m0 = starts(70)
     propagate("rk4", MOMENTS, m0, 0.01, 100, save_every=10, chunk_steps=30)
     propagate("rk4", MOMENTS, m0, 0.01, 100, track_axis=1, levels=[1e-3, 1e-2])
     propagate("rk4", MOMENTS, m0, 0.01, 100)
-    assert len(member_loop(method_spec("rk4").step, False).signatures) == 1
+    scene = SCENES["free_body"]
+    assert len(compiled_loop(scene, scene.method("rk4")).signatures) == 1

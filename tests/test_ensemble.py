@@ -311,14 +311,14 @@ def test_passage_times_are_zero_below_the_start_and_increase_above(reference):
 
 
 def test_interrupted_run_is_marked_partial(monkeypatch):
-    real = ensemble.propagate
+    real = ensemble.propagate_many
 
-    def stopped_halfway(spec, moments, m0, h, n_steps, *args, **kwargs):
-        result = real(spec, moments, m0, h, n_steps // 2, *args, **kwargs)
+    def stopped_halfway(spec, moments, m0, sizes, h, n_steps, *args, **kwargs):
+        result = real(spec, moments, m0, sizes, h, np.asarray(n_steps) // 2, *args, **kwargs)
         result.interrupted = True
         return result
 
-    monkeypatch.setattr(ensemble, "propagate", stopped_halfway)
+    monkeypatch.setattr(ensemble, "propagate_many", stopped_halfway)
     ds = run_ensemble(BODY, 2, 1.0, 1e-3, 10, **RUN)
     assert ds.attrs["interrupted"] == 1 and ds.attrs["steps_done"] == 1000
     assert "partial" in ds.attrs["title"]
@@ -327,16 +327,17 @@ def test_interrupted_run_is_marked_partial(monkeypatch):
 
 
 def test_interrupted_chunked_run_keeps_the_completed_chunks(monkeypatch):
-    real = ensemble.propagate
+    real = ensemble.propagate_many
     calls = []
 
-    def stopped_in_second_chunk(spec, moments, m0, h, n_steps, *args, **kwargs):
+    def stopped_in_second_chunk(spec, moments, m0, sizes, h, n_steps, *args, **kwargs):
         calls.append(len(m0))
-        result = real(spec, moments, m0, h, n_steps // (len(calls)), *args, **kwargs)
+        result = real(spec, moments, m0, sizes, h, np.asarray(n_steps) // len(calls), *args,
+                      **kwargs)
         result.interrupted = len(calls) > 1
         return result
 
-    monkeypatch.setattr(ensemble, "propagate", stopped_in_second_chunk)
+    monkeypatch.setattr(ensemble, "propagate_many", stopped_in_second_chunk)
     ds = run_ensemble(BODY, 2, 1.0, 1e-3, 25, chunk_members=10, summaries_only=True, **RUN)
     assert calls == [10, 10]
     assert ds.attrs["interrupted"] == 1 and ds.attrs["steps_done"] == 2000

@@ -56,6 +56,5 @@ EXACT = MethodSpec(
         "SIAM J. Sci. Comput. 30, 2084 (2008)"
     ),
     stages=1,
-    attitude=False,
     note="no truncation error at any h; the reference for ensembles, ~1 us per member-step",
 )

@@ -124,7 +124,6 @@ LGVI = MethodSpec(
         "Lee, Leok & McClamroch, Proc. IEEE CCA 2005, 962; "
         "Comput. Methods Appl. Mech. Eng. 196, 2907 (2007)"
     ),
-    attitude=True,
     attitude_step=lgvi_attitude_step,
     note=(
         "the DMV map with a Newton solve (~4-5 iterations at h |w| ~ 0.1, robust up to h |w| ~ 1); "

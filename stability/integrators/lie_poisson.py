@@ -18,13 +18,23 @@ Every method of the family is a palindromic sequence A(a_0 h) B(b_1 h) A(a_1 h) 
 run by one stage kernel, ``rotation_stage``; the sequence is data in the parameter array, so
 lp2, lp4, lp6 and lp8 share one compiled loop. Each sub-flow is an exact rotation, so |m| is
 kept to round-off; the map is Poisson, so the energy error stays bounded (no drift).
+
+Attitude (``rotation_attitude_stage``): the flow of ``c_k m_k^2 / 2`` rotates m by
+``R_k(-theta)`` and the attitude by ``Q <- Q R_k(+theta)``, theta = t c_k m_k; the Casimir part
+``|m|^2 / (2 I2)`` of the split leaves m fixed and turns the attitude about m,
+``Q <- Q exp(h hat(m) / I2)``; its flow commutes with the others, so it is applied once per step,
+at stage 0 [Dullweber, Leimkuhler & McLachlan (1997)]. Every factor is a unit quaternion, so |q|
+stays 1 to round-off and R m is kept to round-off.
 """
+
+import math
 
 import numpy as np
 from numba import njit
 
 from ..trig import sin_cosm1
-from .spec import N_BODY_PARAMS, P_A1, P_A3, MethodSpec, body_params
+from .rotations import quaternion_increment
+from .spec import N_BODY_PARAMS, P_A1, P_A3, P_INV2, MethodSpec, body_params
 
 #: Parameter layout after the body block: for stage s, the rotation axis (0 or 2, canonical)
 #: at P_STAGES + 2 s and the stage's weight (fraction of h) at P_STAGES + 2 s + 1.
@@ -69,6 +79,29 @@ def rotation_stage(m1, m2, m3, h, p, s):
     return (0.0 if outer else du), (du if outer else dv), (dv if outer else 0.0), 0
 
 
+@njit(inline="always", error_model="numpy")
+def rotation_attitude_stage(m1, m2, m3, q0, q1, q2, q3, h, p, s):
+    """Stage s of a Lie-Poisson rotation sequence on (m, q); Casimir rotation at stage 0."""
+    d1, d2, d3, it = rotation_stage(m1, m2, m3, h, p, s)
+    outer = p[P_STAGES + 2 * s] == 0.0
+    t = p[P_STAGES + 2 * s + 1] * h
+    coefficient = -p[P_A3] if outer else p[P_A1]
+    mk = m1 if outer else m3
+    sk, ck = sin_cosm1(0.5 * (t * coefficient * mk))  # half of theta: R_k(+theta)
+    b1 = sk if outer else 0.0
+    b3 = 0.0 if outer else sk
+    # Casimir: rotation about m by phi = h |m| / I2, once per step.
+    norm = math.sqrt(m1 * m1 + m2 * m2 + m3 * m3)
+    phi = (h if s == 0 else 0.0) * p[P_INV2] * norm
+    sc, cc = sin_cosm1(0.5 * phi)
+    scale = sc / norm if norm > 0.0 else 0.0
+    a1, a2, a3 = scale * m1, scale * m2, scale * m3
+    # r - 1 = (1 + a)(1 + b) - 1 = a + (1 + a) b, with a = r_casimir - 1, b = r_k - 1.
+    u0, u1, u2, u3 = quaternion_increment(1.0 + cc, a1, a2, a3, ck, b1, 0.0, b3)
+    e0, e1, e2, e3 = quaternion_increment(q0, q1, q2, q3, cc + u0, a1 + u1, a2 + u2, a3 + u3)
+    return d1, d2, d3, e0, e1, e2, e3, it
+
+
 def splitting_spec(name, title, order, a, b, reference, note=""):
     """A registry entry for the rotation sequence with outer weights ``a`` and inner ``b``."""
     params = sequence_params(a, b)
@@ -85,7 +118,7 @@ def splitting_spec(name, title, order, a, b, reference, note=""):
         evaluations=params.stages,
         stages=params.stages,
         reference=reference,
-        attitude=True,
+        attitude_step=rotation_attitude_stage,
         note=note,
     )
 

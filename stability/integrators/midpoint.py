@@ -113,7 +113,6 @@ MIDPOINT = MethodSpec(
     implicit=True,
     evaluations=1,
     reference="Hairer, Lubich & Wanner, Geometric Numerical Integration, 2nd ed. (2006), IV.2",
-    attitude=True,
     attitude_step=midpoint_attitude_step,
     note=(
         "E and |L| to solver tolerance, growth rate biased by exactly (2/h) artanh(h lambda/2); "

@@ -186,7 +186,6 @@ DMV = MethodSpec(
         "Moser & Veselov, Commun. Math. Phys. 139, 217 (1991); Hairer & Vilmart, "
         "J. Phys. A 39, 13225 (2006)"
     ),
-    attitude=True,
     attitude_step=dmv_attitude_step,
     note=(
         "E and |L| to round-off and no regime changes near the separatrix; only the phase errs "
@@ -208,7 +207,6 @@ DMV4 = MethodSpec(
     implicit=True,
     evaluations=1,
     reference="Hairer & Vilmart, J. Phys. A 39, 13225 (2006)",
-    attitude=True,
     attitude_step=dmv4_attitude_step,
     note=(
         "dmv's invariants at fourth order for ~15 extra flops per step; attitude also order 4"

@@ -97,7 +97,6 @@ RKMK4 = MethodSpec(
     implicit=False,
     evaluations=4,
     reference="Munthe-Kaas, BIT 38, 92 (1998); Appl. Numer. Math. 29, 115 (1999)",
-    attitude=True,
     attitude_step=rkmk4_attitude_step,
     note="RK4's accuracy with |L| to round-off, at 4 extra rotation exponentials per step",
 )

@@ -89,16 +89,15 @@ class MethodSpec:
         Where the method comes from.
     stages : int
         Stages per step (kernel calls with s = 0 .. stages - 1).
-    attitude : bool
-        Can carry the attitude R (or quaternion) when asked.
     attitude_step : numba dispatcher or None
-        The kernel that advances (m, q) together (see ``stability.attitude``)::
+        The kernel that advances (m, q) together (scene ``free_body_attitude``, see
+        ``stability.attitude``); the one fact that says whether the method carries the attitude::
 
             attitude_step(m1, m2, m3, q0, q1, q2, q3, h, p, s)
                 -> (d1, d2, d3, e0, e1, e2, e3, iterations)
 
         returning the increments of m (identical to ``step``'s) and of the body-to-space unit
-        quaternion q (scalar first). ``None`` when the method has no attitude kernel of its own.
+        quaternion q (scalar first). ``None`` when the method cannot carry the attitude.
     note : str
         One sentence on when to use it.
     """
@@ -117,13 +116,17 @@ class MethodSpec:
     evaluations: int = 1
     reference: str = ""
     stages: int = 1
-    attitude: bool = False
     note: str = ""
     attitude_step: object = field(repr=False, default=None)
 
     @property
     def explicit(self) -> bool:
         return not self.implicit
+
+    @property
+    def attitude(self) -> bool:
+        """Can carry the attitude (has an ``attitude_step``)."""
+        return self.attitude_step is not None
 
     @property
     def is_exact(self) -> bool:

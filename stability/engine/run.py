@@ -1,0 +1,383 @@
+"""Running the member loop: groups of members, chunks in time, Ctrl-C, progress.
+
+:func:`propagate_groups` is the one Python driver of :mod:`stability.engine.loop` for every
+scene: it loads (or compiles, once per process and then from the disk cache) the loop of a
+scene and a method, lays the members out in blocks, and calls the loop in chunks of steps, so a
+progress bar can advance and Ctrl-C can end the run cleanly after the chunk in flight (the state
+then matches the steps done). :func:`propagate` is the same for one ensemble in the scene's own
+frame (the canonical-frame conversions done here).
+
+Reproducibility: each member's arithmetic depends on nothing but its own state, its group's
+parameters and step, so results are bitwise the same for any number of threads, any chunking in
+time and any grouping of ensembles into calls.
+"""
+
+from __future__ import annotations
+
+import contextlib
+import signal
+import threading
+import time
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from .cache import load_module
+from .loop import BLOCK, CHECK_EVERY, N_TRACK, T_FIRST_A, T_FIRST_B, T_LAST_A, T_LAST_B
+from .loop import T_MAX_AMP2, T_NEXT_LEVEL, T_PREV_A, T_PREV_AMP2, T_PREV_B, T_COUNT_A
+from .loop import T_COUNT_B, level_thresholds, render
+
+#: Wall time a chunk of steps aims at (s): short enough for a live progress bar and a prompt
+#: Ctrl-C, long enough that the call overhead is negligible.
+CHUNK_SECONDS = 0.25
+#: Steps of the first, calibrating chunk.
+FIRST_CHUNK = 64
+
+_LOOPS: dict = {}
+
+
+def compiled_loop(scene, spec, compensated=True):
+    """The member loop of ``scene`` with method ``spec`` (a Numba dispatcher), made once.
+
+    Rendered and imported through the disk cache (:mod:`stability.engine.cache`); compiled on
+    its first call in the first process, loaded from disk after that.
+    """
+    kernel = scene.kernel(spec)
+    key = (scene.name, spec.name, kernel, compensated)
+    if key not in _LOOPS:
+        source = render(scene.name, spec.name, scene.width, spec.stages, spec.implicit, kernel,
+                        scene.observe, compensated)
+        stem = f"{scene.name}__{spec.name}" + ("" if compensated else "__plain")
+        roots = (kernel.py_func.__module__, scene.observe.py_func.__module__,
+                 "stability.engine.loop")
+        _LOOPS[key] = load_module(stem, source, roots).advance
+    return _LOOPS[key]
+
+
+def loop_ready(advance, width, n_params) -> float:
+    """Compile or load ``advance`` for the standard argument types; the seconds it took."""
+    t0 = time.perf_counter()
+    if not advance.signatures:
+        i64 = np.int64
+        one = np.zeros((1, width))
+        advance(
+            one, one.copy(), np.zeros((1, n_params)), np.zeros(1, i64), np.zeros(1, i64),
+            np.zeros(1, i64), np.zeros(1), np.zeros(1, i64), np.zeros(1, i64), 0,
+            np.zeros((1, 0, width)), np.zeros(1, i64), np.zeros(1, np.int8),
+            np.full(1, -1, i64), np.zeros(1, i64), np.zeros((1, 3), i64),
+            np.zeros((0, N_TRACK)), np.zeros((1, 0)), np.full((1, 1), np.inf), np.zeros((1, 0)),
+        )
+    return time.perf_counter() - t0
+
+
+@dataclass
+class Propagation:
+    """What a propagation returns.
+
+    Attributes
+    ----------
+    x_final : ndarray, shape (N, n)
+        State after the last completed step.
+    saved : ndarray, shape (N, n_saved, n)
+        State after steps ``save_every, 2 save_every, ...`` (initial excluded; NaN past a
+        group's own last sample).
+    status, fail_step, iterations : ndarray, shape (N,)
+        Per-member status code (``stability.conventions``), the step count at which the failure
+        was detected (-1 if none; see :func:`untrusted`), and the nonlinear-solver iterations.
+    steps_done : int or ndarray of int, shape (G,)
+        Steps completed (fewer than asked if the run was interrupted); per group for groups.
+    interrupted : bool
+        True if Ctrl-C ended the run early.
+    wall_time : float
+        Seconds spent in the loop, compilation excluded.
+    compile_time : float
+        Seconds spent compiling or loading the loop from the disk cache.
+    extras : dict
+        Tracking results (:func:`tracking_results`) and scene-specific outputs.
+    """
+
+    x_final: np.ndarray
+    saved: np.ndarray
+    status: np.ndarray
+    fail_step: np.ndarray
+    iterations: np.ndarray
+    steps_done: object
+    interrupted: bool = False
+    wall_time: float = 0.0
+    compile_time: float = 0.0
+    extras: dict = field(default_factory=dict)
+
+    @property
+    def m_final(self) -> np.ndarray:
+        """Body angular momentum after the last step (the first three components)."""
+        return self.x_final[..., :3]
+
+
+def untrusted(steps, fail_step):
+    """Mask of samples that may be past a failure.
+
+    Parameters
+    ----------
+    steps : ndarray of int, shape (n,)
+        Step count of each sample (0 for the initial state).
+    fail_step : ndarray of int, shape (N,)
+        ``Propagation.fail_step``.
+
+    Returns
+    -------
+    ndarray of bool, shape (N, n)
+        True where the sample must be masked: at or after the last check that could have
+        missed the failure (``CHECK_EVERY`` steps before its detection).
+    """
+    fail = np.asarray(fail_step)[:, None]
+    return (fail >= 0) & (np.asarray(steps)[None, :] > fail - CHECK_EVERY)
+
+
+def block_table(sizes):
+    """Start, size and group of every block, for groups of ``sizes`` consecutive members."""
+    lo, size, group = [], [], []
+    start = 0
+    for g, n in enumerate(sizes):
+        for offset in range(0, int(n), BLOCK):
+            lo.append(start + offset)
+            size.append(min(BLOCK, int(n) - offset))
+            group.append(g)
+        start += int(n)
+    as_int = lambda v: np.array(v, dtype=np.int64)  # noqa: E731
+    return as_int(lo), as_int(size), as_int(group)
+
+
+def initial_tracking(a, b, c, levels_per_member):
+    """Tracking state at the start from the tracked components ``a, b, c`` (N,) each.
+
+    The start counts: its amplitude ``hypot(b, c)`` is the first maximum, and levels it already
+    reaches are passed at time 0.
+    """
+    n = a.shape[0]
+    amplitude = np.hypot(b, c)
+    track = np.zeros((n, N_TRACK))
+    track[:, T_PREV_A] = a
+    track[:, T_PREV_B] = b
+    track[:, T_PREV_AMP2] = amplitude * amplitude  # sqrt of it gives amplitude back exactly
+    track[:, T_MAX_AMP2] = amplitude * amplitude
+    for col in (T_FIRST_A, T_LAST_A, T_FIRST_B, T_LAST_B):
+        track[:, col] = np.nan
+    reached = levels_per_member <= amplitude[:, None]
+    passage = np.where(reached, 0.0, np.nan)
+    track[:, T_NEXT_LEVEL] = reached.sum(axis=1)
+    return track, passage
+
+
+def tracking_results(track, passage):
+    """The tracked summaries by name (see :func:`propagate`)."""
+    return {
+        "axis_crossings": track[:, T_COUNT_A].astype(np.int64),
+        "first_axis_crossing": track[:, T_FIRST_A].copy(),
+        "last_axis_crossing": track[:, T_LAST_A].copy(),
+        "perp_crossings": track[:, T_COUNT_B].astype(np.int64),
+        "first_perp_crossing": track[:, T_FIRST_B].copy(),
+        "last_perp_crossing": track[:, T_LAST_B].copy(),
+        "max_perp_amplitude": np.sqrt(track[:, T_MAX_AMP2]),
+        "passage_time": passage,
+    }
+
+
+def propagate_groups(
+    scene, method, x0, params, sizes, h, n_steps, *, save_every=0, axes=None, levels=None,
+    progress=None, chunk_steps=None, compensated=True, label=None,
+):
+    """Advance groups of members of ``scene`` with ``method``, in the kernels' frame.
+
+    Parameters
+    ----------
+    scene : Scene
+    method : str or MethodSpec
+        A method of the scene.
+    x0 : array_like, shape (N, n)
+        Initial states, the members of group 0 first, then group 1, ...
+    params : array_like, shape (G, n_params)
+        Kernel parameters of each group (``spec.params(...)``).
+    sizes : array_like of int, shape (G,)
+        Members per group (sum N).
+    h : array_like, shape (G,)
+        Step of each group.
+    n_steps : array_like of int, shape (G,)
+        Steps of each group.
+    save_every : int, default 0
+        Store the state every ``save_every`` steps (0: only the final state).
+    axes : array_like of int, shape (G, 3), optional
+        Turns tracking on: the kernel-frame indices of the spin axis and the two perpendicular
+        axes of each group (``scene.observe``).
+    levels : array_like, shape (G, L), optional
+        Ascending amplitude levels of each group for the passage times (with ``axes``).
+    progress : bool or None
+        Progress bar; ``None`` shows one when the run is expected to take more than 2 s.
+    chunk_steps : int, optional
+        Steps per loop call (rounded to a multiple of ``save_every``); by default chosen so a
+        call takes about :data:`CHUNK_SECONDS`. Never changes the result.
+    compensated : bool, default True
+        Kahan-compensated update; False only to measure what compensation costs.
+    label : str, optional
+        Progress bar label (default: the method's name).
+
+    Returns
+    -------
+    Propagation
+        In the kernels' frame; ``steps_done`` per group; tracking results in ``extras``.
+    """
+    spec = scene.method(method)
+    advance = compiled_loop(scene, spec, compensated)
+    x = np.array(x0, dtype=float, order="C", copy=True)
+    params = np.ascontiguousarray(np.atleast_2d(np.asarray(params, dtype=float)))
+    sizes = np.asarray(sizes, dtype=np.int64).reshape(-1)
+    n_groups = sizes.size
+    hs = _per_group(h, float, (n_groups,))
+    total = _per_group(n_steps, np.int64, (n_groups,))
+    n_members = x.shape[0]
+    if x.ndim != 2 or x.shape[1] != scene.width or sizes.sum() != n_members:
+        raise ValueError(
+            f"x0 must have shape (sum(sizes), {scene.width}) for scene {scene.name!r}, got "
+            f"{x.shape} with sizes summing to {int(sizes.sum())}"
+        )
+    if params.shape[0] != n_groups:
+        raise ValueError(f"params must have one row per group ({n_groups}), got {params.shape}")
+    block_lo, block_size, block_group = block_table(sizes)
+    comp = np.zeros_like(x)
+    status = np.zeros(n_members, dtype=np.int8)
+    fail_step = np.full(n_members, -1, dtype=np.int64)
+    iterations = np.zeros(n_members, dtype=np.int64)
+    n_saved = int(total.max()) // save_every if save_every > 0 else 0
+    saved = np.empty((n_members, n_saved, scene.width))
+
+    if axes is None:
+        axes = np.zeros((n_groups, 3), dtype=np.int64)
+        track = np.zeros((0, N_TRACK))
+        levels = np.zeros((n_groups, 0))
+        passage = np.zeros((n_members, 0))
+    else:
+        axes = _per_group(axes, np.int64, (n_groups, 3))
+        levels = np.zeros((n_groups, 0)) if levels is None else np.atleast_2d(levels)
+        levels = _per_group(levels, float, (n_groups, levels.shape[-1]))
+        a, b, c = _observed(scene, x, params, axes, sizes)
+        track, passage = initial_tracking(a, b, c, np.repeat(levels, sizes, axis=0))
+    thresholds = np.full((n_groups, levels.shape[1] + 1), np.inf)  # inf past the last level
+    thresholds[:, :-1] = level_thresholds(levels)
+
+    compile_time = loop_ready(advance, scene.width, params.shape[1])
+    done = np.zeros(n_groups, dtype=np.int64)
+    k_saved = np.zeros(n_groups, dtype=np.int64)
+
+    def run_chunk(this):
+        advance(
+            x, comp, params, block_lo, block_size, block_group, hs, this, done, save_every,
+            saved, k_saved, status, fail_step, iterations, axes, track, levels, thresholds,
+            passage,
+        )
+
+    wall, interrupted = _run_in_chunks(
+        run_chunk, sizes, total, done, k_saved, save_every, chunk_steps, progress,
+        label or spec.name,
+    )
+    kept = int(k_saved.max()) if n_groups else 0
+    saved = saved[:, :kept]
+    if n_groups > 1 and kept:
+        short = np.repeat(k_saved, sizes)
+        saved[np.arange(kept)[None, :] >= short[:, None]] = np.nan
+    return Propagation(
+        x_final=x, saved=saved, status=status, fail_step=fail_step, iterations=iterations,
+        steps_done=done, interrupted=interrupted, wall_time=wall, compile_time=compile_time,
+        extras={} if track.shape[0] == 0 else tracking_results(track, passage),
+    )
+
+
+def _per_group(value, dtype, shape) -> np.ndarray:
+    """``value`` broadcast to ``shape`` as a new, writable, C-ordered array (one signature)."""
+    return np.array(np.broadcast_to(np.asarray(value, dtype=dtype), shape), dtype=dtype)
+
+
+def _observed(scene, x, params, axes, sizes):
+    """The tracked components of every member at the start (NumPy, per group)."""
+    out = np.empty((3, x.shape[0]))
+    lo = 0
+    for g, n in enumerate(sizes):
+        out[:, lo:lo + n] = scene.tracked(x[lo:lo + n], params[g], axes[g])
+        lo += n
+    return out
+
+
+def _run_in_chunks(run_chunk, sizes, total, done, k_saved, save_every, chunk_steps, progress,
+                   label):
+    """Call ``run_chunk(steps per group)`` until every group has done its steps.
+
+    ``done`` and ``k_saved`` are updated in place. Chunks are whole numbers of save intervals;
+    without ``chunk_steps`` the first call is short and calibrates calls of about
+    :data:`CHUNK_SECONDS`. Returns the seconds spent in ``run_chunk`` and whether Ctrl-C ended
+    the run.
+    """
+    unit = save_every if save_every > 0 else 1
+    one_group = sizes.size == 1
+    work = (sizes * total).sum()  # member-steps
+    wall = 0.0
+    bar = None
+    chunk = chunk_steps
+    with deferred_interrupt() as interrupt:
+        while np.any(done < total) and not interrupt.requested:
+            wanted = FIRST_CHUNK if chunk is None else int(chunk)
+            steps = max(unit, (wanted // unit) * unit)
+            this = np.minimum(total - done, steps)
+            t0 = time.perf_counter()
+            run_chunk(this)
+            dt = time.perf_counter() - t0
+            wall += dt
+            done += this
+            if save_every > 0:
+                k_saved += this // save_every
+            member_steps = int((sizes * this).sum())
+            if chunk_steps is None:
+                active = max(int(sizes[done < total].sum()), 1)
+                rate = member_steps / max(dt, 1e-9)
+                chunk = max(unit, int(CHUNK_SECONDS * rate / active))
+                if bar is None and progress is not False:
+                    left = work - int((sizes * done).sum())
+                    if progress or left / rate > 2.0:
+                        bar = _progress_bar(
+                            int(total[0]) if one_group else int(work),
+                            int(done[0]) if one_group else int((sizes * done).sum()),
+                            label, "step" if one_group else "member-step",
+                        )
+                        continue
+            if bar is not None:
+                bar.update(int(this[0]) if one_group else member_steps)
+        interrupted = interrupt.requested
+    if bar is not None:
+        bar.close()
+    return wall, interrupted
+
+
+class _Interrupt:
+    requested = False
+
+
+@contextlib.contextmanager
+def deferred_interrupt():
+    """Turn Ctrl-C into a flag checked between chunks, so no half-finished chunk is lost."""
+    flag = _Interrupt()
+    if threading.current_thread() is not threading.main_thread():
+        yield flag
+        return
+
+    def handler(signum, frame):
+        flag.requested = True
+
+    previous = signal.signal(signal.SIGINT, handler)
+    try:
+        yield flag
+    finally:
+        signal.signal(signal.SIGINT, previous)
+
+
+def _progress_bar(total, initial, label, unit):
+    from tqdm.auto import tqdm
+
+    return tqdm(total=total, initial=initial, unit=unit, desc=label, leave=False,
+                unit_scale=unit != "step")

@@ -1,0 +1,30 @@
+"""The scene registry: what the one member loop can integrate.
+
+``SCENES`` maps a short lowercase name to a :class:`~stability.scenes.spec.Scene`;
+``scene(name)`` looks one up and names the known ones when it is missing. To add a scene, write
+one module beside these (copy ``free_body.py``; the checklist is in ``spec.py``) and add it to
+``_ALL`` below.
+"""
+
+from .free_body import FREE_BODY
+from .free_body_attitude import FREE_BODY_ATTITUDE
+from .spec import Scene
+
+_ALL = (FREE_BODY, FREE_BODY_ATTITUDE)
+
+SCENES: dict[str, Scene] = {s.name: s for s in _ALL}
+
+
+def scene(name) -> Scene:
+    """The scene registered under ``name``; ValueError listing the known ones if none."""
+    if isinstance(name, Scene):
+        return name
+    try:
+        return SCENES[name]
+    except (KeyError, TypeError):
+        raise ValueError(
+            f"unknown scene {name!r}; known scenes: {', '.join(SCENES)}"
+        ) from None
+
+
+__all__ = ["SCENES", "Scene", "scene"]

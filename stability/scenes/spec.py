@@ -1,0 +1,88 @@
+"""What a scene is: the state it integrates, its kernels, invariants and exact solution.
+
+A scene is one physical problem run by the one member loop (:mod:`stability.engine`). Checklist
+for a new scene (copy ``stability/scenes/free_body.py``):
+
+1. Name the state's numbers and their units (``components``, ``units``), in the frame the
+   kernels use.
+2. Give the methods that suit it: ``methods`` maps a name to a
+   :class:`~stability.integrators.spec.MethodSpec`, and ``kernel(spec)`` picks this scene's stage
+   kernel from a spec, ``step(x_0, ..., x_{n-1}, h, p, s) -> (d_0, ..., d_{n-1}, iterations)``
+   with ``p = spec.params(parameters, h)``; kernels are ``njit(inline="always")`` module-level
+   functions and never raise.
+3. Write ``observe(x_0, ..., x_{n-1}, p, ia, ib, ic) -> (a, b, c)``: what the loop tracks (the
+   component along the spin axis and two across it), and ``tracked``, the same in NumPy.
+4. Give its invariants (NumPy functions of the state and the parameters) and its exact solution
+   where one exists.
+5. Add the scene to ``SCENES`` in ``stability/scenes/__init__.py``; the generic tests over the
+   registry (orders, invariants, reproducibility, the disk cache) then run on it.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from typing import Callable, Mapping
+
+
+def _own_step(spec):
+    return spec.step
+
+
+@dataclass(frozen=True, eq=False)
+class Scene:
+    """A registered scene; see the module docstring.
+
+    Attributes
+    ----------
+    name : str
+        Short lowercase registry key (``"free_body"``).
+    title : str
+        Human name.
+    equations : str
+        The equations integrated, in one line.
+    components : tuple of str
+        Names of the state's numbers, in kernel order.
+    units : tuple of str
+        UDUNITS unit of each component.
+    methods : mapping of str to MethodSpec
+        The methods that run this scene.
+    observe : numba dispatcher
+        Tracking kernel (see the module docstring).
+    tracked : callable
+        ``tracked(x, p, axes) -> (a, b, c)``: ``observe`` in NumPy over states ``x`` (N, n).
+    kernel : callable
+        ``kernel(spec)``: this scene's stage kernel in a method's spec (default ``spec.step``).
+    invariants : mapping of str to callable
+        ``f(x, parameters) -> ndarray (N,)`` for each conserved quantity, states ``x`` (N, n).
+    exact : callable or None
+        The exact solution, where one exists.
+    """
+
+    name: str
+    title: str
+    equations: str
+    components: tuple
+    units: tuple
+    methods: Mapping = field(repr=False)
+    observe: object = field(repr=False)
+    tracked: Callable = field(repr=False)
+    kernel: Callable = field(repr=False, default=_own_step)
+    invariants: Mapping = field(repr=False, default_factory=dict)
+    exact: Callable | None = field(repr=False, default=None)
+
+    @property
+    def width(self) -> int:
+        """Numbers per member in the state."""
+        return len(self.components)
+
+    def method(self, name):
+        """The spec of method ``name`` in this scene; ValueError naming the known ones if none."""
+        if not isinstance(name, str) and getattr(name, "name", None) in self.methods:
+            name = name.name
+        try:
+            return self.methods[name]
+        except (KeyError, TypeError):
+            known = ", ".join(self.methods)
+            raise ValueError(
+                f"method {name!r} does not run scene {self.name!r}; methods that do: {known}"
+            ) from None

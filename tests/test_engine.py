@@ -1,0 +1,151 @@
+"""The engine: one member loop for every scene and method, cached on disk, grouped ensembles."""
+
+import json
+import os
+import subprocess
+import sys
+import textwrap
+
+import numpy as np
+import pytest
+
+from stability.engine import BLOCK, compiled_loop, propagate_groups
+from stability.engine.loop import level_thresholds
+from stability.scenes import SCENES
+
+MOMENTS = np.array([1.0, 2.0, 3.0])  # canonical already
+
+
+def starts(scene, n, seed=0):
+    """n states near a spin about the intermediate axis (and the identity attitude)."""
+    rng = np.random.default_rng(seed)
+    m = np.column_stack([1e-2 * rng.standard_normal(n), 2.0 + 0 * rng.standard_normal(n),
+                         1e-2 * rng.standard_normal(n)])
+    if scene.width == 3:
+        return m
+    q = np.tile([1.0, 0.0, 0.0, 0.0], (n, 1))
+    return np.concatenate([m, q], axis=1)
+
+
+CASES = [(scene, name) for scene in SCENES.values() for name in scene.methods]
+
+
+@pytest.mark.parametrize("scene,name", CASES, ids=[f"{s.name}-{n}" for s, n in CASES])
+def test_groups_are_bitwise_the_runs_alone(scene, name):
+    """Ensembles grouped in one call (other bodies, steps and horizons beside them) give every
+    member bitwise what a run of its ensemble alone gives, saved samples and tracking included."""
+    spec = scene.method(name)
+    bodies = [MOMENTS, np.array([1.0, 1.5, 2.2]), np.array([0.5, 2.0, 2.1])]
+    sizes = [70, BLOCK, 5]  # a partial block, a whole one, a tiny one
+    hs = [0.05, 0.02, 0.04]
+    steps = [40, 60, 20]
+    x0 = np.concatenate([starts(scene, n, seed=k) for k, n in enumerate(sizes)])
+    params = np.array([spec.params(I, h) for I, h in zip(bodies, hs)])
+    levels = np.array([[1e-2, 5e-2, 0.3]] * 3)
+    axes = np.array([[1, 0, 2]] * 3)
+    together = propagate_groups(scene, spec, x0, params, sizes, hs, steps, save_every=10,
+                                axes=axes, levels=levels, chunk_steps=30, progress=False)
+    lo = 0
+    for g, n in enumerate(sizes):
+        alone = propagate_groups(scene, spec, x0[lo:lo + n], params[g:g + 1], [n], hs[g],
+                                 steps[g], save_every=10, axes=axes[g:g + 1],
+                                 levels=levels[g:g + 1], progress=False)
+        rows = slice(lo, lo + n)
+        assert np.array_equal(together.x_final[rows], alone.x_final)
+        k = steps[g] // 10
+        assert np.array_equal(together.saved[rows, :k], alone.saved)
+        assert np.all(np.isnan(together.saved[rows, k:]))
+        for key, value in alone.extras.items():
+            assert np.array_equal(together.extras[key][rows], value, equal_nan=True), key
+        assert together.steps_done[g] == steps[g]
+        lo += n
+
+
+def test_every_scene_method_pair_compiles_to_one_signature():
+    """A second run of any kind (saving, tracking, groups) reuses the compiled loop."""
+    scene = SCENES["free_body_attitude"]
+    spec = scene.method("lp2")
+    x0 = starts(scene, 3)
+    p = spec.params(MOMENTS, 0.1)[None, :]
+    propagate_groups(scene, spec, x0, p, [3], 0.1, 20, save_every=5, progress=False)
+    propagate_groups(scene, spec, x0, p, [3], 0.1, 20, axes=[[1, 0, 2]], levels=[[0.1]],
+                     progress=False)
+    assert len(compiled_loop(scene, spec).signatures) == 1
+
+
+def test_bad_shapes_are_refused_with_the_expected_shape():
+    scene = SCENES["free_body"]
+    p = scene.method("rk4").params(MOMENTS, 0.1)[None, :]
+    with pytest.raises(ValueError, match=r"shape \(sum\(sizes\), 3\)"):
+        propagate_groups(scene, "rk4", np.zeros((4, 7)), p, [4], 0.1, 5)
+    with pytest.raises(ValueError, match="method 'exact' does not run scene"):
+        propagate_groups(SCENES["free_body_attitude"], "exact", np.zeros((1, 7)), p, [1], 0.1, 5)
+
+
+@pytest.mark.parametrize("level", [1e-300, 3e-7, 0.1, 1.0, 2.0 ** 0.5, 7.3e12, 1e150])
+def test_level_thresholds_are_the_exact_square_boundaries(level):
+    """sqrt(x) >= level exactly when x >= threshold: no square root per step is needed."""
+    x = float(level_thresholds([level])[0])
+    assert np.sqrt(x) >= level
+    assert np.sqrt(np.nextafter(x, 0.0)) < level
+
+
+# --- the disk cache ----------------------------------------------------------------------------
+
+KERNEL = '''
+from numba import njit
+
+@njit(inline="always")
+def decay_step(x1, x2, x3, h, p, s):
+    """Explicit Euler on x' = -k x (k = p[0]), each component."""
+    return -h * {factor} * p[0] * x1, -h * p[0] * x2, -h * p[0] * x3, 0
+
+@njit(inline="always")
+def observe(x1, x2, x3, p, ia, ib, ic):
+    return x1, x2, x3
+'''
+
+SCRIPT = '''
+import json, sys
+import numpy as np
+sys.path.insert(0, sys.argv[1])
+import decay
+from stability.engine import compiled_loop, propagate_groups
+from stability.integrators.spec import MethodSpec
+from stability.scenes.spec import Scene
+
+spec = MethodSpec(name="euler", title="explicit Euler", order=1, step=decay.decay_step,
+                  params=lambda k, h: np.array([k]))
+scene = Scene(name="decay", title="decay", equations="x' = -k x", components=("a", "b", "c"),
+              units=("1", "1", "1"), methods={"euler": spec}, observe=decay.observe,
+              tracked=lambda x, p, axes: (x[:, 0], x[:, 1], x[:, 2]))
+run = propagate_groups(scene, spec, np.ones((3, 3)), [[0.5]], [3], 0.1, 10, progress=False)
+stats = compiled_loop(scene, spec).stats
+print(json.dumps({"x": run.x_final[0].tolist(), "hits": sum(stats.cache_hits.values()),
+                  "misses": sum(stats.cache_misses.values())}))
+'''
+
+
+def run_in_new_process(tmp_path):
+    env = dict(os.environ, STABILITY_CACHE_DIR=str(tmp_path / "cache"))
+    done = subprocess.run([sys.executable, str(tmp_path / "script.py"), str(tmp_path)],
+                          capture_output=True, text=True, env=env, check=True)
+    return json.loads(done.stdout.strip().splitlines()[-1])
+
+
+def test_loops_load_from_disk_and_compile_again_when_a_kernel_changes(tmp_path):
+    """The second process loads the compiled loop from the disk cache; after an edit of the
+    kernel's module the next process compiles it again, and runs the edited kernel."""
+    (tmp_path / "decay.py").write_text(textwrap.dedent(KERNEL.format(factor="1.0")))
+    (tmp_path / "script.py").write_text(SCRIPT)
+    first = run_in_new_process(tmp_path)
+    second = run_in_new_process(tmp_path)
+    assert (first["misses"], first["hits"]) == (1, 0)
+    assert (second["misses"], second["hits"]) == (0, 1)
+    assert second["x"] == first["x"] == pytest.approx([0.95 ** 10] * 3, rel=1e-14)
+
+    (tmp_path / "decay.py").write_text(textwrap.dedent(KERNEL.format(factor="2.0")))
+    edited = run_in_new_process(tmp_path)
+    assert (edited["misses"], edited["hits"]) == (1, 0)
+    assert edited["x"][0] == pytest.approx(0.9 ** 10, rel=1e-14)
+    assert edited["x"][1:] == first["x"][1:]
