@@ -21,7 +21,6 @@ and an ensemble of N members is the first N members of any larger one with the s
 
 from __future__ import annotations
 
-import contextlib
 import logging
 import math
 import numbers
@@ -42,6 +41,7 @@ from .dataset import (
 )
 from .driver import propagate
 from .integrators import method_spec
+from .threads import numba_threads
 
 log = logging.getLogger(__name__)
 
@@ -375,7 +375,7 @@ def run_ensemble(
         w0 = perturbed_starts(axis, spin, epsilon, members, ss, direction)
 
     # --- run --------------------------------------------------------------------------------
-    with _numba_threads(threads):
+    with numba_threads(threads):
         run = _run(
             body, spec, w0, h, n_steps, save_every, a, levels, summaries_only,
             divergence_tolerance, chunk_members, chunk_steps, progress,
@@ -664,20 +664,6 @@ def _levels(levels, spin_ref) -> np.ndarray:
     if not np.all(np.isfinite(x)) or np.any(x <= 0.0) or np.any(np.diff(x) <= 0.0):
         raise ValueError(f"levels must be finite, > 0 and strictly ascending, got {levels!r}")
     return x
-
-
-@contextlib.contextmanager
-def _numba_threads(threads):
-    """Run with ``threads`` Numba threads and restore the previous number afterwards."""
-    if threads is None:
-        yield
-        return
-    previous = numba.get_num_threads()
-    numba.set_num_threads(threads)
-    try:
-        yield
-    finally:
-        numba.set_num_threads(previous)
 
 
 def _call_repr(body, resolved) -> str:

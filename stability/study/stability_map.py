@@ -39,7 +39,6 @@ configuration and four figures (:mod:`stability.figures.stability_map`).
 
 from __future__ import annotations
 
-import contextlib
 import math
 import resource
 import sys
@@ -48,6 +47,7 @@ from pathlib import Path
 
 import numpy as np
 
+from ..threads import numba_threads
 from .config import ConfigError, Key, Schema, Section, StudyKind, StudySummary
 
 NAME = "stability_map"
@@ -278,7 +278,7 @@ def run(config: dict, out_dir: Path, *, overwrite=False, threads=None, progress=
 
     t_start = time.perf_counter()
     threads = config["integration"]["threads"] if threads is None else threads
-    with _numba_threads(threads):
+    with numba_threads(threads):
         ds, work = compute(config, progress=progress)
     ds.attrs["history"] = history or f"stability run ({NAME})"
     ds.attrs["config_toml"] = to_toml(config)
@@ -298,18 +298,6 @@ def run(config: dict, out_dir: Path, *, overwrite=False, threads=None, progress=
             files += save(make(ds), out_dir, stem, out["formats"])
     wall = time.perf_counter() - t_start
     return summarize(ds, config, out_dir, files, wall, compute_time, work)
-
-
-@contextlib.contextmanager
-def _numba_threads(threads):
-    import numba
-
-    before = numba.get_num_threads()
-    numba.set_num_threads(min(int(threads), numba.config.NUMBA_NUM_THREADS))
-    try:
-        yield
-    finally:
-        numba.set_num_threads(before)
 
 
 def compute(config: dict, progress=None):

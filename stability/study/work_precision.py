@@ -56,6 +56,7 @@ from ..ensemble import perturbed_starts
 from ..exact import exact_omega
 from ..integrators import METHODS, method_spec
 from ..io import save
+from ..threads import numba_threads
 from .config import ConfigError, Key, Schema, Section, StudyKind, StudySummary, to_toml
 
 NAME = "work_precision"
@@ -905,15 +906,8 @@ def run(config: dict, out_dir: Path, *, overwrite=False, threads=None, progress=
         Rows: the fastest method per accuracy target on the tennis workload, the conditioning
         floor, the long-horizon behaviour per method, and the run time.
     """
-    import numba
-
-    previous_threads = numba.get_num_threads()
-    if threads is not None:
-        numba.set_num_threads(threads)
-    try:
+    with numba_threads(threads):
         ds, wall = measure(config, progress=progress)
-    finally:
-        numba.set_num_threads(previous_threads)
     ds.attrs["history"] = history_line(history or f"stability run ({NAME})")
     out = config["output"]
     out_dir = Path(out_dir)
