@@ -30,6 +30,7 @@ import numba
 import numpy as np
 
 from . import conventions as cv
+from .analytic import perpendicular_axes
 from .body import RigidBody
 from .checks import positive_float, positive_int, step_count, vectors3
 from .dataset import (
@@ -153,7 +154,7 @@ def perturbed_starts(axis, spin, epsilon, members, seed=0, direction=None) -> np
         w0 += epsilon * spin * _perpendicular_direction(direction, a)
         return w0
     phi = _random_angles(seed_sequence(seed), members)
-    b, c = _perpendicular_axes(a)
+    b, c = (x - 1 for x in perpendicular_axes(a + 1))  # lowest first, as the tracking uses
     w0[:, b] = epsilon * spin * np.cos(phi)
     w0[:, c] = epsilon * spin * np.sin(phi)
     return w0
@@ -615,12 +616,6 @@ def _axis_index(axis) -> int:
     if isinstance(axis, bool) or not isinstance(axis, numbers.Integral) or axis not in (1, 2, 3):
         raise ValueError(f"axis must be the principal axis 1, 2 or 3, got {axis!r}")
     return int(axis) - 1
-
-
-def _perpendicular_axes(a: int) -> tuple[int, int]:
-    """The two axes other than ``a`` (0-based), lowest first, as the driver's tracking uses."""
-    b, c = (x for x in (0, 1, 2) if x != a)
-    return b, c
 
 
 def _nonnegative_float(name, value) -> float:

@@ -53,6 +53,7 @@ import numpy as np
 import xarray as xr
 
 from . import conventions as cv
+from .analytic import perpendicular_axes
 
 #: Lower edge of the growth-rate window, in units of the member's initial perpendicular
 #: amplitude a0. A start off the unstable eigenvector carries a decaying mode; at 100 a0 it is
@@ -152,12 +153,6 @@ class Members:
 
 # ---------------------------------------------------------------------------------------------
 # Reading a Dataset
-
-
-def perpendicular_axes(axis: int) -> tuple[int, int]:
-    """The two principal axes (1-based, ascending) perpendicular to ``axis``."""
-    b, c = (a for a in cv.AXES if a != axis)
-    return b, c
 
 
 def zero_crossings(t, x):
