@@ -88,3 +88,11 @@ def test_growth_figure_draws_the_analytic_slope(analysed):
     slope = np.diff(np.log(y)) / np.diff(t)
     np.testing.assert_allclose(slope, ds.attrs["growth_rate_analytic"], rtol=1e-9)
     assert ax.get_yscale() == "log"
+
+
+def test_work_precision_styles_are_keyed_by_registered_families():
+    """Every family style names a family of the registry, so none is silently unused."""
+    from stability.figures import work_precision
+
+    families = {spec.family for spec in stability.METHODS.values()}
+    assert set(work_precision._FAMILY_STYLE) <= families

@@ -23,7 +23,7 @@ from .style import EXACT_COLOR, label, new_figure, save, styled
 _FAMILY_STYLE = {
     "Runge-Kutta": "-",
     "Lie-Poisson splitting": "--",
-    "exact": ":",
+    "exact flow": ":",
 }
 _MARKERS = "osD^v<>ph*Xd"
 SCIPY_COLOR = "0.35"
