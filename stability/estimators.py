@@ -954,6 +954,28 @@ def flip_statistics(ds: xr.Dataset, axis=None, spin=None, *, body=None) -> xr.Da
                       attrs={"axis": mem.axis, "spin": mem.spin})
 
 
+def richardson_bias(coarse, fine, order):
+    """A method's own O(h^p) bias at step h, from the same estimate at h and at h / 2.
+
+    Richardson extrapolation: with ``X(h) = X + c h^p``, ``X(h) - X(h/2) = c h^p (1 - 2^-p)``,
+    so the bias of ``coarse`` is ``(coarse - fine) / (1 - 2^-p)``.
+
+    Parameters
+    ----------
+    coarse, fine : array_like
+        The estimate at h and at h / 2 (broadcast together).
+    order : array_like
+        The method's order p (broadcast; ``inf`` for an exact flow gives the plain difference).
+
+    Returns
+    -------
+    ndarray
+        The bias in the units of the estimate; NaN where either estimate is.
+    """
+    with np.errstate(invalid="ignore", divide="ignore"):
+        return (np.asarray(coarse) - fine) / (1.0 - 2.0 ** -np.asarray(order, dtype=float))
+
+
 def _is_intermediate(moments, axis):
     moments = np.asarray(moments, dtype=float)
     others = np.delete(moments, axis - 1)
@@ -966,6 +988,6 @@ __all__ = [
     "REGIME_UNDETERMINED", "WINDOW_HIGH_FRACTION", "WINDOW_LOW_FACTOR",
     "ESTIMATE_ATTRS", "exact_flip_intervals", "flip_estimate", "flip_statistics",
     "measured_frequency", "measured_growth_rate", "measured_omega_squared", "member_regimes",
-    "members", "omega_squared_estimate", "perpendicular_axes", "tracked_members",
-    "zero_crossings",
+    "members", "omega_squared_estimate", "perpendicular_axes", "richardson_bias",
+    "tracked_members", "zero_crossings",
 ]

@@ -285,3 +285,12 @@ def test_estimators_on_run_ensemble_datasets_series_and_summaries():
     res = est.measured_omega_squared(stable)
     assert res.regime == est.REGIME_OSCILLATION
     assert abs(float(res.relative_error)) < 1e-5
+
+
+def test_richardson_bias_of_an_order_p_error():
+    h, c, p = 0.1, 3.0, 4
+    exact = 2.0
+    coarse, fine = exact + c * h**p, exact + c * (h / 2) ** p
+    assert est.richardson_bias(coarse, fine, p) == pytest.approx(c * h**p, rel=1e-9)
+    np.testing.assert_array_equal(est.richardson_bias([1.0, np.nan], [0.5, 1.0], np.inf),
+                                  [0.5, np.nan])
