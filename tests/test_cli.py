@@ -12,7 +12,7 @@ import stability
 from stability import bench as bench_module
 from stability.cli import main
 from stability.driver import propagate
-from stability.study import load_study
+from stability.study import STUDIES, load_study
 from stability.study.tennis_racket import FIGURES
 
 ROOT = Path(__file__).resolve().parents[1]
@@ -40,7 +40,7 @@ def test_studies_lists_kinds_and_their_keys(capsys):
     assert main(["studies", "nope"]) == 2
     err = capsys.readouterr().err.strip()
     assert err == ("stability studies: error: unknown study kind 'nope'; known kinds: "
-                   "stability_map, tennis_racket, work_precision")
+                   + ", ".join(STUDIES))
 
 
 def test_usage_errors_are_one_line(capsys, tmp_path):
