@@ -11,6 +11,9 @@ a grid over inertia space. Moments may be in any order; axis labels 1, 2, 3 are 
 - Linear stability of steady spin about a principal axis: :func:`omega_squared` (with the sign
   of ERRATA 2: > 0 oscillation, < 0 growth), :func:`growth_rate`,
   :func:`oscillation_frequency`, :func:`axis_stability`.
+- Axes: :func:`perpendicular_axes`, :func:`principal_axis` and :func:`moment_name` (which axis
+  carries the smallest, intermediate or largest moment), :func:`intermediate_axis`.
+- Euler's equations in w for NumPy and SciPy: :func:`euler_rhs`, :func:`euler_system`.
 
 Non-finite angular velocities give non-finite results (masked ensemble members stay masked);
 spins must be finite.
@@ -26,17 +29,26 @@ import numpy as np
 from .body import RigidBody
 
 __all__ = [
+    "MOMENT_NAMES",
     "InvariantDifferences",
     "angular_momentum",
     "angular_momentum_norm",
     "axis_stability",
+    "euler_rhs",
+    "euler_system",
     "growth_rate",
     "intermediate_axis",
     "invariant_differences",
     "kinetic_energy",
+    "moment_name",
     "omega_squared",
     "oscillation_frequency",
+    "perpendicular_axes",
+    "principal_axis",
 ]
+
+#: Names of the axes by their moment, in ascending order of the moment.
+MOMENT_NAMES = ("smallest", "intermediate", "largest")
 
 
 # --------------------------------------------------------------------------------- invariants
@@ -149,6 +161,65 @@ def invariant_differences(body, w) -> InvariantDifferences:
     D2 = Ia * (Ia - Ib) * w2[..., 0] + Ic * (Ic - Ib) * w2[..., 2]
     D3 = Ia * (Ic - Ia) * w2[..., 0] + Ib * (Ic - Ib) * w2[..., 1]
     return InvariantDifferences(D1, D2, D3)
+
+
+# ------------------------------------------------------------------------- Euler's equations
+
+
+def _euler_coefficients(body):
+    """``(a1, a2, a3)`` of ``w1' = a1 w2 w3`` and cyclic: ``a1 = (I2 - I3) / I1`` (ERRATA 1)."""
+    I = _moments(body)
+    I1, I2, I3 = I[..., 0], I[..., 1], I[..., 2]
+    return (I2 - I3) / I1, (I3 - I1) / I2, (I1 - I2) / I3
+
+
+def _euler_terms(a1, a2, a3, w1, w2, w3):
+    # I1 w1' = (I2 - I3) w2 w3, cyclic (ERRATA 1), with the moments divided out first.
+    return a1 * w2 * w3, a2 * w3 * w1, a3 * w1 * w2
+
+
+def euler_rhs(body, w):
+    """Torque-free Euler equations in w: ``w' = (a1 w2 w3, a2 w3 w1, a3 w1 w2)``.
+
+    ``a1 = (I2 - I3) / I1`` and cyclic: the NumPy twin of the kernels' right-hand side (which
+    work on ``m = I w``), for references and predictions outside the compiled loop.
+
+    Parameters
+    ----------
+    body : RigidBody or array_like, shape (..., 3)
+        Principal moments in kg m^2.
+    w : array_like, shape (..., 3)
+        Body-frame angular velocity in rad/s.
+
+    Returns
+    -------
+    ndarray, shape (..., 3)
+        ``dw/dt`` in rad s^-2.
+    """
+    I, w = _moments_and_w(body, w)
+    terms = _euler_terms(*_euler_coefficients(I), w[..., 0], w[..., 1], w[..., 2])
+    return np.stack(terms, axis=-1)
+
+
+def euler_system(body, members: int):
+    """Euler's equations in w for ``scipy.integrate.solve_ivp``, ``members`` starts as one system.
+
+    The state is stacked component by component, ``y = (w1[:], w2[:], w3[:])`` of length
+    ``3 members`` (``np.ascontiguousarray(w0.T).ravel()`` for starts ``w0`` (N, 3)), so the
+    right-hand side is three NumPy expressions over all members (:func:`euler_rhs`'s terms).
+
+    Returns
+    -------
+    callable
+        ``rhs(t, y)`` returning ``dy/dt``, shape (3 members,).
+    """
+    a1, a2, a3 = (float(a) for a in _euler_coefficients(body))
+
+    def rhs(t, y):
+        w1, w2, w3 = y[:members], y[members : 2 * members], y[2 * members :]
+        return np.concatenate(_euler_terms(a1, a2, a3, w1, w2, w3))
+
+    return rhs
 
 
 # ------------------------------------------------------------------------ linear stability
@@ -286,6 +357,28 @@ def intermediate_axis(body):
     I = _moments(body)
     label = np.argsort(I, axis=-1, kind="stable")[..., 1] + 1
     return int(label) if label.ndim == 0 else label
+
+
+def principal_axis(body, which: str) -> int:
+    """Label (1, 2 or 3) of the axis with the ``"smallest"``, ``"intermediate"`` or
+    ``"largest"`` moment (:data:`MOMENT_NAMES`); equal moments are ranked by label."""
+    if which not in MOMENT_NAMES:
+        raise ValueError(f"which must be one of {', '.join(MOMENT_NAMES)}, got {which!r}")
+    order = np.argsort(_moments(body), kind="stable")
+    return int(order[MOMENT_NAMES.index(which)]) + 1
+
+
+def moment_name(body, axis: int) -> str:
+    """Which moment body axis ``axis`` (1, 2, 3) carries: ``"smallest"``, ``"intermediate"`` or
+    ``"largest"``; the inverse of :func:`principal_axis`."""
+    rank = int(np.argsort(np.argsort(_moments(body), kind="stable"))[axis - 1])
+    return MOMENT_NAMES[rank]
+
+
+def perpendicular_axes(axis: int) -> tuple[int, int]:
+    """The two principal axes (1-based, ascending) perpendicular to ``axis``."""
+    b, c = (a for a in (1, 2, 3) if a != axis)
+    return b, c
 
 
 # -------------------------------------------------------------------------------- validation

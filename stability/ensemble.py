@@ -21,7 +21,6 @@ and an ensemble of N members is the first N members of any larger one with the s
 
 from __future__ import annotations
 
-import contextlib
 import logging
 import math
 import numbers
@@ -31,6 +30,7 @@ import numba
 import numpy as np
 
 from . import conventions as cv
+from .analytic import perpendicular_axes
 from .body import RigidBody
 from .checks import positive_float, positive_int, step_count, vectors3
 from .dataset import (
@@ -42,6 +42,7 @@ from .dataset import (
 )
 from .driver import propagate_many
 from .integrators import method_spec
+from .threads import numba_threads
 
 log = logging.getLogger(__name__)
 
@@ -153,7 +154,7 @@ def perturbed_starts(axis, spin, epsilon, members, seed=0, direction=None) -> np
         w0 += epsilon * spin * _perpendicular_direction(direction, a)
         return w0
     phi = _random_angles(seed_sequence(seed), members)
-    b, c = _perpendicular_axes(a)
+    b, c = (x - 1 for x in perpendicular_axes(a + 1))  # lowest first, as the tracking uses
     w0[:, b] = epsilon * spin * np.cos(phi)
     w0[:, c] = epsilon * spin * np.sin(phi)
     return w0
@@ -290,7 +291,7 @@ def run_ensemble(
         levels=levels, divergence_tolerance=divergence_tolerance, max_memory=max_memory,
         chunk_members=chunk_members, chunk_steps=chunk_steps, config=config, command=command,
     )
-    with _numba_threads(_threads(threads)):
+    with numba_threads(_threads(threads)):
         (run,) = _run([plan], progress)
         return _dataset(plan, run, threads)
 
@@ -332,7 +333,7 @@ def run_ensembles(calls, *, threads=None, progress=None) -> list:
         key = (plan.spec.name, plan.summaries_only, plan.save_every, plan.levels.size)
         batches.setdefault(key, []).append(k)
     runs = [None] * len(plans)
-    with _numba_threads(_threads(threads)):
+    with numba_threads(_threads(threads)):
         for indices in batches.values():
             for k, run in zip(indices, _run([plans[k] for k in indices], progress)):
                 runs[k] = run
@@ -760,12 +761,6 @@ def _axis_index(axis) -> int:
     return int(axis) - 1
 
 
-def _perpendicular_axes(a: int) -> tuple[int, int]:
-    """The two axes other than ``a`` (0-based), lowest first, as the driver's tracking uses."""
-    b, c = (x for x in (0, 1, 2) if x != a)
-    return b, c
-
-
 def _nonnegative_float(name, value) -> float:
     try:
         x = float(value)
@@ -807,20 +802,6 @@ def _levels(levels, spin_ref) -> np.ndarray:
     if not np.all(np.isfinite(x)) or np.any(x <= 0.0) or np.any(np.diff(x) <= 0.0):
         raise ValueError(f"levels must be finite, > 0 and strictly ascending, got {levels!r}")
     return x
-
-
-@contextlib.contextmanager
-def _numba_threads(threads):
-    """Run with ``threads`` Numba threads and restore the previous number afterwards."""
-    if threads is None:
-        yield
-        return
-    previous = numba.get_num_threads()
-    numba.set_num_threads(threads)
-    try:
-        yield
-    finally:
-        numba.set_num_threads(previous)
 
 
 def _call_repr(body, resolved) -> str:

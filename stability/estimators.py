@@ -41,7 +41,13 @@ averages out over members and shows in the standard error. Uncertainties are sta
 the mean over members.
 
 Measured ``Omega^2`` is ``-rate^2`` for growth and ``+frequency^2`` for oscillation
-(``w_b'' = -Omega^2 w_b``, ERRATA 2), to put beside the analytic value.
+(``w_b'' = -Omega^2 w_b``, ERRATA 2), to put beside the analytic value. A Dataset may record the
+growth-rate window it was analysed with (:data:`WINDOW_ATTRS`); the estimators then use it.
+
+Also here: the exact flip intervals of each start and their asymptote
+(:func:`exact_flip_intervals`, :func:`complementary_moduli`), the Richardson estimate of an
+integrator's own O(h^p) bias (:func:`richardson_bias`), and :func:`analyse_ensemble`, which adds
+the exact answers, amplitude quantiles and the measured growth rate to an ensemble's Dataset.
 """
 
 from __future__ import annotations
@@ -53,6 +59,7 @@ import numpy as np
 import xarray as xr
 
 from . import conventions as cv
+from .analytic import growth_rate, omega_squared, perpendicular_axes
 
 #: Lower edge of the growth-rate window, in units of the member's initial perpendicular
 #: amplitude a0. A start off the unstable eigenvector carries a decaying mode; at 100 a0 it is
@@ -61,6 +68,11 @@ WINDOW_LOW_FACTOR = 100.0
 #: Upper edge of the growth-rate window, as a fraction of min(spin, saturation amplitude):
 #: nonlinear corrections to ln A are O((A / A_sat)^2) = 1e-4 there (sech form, literature 1.4).
 WINDOW_HIGH_FRACTION = 1e-2
+#: Dataset attributes that record the growth-rate window an ensemble was analysed with (as a
+#: study writes them): :func:`measured_growth_rate` and :func:`measured_omega_squared` use them
+#: when no window is passed, so ``ds.stability.measured_growth_rate()`` gives the study's number.
+WINDOW_ATTRS = {"low_factor": "growth_window_low_factor",
+                "high_fraction": "growth_window_high_fraction"}
 #: A member "departs" once its perpendicular amplitude reaches this many times a0; the points
 #: from here to the upper edge decide exponential against algebraic departure.
 DEPARTURE_FACTOR = 3.0
@@ -152,12 +164,6 @@ class Members:
 
 # ---------------------------------------------------------------------------------------------
 # Reading a Dataset
-
-
-def perpendicular_axes(axis: int) -> tuple[int, int]:
-    """The two principal axes (1-based, ascending) perpendicular to ``axis``."""
-    b, c = (a for a in cv.AXES if a != axis)
-    return b, c
 
 
 def zero_crossings(t, x):
@@ -577,8 +583,7 @@ def _member_frequencies(mem: Members, regime):
 
 
 def measured_growth_rate(
-    ds: xr.Dataset, axis=None, spin=None, *, low_factor=WINDOW_LOW_FACTOR,
-    high_fraction=WINDOW_HIGH_FRACTION,
+    ds: xr.Dataset, axis=None, spin=None, *, low_factor=None, high_fraction=None,
 ) -> xr.Dataset:
     """Exponential growth rate of the perpendicular amplitude, fitted on the linear phase only.
 
@@ -593,8 +598,9 @@ def measured_growth_rate(
         One ensemble, time series or summaries only (module docstring).
     axis, spin : optional
         Spin axis (1-based) and spin (rad/s); by default from ``ds.attrs``.
-    low_factor, high_fraction : float
-        The window, see ``WINDOW_LOW_FACTOR`` and ``WINDOW_HIGH_FRACTION``.
+    low_factor, high_fraction : float, optional
+        The window; by default the one recorded in ``ds.attrs`` (:data:`WINDOW_ATTRS`), else
+        ``WINDOW_LOW_FACTOR`` and ``WINDOW_HIGH_FRACTION``.
 
     Returns
     -------
@@ -607,6 +613,7 @@ def measured_growth_rate(
     With the default window the estimator's own bias is ~1e-5 relative (tested on synthetic
     saturating signals); the integrator's O(h^p) bias in the rate comes on top of it.
     """
+    low_factor, high_fraction = _window(ds, low_factor, high_fraction)
     mem = members(ds, axis, spin)
     regime, *_ = _classify(mem)
     rate = _member_rates(mem, regime, low_factor, high_fraction)
@@ -616,6 +623,94 @@ def measured_growth_rate(
         cv.UNITS_RATE, rate, mean, stderr, n,
         window=f"[{low_factor:g} x initial amplitude, {high_fraction:g} x min(spin, saturation))",
     )
+
+
+def _window(ds, low_factor, high_fraction):
+    """The growth-rate window: as passed, else as recorded in ``ds.attrs``, else the default."""
+    attrs = ds.attrs if isinstance(ds, xr.Dataset) else {}
+    if low_factor is None:
+        low_factor = float(attrs.get(WINDOW_ATTRS["low_factor"], WINDOW_LOW_FACTOR))
+    if high_fraction is None:
+        high_fraction = float(attrs.get(WINDOW_ATTRS["high_fraction"], WINDOW_HIGH_FRACTION))
+    return low_factor, high_fraction
+
+
+def growth_line(time, amplitude, rate, low, high):
+    """The line ``ln A = intercept + rate t`` through an amplitude's linear phase, for drawing.
+
+    To show a measured growth rate over an ensemble's median amplitude: the window runs from
+    the first sample above ``low`` up to the last sample below ``high`` that follows it without
+    a gap, and the intercept is the least-squares one at the fixed slope ``rate``.
+
+    Parameters
+    ----------
+    time : array_like, shape (T,)
+        Times in s, ascending.
+    amplitude : array_like, shape (T,)
+        A positive, growing amplitude (e.g. the ensemble median), any unit.
+    rate : float
+        The slope, s-1 (e.g. :func:`measured_growth_rate`).
+    low, high : float
+        The window, in the units of ``amplitude``.
+
+    Returns
+    -------
+    intercept : float
+        ``ln(amplitude)`` of the line at t = 0 (NaN if the window holds fewer than 3 samples).
+    window : tuple of float
+        First and last time of the window, in s (NaN if no sample is above ``low``).
+    """
+    amplitude = np.asarray(amplitude, dtype=float)
+    time = np.asarray(time, dtype=float)
+    above = np.flatnonzero(amplitude > low)
+    if above.size == 0:
+        return math.nan, (math.nan, math.nan)
+    i0 = int(above[0])
+    i1 = i0
+    while i1 + 1 < amplitude.size and low < amplitude[i1 + 1] < high:
+        i1 += 1
+    window = (float(time[i0]), float(time[i1]))
+    if i1 - i0 + 1 < 3 or not amplitude[i0] < high:
+        return math.nan, window
+    keep = slice(i0, i1 + 1)
+    return float(np.mean(np.log(amplitude[keep]) - rate * time[keep])), window
+
+
+def perpendicular_amplitude(w: xr.DataArray, axis: int) -> xr.DataArray:
+    """``sqrt(w_b^2 + w_c^2)``: the part of ``w`` perpendicular to body ``axis`` (1, 2, 3).
+
+    Parameters
+    ----------
+    w : xarray.DataArray
+        Angular velocity with an ``axis`` dimension (coordinates 1, 2, 3), in rad/s.
+    axis : int
+
+    Returns
+    -------
+    xarray.DataArray
+        Same dims as ``w`` without ``axis``, in rad/s (NaN where a component is).
+    """
+    perp = w.sel({cv.AXIS: list(perpendicular_axes(axis))})
+    amp = np.sqrt((perp**2).sum(cv.AXIS, skipna=False))
+    amp.attrs = {"long_name": f"amplitude perpendicular to axis {axis}",
+                 "units": cv.UNITS_ANGULAR_VELOCITY}
+    return amp
+
+
+def sign_change_times(t, x) -> np.ndarray:
+    """Times where ``x`` changes sign (sign bit), by linear interpolation between samples.
+
+    Parameters
+    ----------
+    t, x : ndarray, shape (T,)
+
+    Returns
+    -------
+    ndarray, shape (K,)
+        In the units of ``t``, ascending.
+    """
+    s = np.flatnonzero(np.signbit(x[1:]) != np.signbit(x[:-1]))
+    return t[s] - x[s] * (t[s + 1] - t[s]) / (x[s + 1] - x[s])
 
 
 def measured_frequency(ds: xr.Dataset, axis=None, spin=None) -> xr.Dataset:
@@ -765,8 +860,7 @@ def omega_squared_estimate(mem: Members, analytic=None, *, low_factor=WINDOW_LOW
 
 
 def measured_omega_squared(ds: xr.Dataset, axis=None, spin=None, *, analytic=None,
-                           low_factor=WINDOW_LOW_FACTOR,
-                           high_fraction=WINDOW_HIGH_FRACTION) -> xr.Dataset:
+                           low_factor=None, high_fraction=None) -> xr.Dataset:
     """Measured Omega^2 of an ensemble, beside the analytic value of linear theory.
 
     The ensemble takes the regime of more than half of its valid members; Omega^2 is then
@@ -783,7 +877,7 @@ def measured_omega_squared(ds: xr.Dataset, axis=None, spin=None, *, analytic=Non
     analytic : float, optional
         Analytic Omega^2 in s-2 for the relative error; by default computed with
         ``stability.omega_squared`` when ``ds.attrs`` carries ``I1, I2, I3``.
-    low_factor, high_fraction : float
+    low_factor, high_fraction : float, optional
         Growth-rate window (see :func:`measured_growth_rate`).
 
     Returns
@@ -796,6 +890,7 @@ def measured_omega_squared(ds: xr.Dataset, axis=None, spin=None, *, analytic=Non
         sign against the analytic sign; a zero analytic value agrees with drift or neutral),
         ``n_fitted``; per member ``member_regime``.
     """
+    low_factor, high_fraction = _window(ds, low_factor, high_fraction)
     mem = members(ds, axis, spin)
     if analytic is None and isinstance(ds, xr.Dataset):
         analytic = _analytic_from_attrs(ds, mem)
@@ -812,7 +907,6 @@ def measured_omega_squared(ds: xr.Dataset, axis=None, spin=None, *, analytic=Non
 def _analytic_from_attrs(ds, mem):
     if not all(k in ds.attrs for k in ("I1", "I2", "I3")):
         return None
-    from .analytic import omega_squared
     from .body import RigidBody
 
     body = RigidBody(ds.attrs["I1"], ds.attrs["I2"], ds.attrs["I3"], physical=False)
@@ -831,8 +925,9 @@ def exact_flip_intervals(body, axis: int, w0):
     Parameters
     ----------
     body : RigidBody
-    axis : int
-        Spin axis, 1-based.
+    axis : int or None
+        Spin axis, 1-based; None: every start, whatever its axis (for a start near a stable
+        axis, the limits :func:`stability.exact.flip_interval` gives).
     w0 : array_like, shape (N, 3)
         Starts, body frame, rad/s.
 
@@ -846,13 +941,28 @@ def exact_flip_intervals(body, axis: int, w0):
     w0 = np.atleast_2d(np.asarray(w0, dtype=float))
     exact = np.full(w0.shape[0], np.nan)
     asymptote = np.full(w0.shape[0], np.nan)
-    if _is_intermediate(body.moments, axis):
+    if axis is None or _is_intermediate(body.moments, axis):
         from .exact import flip_interval, flip_interval_asymptote
 
         for j, w in enumerate(w0):
             exact[j] = flip_interval(body, w)
             asymptote[j] = flip_interval_asymptote(body, w)
     return exact, asymptote
+
+
+def complementary_moduli(body, w0) -> np.ndarray:
+    """The complementary modulus k' of each start's Jacobi functions; (N,), dimensionless.
+
+    ``k'^2 = 1 - k^2`` (:func:`stability.exact.elliptic_parameters`): proportional to the
+    perturbation near the separatrix, where the flip interval goes as (2/lambda) ln(4/k').
+    """
+    from .exact import elliptic_parameters
+
+    w0 = np.atleast_2d(np.asarray(w0, dtype=float))
+    kprime = np.empty(w0.shape[0])
+    for j, w in enumerate(w0):
+        kprime[j] = math.sqrt(elliptic_parameters(body, w)[1])
+    return kprime
 
 
 def flip_estimate(mem: Members, exact=None, asymptote=None) -> dict:
@@ -959,6 +1069,99 @@ def flip_statistics(ds: xr.Dataset, axis=None, spin=None, *, body=None) -> xr.Da
                       attrs={"axis": mem.axis, "spin": mem.spin})
 
 
+def richardson_bias(coarse, fine, order):
+    """A method's own O(h^p) bias at step h, from the same estimate at h and at h / 2.
+
+    Richardson extrapolation: with ``X(h) = X + c h^p``, ``X(h) - X(h/2) = c h^p (1 - 2^-p)``,
+    so the bias of ``coarse`` is ``(coarse - fine) / (1 - 2^-p)``.
+
+    Parameters
+    ----------
+    coarse, fine : array_like
+        The estimate at h and at h / 2 (broadcast together).
+    order : array_like
+        The method's order p (broadcast; ``inf`` for an exact flow gives the plain difference).
+
+    Returns
+    -------
+    ndarray
+        The bias in the units of the estimate; NaN where either estimate is.
+    """
+    with np.errstate(invalid="ignore", divide="ignore"):
+        return (np.asarray(coarse) - fine) / (1.0 - 2.0 ** -np.asarray(order, dtype=float))
+
+
+def analyse_ensemble(ds: xr.Dataset, body, axis: int, spin: float, epsilon: float, *,
+                     low_factor=WINDOW_LOW_FACTOR,
+                     high_fraction=WINDOW_HIGH_FRACTION) -> xr.Dataset:
+    """An ensemble's time series with the exact answers and the measured growth rate added.
+
+    Adds ``exact_flip_interval`` and ``flip_interval_asymptote`` (member, s; every start,
+    :func:`exact_flip_intervals` with ``axis=None``), ``complementary_modulus`` (member),
+    ``perp_amplitude_median`` / ``_p10`` / ``_p90`` (time, rad/s over members with status ok),
+    and attributes ``omega_squared`` (s-2), ``growth_rate_analytic``, ``growth_rate_fitted``
+    with its ``_stderr`` and ``_members`` (s-1: :func:`measured_growth_rate` over the window
+    ``low_factor``, ``high_fraction``, recorded as :data:`WINDOW_ATTRS`, so that
+    ``ds.stability.measured_growth_rate()`` gives the same number), and the line of the
+    measured rate through the median amplitude over its linear phase (:func:`growth_line`:
+    ``growth_fit_intercept`` and ``growth_fit_window`` in s), for the growth figure.
+
+    Parameters
+    ----------
+    ds : xarray.Dataset
+        :func:`stability.run_ensemble` with saved samples (``w`` (member, time, axis)).
+    body : RigidBody
+    axis : int
+        Spin axis, 1-based.
+    spin, epsilon : float
+        Spin rate W (rad/s) and the perturbation relative to it.
+    low_factor, high_fraction : float
+        The growth-rate window (:func:`measured_growth_rate`).
+    """
+    omega2 = float(omega_squared(body, axis, spin))
+    rate = float(growth_rate(body, axis, spin))
+    ok = ds.status == cv.STATUS_OK
+    exact, asymptote = exact_flip_intervals(body, None, ds.w0.values)
+    kprime = complementary_moduli(body, ds.w0.values)
+    amp = perpendicular_amplitude(ds.w.where(ok), axis)
+    quantiles = amp.quantile([0.1, 0.5, 0.9], dim=cv.MEMBER, skipna=True)
+    measured = measured_growth_rate(ds, low_factor=low_factor, high_fraction=high_fraction)
+    fitted = float(measured.growth_rate)
+    intercept, window = growth_line(ds[cv.TIME].values, quantiles.sel(quantile=0.5).values,
+                                    fitted, low_factor * epsilon * spin, high_fraction * spin)
+
+    s, one, rad_s = cv.UNITS_TIME, cv.UNITS_DIMENSIONLESS, cv.UNITS_ANGULAR_VELOCITY
+    ds = ds.assign(
+        exact_flip_interval=(cv.MEMBER, exact, {
+            "long_name": "exact flip interval 2K(k)/nu of the member's start", "units": s}),
+        flip_interval_asymptote=(cv.MEMBER, asymptote, {
+            "long_name": "small-perturbation asymptote (2/lambda) ln(4/k') of the flip interval",
+            "units": s}),
+        complementary_modulus=(cv.MEMBER, kprime, {
+            "long_name": "complementary modulus k' of the member's Jacobi functions",
+            "units": one}),
+    )
+    for q, name in ((0.1, "p10"), (0.5, "median"), (0.9, "p90")):
+        ds[f"perp_amplitude_{name}"] = (cv.TIME, quantiles.sel(quantile=q).values, {
+            "long_name": f"{name} over ok members of the amplitude perpendicular to axis {axis}",
+            "units": rad_s})
+    ds.attrs.update({
+        "spin_axis_resolved": axis,
+        "omega_squared": omega2,
+        "omega_squared_units": cv.UNITS_RATE_SQUARED,
+        "growth_rate_analytic": rate,
+        "growth_rate_fitted": fitted,
+        "growth_rate_units": cv.UNITS_RATE,
+        "growth_fit_intercept": intercept,
+        "growth_fit_window": np.array(window),
+        "growth_rate_fitted_stderr": float(measured.growth_rate_stderr),
+        "growth_rate_fitted_members": int(measured.n_fitted),
+        WINDOW_ATTRS["low_factor"]: float(low_factor),
+        WINDOW_ATTRS["high_fraction"]: float(high_fraction),
+    })
+    return ds
+
+
 def _is_intermediate(moments, axis):
     moments = np.asarray(moments, dtype=float)
     others = np.delete(moments, axis - 1)
@@ -966,11 +1169,12 @@ def _is_intermediate(moments, axis):
 
 
 __all__ = [
-    "DEPARTURE_FACTOR", "MIN_CROSSINGS", "MIN_POINTS", "Members", "REGIME_ALGEBRAIC",
-    "REGIME_EXPONENTIAL", "REGIME_MEANINGS", "REGIME_NEUTRAL", "REGIME_OSCILLATION",
-    "REGIME_UNDETERMINED", "WINDOW_HIGH_FRACTION", "WINDOW_LOW_FACTOR",
-    "ESTIMATE_ATTRS", "exact_flip_intervals", "flip_estimate", "flip_statistics",
-    "measured_frequency", "measured_growth_rate", "measured_omega_squared", "member_regimes",
-    "members", "omega_squared_estimate", "perpendicular_axes", "tracked_members",
-    "zero_crossings",
+    "DEPARTURE_FACTOR", "ESTIMATE_ATTRS", "MIN_CROSSINGS", "MIN_POINTS", "Members",
+    "REGIME_ALGEBRAIC", "REGIME_EXPONENTIAL", "REGIME_MEANINGS", "REGIME_NEUTRAL",
+    "REGIME_OSCILLATION", "REGIME_UNDETERMINED", "WINDOW_ATTRS", "WINDOW_HIGH_FRACTION",
+    "WINDOW_LOW_FACTOR", "analyse_ensemble", "complementary_moduli", "exact_flip_intervals",
+    "flip_estimate", "flip_statistics", "growth_line", "measured_frequency",
+    "measured_growth_rate", "measured_omega_squared", "member_regimes", "members",
+    "omega_squared_estimate", "perpendicular_amplitude", "perpendicular_axes",
+    "richardson_bias", "sign_change_times", "tracked_members", "zero_crossings",
 ]

@@ -6,6 +6,7 @@ import xarray as xr
 
 import stability
 from stability import estimators as est
+from stability.accessor import StabilityAccessor
 
 from .test_estimators import (
     oscillation,
@@ -14,13 +15,8 @@ from .test_estimators import (
     summaries_from_separatrix,
 )
 
-NAMES = [
-    "member_regimes",
-    "measured_growth_rate",
-    "measured_frequency",
-    "measured_omega_squared",
-    "flip_statistics",
-]
+#: Every method of the accessor.
+NAMES = [name for name in vars(StabilityAccessor) if not name.startswith("_")]
 
 
 def datasets():
@@ -29,6 +25,10 @@ def datasets():
     t, w = oscillation(5, omega=0.8)
     yield series_dataset(w, t, axis=3)
     yield summaries_from_separatrix(7, np.logspace(-7, -1, 25))
+
+
+def test_every_accessor_method_is_an_estimator():
+    assert NAMES and all(name in est.__all__ for name in NAMES)
 
 
 @pytest.mark.parametrize("name", NAMES)

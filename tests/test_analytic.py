@@ -12,12 +12,17 @@ from stability.analytic import (
     angular_momentum,
     angular_momentum_norm,
     axis_stability,
+    euler_rhs,
+    euler_system,
     growth_rate,
     intermediate_axis,
     invariant_differences,
     kinetic_energy,
+    moment_name,
     omega_squared,
     oscillation_frequency,
+    perpendicular_axes,
+    principal_axis,
 )
 from stability.body import RigidBody
 
@@ -248,3 +253,27 @@ def test_bad_moments(body, match):
 def test_bad_w_shape(w):
     with pytest.raises(ValueError, match=r"w must have shape \(\.\.\., 3\)"):
         kinetic_energy(BODY, w)
+
+
+# ------------------------------------------------------------------- axes and Euler's equations
+
+
+def test_perpendicular_principal_and_named_axes():
+    assert [perpendicular_axes(a) for a in (1, 2, 3)] == [(2, 3), (1, 3), (1, 2)]
+    body = RigidBody(3.0, 1.0, 2.0)
+    assert [principal_axis(body, w) for w in ("smallest", "intermediate", "largest")] == [2, 3, 1]
+    assert [moment_name(body, a) for a in (1, 2, 3)] == ["largest", "smallest", "intermediate"]
+    assert principal_axis(body, "intermediate") == intermediate_axis(body)
+    with pytest.raises(ValueError, match="smallest, intermediate, largest"):
+        principal_axis(body, "middle")
+
+
+def test_euler_rhs_is_m_cross_w_and_the_scipy_system_stacks_it():
+    rng = np.random.default_rng(4)
+    moments = np.array([1.0, 2.5, 3.0])
+    w = rng.standard_normal((5, 3))
+    np.testing.assert_allclose(euler_rhs(moments, w) * moments, np.cross(moments * w, w),
+                               rtol=1e-13, atol=1e-15)
+    assert euler_rhs(moments, w[0]).shape == (3,)
+    stacked = euler_system(RigidBody(*moments), 5)(0.0, np.ascontiguousarray(w.T).ravel())
+    np.testing.assert_array_equal(stacked, euler_rhs(moments, w).T.ravel())

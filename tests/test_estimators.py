@@ -285,3 +285,81 @@ def test_estimators_on_run_ensemble_datasets_series_and_summaries():
     res = est.measured_omega_squared(stable)
     assert res.regime == est.REGIME_OSCILLATION
     assert abs(float(res.relative_error)) < 1e-5
+
+
+# ---------------------------------------------------------------------------------------------
+# The window a Dataset records, and the helpers of the tennis-racket analysis
+
+
+def test_a_recorded_window_is_the_default_of_the_estimators():
+    t, w, _, _ = separatrix(6)
+    ds = series_dataset(w, t, axis=2)
+    wide = est.measured_growth_rate(ds, low_factor=10.0, high_fraction=0.05)
+    ds.attrs.update({est.WINDOW_ATTRS["low_factor"]: 10.0,
+                     est.WINDOW_ATTRS["high_fraction"]: 0.05})
+    xr.testing.assert_identical(est.measured_growth_rate(ds), wide)
+    xr.testing.assert_identical(ds.stability.measured_growth_rate(), wide)
+    assert float(wide.growth_rate) != float(est.measured_growth_rate(
+        ds, low_factor=est.WINDOW_LOW_FACTOR, high_fraction=est.WINDOW_HIGH_FRACTION).growth_rate)
+    omega2 = est.measured_omega_squared(ds)
+    assert float(omega2.growth_rate) == float(wide.growth_rate)
+
+
+def test_growth_line_has_the_given_slope_through_the_linear_phase():
+    t = np.linspace(0.0, 3.0, 61)
+    rate = 2.5
+    amplitude = 1e-4 * np.exp(rate * t)
+    intercept, (t0, t1) = est.growth_line(t, amplitude, rate, 1e-3, 1e-1)
+    assert intercept == pytest.approx(np.log(1e-4), abs=1e-10)
+    assert 1e-4 * np.exp(rate * t0) > 1e-3 and 1e-4 * np.exp(rate * t1) < 1e-1
+    # Saturation after the window does not enter the line.
+    saturated = np.minimum(amplitude, 0.5)
+    assert est.growth_line(t, saturated, rate, 1e-3, 1e-1) == (intercept, (t0, t1))
+    assert np.isnan(est.growth_line(t, amplitude, rate, 1e3, 1e4)[0])
+
+
+def test_perpendicular_amplitude_and_sign_changes():
+    t, w, t0, a_max = separatrix(3)
+    ds = series_dataset(w, t, axis=2)
+    amp = est.perpendicular_amplitude(ds.w, 2)
+    assert amp.dims == ("member", "time") and amp.attrs["units"] == "rad s-1"
+    np.testing.assert_allclose(amp.values, a_max / np.cosh(LAM * (t[None] - t0[:, None])),
+                               rtol=1e-12)
+    flips = est.sign_change_times(t, w[0, :, 1])
+    np.testing.assert_allclose(flips, [t0[0]], atol=1e-4)
+
+
+def test_richardson_bias_of_an_order_p_error():
+    h, c, p = 0.1, 3.0, 4
+    exact = 2.0
+    coarse, fine = exact + c * h**p, exact + c * (h / 2) ** p
+    assert est.richardson_bias(coarse, fine, p) == pytest.approx(c * h**p, rel=1e-9)
+    np.testing.assert_array_equal(est.richardson_bias([1.0, np.nan], [0.5, 1.0], np.inf),
+                                  [0.5, np.nan])
+
+
+def test_exact_flip_intervals_and_moduli_of_every_start():
+    body = stability.RigidBody(1.0, 2.0, 3.0)
+    w0 = np.array([[1e-3, 1.0, 0.0], [1.0, 1e-3, 0.0]])
+    exact, _ = est.exact_flip_intervals(body, 2, w0)
+    every, _ = est.exact_flip_intervals(body, None, w0)
+    assert exact[0] == every[0] == stability.flip_interval(body, w0[0])
+    assert every[1] == stability.flip_interval(body, w0[1])
+    kprime = est.complementary_moduli(body, w0)
+    assert kprime.shape == (2,) and 0 < kprime[0] < 1e-2 and kprime[1] > 0.5
+
+
+def test_analyse_ensemble_headline_is_what_the_accessor_gives():
+    body = stability.RigidBody.preset("tennis_racket")
+    ds = stability.run_ensemble(body, 2, 10.0, 1e-4, 32, h=2e-3, t_end=3.0, seed=3,
+                                method="rk4", save_every=25, progress=False)
+    out = est.analyse_ensemble(ds, body, 2, 10.0, 1e-4, low_factor=10.0, high_fraction=0.03)
+    headline = out.attrs["growth_rate_fitted"]
+    assert headline == float(out.stability.measured_growth_rate().growth_rate)
+    assert out.attrs["growth_rate_fitted_members"] == 32
+    assert abs(out.attrs["growth_rate_fitted"] / out.attrs["growth_rate_analytic"] - 1) < 1e-3
+    t0, t1 = out.attrs["growth_fit_window"]
+    assert 0 < t0 < t1 < 3.0 and np.isfinite(out.attrs["growth_fit_intercept"])
+    for name in ("exact_flip_interval", "flip_interval_asymptote", "complementary_modulus"):
+        assert out[name].dims == ("member",)
+    assert out.perp_amplitude_median.dims == ("time",)

@@ -1,15 +1,15 @@
 """Figures of the tennis-racket study: they build, every axis carries a unit, they show what
-they claim (numerical samples on the exact curve, the separatrix on D2 = 0)."""
+they claim (numerical samples on the exact curve, the analytic slope); the figure styles."""
 
 import numpy as np
 import pytest
 from matplotlib.figure import Figure
 
 import stability
-from stability.analytic import intermediate_axis, invariant_differences
+from stability.analytic import intermediate_axis
+from stability.estimators import analyse_ensemble
 from stability.figures import tennis
 from stability.figures.style import label, missing_units, save
-from stability.study import tennis_racket as study
 
 SPIN, EPSILON = 10.0, 1e-4
 
@@ -23,7 +23,7 @@ def analysed():
         body, axis, SPIN, EPSILON, 96, h=2e-3, t_end=5.0, seed=3, method="rk4",
         save_every=25, progress=False,
     )
-    ds = study.analyse(ds, body, axis, SPIN, EPSILON, {"fit_above": 10.0, "fit_below": 0.03})
+    ds = analyse_ensemble(ds, body, axis, SPIN, EPSILON, low_factor=10.0, high_fraction=0.03)
     return ds, body, axis
 
 
@@ -70,14 +70,6 @@ def test_flips_figure_shows_numerical_samples_on_the_exact_curve(analysed):
     assert np.count_nonzero(np.diff(np.signbit(exact[:, axis - 1]))) >= 2
 
 
-def test_separatrix_is_on_d2_zero_and_the_unit_sphere():
-    body = stability.RigidBody.preset("tennis_racket")
-    for m in tennis.separatrix_circles(body):
-        np.testing.assert_allclose(np.linalg.norm(m, axis=1), 1.0, atol=1e-15)
-        d1, d2, d3 = invariant_differences(body, m / body.moments)
-        assert np.max(np.abs(d2) / d1) < 1e-13
-
-
 def test_growth_figure_draws_the_analytic_slope(analysed):
     ds, body, axis = analysed
     fig = tennis.growth_figure(ds, body, axis)
@@ -88,3 +80,11 @@ def test_growth_figure_draws_the_analytic_slope(analysed):
     slope = np.diff(np.log(y)) / np.diff(t)
     np.testing.assert_allclose(slope, ds.attrs["growth_rate_analytic"], rtol=1e-9)
     assert ax.get_yscale() == "log"
+
+
+def test_work_precision_styles_are_keyed_by_registered_families():
+    """Every family style names a family of the registry, so none is silently unused."""
+    from stability.figures import work_precision
+
+    families = {spec.family for spec in stability.METHODS.values()}
+    assert set(work_precision._FAMILY_STYLE) <= families

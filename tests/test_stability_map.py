@@ -9,42 +9,10 @@ import stability
 from stability import estimators as est
 from stability.figures import stability_map as figures
 from stability.figures.style import missing_units
+from stability.shapes import EDGE_EQUAL_12, EDGE_EQUAL_23
 from stability.study import ConfigError, load_study, run_study
-from stability.study import stability_map as smap
 
 STUDY_FILE = "studies/stability_map.toml"
-
-
-@pytest.mark.parametrize("n", [1, 2, 5, 32])
-def test_grid_covers_the_allowed_triangle_with_exact_edges(n):
-    moments, edges = smap.shape_grid(n)
-    assert moments.shape == ((n + 1) * (n + 2) // 2 - 1, 3)
-    I1, I2, I3 = moments.T
-    assert np.all(I3 == 1.0) and np.all(I1 > 0)
-    assert np.all(I1 <= I2) and np.all(I2 <= I3)
-    assert np.all(I1 + I2 >= 1.0 - 1e-15)
-    # Edge flags are exact: equal moments are the same float, so Omega^2 is exactly 0 there.
-    equal12 = (edges & smap.EDGE_EQUAL_12) > 0
-    equal23 = (edges & smap.EDGE_EQUAL_23) > 0
-    flat = (edges & smap.EDGE_FLAT) > 0
-    np.testing.assert_array_equal(equal12, I1 == I2)
-    np.testing.assert_array_equal(equal23, I2 == I3)
-    np.testing.assert_array_equal(flat, np.abs(I1 + I2 - 1.0) < 1e-15)
-    assert np.sum(equal12 & equal23) == 1  # the sphere
-    for I in moments[equal12 | equal23]:
-        zero = [a for a in (1, 2, 3) if np.sum(I == I[a - 1]) > 1]
-        for a in zero:
-            assert float(stability.omega_squared(I, a, 1.0)) == 0.0
-
-
-def test_horizon_depends_on_the_size_of_omega_squared_only():
-    omega2 = np.array([[0.25, -0.25, 0.0]])
-    t = smap.horizons(omega2, horizon=80.0, t_max=2500.0, t_neutral=800.0)
-    np.testing.assert_allclose(t, [[160.0, 160.0, 800.0]])
-    assert smap.horizons(np.array([1e-8]), 80.0, 2500.0, 800.0)[0] == 2500.0
-    levels = smap.amplitude_levels(2.0, 1e-7, 8)
-    assert levels[0] <= 1.5e-7 * 2.0 < levels[1] and levels[-1] == pytest.approx(2.0)
-    np.testing.assert_allclose(np.diff(np.log10(levels)), 1 / 8)
 
 
 def test_study_file_errors_name_the_key():
@@ -102,7 +70,7 @@ def test_small_map_meets_the_accuracy_bar(small_map):
 def test_small_map_classifies_the_edges_instead_of_fitting(small_map):
     _, ds = small_map
     zero = ds.omega_squared.values == 0.0
-    sphere = ds.edge.values == (smap.EDGE_EQUAL_12 | smap.EDGE_EQUAL_23)
+    sphere = ds.edge.values == (EDGE_EQUAL_12 | EDGE_EQUAL_23)
     regime = ds.regime.values
     assert np.all(regime[:, sphere, :] == est.REGIME_NEUTRAL)
     drift = zero & ~sphere[:, None]

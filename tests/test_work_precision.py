@@ -1,7 +1,5 @@
 """The speed-against-error study: its quick mode end to end, and the pieces it is built from."""
 
-import math
-
 import numpy as np
 import pytest
 import xarray as xr
@@ -9,8 +7,10 @@ import xarray as xr
 import stability
 from stability.figures.style import missing_units
 from stability.figures.work_precision import invariant_drift_figure, work_precision_figure
+from stability import workprecision as wp
+from stability.drift import drift_kind
+from stability.reference import METRICS
 from stability.study import ConfigError, load_study, run_study
-from stability.study import work_precision as wp
 
 STUDY_FILE = "studies/work_precision.toml"
 
@@ -32,7 +32,7 @@ def test_quick_study_writes_dataset_figures_and_table(quick):
         assert (out / name).is_file(), name
     assert list(ds.method.values) == list(stability.METHODS) + [wp.SCIPY]
     assert list(ds.workload.values) == list(wp.WORKLOADS)
-    assert list(ds.metric.values) == list(wp.METRICS)
+    assert list(ds.metric.values) == list(METRICS)
     for name, var in {**ds.data_vars, **ds.coords}.items():
         if name in ("workload", "method", "sweep", "metric"):
             continue
@@ -96,7 +96,7 @@ def test_long_horizon_tells_bounded_from_drifting_errors(quick):
         if spec.preserves_energy or spec.is_exact:
             assert energy.max() < 1e-12, f"{method}: energy error {energy.max():.1e}"
         elif spec.poisson:
-            assert wp.drift_kind(slope) == "bounded", f"{method}: slope {slope:.2f}"
+            assert drift_kind(slope) == "bounded", f"{method}: slope {slope:.2f}"
         else:
             assert slope == pytest.approx(1.0, abs=0.1), f"{method}: slope {slope:.2f}"
         if spec.preserves_casimir or spec.is_exact:
@@ -156,59 +156,6 @@ def test_figures_label_every_axis_with_units(quick):
     _, ds, _ = quick
     for fig in (work_precision_figure(ds), invariant_drift_figure(ds)):
         assert missing_units(fig) == []
-
-
-# ------------------------------------------------------------------------------ the pieces
-
-
-def synthetic(err, wall, failed=None):
-    """A one-workload, one-method Dataset with the given sweep of p99 errors and wall times."""
-    n = len(err)
-    w_error = np.full((1, 1, n, 3), np.nan)
-    w_error[0, 0, :, 1] = err
-    return xr.Dataset(
-        {
-            "w_error": (("workload", "method", "sweep", "metric"), w_error),
-            "wall_time": (("workload", "method", "sweep"), np.array(wall, float)[None, None]),
-            "failed": (("workload", "method", "sweep"),
-                       np.zeros((1, 1, n)) if failed is None else np.array(failed)[None, None]),
-        },
-        coords={"workload": ["w"], "method": ["m"], "metric": list(wp.METRICS)},
-    )
-
-
-def test_time_to_reach_interpolates_in_log_log():
-    ds = synthetic([1e-2, 1e-4, 1e-6], [1.0, 10.0, 100.0])
-    assert wp.time_to_reach(ds, "w", "m", 1e-4) == pytest.approx(10.0)
-    assert wp.time_to_reach(ds, "w", "m", 1e-3) == pytest.approx(math.sqrt(10.0))
-    assert wp.time_to_reach(ds, "w", "m", 1e-1) == pytest.approx(1.0)
-    assert math.isnan(wp.time_to_reach(ds, "w", "m", 1e-7))
-
-
-def test_time_to_reach_ignores_points_with_failed_members():
-    ds = synthetic([1e-2, 1e-6, 1e-8], [1.0, 10.0, 100.0], failed=[0, 3, 0])
-    # the failed point at 10 s is skipped: 1e-6 lies 2/3 of the way (in log) from 1 s to 100 s
-    assert wp.time_to_reach(ds, "w", "m", 1e-6) == pytest.approx(100.0 ** (2 / 3))
-
-
-def test_envelope_and_slope_classify_drift():
-    t = np.linspace(1.0, 1e4, 10_000)
-    assert wp.drift_kind(wp.log_slope(t, 1e-5 * np.sin(t))) == "bounded"
-    assert wp.drift_kind(wp.log_slope(t, 1e-9 * t)) == "linear drift"
-    rng = np.random.default_rng(0)
-    walk = np.cumsum(rng.standard_normal(t.size))  # ~ sqrt(t)
-    assert wp.drift_kind(wp.log_slope(t, 1e-10 * walk), 1e-8) == "random walk"
-    kind = wp.drift_kind(wp.log_slope(t, 1e-16 * walk), 1e-14)
-    assert kind.startswith("round-off, grows like t^0.")
-    assert wp.drift_kind(wp.log_slope(t, 1e-16 * np.sin(t)), 1e-16) == "round-off, bounded"
-
-
-def test_step_grid_runs_from_h_max_to_h_min():
-    counts = wp.step_grid(50.0, 0.5, 1e-3, 2)
-    assert counts[0] == 100 and np.all(np.diff(counts) > 0)
-    h = 50.0 / counts
-    assert h[-1] >= 1e-3 and h[-1] / 2**0.5 < 1e-3 * 1.01
-    np.testing.assert_allclose(h[:-1] / h[1:], 2**0.5, rtol=0.02)
 
 
 @pytest.mark.parametrize(

@@ -33,17 +33,6 @@ def _triangle_outline(ax):
     ax.set_aspect("equal")
 
 
-def _fine_triangle(n=120):
-    """A fine grid of the triangle for the analytic background."""
-    pts = []
-    for k in range(n + 1):
-        for j in range(n - k + 1):
-            pts.append(((k + 2 * j) / (2 * n), (2 * n - k) / (2 * n)))
-    pts = np.array(pts)
-    keep = pts[:, 0] > 0
-    return pts[keep, 0], pts[keep, 1]
-
-
 @styled
 def map_figure(ds, method=None):
     """Figure 1: the map of Omega^2 / W^2 over the shape triangle, per spin axis.
@@ -57,18 +46,14 @@ def map_figure(ds, method=None):
     import matplotlib.tri as mtri
     from matplotlib.colors import TwoSlopeNorm
 
-    import stability
-
     from .. import estimators as est
+    from ..shapes import analytic_omega_squared, shape_grid
 
     spin = float(ds.attrs["spin"])
     I1, I2 = ds.I1.values, ds.I2.values
-    x_fine, y_fine = _fine_triangle()
-    tri = mtri.Triangulation(x_fine, y_fine)
-    analytic_fine = np.array([
-        [float(stability.omega_squared((a, b, 1.0), k, 1.0)) for a, b in zip(x_fine, y_fine)]
-        for k in (1, 2, 3)
-    ])
+    fine, _ = shape_grid(120)  # the analytic background on a fine grid of the same triangle
+    tri = mtri.Triangulation(fine[:, 0], fine[:, 1])
+    analytic_fine = analytic_omega_squared(fine, 1.0).T
     vmax = float(np.nanmax(ds.omega_squared_normalised.values))
     vmin = float(np.nanmin(ds.omega_squared_normalised.values))
     norm = TwoSlopeNorm(vcenter=0.0, vmin=min(vmin, -1e-3), vmax=max(vmax, 1e-3))
@@ -213,9 +198,7 @@ def flip_interval_figure(ds, samples=120):
     spinning about axis 2; lines: the exact 2K/nu, dashed: the asymptote (2/lambda) ln(4/k'),
     a straight line in ln(1/epsilon); markers: each method. Bottom: |measured - exact| / exact.
     """
-    import stability
-
-    from .. import estimators as est
+    from ..flipsweep import exact_flip_curve
 
     spin = float(ds.attrs["spin"])
     eps = ds.epsilon.values
@@ -225,11 +208,7 @@ def flip_interval_figure(ds, samples=120):
     for f in range(ds.sizes["flip_shape"]):
         color = _SHAPE_COLORS[f % len(_SHAPE_COLORS)]
         I = (float(ds.flip_I1[f]), float(ds.flip_I2[f]), 1.0)
-        body = stability.RigidBody(*I, physical=False)
-        w0 = np.zeros((fine.size, 3))
-        w0[:, 0] = fine * spin
-        w0[:, 1] = spin
-        exact, asymptote = est.exact_flip_intervals(body, 2, w0)
+        exact, asymptote = exact_flip_curve(I, fine, spin)
         top.plot(fine, exact, color=color, lw=1.2,
                  label=f"I = ({I[0]:.3g}, {I[1]:.3g}, 1): exact 2K/ν")
         top.plot(fine, asymptote, color=color, lw=0.9, ls="--",
@@ -266,6 +245,7 @@ def edges_figure(ds):
     no exponential growth, no flip.
     """
     from .. import estimators as est
+    from ..analytic import perpendicular_axes
 
     t = ds.edge_time.values
     cases = ds.sizes["edge_case"]
@@ -275,7 +255,7 @@ def edges_figure(ds):
     for c, ax in enumerate(axes):
         a = int(ds.edge_axis.values[c])
         w = ds.edge_w.values[c]
-        others = [b for b in (1, 2, 3) if b != a]
+        others = perpendicular_axes(a)
         for b in others:
             ax.plot(t, w[:, b - 1], color=AXIS_COLORS[b - 1], lw=1.4, label=f"w{b}")
         slope = float(ds.edge_slope_predicted.values[c])

@@ -3,13 +3,14 @@
 1. :func:`flips_figure`: w1, w2, w3 of one member against time, the exact solution overlaid.
 2. :func:`polhode_figure`: polhodes on the |L| sphere around all three axes, the separatrix.
 3. :func:`growth_figure`: median and spread of the perpendicular amplitude (log scale) with the
-   analytic slope sqrt(-Omega^2) and the fitted one.
+   analytic slope sqrt(-Omega^2) and the measured one.
 4. :func:`flip_interval_figure`: measured flip intervals against the exact 2K/nu of each member
    and the ln(4/k') asymptote.
 
-Each takes ``(ds, body, axis)``: the study's Dataset (after
-:func:`stability.study.tennis_racket.analyse`), the body and the spin axis (1, 2, 3), and returns
-a ``matplotlib.figure.Figure`` whose every axis is labelled with its unit.
+Each takes ``(ds, body, axis)``: the study's Dataset (an ensemble with the variables and
+attributes the tennis-racket study adds), the body and the spin axis (1, 2, 3), and returns a
+``matplotlib.figure.Figure`` whose every axis is labelled with its unit. Curves of the exact
+solution come from the package (:func:`stability.exact_omega`, :mod:`stability.polhodes`).
 """
 
 from __future__ import annotations
@@ -17,21 +18,16 @@ from __future__ import annotations
 import numpy as np
 
 from .. import conventions as cv
+from ..analytic import moment_name, perpendicular_axes
+from ..estimators import sign_change_times
+from ..polhodes import polhodes, separatrix_circles
 from .style import AXIS_COLORS, ENSEMBLE_COLOR, EXACT_COLOR, label, new_figure, styled
-
-_MOMENT_WORDS = ("smallest", "intermediate", "largest")
-
-
-def _axis_word(body, axis: int) -> str:
-    """``"intermediate"`` etc.: which moment the body axis ``axis`` (1, 2, 3) carries."""
-    rank = int(np.argsort(np.argsort(body.moments, kind="stable"))[axis - 1])
-    return _MOMENT_WORDS[rank]
 
 
 def _subtitle(ds, body, axis) -> str:
     spin = ds.attrs.get("spin", float("nan"))
     eps = ds.attrs.get("epsilon", float("nan"))
-    return (f"{body.name}: spin {spin:g} rad/s about axis {axis} ({_axis_word(body, axis)} "
+    return (f"{body.name}: spin {spin:g} rad/s about axis {axis} ({moment_name(body, axis)} "
             f"moment), perturbation ε = {eps:g}")
 
 
@@ -61,14 +57,14 @@ def flips_figure(ds, body, axis, member=None, samples=2000):
     samples : int
         Points of the exact curve.
     """
-    import stability
+    from ..exact import exact_omega
 
     j = typical_member(ds) if member is None else int(member)
     t = ds[cv.TIME].values
     w = ds.w.isel({cv.MEMBER: j}).values
     t_fine = np.linspace(t[0], t[-1], samples)
-    exact = np.asarray(stability.exact_omega(body, ds.w0.values[j], t_fine), dtype=float)
-    flips = _sign_changes(t_fine, exact[:, axis - 1])
+    exact = np.asarray(exact_omega(body, ds.w0.values[j], t_fine), dtype=float)
+    flips = sign_change_times(t_fine, exact[:, axis - 1])
 
     fig = new_figure(7.5, 6.5)
     axes = fig.subplots(3, 1, sharex=True)
@@ -98,12 +94,6 @@ def flips_figure(ds, body, axis, member=None, samples=2000):
     return fig
 
 
-def _sign_changes(t, x):
-    """Times where ``x`` changes sign, by linear interpolation."""
-    s = np.flatnonzero(np.signbit(x[1:]) != np.signbit(x[:-1]))
-    return t[s] - x[s] * (t[s + 1] - t[s]) / (x[s + 1] - x[s])
-
-
 @styled
 def polhode_figure(ds, body, axis=None, levels=(0.12, 0.35, 0.6, 0.82, 0.96), samples=400):
     """Figure 2: polhodes (paths of the body angular momentum m/|L|) on the unit sphere.
@@ -111,33 +101,13 @@ def polhode_figure(ds, body, axis=None, levels=(0.12, 0.35, 0.6, 0.82, 0.96), sa
     Around each stable axis (smallest and largest moment) orbits are drawn at energies
     ``2E/L^2 = 1/I_centre + f (1/I_intermediate - 1/I_centre)`` for f in ``levels`` (f = 0 is the
     centre, f = 1 the separatrix), each followed for one full period with the exact solution
-    (:func:`stability.exact_omega`), together with its mirror image. The separatrix D2 = 0 is
-    drawn from its closed form (:func:`separatrix_circles`).
+    (:func:`stability.polhodes.polhodes`), together with its mirror image. The separatrix
+    D2 = 0 is drawn from its closed form (:func:`stability.polhodes.separatrix_circles`).
     Left: 3-D view of the near side; right: the hemisphere around the saddle seen head-on.
     """
-    import stability
-
     I = body.moments
-    order = np.argsort(I, kind="stable")  # body axes (0-based) of the smallest ... largest
-    a, b, c = order
-    families = []  # (centre axis index, list of (n, 3) arrays of m/|L|)
-    for centre in (a, c):
-        curves = []
-        for f in levels:
-            # Start in the (e_centre, e_b) plane: 2E/L^2 = cos^2/I_centre + sin^2/Ib, so the
-            # fraction f of the way to the separatrix is sin^2(theta) = f.
-            theta = np.arcsin(np.sqrt(f))
-            m0 = np.zeros(3)
-            m0[centre], m0[b] = np.cos(theta), np.sin(theta)
-            w0 = m0 / I
-            period = float(stability.full_period(body, w0))
-            if not np.isfinite(period):
-                continue  # a steady spin (equal moments): a fixed point, no orbit to draw
-            t = np.linspace(0.0, period, samples)
-            m = np.asarray(stability.exact_omega(body, w0, t), dtype=float) * I
-            m /= np.linalg.norm(m, axis=1, keepdims=True)
-            curves += [m, -m]
-        families.append((centre, curves))
+    a, b, c = np.argsort(I, kind="stable")  # body axes (0-based) of the smallest ... largest
+    families = polhodes(body, levels, samples)
     separatrix = separatrix_circles(body)
 
     fig = new_figure(12.0, 6.0)
@@ -225,8 +195,11 @@ def growth_figure(ds, body, axis):
     """Figure 3: ensemble growth of the perpendicular amplitude against the analytic slope.
 
     The median over members of ``sqrt(w_b^2 + w_c^2)`` and its 10-90 % band on a log scale;
-    the analytic ``exp(lambda t)`` (lambda = sqrt(-Omega^2)) through the median at the middle of
-    the fit window; the fitted line; the window shaded.
+    the measured rate (``growth_rate_fitted``: :func:`stability.measured_growth_rate`, the mean
+    of the members' fits over the linear phase) drawn through the median over the window where
+    the median is in the linear phase (shaded; ``growth_fit_window``, ``growth_fit_intercept``);
+    the analytic ``exp(lambda t)`` (lambda = sqrt(-Omega^2)) through the same point at the
+    middle of the window.
     """
     t = ds[cv.TIME].values
     median = ds.perp_amplitude_median.values
@@ -246,9 +219,9 @@ def growth_figure(ds, body, axis):
     ax.plot(t[shown], median[shown], "o-", ms=3, color=ENSEMBLE_COLOR, lw=1.2,
             label=f"median over {int((ds.status == cv.STATUS_OK).sum())} members")
     if np.isfinite(t0) and np.isfinite(t1):
-        ax.axvspan(t0, t1, color="0.5", alpha=0.12, lw=0, label="fit window (linear phase)")
+        ax.axvspan(t0, t1, color="0.5", alpha=0.12, lw=0, label="linear phase of the median")
         mid = 0.5 * (t0 + t1)
-        anchor = fitted * mid + intercept  # ln(median) at the window's middle, per the fit
+        anchor = fitted * mid + intercept  # ln(median) at the window's middle, per the line
         tt = np.linspace(0.0, t_show, 200)
         line = np.exp(anchor + rate * (tt - mid))
         keep = line < 2.0 * np.nanmax(hi)
@@ -256,56 +229,25 @@ def growth_figure(ds, body, axis):
                 label=f"analytic slope √(−Ω²) = {rate:.5f} 1/s")
         tf = np.linspace(t0, t1, 50)
         ax.plot(tf, np.exp(intercept + fitted * tf), "--", color="crimson", lw=2.0,
-                label=f"fit {fitted:.5f} 1/s (rel. error {(fitted - rate) / rate:+.1e})")
+                label=f"measured {fitted:.5f} 1/s, mean of member fits "
+                      f"(rel. error {(fitted - rate) / rate:+.1e})")
     spin = ds.attrs.get("spin", np.nan)
     eps = ds.attrs.get("epsilon", np.nan)
     ax.axhline(eps * spin, color="0.4", lw=0.8, ls=":", label="start: ε × spin")
     ax.set_yscale("log")
     ax.set_xlim(0.0, t_show)
     ax.set_xlabel(label("time", cv.UNITS_TIME))
-    ax.set_ylabel(label(f"perpendicular amplitude √(w{_others(axis)[0]}² + w{_others(axis)[1]}²)",
-                        cv.UNITS_ANGULAR_VELOCITY))
+    b, c = perpendicular_axes(axis)
+    ax.set_ylabel(label(f"perpendicular amplitude √(w{b}² + w{c}²)", cv.UNITS_ANGULAR_VELOCITY))
     ax.legend(loc="lower right", framealpha=0.9)
     if rate > 0:
-        headline = (f"Exponential growth away from the {_axis_word(body, axis)} axis, then "
+        headline = (f"Exponential growth away from the {moment_name(body, axis)} axis, then "
                     "saturation at the flip")
     else:
-        headline = (f"Bounded oscillation about the {_axis_word(body, axis)} axis "
+        headline = (f"Bounded oscillation about the {moment_name(body, axis)} axis "
                     f"(Ω² = {ds.attrs['omega_squared']:.4g} 1/s² > 0: stable)")
     ax.set_title(f"{headline}\n{_subtitle(ds, body, axis)}", fontsize=10)
     return fig
-
-
-def separatrix_circles(body, samples=721):
-    """The separatrix D2 = 0 on the unit sphere of m/|L|: two great circles through +-e_b.
-
-    On |m| = 1, D2 = L^2 - 2E Ib = Ia (Ia - Ib) w_a^2 + Ic (Ic - Ib) w_c^2 vanishes where
-    ``m_a^2 (Ib - Ia) / Ia = m_c^2 (Ic - Ib) / Ic``: the planes
-    ``m_c = +-m_a sqrt(Ic (Ib - Ia) / (Ia (Ic - Ib)))`` through the intermediate axis e_b
-    (sorted moments Ia <= Ib <= Ic).
-
-    Returns
-    -------
-    list of two ndarrays, shape (samples, 3)
-        Unit vectors along the body's own axes.
-    """
-    order = np.argsort(body.moments, kind="stable")
-    a, b, c = order
-    Ia, Ib, Ic = body.moments[order]
-    s = np.linspace(0.0, 2.0 * np.pi, samples)
-    circles = []
-    for sign in (1.0, -1.0):
-        n = np.zeros(3)
-        # n spans the plane with e_b; n_c / n_a = +-sqrt(Ic (Ib - Ia) / (Ia (Ic - Ib))).
-        n[a] = np.sqrt(Ia * (Ic - Ib))
-        n[c] = sign * np.sqrt(Ic * (Ib - Ia))
-        n /= np.linalg.norm(n)
-        circles.append(np.cos(s)[:, None] * np.eye(3)[b] + np.sin(s)[:, None] * n)
-    return circles
-
-
-def _others(axis):
-    return [a for a in (1, 2, 3) if a != axis]
 
 
 @styled

@@ -7,7 +7,7 @@
    log-log, one line per method, with t^(1/2) and t^1 guides: bounded for Poisson splittings,
    linear for RK4, a round-off random walk for methods that keep the energy.
 
-Each takes the study's Dataset (:func:`stability.study.work_precision.work_precision_dataset`)
+Each takes the study's Dataset (:func:`stability.workprecision.work_precision_dataset`)
 and returns a ``matplotlib.figure.Figure`` whose every axis is labelled with its unit.
 """
 
@@ -16,14 +16,14 @@ from __future__ import annotations
 import numpy as np
 
 from .. import conventions as cv
-from ..study.work_precision import envelope
+from ..drift import envelope
 from .style import EXACT_COLOR, label, new_figure, save, styled
 
 #: Line style per method family, so families read at a glance; colours cycle within a family.
 _FAMILY_STYLE = {
     "Runge-Kutta": "-",
     "Lie-Poisson splitting": "--",
-    "exact": ":",
+    "exact flow": ":",
 }
 _MARKERS = "osD^v<>ph*Xd"
 SCIPY_COLOR = "0.35"

@@ -6,7 +6,9 @@ each kind to its :class:`~.config.StudyKind`: the schema its files are checked a
 ``stability run`` calls.
 
 To add a kind of study: write one module here with its ``SCHEMA``, ``outputs`` and ``run``
-(see :mod:`.tennis_racket`), and add one line to ``STUDIES``.
+(see :mod:`.tennis_racket`), and add one line to ``STUDIES``. A study orchestrates: its ``run``
+reads the resolved file, calls the package (references, sweeps, estimators, shape grids live
+there, once), saves the Dataset, draws the figures and summarises; figures draw the Dataset.
 """
 
 from __future__ import annotations

@@ -5,16 +5,17 @@ about a principal axis (by default the intermediate one), each member perturbed 
 (relative to the spin) in a random direction perpendicular to it. The study runs the ensemble
 with :func:`stability.run_ensemble`, adds the analytic answers (Omega^2, the growth rate
 ``sqrt(-Omega^2)``, each member's exact flip interval 2K/nu and its asymptote
-(2/lambda) ln(4/k'), literature notes 1.5 and 2.1), fits the growth rate of the median
-perpendicular amplitude over the linear phase, saves the Dataset and draws the four figures of
-:mod:`stability.figures.tennis`.
+(2/lambda) ln(4/k'), literature notes 1.5 and 2.1) and the measured growth rate, saves the
+Dataset and draws the four figures of :mod:`stability.figures.tennis`.
 
-The fit: ``a(t) = sqrt(w_b^2 + w_c^2)`` (the two components perpendicular to the spin axis) is
-taken per member, and the median over members of ``ln a`` is fitted by a straight line over the
-*linear phase*: from the first time the median amplitude exceeds ``fit_above`` times its start
-``epsilon * rate`` (the decaying eigenmode has died out) to the last time before it exceeds
-``fit_below * rate`` (before the nonlinearity bends the curve, whose relative effect on the slope
-is about ``(a / rate)^2 / 2``).
+The measured growth rate is :func:`stability.measured_growth_rate` of the saved Dataset, which
+records its window (``[analysis] fit_above`` and ``fit_below`` as the attributes
+``growth_window_low_factor`` and ``growth_window_high_fraction``), so that
+``ds.stability.measured_growth_rate()`` gives the number the summary prints: each member's
+``ln sqrt(w_b^2 + w_c^2)`` fitted by a straight line over its *linear phase*, from
+``fit_above`` times its start ``epsilon * rate`` (the decaying eigenmode has died out) to
+``fit_below`` times the rate (before the nonlinearity bends the curve, whose relative effect on
+the slope is about ``(a / rate)^2 / 2``), and the mean over members.
 """
 
 from __future__ import annotations
@@ -26,12 +27,14 @@ from pathlib import Path
 
 import numpy as np
 
+from ..analytic import MOMENT_NAMES, principal_axis
+from ..estimators import analyse_ensemble
 from .config import UNSET, ConfigError, Key, Schema, Section, StudyKind, StudySummary
 
 NAME = "tennis_racket"
 
 #: Spin axes a study file may name: a body axis, or the axis with that moment.
-AXIS_NAMES = ("smallest", "intermediate", "largest")
+AXIS_NAMES = MOMENT_NAMES
 
 #: Figure file stems, in the order of the issue: flips, polhodes, growth, flip intervals.
 FIGURES = ("fig1_flips", "fig2_polhodes", "fig3_growth", "fig4_flip_intervals")
@@ -87,10 +90,10 @@ SCHEMA = Schema(
         )),
         Section("analysis", "the growth-rate fit over the linear phase", (
             Key("fit_above", "float", 10.0,
-                "start the fit when the median amplitude exceeds this times epsilon * rate",
+                "start each member's fit when its amplitude exceeds this times epsilon * rate",
                 minimum=1.0, exclusive_minimum=True),
             Key("fit_below", "float", 0.03,
-                "end the fit before the median amplitude exceeds this times rate",
+                "end it before the amplitude exceeds this times rate (or its saturation)",
                 minimum=0.0, exclusive_minimum=True, maximum=1.0),
         )),
         Section("output", "where the results go", (
@@ -186,7 +189,9 @@ def run(config: dict, out_dir: Path, *, overwrite=False, threads=None, progress=
     )
     t_ensemble = time.perf_counter() - t_start
     say("exact flip intervals and the growth-rate fit ...")
-    ds = analyse(ds, body, axis, spin, ens["epsilon"], config["analysis"])
+    ds = analyse_ensemble(ds, body, axis, spin, ens["epsilon"],
+                          low_factor=config["analysis"]["fit_above"],
+                          high_fraction=config["analysis"]["fit_below"])
     ds.attrs["title"] = config["title"]
 
     out = config["output"]
@@ -222,147 +227,7 @@ def spin_axis(body, axis) -> int:
     """Body axis (1, 2 or 3) of ``axis``: a number, or "smallest", "intermediate", "largest"."""
     if axis in (1, 2, 3):
         return int(axis)
-    order = np.argsort(body.moments, kind="stable")
-    return int(order[AXIS_NAMES.index(axis)]) + 1
-
-
-# ------------------------------------------------------------------------------ the analysis
-
-
-def perpendicular_amplitude(w, axis: int):
-    """``sqrt(w_b^2 + w_c^2)``: the part of ``w`` perpendicular to body ``axis`` (1, 2, 3).
-
-    Parameters
-    ----------
-    w : xarray.DataArray
-        Angular velocity with an ``axis`` dimension (coordinates 1, 2, 3), in rad/s.
-    axis : int
-
-    Returns
-    -------
-    xarray.DataArray
-        Same dims as ``w`` without ``axis``, in rad/s.
-    """
-    others = [a for a in (1, 2, 3) if a != axis]
-    perp = w.sel(axis=others)
-    amp = np.sqrt((perp**2).sum("axis", skipna=False))
-    amp.attrs = {"long_name": f"amplitude perpendicular to axis {axis}", "units": "rad s-1"}
-    return amp
-
-
-def fit_growth(time, amplitude, low, high):
-    """Least-squares slope of ``ln(amplitude)`` where ``low < amplitude < high`` first holds.
-
-    Parameters
-    ----------
-    time : ndarray, shape (n,)
-        Times in s, ascending.
-    amplitude : ndarray, shape (n,)
-        A positive, growing amplitude (e.g. the ensemble median), any unit.
-    low, high : float
-        Window in the units of ``amplitude``: from the first sample above ``low`` up to the last
-        sample below ``high`` that follows it without a gap.
-
-    Returns
-    -------
-    rate : float
-        Slope in 1/s (NaN if the window holds fewer than 3 samples).
-    intercept : float
-        ``ln(amplitude)`` of the fitted line at t = 0.
-    window : tuple of float
-        First and last time of the window, in s.
-    """
-    amplitude = np.asarray(amplitude, dtype=float)
-    time = np.asarray(time, dtype=float)
-    above = np.flatnonzero(amplitude > low)
-    if above.size == 0:
-        return math.nan, math.nan, (math.nan, math.nan)
-    i0 = int(above[0])
-    i1 = i0
-    while i1 + 1 < amplitude.size and low < amplitude[i1 + 1] < high:
-        i1 += 1
-    if i1 - i0 + 1 < 3 or not amplitude[i0] < high:
-        return math.nan, math.nan, (float(time[i0]), float(time[i1]))
-    rate, intercept = np.polyfit(time[i0 : i1 + 1], np.log(amplitude[i0 : i1 + 1]), 1)
-    return float(rate), float(intercept), (float(time[i0]), float(time[i1]))
-
-
-def exact_flip_statistics(body, w0):
-    """Each start's exact flip interval 2K/nu, its asymptote (2/lambda) ln(4/k'), and k'.
-
-    Parameters
-    ----------
-    body : RigidBody
-    w0 : ndarray, shape (N, 3)
-        Initial body-frame angular velocities in rad/s.
-
-    Returns
-    -------
-    interval, asymptote, kprime : ndarray, shape (N,)
-        In s, s and dimensionless (literature notes 1.5; :mod:`stability.exact`).
-    """
-    from ..exact import elliptic_parameters, flip_interval, flip_interval_asymptote
-
-    n = w0.shape[0]
-    interval, asymptote, kprime = np.empty(n), np.empty(n), np.empty(n)
-    for j in range(n):
-        interval[j] = flip_interval(body, w0[j])
-        asymptote[j] = flip_interval_asymptote(body, w0[j])
-        kprime[j] = math.sqrt(elliptic_parameters(body, w0[j])[1])
-    return interval, asymptote, kprime
-
-
-def analyse(ds, body, axis, spin, epsilon, analysis):
-    """Add the analytic answers and the fitted growth rate to the ensemble Dataset.
-
-    Adds ``exact_flip_interval`` and ``flip_interval_asymptote`` (member, s),
-    ``complementary_modulus`` (member), ``perp_amplitude_median`` / ``_p10`` / ``_p90`` (time,
-    rad/s over members with status ok), and attributes ``omega_squared`` (s-2),
-    ``growth_rate_analytic``, ``growth_rate_fitted`` (s-1) and ``fit_window`` (s).
-    """
-    import stability
-
-    from .. import conventions as cv
-
-    omega2 = float(stability.omega_squared(body, axis, spin))
-    rate = float(stability.growth_rate(body, axis, spin))
-    ok = ds.status == cv.STATUS_OK
-    exact, asymptote, kprime = exact_flip_statistics(body, ds.w0.values)
-
-    amp = perpendicular_amplitude(ds.w.where(ok), axis)
-    quantiles = amp.quantile([0.1, 0.5, 0.9], dim=cv.MEMBER, skipna=True)
-    median = quantiles.sel(quantile=0.5).values
-    fitted, intercept, window = fit_growth(
-        ds[cv.TIME].values, median,
-        analysis["fit_above"] * epsilon * spin, analysis["fit_below"] * spin,
-    )
-
-    s, one, rad_s = cv.UNITS_TIME, cv.UNITS_DIMENSIONLESS, cv.UNITS_ANGULAR_VELOCITY
-    ds = ds.assign(
-        exact_flip_interval=(cv.MEMBER, exact, {
-            "long_name": "exact flip interval 2K(k)/nu of the member's start", "units": s}),
-        flip_interval_asymptote=(cv.MEMBER, asymptote, {
-            "long_name": "small-perturbation asymptote (2/lambda) ln(4/k') of the flip interval",
-            "units": s}),
-        complementary_modulus=(cv.MEMBER, kprime, {
-            "long_name": "complementary modulus k' of the member's Jacobi functions",
-            "units": one}),
-    )
-    for q, name in ((0.1, "p10"), (0.5, "median"), (0.9, "p90")):
-        ds[f"perp_amplitude_{name}"] = (cv.TIME, quantiles.sel(quantile=q).values, {
-            "long_name": f"{name} over ok members of the amplitude perpendicular to axis {axis}",
-            "units": rad_s})
-    ds.attrs.update({
-        "spin_axis_resolved": axis,
-        "omega_squared": omega2,
-        "omega_squared_units": cv.UNITS_RATE_SQUARED,
-        "growth_rate_analytic": rate,
-        "growth_rate_fitted": fitted,
-        "growth_rate_units": cv.UNITS_RATE,
-        "growth_fit_intercept": intercept,
-        "growth_fit_window": np.array(window),
-    })
-    return ds
+    return principal_axis(body, axis)
 
 
 def draw_figures(ds, body, axis, out_dir, formats):
@@ -385,6 +250,7 @@ def summarize(ds, out_dir, files, wall, t_ensemble) -> StudySummary:
     ok = (ds.status == cv.STATUS_OK).values
     n_ok, n = int(ok.sum()), ok.size
     rate, fitted = ds.attrs["growth_rate_analytic"], ds.attrs["growth_rate_fitted"]
+    stderr = ds.attrs["growth_rate_fitted_stderr"]
     rel = (fitted - rate) / rate if rate > 0 else math.nan
     measured = ds.mean_flip_interval.values[ok]
     exact = ds.exact_flip_interval.values[ok]
@@ -397,7 +263,8 @@ def summarize(ds, out_dir, files, wall, t_ensemble) -> StudySummary:
     values = {
         "members": n, "members_ok": n_ok,
         "omega_squared": ds.attrs["omega_squared"],
-        "growth_rate": rate, "growth_rate_fitted": fitted, "growth_rate_rel_error": rel,
+        "growth_rate": rate, "growth_rate_fitted": fitted, "growth_rate_fitted_stderr": stderr,
+        "growth_rate_rel_error": rel,
         "median_flip_interval": float(np.median(measured[both])) if both.any() else math.nan,
         "median_exact_flip_interval": float(np.median(exact[both])) if both.any() else math.nan,
         "max_flip_interval_rel_error": float(flip_err.max()) if both.any() else math.nan,
@@ -410,7 +277,8 @@ def summarize(ds, out_dir, files, wall, t_ensemble) -> StudySummary:
         ("members (ok / all)", f"{n_ok} / {n}", ""),
         ("Omega^2 (analytic)", f"{values['omega_squared'] + 0.0:.6g}", "s-2"),  # no "-0"
         ("growth rate sqrt(-Omega^2) (analytic)", f"{rate:.6f}", "s-1"),
-        ("growth rate fitted (median, linear phase)", f"{fitted:.6f}", "s-1"),
+        ("growth rate fitted (mean over members, linear phase)", f"{fitted:.6f}", "s-1"),
+        ("  its standard error", f"{stderr:.1e}", "s-1"),
         ("  relative error of the fit", f"{rel:.1e}", ""),
         ("median flip interval, measured", f"{values['median_flip_interval']:.6f}", "s"),
         ("median flip interval, exact 2K/nu", f"{values['median_exact_flip_interval']:.6f}", "s"),

@@ -1,0 +1,455 @@
+"""The stability map's Dataset: measured against analytic Omega^2 for every shape and axis.
+
+For every shape of the triangle (:mod:`stability.shapes`) and each of its three axes, an
+ensemble of ``members`` starts at steady spin ``W`` about the axis plus a perturbation
+``epsilon W`` in a random perpendicular direction, runs summaries-only, and is classified and
+measured by :mod:`stability.estimators` (:func:`ensemble_estimates`: regime; growth rate on the
+linear phase or frequency from zero crossings; Omega^2 = -rate^2 or +frequency^2; flips against
+the exact 2K/nu and the asymptote (2/lambda) ln(4/k')). Each finite-order method also runs at
+``h / 2`` on some shapes: :func:`stability.estimators.richardson_bias` gives its own O(h^p) bias
+in Omega^2, reported beside the measured error, not hidden.
+
+The Dataset (:func:`map_dataset`) has dims integrator, shape, axis (an integrator is a registry
+method at its step h, not called "method" so that ``ds.sel(integrator="rk4")`` works), the flip
+sweep on flip_shape, epsilon (:mod:`stability.flipsweep`), the edge time series on edge_case,
+edge_time (:func:`stability.shapes.edge_series`). :func:`headline` reads it back.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import xarray as xr
+
+from . import conventions as cv
+from . import estimators as est
+from .shapes import EDGE_EQUAL_12, EDGE_EQUAL_23, EDGE_FLAT, EDGE_MEANINGS
+
+#: Relative bias of the growth rate, lambda_h / lambda - 1, at step h for I = (1, 2, 3) and spin
+#: W = 1 (literature notes 4.1, table of discretization biases): RK4 -(h lambda)^4 / 120; the
+#: two-part Lie-Poisson split (lp2: I_ref = I2, axis 1 outer) -1.4e-4 at h = 0.1, O(h^2). The
+#: relative error of Omega^2 = -lambda^2 is minus twice this. Arguments: h W and lambda / W.
+LITERATURE_RATE_BIAS = {
+    "rk4": lambda hw, lam: -((hw * lam) ** 4) / 120.0,
+    "lp2": lambda hw, lam: -1.4e-4 * (hw / 0.1) ** 2,
+}
+
+#: Float estimates stored per (integrator, shape, axis).
+MAP_FLOATS = (
+    "omega_squared_measured", "omega_squared_measured_stderr", "relative_error",
+    "growth_rate", "growth_rate_stderr", "oscillation_frequency",
+    "oscillation_frequency_stderr", "drift_rate", "n_fitted", "n_flips_mean",
+    "first_flip_time_mean", "first_flip_time_stderr", "flip_interval_mean",
+    "flip_interval_stderr", "flip_interval_exact_mean", "flip_interval_asymptote_mean",
+    "flip_interval_relative_error", "flip_interval_relative_error_stderr",
+    "first_flip_time_relative_error", "energy_error_max",
+)
+
+
+def ensemble_estimates(run: xr.Dataset, analytic: float, exact=None, asymptote=None, *,
+                       low_factor, high_fraction) -> dict:
+    """Every number the map keeps of one summaries-only ensemble.
+
+    Parameters
+    ----------
+    run : xarray.Dataset
+        :func:`stability.run_ensemble` with ``summaries_only=True``.
+    analytic : float
+        Analytic Omega^2, s-2.
+    exact, asymptote : ndarray, shape (N,), optional
+        Each member's exact flip interval and its asymptote (unstable axes).
+    low_factor, high_fraction : float
+        The growth-rate window (:func:`stability.estimators.measured_growth_rate`).
+
+    Returns
+    -------
+    dict
+        The keys of :func:`stability.estimators.omega_squared_estimate` and
+        :func:`stability.estimators.flip_estimate`, and ``members_failed``, ``status`` (the
+        worst member status) and ``energy_error_max``.
+    """
+    mem = est.members(run)
+    e = est.omega_squared_estimate(mem, analytic, low_factor=low_factor,
+                                   high_fraction=high_fraction)
+    f = est.flip_estimate(mem, exact, asymptote)
+    status = run.status.values
+    return {**f, **e, "members_failed": int(np.sum(status != cv.STATUS_OK)),
+            "status": int(np.max(status)),
+            "energy_error_max": _nanmax_abs(run.energy_error.values)}
+
+
+def measure_map(bodies, omega2, t_end, levels, specs, runs, *, spin, epsilon, members, seed,
+                low_factor, high_fraction, progress=None, command=None):
+    """Run every ensemble of the map and keep its estimates.
+
+    Every (shape, axis) runs ``members`` starts ``spin e_a`` nudged by ``epsilon spin`` in the
+    same random perpendicular directions (:func:`stability.ensemble.perturbed_starts` with
+    ``seed``), summaries-only, for ``t_end`` rounded up to whole steps.
+
+    Parameters
+    ----------
+    bodies : list of RigidBody
+        The shapes.
+    omega2, t_end : ndarray, shape (S, 3)
+        Analytic Omega^2 (s-2) and run length (s) per (shape, axis).
+    levels : ndarray, shape (L,)
+        Amplitude levels of the passage times, rad/s.
+    specs : list of MethodSpec
+    runs : list of (int, float, ndarray, bool)
+        (method index, h, shape indices, whether it is the half-step bias run), exact flows
+        first: their first-flip times are the reference of the others.
+    spin, epsilon, members, seed
+        The ensembles (rad/s, relative, count, seed of the directions).
+    low_factor, high_fraction : float
+        The growth-rate window.
+    progress : bool, optional
+        Progress bar over the ensembles; by default on a terminal.
+    command : str, optional
+        The command, for the ensembles' history.
+
+    Returns
+    -------
+    out, half : dict
+        :func:`empty_estimates` filled in at h and at h / 2.
+    work : dict
+        ``member_steps`` and ``loop_time`` (s, in compiled code) summed over the runs.
+
+    Raises
+    ------
+    KeyboardInterrupt
+        When Ctrl-C stopped an ensemble.
+    """
+    from .ensemble import perturbed_starts, run_ensemble
+    from .progress import progress_bar
+
+    # The same random directions for every ensemble about an axis (run_ensemble draws them so).
+    starts = {a: perturbed_starts(a, spin, epsilon, members, seed) for a in cv.AXES}
+
+    n_shapes = len(bodies)
+    exact_flip = {(s, a): est.exact_flip_intervals(bodies[s], a, starts[a])
+                  for s in range(n_shapes) for a in cv.AXES if omega2[s, a - 1] < 0}
+
+    out, half = empty_estimates(len(specs), n_shapes)
+    first_exact = {}
+    total = sum(len(shapes) for _, _, shapes, _ in runs) * 3
+    bar = progress_bar(total, progress, "stability_map", unit="ensemble")
+    member_steps, loop_time = 0, 0.0
+    for i, h, shapes, is_half in runs:
+        for s in shapes:
+            for a in cv.AXES:
+                n_steps = max(1, int(math.ceil(t_end[s, a - 1] / h - 1e-9)))
+                run = run_ensemble(
+                    bodies[s], int(a), spin, epsilon, members, h=h, t_end=n_steps * h,
+                    seed=seed, method=specs[i].name, summaries_only=True, levels=levels,
+                    progress=False, command=command,
+                )
+                if run.attrs["interrupted"]:  # Ctrl-C stopped this ensemble: stop the map
+                    bar.close()
+                    raise KeyboardInterrupt
+                member_steps += run.attrs["members"] * run.attrs["steps_done"]
+                loop_time += run.attrs["wall_time"]
+                exact, asymptote = exact_flip.get((s, a), (None, None))
+                if exact is not None and not np.array_equal(run.w0.values, starts[a]):
+                    exact, asymptote = est.exact_flip_intervals(bodies[s], a, run.w0.values)
+                x = ensemble_estimates(run, omega2[s, a - 1], exact, asymptote,
+                                       low_factor=low_factor, high_fraction=high_fraction)
+                store(half if is_half else out, (i, s, a - 1), x)
+                if specs[i].is_exact and not is_half:
+                    first_exact[s, a] = x["first_flip_time"]
+                elif not is_half and (s, a) in first_exact:
+                    out["first_flip_time_relative_error"][i, s, a - 1] = (
+                        first_flip_relative_error(x["first_flip_time"], first_exact[s, a]))
+                bar.update(1)
+    bar.close()
+    return out, half, {"member_steps": member_steps, "loop_time": loop_time}
+
+
+def empty_estimates(n_methods: int, n_shapes: int):
+    """Arrays (methods, shapes, 3) for the estimates at h (``out``) and at h / 2 (``half``)."""
+    shape3 = (n_methods, n_shapes, 3)
+    nan = np.full(shape3, np.nan)
+    out = {name: nan.copy() for name in MAP_FLOATS}
+    out["regime"] = np.zeros(shape3, dtype=np.int8)
+    out["sign_agrees"] = np.zeros(shape3, dtype=np.int8)
+    out["members_failed"] = np.zeros(shape3, dtype=np.int32)
+    out["status"] = np.zeros(shape3, dtype=np.int8)
+    half = {"omega_squared_measured": nan.copy(), "regime": np.zeros(shape3, dtype=np.int8)}
+    return out, half
+
+
+def store(arrays: dict, index, estimates: dict) -> None:
+    """Put one ensemble's :func:`ensemble_estimates` at ``index`` of every array it has."""
+    for name, values in arrays.items():
+        if name in estimates:
+            values[index] = estimates[name]
+
+
+def first_flip_relative_error(first, reference) -> float:
+    """Mean over members of (first flip - reference) / reference, finite members only."""
+    with np.errstate(invalid="ignore", divide="ignore"):
+        return _finite_mean((first - reference) / reference)
+
+
+def _finite_mean(x):
+    x = np.asarray(x, dtype=float)
+    x = x[np.isfinite(x)]
+    return float(x.mean()) if x.size else math.nan
+
+
+def _nanmax_abs(x):
+    x = np.abs(np.asarray(x, dtype=float))
+    x = x[np.isfinite(x)]
+    return float(x.max()) if x.size else math.nan
+
+
+def map_dataset(specs, steps, spin, moments, edges, omega2, t_end, levels, out, half, bias,
+                sweep, edge, attrs) -> xr.Dataset:
+    """Assemble the map's Dataset (see the module docstring).
+
+    Parameters
+    ----------
+    specs : list of MethodSpec
+        The integrators, in the order of ``integrator``.
+    steps : sequence of float
+        Their steps h, s.
+    spin : float
+        W, rad/s.
+    moments, edges : ndarray, shapes (S, 3) and (S,)
+        The shapes and their edge flags (:func:`stability.shapes.shape_grid`).
+    omega2, t_end : ndarray, shape (S, 3)
+        Analytic Omega^2 (s-2) and run length (s) per (shape, axis).
+    levels : ndarray, shape (L,)
+        The passage-time amplitude levels, rad/s.
+    out, half : dict
+        The estimates at h and h / 2 (:func:`empty_estimates`, :func:`store`).
+    bias : ndarray, shape (M, S, 3)
+        Relative Richardson bias of Omega^2 (:func:`stability.estimators.richardson_bias`).
+    sweep, edge : dict
+        :func:`stability.flipsweep.flip_sweep` and :func:`stability.shapes.edge_series`.
+    attrs : dict
+        Global attributes.
+    """
+    M, S, A = "integrator", "shape", cv.AXIS
+    one, s2 = cv.UNITS_DIMENSIONLESS, cv.UNITS_RATE_SQUARED
+    data = {
+        "omega_squared": ((S, A), omega2, {
+            "long_name": "analytic Omega^2 = (Ia - Ib)(Ia - Ic) W^2 / (Ib Ic)", "units": s2}),
+        "omega_squared_normalised": ((S, A), omega2 / spin**2, {
+            "long_name": "analytic Omega^2 / W^2", "units": one}),
+        "t_end": ((S, A), t_end, {"long_name": "run length of the ensemble",
+                                  "units": cv.UNITS_TIME}),
+        "edge": ((S,), edges, {"long_name": "triangle edges the shape lies on",
+                               "flag_masks": np.array([1, 2, 4], dtype=np.int8),
+                               "flag_meanings": EDGE_MEANINGS, "units": one}),
+        "regime": ((M, S, A), out["regime"], est.ESTIMATE_ATTRS["regime"]),
+        "sign_agrees": ((M, S, A), out["sign_agrees"], {
+            **est.ESTIMATE_ATTRS["sign_agrees"], "flag_values": np.array([0, 1], dtype=np.int8),
+            "flag_meanings": "no yes"}),
+        "status": ((M, S, A), out["status"], {
+            "long_name": "worst member status of the ensemble",
+            "flag_values": np.array(cv.STATUS_FLAG_VALUES, dtype=np.int8),
+            "flag_meanings": cv.STATUS_MEANINGS, "units": one}),
+        "members_failed": ((M, S, A), out["members_failed"], {
+            "long_name": "members whose status is not ok (left out of the estimates)",
+            "units": one}),
+        "energy_error_max": ((M, S, A), out["energy_error_max"], {
+            "long_name": "largest relative kinetic-energy error at the end over members",
+            "units": one}),
+        "first_flip_time_relative_error": ((M, S, A), out["first_flip_time_relative_error"], {
+            "long_name": "mean relative difference of the first-flip time from the exact "
+                         "flow's, member by member", "units": one}),
+        "omega_squared_measured_half_step": ((M, S, A), half["omega_squared_measured"], {
+            "long_name": "measured Omega^2 at step h / 2 (bias check)", "units": s2}),
+        "regime_half_step": ((M, S, A), half["regime"],
+                             {**est.ESTIMATE_ATTRS["regime"],
+                              "long_name": "regime at step h / 2 (bias check)"}),
+        "step_bias": ((M, S, A), bias, {
+            "long_name": "Richardson estimate of the method's relative O(h^p) bias in Omega^2 "
+                         "at step h, (X(h) - X(h/2)) / (1 - 2^-p) / |Omega^2|", "units": one}),
+    }
+    for name in MAP_FLOATS:
+        if name in data:
+            continue
+        data[name] = ((M, S, A), out[name], est.ESTIMATE_ATTRS.get(name))
+    F, E = "flip_shape", "epsilon"
+    data.update({
+        "sweep_flip_interval": ((M, F, E), sweep["measured"], {
+            "long_name": "measured flip interval, perturbation epsilon along axis 1",
+            "units": cv.UNITS_TIME}),
+        "sweep_flip_interval_exact": ((F, E), sweep["exact"], {
+            "long_name": "exact flip interval 2K/nu", "units": cv.UNITS_TIME}),
+        "sweep_flip_interval_asymptote": ((F, E), sweep["asymptote"], {
+            "long_name": "asymptotic flip interval (2/lambda) ln(4/k')", "units": cv.UNITS_TIME}),
+        "sweep_growth_rate": ((F,), sweep["growth_rate"], {
+            "long_name": "analytic growth rate lambda about axis 2", "units": cv.UNITS_RATE}),
+    })
+    C, T = "edge_case", "edge_time"
+    data.update({
+        "edge_w": ((C, T, A), edge["w"], {
+            "long_name": "body-frame angular velocity on an edge case",
+            "units": cv.UNITS_ANGULAR_VELOCITY}),
+        "edge_slope_predicted": ((C,), edge["slope_predicted"], {
+            "long_name": "initial rate of change of the drifting component (Euler's equations)",
+            "units": "rad s-2"}),
+        "edge_slope_measured": ((C,), edge["slope_measured"], {
+            "long_name": "least-squares slope of the drifting component", "units": "rad s-2"}),
+        "edge_distinct_change": ((C,), edge["distinct_change"], {
+            "long_name": "largest change of the component along the distinct axis",
+            "units": cv.UNITS_ANGULAR_VELOCITY}),
+        "edge_flips": ((C,), edge["flips"], {"long_name": "sign changes of the spin component",
+                                             "units": one}),
+        "edge_regime": ((C,), edge["regime"], est.ESTIMATE_ATTRS["regime"]),
+        "edge_linear_residual": ((C,), edge["linear_residual"], {
+            "long_name": "rms relative misfit of a straight line to the amplitude",
+            "units": one}),
+        "edge_exponential_residual": ((C,), edge["exponential_residual"], {
+            "long_name": "rms misfit of an exponential to the amplitude", "units": one}),
+    })
+    coords = {
+        M: (M, [spec.name for spec in specs], {"long_name": "integrator"}),
+        "h": (M, np.array(steps, dtype=float),
+              {"long_name": "step", "units": cv.UNITS_TIME}),
+        "method_order": (M, np.array([spec.order for spec in specs], dtype=float),
+                         {"long_name": "order of the method (inf: exact flow)", "units": one}),
+        S: (S, np.arange(moments.shape[0]), {"long_name": "shape index"}),
+        "I1": (S, moments[:, 0], _moment_attrs(1)),
+        "I2": (S, moments[:, 1], _moment_attrs(2)),
+        "I3": (S, moments[:, 2], _moment_attrs(3)),
+        A: (A, np.array(cv.AXES), {"long_name": "principal axis of the spin"}),
+        "level": ("level", levels, {"long_name": "perpendicular amplitude level of the "
+                                                 "passage times", "units":
+                                    cv.UNITS_ANGULAR_VELOCITY}),
+        F: (F, np.arange(sweep["moments"].shape[0]), {"long_name": "flip sweep shape index"}),
+        "flip_I1": (F, sweep["moments"][:, 0], _moment_attrs(1)),
+        "flip_I2": (F, sweep["moments"][:, 1], _moment_attrs(2)),
+        E: (E, sweep["epsilons"], {"long_name": "perturbation relative to the spin",
+                                   "units": one}),
+        C: (C, edge["names"], {"long_name": "edge case"}),
+        "edge_I1": (C, edge["moments"][:, 0], _moment_attrs(1)),
+        "edge_I2": (C, edge["moments"][:, 1], _moment_attrs(2)),
+        "edge_I3": (C, edge["moments"][:, 2], _moment_attrs(3)),
+        "edge_axis": (C, edge["axis"], {"long_name": "spin axis of the edge case"}),
+        T: (T, edge["time"], {"long_name": "time since the start", "units": cv.UNITS_TIME}),
+    }
+    return xr.Dataset(data, coords=coords, attrs=attrs)
+
+
+def _moment_attrs(i):
+    return {"long_name": f"principal moment I{i}, normalised so that I3 = 1",
+            "units": cv.UNITS_MOMENT_OF_INERTIA}
+
+
+def headline(ds: xr.Dataset):
+    """The numbers a map ends with: per integrator the accuracy against the bar, the sign, the
+    step bias beside the literature's, the flips; the edges, classified; the flip sweep.
+
+    Returns
+    -------
+    rows : list of (str, str, str)
+        Label, value and unit or note, for the printed summary.
+    values : dict
+        ``<method>_worst_relative_error``, ``<method>_passed``, ``<method>_sign_right``,
+        ``bar_size``, ``all_passed``.
+    """
+    tol, floor = ds.attrs["tolerance"], ds.attrs["min_omega_squared"]
+    spin = float(ds.attrs["spin"])
+    norm = ds.omega_squared_normalised.values
+    bar_set = np.abs(norm) > floor
+    rows, values = [], {}
+    n_shapes, members = ds.sizes["shape"], ds.attrs["members"]
+    rows.append(("shapes x axes (ensembles per method)", f"{n_shapes} x 3 = {3 * n_shapes}", ""))
+    rows.append(("members per ensemble, perturbation epsilon",
+                 f"{members}, {ds.attrs['epsilon']:g}", ""))
+    passed_all = True
+    for k, method in enumerate(ds.integrator.values):
+        h = float(ds.h.values[k])
+        rel = ds.relative_error.values[k]
+        sign = ds.sign_agrees.values[k].astype(bool)
+        in_bar = rel[bar_set]
+        worst = float(np.nanmax(np.abs(in_bar))) if np.isfinite(in_bar).any() else math.nan
+        missing = int(np.sum(~np.isfinite(in_bar)))
+        passed = int(np.sum(np.abs(in_bar) <= tol))
+        ok = passed == in_bar.size and missing == 0 and bool(sign.all())
+        passed_all &= ok
+        where = np.unravel_index(np.nanargmax(np.where(bar_set, np.abs(rel), -1.0)), rel.shape)
+        I = [float(ds[f"I{i}"].values[where[0]]) for i in (1, 2, 3)]
+        tag = f"{method} (h = {h:g} s)"
+        rows.append((f"{tag}: worst |rel. error| of Omega^2 where |Omega^2|/W^2 > {floor:g}",
+                     f"{worst:.2e}", f"at I = ({I[0]:.4g}, {I[1]:.4g}, 1), axis {where[1] + 1}"))
+        rows.append((f"{tag}: within the bar {tol:g}", f"{passed} / {in_bar.size}",
+                     "PASS" if ok else "FAIL"))
+        rows.append((f"{tag}: regime sign right", f"{int(sign.sum())} / {sign.size}", ""))
+        med = float(np.nanmedian(np.abs(in_bar))) if np.isfinite(in_bar).any() else math.nan
+        rows.append((f"{tag}: median |rel. error|", f"{med:.1e}", ""))
+        bias = ds.step_bias.values[k][bar_set]
+        if np.isfinite(bias).any():
+            rows.append((f"{tag}: O(h^p) bias in Omega^2 (h vs h/2), median / max |.|",
+                         f"{np.nanmedian(np.abs(bias)):.1e} / {np.nanmax(np.abs(bias)):.1e}",
+                         f"{int(np.isfinite(bias).sum())} ensembles"))
+        if method in LITERATURE_RATE_BIAS:
+            # The grid shape nearest I = (1, 2, 3) / 3, spin about axis 2: literature notes 4.1.
+            s = int(np.argmin((ds.I1.values - 1 / 3) ** 2 + (ds.I2.values - 2 / 3) ** 2))
+            lam = math.sqrt(-float(ds.omega_squared.values[s, 1]))
+            predicted = -2.0 * LITERATURE_RATE_BIAS[method](h * spin, lam / spin)
+            rows.append((f"{tag}: rel. error at I = ({float(ds.I1[s]):.4g}, "
+                         f"{float(ds.I2[s]):.4g}, 1), axis 2 / literature bias",
+                         f"{rel[s, 1]:.1e} / {predicted:.1e}",
+                         f"+- {float(ds.omega_squared_measured_stderr[k, s, 1]) / lam**2:.0e}"
+                         " (stderr); literature notes 4.1"))
+        flip_rel = ds.flip_interval_relative_error.values[k]
+        if np.isfinite(flip_rel).any():
+            rows.append((f"{tag}: flip interval vs exact 2K/nu, median / max |rel.|",
+                         f"{np.nanmedian(np.abs(flip_rel)):.1e} / "
+                         f"{np.nanmax(np.abs(flip_rel)):.1e}", "unstable axes"))
+        first_rel = ds.first_flip_time_relative_error.values[k]
+        if np.isfinite(first_rel).any():
+            rows.append((f"{tag}: first flip vs the exact flow, max |rel.|",
+                         f"{np.nanmax(np.abs(first_rel)):.1e}", "member by member"))
+        values[f"{method}_worst_relative_error"] = worst
+        values[f"{method}_passed"] = passed
+        values[f"{method}_sign_right"] = int(sign.sum())
+    values["bar_size"] = int(bar_set.sum())
+    values["all_passed"] = bool(passed_all)
+
+    # The edges, classified rather than fitted.
+    edge = ds.edge.values
+    zero = norm == 0.0
+    reg = ds.regime.values
+    for label, mask in (("I1 = I2 edge", (edge & EDGE_EQUAL_12) > 0),
+                        ("I2 = I3 edge", (edge & EDGE_EQUAL_23) > 0)):
+        not_sphere = edge != (EDGE_EQUAL_12 | EDGE_EQUAL_23)
+        sel = (mask & not_sphere)[:, None] & zero
+        alg = int(np.sum(reg[:, sel] == est.REGIME_ALGEBRAIC))
+        flips = float(np.nanmax(ds.n_flips_mean.values[:, sel])) if sel.any() else 0.0
+        rows.append((f"{label}, equal-moment axes (Omega^2 = 0): algebraic drift",
+                     f"{alg} / {reg[:, sel].size}", f"flips per member at most {flips:g}"))
+    sphere = edge == (EDGE_EQUAL_12 | EDGE_EQUAL_23)
+    if sphere.any():
+        neutral = int(np.sum(reg[:, sphere, :] == est.REGIME_NEUTRAL))
+        rows.append(("sphere: no departure (neutral)", f"{neutral} / {reg[:, sphere, :].size}", ""))
+    flat = (edge & EDGE_FLAT) > 0
+    flat_rel = ds.relative_error.values[:, flat, :][:, bar_set[flat]]
+    if np.isfinite(flat_rel).any():
+        rows.append(("flat edge I1 + I2 = I3: worst |rel. error| (all methods)",
+                     f"{np.nanmax(np.abs(flat_rel)):.2e}", ""))
+    for c, name in enumerate(ds.edge_case.values):
+        rows.append((f"edge series {name}: slope measured / predicted",
+                     f"{float(ds.edge_slope_measured[c]):.4e} / "
+                     f"{float(ds.edge_slope_predicted[c]):.4e}", "rad s-2"))
+        rows.append((f"edge series {name}: distinct component change, flips",
+                     f"{float(ds.edge_distinct_change[c]):.1e}, {int(ds.edge_flips[c])}",
+                     "rad s-1"))
+
+    sweep = ds.sweep_flip_interval.values
+    exact = ds.sweep_flip_interval_exact.values
+    with np.errstate(invalid="ignore", divide="ignore"):
+        rel = np.abs(sweep - exact[None]) / exact[None]
+    for k, method in enumerate(ds.integrator.values):
+        for lo in (1e-6,):
+            sel = ds.epsilon.values >= lo
+            if np.isfinite(rel[k][:, sel]).any():
+                rows.append((f"flip sweep {method}: max |rel.| vs 2K/nu, epsilon >= {lo:g}",
+                             f"{np.nanmax(rel[k][:, sel]):.1e}", ""))
+
+    return rows, values

@@ -1,0 +1,69 @@
+"""The stability map's pieces: one ensemble's estimates, the arrays they go in, the map's runs."""
+
+import math
+
+import numpy as np
+import pytest
+
+import stability
+from stability import stabilitymap as smap
+from stability.estimators import REGIME_EXPONENTIAL, exact_flip_intervals
+from stability.shapes import amplitude_levels
+
+BODY = stability.RigidBody(1.0, 2.0, 3.0)
+SPIN, EPS = 1.0, 1e-7
+
+
+def summaries(axis, members=16, t_end=120.0, h=0.1):
+    return stability.run_ensemble(
+        BODY, axis, SPIN, EPS, members, h=h, t_end=t_end, seed=1, method="rk4",
+        summaries_only=True, levels=amplitude_levels(SPIN, EPS, 8), progress=False)
+
+
+def test_ensemble_estimates_of_an_unstable_axis():
+    run = summaries(2)
+    analytic = float(stability.omega_squared(BODY, 2, SPIN))
+    exact, asymptote = exact_flip_intervals(BODY, 2, run.w0.values)
+    x = smap.ensemble_estimates(run, analytic, exact, asymptote, low_factor=300.0,
+                                high_fraction=1e-2)
+    assert x["regime"] == REGIME_EXPONENTIAL and x["sign_agrees"]
+    assert abs(x["relative_error"]) < 1e-3
+    assert x["members_failed"] == 0 and x["status"] == 0
+    assert x["n_flips_mean"] >= 2 and abs(x["flip_interval_relative_error"]) < 1e-3
+    assert 0 <= x["energy_error_max"] < 1e-6
+
+
+def test_store_fills_the_arrays_it_knows():
+    out, half = smap.empty_estimates(2, 3)
+    assert set(smap.MAP_FLOATS) <= set(out) and set(half) == {"omega_squared_measured", "regime"}
+    assert out["regime"].dtype == np.int8 and out["members_failed"].dtype == np.int32
+    smap.store(half, (1, 2, 0), {"omega_squared_measured": -0.5, "regime": 3, "other": 1.0})
+    assert half["omega_squared_measured"][1, 2, 0] == -0.5 and half["regime"][1, 2, 0] == 3
+    assert np.isnan(half["omega_squared_measured"][0]).all()
+
+
+def test_first_flip_relative_error_is_a_finite_mean():
+    first = np.array([1.1, 2.0, np.nan])
+    reference = np.array([1.0, 2.0, 3.0])
+    assert smap.first_flip_relative_error(first, reference) == pytest.approx(0.05)
+    assert math.isnan(smap.first_flip_relative_error(first[2:], reference[2:]))
+
+
+def test_measure_map_runs_every_ensemble_and_the_half_steps():
+    moments = np.array([[0.5, 0.75, 1.0]])
+    bodies = [stability.RigidBody(*moments[0])]
+    omega2 = np.array([[float(stability.omega_squared(moments[0], a, SPIN)) for a in (1, 2, 3)]])
+    t_end = np.full((1, 3), 120.0)
+    specs = [stability.method_spec("exact"), stability.method_spec("rk4")]
+    runs = [(0, 0.1, np.arange(1), False), (1, 0.1, np.arange(1), False),
+            (1, 0.05, np.arange(1), True)]
+    out, half, work = smap.measure_map(
+        bodies, omega2, t_end, amplitude_levels(SPIN, EPS, 8), specs, runs, spin=SPIN,
+        epsilon=EPS, members=8, seed=1, low_factor=300.0, high_fraction=1e-2, progress=False)
+    assert work["member_steps"] == 8 * 3 * (1200 + 1200 + 2400) and work["loop_time"] > 0
+    np.testing.assert_array_less(np.abs(out["relative_error"]), 1e-3)
+    assert np.all(np.isfinite(half["omega_squared_measured"][1]))
+    assert np.all(np.isnan(half["omega_squared_measured"][0]))  # no bias run of the exact flow
+    # The rk4 first flip on the unstable axis against the exact flow's, member by member.
+    assert abs(out["first_flip_time_relative_error"][1, 0, 1]) < 1e-3
+    assert np.isnan(out["first_flip_time_relative_error"][0, 0, 1])
