@@ -73,10 +73,10 @@ def ensemble_estimates(run: xr.Dataset, analytic: float, exact=None, asymptote=N
     e = est.omega_squared_estimate(mem, analytic, low_factor=low_factor,
                                    high_fraction=high_fraction)
     f = est.flip_estimate(mem, exact, asymptote)
-    status = run.status.values
+    status = run.variables["status"].values
     return {**f, **e, "members_failed": int(np.sum(status != cv.STATUS_OK)),
             "status": int(np.max(status)),
-            "energy_error_max": _nanmax_abs(run.energy_error.values)}
+            "energy_error_max": _nanmax_abs(run.variables["energy_error"].values)}
 
 
 def measure_map(bodies, omega2, t_end, levels, specs, runs, *, spin, epsilon, members, seed,
@@ -120,47 +120,54 @@ def measure_map(bodies, omega2, t_end, levels, specs, runs, *, spin, epsilon, me
     KeyboardInterrupt
         When Ctrl-C stopped an ensemble.
     """
-    from .ensemble import perturbed_starts, run_ensemble
+    from .ensemble import perturbed_starts, run_ensembles
     from .progress import progress_bar
 
     # The same random directions for every ensemble about an axis (run_ensemble draws them so).
     starts = {a: perturbed_starts(a, spin, epsilon, members, seed) for a in cv.AXES}
 
     n_shapes = len(bodies)
-    exact_flip = {(s, a): est.exact_flip_intervals(bodies[s], a, starts[a])
-                  for s in range(n_shapes) for a in cv.AXES if omega2[s, a - 1] < 0}
+    exact_flip = {}  # (s, a) -> exact flip intervals and asymptote of the common starts
+
+    def exact_flips(s, a, w0):
+        if omega2[s, a - 1] >= 0:
+            return None, None
+        if not np.array_equal(w0, starts[a]):
+            return est.exact_flip_intervals(bodies[s], a, w0)
+        if (s, a) not in exact_flip:
+            exact_flip[s, a] = est.exact_flip_intervals(bodies[s], a, starts[a])
+        return exact_flip[s, a]
 
     out, half = empty_estimates(len(specs), n_shapes)
     first_exact = {}
     total = sum(len(shapes) for _, _, shapes, _ in runs) * 3
     bar = progress_bar(total, progress, "stability_map", unit="ensemble")
     member_steps, loop_time = 0, 0.0
+    # Every ensemble of one method and step in one batch: all cores busy, each ensemble bitwise
+    # what it gives alone.
     for i, h, shapes, is_half in runs:
-        for s in shapes:
-            for a in cv.AXES:
-                n_steps = max(1, int(math.ceil(t_end[s, a - 1] / h - 1e-9)))
-                run = run_ensemble(
-                    bodies[s], int(a), spin, epsilon, members, h=h, t_end=n_steps * h,
-                    seed=seed, method=specs[i].name, summaries_only=True, levels=levels,
-                    progress=False, command=command,
-                )
-                if run.attrs["interrupted"]:  # Ctrl-C stopped this ensemble: stop the map
-                    bar.close()
-                    raise KeyboardInterrupt
-                member_steps += run.attrs["members"] * run.attrs["steps_done"]
-                loop_time += run.attrs["wall_time"]
-                exact, asymptote = exact_flip.get((s, a), (None, None))
-                if exact is not None and not np.array_equal(run.w0.values, starts[a]):
-                    exact, asymptote = est.exact_flip_intervals(bodies[s], a, run.w0.values)
-                x = ensemble_estimates(run, omega2[s, a - 1], exact, asymptote,
-                                       low_factor=low_factor, high_fraction=high_fraction)
-                store(half if is_half else out, (i, s, a - 1), x)
-                if specs[i].is_exact and not is_half:
-                    first_exact[s, a] = x["first_flip_time"]
-                elif not is_half and (s, a) in first_exact:
-                    out["first_flip_time_relative_error"][i, s, a - 1] = (
-                        first_flip_relative_error(x["first_flip_time"], first_exact[s, a]))
-                bar.update(1)
+        cells = [(s, a) for s in shapes for a in cv.AXES]
+        ensembles = run_ensembles([
+            dict(body=bodies[s], axis=int(a), spin=spin, epsilon=epsilon, members=members, h=h,
+                 t_end=max(1, int(math.ceil(t_end[s, a - 1] / h - 1e-9))) * h, seed=seed,
+                 method=specs[i].name, summaries_only=True, levels=levels, command=command)
+            for s, a in cells], progress=False)
+        for (s, a), run in zip(cells, ensembles):
+            if run.attrs["interrupted"]:  # Ctrl-C stopped the batch: stop the map
+                bar.close()
+                raise KeyboardInterrupt
+            member_steps += run.attrs["members"] * run.attrs["steps_done"]
+            loop_time += run.attrs["wall_time"]
+            exact, asymptote = exact_flips(s, a, run.variables["w0"].values)
+            x = ensemble_estimates(run, omega2[s, a - 1], exact, asymptote,
+                                   low_factor=low_factor, high_fraction=high_fraction)
+            store(half if is_half else out, (i, s, a - 1), x)
+            if specs[i].is_exact and not is_half:
+                first_exact[s, a] = x["first_flip_time"]
+            elif not is_half and (s, a) in first_exact:
+                out["first_flip_time_relative_error"][i, s, a - 1] = (
+                    first_flip_relative_error(x["first_flip_time"], first_exact[s, a]))
+        bar.update(len(cells))
     bar.close()
     return out, half, {"member_steps": member_steps, "loop_time": loop_time}
 

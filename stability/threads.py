@@ -31,3 +31,4 @@ def numba_threads(threads):
         yield
     finally:
         numba.set_num_threads(previous)
+

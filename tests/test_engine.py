@@ -149,3 +149,18 @@ def test_loops_load_from_disk_and_compile_again_when_a_kernel_changes(tmp_path):
     assert (edited["misses"], edited["hits"]) == (1, 0)
     assert edited["x"][0] == pytest.approx(0.9 ** 10, rel=1e-14)
     assert edited["x"][1:] == first["x"][1:]
+
+
+def test_block_table_covers_every_active_member_once_and_splits_the_last_groups():
+    from stability.engine.run import MIN_BLOCK, block_table
+
+    sizes = [70, 64, 5, 300]
+    lo, size, group = block_table(sizes)
+    covered = np.concatenate([np.arange(a, a + n) for a, n in zip(lo, size)])
+    assert np.array_equal(np.sort(covered), np.arange(sum(sizes)))
+    assert np.all(size <= BLOCK) and np.all(size >= 1)
+    starts = np.cumsum(sizes) - sizes
+    assert np.all((lo >= starts[group]) & (lo + size <= starts[group] + np.array(sizes)[group]))
+    # Only the active groups; fewer members than blocks for every thread: smaller blocks.
+    lo, size, group = block_table(sizes, [False, True, False, False], threads=2)
+    assert set(group) == {1} and size.sum() == 64 and np.all(size == MIN_BLOCK)

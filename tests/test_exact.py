@@ -428,3 +428,26 @@ def test_bad_input_is_rejected_clearly():
         exact_omega(body, [1.0, 0.0, 0.0], "soon")
     with pytest.raises(ValueError, match="RigidBody"):
         flip_interval("racket", [1.0, 0.0, 0.0])
+
+
+@pytest.mark.parametrize("moments", [(1.0, 2.0, 3.0), (3.0, 1.0, 2.0), (1.0, 1.0, 2.0),
+                                     (1.0, 2.0, 2.0), (2.0, 2.0, 2.0)])
+def test_flip_intervals_of_many_starts_are_bitwise_the_one_start_functions(moments):
+    """The compiled loop over starts gives exactly what flip_interval,
+    flip_interval_asymptote and elliptic_parameters give one start at a time, in every regime
+    (both sides of the separatrix, on it, symmetric bodies, the sphere)."""
+    from stability.exact import (elliptic_parameters, flip_interval_asymptote,
+                                 flip_intervals)
+
+    body = RigidBody(*moments, physical=False)
+    rng = np.random.default_rng(5)
+    w0 = rng.standard_normal((40, 3))
+    w0[0] = (0.0, 1.0, 0.0)  # on an axis: steady, or the separatrix for the middle one
+    w0[1] = (1e-9, 1.0, 0.0)
+    exact, asymptote, kprime = flip_intervals(body, w0)
+    for j, w in enumerate(w0):
+        assert exact[j] == flip_interval(body, w) or np.isnan(exact[j])
+        a = flip_interval_asymptote(body, w)
+        assert asymptote[j] == a or (np.isnan(a) and np.isnan(asymptote[j]))
+        k2 = elliptic_parameters(body, w)[1]
+        assert kprime[j] == math.sqrt(k2) or (np.isnan(k2) and np.isnan(kprime[j]))

@@ -132,15 +132,16 @@ def level_thresholds(levels) -> np.ndarray:
     the comparison of amplitudes against the levels, without a square root per step.
     """
     levels = np.asarray(levels, dtype=float)
-    out = np.empty(levels.shape)
-    for index, level in np.ndenumerate(levels):
+    unique, where = np.unique(levels, return_inverse=True)
+    out = np.empty(unique.shape)
+    for index, level in enumerate(unique):
         x = level * level
         while x > 0.0 and math.sqrt(np.nextafter(x, 0.0)) >= level:
             x = np.nextafter(x, 0.0)
         while math.sqrt(x) < level:
             x = np.nextafter(x, np.inf)
         out[index] = x
-    return out
+    return out[where].reshape(levels.shape)
 
 
 # --- the template ---------------------------------------------------------------------------
@@ -171,7 +172,7 @@ from {observe_module} import {observe_name} as observe
 {rows}
 
 
-@njit(parallel=True, cache=True, error_model="numpy")
+@njit(parallel=True, nogil=True, cache=True, error_model="numpy")
 def advance(
     x, comp, params, block_lo, block_size, block_group, hs, steps, step0, save_every, saved,
     k0, status, fail_step, iterations, axes, track, levels, thresholds, passage,

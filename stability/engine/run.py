@@ -20,6 +20,7 @@ import threading
 import time
 from dataclasses import dataclass, field
 
+import numba
 import numpy as np
 
 from .cache import load_module
@@ -34,8 +35,6 @@ CHUNK_SECONDS = 0.25
 FIRST_CHUNK = 64
 
 _LOOPS: dict = {}
-
-
 def compiled_loop(scene, spec, compensated=True):
     """The member loop of ``scene`` with method ``spec`` (a Numba dispatcher), made once.
 
@@ -133,18 +132,33 @@ def untrusted(steps, fail_step):
     return (fail >= 0) & (np.asarray(steps)[None, :] > fail - CHECK_EVERY)
 
 
-def block_table(sizes):
-    """Start, size and group of every block, for groups of ``sizes`` consecutive members."""
-    lo, size, group = [], [], []
-    start = 0
-    for g, n in enumerate(sizes):
-        for offset in range(0, int(n), BLOCK):
-            lo.append(start + offset)
-            size.append(min(BLOCK, int(n) - offset))
-            group.append(g)
-        start += int(n)
-    as_int = lambda v: np.array(v, dtype=np.int64)  # noqa: E731
-    return as_int(lo), as_int(size), as_int(group)
+#: Smallest block the table splits groups into (the SIMD width of the loops).
+MIN_BLOCK = 8
+#: Blocks per thread the table aims at, so that threads finishing early find work.
+BLOCKS_PER_THREAD = 4
+
+
+def block_table(sizes, active=None, threads=1):
+    """Start, size and group of every block, for groups of ``sizes`` consecutive members.
+
+    Only the ``active`` groups (default all) get blocks. Blocks hold ``BLOCK`` members, or
+    fewer (halving down to ``MIN_BLOCK``) when the active members would make fewer than
+    ``BLOCKS_PER_THREAD`` blocks per thread: the last, longest ensembles of a batch then still
+    spread over every core. Blocking never changes a result (members are independent).
+    """
+    sizes = np.asarray(sizes, dtype=np.int64)
+    active = np.ones(sizes.size, dtype=bool) if active is None else np.asarray(active)
+    block = BLOCK
+    while block > MIN_BLOCK and sizes[active].sum() < BLOCKS_PER_THREAD * threads * block:
+        block //= 2
+    starts = np.cumsum(sizes) - sizes
+    groups = np.flatnonzero(active)
+    per_group = -(-sizes[groups] // block)  # blocks of each active group
+    group = np.repeat(groups, per_group)
+    k = np.arange(group.size) - np.repeat(np.cumsum(per_group) - per_group, per_group)
+    lo = starts[group] + k * block
+    size = np.minimum(block, sizes[group] - k * block)
+    return lo.astype(np.int64), size.astype(np.int64), group.astype(np.int64)
 
 
 def initial_tracking(a, b, c, levels_per_member):
@@ -241,7 +255,6 @@ def propagate_groups(
         )
     if params.shape[0] != n_groups:
         raise ValueError(f"params must have one row per group ({n_groups}), got {params.shape}")
-    block_lo, block_size, block_group = block_table(sizes)
     comp = np.zeros_like(x)
     status = np.zeros(n_members, dtype=np.int8)
     fail_step = np.full(n_members, -1, dtype=np.int64)
@@ -268,16 +281,22 @@ def propagate_groups(
     k_saved = np.zeros(n_groups, dtype=np.int64)
 
     def run_chunk(this):
+        block_lo, block_size, block_group = block_table(sizes, this > 0, numba.get_num_threads())
         advance(
             x, comp, params, block_lo, block_size, block_group, hs, this, done, save_every,
             saved, k_saved, status, fail_step, iterations, axes, track, levels, thresholds,
             passage,
         )
 
-    wall, interrupted = _run_in_chunks(
-        run_chunk, sizes, total, done, k_saved, save_every, chunk_steps, progress,
-        label or spec.name,
-    )
+    # Groups of unequal length leave blocks of unequal work: hand blocks out one at a time.
+    chunksize = numba.set_parallel_chunksize(1 if n_groups > 1 else 0)
+    try:
+        wall, interrupted = _run_in_chunks(
+            run_chunk, sizes, total, done, k_saved, save_every, chunk_steps, progress,
+            label or spec.name,
+        )
+    finally:
+        numba.set_parallel_chunksize(chunksize)
     kept = int(k_saved.max()) if n_groups else 0
     saved = saved[:, :kept]
     if n_groups > 1 and kept:

@@ -23,7 +23,7 @@ import numpy as np
 from .. import stabilitymap as smap
 from ..shapes import amplitude_levels, analytic_omega_squared, edge_series, horizons, shape_grid
 from ..threads import numba_threads
-from .config import ConfigError, Key, Schema, Section, StudyKind, StudySummary
+from .config import UNSET, ConfigError, Key, Schema, Section, StudyKind, StudySummary
 
 NAME = "stability_map"
 
@@ -72,9 +72,10 @@ SCHEMA = Schema(
                 minimum=0.0, exclusive_minimum=True),
             Key("t_neutral", "float", 800.0, "run length where Omega^2 = 0 (equal moments)",
                 unit="s", minimum=0.0, exclusive_minimum=True),
-            Key("threads", "int", 1,
-                "Numba threads per ensemble (small ensembles run fastest on one; "
-                "stability run --threads overrides)", minimum=1),
+            Key("threads", "int", UNSET,
+                "Numba threads for the map (default: all cores; the ensembles of a method run "
+                "together, so every core is busy; stability run --threads overrides)",
+                minimum=1),
         )),
         Section("analysis", "estimator window and the accuracy bar", (
             Key("window_low", "float", 300.0,
@@ -177,7 +178,7 @@ def run(config: dict, out_dir: Path, *, overwrite=False, threads=None, progress=
     from .config import to_toml
 
     t_start = time.perf_counter()
-    threads = config["integration"]["threads"] if threads is None else threads
+    threads = config["integration"].get("threads") if threads is None else threads
     with numba_threads(threads):
         ds, work = compute(config, progress=progress)
     ds.attrs["history"] = history or f"stability run ({NAME})"
