@@ -173,8 +173,7 @@ def outputs(config: dict) -> list[str]:
 def run(config: dict, out_dir: Path, *, overwrite=False, threads=None, progress=None,
         history=None) -> StudySummary:
     """Run the map described by the resolved ``config``; write its files into ``out_dir``."""
-    import stability
-
+    from ..io import saving
     from .config import to_toml
 
     t_start = time.perf_counter()
@@ -187,16 +186,16 @@ def run(config: dict, out_dir: Path, *, overwrite=False, threads=None, progress=
 
     out = config["output"]
     files = [out_dir / out["dataset"]]
-    stability.save(ds, files[0], overwrite=overwrite)
-    (out_dir / "config.toml").write_text(to_toml(config), encoding="utf-8")
-    files.append(out_dir / "config.toml")
-    if out["figures"]:
-        from ..figures import stability_map as figures
-        from ..figures.style import save
+    with saving(ds, files[0], overwrite=overwrite):  # the write runs while the figures draw
+        (out_dir / "config.toml").write_text(to_toml(config), encoding="utf-8")
+        files.append(out_dir / "config.toml")
+        if out["figures"]:
+            from ..figures import stability_map as figures
+            from ..figures.style import save
 
-        for stem, make in zip(FIGURES, (figures.map_figure, figures.scatter_figure,
-                                        figures.flip_interval_figure, figures.edges_figure)):
-            files += save(make(ds), out_dir, stem, out["formats"])
+            for stem, make in zip(FIGURES, (figures.map_figure, figures.scatter_figure,
+                                            figures.flip_interval_figure, figures.edges_figure)):
+                files += save(make(ds), out_dir, stem, out["formats"])
     wall = time.perf_counter() - t_start
     return summarize(ds, out_dir, files, wall, compute_time, work)
 

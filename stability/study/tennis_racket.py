@@ -168,6 +168,7 @@ def run(config: dict, out_dir: Path, *, overwrite=False, threads=None, progress=
     import stability
     from stability.ensemble import format_bytes
 
+    from ..io import saving
     from .config import to_toml
 
     say = _reporter(progress)
@@ -196,13 +197,12 @@ def run(config: dict, out_dir: Path, *, overwrite=False, threads=None, progress=
 
     out = config["output"]
     files = [out_dir / out["dataset"]]
-    say(f"writing {files[0]} ...")
-    stability.save(ds, files[0], overwrite=overwrite)
-    (out_dir / "config.toml").write_text(to_toml(config), encoding="utf-8")
-    files.append(out_dir / "config.toml")
-    if out["figures"]:
-        say("drawing the figures ...")
-        files += draw_figures(ds, body, axis, out_dir, out["formats"])
+    say(f"writing {files[0]} and drawing the figures ...")
+    with saving(ds, files[0], overwrite=overwrite):  # the write runs while the figures draw
+        (out_dir / "config.toml").write_text(to_toml(config), encoding="utf-8")
+        files.append(out_dir / "config.toml")
+        if out["figures"]:
+            files += draw_figures(ds, body, axis, out_dir, out["formats"])
     wall = time.perf_counter() - t_start
     return summarize(ds, out_dir, files, wall, t_ensemble)
 
