@@ -13,7 +13,7 @@ from numba import njit
 from .. import conventions as cv
 from ..exact import exact_omega
 from ..integrators import METHODS
-from ..integrators.spec import P_INV1
+from ..integrators.spec import P_I1, P_INV1
 from .spec import Scene
 
 
@@ -34,8 +34,13 @@ def observe(m1, m2, m3, p, ia, ib, ic):
 
 
 def tracked(m, p, axes):
-    """:func:`observe` in NumPy: ``(w_a, w_b, w_c)`` of states ``m`` (N, 3)."""
-    return tuple(m[:, axes[k]] * p[P_INV1 + axes[k]] for k in range(3))
+    """:func:`observe` in NumPy at the start: ``(w_a, w_b, w_c)`` of states ``m`` (N, 3).
+
+    ``w = m / I`` (the division, as the caller's ``w0`` was made), which can differ from the
+    loop's ``m (1 / I)`` in the last bit: the start's own amplitude decides which levels it
+    already reaches, so it must be the caller's.
+    """
+    return tuple(m[:, axes[k]] / p[P_I1 + axes[k]] for k in range(3))
 
 
 def energy(m, moments):
