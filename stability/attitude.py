@@ -141,11 +141,6 @@ def canonical_quaternion(moments) -> np.ndarray:
 # --- which methods carry the attitude ----------------------------------------------------------
 
 
-def attitude_kernel(method):
-    """The (m, q) kernel of a method (its spec's ``attitude_step``); None if it has none."""
-    return method_spec(method).attitude_step
-
-
 def attitude_methods() -> tuple[str, ...]:
     """Names of the registered methods that can carry the attitude."""
     return tuple(SCENES["free_body_attitude"].methods)

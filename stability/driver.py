@@ -10,6 +10,7 @@ from __future__ import annotations
 
 import numpy as np
 
+from .analytic import perpendicular_axes
 from .body import canonical_frame, from_canonical, to_canonical
 from .engine import BLOCK, CHECK_EVERY, Propagation, propagate_groups, untrusted
 from .scenes import SCENES
@@ -139,14 +140,17 @@ def tracking_axes(perm, track_axis) -> np.ndarray:
     lowest body axis first, for the frame permutation ``perm``."""
     if track_axis not in (0, 1, 2):
         raise ValueError(f"track_axis must be 0, 1 or 2 (a body axis), got {track_axis}")
-    others = [a for a in (0, 1, 2) if a != track_axis]
+    b, c = perpendicular_axes(track_axis + 1)
     where = {int(body_axis): i for i, body_axis in enumerate(perm)}  # body axis -> canonical
-    return np.array([where[track_axis], where[others[0]], where[others[1]]], dtype=np.int64)
+    return np.array([where[track_axis], where[b - 1], where[c - 1]], dtype=np.int64)
 
 
 def _levels(levels, n_groups) -> np.ndarray:
     levels = np.asarray(levels, dtype=float)
-    if (levels.ndim != 2 or levels.shape[0] != n_groups
+    if (levels.ndim != 2 or levels.shape[0] != n_groups or np.any(levels <= 0)
             or np.any(np.diff(levels, axis=1) <= 0) or np.any(~np.isfinite(levels))):
-        raise ValueError("levels must be a 1-D array of finite, strictly ascending amplitudes")
+        raise ValueError(
+            "levels must be finite amplitudes > 0 in rad/s, strictly ascending (one row per "
+            f"ensemble: shape ({n_groups}, L)), got shape {levels.shape}"
+        )
     return levels

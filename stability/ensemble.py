@@ -308,7 +308,8 @@ def run_ensembles(calls, *, threads=None, progress=None) -> list:
     ----------
     calls : sequence of dict
         Keyword arguments of :func:`run_ensemble`, one dict per ensemble (``body``, ``axis``,
-        ``spin``, ... ; not ``threads``, ``progress``, ``chunk_members``).
+        ``spin``, ... ; not ``threads``, ``progress``, ``chunk_members``, ``chunk_steps``).
+        Summaries-only ensembles of one method run together; time-series ones one at a time.
     threads : int, optional
         Numba threads for the whole batch.
     progress : bool, optional
@@ -323,14 +324,15 @@ def run_ensembles(calls, *, threads=None, progress=None) -> list:
     plans = []
     for k, call in enumerate(calls):
         call = dict(call)
-        bad = {"threads", "progress", "chunk_members"} & set(call)
+        bad = {"threads", "progress", "chunk_members", "chunk_steps"} & set(call)
         if bad:
             raise ValueError(f"calls[{k}]: {sorted(bad)[0]} is set for the whole batch, not per "
                              "ensemble; pass it to run_ensembles")
         plans.append(_plan(**call))
     batches: dict = {}
     for k, plan in enumerate(plans):
-        key = (plan.spec.name, plan.summaries_only, plan.save_every, plan.levels.size)
+        # Time series run one ensemble at a time, so each stays within its max_memory.
+        key = (plan.spec.name, plan.levels.size) if plan.summaries_only else ("alone", k)
         batches.setdefault(key, []).append(k)
     runs = [None] * len(plans)
     with numba_threads(_threads(threads)):
@@ -599,7 +601,7 @@ def _run(plans, progress) -> list:
         n = plan.w0.shape[0]
         steps = int(prop.steps_done[g])
         part = _Part(prop, slice(lo, lo + n), slice(0, n), steps, work[g] / work.sum())
-        runs.append(_finish(plan, [part], n, steps, prop.interrupted))
+        runs.append(_finish(plan, [part], n, steps, prop.interrupted and steps < plan.n_steps))
         lo += n
     return runs
 

@@ -79,7 +79,7 @@ def flip_sweep(moments, epsilons, spin: float, methods, steps, command=None) -> 
     """
     from .analytic import growth_rate
     from .body import RigidBody
-    from .ensemble import run_ensemble
+    from .ensemble import run_ensembles
 
     moments = np.asarray(moments, dtype=float)
     epsilons = np.array(epsilons, dtype=float)
@@ -88,17 +88,18 @@ def flip_sweep(moments, epsilons, spin: float, methods, steps, command=None) -> 
     exact = np.full((moments.shape[0], epsilons.size), np.nan)
     asymptote = np.full_like(exact, np.nan)
     rate = np.array([float(growth_rate(I, 2, spin)) for I in moments])
+    calls = []
     for f, I in enumerate(moments):
         body = RigidBody(*I, name=f"flip shape {f}")
         exact[f], asymptote[f] = exact_flip_curve(I, epsilons, spin)
         t_end = 2.6 * float(np.nanmax(exact[f]))
-        for i, (method, h) in enumerate(zip(methods, steps)):
-            run = run_ensemble(
-                body, 2, starts=w0, h=h, t_end=h * math.ceil(t_end / h), method=method,
-                summaries_only=True, progress=False, command=command,
-            )
-            if run.attrs["interrupted"]:
-                raise KeyboardInterrupt
-            measured[i, f] = run.mean_flip_interval.values  # NaN below two flips or not ok
+        calls += [(i, f, dict(body=body, axis=2, starts=w0, h=h, t_end=h * math.ceil(t_end / h),
+                              method=method, summaries_only=True, command=command))
+                  for i, (method, h) in enumerate(zip(methods, steps))]
+    # Every shape of a method in one parallel call, each ensemble bitwise what it gives alone.
+    for (i, f, _), run in zip(calls, run_ensembles([c for _, _, c in calls], progress=False)):
+        if run.attrs["interrupted"]:
+            raise KeyboardInterrupt
+        measured[i, f] = run.mean_flip_interval.values  # NaN below two flips or not ok
     return {"moments": moments, "epsilons": epsilons, "measured": measured, "exact": exact,
             "asymptote": asymptote, "growth_rate": rate}

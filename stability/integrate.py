@@ -12,7 +12,7 @@ import xarray as xr
 from . import conventions as cv
 from .body import RigidBody
 from .checks import positive_float, positive_int, step_count, vectors3
-from .attitude import IDENTITY, attitude_kernel, attitude_methods, propagate_attitude
+from .attitude import IDENTITY, attitude_methods, propagate_attitude
 from .dataset import provenance_attrs, storable_attrs
 from .driver import propagate, untrusted
 from .integrators import method_spec
@@ -82,7 +82,7 @@ def integrate(
         )
 
     if attitude:
-        if attitude_kernel(spec) is None:
+        if not spec.attitude:
             raise ValueError(
                 f"method {spec.name!r} cannot carry the attitude; use one of "
                 + ", ".join(attitude_methods())

@@ -93,9 +93,9 @@ def attitude_errors(spec, body, w0, q_ref, h, n_steps) -> np.ndarray:
 
     NaN for a member whose run failed; all NaN when the method cannot carry the attitude.
     """
-    from .attitude import IDENTITY, attitude_error, attitude_methods, propagate_attitude
+    from .attitude import IDENTITY, attitude_error, propagate_attitude
 
-    if spec.name not in attitude_methods():
+    if not spec.attitude:
         return np.full(len(w0), np.nan)
     moments = body.moments
     run = propagate_attitude(spec, moments, moments * w0, IDENTITY, h, n_steps, progress=False)

@@ -73,7 +73,8 @@ def test_every_method_with_a_rotation_structure_carries_the_attitude():
     assert set(ATTITUDE_STEPS) == set(attitude_methods())
     assert "exact" not in attitude_methods()
     for name in attitude_methods():
-        # rk4 and the Lie-Poisson methods carry it through their twins (integrators/kinematics.py).
+        # Attitude support is one fact on the spec: its attitude_step kernel.
+        assert stability.METHODS[name].attitude_step is not None
         assert stability.METHODS[name].attitude
 
 
@@ -139,7 +140,7 @@ def test_attitude_run_reproduces_the_w_only_run(name):
 
 
 @pytest.mark.parametrize("name", ["lp4", "lgvi"])
-def test_attitude_loop_is_bitwise_independent_of_chunks_and_threads(name):
+def test_attitude_runs_are_bitwise_independent_of_chunks_and_threads(name):
     rng = np.random.default_rng(2)
     m0 = MOMENTS * (W0 + 0.1 * rng.standard_normal((150, 3)))
     q0 = rng.standard_normal((150, 4))

@@ -406,3 +406,37 @@ def test_bad_input_is_one_clear_value_error(change, message):
     kwargs = {**GOOD, **change}
     with pytest.raises(ValueError, match=message):
         run_ensemble(**kwargs)
+
+
+def test_ensembles_run_together_are_bitwise_the_ensembles_run_alone():
+    """run_ensembles: bodies, axes, steps, horizons and starts of every kind in one batch give
+    Datasets whose variables are bitwise those of run_ensemble one call at a time."""
+    from stability.ensemble import run_ensembles
+
+    calls = [
+        dict(body=BODY, axis=2, spin=1.0, epsilon=1e-3, members=70, h=0.02, t_end=30.0,
+             summaries_only=True, method="rk4"),
+        dict(body=stability.RigidBody(1.0, 1.5, 2.5), axis=1, spin=2.0, epsilon=1e-2,
+             members=9, h=0.01, t_end=12.0, summaries_only=True, method="rk4", seed=4),
+        dict(body=BODY, axis=3, starts=[[0.01, 0.0, 1.0], [0.0, 0.02, -1.0]], h=0.05,
+             t_end=40.0, summaries_only=True, method="rk4"),
+        dict(body=BODY, axis=2, spin=1.0, epsilon=1e-3, members=5, h=0.02, t_end=2.0,
+             save_every=10, method="rk4"),  # a time series: run on its own
+        dict(body=BODY, axis=2, spin=1.0, epsilon=1e-3, members=6, h=0.05, t_end=5.0,
+             summaries_only=True, method="lp2"),
+    ]
+    together = run_ensembles(calls)
+    for call, ds in zip(calls, together):
+        alone = run_ensemble(**call)
+        assert ds.attrs["interrupted"] == 0 and ds.attrs["steps_done"] == alone.attrs["steps"]
+        for name in alone.variables:
+            a, b = alone[name].values, ds[name].values
+            assert np.array_equal(a, b, equal_nan=a.dtype.kind == "f"), name
+
+
+def test_run_ensembles_refuses_settings_of_the_whole_batch_per_call():
+    from stability.ensemble import run_ensembles
+
+    with pytest.raises(ValueError, match="chunk_steps is set for the whole batch"):
+        run_ensembles([dict(body=BODY, axis=2, spin=1.0, epsilon=1e-3, members=5, h=0.1,
+                            t_end=1.0, chunk_steps=3)])

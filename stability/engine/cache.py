@@ -22,6 +22,7 @@ from __future__ import annotations
 
 import hashlib
 import importlib.util
+import marshal
 import os
 import sys
 import tempfile
@@ -70,21 +71,25 @@ def source_files(*roots: str) -> list[str]:
     return sorted(set(seen.values()))
 
 
-def digest(source: str, roots) -> str:
-    """SHA-256 of ``source`` and of the text of :func:`source_files` of ``roots``."""
+def digest(source: str, roots, code=()) -> str:
+    """SHA-256 of ``source``, of the text of :func:`source_files` of ``roots``, and of the
+    compiled bytecode ``code`` (functions defined where no file says what they are: a
+    notebook's kernel changes the digest when it is edited)."""
     h = hashlib.sha256(source.encode())
     for path in source_files(*roots):
         h.update(path.encode())
         h.update(Path(path).read_bytes())
+    for function in code:
+        h.update(marshal.dumps(function.__code__))
     return h.hexdigest()
 
 
-def load_module(stem: str, source: str, roots) -> ModuleType:
+def load_module(stem: str, source: str, roots, code=()) -> ModuleType:
     """Write ``source`` as ``<stem>__<digest>.py`` in :func:`cache_dir` (once) and import it.
 
     The text ``{digest}`` in ``source`` is replaced by the digest (a label in the docstring).
     """
-    key = digest(source, roots)[:20]
+    key = digest(source, roots, code)[:20]
     name = f"{MODULE_PREFIX}__{stem}__{key}"
     if name in sys.modules:
         return sys.modules[name]

@@ -37,10 +37,11 @@ from numba import njit
 
 #: Members per block: the vector loop's trip count (a multiple of the SIMD width).
 BLOCK = 64
-#: Steps between finiteness checks. Inf and NaN are absorbing, so a failure is caught at the
-#: next check: ``fail_step`` is the step count at the first check that found the state
-#: non-finite, at most CHECK_EVERY - 1 steps late (``stability.engine.untrusted`` masks
-#: conservatively).
+#: Steps between finiteness checks, counted from step 0 of the run (and once more after its
+#: last step, by :func:`stability.engine.run.propagate_groups`). Inf and NaN are absorbing, so a
+#: failure is caught at the next check: ``fail_step`` is the step count at the first check that
+#: found the state non-finite, at most CHECK_EVERY - 1 steps late
+#: (``stability.engine.untrusted`` masks conservatively).
 CHECK_EVERY = 8
 
 # Status codes the loop writes (stability.conventions holds their meanings).
@@ -135,6 +136,9 @@ def level_thresholds(levels) -> np.ndarray:
     unique, where = np.unique(levels, return_inverse=True)
     out = np.empty(unique.shape)
     for index, level in enumerate(unique):
+        if not level > 0.0:  # every amplitude reaches it
+            out[index] = 0.0
+            continue
         x = level * level
         while x > 0.0 and math.sqrt(np.nextafter(x, 0.0)) >= level:
             x = np.nextafter(x, 0.0)
@@ -231,7 +235,7 @@ def advance(
             else:
                 for j in range(size):
 {advance_plain}
-            if (n + 1) % CHECK_EVERY == 0 or n == n_steps - 1:
+            if (first_step + n + 1) % CHECK_EVERY == 0:  # global steps: chunking changes nothing
                 for j in range(size):
                     now_bad = not_finite({total})
                     iw[FIRST_BAD + j] = n if (now_bad == 1 and iw[BAD + j] == 0) else iw[FIRST_BAD + j]
@@ -243,12 +247,16 @@ def advance(
         for j in range(size):
 {store}
             iterations[lo + j] += iw[ITERS + j]
-            if iw[BAD + j] != 0 and status[lo + j] == 0:
+            # The earlier failure wins (a non-finite state found at a check, or a failed solve),
+            # so the status does not depend on where chunks end.
+            bad_step = first_step + iw[FIRST_BAD + j] + 1 if iw[BAD + j] != 0 else -1
+            nonconv_step = first_step + iw[FIRST_NONCONV + j] + 1 if iw[NONCONV + j] != 0 else -1
+            if status[lo + j] == 0 and bad_step >= 0 and (nonconv_step < 0 or bad_step <= nonconv_step):
                 status[lo + j] = 1  # non-finite
-                fail_step[lo + j] = first_step + iw[FIRST_BAD + j] + 1
-            elif iw[NONCONV + j] != 0 and status[lo + j] == 0:
+                fail_step[lo + j] = bad_step
+            elif status[lo + j] == 0 and nonconv_step >= 0:
                 status[lo + j] = 3  # not converged
-                fail_step[lo + j] = first_step + iw[FIRST_NONCONV + j] + 1
+                fail_step[lo + j] = nonconv_step
         if tracking:
             for j in range(size):
                 va, vb, vc = observe({state}, p, ia, ib, ic)

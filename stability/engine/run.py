@@ -16,6 +16,7 @@ from __future__ import annotations
 
 import contextlib
 import signal
+import sys
 import threading
 import time
 from dataclasses import dataclass, field
@@ -23,6 +24,7 @@ from dataclasses import dataclass, field
 import numba
 import numpy as np
 
+from ..scenes import scene as registered_scene
 from .cache import load_module
 from .loop import BLOCK, CHECK_EVERY, N_TRACK, T_FIRST_A, T_FIRST_B, T_LAST_A, T_LAST_B
 from .loop import T_MAX_AMP2, T_NEXT_LEVEL, T_PREV_A, T_PREV_AMP2, T_PREV_B, T_COUNT_A
@@ -47,9 +49,19 @@ def compiled_loop(scene, spec, compensated=True):
         source = render(scene.name, spec.name, scene.width, spec.stages, spec.implicit, kernel,
                         scene.observe, compensated)
         stem = f"{scene.name}__{spec.name}" + ("" if compensated else "__plain")
+        for function in (kernel, scene.observe):
+            home = sys.modules.get(function.py_func.__module__)
+            if getattr(home, function.py_func.__name__, None) is not function:
+                raise ValueError(
+                    f"the kernel {function.py_func.__qualname__} of scene {scene.name!r}, "
+                    f"method {spec.name!r} must be a module-level @njit function bound to its "
+                    f"own name in {function.py_func.__module__}, so the compiled loop can "
+                    "import it"
+                )
         roots = (kernel.py_func.__module__, scene.observe.py_func.__module__,
                  "stability.engine.loop")
-        _LOOPS[key] = load_module(stem, source, roots).advance
+        code = (kernel.py_func, scene.observe.py_func)
+        _LOOPS[key] = load_module(stem, source, roots, code).advance
     return _LOOPS[key]
 
 
@@ -204,7 +216,8 @@ def propagate_groups(
 
     Parameters
     ----------
-    scene : Scene
+    scene : str or Scene
+        A name from ``stability.scenes.SCENES`` (or a Scene).
     method : str or MethodSpec
         A method of the scene.
     x0 : array_like, shape (N, n)
@@ -239,6 +252,7 @@ def propagate_groups(
     Propagation
         In the kernels' frame; ``steps_done`` per group; tracking results in ``extras``.
     """
+    scene = registered_scene(scene)
     spec = scene.method(method)
     advance = compiled_loop(scene, spec, compensated)
     x = np.array(x0, dtype=float, order="C", copy=True)
@@ -297,6 +311,10 @@ def propagate_groups(
         )
     finally:
         numba.set_parallel_chunksize(chunksize)
+    # The last check: a state that stopped being finite after the last multiple of CHECK_EVERY.
+    lost = (status == 0) & ~np.all(np.isfinite(x), axis=1)
+    status[lost] = 1
+    fail_step[lost] = np.repeat(done, sizes)[lost]
     kept = int(k_saved.max()) if n_groups else 0
     saved = saved[:, :kept]
     if n_groups > 1 and kept:
@@ -335,6 +353,7 @@ def _run_in_chunks(run_chunk, sizes, total, done, k_saved, save_every, chunk_ste
     """
     unit = save_every if save_every > 0 else 1
     one_group = sizes.size == 1
+    done[sizes == 0] = total[sizes == 0]  # nothing to advance
     work = (sizes * total).sum()  # member-steps
     wall = 0.0
     bar = None
@@ -352,7 +371,7 @@ def _run_in_chunks(run_chunk, sizes, total, done, k_saved, save_every, chunk_ste
             if save_every > 0:
                 k_saved += this // save_every
             member_steps = int((sizes * this).sum())
-            if chunk_steps is None:
+            if chunk_steps is None and member_steps > 0:
                 active = max(int(sizes[done < total].sum()), 1)
                 rate = member_steps / max(dt, 1e-9)
                 chunk = max(unit, int(CHUNK_SECONDS * rate / active))

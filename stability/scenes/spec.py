@@ -76,8 +76,13 @@ class Scene:
         return len(self.components)
 
     def method(self, name):
-        """The spec of method ``name`` in this scene; ValueError naming the known ones if none."""
-        if not isinstance(name, str) and getattr(name, "name", None) in self.methods:
+        """The spec of method ``name`` in this scene; ValueError naming the known ones if none.
+
+        A ``MethodSpec`` is taken as it is (registered or not) when it has this scene's kernel.
+        """
+        if not isinstance(name, str) and getattr(name, "name", None) is not None:
+            if self.kernel(name) is not None:
+                return name
             name = name.name
         try:
             return self.methods[name]
