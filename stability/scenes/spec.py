@@ -14,8 +14,10 @@ for a new scene (copy ``stability/scenes/free_body.py``):
    component along the spin axis and two across it), and ``tracked``, the same in NumPy.
 4. Give its invariants (NumPy functions of the state and the parameters) and its exact solution
    where one exists.
-5. Add the scene to ``SCENES`` in ``stability/scenes/__init__.py``; the generic tests over the
-   registry (orders, invariants, reproducibility, the disk cache) then run on it.
+5. Add the scene to ``SCENES`` in ``stability/scenes/__init__.py``; ``tests/test_engine.py``
+   then checks every method of it for bitwise reproducibility across groups and chunks. Write
+   its order and invariant tests against its exact solution, as ``tests/test_integrators.py``
+   does for the free body.
 """
 
 from __future__ import annotations
