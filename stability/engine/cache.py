@@ -76,8 +76,8 @@ def digest(source: str, roots, code=()) -> str:
     compiled bytecode ``code`` (functions defined where no file says what they are: a
     notebook's kernel changes the digest when it is edited)."""
     h = hashlib.sha256(source.encode())
-    for path in source_files(*roots):
-        h.update(path.encode())
+    for path in source_files(*roots):  # contents, not locations: checkouts share the cache
+        h.update(Path(path).name.encode())
         h.update(Path(path).read_bytes())
     for function in code:
         h.update(marshal.dumps(function.__code__))
