@@ -23,7 +23,7 @@ import numpy as np
 
 from .analytic import euler_system
 from .body import RigidBody
-from .exact import exact_omega
+from .exact import exact_omega_of_starts
 
 #: Statistics over members, in the order :func:`error_statistics` returns them.
 METRICS = ("max", "p99", "median")
@@ -64,9 +64,7 @@ def exact_final_w(body: RigidBody, w0, t_end: float) -> np.ndarray:
     ndarray, shape (N, 3)
         The exact solution (:func:`stability.exact_omega`, ~1e-14 relative) at ``t_end``.
     """
-    w0 = np.atleast_2d(np.asarray(w0, dtype=float))
-    t = float(t_end)
-    return np.array([exact_omega(body, w, t) for w in w0]).reshape(w0.shape)
+    return exact_omega_of_starts(body, np.atleast_2d(np.asarray(w0, dtype=float)), t_end)
 
 
 def conditioning_floor(body: RigidBody, w0, t_end: float, w_ref, seed: int = 0) -> np.ndarray:

@@ -451,3 +451,16 @@ def test_flip_intervals_of_many_starts_are_bitwise_the_one_start_functions(momen
         assert asymptote[j] == a or (np.isnan(a) and np.isnan(asymptote[j]))
         k2 = elliptic_parameters(body, w)[1]
         assert kprime[j] == math.sqrt(k2) or (np.isnan(k2) and np.isnan(kprime[j]))
+
+
+@pytest.mark.parametrize("moments", [(1.0, 2.0, 3.0), (3.0, 1.0, 2.0), (1.0, 1.0, 2.0),
+                                     (2.0, 2.0, 2.0)])
+def test_exact_omega_of_many_starts_is_bitwise_exact_omega_of_each(moments):
+    from stability.exact import exact_omega_of_starts
+
+    body = RigidBody(*moments, physical=False)
+    w0 = np.random.default_rng(8).standard_normal((30, 3))
+    w0[0] = (0.0, 1.0, 0.0)
+    many = exact_omega_of_starts(body, w0, 7.3)
+    for j, w in enumerate(w0):
+        assert np.array_equal(many[j], exact_omega(body, w, 7.3))

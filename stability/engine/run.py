@@ -144,8 +144,9 @@ def untrusted(steps, fail_step):
     return (fail >= 0) & (np.asarray(steps)[None, :] > fail - CHECK_EVERY)
 
 
-#: Smallest block the table splits groups into (the SIMD width of the loops).
-MIN_BLOCK = 8
+#: Smallest block the table splits groups into: half an AVX-512 vector, so that even an
+#: ensemble of 8 members (the work-precision study's long runs) keeps two cores busy.
+MIN_BLOCK = 4
 #: Blocks per thread the table aims at, so that threads finishing early find work.
 BLOCKS_PER_THREAD = 4
 
