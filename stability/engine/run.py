@@ -4,8 +4,8 @@
 scene: it loads (or compiles, once per process and then from the disk cache) the loop of a
 scene and a method, lays the members out in blocks, and calls the loop in chunks of steps, so a
 progress bar can advance and Ctrl-C can end the run cleanly after the chunk in flight (the state
-then matches the steps done). :func:`propagate` is the same for one ensemble in the scene's own
-frame (the canonical-frame conversions done here).
+then matches the steps done). It works in the kernels' frame; the scenes' own layers convert
+(``stability.driver`` for the free body, ``stability.attitude`` for the body with attitude).
 
 Reproducibility: each member's arithmetic depends on nothing but its own state, its group's
 parameters and step, so results are bitwise the same for any number of threads, any chunking in
@@ -37,6 +37,8 @@ CHUNK_SECONDS = 0.25
 FIRST_CHUNK = 64
 
 _LOOPS: dict = {}
+
+
 def compiled_loop(scene, spec, compensated=True):
     """The member loop of ``scene`` with method ``spec`` (a Numba dispatcher), made once.
 
