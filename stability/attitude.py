@@ -5,16 +5,16 @@ Convention: ``q = (q0, q1, q2, q3)``, scalar first, Hamilton product; ``R(q)`` i
 obeys ``R' = R hat(w)``, i.e. ``q' = q (0, w) / 2``. The spatial angular momentum ``R(q) m`` is
 constant for the free body.
 
-Each method advances q by its own rule (``MethodSpec.attitude_step``): the Lie-Poisson sub-flows turn the attitude by the same
-angles as m, ``Q <- Q R_k(+theta)``, and the Casimir part by ``Q <- Q exp(h hat(m) / I2)``; DMV,
-the LGVI and the implicit midpoint rule multiply by their Cayley rotation F; RKMK4 by
-``exp(-hat v)``; RK4 integrates the kinematics. Every one of these is a right multiplication
-``q <- q r_n`` by a quaternion r_n that depends on m only, so the *direction* of q (the rotation)
-never depends on its norm. Renormalisation policy, therefore: none inside the loop; q is carried
-with compensated summation like m, normalised only on output, and its norm error ``|q| - 1`` is
-reported. For the methods whose r_n is a unit quaternion (all but RK4) that error is round-off
-(at most 1.5e-14 after 1e5 steps in the tests); for RK4 it is its truncation error,
-O((h |w|)^6) per step.
+Each method advances q by its own rule (``MethodSpec.attitude_step``): the Lie-Poisson sub-flows
+turn the attitude by the same angles as m, ``Q <- Q R_k(+theta)``, and the Casimir part by
+``Q <- Q exp(h hat(m) / I2)``; DMV, the LGVI and the implicit midpoint rule multiply by their
+Cayley rotation F; RKMK4 by ``exp(-hat v)``; RK4 integrates the kinematics. Every one of these is a
+right multiplication ``q <- q r_n`` by a quaternion r_n that depends on m only, so the
+*direction* of q (the rotation) never depends on its norm. Renormalisation policy, therefore:
+none inside the loop; q is carried with compensated summation like m, normalised only on output,
+and its norm error ``|q| - 1`` is reported. For the methods whose r_n is a unit quaternion (all
+but RK4) that error is round-off (at most 1.5e-14 after 1e5 steps in the tests); for RK4 it is
+its truncation error, O((h |w|)^6) per step.
 
 A run without attitude stays 3 numbers per member (scene ``free_body``); ``propagate_attitude``
 runs scene ``free_body_attitude``, 7 numbers per member, on the same member loop

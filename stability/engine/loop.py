@@ -44,11 +44,6 @@ BLOCK = 64
 #: (``stability.engine.untrusted`` masks conservatively).
 CHECK_EVERY = 8
 
-# Status codes the loop writes (stability.conventions holds their meanings).
-LOOP_OK = 0
-LOOP_NONFINITE = 1
-LOOP_NOT_CONVERGED = 3
-
 # Columns of the per-member tracking state (float64, carried between chunked calls).
 T_PREV_A = 0  #: spin-axis component a at the previous step
 T_PREV_B = 1  #: first perpendicular component b at the previous step
@@ -164,6 +159,7 @@ Rendered from the template in stability/engine/loop.py; do not edit (sources {{d
 import numpy as np
 from numba import njit, prange
 
+from stability.conventions import STATUS_NONFINITE, STATUS_NOT_CONVERGED, STATUS_OK
 from stability.engine.loop import (
     BLOCK, N_TRACK, T_MAX_AMP2, T_NEXT_LEVEL, T_PREV_A, T_PREV_AMP2, T_PREV_B, CHECK_EVERY,
     crossed, kahan, not_finite, record_events,
@@ -238,7 +234,8 @@ def advance(
             if (first_step + n + 1) % CHECK_EVERY == 0:  # global steps: chunking changes nothing
                 for j in range(size):
                     now_bad = not_finite({total})
-                    iw[FIRST_BAD + j] = n if (now_bad == 1 and iw[BAD + j] == 0) else iw[FIRST_BAD + j]
+                    first = now_bad == 1 and iw[BAD + j] == 0
+                    iw[FIRST_BAD + j] = n if first else iw[FIRST_BAD + j]
                     iw[BAD + j] |= now_bad
             if save_every > 0 and (n + 1) % save_every == 0:
                 for j in range(size):
@@ -249,14 +246,15 @@ def advance(
             iterations[lo + j] += iw[ITERS + j]
             # The earlier failure wins (a non-finite state found at a check, or a failed solve),
             # so the status does not depend on where chunks end.
-            bad_step = first_step + iw[FIRST_BAD + j] + 1 if iw[BAD + j] != 0 else -1
-            nonconv_step = first_step + iw[FIRST_NONCONV + j] + 1 if iw[NONCONV + j] != 0 else -1
-            if status[lo + j] == 0 and bad_step >= 0 and (nonconv_step < 0 or bad_step <= nonconv_step):
-                status[lo + j] = 1  # non-finite
-                fail_step[lo + j] = bad_step
-            elif status[lo + j] == 0 and nonconv_step >= 0:
-                status[lo + j] = 3  # not converged
-                fail_step[lo + j] = nonconv_step
+            bad = first_step + iw[FIRST_BAD + j] + 1 if iw[BAD + j] != 0 else -1
+            nonconv = first_step + iw[FIRST_NONCONV + j] + 1 if iw[NONCONV + j] != 0 else -1
+            ok = status[lo + j] == STATUS_OK
+            if ok and bad >= 0 and (nonconv < 0 or bad <= nonconv):
+                status[lo + j] = STATUS_NONFINITE
+                fail_step[lo + j] = bad
+            elif ok and nonconv >= 0:
+                status[lo + j] = STATUS_NOT_CONVERGED
+                fail_step[lo + j] = nonconv
         if tracking:
             for j in range(size):
                 va, vb, vc = observe({state}, p, ia, ib, ic)
@@ -335,7 +333,8 @@ def render(scene_name, method_name, width, stages, implicit, step, observe,
 
     solver = [
         "iw[ITERS + j] += it if it > 0 else 0",
-        "iw[FIRST_NONCONV + j] = n if (it < 0 and iw[NONCONV + j] == 0) else iw[FIRST_NONCONV + j]",
+        "first = it < 0 and iw[NONCONV + j] == 0",
+        "iw[FIRST_NONCONV + j] = n if first else iw[FIRST_NONCONV + j]",
         "iw[NONCONV + j] |= 1 if it < 0 else 0",
     ] if implicit else []
     if stages == 1:  # the kernel's increment, kept for the commit loop
