@@ -24,7 +24,7 @@ from __future__ import annotations
 import logging
 import math
 import numbers
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 
 import numba
 import numpy as np
@@ -148,29 +148,42 @@ def perturbed_starts(axis, spin, epsilon, members, seed=0, direction=None) -> np
     spin = positive_float("spin", spin, "rad/s")
     epsilon = _nonnegative_float("epsilon", epsilon)
     members = positive_int("members", members)
-    w0 = np.zeros((members, 3))
-    w0[:, a] = spin
     if direction is not None:
+        w0 = np.zeros((members, 3))
+        w0[:, a] = spin
         w0 += epsilon * spin * _perpendicular_direction(direction, a)
         return w0
-    phi = _random_angles(seed_sequence(seed), members)
+    return _random_starts(a, spin, epsilon, seed_sequence(seed), 0, members)
+
+
+def _random_starts(a, spin, epsilon, ss, lo, hi) -> np.ndarray:
+    """Members ``lo ... hi - 1`` of :func:`perturbed_starts` in random directions."""
+    w0 = np.zeros((hi - lo, 3))
+    w0[:, a] = spin
+    phi = _random_angles(ss, lo, hi)
     b, c = (x - 1 for x in perpendicular_axes(a + 1))  # lowest first, as the tracking uses
     w0[:, b] = epsilon * spin * np.cos(phi)
     w0[:, c] = epsilon * spin * np.sin(phi)
     return w0
 
 
-def _random_angles(ss: np.random.SeedSequence, members: int) -> np.ndarray:
-    """Angles uniform in [0, 2 pi): chunk c of RNG_CHUNK members from child c of ``ss``."""
-    phi = np.empty(members)
-    for c, lo in enumerate(range(0, members, RNG_CHUNK)):
+def _random_angles(ss: np.random.SeedSequence, lo: int, hi: int) -> np.ndarray:
+    """Angles of members ``lo ... hi - 1``, uniform in [0, 2 pi).
+
+    Block c of :data:`RNG_CHUNK` members is drawn in order from child c of ``ss``, so a
+    member's angle does not depend on which members are drawn with it.
+    """
+    phi = np.empty(hi - lo)
+    for c in range(lo // RNG_CHUNK, -(-hi // RNG_CHUNK)):
         # The c-th child of ss.spawn(...), built directly so that ss is not mutated.
         child = np.random.SeedSequence(
             ss.entropy, spawn_key=tuple(ss.spawn_key) + (c,), pool_size=ss.pool_size
         )
         rng = np.random.Generator(np.random.PCG64(child))
-        hi = min(lo + RNG_CHUNK, members)
-        phi[lo:hi] = rng.uniform(0.0, 2.0 * math.pi, size=hi - lo)
+        first = c * RNG_CHUNK
+        block = rng.uniform(0.0, 2.0 * math.pi, size=min(first + RNG_CHUNK, hi) - first)
+        start = max(lo, first)
+        phi[start - lo:first + block.size - lo] = block[start - first:]
     return phi
 
 
@@ -198,6 +211,9 @@ def run_ensemble(
     chunk_steps: int | None = None,
     config: dict | None = None,
     command: str | None = None,
+    store=None,
+    resume: bool = False,
+    scheduler: str | None = None,
 ):
     """Run an ensemble of perturbed steady spins and return it as a labelled Dataset.
 
@@ -262,6 +278,17 @@ def run_ensemble(
         ``config_toml`` attribute; by default the resolved arguments of this call.
     command : str, optional
         The command recorded as the first ``history`` line; default: this call.
+    store : str or path-like, optional
+        Stream the run to this folder, one netCDF file per chunk of ``chunk_members``
+        (default 2**20) written as soon as it is done, and return the Dataset over those files
+        (dask arrays): memory is one chunk's, and a stopped run can be resumed
+        (:mod:`stability.stream`).
+    resume : bool, default False
+        With ``store``: finish a run stopped earlier (only the missing chunks are run; the
+        result is bitwise that of an uninterrupted run). A store of a different run is refused.
+    scheduler : str, optional
+        With ``store``: run the chunks on dask.distributed, ``"dask"`` for a local cluster or
+        a scheduler address such as ``"tcp://host:8786"``.
 
     Returns
     -------
@@ -285,6 +312,21 @@ def run_ensemble(
     >>> float(ds.mean_flip_interval.median())  # doctest: +SKIP
     28.7
     """
+    if store is not None:
+        from .stream import run_streamed
+
+        kwargs = dict(
+            body=body, axis=axis, spin=spin, epsilon=epsilon, members=members, h=h,
+            t_end=t_end, seed=seed, method=method, save_every=save_every, direction=direction,
+            starts=starts, summaries_only=summaries_only, levels=levels,
+            divergence_tolerance=divergence_tolerance, max_memory=max_memory,
+            chunk_members=chunk_members, chunk_steps=chunk_steps, config=config,
+            command=command,
+        )
+        return run_streamed(kwargs, store, resume=resume, scheduler=scheduler, threads=threads,
+                            progress=progress)
+    if resume or scheduler is not None:
+        raise ValueError("resume and scheduler need store= (the folder the chunks go to)")
     plan = _plan(
         body, axis, spin, epsilon, members, h=h, t_end=t_end, seed=seed, method=method,
         save_every=save_every, direction=direction, starts=starts, summaries_only=summaries_only,
@@ -349,7 +391,8 @@ class _Plan:
     body: RigidBody
     spec: object
     a: int
-    w0: np.ndarray
+    members: int
+    w0: np.ndarray | None  # None: drawn per chunk (_chunk_plan)
     h: float
     t_end: float
     n_steps: int
@@ -372,8 +415,12 @@ class _Plan:
 def _plan(body, axis, spin=None, epsilon=None, members=None, *, h, t_end, seed=0, method="lp2",
           save_every=1, direction=None, starts=None, summaries_only=False, levels=None,
           divergence_tolerance=DEFAULT_DIVERGENCE_TOLERANCE, max_memory=DEFAULT_MAX_MEMORY,
-          chunk_members=None, chunk_steps=None, config=None, command=None) -> _Plan:
-    """Validate the arguments of :func:`run_ensemble` and draw the starts; ValueError if bad."""
+          chunk_members=None, chunk_steps=None, config=None, command=None,
+          defer_starts=False) -> _Plan:
+    """Validate the arguments of :func:`run_ensemble` and draw the starts; ValueError if bad.
+
+    With ``defer_starts`` random starts are not drawn: :func:`_chunk_plan` draws each chunk's.
+    """
     if not isinstance(body, RigidBody):
         raise ValueError(f"body must be a stability.RigidBody, got {type(body).__name__}")
     a = _axis_index(axis)
@@ -452,7 +499,7 @@ def _plan(body, axis, spin=None, epsilon=None, members=None, *, h, t_end, seed=0
     )
 
     # --- starts -----------------------------------------------------------------------------
-    if w0 is None:
+    if w0 is None and (direction is not None or not defer_starts):
         w0 = perturbed_starts(axis, spin, epsilon, members, ss, direction)
 
     resolved = {
@@ -476,12 +523,21 @@ def _plan(body, axis, spin=None, epsilon=None, members=None, *, h, t_end, seed=0
         "threads": None,
     }
     return _Plan(
-        body=body, spec=spec, a=a, w0=w0, h=h, t_end=t_end, n_steps=n_steps,
+        body=body, spec=spec, a=a, members=n_members, w0=w0, h=h, t_end=t_end, n_steps=n_steps,
         save_every=save_every, summaries_only=bool(summaries_only), levels=levels,
         tolerance=divergence_tolerance, chunk_members=chunk_members, chunk_steps=chunk_steps,
         resolved=resolved, start_kind=start_kind, spin=spin, epsilon=epsilon,
         direction=direction, ss=ss, config_text=config_text, command=command,
     )
+
+
+def _chunk_plan(plan: _Plan, lo: int, hi: int) -> _Plan:
+    """The plan of members ``lo ... hi - 1`` of ``plan`` alone (a chunk of a streamed run)."""
+    if plan.w0 is not None:
+        w0 = plan.w0[lo:hi]
+    else:
+        w0 = _random_starts(plan.a, plan.spin, plan.epsilon, plan.ss, lo, hi)
+    return replace(plan, members=hi - lo, w0=w0, chunk_members=min(plan.chunk_members, hi - lo))
 
 
 def _threads(threads):

@@ -15,7 +15,7 @@ from __future__ import annotations
 import contextlib
 import os
 import uuid
-from concurrent.futures import ThreadPoolExecutor
+from concurrent.futures import ThreadPoolExecutor, wait
 from pathlib import Path
 
 import numpy as np
@@ -23,6 +23,7 @@ import xarray as xr
 
 from . import conventions as cv
 from .dataset import check_storable
+from .publish import disk_error
 
 #: zlib compression level (1 fastest ... 9 smallest); 4 is near the knee of size against time.
 COMPLEVEL = 4
@@ -45,8 +46,12 @@ def saving(ds: xr.Dataset, path, overwrite: bool = False):
         written.result()
 
 
-def save(ds: xr.Dataset, path, overwrite: bool = False) -> Path:
+def save(ds: xr.Dataset, path, overwrite: bool = False, compress: bool = True) -> Path:
     """Write ``ds`` to the netCDF4 file ``path``, atomically.
+
+    The netCDF library is driven from a worker thread, so Ctrl-C in the main thread never
+    stops it half-way inside HDF5 (which then waits for good on its own lock): the write ends,
+    the partial file is removed and the interrupt goes on.
 
     Parameters
     ----------
@@ -56,6 +61,8 @@ def save(ds: xr.Dataset, path, overwrite: bool = False) -> Path:
         Target file, conventionally ``*.nc``. Its directory must exist.
     overwrite : bool, default False
         Replace an existing file.
+    compress : bool, default True
+        zlib-compress the variables (:data:`COMPLEVEL`); off for scratch files read back soon.
 
     Returns
     -------
@@ -68,6 +75,9 @@ def save(ds: xr.Dataset, path, overwrite: bool = False) -> Path:
         If ``path`` exists and ``overwrite`` is False.
     ValueError
         If an attribute or variable cannot be stored in netCDF (nothing is written).
+    OSError
+        If the file system refuses the write (no space, permission, a vanished folder): the
+        path and the cause, and nothing left behind.
     """
     path = Path(path)
     if not isinstance(ds, xr.Dataset):
@@ -82,15 +92,31 @@ def save(ds: xr.Dataset, path, overwrite: bool = False) -> Path:
     if not path.parent.is_dir():
         raise ValueError(f"directory {path.parent} does not exist; create it first")
     check_storable(ds)
-    encoding = _encoding(ds)
+    encoding = _encoding(ds, compress)
     temporary = path.with_name(f".{path.name}.{os.getpid()}.{uuid.uuid4().hex[:8]}.tmp")
     try:
-        _write(ds, temporary, encoding)
+        _write_in_thread(ds, temporary, encoding)
         os.replace(temporary, path)
+    except (OSError, RuntimeError) as exc:  # netCDF reports a full disk as "HDF error"
+        temporary.unlink(missing_ok=True)
+        raise disk_error(exc, path) from exc
     except BaseException:  # including KeyboardInterrupt: never leave the partial file
         temporary.unlink(missing_ok=True)
         raise
     return path
+
+
+def _write_in_thread(ds: xr.Dataset, path: Path, encoding: dict) -> None:
+    """:func:`_write` in a worker thread; on Ctrl-C, let it end, then raise the interrupt."""
+    pool = ThreadPoolExecutor(max_workers=1)
+    written = pool.submit(_write, ds, path, encoding)
+    try:
+        written.result()
+    except KeyboardInterrupt:
+        wait([written])
+        raise
+    finally:
+        pool.shutdown(wait=True)
 
 
 def load(path) -> xr.Dataset:
@@ -123,7 +149,7 @@ def _write(ds: xr.Dataset, path: Path, encoding: dict) -> None:
     ds.to_netcdf(path, mode="w", format="NETCDF4", engine="netcdf4", encoding=encoding)
 
 
-def _encoding(ds: xr.Dataset) -> dict:
+def _encoding(ds: xr.Dataset, compress: bool = True) -> dict:
     """Compression and member-aligned chunks for every numeric variable.
 
     Chunks hold whole members (all times and axes) and about :data:`CHUNK_BYTES`; coordinates
@@ -134,6 +160,8 @@ def _encoding(ds: xr.Dataset) -> dict:
         if var.dtype.kind not in "iuf" or var.ndim == 0:
             continue
         enc = {"zlib": True, "complevel": COMPLEVEL, "shuffle": True, "dtype": var.dtype}
+        if not compress:
+            enc = {"zlib": False, "dtype": var.dtype}
         if name in ds.coords:
             enc["_FillValue"] = None
         shape = var.shape

@@ -1,0 +1,320 @@
+"""A run on disk, chunk by chunk: one netCDF file per chunk of members, opened lazily as one.
+
+A :class:`ChunkStore` is a folder::
+
+    manifest.json          what run this is (its fingerprint), how it is chunked, and, once
+                           every chunk is done, the attributes of the whole Dataset
+    chunk-000000.nc        members 0 ... C - 1, written atomically (temporary name, rename)
+    chunk-000000.nc.sha256 its checksum, written (atomically) after it
+    progress.json          chunks done, members/s, time left: for ``stability status DIR``
+
+A chunk counts as done only when its file and its checksum are both there and agree, so a run
+killed at any point (while compiling, integrating or writing, or by a full disk) leaves only
+whole chunks, and a chunk whose file was damaged later is found and recomputed. Resuming runs
+the chunks that are not done; every member is computed independently of the others, so the
+result is bitwise that of an uninterrupted run. A store refuses to resume a different run (its
+fingerprint: the resolved arguments and the package version) with a message saying what
+differs.
+
+:meth:`ChunkStore.open` returns the Dataset over all chunks with dask arrays (xarray's
+``open_mfdataset``), so a run of 1e8 members is read a chunk at a time.
+"""
+
+from __future__ import annotations
+
+import hashlib
+import json
+import os
+import socket
+import time
+from pathlib import Path
+
+import numpy as np
+import xarray as xr
+
+from . import conventions as cv
+from .publish import write_text
+
+MANIFEST = "manifest.json"
+PROGRESS = "progress.json"
+
+#: Version of the store layout; a store of another layout is not resumed.
+LAYOUT = 1
+
+
+class StoreMismatch(ValueError):
+    """The folder holds chunks of another run."""
+
+
+class ChunkStore:
+    """The chunk files of one run in ``directory``.
+
+    Parameters
+    ----------
+    directory : path-like
+        Created if missing.
+    identity : dict
+        What makes the run what it is (JSON-able): resolved arguments and software version.
+        Its hash is the store's fingerprint.
+    members : int
+        Members of the whole run.
+    chunk_members : int
+        Members per chunk (the last chunk may be shorter).
+    resume : bool
+        Continue a store of the same run that has chunks done; otherwise such a store is
+        refused (``ValueError`` telling to pass ``resume``), so no finished work is lost.
+    """
+
+    def __init__(self, directory, identity: dict, members: int, chunk_members: int,
+                 resume: bool = False):
+        self.dir = Path(directory)
+        self.members = int(members)
+        self.chunk_members = int(chunk_members)
+        self.n_chunks = -(-self.members // self.chunk_members)
+        self.identity = _jsonable(identity)
+        self.fingerprint = _fingerprint(
+            {"identity": self.identity, "members": self.members,
+             "chunk_members": self.chunk_members, "layout": LAYOUT})
+        manifest = self.dir / MANIFEST
+        if self.dir.exists() and not self.dir.is_dir():
+            raise ValueError(f"{self.dir} is a file; a run's chunks need a folder there")
+        if manifest.exists():
+            earlier = read_manifest(self.dir)
+            if earlier.get("fingerprint") != self.fingerprint:
+                raise StoreMismatch(
+                    f"{self.dir} holds chunks of a different run ({_difference(earlier, self)}); "
+                    "choose another folder, or remove it to start afresh"
+                )
+            done = len(self.done())
+            if done and not resume and earlier.get("complete"):
+                raise ValueError(
+                    f"{self.dir} already holds this run, complete; open it with "
+                    "stability.open_store, or pass --resume (resume=True) to reuse it"
+                )
+            if done and not resume:
+                raise ValueError(
+                    f"{self.dir} holds {done} of {self.n_chunks} finished chunks of this run; "
+                    "pass --resume (resume=True) to finish it, or remove the folder to start "
+                    "afresh"
+                )
+        else:
+            self.dir.mkdir(parents=True, exist_ok=True)
+            self._write_manifest(complete=False, attrs=None)
+
+    # --- chunks ---------------------------------------------------------------------------
+
+    def bounds(self, k: int) -> tuple[int, int]:
+        """Members ``lo, hi`` (``lo`` included, ``hi`` not) of chunk ``k``."""
+        lo = k * self.chunk_members
+        return lo, min(lo + self.chunk_members, self.members)
+
+    def path(self, k: int) -> Path:
+        return self.dir / f"chunk-{k:06d}.nc"
+
+    def done(self) -> list[int]:
+        """Chunks whose file is whole (its checksum agrees); damaged ones are removed."""
+        finished = []
+        for k in range(self.n_chunks):
+            if self.verify(k):
+                finished.append(k)
+        return finished
+
+    def missing(self) -> list[int]:
+        done = set(self.done())
+        return [k for k in range(self.n_chunks) if k not in done]
+
+    def verify(self, k: int) -> bool:
+        """Whether chunk ``k`` is done; a file that does not match its checksum is removed."""
+        path, check = self.path(k), _checksum_path(self.path(k))
+        if not path.exists() or not check.exists():
+            return False
+        if file_checksum(path) == check.read_text(encoding="utf-8").strip():
+            return True
+        path.unlink(missing_ok=True)
+        check.unlink(missing_ok=True)
+        return False
+
+    def write(self, k: int, ds: xr.Dataset, compress: bool = True) -> Path:
+        """Write chunk ``k`` (atomically), then its checksum."""
+        write_chunk(ds, self.path(k), compress)
+        return self.path(k)
+
+    # --- the whole ------------------------------------------------------------------------
+
+    def complete(self, attrs: dict) -> None:
+        """Record that every chunk is done, with the attributes of the whole Dataset."""
+        self._write_manifest(complete=True, attrs=attrs)
+
+    def open(self) -> xr.Dataset:
+        """The run as one Dataset over its chunk files (dask arrays; nothing read yet)."""
+        return open_store(self.dir)
+
+    def report(self, state: str, chunks_done: int, members_done: int, rate: float,
+               started: float) -> None:
+        """Write ``progress.json`` (for ``stability status``)."""
+        left = self.members - members_done
+        write_text(self.dir / PROGRESS, json.dumps({
+            "state": state,
+            "chunks_done": chunks_done,
+            "chunks": self.n_chunks,
+            "members_done": members_done,
+            "members": self.members,
+            "members_per_second": rate,
+            "seconds_left": left / rate if rate > 0 else None,
+            "elapsed_seconds": time.time() - started,
+            "updated": time.strftime("%Y-%m-%dT%H:%M:%S%z"),
+            "host": socket.gethostname(),
+            "pid": os.getpid(),
+        }, indent=1) + "\n")
+
+    def _write_manifest(self, complete: bool, attrs) -> None:
+        write_text(self.dir / MANIFEST, json.dumps({
+            "layout": LAYOUT,
+            "fingerprint": self.fingerprint,
+            "identity": self.identity,
+            "members": self.members,
+            "chunk_members": self.chunk_members,
+            "chunks": self.n_chunks,
+            "complete": complete,
+            "attrs": _jsonable(attrs) if attrs is not None else None,
+        }, indent=1) + "\n")
+
+
+def write_chunk(ds: xr.Dataset, path, compress: bool = True) -> None:
+    """Write one chunk file atomically, then its checksum beside it."""
+    from .io import save
+
+    path = Path(path)
+    save(ds, path, overwrite=True, compress=compress)
+    write_text(_checksum_path(path), file_checksum(path) + "\n")
+
+
+def read_manifest(directory) -> dict:
+    """The manifest of the store in ``directory``; ValueError if there is none or it is bad."""
+    path = Path(directory) / MANIFEST
+    try:
+        return json.loads(path.read_text(encoding="utf-8"))
+    except FileNotFoundError:
+        raise ValueError(f"{directory} is not a run's chunk folder (no {MANIFEST})") from None
+    except (json.JSONDecodeError, UnicodeDecodeError) as exc:
+        raise ValueError(f"{path} is damaged ({exc}); remove the folder to start afresh") from None
+
+
+def read_progress(directory) -> dict | None:
+    """``progress.json`` of a store, or None if it has none yet."""
+    try:
+        return json.loads((Path(directory) / PROGRESS).read_text(encoding="utf-8"))
+    except (FileNotFoundError, json.JSONDecodeError):
+        return None
+
+
+def open_store(directory) -> xr.Dataset:
+    """The Dataset of a complete store, lazily over its chunk files (dask arrays).
+
+    Raises
+    ------
+    ValueError
+        If the folder is not a store, or not every chunk is done.
+    """
+    directory = Path(directory)
+    manifest = read_manifest(directory)
+    if not manifest.get("complete"):
+        raise ValueError(f"{directory} holds an unfinished run; finish it with --resume "
+                         "(resume=True) first")
+    paths = [directory / f"chunk-{k:06d}.nc" for k in range(manifest["chunks"])]
+    ds = xr.open_mfdataset(
+        paths, combine="nested", concat_dim=cv.MEMBER, data_vars="minimal", coords="minimal",
+        compat="override", join="override", combine_attrs="override", engine="netcdf4",
+        decode_timedelta=False, chunks={}, parallel=False,
+    )
+    ds.attrs = dict(manifest["attrs"])
+    return ds
+
+
+def file_checksum(path) -> str:
+    """SHA-256 of a file's bytes, hex."""
+    digest = hashlib.sha256()
+    with open(path, "rb") as f:
+        for block in iter(lambda: f.read(2**22), b""):
+            digest.update(block)
+    return digest.hexdigest()
+
+
+def status_lines(directory) -> list[str]:
+    """A run's state in a few lines, from its manifest and progress file."""
+    manifest = read_manifest(directory)
+    progress = read_progress(directory) or {}
+    store_chunks = manifest["chunks"]
+    done = progress.get("chunks_done", 0)
+    lines = [f"{directory}: {manifest['members']} members in {store_chunks} chunks of "
+             f"{manifest['chunk_members']}"]
+    if manifest.get("complete"):
+        lines.append("complete: every chunk is done")
+    else:
+        state = progress.get("state", "not started")
+        lines.append(f"{state}: {done} of {store_chunks} chunks done "
+                     f"({progress.get('members_done', 0)} members)")
+    rate = progress.get("members_per_second")
+    if rate:
+        left = progress.get("seconds_left")
+        lines.append(f"{rate:.3g} members/s" + (
+            f", about {_duration(left)} left" if left and not manifest.get("complete") else ""))
+    if progress.get("updated"):
+        lines.append(f"last update {progress['updated']} by pid {progress.get('pid')} on "
+                     f"{progress.get('host')}")
+    return lines
+
+
+# --- helpers ----------------------------------------------------------------------------------
+
+
+def _checksum_path(path: Path) -> Path:
+    return path.with_name(path.name + ".sha256")
+
+
+def _fingerprint(value) -> str:
+    return hashlib.sha256(json.dumps(value, sort_keys=True).encode()).hexdigest()
+
+
+def _jsonable(value):
+    """``value`` with NumPy scalars and arrays as plain numbers and lists (JSON-able)."""
+    if isinstance(value, dict):
+        return {str(k): _jsonable(v) for k, v in value.items()}
+    if isinstance(value, (list, tuple)):
+        return [_jsonable(v) for v in value]
+    if isinstance(value, np.ndarray):
+        return _jsonable(value.tolist())
+    if isinstance(value, np.generic):
+        return value.item()
+    if isinstance(value, float) and not np.isfinite(value):
+        return repr(value)
+    return value
+
+
+def _difference(earlier: dict, store: ChunkStore) -> str:
+    """The first few keys in which the run in a store differs from this one."""
+    old, new = _flat(earlier.get("identity", {})), _flat(store.identity)
+    old.update({"members": earlier.get("members"), "chunk_members": earlier.get("chunk_members")})
+    new.update({"members": store.members, "chunk_members": store.chunk_members})
+    keys = [k for k in sorted(set(old) | set(new)) if old.get(k) != new.get(k)]
+    if not keys:
+        return "a different layout"
+    shown = [f"{k}: {old.get(k)!r} there, {new.get(k)!r} here" for k in keys[:3]]
+    return "; ".join(shown) + (f"; and {len(keys) - 3} more" if len(keys) > 3 else "")
+
+
+def _flat(value, prefix="") -> dict:
+    if isinstance(value, dict):
+        out = {}
+        for k, v in value.items():
+            out.update(_flat(v, f"{prefix}{k}."))
+        return out
+    return {prefix[:-1]: value}
+
+
+def _duration(seconds: float) -> str:
+    if seconds < 120:
+        return f"{seconds:.0f} s"
+    if seconds < 7200:
+        return f"{seconds / 60:.0f} min"
+    return f"{seconds / 3600:.1f} h"

@@ -1,0 +1,248 @@
+"""Ensembles streamed to disk chunk by chunk: resumable, and runnable on a dask cluster.
+
+``run_ensemble(..., store=DIR)`` comes here. The members are cut into chunks of
+``chunk_members``; each chunk is run exactly as :func:`stability.run_ensemble` runs its members
+(its random starts are drawn for that chunk alone, from the same seed streams) and written as
+soon as it is finished into a :class:`~stability.store.ChunkStore`. Memory is one chunk's, so
+a summaries-only run of 1e8 members needs well under 2 GB. A run stopped at any point is
+resumed with ``resume=True`` (``stability run --resume``): the chunks that are not on disk are
+run, and the Dataset is bitwise the one of an uninterrupted run (members are independent, and
+a member's start does not depend on its chunk).
+
+With ``scheduler`` each chunk is one task of a ``dask.distributed`` cluster: ``"dask"`` starts
+a :class:`~distributed.LocalCluster` on this machine, any other string is a scheduler address
+(``tcp://host:8786``). A worker runs its chunk with as many Numba threads as it has threads,
+loads the compiled member loop from the disk cache (:mod:`stability.engine.cache`; share that
+folder, ``STABILITY_CACHE_DIR``, between the workers) and writes the chunk file itself, so the
+store must be on a file system all workers see. Tasks of a worker that dies are run again on
+another (dask's own scheduling), and a chunk is done only when its file and checksum are.
+"""
+
+from __future__ import annotations
+
+import logging
+import time
+
+import numpy as np
+
+from . import __version__
+from .store import ChunkStore
+
+log = logging.getLogger(__name__)
+
+#: Default members per chunk of a stored run (a multiple of the random-number blocks).
+DEFAULT_CHUNK_MEMBERS = 2**20
+
+
+class RunInterrupted(KeyboardInterrupt):
+    """Ctrl-C or SIGTERM stopped a stored run; the finished chunks are kept.
+
+    ``str(exc)`` says what was kept and how to continue.
+    """
+
+
+def run_streamed(kwargs: dict, store, *, resume=False, scheduler=None, threads=None,
+                 progress=None, compress=True):
+    """Run the ensemble ``run_ensemble(**kwargs)`` chunk by chunk into the folder ``store``.
+
+    Returns the Dataset over the chunk files (dask arrays). See :func:`stability.run_ensemble`
+    for ``kwargs``; ``chunk_members`` there is the members per chunk file here.
+    """
+    from .ensemble import _plan
+
+    kwargs = dict(kwargs)
+    plan = _plan(**kwargs, defer_starts=True)
+    chunk = kwargs.get("chunk_members") or min(plan.members, DEFAULT_CHUNK_MEMBERS)
+    kwargs["chunk_members"] = chunk
+    identity = {"run_ensemble": {k: v for k, v in plan.resolved.items() if k != "threads"},
+                "config_toml": plan.config_text, "software": f"stability {__version__}"}
+    chunks = ChunkStore(store, identity, plan.members, chunk, resume=resume)
+    todo = chunks.missing()
+    if todo:
+        if scheduler is None:
+            _run_here(plan, chunks, todo, threads, progress, compress)
+        else:
+            _run_on_dask(kwargs, chunks, todo, scheduler, progress, compress)
+    chunks.complete(_whole_attrs(chunks))
+    return chunks.open()
+
+
+def _run_here(plan, chunks, todo, threads, progress, compress):
+    """The missing chunks in this process, on all its Numba threads."""
+    from .ensemble import _chunk_plan, _dataset, _run, _threads
+    from .threads import numba_threads
+
+    tracker = _Tracker(chunks, todo, progress)
+    with numba_threads(_threads(threads)):
+        for k in todo:
+            lo, hi = chunks.bounds(k)
+            sub = _chunk_plan(plan, lo, hi)
+            (run,) = _run([sub], tracker.inner_progress)
+            if run.interrupted:
+                tracker.stopped()
+            ds = _labelled(_dataset(sub, run, threads), lo)
+            chunks.write(k, ds, compress)
+            tracker.finished(k, hi - lo)
+    tracker.close()
+
+
+def run_chunk(kwargs: dict, directory, k: int, lo: int, hi: int, compress: bool) -> int:
+    """One chunk on a dask worker: run it with the worker's threads, write it; returns ``k``."""
+    import numba
+    from distributed import get_worker
+
+    from .ensemble import _chunk_plan, _dataset, _plan, _run
+    from .store import write_chunk
+    from .threads import numba_threads
+
+    try:
+        nthreads = get_worker().state.nthreads
+    except (ValueError, AttributeError):  # not on a worker (a test calling it directly)
+        nthreads = numba.config.NUMBA_NUM_THREADS
+    plan = _plan(**kwargs, defer_starts=True)
+    sub = _chunk_plan(plan, lo, hi)
+    with numba_threads(max(1, min(nthreads, numba.config.NUMBA_NUM_THREADS))):
+        (run,) = _run([sub], False)
+        ds = _labelled(_dataset(sub, run, None), lo)
+    from pathlib import Path
+
+    write_chunk(ds, Path(directory) / f"chunk-{k:06d}.nc", compress)
+    return k
+
+
+def _run_on_dask(kwargs, chunks, todo, scheduler, progress, compress):
+    """The missing chunks as tasks of a dask.distributed cluster."""
+    try:
+        from distributed import Client, LocalCluster, as_completed
+    except ImportError:
+        raise ValueError("scheduler needs dask.distributed: pip install 'stability[distributed]'"
+                         ) from None
+    cluster = None
+    if scheduler == "dask":
+        cluster = LocalCluster(processes=True, threads_per_worker=1, dashboard_address=None)
+        client = Client(cluster)
+    else:
+        if not isinstance(scheduler, str) or "://" not in scheduler:
+            raise ValueError(f"scheduler must be 'dask' (a local cluster) or a scheduler "
+                             f"address such as 'tcp://host:8786', got {scheduler!r}")
+        try:
+            client = Client(scheduler, timeout="10s")
+        except (OSError, TimeoutError) as exc:
+            raise OSError(f"cannot reach the dask scheduler at {scheduler} ({exc}); start it, "
+                          "or check the address") from None
+    tracker = _Tracker(chunks, todo, progress)
+    try:
+        futures = []
+        for k in todo:
+            lo, hi = chunks.bounds(k)
+            futures.append(client.submit(run_chunk, kwargs, str(chunks.dir.resolve()), k, lo,
+                                         hi, compress, key=f"stability-chunk-{k}-{chunks.fingerprint[:12]}",
+                                         retries=2, pure=False))
+        for future in as_completed(futures):
+            k = future.result()
+            lo, hi = chunks.bounds(k)
+            if not chunks.verify(k):
+                raise OSError(f"chunk {k} written by a worker is not readable here "
+                              f"({chunks.path(k)}); the store must be on a file system every "
+                              "worker and this process share")
+            tracker.finished(k, hi - lo)
+    except KeyboardInterrupt:
+        tracker.stopped()
+    finally:
+        client.close()
+        if cluster is not None:
+            cluster.close()
+    tracker.close()
+
+
+def _labelled(ds, lo: int):
+    """A chunk's Dataset with its members numbered from ``lo``."""
+    from . import conventions as cv
+
+    member = ds[cv.MEMBER]
+    return ds.assign_coords({cv.MEMBER: (cv.MEMBER, np.arange(lo, lo + member.size),
+                                         member.attrs)})
+
+
+def _whole_attrs(chunks: ChunkStore) -> dict:
+    """The attributes of the whole run from those of its chunks."""
+    import xarray as xr
+
+    wall = compile_time = 0.0
+    first = None
+    for k in range(chunks.n_chunks):
+        with xr.open_dataset(chunks.path(k), engine="netcdf4", decode_timedelta=False) as ds:
+            attrs = dict(ds.attrs)
+        wall += float(attrs.get("wall_time", 0.0))
+        compile_time += float(attrs.get("compile_time", 0.0))
+        if first is None:
+            first = attrs
+    n = chunks.members
+    attrs = dict(first)
+    title = attrs.get("title", "")
+    if "-member ensemble" in title:
+        attrs["title"] = f"{n}-member ensemble" + title.split("-member ensemble", 1)[1]
+    steps = float(attrs.get("steps_done", 0))
+    attrs.update({
+        "members": n,
+        "members_requested": n,
+        "wall_time": wall,
+        "compile_time": compile_time,
+        "member_steps_per_second": n * steps / wall if wall > 0 else 0.0,
+        "chunks": chunks.n_chunks,
+        "chunk_members": chunks.chunk_members,
+    })
+    return attrs
+
+
+class _Tracker:
+    """Progress of a stored run: a bar over members, ``progress.json``, the interrupt message."""
+
+    def __init__(self, chunks: ChunkStore, todo, progress):
+        self.chunks = chunks
+        self.started = time.time()
+        self.t0 = time.perf_counter()
+        self.done_chunks = chunks.n_chunks - len(todo)
+        self.done_members = sum(hi - lo for lo, hi in map(chunks.bounds, range(chunks.n_chunks))
+                                ) - sum(hi - lo for lo, hi in map(chunks.bounds, todo))
+        self.new_members = 0
+        self.many = len(todo) > 1
+        self.inner_progress = False if self.many else progress
+        self.bar = None
+        if self.many and progress is not False:
+            from tqdm.auto import tqdm
+
+            self.bar = tqdm(total=chunks.members, initial=self.done_members, unit="member",
+                            unit_scale=True, desc=f"{len(todo)} chunks", leave=False)
+        self._report("running")
+
+    def finished(self, k, members):
+        self.done_chunks += 1
+        self.done_members += members
+        self.new_members += members
+        if self.bar is not None:
+            self.bar.update(members)
+        self._report("running")
+
+    def stopped(self):
+        self._report("interrupted")
+        self.close()
+        raise RunInterrupted(
+            f"interrupted: {self.done_chunks} of {self.chunks.n_chunks} chunks are finished "
+            f"and kept in {self.chunks.dir}; run again with --resume (resume=True) to finish"
+        )
+
+    def close(self):
+        if self.bar is not None:
+            self.bar.close()
+            self.bar = None
+        if self.done_chunks == self.chunks.n_chunks:
+            self._report("finished")
+
+    def _rate(self):
+        dt = time.perf_counter() - self.t0
+        return self.new_members / dt if dt > 0 and self.new_members else 0.0
+
+    def _report(self, state):
+        self.chunks.report(state, self.done_chunks, self.done_members, self._rate(),
+                           self.started)
