@@ -3,13 +3,17 @@
 ::
 
     stability run STUDY.toml [--out DIR] [--members N] [--threads N] [--overwrite] [--quick]
+                             [--resume] [--scheduler dask|ADDRESS]
                              [--set SECTION.KEY=VALUE ...] [--dry-run] [--no-progress]
+    stability status DIR              # how far a run writing into DIR has got
     stability studies [KIND]          # the study kinds and the keys of their files
     stability methods                 # the integrator registry as a table
     stability bench [--members N] [--steps N] [--threads N ...] [--methods NAME ...] [--repeat N]
 
 A mistake by the user (a bad study file, a bad option, an output that exists) is reported as one
 line on stderr with exit status 2, never a traceback; ``--debug`` shows the traceback instead.
+Ctrl-C (SIGINT) or SIGTERM stops a run within seconds: one line says what was kept and how to
+continue, nothing is published, and the exit status is 130 (143 for SIGTERM).
 ``python -m stability`` is the same command.
 """
 
@@ -22,6 +26,7 @@ import sys
 
 EXIT_USAGE = 2
 EXIT_INTERRUPTED = 130
+EXIT_TERMINATED = 143
 
 
 class _Parser(argparse.ArgumentParser):
@@ -75,7 +80,14 @@ def build_parser() -> argparse.ArgumentParser:
     run.add_argument(
         "--threads", type=_positive_int, metavar="N", help="Numba threads (default: all cores)"
     )
-    run.add_argument("--overwrite", action="store_true", help="replace existing output files")
+    run.add_argument("--overwrite", action="store_true",
+                     help="replace existing output files (and start afresh over the finished "
+                     "chunks of a stopped run)")
+    run.add_argument("--resume", action="store_true",
+                     help="finish a stopped run of the same study: only its missing chunks run")
+    run.add_argument("--scheduler", metavar="ADDRESS",
+                     help="run the chunks on dask.distributed: 'dask' for a local cluster, or "
+                     "a scheduler address such as tcp://host:8786")
     run.add_argument(
         "--quick", action="store_true",
         help="small, fast version of the study (fewer members, shorter horizon) for tests",
@@ -91,6 +103,14 @@ def build_parser() -> argparse.ArgumentParser:
     )
     run.add_argument("--no-progress", action="store_true", help="no progress bar")
     run.set_defaults(func=_cmd_run)
+
+    status = sub.add_parser(
+        "status", help="how far a run has got (from another terminal)",
+        description="Show the chunks done, the speed and the time left of a run writing into "
+        "DIR (its output folder, or a run_ensemble store= folder).",
+    )
+    status.add_argument("dir", metavar="DIR", help="output folder of the run")
+    status.set_defaults(func=_cmd_status)
 
     studies = sub.add_parser(
         "studies", help="list the study kinds, or the keys of one kind's study files"
@@ -136,11 +156,16 @@ def main(argv=None) -> int:
         parser.print_help()
         return EXIT_USAGE
     args.argv = list(sys.argv[1:] if argv is None else argv)
+    terminated = _terminate_as_interrupt()
     try:
         return args.func(args) or 0
-    except KeyboardInterrupt:
-        print("stability: interrupted", file=sys.stderr)
-        return EXIT_INTERRUPTED
+    except KeyboardInterrupt as exc:
+        if args.debug:
+            raise
+        what = "SIGTERM" if terminated.is_set() else "Ctrl-C"
+        text = str(exc) or "interrupted; nothing was published"
+        print(f"stability {args.command}: {what}: {text}", file=sys.stderr)
+        return EXIT_TERMINATED if terminated.is_set() else EXIT_INTERRUPTED
     except BrokenPipeError:  # output piped into e.g. `head`, which stopped reading
         devnull = os.open(os.devnull, os.O_WRONLY)
         os.dup2(devnull, sys.stdout.fileno())
@@ -150,6 +175,23 @@ def main(argv=None) -> int:
             raise
         print(_one_line(exc, args.command), file=sys.stderr)
         return EXIT_USAGE
+
+
+def _terminate_as_interrupt():
+    """Make SIGTERM stop a run as Ctrl-C does (cleanly); return the event it sets."""
+    import signal
+    import threading
+
+    terminated = threading.Event()
+    if threading.current_thread() is not threading.main_thread():
+        return terminated
+
+    def handler(signum, frame):
+        terminated.set()
+        signal.raise_signal(signal.SIGINT)  # whatever handles Ctrl-C now handles this too
+
+    signal.signal(signal.SIGTERM, handler)
+    return terminated
 
 
 def _one_line(exc: BaseException, command: str) -> str:
@@ -182,6 +224,8 @@ def _cmd_run(args) -> int:
         out_dir=args.out,
         threads=args.threads,
         overwrite=args.overwrite,
+        resume=args.resume,
+        scheduler=args.scheduler,
         progress=False if args.no_progress else None,
         history=history,
         source=source,
@@ -191,6 +235,24 @@ def _cmd_run(args) -> int:
     print(f"\nwrote {len(summary.files)} files to {summary.out_dir}/:")
     for path in summary.files:
         print(f"  {path.name}")
+    return 0
+
+
+def _cmd_status(args) -> int:
+    from pathlib import Path
+
+    from .store import MANIFEST, status_lines
+
+    folder = Path(args.dir)
+    if not folder.is_dir():
+        raise ValueError(f"{folder} is not a folder; give the output folder of a run")
+    stores = [folder] if (folder / MANIFEST).exists() else sorted(
+        p for p in folder.glob(".stability-work-*") if (p / MANIFEST).exists())
+    if not stores:
+        print(f"{folder}: no run in progress or stopped (finished runs keep no chunks)")
+        return 0
+    for store in stores:
+        print("\n".join(status_lines(store)))
     return 0
 
 

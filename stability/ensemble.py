@@ -286,9 +286,9 @@ def run_ensemble(
     resume : bool, default False
         With ``store``: finish a run stopped earlier (only the missing chunks are run; the
         result is bitwise that of an uninterrupted run). A store of a different run is refused.
-    scheduler : str, optional
-        With ``store``: run the chunks on dask.distributed, ``"dask"`` for a local cluster or
-        a scheduler address such as ``"tcp://host:8786"``.
+    scheduler : str or distributed.Client, optional
+        With ``store``: run the chunks on dask.distributed, ``"dask"`` for a local cluster, a
+        scheduler address such as ``"tcp://host:8786"``, or a client.
 
     Returns
     -------

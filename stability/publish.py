@@ -175,7 +175,7 @@ def clean_leftovers(out_dir) -> list[str]:
             done.append(f"completed the publication of {stage.name}")
             continue
         host, pid = _owner(stage.name)
-        if host != _host() or (pid is not None and _alive(pid)):
+        if host != _host() or (pid is not None and process_alive(pid)):
             continue
         shutil.rmtree(stage, ignore_errors=True)
         done.append(f"removed the unfinished {stage.name}")
@@ -252,7 +252,7 @@ def _owner(name: str):
     return parts[0], int(parts[1])
 
 
-def _alive(pid: int) -> bool:
+def process_alive(pid: int) -> bool:
     if pid == os.getpid():
         return True
     try:

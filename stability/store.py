@@ -24,6 +24,7 @@ from __future__ import annotations
 
 import hashlib
 import json
+import logging
 import os
 import socket
 import time
@@ -33,10 +34,12 @@ import numpy as np
 import xarray as xr
 
 from . import conventions as cv
-from .publish import write_text
+from .publish import process_alive, write_text
 
 MANIFEST = "manifest.json"
 PROGRESS = "progress.json"
+
+log = logging.getLogger(__name__)
 
 #: Version of the store layout; a store of another layout is not resumed.
 LAYOUT = 1
@@ -85,6 +88,9 @@ class ChunkStore:
                     f"{self.dir} holds chunks of a different run ({_difference(earlier, self)}); "
                     "choose another folder, or remove it to start afresh"
                 )
+            self._check_not_running()
+            for partial in [*self.dir.glob(".*.tmp"), *self.dir.glob(".*.part")]:
+                partial.unlink(missing_ok=True)  # what a killed run was writing
             done = len(self.done())
             if done and not resume and earlier.get("complete"):
                 raise ValueError(
@@ -101,6 +107,16 @@ class ChunkStore:
             self.dir.mkdir(parents=True, exist_ok=True)
             self._write_manifest(complete=False, attrs=None)
 
+    def _check_not_running(self) -> None:
+        """Refuse a store that a live process on this host is still writing."""
+        progress = read_progress(self.dir) or {}
+        pid = progress.get("pid")
+        if (progress.get("state") == "running" and progress.get("host") == socket.gethostname()
+                and isinstance(pid, int) and pid != os.getpid() and process_alive(pid)):
+            raise ValueError(f"{self.dir} is being written by process {pid}, which is still "
+                             "running; wait for it (stability status shows how far it is) or "
+                             "stop it first")
+
     # --- chunks ---------------------------------------------------------------------------
 
     def bounds(self, k: int) -> tuple[int, int]:
@@ -109,7 +125,7 @@ class ChunkStore:
         return lo, min(lo + self.chunk_members, self.members)
 
     def path(self, k: int) -> Path:
-        return self.dir / f"chunk-{k:06d}.nc"
+        return self.dir / chunk_name(k)
 
     def done(self) -> list[int]:
         """Chunks whose file is whole (its checksum agrees); damaged ones are removed."""
@@ -125,11 +141,18 @@ class ChunkStore:
 
     def verify(self, k: int) -> bool:
         """Whether chunk ``k`` is done; a file that does not match its checksum is removed."""
-        path, check = self.path(k), _checksum_path(self.path(k))
+        return self.verify_path(self.dir, k)
+
+    @staticmethod
+    def verify_path(directory, k: int) -> bool:
+        """:meth:`verify` for the store in ``directory``."""
+        path = Path(directory) / chunk_name(k)
+        check = _checksum_path(path)
         if not path.exists() or not check.exists():
             return False
         if file_checksum(path) == check.read_text(encoding="utf-8").strip():
             return True
+        log.warning("chunk file %s does not match its checksum: it is run again", path)
         path.unlink(missing_ok=True)
         check.unlink(missing_ok=True)
         return False
@@ -180,6 +203,11 @@ class ChunkStore:
         }, indent=1) + "\n")
 
 
+def chunk_name(k: int) -> str:
+    """File name of chunk ``k``."""
+    return f"chunk-{k:06d}.nc"
+
+
 def write_chunk(ds: xr.Dataset, path, compress: bool = True) -> None:
     """Write one chunk file atomically, then its checksum beside it."""
     from .io import save
@@ -221,7 +249,7 @@ def open_store(directory) -> xr.Dataset:
     if not manifest.get("complete"):
         raise ValueError(f"{directory} holds an unfinished run; finish it with --resume "
                          "(resume=True) first")
-    paths = [directory / f"chunk-{k:06d}.nc" for k in range(manifest["chunks"])]
+    paths = [directory / chunk_name(k) for k in range(manifest["chunks"])]
     ds = xr.open_mfdataset(
         paths, combine="nested", concat_dim=cv.MEMBER, data_vars="minimal", coords="minimal",
         compat="override", join="override", combine_attrs="override", engine="netcdf4",

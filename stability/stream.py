@@ -10,8 +10,9 @@ run, and the Dataset is bitwise the one of an uninterrupted run (members are ind
 a member's start does not depend on its chunk).
 
 With ``scheduler`` each chunk is one task of a ``dask.distributed`` cluster: ``"dask"`` starts
-a :class:`~distributed.LocalCluster` on this machine, any other string is a scheduler address
-(``tcp://host:8786``). A worker runs its chunk with as many Numba threads as it has threads,
+a :class:`~distributed.LocalCluster` on this machine (one single-threaded worker process per
+core), any other string is a scheduler address (``tcp://host:8786``), and a
+:class:`~distributed.Client` is used as it is. A worker runs its chunk with as many Numba threads as it has threads,
 loads the compiled member loop from the disk cache (:mod:`stability.engine.cache`; share that
 folder, ``STABILITY_CACHE_DIR``, between the workers) and writes the chunk file itself, so the
 store must be on a file system all workers see. Tasks of a worker that dies are run again on
@@ -22,11 +23,12 @@ from __future__ import annotations
 
 import logging
 import time
+from pathlib import Path
 
 import numpy as np
 
 from . import __version__
-from .store import ChunkStore
+from .store import ChunkStore, chunk_name
 
 log = logging.getLogger(__name__)
 
@@ -54,8 +56,10 @@ def run_streamed(kwargs: dict, store, *, resume=False, scheduler=None, threads=N
     plan = _plan(**kwargs, defer_starts=True)
     chunk = kwargs.get("chunk_members") or min(plan.members, DEFAULT_CHUNK_MEMBERS)
     kwargs["chunk_members"] = chunk
+    # What decides the members' numbers (not the caller's configuration, which may differ in
+    # keys that do not, such as the figures of a study).
     identity = {"run_ensemble": {k: v for k, v in plan.resolved.items() if k != "threads"},
-                "config_toml": plan.config_text, "software": f"stability {__version__}"}
+                "software": f"stability {__version__}"}
     chunks = ChunkStore(store, identity, plan.members, chunk, resume=resume)
     todo = chunks.missing()
     if todo:
@@ -73,17 +77,21 @@ def _run_here(plan, chunks, todo, threads, progress, compress):
     from .threads import numba_threads
 
     tracker = _Tracker(chunks, todo, progress)
-    with numba_threads(_threads(threads)):
-        for k in todo:
-            lo, hi = chunks.bounds(k)
-            sub = _chunk_plan(plan, lo, hi)
-            (run,) = _run([sub], tracker.inner_progress)
-            if run.interrupted:
-                tracker.stopped()
-            ds = _labelled(_dataset(sub, run, threads), lo)
-            chunks.write(k, ds, compress)
-            tracker.finished(k, hi - lo)
-    tracker.close()
+    try:
+        with numba_threads(_threads(threads)):
+            for k in todo:
+                lo, hi = chunks.bounds(k)
+                sub = _chunk_plan(plan, lo, hi)
+                (run,) = _run([sub], tracker.inner_progress)
+                if run.interrupted:
+                    raise KeyboardInterrupt
+                ds = _labelled(_dataset(sub, run, threads), lo)
+                chunks.write(k, ds, compress)
+                tracker.finished(k, hi - lo)
+    except KeyboardInterrupt:  # Ctrl-C between chunks, or while compiling or writing
+        tracker.stopped()
+    finally:
+        tracker.close()
 
 
 def run_chunk(kwargs: dict, directory, k: int, lo: int, hi: int, compress: bool) -> int:
@@ -104,9 +112,7 @@ def run_chunk(kwargs: dict, directory, k: int, lo: int, hi: int, compress: bool)
     with numba_threads(max(1, min(nthreads, numba.config.NUMBA_NUM_THREADS))):
         (run,) = _run([sub], False)
         ds = _labelled(_dataset(sub, run, None), lo)
-    from pathlib import Path
-
-    write_chunk(ds, Path(directory) / f"chunk-{k:06d}.nc", compress)
+    write_chunk(ds, Path(directory) / chunk_name(k), compress)
     return k
 
 
@@ -118,7 +124,10 @@ def _run_on_dask(kwargs, chunks, todo, scheduler, progress, compress):
         raise ValueError("scheduler needs dask.distributed: pip install 'stability[distributed]'"
                          ) from None
     cluster = None
-    if scheduler == "dask":
+    own = True
+    if hasattr(scheduler, "submit"):  # a distributed.Client the caller made
+        client, own = scheduler, False
+    elif scheduler == "dask":
         cluster = LocalCluster(processes=True, threads_per_worker=1, dashboard_address=None)
         client = Client(cluster)
     else:
@@ -149,10 +158,11 @@ def _run_on_dask(kwargs, chunks, todo, scheduler, progress, compress):
     except KeyboardInterrupt:
         tracker.stopped()
     finally:
-        client.close()
+        tracker.close()
+        if own:
+            client.close()
         if cluster is not None:
             cluster.close()
-    tracker.close()
 
 
 def _labelled(ds, lo: int):

@@ -13,6 +13,8 @@ from pathlib import Path
 
 from matplotlib.figure import Figure
 
+from ..publish import disk_error
+
 #: Colours of body axes 1, 2, 3 in every figure (colour-blind safe, from matplotlib's tab10).
 AXIS_COLORS = ("#1f77b4", "#ff7f0e", "#2ca02c")
 #: Colour of exact / analytic curves drawn over numerical results.
@@ -88,8 +90,12 @@ def save(fig: Figure, out_dir, stem: str, formats=("png", "pdf"), dpi: int = 150
             raise ValueError(f"figure format must be one of {', '.join(FORMATS)}, got {fmt!r}")
         path = out_dir / f"{stem}.{fmt}"
         partial = out_dir / f".{stem}.{fmt}.part"
-        fig.savefig(partial, format=fmt, dpi=dpi)
-        partial.replace(path)
+        try:
+            fig.savefig(partial, format=fmt, dpi=dpi)
+            partial.replace(path)
+        except OSError as exc:  # a full disk, a vanished folder: one line naming both
+            partial.unlink(missing_ok=True)
+            raise disk_error(exc, path) from exc
         paths.append(path)
     return paths
 

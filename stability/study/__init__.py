@@ -15,6 +15,7 @@ from __future__ import annotations
 
 from pathlib import Path
 
+from ..stream import RunInterrupted
 from . import stability_map, tennis_racket, work_precision
 from .config import (
     REQUIRED,
@@ -126,13 +127,22 @@ def run_study(
     members=None,
     threads=None,
     overwrite=False,
+    resume=False,
+    scheduler=None,
     quick=False,
     progress=None,
     overrides=(),
     history=None,
     source=None,
 ) -> StudySummary:
-    """Run a study and write its outputs; return its summary.
+    """Run a study and publish its outputs together; return its summary.
+
+    Everything about the output folder is checked before any computation (it can be written,
+    nothing is replaced without ``overwrite``, the free space suffices where the size is
+    known). The outputs are written into a hidden stage and published only when all are
+    complete (:mod:`stability.publish`): a stopped run publishes nothing and leaves an earlier
+    result intact. What a resumable study has finished (the chunks of its ensemble) is kept in
+    a work folder beside the outputs until the run is published.
 
     Parameters
     ----------
@@ -145,7 +155,13 @@ def run_study(
     threads : int, optional
         Numba threads for the run (default: all that Numba was started with).
     overwrite : bool
-        Replace output files that exist; otherwise refuse before running anything.
+        Replace output files that exist (and the finished parts of a stopped earlier run);
+        otherwise refuse before running anything.
+    resume : bool
+        Finish a stopped run of the same study: only its missing parts are computed.
+    scheduler : str, optional
+        ``"dask"`` (a local dask.distributed cluster) or a scheduler address: run the parts
+        there (resumable kinds; default: the file's ``[run] scheduler``, else this machine).
     progress : bool, optional
         Progress bar; by default shown for runs expected to take more than a few seconds.
     history : str, optional
@@ -154,7 +170,19 @@ def run_study(
     Returns
     -------
     StudySummary
+        ``files`` are the published paths.
+
+    Raises
+    ------
+    ValueError, OSError
+        Bad configuration or output folder (before computing); a failed write (after).
+    stability.stream.RunInterrupted
+        Ctrl-C or SIGTERM; its message says what was kept and how to continue.
     """
+    import shutil
+
+    from ..publish import check_target, clean_leftovers, staged
+
     if isinstance(study, dict):
         kind = study_kind(study.get(STUDY_KEY))
         source = source or "<config>"
@@ -165,20 +193,51 @@ def run_study(
         )
     if threads is not None:
         threads = _check_threads(threads)
+    if (resume or scheduler is not None) and not kind.resumable:
+        option = "--resume" if resume else "--scheduler"
+        raise ValueError(f"study kind {kind.name!r} runs in one piece; drop {option}")
     out = Path(out_dir if out_dir is not None else config["output"]["dir"])
-    if out.exists() and not out.is_dir():
-        raise ValueError(f"output folder {out} exists and is not a folder")
-    existing = [out / name for name in kind.outputs(config) if (out / name).exists()]
-    if existing and not overwrite:
-        shown = ", ".join(str(p) for p in existing[:2]) + (" ..." if len(existing) > 2 else "")
-        raise ValueError(
-            f"{shown} already exists; pass --overwrite to replace it, "
-            "or --out DIR for another folder"
-        )
-    out.mkdir(parents=True, exist_ok=True)
-    return kind.run(
-        config, out, overwrite=overwrite, threads=threads, progress=progress, history=history
-    )
+    names = kind.outputs(config)
+    expected = kind.expected_bytes(config) if kind.expected_bytes is not None else None
+    clean_leftovers(out)  # first: it may complete the publication of a killed run
+    check_target(out, names, overwrite=overwrite, expected_bytes=expected)
+    extra = {}
+    work = out / f".stability-work-{Path(names[0]).stem}"
+    if kind.resumable:
+        if overwrite and not resume and work.exists():
+            shutil.rmtree(work)  # the user asked to start afresh
+        extra = {"work": work, "resume": resume, "scheduler": scheduler}
+    try:
+        with staged(out) as stage:
+            summary = kind.run(config, stage.dir, overwrite=True, threads=threads,
+                               progress=progress, history=history, **extra)
+            stage.publish()
+    except KeyboardInterrupt as exc:
+        raise RunInterrupted(_interrupted(exc, out, work if kind.resumable else None)) from None
+    if kind.resumable:
+        shutil.rmtree(work, ignore_errors=True)
+    summary.out_dir = out
+    summary.files = [out / Path(p).name for p in summary.files]
+    return summary
+
+
+def _interrupted(exc, out: Path, work) -> str:
+    """One line: the run stopped, what was kept, how to continue."""
+    from ..store import MANIFEST, ChunkStore, read_manifest
+
+    text = "interrupted; nothing was published"
+    if out.is_dir() and any(not p.name.startswith(".") for p in out.iterdir()):
+        text += f" (what {out} held is unchanged)"
+    if work is not None and (work / MANIFEST).exists():
+        try:
+            manifest = read_manifest(work)
+            done = sum(ChunkStore.verify_path(work, k) for k in range(manifest["chunks"]))
+        except ValueError:
+            done = 0
+        if done:
+            text += (f"; {done} of {manifest['chunks']} finished chunks of the ensemble are "
+                     f"kept in {work}: run the same command with --resume to continue")
+    return text
 
 
 def _check_threads(threads) -> int:

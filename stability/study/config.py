@@ -454,6 +454,12 @@ class StudyKind:
         ``{section: {key: value}}`` overrides for ``--quick``: a small run for tests and demos.
     members_key : tuple of str, optional
         ``(section, key)`` that ``--members`` sets; None if the kind has no such count.
+    expected_bytes : callable, optional
+        ``expected_bytes(config) -> int``: disk space a run needs at most, checked against the
+        free space before it starts.
+    resumable : bool
+        ``run`` also takes ``work`` (a folder for finished parts, kept when the run is
+        stopped), ``resume`` and ``scheduler`` (``stability run --resume``, ``--scheduler``).
     """
 
     name: str
@@ -464,6 +470,8 @@ class StudyKind:
     check: Callable | None = None
     quick: dict = field(default_factory=dict)
     members_key: tuple[str, str] | None = None
+    expected_bytes: Callable | None = None
+    resumable: bool = False
 
     def resolve(self, raw: dict, source: str = "<study>") -> dict:
         """Validate a parsed study file of this kind; return the resolved configuration."""

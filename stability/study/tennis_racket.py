@@ -96,6 +96,14 @@ SCHEMA = Schema(
                 "end it before the amplitude exceeds this times rate (or its saturation)",
                 minimum=0.0, exclusive_minimum=True, maximum=1.0),
         )),
+        Section("run", "how the ensemble is cut into chunks, and where they run", (
+            Key("chunk_members", "int", 4096,
+                "members per chunk: each finished chunk is kept at once, so a stopped run "
+                "continues from there (stability run --resume)", minimum=1),
+            Key("scheduler", "str", "",
+                "where the chunks run: '' this machine, 'dask' a local dask.distributed "
+                "cluster, or a scheduler address such as 'tcp://host:8786'"),
+        )),
         Section("output", "where the results go", (
             Key("dir", "str", "results/tennis_racket",
                 "output folder (relative to the current directory)"),
@@ -140,7 +148,21 @@ def check(config: dict, source: str) -> dict:
         _body(config)
     except ValueError as exc:
         raise ConfigError(str(exc), source, "body") from None
+    scheduler = config["run"]["scheduler"]
+    if scheduler not in ("", "dask") and "://" not in scheduler:
+        raise ConfigError(
+            f"must be '' (this machine), 'dask' (a local cluster) or a scheduler address such "
+            f"as 'tcp://host:8786', got {scheduler!r}", source, "run", "scheduler")
     return config
+
+
+def expected_bytes(config: dict) -> int:
+    """Disk space of a run at most: the chunks of its ensemble and the Dataset (uncompressed)."""
+    from ..ensemble import ensemble_memory
+
+    integ = config["integration"]
+    saved = round(integ["t_end"] / integ["h"]) // integ["save_every"]
+    return 2 * ensemble_memory(config["ensemble"]["members"], saved)
 
 
 def outputs(config: dict) -> list[str]:
@@ -156,8 +178,12 @@ def outputs(config: dict) -> list[str]:
 
 
 def run(config: dict, out_dir: Path, *, overwrite=False, threads=None, progress=None,
-        history=None) -> StudySummary:
+        history=None, work=None, resume=False, scheduler=None) -> StudySummary:
     """Run the study described by the resolved ``config``; write its files into ``out_dir``.
+
+    The ensemble is streamed chunk by chunk into the folder ``work`` (uncompressed scratch
+    files, :mod:`stability.stream`), so that a stopped run continues with ``resume``; its
+    chunks run on ``scheduler`` (default: the file's ``[run] scheduler``).
 
     Returns
     -------
@@ -182,12 +208,9 @@ def run(config: dict, out_dir: Path, *, overwrite=False, threads=None, progress=
     say(f"{body.name}: {ens['members']} members x {steps} steps of {integ['method']} "
         f"(h = {integ['h']:g} s), w kept every {integ['save_every']} steps: "
         f"{format_bytes(memory)} of results")
-    ds = stability.run_ensemble(
-        body, axis, spin, ens["epsilon"], ens["members"],
-        h=integ["h"], t_end=integ["t_end"], seed=ens["seed"], method=integ["method"],
-        save_every=integ["save_every"], threads=threads, progress=progress,
-        config=config, command=history or f"stability run ({NAME})",
-    )
+    ds = _ensemble(config, body, axis, work or out_dir / ".ensemble", resume,
+                   scheduler or config["run"]["scheduler"] or None, threads, progress,
+                   history or f"stability run ({NAME})")
     t_ensemble = time.perf_counter() - t_start
     say("exact flip intervals and the growth-rate fit ...")
     ds = analyse_ensemble(ds, body, axis, spin, ens["epsilon"],
@@ -205,6 +228,26 @@ def run(config: dict, out_dir: Path, *, overwrite=False, threads=None, progress=
             files += draw_figures(ds, body, axis, out_dir, out["formats"])
     wall = time.perf_counter() - t_start
     return summarize(ds, out_dir, files, wall, t_ensemble)
+
+
+def _ensemble(config, body, axis, work, resume, scheduler, threads, progress, command):
+    """The ensemble, streamed through the chunk folder ``work`` and read back into memory."""
+    from ..dataset import config_toml
+    from ..stream import run_streamed
+
+    ens, integ = config["ensemble"], config["integration"]
+    kwargs = dict(
+        body=body, axis=axis, spin=config["spin"]["rate"], epsilon=ens["epsilon"],
+        members=ens["members"], h=integ["h"], t_end=integ["t_end"], seed=ens["seed"],
+        method=integ["method"], save_every=integ["save_every"],
+        chunk_members=config["run"]["chunk_members"], config=config, command=command,
+    )
+    lazy = run_streamed(kwargs, work, resume=resume, scheduler=scheduler, threads=threads,
+                        progress=progress, compress=False)
+    ds = lazy.compute()
+    lazy.close()
+    ds.attrs["config_toml"] = config_toml(config)  # this run's (a resumed run's may differ)
+    return ds
 
 
 def _reporter(progress):
@@ -303,4 +346,6 @@ STUDY = StudyKind(
     check=check,
     quick=QUICK,
     members_key=("ensemble", "members"),
+    expected_bytes=expected_bytes,
+    resumable=True,
 )

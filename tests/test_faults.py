@@ -1,0 +1,252 @@
+"""Faults, for real: signals at each phase of a study run, a full disk, read-only folders.
+
+Each case runs ``stability run`` in a subprocess and sends it a real SIGINT, SIGTERM or SIGKILL
+while it compiles, integrates, or writes its Dataset and draws its figures, over an earlier
+result (``--overwrite``). Then: the exit status (130, 143), one line saying what was kept and
+how to continue, the earlier result byte for byte, no temporary file left (after SIGKILL: none
+left once the next run has started), and ``--resume`` finishing the run. File-system faults
+use a real small tmpfs or a read-only mount where the platform allows (root on Linux), and are
+skipped with the reason otherwise. Bad input of every kind is in ``test_bad_input.py``.
+"""
+
+import contextlib
+import os
+import shutil
+import signal
+import subprocess
+import sys
+import threading
+import time
+from pathlib import Path
+
+import pytest
+
+from stability.publish import JOURNAL, STAGE_PREFIX, Stage, clean_leftovers
+from stability.store import read_progress
+
+ROOT = Path(__file__).resolve().parents[1]
+TENNIS = ROOT / "studies" / "tennis_racket.toml"
+QUICK = ["--quick", "--members", "512", "--set", "run.chunk_members=128",
+         "--set", "output.formats=['png']"]  # with progress: its lines tell the phase
+#: Long enough to be caught integrating (chunks of 512 members of 20000 steps).
+LONG = ["--quick", "--members", "8192", "--set", "run.chunk_members=512",
+        "--set", "integration.t_end=40", "--set", "integration.save_every=1000",
+        "--set", "output.formats=['png']"]
+
+
+def stability_cmd(*args):
+    return [sys.executable, "-m", "stability", "run", str(TENNIS), *args]
+
+
+def start(args, env=None):
+    return subprocess.Popen(stability_cmd(*args), cwd=ROOT, stdout=subprocess.PIPE,
+                            stderr=subprocess.PIPE, text=True,
+                            env={**os.environ, **(env or {})})
+
+
+class Lines:
+    """The stderr lines of a process, read in a thread (so waiting never blocks on a pipe)."""
+
+    def __init__(self, proc):
+        self.lines = []
+        self.thread = threading.Thread(target=self._read, args=(proc.stderr,), daemon=True)
+        self.thread.start()
+
+    def _read(self, stream):
+        for line in stream:
+            self.lines.append(line.rstrip("\n").split("\r")[-1])  # past progress bars
+
+    def seen(self, text):
+        return any(text in line for line in self.lines)
+
+    def wait_done(self):
+        self.thread.join(timeout=30)
+        return self.lines
+
+
+def wait_until(predicate, proc, timeout=180.0):
+    t0 = time.monotonic()
+    while not predicate():
+        if proc.poll() is not None:
+            raise AssertionError(f"the run ended (exit {proc.returncode}) before the phase")
+        if time.monotonic() - t0 > timeout:
+            proc.kill()
+            raise AssertionError("timed out waiting for the phase")
+        time.sleep(0.02)
+
+
+def snapshot(folder: Path) -> dict:
+    """Every visible file of a folder with its bytes."""
+    return {p.name: p.read_bytes() for p in sorted(folder.iterdir()) if p.is_file()
+            and not p.name.startswith(".")}
+
+
+def temporaries(folder: Path) -> list:
+    """Stage folders, partial and temporary files anywhere under ``folder``."""
+    found = [p for p in folder.rglob("*") if p.name.startswith(STAGE_PREFIX)
+             or p.name.endswith((".tmp", ".part"))]
+    return sorted(str(p.relative_to(folder)) for p in found)
+
+
+@pytest.fixture(scope="module")
+def earlier(tmp_path_factory):
+    """A finished quick result, the one every interrupted run is started over."""
+    out = tmp_path_factory.mktemp("earlier") / "out"
+    done = subprocess.run(stability_cmd(*QUICK, "--out", str(out)), cwd=ROOT,
+                          capture_output=True, text=True, timeout=300)
+    assert done.returncode == 0, done.stderr
+    return out
+
+
+PHASES = {
+    # phase: (arguments, environment, how to know the run is in it, extra delay in s)
+    "compile": (QUICK, "fresh cache", lambda out, lines: lines.seen("members x"), 1.0),
+    "integrate": (LONG, None, lambda out, lines: (read_progress(
+        out / ".stability-work-tennis_racket") or {}).get("chunks_done", 0) >= 2, 0.0),
+    "write": (QUICK, None, lambda out, lines: lines.seen("writing"), 0.0),
+    "figures": (QUICK, None, lambda out, lines: lines.seen("writing"), 0.8),
+}
+
+
+@pytest.mark.parametrize("sig", ["SIGINT", "SIGTERM", "SIGKILL"])
+@pytest.mark.parametrize("phase", list(PHASES))
+def test_signal_at_each_phase_loses_nothing_and_leaves_nothing(earlier, tmp_path, phase, sig):
+    out = tmp_path / "out"
+    shutil.copytree(earlier, out)
+    before = snapshot(out)
+    args, env, in_phase, delay = PHASES[phase]
+    env = {"STABILITY_CACHE_DIR": str(tmp_path / "cache")} if env else None
+    proc = start([*args, "--out", str(out), "--overwrite"], env)
+    lines = Lines(proc)
+    wait_until(lambda: in_phase(out, lines), proc)
+    time.sleep(delay)
+    proc.send_signal(getattr(signal, sig))
+    proc.wait(timeout=60)
+    err = lines.wait_done()
+    assert snapshot(out) == before, "the earlier result changed"
+    if sig == "SIGKILL":
+        assert proc.returncode == -signal.SIGKILL
+    else:
+        assert proc.returncode == (130 if sig == "SIGINT" else 143), err
+        last = err[-1]
+        assert last.startswith(f"stability run: {'Ctrl-C' if sig == 'SIGINT' else 'SIGTERM'}: "
+                               "interrupted; nothing was published"), err
+        assert "Traceback" not in "\n".join(err)
+        assert temporaries(out) == []
+        if phase in ("write", "figures"):  # the ensemble was finished: it is kept
+            assert "run the same command with --resume" in last
+    if sig != "SIGKILL" and (phase, sig) != ("integrate", "SIGINT"):
+        return
+    # The next run cleans up after a killed one and finishes only what is missing.
+    done = subprocess.run(stability_cmd(*args, "--out", str(out), "--overwrite", "--resume"),
+                          cwd=ROOT, capture_output=True, text=True, timeout=300)
+    assert done.returncode == 0, done.stderr
+    assert temporaries(out) == [] and not list(out.glob(".stability-work-*"))
+    assert snapshot(out).keys() == before.keys()
+
+
+def test_publication_killed_half_way_is_completed_by_the_next_run(tmp_path):
+    out = tmp_path / "out"
+    out.mkdir()
+    (out / "a.nc").write_text("old a")
+    (out / "b.png").write_text("old b")
+    stage = Stage(out)
+    stage.path("a.nc").write_text("new a")
+    stage.path("b.png").write_text("new b")
+    (stage.dir / JOURNAL).write_text("a.nc\nb.png\n")  # the journal was written ...
+    os.replace(stage.path("a.nc"), out / "a.nc")  # ... and one file moved, then the kill
+    stage.dir.rename(out / f"{STAGE_PREFIX}otherhost-1-abcdef01")  # any host: it was whole
+    assert clean_leftovers(out) == [f"completed the publication of {STAGE_PREFIX}"
+                                    "otherhost-1-abcdef01"]
+    assert snapshot(out) == {"a.nc": b"new a", "b.png": b"new b"}
+    assert temporaries(out) == []
+
+
+def test_unpublished_stage_of_a_dead_process_is_removed_not_of_a_live_one(tmp_path):
+    out = tmp_path / "out"
+    mine = Stage(out)  # this process is alive: its stage stays
+    dead = subprocess.run([sys.executable, "-c", "import os; print(os.getpid())"],
+                          capture_output=True, text=True).stdout.strip()
+    host = mine.dir.name[len(STAGE_PREFIX):].split("-")[0]
+    orphan = out / f"{STAGE_PREFIX}{host}-{dead}-0000abcd"
+    orphan.mkdir()
+    (orphan / "tennis_racket.nc").write_bytes(b"x" * 1000)
+    assert clean_leftovers(out) == [f"removed the unfinished {orphan.name}"]
+    assert mine.dir.is_dir() and not orphan.exists()
+    mine.discard()
+
+
+# --- file systems -----------------------------------------------------------------------------
+
+
+@contextlib.contextmanager
+def tmpfs(where: Path, size: str, read_only=False):
+    """A real tmpfs of ``size`` mounted at ``where`` (skips the test where that is not allowed)."""
+    where.mkdir(parents=True, exist_ok=True)
+    options = f"size={size}" + (",ro" if read_only else "")
+    if os.geteuid() != 0 or not sys.platform.startswith("linux"):
+        pytest.skip("mounting a small file system needs root on Linux")
+    done = subprocess.run(["mount", "-t", "tmpfs", "-o", options, "tmpfs", str(where)],
+                          capture_output=True, text=True)
+    if done.returncode != 0:
+        pytest.skip(f"cannot mount a tmpfs here: {done.stderr.strip()}")
+    try:
+        yield where
+    finally:
+        subprocess.run(["umount", "-l", str(where)], capture_output=True)
+
+
+def test_too_little_space_is_refused_before_computing(tmp_path):
+    with tmpfs(tmp_path / "tiny", "2m") as tiny:
+        done = subprocess.run(stability_cmd(*QUICK, "--out", str(tiny / "out")), cwd=ROOT,
+                              capture_output=True, text=True, timeout=120)
+        assert done.returncode == 2
+        err = done.stderr.strip().splitlines()
+        assert len(err) == 1 and "not enough free space: the result needs about" in err[0], err
+        assert "members x" not in done.stderr  # nothing was run
+        assert not (tiny / "out").exists() or list((tiny / "out").iterdir()) == []
+
+
+def test_disk_full_while_writing_is_one_line_and_leaves_nothing(tmp_path):
+    with tmpfs(tmp_path / "small", "40m") as small:
+        out = small / "out"
+        proc = start([*QUICK, "--out", str(out)])
+        lines = Lines(proc)
+        wait_until(lambda: lines.seen("writing"), proc)
+        with open(small / "ballast", "wb") as f:  # the disk fills up meanwhile
+            with contextlib.suppress(OSError):
+                while True:
+                    f.write(b"\0" * 2**20)
+                    f.flush()
+        proc.wait(timeout=120)
+        err = lines.wait_done()
+        assert proc.returncode == 2, err
+        assert "No space left on device" in err[-1] and "Traceback" not in "\n".join(err)
+        assert snapshot(out) == {}  # nothing under a final name
+        assert temporaries(out) == []
+        (small / "ballast").unlink()
+
+
+def test_read_only_output_folder_is_refused_before_computing(tmp_path):
+    with tmpfs(tmp_path / "ro", "1m", read_only=True) as ro:
+        done = subprocess.run(stability_cmd(*QUICK, "--out", str(ro / "out")), cwd=ROOT,
+                              capture_output=True, text=True, timeout=120)
+        assert done.returncode == 2
+        err = done.stderr.strip().splitlines()
+        assert err == [f"stability run: error: output folder is not writable: {ro}"], err
+
+
+@pytest.mark.parametrize("dataset, message", [
+    ("sub/run.nc", "must be a plain file name"),
+    ("", "must be a plain file name"),
+    ("folder", "is a folder, where the output file 'folder' goes"),
+])
+def test_bad_output_names_are_refused_before_computing(tmp_path, dataset, message):
+    (tmp_path / "out" / "folder").mkdir(parents=True)
+    done = subprocess.run(stability_cmd(*QUICK, "--out", str(tmp_path / "out"), "--set",
+                                        f"output.dataset='{dataset}'"),
+                          cwd=ROOT, capture_output=True, text=True, timeout=120)
+    assert done.returncode == 2
+    err = done.stderr.strip().splitlines()
+    assert len(err) == 1 and message in err[0], err
+    assert [p.name for p in (tmp_path / "out").iterdir()] == ["folder"]

@@ -1,0 +1,154 @@
+"""Streamed runs: chunk files, resume after a real kill, damaged chunks, dask.distributed.
+
+Every comparison is bitwise: a member's numbers do not depend on the chunk it runs in, the
+process, or the machine of the cluster that ran it.
+"""
+
+import json
+import os
+import signal
+import subprocess
+import sys
+import textwrap
+import time
+from pathlib import Path
+
+import numpy as np
+import pytest
+import xarray as xr
+
+import stability
+from stability.store import open_store, read_progress
+
+ROOT = Path(__file__).resolve().parents[1]
+BODY = stability.RigidBody(1.0, 2.0, 3.0)
+RUN = dict(body=BODY, axis=2, spin=1.0, epsilon=1e-3, members=700, h=0.01, t_end=30.0, seed=4,
+           method="rk4", summaries_only=True)
+
+
+def assert_same_members(a: xr.Dataset, b: xr.Dataset):
+    assert set(a.data_vars) == set(b.data_vars)
+    for name in a.variables:
+        assert np.array_equal(a[name].values, b[name].values, equal_nan=True), name
+
+
+@pytest.fixture(scope="module")
+def in_memory():
+    return stability.run_ensemble(**RUN)
+
+
+@pytest.mark.parametrize("chunk, save", [(256, None), (700, None), (100, 50)])
+def test_stored_run_is_the_in_memory_run(in_memory, tmp_path, chunk, save):
+    run = dict(RUN, summaries_only=save is None, save_every=save or 1)
+    reference = in_memory if save is None else stability.run_ensemble(**run)
+    ds = stability.run_ensemble(**run, store=tmp_path / "s", chunk_members=chunk)
+    assert ds.flip_count.chunks is not None  # dask arrays: read a chunk at a time
+    assert_same_members(reference, ds.load())
+    assert ds.attrs["members"] == 700 and ds.attrs["chunks"] == -(-700 // chunk)
+    assert ds.attrs["title"].startswith("700-member ensemble")
+    progress = read_progress(tmp_path / "s")
+    assert progress["state"] == "finished" and progress["members_done"] == 700
+
+
+def test_store_refuses_another_run_and_unasked_reuse(tmp_path):
+    stability.run_ensemble(**RUN, store=tmp_path / "s", chunk_members=256)
+    with pytest.raises(ValueError, match=r"chunks of a different run \(run_ensemble.h: 0.01 "
+                                         r"there, 0.02 here\)"):
+        stability.run_ensemble(**dict(RUN, h=0.02), store=tmp_path / "s", chunk_members=256)
+    with pytest.raises(ValueError, match="chunk_members: 256 there, 128 here"):
+        stability.run_ensemble(**RUN, store=tmp_path / "s", chunk_members=128)
+    with pytest.raises(ValueError, match="already holds this run, complete"):
+        stability.run_ensemble(**RUN, store=tmp_path / "s", chunk_members=256)
+    with pytest.raises(ValueError, match="need store="):
+        stability.run_ensemble(**RUN, resume=True)
+
+
+def test_damaged_chunk_is_found_and_run_again(in_memory, tmp_path):
+    stability.run_ensemble(**RUN, store=tmp_path / "s", chunk_members=256)
+    chunk = tmp_path / "s" / "chunk-000001.nc"
+    data = bytearray(chunk.read_bytes())
+    data[len(data) // 2] ^= 0xFF  # one flipped byte, as a bad disk or a partial copy gives
+    chunk.write_bytes(bytes(data))
+    others = {k: (tmp_path / "s" / f"chunk-00000{k}.nc").stat().st_mtime_ns for k in (0, 2)}
+    ds = stability.run_ensemble(**RUN, store=tmp_path / "s", chunk_members=256, resume=True)
+    assert_same_members(in_memory, ds.load())
+    for k, mtime in others.items():  # only the damaged chunk ran again
+        assert (tmp_path / "s" / f"chunk-00000{k}.nc").stat().st_mtime_ns == mtime
+
+
+def test_unfinished_store_is_not_opened(tmp_path):
+    stability.run_ensemble(**RUN, store=tmp_path / "s", chunk_members=256)
+    manifest = tmp_path / "s" / "manifest.json"
+    m = json.loads(manifest.read_text())
+    m["complete"] = False
+    manifest.write_text(json.dumps(m))
+    with pytest.raises(ValueError, match="unfinished run; finish it with --resume"):
+        open_store(tmp_path / "s")
+
+
+KILLED = """
+import sys, numpy as np, stability
+body = stability.RigidBody(1.0, 2.0, 3.0)
+stability.run_ensemble(body, 2, 1.0, 1e-3, 4096 * {chunks}, h=0.01, t_end={t_end}, seed=4,
+                       method="rk4", summaries_only=True, store=sys.argv[1],
+                       chunk_members=4096, progress=False)
+"""
+
+
+def _start(script, *args, env=None):
+    return subprocess.Popen([sys.executable, "-c", textwrap.dedent(script), *args],
+                            cwd=ROOT, stdout=subprocess.PIPE, stderr=subprocess.PIPE,
+                            env={**os.environ, **(env or {})})
+
+
+def _wait_for(predicate, proc, timeout=120.0):
+    t0 = time.monotonic()
+    while not predicate():
+        if proc.poll() is not None:
+            raise AssertionError(f"process ended early: {proc.stderr.read().decode()}")
+        if time.monotonic() - t0 > timeout:
+            proc.kill()
+            raise AssertionError("timed out waiting")
+        time.sleep(0.05)
+
+
+@pytest.mark.parametrize("how", ["SIGKILL", "SIGINT"])
+def test_resume_after_a_real_kill_is_bitwise_the_uninterrupted_run(tmp_path, how):
+    chunks, t_end = 6, 60.0
+    store = tmp_path / "s"
+    proc = _start(KILLED.format(chunks=chunks, t_end=t_end), str(store))
+    _wait_for(lambda: (read_progress(store) or {}).get("chunks_done", 0) >= 2, proc)
+    proc.send_signal(getattr(signal, how))
+    proc.wait(timeout=60)
+    progress = read_progress(store)
+    assert 2 <= progress["chunks_done"] < chunks, progress  # killed mid-run
+    if how == "SIGINT":  # stopped cleanly: says what it kept and how to continue
+        assert proc.returncode != 0
+        assert "run again with --resume" in proc.stderr.read().decode()
+    assert not list(store.glob(".*.tmp")) or how == "SIGKILL"
+    kept = {p.name: p.stat().st_mtime_ns for p in store.glob("chunk-*.nc")}
+    run = dict(RUN, members=4096 * chunks, t_end=t_end)
+    resumed = stability.run_ensemble(**run, store=store, chunk_members=4096, resume=True)
+    for name, mtime in kept.items():  # finished chunks were not run again
+        assert (store / name).stat().st_mtime_ns == mtime
+    assert_same_members(stability.run_ensemble(**run), resumed.load())
+    assert not list(store.glob(".*.tmp"))  # the killed run's partial file is gone
+
+
+def test_dask_local_cluster_gives_the_local_result(in_memory, tmp_path):
+    distributed = pytest.importorskip("distributed")
+    with distributed.LocalCluster(n_workers=2, threads_per_worker=1, processes=True,
+                                  dashboard_address=None) as cluster, \
+            distributed.Client(cluster) as client:
+        ds = stability.run_ensemble(**RUN, store=tmp_path / "s", chunk_members=128,
+                                    scheduler=client)
+        assert_same_members(in_memory, ds.load())
+        workers = {info["id"] for info in client.scheduler_info()["workers"].values()}
+        assert len(workers) == 2
+
+
+def test_unreachable_scheduler_is_one_clear_error(tmp_path):
+    with pytest.raises(OSError, match="cannot reach the dask scheduler at tcp://127.0.0.1:9"):
+        stability.run_ensemble(**RUN, store=tmp_path / "s", scheduler="tcp://127.0.0.1:9")
+    with pytest.raises(ValueError, match="scheduler must be 'dask'"):
+        stability.run_ensemble(**RUN, store=tmp_path / "t", scheduler="somewhere")
