@@ -95,3 +95,14 @@ def test_no_gpu_and_no_simulator_says_what_to_do():
         pytest.skip("a CUDA GPU is present")
     assert r["message"] == NO_GPU_MESSAGE
     assert "NUMBA_ENABLE_CUDASIM=1" in r["message"]
+
+
+def test_bench_without_gpu_skips():
+    env = {k: v for k, v in os.environ.items() if k != "NUMBA_ENABLE_CUDASIM"}
+    env["PYTHONPATH"] = os.pathsep.join(filter(None, [str(ROOT), env.get("PYTHONPATH")]))
+    done = subprocess.run([sys.executable, "-m", "stability.gpu.bench"], env=env, cwd=ROOT,
+                          capture_output=True, text=True, timeout=300)
+    assert done.returncode == 0, done.stderr[-4000:]
+    if "member-steps/s" in done.stdout:
+        pytest.skip("a CUDA GPU is present (the benchmark ran)")
+    assert done.stdout.strip() == "no CUDA GPU: skipped"
