@@ -1,0 +1,24 @@
+"""The free body on a CUDA GPU: ``rk4``, the Lie-Poisson splittings and the exact flow.
+
+One member per thread, its state in registers, members coalesced (structure of arrays,
+``(3, N)``): :func:`propagate_gpu` is :func:`stability.driver.propagate` on the GPU, with the same
+tracking of flips, crossings, amplitudes and levels. The kernels run the CPU's own step kernels,
+compiled for the device (:mod:`stability.gpu.retarget`), inside a twin of the CPU member loop
+(:mod:`stability.gpu.kernels`). Needs the ``gpu`` extra (``numba-cuda``) and a CUDA GPU, or
+``NUMBA_ENABLE_CUDASIM=1`` to run the kernels as Python on the CPU (slow: tests only).
+
+Why results agree with the CPU to round-off but not bitwise: NVVM contracts a * b + c into fused
+multiply-adds (one rounding instead of two), the device's libm (``log``, ``sqrt`` rounding modes
+aside, ``cosh``, ``asinh`` of the exact flow) is not glibc's, and a reassociated or contracted
+expression rounds differently. The sine and cosine of the Lie-Poisson rotations are the
+package's own polynomials (:mod:`stability.trig`), so they differ only by contraction. Each
+difference is an ulp per step; over n steps they add up like the method's own round-off
+(a few 1e-15 relative for ``rk4`` and ``lp2`` over hundreds of steps, ``tests/test_gpu.py``).
+"""
+
+from .device import NO_GPU_MESSAGE, NoGPUError, real_gpu
+from .methods import GPU_METHODS, THREADS_PER_BLOCK, gpu_method
+from .propagate import propagate_gpu, propagate_many_gpu
+
+__all__ = ["GPU_METHODS", "NO_GPU_MESSAGE", "NoGPUError", "THREADS_PER_BLOCK", "gpu_method",
+           "propagate_gpu", "propagate_many_gpu", "real_gpu"]

@@ -1,0 +1,157 @@
+"""The GPU kernels under the CUDA simulator, against the CPU engine; prints one JSON object.
+
+Run by ``tests/test_gpu.py`` in a subprocess with ``NUMBA_ENABLE_CUDASIM=1`` (or without it,
+with ``--no-device``, to see the error when there is no GPU), so the simulator never leaks into
+the other test modules of a pytest-xdist worker. Not a test module itself (no ``test_`` prefix).
+"""
+
+import json
+import sys
+import time
+
+import numpy as np
+
+import stability
+from stability.driver import propagate
+from stability.exact import exact_omega_of_starts
+
+#: A body in non-canonical axis order (body axis 0 is the intermediate one), spun about it.
+MOMENTS = np.array([2.0, 1.0, 3.0])
+AXIS = 0
+SPIN = 3.0
+EPSILON = 0.1
+MEMBERS = 16
+H = 0.02
+STEPS = 400
+LEVELS = [0.05, 0.5, 1.5]
+
+
+def starts():
+    """MEMBERS angular velocities: spin about AXIS plus EPSILON SPIN across it."""
+    rng = np.random.default_rng(11)
+    w0 = np.zeros((MEMBERS, 3))
+    w0[:, AXIS] = SPIN
+    angle = rng.uniform(0.0, 2.0 * np.pi, MEMBERS)
+    w0[:, 1] = EPSILON * SPIN * np.cos(angle)
+    w0[:, 2] = EPSILON * SPIN * np.sin(angle)
+    return w0
+
+
+def relative(a, b):
+    """max over members of |a - b| / |b| (rows), or of |a - b| / scale for 1-D."""
+    a, b = np.asarray(a, float), np.asarray(b, float)
+    if a.ndim == 2:
+        return float(np.max(np.linalg.norm(a - b, axis=1) / np.linalg.norm(b, axis=1)))
+    both = np.isfinite(a) & np.isfinite(b)
+    return float(np.max(np.abs(a[both] - b[both]), initial=0.0))
+
+
+def compare(method):
+    """GPU against CPU for one method: final states, tracked summaries, saved samples."""
+    from stability.gpu import propagate_gpu
+
+    m0 = starts() * MOMENTS
+    t0 = time.perf_counter()
+    gpu = propagate_gpu(method, MOMENTS, m0, H, STEPS, AXIS, levels=LEVELS, save_every=100)
+    seconds = time.perf_counter() - t0
+    cpu = propagate(method, MOMENTS, m0, H, STEPS, save_every=100, progress=False,
+                    track_axis=AXIS, levels=LEVELS)
+    g, c = gpu.extras, cpu.extras
+    out = {
+        "seconds": seconds,
+        "final": relative(gpu.m_final, cpu.m_final),
+        "bitwise": bool(np.array_equal(gpu.m_final, cpu.m_final)),
+        "saved_shape": [list(gpu.saved.shape), list(cpu.saved.shape)],
+        "saved": relative(gpu.saved.reshape(-1, 3), cpu.saved.reshape(-1, 3)),
+        "status_equal": bool(np.array_equal(gpu.status, cpu.status)),
+        "steps_done": [gpu.steps_done, cpu.steps_done],
+        "flips_gpu": g["axis_crossings"].tolist(),
+        "flips_cpu": c["axis_crossings"].tolist(),
+        "perp_equal": bool(np.array_equal(g["perp_crossings"], c["perp_crossings"])),
+        "nan_equal": all(bool(np.array_equal(np.isnan(g[k]), np.isnan(c[k])))
+                         for k in g if g[k].dtype.kind == "f"),
+        "max_amplitude": relative(g["max_perp_amplitude"][:, None],
+                                  c["max_perp_amplitude"][:, None]),
+    }
+    # Event times, relative to the run's length.
+    for key in ("first_axis_crossing", "last_axis_crossing", "first_perp_crossing",
+                "last_perp_crossing", "passage_time"):
+        out[key] = relative(g[key], c[key]) / (H * STEPS)
+    return out
+
+
+def exact_against_elliptic():
+    """GPU ``exact`` (1 step of T, and 50 steps of T/50) against stability.exact at T."""
+    from stability.gpu import propagate_gpu
+
+    w0 = starts()
+    body = stability.RigidBody(*MOMENTS, physical=False)
+    t_end = H * STEPS
+    reference = exact_omega_of_starts(body, w0, t_end) * MOMENTS
+    one = propagate_gpu("exact", MOMENTS, w0 * MOMENTS, t_end, 1).m_final
+    many = propagate_gpu("exact", MOMENTS, w0 * MOMENTS, t_end / 50, 50).m_final
+    return {"one_step": relative(one, reference), "fifty_steps": relative(many, reference)}
+
+
+def chunks_and_groups():
+    """Chunked launches and grouped ensembles give bitwise the one-launch, one-group result."""
+    from stability.gpu import propagate_gpu, propagate_many_gpu
+
+    m0 = starts() * MOMENTS
+    whole = propagate_gpu("rk4", MOMENTS, m0, H, STEPS, AXIS, levels=LEVELS)
+    chunked = propagate_gpu("rk4", MOMENTS, m0, H, STEPS, AXIS, levels=LEVELS, chunk_steps=64)
+    other = np.array([1.0, 2.0, 3.0])
+    many = propagate_many_gpu("rk4", [MOMENTS, other], np.concatenate([m0, m0[:5]]), [16, 5],
+                              [H, 0.01], [STEPS, 100], track_axes=[AXIS, 1],
+                              levels=[LEVELS, LEVELS])
+    alone = propagate_gpu("rk4", other, m0[:5], 0.01, 100, 1, levels=LEVELS)
+
+    def same(a, b):
+        return bool(np.array_equal(a.m_final, b.m_final)) and all(
+            np.array_equal(a.extras[k], b.extras[k], equal_nan=True) for k in a.extras)
+
+    head = many.__class__(**{**many.__dict__})
+    head.x_final, head.extras = many.x_final[:16], {k: v[:16] for k, v in many.extras.items()}
+    tail = many.__class__(**{**many.__dict__})
+    tail.x_final, tail.extras = many.x_final[16:], {k: v[16:] for k, v in many.extras.items()}
+    return {"chunked": same(chunked, whole), "group0": same(head, whole),
+            "group1": same(tail, alone), "steps_done": many.steps_done.tolist()}
+
+
+def errors():
+    """The ValueError for a method without a GPU kernel."""
+    from stability.gpu import propagate_gpu
+
+    try:
+        propagate_gpu("midpoint", MOMENTS, starts() * MOMENTS, H, 1)
+    except ValueError as error:
+        return str(error)
+    return None
+
+
+def no_device():
+    """What propagate_gpu says without a GPU and without the simulator."""
+    from stability.gpu import NoGPUError, propagate_gpu, real_gpu
+
+    if real_gpu():
+        return {"real_gpu": True}
+    try:
+        propagate_gpu("rk4", MOMENTS, starts() * MOMENTS, H, 1)
+    except NoGPUError as error:
+        return {"real_gpu": False, "message": str(error)}
+    return {"real_gpu": False, "message": None}
+
+
+def main():
+    if "--no-device" in sys.argv:
+        print(json.dumps(no_device()))
+        return
+    results = {method: compare(method) for method in ("rk4", "lp2", "lp4", "exact")}
+    results["exact_vs_elliptic"] = exact_against_elliptic()
+    results["chunks_and_groups"] = chunks_and_groups()
+    results["no_kernel_error"] = errors()
+    print(json.dumps(results))
+
+
+if __name__ == "__main__":
+    main()

@@ -1,0 +1,108 @@
+"""The GPU kernels (stability.gpu), checked on numba-cuda's CUDA simulator against the CPU.
+
+The simulator (``NUMBA_ENABLE_CUDASIM=1``) runs every kernel as Python on the CPU, one thread
+after another: it checks the kernels' logic (indexing, layout, tracking, chunks, groups, frame
+conversions), not their speed or the device's arithmetic. It is switched on in a subprocess
+(``tests/gpu_simulated.py``, which prints its results as JSON): numba reads the variable once,
+when ``numba.cuda`` is first imported, and pytest-xdist runs several test modules in one worker
+process, so setting it here would turn the simulator on for whichever module came next.
+
+Why a real GPU agrees with the CPU to round-off and not bitwise: NVVM contracts a * b + c into
+fused multiply-adds (one rounding instead of two) wherever it can, the device's libm (``log``
+of the level passages, ``cosh``, ``asinh``, ``sqrt`` of the exact flow) is not glibc's, and
+every contracted or reassociated expression rounds differently. Each is an ulp per operation;
+over a run they add up like the method's own round-off, far below the 1e-12 asked here. Python
+rounds every operation once, as the CPU loop does, so under the simulator the results are in
+fact bitwise the CPU's (asserted to 1e-12 all the same, which is what a GPU must meet).
+"""
+
+import importlib.util
+import json
+import os
+import pathlib
+import subprocess
+import sys
+
+import pytest
+
+from stability.gpu import GPU_METHODS, NO_GPU_MESSAGE, gpu_method
+
+ROOT = pathlib.Path(__file__).resolve().parents[1]
+SCRIPT = ROOT / "tests" / "gpu_simulated.py"
+TOLERANCE = 1e-12
+
+needs_numba_cuda = pytest.mark.skipif(
+    importlib.util.find_spec("numba_cuda") is None, reason="numba-cuda is not installed"
+)
+
+
+def _run(simulator, *args):
+    env = {k: v for k, v in os.environ.items() if k != "NUMBA_ENABLE_CUDASIM"}
+    if simulator:
+        env["NUMBA_ENABLE_CUDASIM"] = "1"
+    env["PYTHONPATH"] = os.pathsep.join(filter(None, [str(ROOT), env.get("PYTHONPATH")]))
+    done = subprocess.run([sys.executable, str(SCRIPT), *args], env=env, cwd=ROOT,
+                          capture_output=True, text=True, timeout=900)
+    assert done.returncode == 0, done.stderr[-4000:]
+    return json.loads(done.stdout.strip().splitlines()[-1])
+
+
+@pytest.fixture(scope="module")
+def simulated():
+    return _run(True)
+
+
+@needs_numba_cuda
+@pytest.mark.parametrize("method", ["rk4", "lp2", "lp4", "exact"])
+def test_agrees_with_cpu(simulated, method):
+    r = simulated[method]
+    assert r["final"] <= TOLERANCE
+    assert r["saved_shape"][0] == r["saved_shape"][1] and r["saved"] <= TOLERANCE
+    assert r["flips_gpu"] == r["flips_cpu"] and max(r["flips_cpu"]) >= 2
+    assert r["perp_equal"] and r["nan_equal"] and r["status_equal"]
+    assert r["max_amplitude"] <= TOLERANCE
+    for key in ("first_axis_crossing", "last_axis_crossing", "first_perp_crossing",
+                "last_perp_crossing", "passage_time"):
+        assert r[key] <= TOLERANCE, key
+    assert r["steps_done"][0] == r["steps_done"][1]
+
+
+@needs_numba_cuda
+def test_exact_kernel_against_elliptic_solution(simulated):
+    r = simulated["exact_vs_elliptic"]
+    assert r["one_step"] <= TOLERANCE and r["fifty_steps"] <= TOLERANCE
+
+
+@needs_numba_cuda
+def test_chunks_and_groups_change_nothing(simulated):
+    r = simulated["chunks_and_groups"]
+    assert r["chunked"] and r["group0"] and r["group1"]
+    assert r["steps_done"] == [400, 100]
+
+
+@needs_numba_cuda
+def test_method_without_kernel(simulated):
+    assert "'midpoint' has no GPU kernel" in simulated["no_kernel_error"]
+    with pytest.raises(ValueError, match="methods with one: rk4, lp2"):
+        gpu_method("dmv")
+    assert set(GPU_METHODS) >= {"rk4", "lp2", "exact"}
+
+
+@needs_numba_cuda
+def test_no_gpu_and_no_simulator_says_what_to_do():
+    r = _run(False, "--no-device")
+    if r["real_gpu"]:
+        pytest.skip("a CUDA GPU is present")
+    assert r["message"] == NO_GPU_MESSAGE
+    assert "NUMBA_ENABLE_CUDASIM=1" in r["message"]
+
+
+def test_bench_without_gpu_skips():
+    env = {k: v for k, v in os.environ.items() if k != "NUMBA_ENABLE_CUDASIM"}
+    env["PYTHONPATH"] = os.pathsep.join(filter(None, [str(ROOT), env.get("PYTHONPATH")]))
+    done = subprocess.run([sys.executable, "-m", "stability.gpu.bench"], env=env, cwd=ROOT,
+                          capture_output=True, text=True, timeout=300)
+    assert done.returncode == 0, done.stderr[-4000:]
+    if "member-steps/s" in done.stdout:
+        pytest.skip("a CUDA GPU is present (the benchmark ran)")
+    assert done.stdout.strip() == "no CUDA GPU: skipped"
