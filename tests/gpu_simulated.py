@@ -142,6 +142,26 @@ def no_device():
     return {"real_gpu": False, "message": None}
 
 
+def ensemble_on_gpu():
+    """run_ensemble(device="gpu") against the CPU run: the same members, every summary."""
+    body = stability.RigidBody(1.0, 2.0, 3.0)
+    run = dict(body=body, axis=2, spin=2.0, epsilon=0.05, members=12, h=0.05, t_end=6.0,
+               seed=5, method="lp2", save_every=10)
+    cpu = stability.run_ensemble(**run)
+    gpu = stability.run_ensemble(**run, device="gpu")
+    worst = 0.0
+    for name in cpu.data_vars:
+        a, b = cpu[name].values.astype(float), gpu[name].values.astype(float)
+        same_nan = bool(np.array_equal(np.isnan(a), np.isnan(b)))
+        if not same_nan:
+            return {"worst": float("inf"), "variable": name}
+        ok = ~np.isnan(a)
+        scale = np.maximum(np.abs(a[ok]), 1e-300)
+        worst = max(worst, float(np.max(np.abs(a[ok] - b[ok]) / scale, initial=0.0)))
+    return {"worst": worst, "flips": int(np.nansum(cpu.flip_count.values)),
+            "device": gpu.attrs["config_toml"].count('device = "gpu"')}
+
+
 def main():
     if "--no-device" in sys.argv:
         print(json.dumps(no_device()))
@@ -150,6 +170,7 @@ def main():
     results["exact_vs_elliptic"] = exact_against_elliptic()
     results["chunks_and_groups"] = chunks_and_groups()
     results["no_kernel_error"] = errors()
+    results["ensemble"] = ensemble_on_gpu()
     print(json.dumps(results))
 
 

@@ -106,3 +106,22 @@ def test_bench_without_gpu_skips():
     if "member-steps/s" in done.stdout:
         pytest.skip("a CUDA GPU is present (the benchmark ran)")
     assert done.stdout.strip() == "no CUDA GPU: skipped"
+
+
+@needs_numba_cuda
+def test_run_ensemble_on_the_gpu_gives_the_cpu_members(simulated):
+    r = simulated["ensemble"]
+    assert r["worst"] <= TOLERANCE and r["flips"] > 0
+    assert r["device"] == 1  # recorded in the Dataset's configuration
+
+
+def test_gpu_device_refuses_a_method_it_has_not():
+    import stability
+
+    body = stability.RigidBody(1.0, 2.0, 3.0)
+    with pytest.raises(ValueError, match="device must be 'cpu' or 'gpu', got 'tpu'"):
+        stability.run_ensemble(body, 2, 1.0, 0.01, 4, h=0.1, t_end=1.0, device="tpu")
+    bad = [m for m in stability.METHODS if m not in GPU_METHODS][0]
+    with pytest.raises(ValueError, match=bad):
+        stability.run_ensemble(body, 2, 1.0, 0.01, 4, h=0.1, t_end=1.0, method=bad,
+                               device="gpu")

@@ -207,18 +207,42 @@ def run_study(
         if overwrite and not resume and work.exists():
             shutil.rmtree(work)  # the user asked to start afresh
         extra = {"work": work, "resume": resume, "scheduler": scheduler}
+    created = not out.exists()
     try:
         with staged(out) as stage:
             summary = kind.run(config, stage.dir, overwrite=True, threads=threads,
                                progress=progress, history=history, **extra)
             stage.publish()
-    except KeyboardInterrupt as exc:
-        raise RunInterrupted(_interrupted(exc, out, work if kind.resumable else None)) from None
+    except BaseException as exc:
+        if kind.resumable:
+            _drop_if_empty(work)
+        if created and out.is_dir() and not any(out.iterdir()):
+            out.rmdir()  # a folder this run made and left empty
+        if isinstance(exc, KeyboardInterrupt):
+            raise RunInterrupted(_interrupted(exc, out, work if kind.resumable else None)
+                                 ) from None
+        raise
     if kind.resumable:
         shutil.rmtree(work, ignore_errors=True)
     summary.out_dir = out
     summary.files = [out / Path(p).name for p in summary.files]
     return summary
+
+
+def _drop_if_empty(work: Path) -> None:
+    """Remove a work folder that holds no finished chunk (nothing there to resume)."""
+    import shutil
+
+    from ..store import MANIFEST, ChunkStore, read_manifest
+
+    if not work.is_dir():
+        return
+    try:
+        chunks = read_manifest(work)["chunks"] if (work / MANIFEST).exists() else 0
+    except ValueError:
+        return
+    if not any(ChunkStore.verify_path(work, k) for k in range(chunks)):
+        shutil.rmtree(work, ignore_errors=True)
 
 
 def _interrupted(exc, out: Path, work) -> str:

@@ -103,6 +103,9 @@ SCHEMA = Schema(
             Key("scheduler", "str", "",
                 "where the chunks run: '' this machine, 'dask' a local dask.distributed "
                 "cluster, or a scheduler address such as 'tcp://host:8786'"),
+            Key("device", "str", "cpu",
+                "where the member loop runs: 'cpu', or 'gpu' (a CUDA GPU, the gpu extra)",
+                choices=("cpu", "gpu")),
         )),
         Section("output", "where the results go", (
             Key("dir", "str", "results/tennis_racket",
@@ -241,6 +244,7 @@ def _ensemble(config, body, axis, work, resume, scheduler, threads, progress, co
         members=ens["members"], h=integ["h"], t_end=integ["t_end"], seed=ens["seed"],
         method=integ["method"], save_every=integ["save_every"],
         chunk_members=config["run"]["chunk_members"], config=config, command=command,
+        device=config["run"]["device"],
     )
     lazy = run_streamed(kwargs, work, resume=resume, scheduler=scheduler, threads=threads,
                         progress=progress, compress=False)
