@@ -18,6 +18,7 @@ edge_time (:func:`stability.shapes.edge_series`). :func:`headline` reads it back
 from __future__ import annotations
 
 import math
+import time
 
 import numpy as np
 import xarray as xr
@@ -80,7 +81,7 @@ def ensemble_estimates(run: xr.Dataset, analytic: float, exact=None, asymptote=N
 
 
 def measure_map(bodies, omega2, t_end, levels, specs, runs, *, spin, epsilon, members, seed,
-                low_factor, high_fraction, progress=None, command=None):
+                low_factor, high_fraction, progress=None, command=None, checkpoint=None):
     """Run every ensemble of the map and keep its estimates.
 
     Every (shape, axis) runs ``members`` starts ``spin e_a`` nudged by ``epsilon spin`` in the
@@ -107,6 +108,9 @@ def measure_map(bodies, omega2, t_end, levels, specs, runs, *, spin, epsilon, me
         Progress bar over the ensembles; by default on a terminal.
     command : str, optional
         The command, for the ensembles' history.
+    checkpoint : stability.store.ChunkStore, optional
+        One chunk per entry of ``runs``: the estimates of each finished batch are kept there,
+        and batches found there are not run again (``stability run --resume``).
 
     Returns
     -------
@@ -143,24 +147,37 @@ def measure_map(bodies, omega2, t_end, levels, specs, runs, *, spin, epsilon, me
     total = sum(len(shapes) for _, _, shapes, _ in runs) * 3
     bar = progress_bar(total, progress, "stability_map", unit="ensemble")
     member_steps, loop_time = 0, 0.0
+    started = time.time()
     # Every ensemble of one method and step in one batch: all cores busy, each ensemble bitwise
     # what it gives alone.
-    for i, h, shapes, is_half in runs:
+    for j, (i, h, shapes, is_half) in enumerate(runs):
         cells = [(s, a) for s in shapes for a in cv.AXES]
-        ensembles = run_ensembles([
-            dict(body=bodies[s], axis=int(a), spin=spin, epsilon=epsilon, members=members, h=h,
-                 t_end=max(1, int(math.ceil(t_end[s, a - 1] / h - 1e-9))) * h, seed=seed,
-                 method=specs[i].name, summaries_only=True, levels=levels, command=command)
-            for s, a in cells], progress=False)
-        for (s, a), run in zip(cells, ensembles):
-            if run.attrs["interrupted"]:  # Ctrl-C stopped the batch: stop the map
-                bar.close()
-                raise KeyboardInterrupt
-            member_steps += run.attrs["members"] * run.attrs["steps_done"]
-            loop_time += run.attrs["wall_time"]
-            exact, asymptote = exact_flips(s, a, run.variables["w0"].values)
-            x = ensemble_estimates(run, omega2[s, a - 1], exact, asymptote,
-                                   low_factor=low_factor, high_fraction=high_fraction)
+        if checkpoint is not None and checkpoint.verify(j):  # done by an earlier, stopped run
+            batch = read_batch(checkpoint.path(j), len(cells))
+        else:
+            ensembles = run_ensembles([
+                dict(body=bodies[s], axis=int(a), spin=spin, epsilon=epsilon, members=members,
+                     h=h, t_end=max(1, int(math.ceil(t_end[s, a - 1] / h - 1e-9))) * h,
+                     seed=seed, method=specs[i].name, summaries_only=True, levels=levels,
+                     command=command)
+                for s, a in cells], progress=False)
+            batch = []
+            for (s, a), run in zip(cells, ensembles):
+                if run.attrs["interrupted"]:  # Ctrl-C stopped the batch: stop the map
+                    bar.close()
+                    raise KeyboardInterrupt
+                exact, asymptote = exact_flips(s, a, run.variables["w0"].values)
+                x = ensemble_estimates(run, omega2[s, a - 1], exact, asymptote,
+                                       low_factor=low_factor, high_fraction=high_fraction)
+                batch.append((run.attrs["members"] * run.attrs["steps_done"],
+                              run.attrs["wall_time"], x))
+            if checkpoint is not None:
+                write_batch(checkpoint, j, batch)
+                checkpoint.report("running", j + 1, j + 1, (j + 1) / (time.time() - started),
+                                  started)
+        for (s, a), (steps, seconds, x) in zip(cells, batch):
+            member_steps += steps
+            loop_time += seconds
             store(half if is_half else out, (i, s, a - 1), x)
             if specs[i].is_exact and not is_half:
                 first_exact[s, a] = x["first_flip_time"]
@@ -170,6 +187,40 @@ def measure_map(bodies, omega2, t_end, levels, specs, runs, *, spin, epsilon, me
         bar.update(len(cells))
     bar.close()
     return out, half, {"member_steps": member_steps, "loop_time": loop_time}
+
+
+def write_batch(checkpoint, j: int, batch) -> None:
+    """Keep batch ``j``'s (member-steps, loop seconds, estimates) per cell as chunk ``j``.
+
+    Each number is its own netCDF variable ``c<cell>.<name>`` (int, float or a per-member
+    array), so :func:`read_batch` gives back the same values bit for bit.
+    """
+    import xarray as xr
+
+    data = {}
+    for c, (steps, seconds, x) in enumerate(batch):
+        for name, value in {"member_steps": steps, "loop_time": seconds, **x}.items():
+            value = np.asarray(value)
+            if value.dtype == bool:  # netCDF has no bool; the estimate arrays hold int8
+                value = value.astype(np.int8)
+            dims = () if value.ndim == 0 else (f"c{c}.{name}.n",)
+            data[f"c{c}.{name}"] = (dims, value)
+    checkpoint.write(j, xr.Dataset(data), compress=False)
+
+
+def read_batch(path, n_cells: int) -> list:
+    """The batch :func:`write_batch` kept in ``path``."""
+    import xarray as xr
+
+    with xr.open_dataset(path, engine="netcdf4") as ds:
+        batch = []
+        for c in range(n_cells):
+            prefix = f"c{c}."
+            x = {name[len(prefix):]: (ds[name].values.item() if ds[name].ndim == 0
+                                      else ds[name].values)
+                 for name in ds.data_vars if name.startswith(prefix)}
+            batch.append((x.pop("member_steps"), x.pop("loop_time"), x))
+    return batch
 
 
 def empty_estimates(n_methods: int, n_shapes: int):

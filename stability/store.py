@@ -66,11 +66,14 @@ class ChunkStore:
     resume : bool
         Continue a store of the same run that has chunks done; otherwise such a store is
         refused (``ValueError`` telling to pass ``resume``), so no finished work is lost.
+    unit : str, default "members"
+        What ``members`` counts (the stability map keeps one ensemble batch per chunk).
     """
 
     def __init__(self, directory, identity: dict, members: int, chunk_members: int,
-                 resume: bool = False):
+                 resume: bool = False, unit: str = "members"):
         self.dir = Path(directory)
+        self.unit = unit
         self.members = int(members)
         self.chunk_members = int(chunk_members)
         self.n_chunks = -(-self.members // self.chunk_members)
@@ -198,6 +201,7 @@ class ChunkStore:
             "members": self.members,
             "chunk_members": self.chunk_members,
             "chunks": self.n_chunks,
+            "unit": self.unit,
             "complete": complete,
             "attrs": _jsonable(attrs) if attrs is not None else None,
         }, indent=1) + "\n")
@@ -274,18 +278,19 @@ def status_lines(directory) -> list[str]:
     progress = read_progress(directory) or {}
     store_chunks = manifest["chunks"]
     done = progress.get("chunks_done", 0)
-    lines = [f"{directory}: {manifest['members']} members in {store_chunks} chunks of "
+    unit = manifest.get("unit", "members")
+    lines = [f"{directory}: {manifest['members']} {unit} in {store_chunks} chunks of "
              f"{manifest['chunk_members']}"]
     if manifest.get("complete"):
         lines.append("complete: every chunk is done")
     else:
         state = progress.get("state", "not started")
         lines.append(f"{state}: {done} of {store_chunks} chunks done "
-                     f"({progress.get('members_done', 0)} members)")
+                     f"({progress.get('members_done', 0)} {unit})")
     rate = progress.get("members_per_second")
     if rate:
         left = progress.get("seconds_left")
-        lines.append(f"{rate:.3g} members/s" + (
+        lines.append(f"{rate:.3g} {unit}/s" + (
             f", about {_duration(left)} left" if left and not manifest.get("complete") else ""))
     if progress.get("updated"):
         lines.append(f"last update {progress['updated']} by pid {progress.get('pid')} on "

@@ -171,15 +171,22 @@ def outputs(config: dict) -> list[str]:
 
 
 def run(config: dict, out_dir: Path, *, overwrite=False, threads=None, progress=None,
-        history=None) -> StudySummary:
-    """Run the map described by the resolved ``config``; write its files into ``out_dir``."""
+        history=None, work=None, resume=False, scheduler=None) -> StudySummary:
+    """Run the map described by the resolved ``config``; write its files into ``out_dir``.
+
+    Each finished batch of ensembles is kept in the folder ``work``, so that a stopped map
+    continues with ``resume`` (its batches run together on this machine: no ``scheduler``).
+    """
+    if scheduler is not None:
+        raise ValueError("the stability map runs its batches on this machine (all cores); "
+                         "drop --scheduler")
     from ..io import saving
     from .config import to_toml
 
     t_start = time.perf_counter()
     threads = config["integration"].get("threads") if threads is None else threads
     with numba_threads(threads):
-        ds, work = compute(config, progress=progress)
+        ds, work = compute(config, progress=progress, work_dir=work, resume=resume)
     ds.attrs["history"] = history or f"stability run ({NAME})"
     ds.attrs["config_toml"] = to_toml(config)
     compute_time = time.perf_counter() - t_start
@@ -200,8 +207,12 @@ def run(config: dict, out_dir: Path, *, overwrite=False, threads=None, progress=
     return summarize(ds, out_dir, files, wall, compute_time, work)
 
 
-def compute(config: dict, progress=None):
+def compute(config: dict, progress=None, work_dir=None, resume=False):
     """All the runs of the map; returns the Dataset and the work done (member-steps, s).
+
+    With ``work_dir``, each finished batch of ensembles is kept there (a
+    :class:`~stability.store.ChunkStore` of one batch per chunk) and, with ``resume``, batches
+    found there are not run again.
 
     Returns
     -------
@@ -234,10 +245,21 @@ def compute(config: dict, progress=None):
         runs.append((i, integ["h"][i], np.arange(n_shapes), False))
         if integ["bias_check"] and not specs[i].is_exact:
             runs.append((i, integ["h"][i] / 2, np.arange(0, n_shapes, integ["bias_stride"]), True))
+    checkpoint = None
+    if work_dir is not None:
+        from .. import __version__
+        from ..store import ChunkStore
+
+        identity = {"config": {k: v for k, v in config.items() if k not in ("output", "title")},
+                    "software": f"stability {__version__}"}
+        identity["config"]["integration"] = {
+            k: v for k, v in config["integration"].items() if k != "threads"}
+        checkpoint = ChunkStore(work_dir, identity, len(runs), 1, resume=resume,
+                                unit="ensemble batches")
     out, half, work = smap.measure_map(
         bodies, omega2, t_end, levels, specs, runs, spin=spin, epsilon=eps, members=members,
         seed=seed, low_factor=ana["window_low"], high_fraction=ana["window_high"],
-        progress=progress, command=f"stability run ({NAME})")
+        progress=progress, command=f"stability run ({NAME})", checkpoint=checkpoint)
 
     p = np.array([spec.order if not spec.is_exact else np.inf for spec in specs])
     with np.errstate(invalid="ignore", divide="ignore"):
@@ -292,4 +314,5 @@ STUDY = StudyKind(
     check=check,
     quick=QUICK,
     members_key=("ensemble", "members"),
+    resumable=True,
 )
