@@ -21,7 +21,7 @@ _REFUSED_KINDS = {
 
 
 def real_number(name: str, value, unit: str = "") -> float:
-    """``value`` as a float if it is a real number (int or float, Python or NumPy), else ValueError.
+    """``value`` as a float if it is a real number (int or float, Python or NumPy), else error.
 
     Booleans, strings and complex numbers are refused rather than converted: ``float(True)`` is
     1.0 and ``float("2")`` is 2.0, which would hide a mistake.

@@ -46,10 +46,11 @@ Global attributes: ``Conventions``, ``title``, ``source``, ``history`` (one time
 command that made or changed the Dataset, see :func:`append_history`), ``references``, the body
 (``body``, ``body_name``, ``I1``, ``I2``, ``I3`` in kg m2), the method (``method``,
 ``method_order``, ``method_reference``, ``method_max_step_angle`` in rad), ``h``, the start
-(``axis``, ``spin``, ``epsilon``, ``start_kind``), the seed (``seed_entropy``, ``seed_spawn_scheme``), the run (``steps``,
-``steps_done``, ``interrupted``), the software (``numba_version``, ``numba_threading_layer``...)
-and the whole resolved configuration as TOML (``config_toml``). Every attribute is a str, a
-number or a numeric array, so the Dataset can be written to netCDF.
+(``axis``, ``spin``, ``epsilon``, ``start_kind``), the seed (``seed_entropy``,
+``seed_spawn_scheme``), the run (``steps``, ``steps_done``, ``interrupted``), the software
+(``numba_version``, ``numba_threading_layer``...) and the whole resolved configuration as TOML
+(``config_toml``). Every attribute is a str, a number or a numeric array, so the Dataset can be
+written to netCDF.
 """
 
 from __future__ import annotations

@@ -309,7 +309,8 @@ def run_ensemble(
         :mod:`stability.dataset`). ``status`` is 0 (ok) only for a member whose numbers can
         be trusted; otherwise 1 non-finite, 2 diverged (energy or |L| left
         ``divergence_tolerance``), 3 not converged (implicit solve) or 4 step too large (the
-        step angle exceeds the method's ``max_step_angle``), and the member's numbers are NaN. If Ctrl-C stopped the run, ``interrupted`` is 1 and the
+        step angle exceeds the method's ``max_step_angle``), and the member's numbers are NaN.
+        If Ctrl-C stopped the run, ``interrupted`` is 1 and the
         Dataset holds what was done (``steps_done``).
 
     Raises
@@ -536,7 +537,7 @@ def _plan(body, axis, spin=None, epsilon=None, members=None, *, h, t_end, seed=0
 
 
 def _step_angles(body, spec, w0, h) -> np.ndarray:
-    """Each member's step angle ``h max|w|`` in rad; ValueError if all exceed the method's bound."""
+    """Each member's step angle ``h max|w|`` in rad; ValueError if all exceed the bound."""
     angle = h * max_angular_speed(body.moments, w0)
     bound = spec.max_step_angle
     if bound is not None and angle.size and not np.any(angle <= bound):
