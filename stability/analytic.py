@@ -27,6 +27,7 @@ from typing import NamedTuple
 import numpy as np
 
 from .body import RigidBody
+from .checks import real_array
 
 __all__ = [
     "MOMENT_NAMES",
@@ -388,13 +389,7 @@ def _moments(body) -> np.ndarray:
     """Principal moments (..., 3) of a RigidBody or an array of moments, validated."""
     if isinstance(body, RigidBody):
         return body.moments
-    try:
-        I = np.array(body, dtype=float)
-    except (TypeError, ValueError):
-        raise ValueError(
-            f"body must be a stability.RigidBody or principal moments of shape (..., 3) in "
-            f"kg m^2, got {body!r}"
-        ) from None
+    I = real_array("body (principal moments, or a stability.RigidBody)", body, "kg m^2")
     if I.ndim == 0 or I.shape[-1] != 3:
         raise ValueError(
             f"body must be a stability.RigidBody or principal moments of shape (..., 3) in "
@@ -409,10 +404,7 @@ def _moments(body) -> np.ndarray:
 
 def _moments_and_w(body, w) -> tuple[np.ndarray, np.ndarray]:
     I = _moments(body)
-    try:
-        w = np.asarray(w, dtype=float)
-    except (TypeError, ValueError):
-        raise ValueError(f"w must be numbers of shape (..., 3) in rad/s, got {w!r}") from None
+    w = real_array("w", w, "rad/s")
     if w.ndim == 0 or w.shape[-1] != 3:
         raise ValueError(
             f"w must have shape (..., 3) (components along body axes 1, 2, 3 in rad/s), "
@@ -434,10 +426,7 @@ def _axis_moments(body, axis) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
 
 
 def _spin(spin) -> np.ndarray:
-    try:
-        W = np.asarray(spin, dtype=float)
-    except (TypeError, ValueError):
-        raise ValueError(f"spin must be a number (rate in rad/s), got {spin!r}") from None
+    W = real_array("spin", spin, "rad/s")
     if not np.all(np.isfinite(W)):
         raise ValueError(f"spin must be finite (rate in rad/s), got {spin!r}")
     return W

@@ -30,6 +30,7 @@ from __future__ import annotations
 import numpy as np
 
 from .body import canonical_frame, from_canonical, to_canonical
+from .checks import real_array
 from .engine import propagate_groups
 from .integrators import method_spec
 from .scenes import SCENES
@@ -43,8 +44,8 @@ IDENTITY = np.array([1.0, 0.0, 0.0, 0.0])
 
 def quaternion_multiply(a, b) -> np.ndarray:
     """Hamilton product ``a b`` of quaternions, arrays of shape (..., 4), scalar first."""
-    a = np.asarray(a, dtype=float)
-    b = np.asarray(b, dtype=float)
+    a = real_array("a", a)
+    b = real_array("b", b)
     a0, a1, a2, a3 = np.moveaxis(a, -1, 0)
     b0, b1, b2, b3 = np.moveaxis(b, -1, 0)
     return np.stack(
@@ -60,14 +61,14 @@ def quaternion_multiply(a, b) -> np.ndarray:
 
 def quaternion_conjugate(q) -> np.ndarray:
     """``(q0, -q1, -q2, -q3)``; the inverse of a unit quaternion."""
-    q = np.array(q, dtype=float)
+    q = real_array("q", q)
     q[..., 1:] *= -1.0
     return q
 
 
 def quaternion_to_matrix(q) -> np.ndarray:
     """Rotation matrices R(q / |q|), shape (..., 3, 3), from quaternions of shape (..., 4)."""
-    q = np.asarray(q, dtype=float)
+    q = real_array("q", q)
     q = q / np.linalg.norm(q, axis=-1, keepdims=True)
     w, x, y, z = np.moveaxis(q, -1, 0)
     return np.stack(
@@ -87,7 +88,7 @@ def matrix_to_quaternion(R) -> np.ndarray:
     the diagonal) is taken as the pivot, so no division by a small number [Shepperd, J.
     Guidance Control 1, 223 (1978)].
     """
-    R = np.asarray(R, dtype=float)
+    R = real_array("R", R)
     if R.shape != (3, 3):
         raise ValueError(f"R must have shape (3, 3), got {R.shape}")
     t = np.trace(R)
@@ -113,7 +114,7 @@ def spatial_angular_momentum(q, m) -> np.ndarray:
     Constant along the exact free motion, so its drift measures the attitude's consistency with m.
     """
     R = quaternion_to_matrix(q)
-    return np.einsum("...ij,...j->...i", R, np.asarray(m, dtype=float))
+    return np.einsum("...ij,...j->...i", R, real_array("m", m, "kg m2/s"))
 
 
 def attitude_error(q, q_ref) -> np.ndarray:
@@ -195,11 +196,11 @@ def propagate_attitude(
             f"method {spec.name!r} cannot carry the attitude; methods that can: "
             + ", ".join(attitude_methods())
         )
-    moments = np.asarray(moments, dtype=float)
+    moments = real_array("moments", moments, "kg m^2")
     perm, signs = canonical_frame(moments)
-    m = to_canonical(np.atleast_2d(m0), perm, signs)
+    m = to_canonical(np.atleast_2d(real_array("m0", m0, "kg m2/s")), perm, signs)
     n_members = m.shape[0]
-    q0 = np.asarray(q0, dtype=float)
+    q0 = real_array("q0", q0)
     if q0.shape not in ((4,), (n_members, 4)):
         raise ValueError(f"q0 must have shape (4,) or ({n_members}, 4), got {q0.shape}")
     c = canonical_quaternion(moments)

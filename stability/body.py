@@ -22,7 +22,7 @@ from typing import NamedTuple
 
 import numpy as np
 
-from .checks import positive_float
+from .checks import positive_float, real_array, real_number
 
 
 @dataclass(frozen=True)
@@ -55,13 +55,7 @@ class RigidBody:
     def __post_init__(self):
         moments = []
         for label in ("I1", "I2", "I3"):
-            value = getattr(self, label)
-            try:
-                value = float(value)
-            except (TypeError, ValueError):
-                raise ValueError(
-                    f"{label} must be a number in kg m^2, got {value!r}"
-                ) from None
+            value = real_number(label, getattr(self, label), "kg m^2")
             if not math.isfinite(value):
                 raise ValueError(f"{label} must be finite, got {value}")
             if value <= 0.0:
@@ -445,10 +439,7 @@ def _cylinder_moments(mass, radius, length) -> tuple[float, float, float]:
 
 def _tensor(name: str, J) -> np.ndarray:
     """``J`` as a finite float64 array of shape (3, 3), else ValueError."""
-    try:
-        J = np.array(J, dtype=float)
-    except (TypeError, ValueError):
-        raise ValueError(f"{name} must be a 3x3 array of numbers in kg m^2, got {J!r}") from None
+    J = real_array(name, J, "kg m^2")
     if J.shape != (3, 3):
         raise ValueError(f"{name} must have shape (3, 3) (an inertia tensor), got shape {J.shape}")
     if not np.all(np.isfinite(J)):
@@ -458,10 +449,7 @@ def _tensor(name: str, J) -> np.ndarray:
 
 def _vector(name: str, x, unit: str) -> np.ndarray:
     """``x`` as a finite float64 array of shape (3,), else ValueError."""
-    try:
-        x = np.array(x, dtype=float)
-    except (TypeError, ValueError):
-        raise ValueError(f"{name} must be 3 numbers in {unit}, got {x!r}") from None
+    x = real_array(name, x, unit)
     if x.shape != (3,):
         raise ValueError(f"{name} must have shape (3,) (x, y, z in {unit}), got shape {x.shape}")
     if not np.all(np.isfinite(x)):

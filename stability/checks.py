@@ -8,12 +8,67 @@ import numbers
 import numpy as np
 
 
+#: NumPy dtype kinds refused by :func:`real_array`, in words.
+_REFUSED_KINDS = {
+    "c": "complex numbers (their imaginary part would be dropped)",
+    "b": "booleans",
+    "U": "strings",
+    "S": "bytes",
+    "M": "dates",
+    "m": "time differences",
+    "V": "structured records",
+}
+
+
+def real_number(name: str, value, unit: str = "") -> float:
+    """``value`` as a float if it is a real number (int or float, Python or NumPy), else error.
+
+    Booleans, strings and complex numbers are refused rather than converted: ``float(True)`` is
+    1.0 and ``float("2")`` is 2.0, which would hide a mistake.
+    """
+    if isinstance(value, (bool, np.bool_)) or not isinstance(value, numbers.Real):
+        raise ValueError(f"{name} must be a number{_in(unit)}, got {_short(value)}")
+    return float(value)
+
+
+def real_array(name: str, value, unit: str = "") -> np.ndarray:
+    """``value`` as a new float64 array if it holds real numbers only, else ValueError.
+
+    The one gate for array input at the public boundary. Integers and floats (Python or NumPy,
+    in lists, tuples or arrays of any shape) are accepted; complex numbers, booleans, strings,
+    bytes, dates, ``None``, ragged lists and other objects are refused with one line naming
+    ``name``, where ``np.array(value, dtype=float)`` would silently drop an imaginary part,
+    read True as 1 or parse "2". Shape and finiteness are the caller's to check.
+    """
+    try:
+        x = np.asarray(value)
+    except (TypeError, ValueError):  # ragged nesting
+        raise ValueError(
+            f"{name} must be real numbers{_in(unit)} in a regular array, got {_short(value)}"
+        ) from None
+    kind = x.dtype.kind
+    if kind == "O":
+        items = x.ravel()
+        if not all(isinstance(v, numbers.Real) and not isinstance(v, (bool, np.bool_))
+                   for v in items):
+            bad = next(v for v in items
+                       if not isinstance(v, numbers.Real) or isinstance(v, (bool, np.bool_)))
+            raise ValueError(
+                f"{name} must be real numbers{_in(unit)}, got {_short(value)} "
+                f"(it holds {_short(bad)}, a {type(bad).__name__})"
+            )
+    elif kind in _REFUSED_KINDS:
+        raise ValueError(
+            f"{name} must be real numbers{_in(unit)}, got {_REFUSED_KINDS[kind]}: {_short(value)}"
+        )
+    elif kind not in "iuf":
+        raise ValueError(f"{name} must be real numbers{_in(unit)}, got {_short(value)}")
+    return np.array(x, dtype=float)
+
+
 def positive_float(name: str, value, unit: str = "") -> float:
     """``value`` as a float that is finite and > 0, else ValueError naming ``name``."""
-    try:
-        x = float(value)
-    except (TypeError, ValueError):
-        raise ValueError(f"{name} must be a number{_in(unit)}, got {value!r}") from None
+    x = real_number(name, value, unit)
     if not math.isfinite(x) or x <= 0.0:
         raise ValueError(f"{name} must be finite and > 0{_in(unit)}, got {value!r}")
     return x
@@ -33,11 +88,8 @@ def positive_int(name: str, value, allow_zero: bool = False) -> int:
 
 
 def vectors3(name: str, value, unit: str = "") -> np.ndarray:
-    """``value`` as a finite float64 array of shape (3,) or (N, 3)."""
-    try:
-        x = np.array(value, dtype=float)
-    except (TypeError, ValueError):
-        raise ValueError(f"{name} must be numbers{_in(unit)}, got {value!r}") from None
+    """``value`` as a finite float64 array of shape (3,) or (N, 3) (a new array)."""
+    x = real_array(name, value, unit)
     if x.ndim not in (1, 2) or x.shape[-1] != 3:
         raise ValueError(
             f"{name} must have shape (3,) or (N, 3) (components along body axes 1, 2, 3), "
@@ -57,6 +109,14 @@ def step_count(t_end: float, h: float) -> int:
             f"(t_end / h = {t_end / h:.12g}); choose h = t_end / N for an integer N"
         )
     return int(n)
+
+
+def _short(value, limit: int = 80) -> str:
+    """``repr(value)`` cut to ``limit`` characters; an array as its dtype and shape."""
+    if isinstance(value, np.ndarray) and value.size > 6:
+        return f"an array of {value.dtype} with shape {value.shape}"
+    text = repr(value)
+    return text if len(text) <= limit else text[: limit - 3] + "..."
 
 
 def _in(unit: str) -> str:

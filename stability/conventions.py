@@ -28,6 +28,10 @@ STATUS_OK = 0
 STATUS_NONFINITE = 1  #: the state became inf or NaN
 STATUS_DIVERGED = 2  #: energy or |L| left the divergence tolerance (step too large)
 STATUS_NOT_CONVERGED = 3  #: an implicit step's nonlinear solver did not converge
+#: the step angle h max|w| exceeds what the method resolves (``MethodSpec.max_step_angle``):
+#: the numbers may look sane (|L| and energy kept) but are not trustworthy
+STATUS_STEP_TOO_LARGE = 4
 
-STATUS_MEANINGS = "ok non_finite diverged not_converged"
-STATUS_FLAG_VALUES = (STATUS_OK, STATUS_NONFINITE, STATUS_DIVERGED, STATUS_NOT_CONVERGED)
+STATUS_MEANINGS = "ok non_finite diverged not_converged step_too_large"
+STATUS_FLAG_VALUES = (STATUS_OK, STATUS_NONFINITE, STATUS_DIVERGED, STATUS_NOT_CONVERGED,
+                      STATUS_STEP_TOO_LARGE)

@@ -16,7 +16,8 @@ variable                     dims              units    meaning
                                                         runs only; the start at time 0)
 ``w0``                       member, axis      rad s-1  initial body angular velocity
 ``status``                   member            1        int8, CF flags: ok, non_finite,
-                                                        diverged, not_converged
+                                                        diverged, not_converged,
+                                                        step_too_large
 ``fail_time``                member            s        when the failure was detected
 ``flip_count``               member            1        sign changes of the spin-axis
                                                         component of w (flips)
@@ -44,11 +45,12 @@ they can be masked too.
 Global attributes: ``Conventions``, ``title``, ``source``, ``history`` (one timestamped line per
 command that made or changed the Dataset, see :func:`append_history`), ``references``, the body
 (``body``, ``body_name``, ``I1``, ``I2``, ``I3`` in kg m2), the method (``method``,
-``method_order``, ``method_reference``), ``h``, the start (``axis``, ``spin``, ``epsilon``,
-``start_kind``), the seed (``seed_entropy``, ``seed_spawn_scheme``), the run (``steps``,
-``steps_done``, ``interrupted``), the software (``numba_version``, ``numba_threading_layer``...)
-and the whole resolved configuration as TOML (``config_toml``). Every attribute is a str, a
-number or a numeric array, so the Dataset can be written to netCDF.
+``method_order``, ``method_reference``, ``method_max_step_angle`` in rad), ``h``, the start
+(``axis``, ``spin``, ``epsilon``, ``start_kind``), the seed (``seed_entropy``,
+``seed_spawn_scheme``), the run (``steps``, ``steps_done``, ``interrupted``), the software
+(``numba_version``, ``numba_threading_layer``...) and the whole resolved configuration as TOML
+(``config_toml``). Every attribute is a str, a number or a numeric array, so the Dataset can be
+written to netCDF.
 """
 
 from __future__ import annotations
@@ -119,8 +121,13 @@ _COMMENTS = {
     "first_flip_time": "NaN where no flip happened",
     "mean_flip_interval": "NaN where fewer than two flips happened",
     "passage_time": "NaN where the level was never reached; 0 where the start is above it",
-    "fail_time": "NaN for members whose status is ok; the end of the run for diverged members",
-    "status": "numbers of members whose status is not ok are NaN (masked)",
+    "fail_time": "NaN for members whose status is ok; the end of the run for diverged members; "
+                 "0 for step_too_large (known from the start)",
+    "status": "ok: the member's numbers can be trusted; non_finite: its state overflowed; "
+              "diverged: its energy or |L| left divergence_tolerance; not_converged: an "
+              "implicit step's solver failed; step_too_large: h max|w| exceeds the method's "
+              "max_step_angle (its numbers may look sane but are not trustworthy); numbers of "
+              "members whose status is not ok are NaN (masked)",
 }
 
 
@@ -244,6 +251,8 @@ def provenance_attrs(title: str, body, spec, h: float, command: str) -> dict:
         "method_title": spec.title,
         "method_order": "exact" if spec.is_exact else int(spec.order),
         "method_reference": spec.reference,
+        **({"method_max_step_angle": float(spec.max_step_angle)}
+           if spec.max_step_angle is not None else {}),
         "h": float(h),
     }
     return attrs

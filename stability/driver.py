@@ -12,6 +12,7 @@ import numpy as np
 
 from .analytic import perpendicular_axes
 from .body import canonical_frame, from_canonical, to_canonical
+from .checks import real_array, real_number
 from .engine import BLOCK, CHECK_EVERY, Propagation, propagate_groups, untrusted
 from .scenes import SCENES
 
@@ -60,11 +61,13 @@ def propagate(
     Propagation
         Body frame: ``m_final`` (N, 3), ``saved`` (N, n_saved, 3); ``steps_done`` an int.
     """
+    moments = real_array("moments", moments, "kg m^2")
+    m0 = real_array("m0", m0, "kg m2/s")
     run = propagate_many(
-        method, np.asarray(moments, dtype=float)[None, :], m0, [np.shape(np.atleast_2d(m0))[0]],
-        h, n_steps, save_every=save_every, progress=progress, chunk_steps=chunk_steps,
-        track_axes=None if track_axis is None else [track_axis],
-        levels=None if levels is None else np.asarray(levels, dtype=float)[None, :],
+        method, moments[None, :], m0, [np.shape(np.atleast_2d(m0))[0]],
+        real_number("h", h, "s"), n_steps, save_every=save_every, progress=progress,
+        chunk_steps=chunk_steps, track_axes=None if track_axis is None else [track_axis],
+        levels=None if levels is None else real_array("levels", levels, "rad/s")[None, :],
     )
     run.steps_done = int(run.steps_done[0])
     return run

@@ -9,8 +9,9 @@ of the spin-axis component), crossings of a perpendicular component, the maximum
 amplitude and the first passage of that amplitude through given levels (all tracked at every
 step inside the member loop, so also without a time series), the end-of-run relative
 errors of energy and |L|, and a status code. A member whose state stops being finite, whose
-invariants leave ``divergence_tolerance`` or whose implicit solve fails is flagged and all its
-numbers are NaN.
+invariants leave ``divergence_tolerance``, whose implicit solve fails or whose step angle
+``h max|w|`` exceeds what the method resolves (``MethodSpec.max_step_angle``) is flagged and all
+its numbers are NaN: status ok means the member's numbers can be trusted.
 
 Reproducibility: the random directions are drawn outside compiled code, from one
 ``numpy.random.SeedSequence`` child per :data:`RNG_CHUNK` members (child c draws the members
@@ -32,7 +33,7 @@ import numpy as np
 from . import conventions as cv
 from .analytic import perpendicular_axes
 from .body import RigidBody
-from .checks import positive_float, positive_int, step_count, vectors3
+from .checks import positive_float, positive_int, real_array, real_number, step_count, vectors3
 from .dataset import (
     config_toml,
     ensemble_dataset,
@@ -50,10 +51,13 @@ log = logging.getLogger(__name__)
 #: computation is chunked; changing it changes every random ensemble.
 RNG_CHUNK = 4096
 
+#: Default members per chunk of a run streamed to disk (``store=``): a multiple of RNG_CHUNK.
+STREAM_CHUNK_MEMBERS = 2**20
+
 #: Default relative energy / |L| error at the end above which a member is "diverged".
 DEFAULT_DIVERGENCE_TOLERANCE = 1e-2
 
-#: Default limit (bytes) on the stored data of a time-series run; summaries-only runs have none.
+#: Default limit (bytes) on the Dataset of a run (time series, or summaries only).
 DEFAULT_MAX_MEMORY = 4 * 2**30
 
 #: Runs whose stored data exceed this many bytes are announced with a logging warning.
@@ -92,6 +96,40 @@ def ensemble_memory(members: int, n_saved: int, n_levels: int = DEFAULT_LEVELS.s
     n_saved = positive_int("n_saved", n_saved, allow_zero=True)
     series = members * (n_saved + 1) * 3 * 8 if n_saved > 0 else 0
     return series + members * summary_bytes(n_levels)
+
+
+def max_angular_speed(moments, w0) -> np.ndarray:
+    """The largest |w| the exact motion from each start reaches, in rad/s; shape (N,).
+
+    The motion keeps the energy E and |L| = |m| (m = I w), so it stays on the set
+    ``sum m_i^2 = |L|^2``, ``sum m_i^2 / I_i = 2E`` where ``|w|^2 = sum m_i^2 / I_i^2``; all three
+    are linear in ``u_i = m_i^2 >= 0``, so the largest |w| on that set is reached where one
+    ``u_i`` is 0 (a vertex of the segment), and is found from the three pairs in closed form.
+    It is at least |w0| and at most |L| / min(I) (reached only by spins about the axis of the
+    smallest moment); for a spin near a principal axis it is |w0| to first order.
+
+    Parameters
+    ----------
+    moments : array_like, shape (3,)
+        Principal moments in kg m^2.
+    w0 : array_like, shape (N, 3)
+        Starts in rad/s.
+    """
+    I = np.asarray(moments, dtype=float)
+    w0 = np.atleast_2d(np.asarray(w0, dtype=float))
+    m = w0 * I
+    L2 = np.sum(m * m, axis=1)
+    E2 = np.sum(m * w0, axis=1)  # 2E
+    b, best = 1.0 / I, np.sum(w0 * w0, axis=1)  # |w0|^2: the start is on the set
+    with np.errstate(invalid="ignore", divide="ignore", over="ignore"):
+        for i, j in ((0, 1), (0, 2), (1, 2)):
+            if b[i] == b[j]:
+                continue  # equal moments: |w| is fixed along this edge
+            ui = (E2 - L2 * b[j]) / (b[i] - b[j])
+            uj = L2 - ui
+            inside = (ui >= 0.0) & (uj >= 0.0)
+            best = np.where(inside, np.maximum(best, ui * b[i] ** 2 + uj * b[j] ** 2), best)
+    return np.sqrt(best)
 
 
 def format_bytes(n: float) -> str:
@@ -240,6 +278,9 @@ def run_ensemble(
         Number of members N (with ``starts``: optional, must equal ``len(starts)``).
     h : float
         Step in s; for ``lp2`` about 0.01 / W to 0.05 / W, for ``rk4`` up to about 0.1 / W.
+        A member whose step angle ``h max|w|`` (:func:`max_angular_speed`) exceeds the
+        method's ``max_step_angle`` (``stability.METHODS[method].max_step_angle``, 0.3 to 3
+        rad) is labelled ``step_too_large``; if every member would be, the run is refused.
     t_end : float
         Horizon in s: a whole number of steps, and of ``save_every`` steps.
     seed : int, None or numpy.random.SeedSequence, default 0
@@ -255,8 +296,8 @@ def run_ensemble(
     starts : array_like, shape (N, 3), optional
         The initial angular velocities in rad/s, instead of ``spin``/``epsilon``/``direction``.
     summaries_only : bool, default False
-        Keep only the per-member summaries (no ``w`` time series, no memory limit; memory
-        about ``ensemble_memory(members, 0)``, ~250 bytes a member): for ensembles of 1e6
+        Keep only the per-member summaries (no ``w`` time series; memory about
+        ``ensemble_memory(members, 0)``, ~250 bytes a member): for ensembles of 1e6
         members and more, and for many small ensembles. The summaries are bitwise those of the
         time-series run.
     levels : array_like, shape (n_levels,), optional
@@ -265,8 +306,8 @@ def run_ensemble(
     divergence_tolerance : float, default 1e-2
         A member whose relative energy or |L| error at the end exceeds this is "diverged".
     max_memory : float, default 4 GiB
-        Refuse a time-series run whose Dataset (:func:`ensemble_memory`) would exceed this
-        many bytes.
+        Refuse a run whose Dataset (:func:`ensemble_memory`, with or without the time series)
+        would exceed this many bytes.
     threads : int, optional
         Numba threads for this run (restored afterwards); default: Numba's current setting.
     progress : bool, optional
@@ -300,14 +341,18 @@ def run_ensemble(
     xarray.Dataset
         Dims ``member``, ``time``, ``axis``, ``level``; variables ``w`` (member, time, axis)
         unless ``summaries_only``, ``w0``, ``status`` and the summaries (see
-        :mod:`stability.dataset`). If Ctrl-C stopped the run, ``interrupted`` is 1 and the
+        :mod:`stability.dataset`). ``status`` is 0 (ok) only for a member whose numbers can
+        be trusted; otherwise 1 non-finite, 2 diverged (energy or |L| left
+        ``divergence_tolerance``), 3 not converged (implicit solve) or 4 step too large (the
+        step angle exceeds the method's ``max_step_angle``), and the member's numbers are NaN.
+        If Ctrl-C stopped the run, ``interrupted`` is 1 and the
         Dataset holds what was done (``steps_done``).
 
     Raises
     ------
     ValueError
-        For any invalid argument, or a time-series run above ``max_memory``; before any
-        compiled code runs.
+        For any invalid argument, a run above ``max_memory``, or a step too large for the
+        method at every member; before any compiled code runs.
 
     Examples
     --------
@@ -407,6 +452,7 @@ class _Plan:
     summaries_only: bool
     levels: np.ndarray
     tolerance: float
+    step_angle: np.ndarray | None  # None: worked out per chunk (_chunk_plan)
     chunk_members: int
     chunk_steps: int | None
     resolved: dict
@@ -498,13 +544,23 @@ def _plan(body, axis, spin=None, epsilon=None, members=None, *, h, t_end, seed=0
     # --- memory -----------------------------------------------------------------------------
     n_saved = n_steps // save_every
     n_time = n_saved + 1
-    stored = ensemble_memory(n_members, 0 if summaries_only else n_saved, levels.size)
+    if defer_starts:  # streamed to disk: a chunk at a time in memory
+        chunk_members = min(chunk_members or STREAM_CHUNK_MEMBERS, n_members)
+    held = chunk_members if defer_starts else n_members
+    stored = ensemble_memory(held, 0 if summaries_only else n_saved, levels.size)
     if not summaries_only and stored > max_memory:
         raise ValueError(
-            f"the time series of {n_members} members x {n_time} samples x 3 doubles would "
+            f"the time series of {held} members x {n_time} samples x 3 doubles would "
             f"take {format_bytes(stored)} (about {PEAK_COPIES}x that while the run builds it), "
             f"above max_memory = {format_bytes(max_memory)}; raise save_every, use fewer "
             "members, pass summaries_only=True (per-member summaries only), or raise max_memory"
+        )
+    if summaries_only and stored > max_memory:
+        raise ValueError(
+            f"the summaries of {held} members would take {format_bytes(stored)} "
+            f"({format_bytes(stored / held)} a member), above max_memory = "
+            f"{format_bytes(max_memory)}; use fewer members, stream the run to disk "
+            "(store=, a chunk at a time in memory), or raise max_memory"
         )
     chunk_members = min(chunk_members or n_members, n_members)
     level = logging.WARNING if stored > LARGE_RUN_BYTES else logging.INFO
@@ -513,13 +569,19 @@ def _plan(body, axis, spin=None, epsilon=None, members=None, *, h, t_end, seed=0
         "run_ensemble: %d members x %d steps of %s (%.3g member-steps); Dataset %s "
         "(%s per member)%s",
         n_members, n_steps, spec.name, float(n_members) * n_steps, format_bytes(stored),
-        format_bytes(stored / n_members),
+        format_bytes(stored / held),
         "" if summaries_only else f", about {PEAK_COPIES}x that at the peak",
     )
 
     # --- starts -----------------------------------------------------------------------------
     if w0 is None and (direction is not None or not defer_starts):
         w0 = perturbed_starts(axis, spin, epsilon, members, ss, direction)
+    if w0 is not None:
+        step_angle = _step_angles(body, spec, w0, h)
+    else:  # drawn per chunk; refuse up front if the first block of starts is hopeless
+        _step_angles(body, spec, _random_starts(a, spin, epsilon, ss, 0,
+                                                min(n_members, RNG_CHUNK)), h)
+        step_angle = None
 
     resolved = {
         "body": {"name": body.name, "I1": body.I1, "I2": body.I2, "I3": body.I3,
@@ -545,7 +607,8 @@ def _plan(body, axis, spin=None, epsilon=None, members=None, *, h, t_end, seed=0
     return _Plan(
         body=body, spec=spec, a=a, members=n_members, w0=w0, h=h, t_end=t_end, n_steps=n_steps,
         save_every=save_every, summaries_only=bool(summaries_only), levels=levels,
-        tolerance=divergence_tolerance, chunk_members=chunk_members, chunk_steps=chunk_steps,
+        tolerance=divergence_tolerance, step_angle=step_angle, chunk_members=chunk_members,
+        chunk_steps=chunk_steps,
         resolved=resolved, start_kind=start_kind, spin=spin, epsilon=epsilon,
         direction=direction, ss=ss, config_text=config_text, command=command, device=device,
     )
@@ -557,7 +620,24 @@ def _chunk_plan(plan: _Plan, lo: int, hi: int) -> _Plan:
         w0 = plan.w0[lo:hi]
     else:
         w0 = _random_starts(plan.a, plan.spin, plan.epsilon, plan.ss, lo, hi)
-    return replace(plan, members=hi - lo, w0=w0, chunk_members=min(plan.chunk_members, hi - lo))
+    angle = (plan.step_angle[lo:hi] if plan.step_angle is not None
+             else plan.h * max_angular_speed(plan.body.moments, w0))
+    return replace(plan, members=hi - lo, w0=w0, step_angle=angle,
+                   chunk_members=min(plan.chunk_members, hi - lo))
+
+
+def _step_angles(body, spec, w0, h) -> np.ndarray:
+    """Each member's step angle ``h max|w|`` in rad; ValueError if all exceed the bound."""
+    angle = h * max_angular_speed(body.moments, w0)
+    bound = spec.max_step_angle
+    if bound is not None and angle.size and not np.any(angle <= bound):
+        smallest = float(angle.min())
+        raise ValueError(
+            f"h = {h:g} s is too large for {spec.name} at these spins: every member would turn "
+            f"by {smallest:.3g} rad or more per step (h max|w|), above the {bound:g} rad up to "
+            f"which {spec.name}'s results can be trusted; choose h <= {h * bound / smallest:.3g} s"
+        )
+    return angle
 
 
 def _threads(threads):
@@ -732,7 +812,7 @@ def _finish(plan, parts, done, steps_done, interrupted) -> _Run:
         compile_time += part.share * prop.compile_time
         chunk_status, chunk_fail, errors = _member_status(
             prop.status[rows], prop.fail_step[rows], prop.x_final[rows], w0[mine], moments, h,
-            plan.tolerance, part.steps_done,
+            plan.tolerance, part.steps_done, plan.step_angle[mine], plan.spec.max_step_angle,
         )
         chunk = _summaries({name: value[rows] for name, value in prop.extras.items()}, errors)
         bad = chunk_status != cv.STATUS_OK
@@ -792,11 +872,16 @@ def _propagate_tracked(plans, progress, rows):
     )
 
 
-def _member_status(loop_status, fail_step, m, w0, moments, h, tolerance, steps_done):
+def _member_status(loop_status, fail_step, m, w0, moments, h, tolerance, steps_done,
+                   step_angle=None, max_step_angle=None):
     """Per-member status, failure time and end-of-run invariant errors.
 
     The loop reports non-finite states and solver failures; here members whose relative
-    energy or |L| error at the end exceeds ``tolerance`` become ``STATUS_DIVERGED``.
+    energy or |L| error at the end exceeds ``tolerance`` become ``STATUS_DIVERGED``, and
+    members that are still ok but whose ``step_angle`` exceeds ``max_step_angle`` become
+    ``STATUS_STEP_TOO_LARGE`` (failure time 0: it is known from the start). The invariants
+    alone cannot tell: a Lie-Poisson splitting keeps |L| exactly and its energy bounded at
+    any step, with w wrong by O(1).
     """
     m0 = w0 * moments
     energy0 = 0.5 * np.sum(m0 * w0, axis=1)  # E = w . I w / 2
@@ -813,6 +898,10 @@ def _member_status(loop_status, fail_step, m, w0, moments, h, tolerance, steps_d
     diverged = (status == cv.STATUS_OK) & ~(worst <= tolerance)
     status[diverged] = cv.STATUS_DIVERGED
     fail_time[diverged] = steps_done * h
+    if step_angle is not None and max_step_angle is not None:
+        too_large = (status == cv.STATUS_OK) & ~(step_angle <= max_step_angle)
+        status[too_large] = cv.STATUS_STEP_TOO_LARGE
+        fail_time[too_large] = 0.0
     return status, fail_time, {
         "energy_error": energy_error, "angular_momentum_error": momentum_error,
     }
@@ -851,10 +940,7 @@ def _axis_index(axis) -> int:
 
 
 def _nonnegative_float(name, value) -> float:
-    try:
-        x = float(value)
-    except (TypeError, ValueError):
-        raise ValueError(f"{name} must be a number, got {value!r}") from None
+    x = real_number(name, value)
     if not math.isfinite(x) or x < 0.0:
         raise ValueError(f"{name} must be finite and >= 0, got {value!r}")
     return x
@@ -882,10 +968,7 @@ def _levels(levels, spin_ref) -> np.ndarray:
     """Validated ascending amplitude levels in rad/s (default: DEFAULT_LEVELS x spin)."""
     if levels is None:
         return DEFAULT_LEVELS * spin_ref
-    try:
-        x = np.array(levels, dtype=float)
-    except (TypeError, ValueError):
-        raise ValueError(f"levels must be numbers in rad/s, got {levels!r}") from None
+    x = real_array("levels", levels, "rad/s")
     if x.ndim != 1 or x.size < 1:
         raise ValueError(f"levels must be a 1-D list of amplitudes in rad/s, got {levels!r}")
     if not np.all(np.isfinite(x)) or np.any(x <= 0.0) or np.any(np.diff(x) <= 0.0):

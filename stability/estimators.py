@@ -60,6 +60,7 @@ import xarray as xr
 
 from . import conventions as cv
 from .analytic import growth_rate, omega_squared, perpendicular_axes
+from .checks import real_array
 
 #: Lower edge of the growth-rate window, in units of the member's initial perpendicular
 #: amplitude a0. A start off the unstable eigenvector carries a decaying mode; at 100 a0 it is
@@ -184,8 +185,8 @@ def zero_crossings(t, x):
         exactly zero counts as negative, so a signal starting at 0 counts its start once it
         goes positive.
     """
-    t = np.asarray(t, dtype=float)
-    x = np.atleast_2d(np.asarray(x, dtype=float))
+    t = real_array("t", t, "s")
+    x = np.atleast_2d(real_array("x", x))
     pos = x > 0.0
     ok = np.isfinite(x[:, :-1]) & np.isfinite(x[:, 1:])
     change = (pos[:, :-1] != pos[:, 1:]) & ok
@@ -367,7 +368,7 @@ def tracked_members(extras: dict, w0, axis: int, spin: float, levels, status=Non
     -------
     Members
     """
-    w0 = np.atleast_2d(np.asarray(w0, dtype=float))
+    w0 = np.atleast_2d(real_array("w0", w0, "rad/s"))
     axis = int(axis)
     b, c = perpendicular_axes(axis)
     n = w0.shape[0]
@@ -660,8 +661,8 @@ def growth_line(time, amplitude, rate, low, high):
     window : tuple of float
         First and last time of the window, in s (NaN if no sample is above ``low``).
     """
-    amplitude = np.asarray(amplitude, dtype=float)
-    time = np.asarray(time, dtype=float)
+    amplitude = real_array("amplitude", amplitude)
+    time = real_array("time", time, "s")
     above = np.flatnonzero(amplitude > low)
     if above.size == 0:
         return math.nan, (math.nan, math.nan)
@@ -938,7 +939,7 @@ def exact_flip_intervals(body, axis: int, w0):
         :func:`stability.exact.flip_interval_asymptote`;
         literature notes 1.5, Abramowitz-Stegun 17.3.26).
     """
-    w0 = np.atleast_2d(np.asarray(w0, dtype=float))
+    w0 = np.atleast_2d(real_array("w0", w0, "rad/s"))
     if axis is None or _is_intermediate(body.moments, axis):
         from .exact import flip_intervals
 

@@ -53,7 +53,7 @@ import numpy as np
 from numba import njit
 
 from .body import RigidBody, from_canonical, to_canonical
-from .checks import vectors3
+from .checks import real_array, real_number, vectors3
 from .elliptic import ellipk, sncndn_k
 
 #: Kinds of motion (canonical frame).
@@ -365,7 +365,7 @@ def exact_omega_of_starts(body: RigidBody, w0, t) -> np.ndarray:
     if not isinstance(body, RigidBody):
         raise ValueError(f"body must be a stability.RigidBody, got {type(body).__name__}")
     w0 = np.atleast_2d(vectors3("w0", w0, "rad/s"))
-    t = float(t)
+    t = real_number("t", t, "s")
     if not math.isfinite(t):
         raise ValueError(f"t must be a finite time in s, got {t!r}")
     perm, signs = body.canonical_frame()
@@ -412,10 +412,7 @@ def exact_omega(body: RigidBody, w0, t) -> np.ndarray:
     microseconds, independent of t. Use it as the reference trajectory for integrators.
     """
     moments, w, perm, signs = _canonical_state(body, w0)
-    try:
-        t_arr = np.asarray(t, dtype=float)
-    except (TypeError, ValueError):
-        raise ValueError(f"t must be a number or an array of times in s, got {t!r}") from None
+    t_arr = real_array("t", t, "s")
     scalar = t_arr.ndim == 0
     t_arr = np.ascontiguousarray(np.atleast_1d(t_arr))
     if t_arr.ndim != 1:

@@ -11,7 +11,7 @@ import xarray as xr
 
 from . import conventions as cv
 from .body import RigidBody
-from .checks import positive_float, positive_int, step_count, vectors3
+from .checks import positive_float, positive_int, real_array, step_count, vectors3
 from .attitude import IDENTITY, attitude_methods, propagate_attitude
 from .dataset import provenance_attrs, storable_attrs
 from .driver import propagate, untrusted
@@ -142,12 +142,7 @@ def _unit_quaternion(q0):
     """``q0`` as a float array of shape (4,) with norm 1 (to 1e-9); the identity if None."""
     if q0 is None:
         return IDENTITY.copy()
-    try:
-        q = np.array(q0, dtype=float)
-    except (TypeError, ValueError):
-        raise ValueError(
-            f"q0 must be 4 numbers (a unit quaternion, scalar first), got {q0!r}"
-        ) from None
+    q = real_array("q0 (a unit quaternion, scalar first)", q0)
     if q.shape != (4,) or not np.all(np.isfinite(q)):
         raise ValueError(
             f"q0 must be 4 finite numbers (a unit quaternion, scalar first), got {q0!r}"

@@ -32,9 +32,6 @@ from .store import ChunkStore, chunk_name
 
 log = logging.getLogger(__name__)
 
-#: Default members per chunk of a stored run (a multiple of the random-number blocks).
-DEFAULT_CHUNK_MEMBERS = 2**20
-
 
 class RunInterrupted(KeyboardInterrupt):
     """Ctrl-C or SIGTERM stopped a stored run; the finished chunks are kept.
@@ -48,14 +45,14 @@ def run_streamed(kwargs: dict, store, *, resume=False, scheduler=None, threads=N
     """Run the ensemble ``run_ensemble(**kwargs)`` chunk by chunk into the folder ``store``.
 
     Returns the Dataset over the chunk files (dask arrays). See :func:`stability.run_ensemble`
-    for ``kwargs``; ``chunk_members`` there is the members per chunk file here.
+    for ``kwargs``; ``chunk_members`` there is the members per chunk file here
+    (default :data:`stability.ensemble.STREAM_CHUNK_MEMBERS`).
     """
     from .ensemble import _plan
 
     kwargs = dict(kwargs)
     plan = _plan(**kwargs, defer_starts=True)
-    chunk = kwargs.get("chunk_members") or min(plan.members, DEFAULT_CHUNK_MEMBERS)
-    kwargs["chunk_members"] = chunk
+    chunk = kwargs["chunk_members"] = plan.chunk_members
     # What decides the members' numbers (not the caller's configuration, which may differ in
     # keys that do not, such as the figures of a study).
     identity = {"run_ensemble": {k: v for k, v in plan.resolved.items() if k != "threads"},

@@ -124,7 +124,7 @@ def test_from_tensor_accepts_a_flat_body_with_round_off():
         (np.eye(2), r"J must have shape \(3, 3\)"),
         (np.ones(3), r"J must have shape \(3, 3\)"),
         ([[1, 0, 0], [0, math.nan, 0], [0, 0, 1]], "J must be finite"),
-        ([["a", 0, 0], [0, 1, 0], [0, 0, 1]], "J must be a 3x3 array of numbers"),
+        ([["a", 0, 0], [0, 1, 0], [0, 0, 1]], "J must be real numbers in kg m\\^2, got strings"),
         (np.zeros((3, 3)), "all zeros"),
         ([[2, 0.1, 0], [-0.1, 2, 0], [0, 0, 3]], "not symmetric"),
         (np.diag([0.0, 1.0, 1.0]), "not positive definite"),  # a thin rod along x

@@ -129,4 +129,7 @@ LGVI = MethodSpec(
         "the DMV map with a Newton solve (~4-5 iterations at h |w| ~ 0.1, robust up to h |w| ~ 1); "
         "attitude native; E and |L| to round-off"
     ),
+    # Invariants to round-off, but the phase errs: median w error after 40 rad 0.23 at
+    # 0.3 rad, 0.43 at 0.4.
+    max_step_angle=0.3,
 )

@@ -102,7 +102,7 @@ def rotation_attitude_stage(m1, m2, m3, q0, q1, q2, q3, h, p, s):
     return d1, d2, d3, e0, e1, e2, e3, it
 
 
-def splitting_spec(name, title, order, a, b, reference, note=""):
+def splitting_spec(name, title, order, a, b, reference, note="", max_step_angle=None):
     """A registry entry for the rotation sequence with outer weights ``a`` and inner ``b``."""
     params = sequence_params(a, b)
     return MethodSpec(
@@ -120,6 +120,7 @@ def splitting_spec(name, title, order, a, b, reference, note=""):
         reference=reference,
         attitude_step=rotation_attitude_stage,
         note=note,
+        max_step_angle=max_step_angle,
     )
 
 
@@ -131,4 +132,7 @@ LP2 = splitting_spec(
     (1.0,),
     "McLachlan, Phys. Rev. Lett. 71, 3043 (1993); Touma & Wisdom, Astron. J. 107, 1189 (1994)",
     note="keeps |L| to round-off and bounds the energy error; the default for long runs",
+    # Median w error after 40 rad: 0.24 at 1.0 rad (tennis racket), 0.34 at 1.2; flips off by
+    # 2 at 1.4. |L| exact and energy bounded, so the invariant check cannot see this.
+    max_step_angle=1.0,
 )

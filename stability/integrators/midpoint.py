@@ -118,4 +118,5 @@ MIDPOINT = MethodSpec(
         "E and |L| to solver tolerance, growth rate biased by exactly (2/h) artanh(h lambda/2); "
         "~12 fixed-point sweeps per step at h |w| ~ 0.1"
     ),
+    max_step_angle=0.7,  # median w error after 40 rad 0.28 at 0.7 rad, 0.39 at 0.85
 )

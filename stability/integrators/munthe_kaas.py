@@ -99,4 +99,6 @@ RKMK4 = MethodSpec(
     reference="Munthe-Kaas, BIT 38, 92 (1998); Appl. Numer. Math. 29, 115 (1999)",
     attitude_step=rkmk4_attitude_step,
     note="RK4's accuracy with |L| to round-off, at 4 extra rotation exponentials per step",
+    # Median w error after 40 rad 0.11 at 0.3 rad (rod), 0.42 at 0.4 with flips off by 2.
+    max_step_angle=0.3,
 )

@@ -94,4 +94,7 @@ RK4 = MethodSpec(
     attitude_step=rk4_attitude_step,
     reference="Kutta (1901); Hairer, Norsett & Wanner, Solving ODEs I, Table II.1.2",
     note="cheapest per step and most accurate per unit work on short horizons; energy drifts linearly",
+    # Median w error after 40 rad 0.22 at 2 rad, 0.87 at 2.5 with flips off by 4; members
+    # blow up from 3 rad (the stability limit on the imaginary axis is 2.83).
+    max_step_angle=2.0,
 )

@@ -18,7 +18,8 @@ Checklist for a new method (see ``stability/integrators/__init__.py``):
 
 1. Write the step kernel in a module of its family, with the equation it implements tagged.
 2. Declare a ``MethodSpec`` beside it: order, what it preserves, cost, reference.
-3. Add it to ``METHODS``; the generic order and invariant tests pick it up from there.
+3. Measure its ``max_step_angle`` (below) and declare it on the spec.
+4. Add it to ``METHODS``; the generic order, invariant and step-bound tests pick it up from there.
 """
 
 from __future__ import annotations
@@ -100,6 +101,19 @@ class MethodSpec:
         quaternion q (scalar first). ``None`` when the method cannot carry the attitude.
     note : str
         One sentence on when to use it.
+    max_step_angle : float
+        The largest step angle ``h max|w|`` in rad (``max|w|``: the largest angular speed the
+        exact motion from the member's start reaches, bounded by its energy and |L|) at which
+        the method's results are still trustworthy. ``run_ensemble`` labels a member whose step
+        angle exceeds it ``step_too_large`` instead of ok. Measured so: ensembles of 32 starts
+        (24 random, 8 near the intermediate axis) on four bodies (I = (1, 2, 3), the tennis
+        racket, a rod (0.1, 1, 1.05) and a nearly symmetric top (1, 1.02, 2)), run for at least
+        40 rad of rotation; the bound is the largest angle of the grid 0.2, 0.3, 0.4, 0.5, 0.6, 0.7,
+        0.85, 1, 1.2, 1.4, 1.7, 2, 2.5, 3, 3.5, 4, 5 at which, on every body, the median
+        relative error of w at the end is below 0.3 and no member's flip count is off by more
+        than one from the exact flow's. Beyond it the errors saturate at O(1), flips are
+        missed or invented, or the method blows up. Even the exact flow has a bound: flips and
+        crossings are located by sign changes between steps.
     """
 
     name: str
@@ -118,6 +132,7 @@ class MethodSpec:
     stages: int = 1
     note: str = ""
     attitude_step: object = field(repr=False, default=None)
+    max_step_angle: float | None = None
 
     @property
     def explicit(self) -> bool:
@@ -146,5 +161,6 @@ class MethodSpec:
             "implicit": self.implicit,
             "evaluations": self.evaluations,
             "attitude": self.attitude,
+            "max_step_angle": self.max_step_angle,
             "reference": self.reference,
         }

@@ -23,6 +23,7 @@ from .config import (
     UNSET,
     ConfigError,
     _show,
+    _type_name,
     Key,
     Schema,
     Section,
@@ -88,9 +89,11 @@ def load_study(path, *, overrides=(), members=None, quick=False):
             + ", ".join(_show(k) for k in STUDIES),
             source,
         )
-    if name not in STUDIES:
+    if not isinstance(name, str) or name not in STUDIES:
+        kind = "" if isinstance(name, str) else f" (a {_type_name(name)})"
         raise ConfigError(
-            f"study must be one of {', '.join(_show(k) for k in STUDIES)}, got {_show(name)}",
+            f"study must be one of {', '.join(_show(k) for k in STUDIES)}, got {_show(name)}"
+            f"{kind}",
             source,
         )
     kind = STUDIES[name]

@@ -155,7 +155,33 @@ def check(config: dict, source: str) -> dict:
             f"is empty, got {config['analysis']['window_high']}", source, "analysis",
             "window_high",
         )
+    _check_memory(config, source)
     return config
+
+
+def _check_memory(config: dict, source: str) -> None:
+    """Refuse a map whose batch of ensembles would not fit in memory (before any allocation).
+
+    The ensembles of one method and step run together: (shapes x 3 axes) ensembles of
+    ``members`` members, each member holding its summaries (``ensemble_memory``) and about as
+    much again while it is propagated.
+    """
+    from ..ensemble import DEFAULT_MAX_MEMORY, ensemble_memory, format_bytes
+    from ..shapes import amplitude_levels
+
+    n = config["grid"]["divisions"]
+    members = config["ensemble"]["members"]
+    n_shapes = (n + 1) * (n + 2) // 2 - 1
+    n_levels = amplitude_levels(config["spin"]["rate"], config["ensemble"]["epsilon"],
+                                config["analysis"]["levels_per_decade"]).size
+    batch = 3 * n_shapes * members * 2 * ensemble_memory(1, 0, n_levels)
+    if batch > DEFAULT_MAX_MEMORY:
+        raise ConfigError(
+            f"= {members} members x {n_shapes} shapes x 3 axes would take about "
+            f"{format_bytes(batch)} in memory at once (the ensembles of a method run together), "
+            f"above {format_bytes(DEFAULT_MAX_MEMORY)}; lower [ensemble] members or "
+            "[grid] divisions", source, "ensemble", "members",
+        )
 
 
 def outputs(config: dict) -> list[str]:

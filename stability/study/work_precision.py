@@ -160,7 +160,41 @@ def check(config: dict, source: str) -> dict:
                           source, "long", "samples")
     if not all(math.isfinite(x) for x in long["w0"]) or not any(long["w0"]):
         raise ConfigError(f"must be finite and not zero, got {long['w0']}", source, "long", "w0")
+    _check_memory(config, source)
     return config
+
+
+def _check_memory(config: dict, source: str) -> None:
+    """Refuse a study whose arrays would not fit in memory, before any is allocated.
+
+    A rough upper bound: per workload member, its start, reference and end states and one
+    error per method and step size (plus scipy's DOP853 stages on the ensemble as one system);
+    the long run keeps ``samples`` states of each member for every method.
+    """
+    from ..ensemble import DEFAULT_MAX_MEMORY, format_bytes
+
+    sweep, long = config["sweep"], config["long"]
+    n_methods = len(sweep["methods"]) or len(METHODS)
+    n_steps = 1 + sweep["per_octave"] * max(0.0, math.log2(sweep["h_max"] / sweep["h_min"]))
+    per_member = 8 * (3 * 16 + n_methods * (int(n_steps) + 1) * 2)
+    for section in ("tennis", "stable"):
+        members = config[section]["members"]
+        nbytes = members * per_member
+        if nbytes > DEFAULT_MAX_MEMORY:
+            raise ConfigError(
+                f"= {members} would take about {format_bytes(nbytes)} in memory (states and "
+                f"errors of {n_methods} methods at up to {int(n_steps)} steps each), above "
+                f"{format_bytes(DEFAULT_MAX_MEMORY)}; use fewer members", source, section,
+                "members",
+            )
+    nbytes = n_methods * long["members"] * long["samples"] * 3 * 8 * 3
+    if nbytes > DEFAULT_MAX_MEMORY:
+        raise ConfigError(
+            f"= {long['samples']} samples x {long['members']} members x {n_methods} methods "
+            f"would take about {format_bytes(nbytes)} in memory, above "
+            f"{format_bytes(DEFAULT_MAX_MEMORY)}; keep fewer samples or members", source,
+            "long", "samples",
+        )
 
 
 def outputs(config: dict) -> list[str]:
