@@ -164,7 +164,10 @@ def main(argv=None) -> int:
             raise
         what = "SIGTERM" if terminated.is_set() else "Ctrl-C"
         text = str(exc) or "interrupted; nothing was published"
-        print(f"stability {args.command}: {what}: {text}", file=sys.stderr)
+        print(f"stability {args.command}: {what}: {text}", file=sys.stderr, flush=True)
+        # Objects torn half-way (a compilation in LLVM) may complain when collected at exit;
+        # the line above is the whole story.
+        sys.unraisablehook = lambda unraisable: None
         return EXIT_TERMINATED if terminated.is_set() else EXIT_INTERRUPTED
     except BrokenPipeError:  # output piped into e.g. `head`, which stopped reading
         devnull = os.open(os.devnull, os.O_WRONLY)

@@ -163,6 +163,11 @@ def ensemble_on_gpu():
 
 
 def main():
+    # The simulator runs a block's threads as Python threads that take a lock around every
+    # device-function call; preempted every 5 ms they hand that lock over one switch interval
+    # at a time (runs 100x slower, and worse the longer the kernel). The kernels never wait
+    # for each other (no syncthreads), so let each thread run to its end before the next.
+    sys.setswitchinterval(5.0)
     if "--no-device" in sys.argv:
         print(json.dumps(no_device()))
         return

@@ -67,7 +67,7 @@ CLI = {
         'study = "work_precision"\n[long]\nsteps = 1000000000000\nsamples = 1000000000000\n',
         [], ["[long] samples", "keep fewer samples"]),
     "time series too large": ('study = "tennis_racket"\n[ensemble]\nmembers = 1000000000000\n',
-                              [], ["would take", "TiB", "summaries_only"]),
+                              [], ["would take", "TiB", "save_every"]),
     "step hopeless for the spin": (
         'study = "tennis_racket"\n[spin]\nrate = 1e6\n[integration]\nmethod = "lp2"\n',
         [], ["h = 0.002 s is too large for lp2", "choose h <="]),

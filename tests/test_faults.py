@@ -250,3 +250,37 @@ def test_bad_output_names_are_refused_before_computing(tmp_path, dataset, messag
     err = done.stderr.strip().splitlines()
     assert len(err) == 1 and message in err[0], err
     assert [p.name for p in (tmp_path / "out").iterdir()] == ["folder"]
+
+
+def test_stopped_map_resumes_to_the_map_of_an_uninterrupted_run(tmp_path):
+    import numpy as np
+    import xarray as xr
+
+    study = str(ROOT / "studies" / "stability_map.toml")
+    args = ["--quick", "--members", "256", "--no-progress", "--set", "output.figures=false"]
+
+    def cmd(out, *more):
+        return [sys.executable, "-m", "stability", "run", study, *args, "--out", str(out), *more]
+
+    whole = subprocess.run(cmd(tmp_path / "whole"), cwd=ROOT, capture_output=True, text=True,
+                           timeout=600)
+    assert whole.returncode == 0, whole.stderr
+    stopped = tmp_path / "stopped"
+    proc = subprocess.Popen(cmd(stopped), cwd=ROOT, stderr=subprocess.PIPE, text=True,
+                            stdout=subprocess.DEVNULL)
+    work = stopped / ".stability-work-stability_map"
+    wait_until(lambda: (read_progress(work) or {}).get("chunks_done", 0) >= 1, proc)
+    proc.send_signal(signal.SIGINT)
+    err = proc.communicate(timeout=120)[1].strip().splitlines()
+    assert proc.returncode == 130 and "kept in" in err[-1] and "--resume" in err[-1], err
+    assert snapshot(stopped) == {} and temporaries(stopped) == []
+    resumed = subprocess.run(cmd(stopped, "--resume"), cwd=ROOT, capture_output=True,
+                             text=True, timeout=600)
+    assert resumed.returncode == 0, resumed.stderr
+    with xr.open_dataset(tmp_path / "whole" / "stability_map.nc") as a, \
+            xr.open_dataset(stopped / "stability_map.nc") as b:
+        assert set(a.variables) == set(b.variables)
+        for name in a.variables:
+            if "time" in name and "wall" in name:
+                continue
+            assert np.array_equal(a[name].values, b[name].values, equal_nan=True), name

@@ -262,8 +262,9 @@ def _interrupted(exc, out: Path, work) -> str:
         except ValueError:
             done = 0
         if done:
-            text += (f"; {done} of {manifest['chunks']} finished chunks of the ensemble are "
-                     f"kept in {work}: run the same command with --resume to continue")
+            text += (f"; {done} of {manifest['chunks']} finished chunks "
+                     f"({manifest.get('unit', 'members')}) are kept in {work}: run the same "
+                     "command with --resume to continue")
     return text
 
 

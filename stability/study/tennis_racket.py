@@ -151,6 +151,15 @@ def check(config: dict, source: str) -> dict:
         _body(config)
     except ValueError as exc:
         raise ConfigError(str(exc), source, "body") from None
+    from ..ensemble import DEFAULT_MAX_MEMORY, ensemble_memory, format_bytes
+
+    memory = ensemble_memory(config["ensemble"]["members"], n_steps // integ["save_every"])
+    if memory > DEFAULT_MAX_MEMORY:  # the analysis and figures hold the whole time series
+        raise ConfigError(
+            f"the time series of {config['ensemble']['members']} members would take "
+            f"{format_bytes(memory)} in memory, above {format_bytes(DEFAULT_MAX_MEMORY)}; use "
+            "fewer members or a larger [integration] save_every",
+            source, "ensemble", "members")
     scheduler = config["run"]["scheduler"]
     if scheduler not in ("", "dask") and "://" not in scheduler:
         raise ConfigError(
