@@ -28,7 +28,8 @@ from pathlib import Path
 import numpy as np
 
 from . import __version__
-from .store import ChunkStore, chunk_name
+from .dataset import history_line
+from .store import ChunkStore, chunk_name, read_progress
 
 log = logging.getLogger(__name__)
 
@@ -64,7 +65,13 @@ def run_streamed(kwargs: dict, store, *, resume=False, scheduler=None, threads=N
             _run_here(plan, chunks, todo, threads, progress, compress)
         else:
             _run_on_dask(kwargs, chunks, todo, scheduler, progress, compress)
-    chunks.complete(_whole_attrs(chunks))
+    attrs = _whole_attrs(chunks)
+    progress = read_progress(chunks.dir) or {}
+    attrs["history"] = attrs.get("history", "") + "\n" + history_line(
+        f"streamed to {chunks.dir}: {chunks.n_chunks} chunks of {chunks.chunk_members} "
+        f"members ({len(todo)} run by this call), {progress.get('members_per_second', 0):.3g} "
+        f"members/s, {progress.get('elapsed_seconds', 0):.1f} s")
+    chunks.complete(attrs)
     return chunks.open()
 
 

@@ -152,3 +152,44 @@ def test_unreachable_scheduler_is_one_clear_error(tmp_path):
         stability.run_ensemble(**RUN, store=tmp_path / "s", scheduler="tcp://127.0.0.1:9")
     with pytest.raises(ValueError, match="scheduler must be 'dask'"):
         stability.run_ensemble(**RUN, store=tmp_path / "t", scheduler="somewhere")
+
+
+def test_history_and_status_tell_how_the_run_went(tmp_path):
+    ds = stability.run_ensemble(**RUN, store=tmp_path / "s", chunk_members=256)
+    last = ds.attrs["history"].splitlines()[-1]
+    assert f"streamed to {tmp_path / 's'}: 3 chunks of 256 members (3 run by this call)" in last
+    assert "members/s" in last
+    done = subprocess.run([sys.executable, "-m", "stability", "status", str(tmp_path / "s")],
+                          cwd=ROOT, capture_output=True, text=True, timeout=120)
+    assert done.returncode == 0
+    assert done.stdout.splitlines()[:2] == [
+        f"{tmp_path / 's'}: 700 members in 3 chunks of 256", "complete: every chunk is done"]
+
+
+def test_a_lost_worker_has_its_chunks_run_again(in_memory, tmp_path):
+    distributed = pytest.importorskip("distributed")
+    store = tmp_path / "s"
+    with distributed.LocalCluster(n_workers=2, threads_per_worker=1, processes=True,
+                                  dashboard_address=None) as cluster, \
+            distributed.Client(cluster) as client:
+        pids = list(client.run(os.getpid).values())
+        killer = None
+
+        def kill_one_worker():  # once the first chunk is in, a worker dies (kill -9)
+            t0 = time.monotonic()
+            while (read_progress(store) or {}).get("chunks_done", 0) < 1:
+                if time.monotonic() - t0 > 120:
+                    return
+                time.sleep(0.01)
+            os.kill(pids[0], signal.SIGKILL)
+
+        import threading
+
+        killer = threading.Thread(target=kill_one_worker, daemon=True)
+        killer.start()
+        run = dict(RUN, members=700, t_end=300.0)
+        ds = stability.run_ensemble(**run, store=store, chunk_members=32, scheduler=client)
+        killer.join(timeout=5)
+        with pytest.raises(ProcessLookupError):
+            os.kill(pids[0], 0)  # it did die
+        assert_same_members(stability.run_ensemble(**run), ds.load())
