@@ -111,31 +111,66 @@ def propagate_many(
     sizes = np.asarray(sizes, dtype=np.int64).reshape(-1)
     n_groups = sizes.size
     hs = np.broadcast_to(np.asarray(h, dtype=float), (n_groups,))
-    frames = [canonical_frame(I) for I in moments]
-    bounds = np.concatenate([[0], np.cumsum(sizes)])
+    groups = CanonicalGroups(spec, moments, sizes, hs)
     m0 = np.atleast_2d(np.asarray(m0, dtype=float))
-
-    def each_group(x, convert):
-        out = np.empty_like(x)
-        for g, (perm, signs) in enumerate(frames):
-            out[bounds[g]:bounds[g + 1]] = convert(x[bounds[g]:bounds[g + 1]], perm, signs)
-        return out
-
-    params = np.array([spec.params(I[perm], hs[g]) for g, (I, (perm, _)) in
-                       enumerate(zip(moments, frames))])
     axes = None
     if track_axes is not None:
-        axes = np.array([tracking_axes(perm, int(a)) for (perm, _), a in
-                         zip(frames, np.broadcast_to(track_axes, (n_groups,)))])
+        axes = groups.tracking_axes(track_axes)
         levels = _levels(np.zeros((n_groups, 0)) if levels is None else levels, n_groups)
     run = propagate_groups(
-        scene, spec, each_group(m0, to_canonical), params, sizes, hs, n_steps,
+        scene, spec, groups.to_canonical(m0), groups.params, sizes, hs, n_steps,
         save_every=save_every, axes=axes, levels=levels, progress=progress,
         chunk_steps=chunk_steps,
     )
-    run.x_final = each_group(run.x_final, from_canonical)
-    run.saved = each_group(run.saved, from_canonical)
+    run.x_final = groups.from_canonical(run.x_final)
+    run.saved = groups.from_canonical(run.saved)
     return run
+
+
+class CanonicalGroups:
+    """Ensembles (groups of consecutive members) each turned into its body's canonical frame.
+
+    The kernels see every body with its moments in canonical order (:func:`canonical_frame`);
+    this holds each group's frame, converts the members' states into it and back, and gives
+    the kernels' parameters and the tracked axes in it.
+
+    Parameters
+    ----------
+    spec : MethodSpec
+    moments : ndarray, shape (G, 3)
+        Each group's principal moments, body order.
+    sizes : ndarray, shape (G,)
+        Members per group.
+    hs : ndarray, shape (G,)
+        Each group's step in s.
+    """
+
+    def __init__(self, spec, moments, sizes, hs):
+        self.frames = [canonical_frame(I) for I in moments]
+        self.bounds = np.concatenate([[0], np.cumsum(sizes)])
+        self.params = np.array([spec.params(I[perm], hs[g]) for g, (I, (perm, _)) in
+                                enumerate(zip(moments, self.frames))])
+
+    def to_canonical(self, x) -> np.ndarray:
+        """States ``x`` (members first) from the body frame into each group's canonical one."""
+        return self._each(x, to_canonical)
+
+    def from_canonical(self, x) -> np.ndarray:
+        """States ``x`` (members first) from each group's canonical frame to the body frame."""
+        return self._each(x, from_canonical)
+
+    def tracking_axes(self, track_axes) -> np.ndarray:
+        """:func:`tracking_axes` of each group, shape (G, 3)."""
+        n_groups = len(self.frames)
+        return np.array([tracking_axes(perm, int(a)) for (perm, _), a in
+                         zip(self.frames, np.broadcast_to(track_axes, (n_groups,)))])
+
+    def _each(self, x, convert) -> np.ndarray:
+        out = np.empty_like(x)
+        bounds = self.bounds
+        for g, (perm, signs) in enumerate(self.frames):
+            out[bounds[g]:bounds[g + 1]] = convert(x[bounds[g]:bounds[g + 1]], perm, signs)
+        return out
 
 
 def tracking_axes(perm, track_axis) -> np.ndarray:

@@ -15,8 +15,7 @@ import time
 
 import numpy as np
 
-from ..body import canonical_frame, from_canonical, to_canonical
-from ..driver import _levels, tracking_axes
+from ..driver import CanonicalGroups, _levels
 from ..engine.loop import N_TRACK, level_thresholds
 from ..engine.run import Propagation, deferred_interrupt, initial_tracking, tracking_results
 from ..scenes import SCENES
@@ -109,22 +108,12 @@ def propagate_many_gpu(method, moments, m0, sizes, h, n_steps, save_every=0, tra
     save_every = int(save_every)
     cuda = cuda_module()
 
-    frames = [canonical_frame(I) for I in moments]
-    bounds = np.concatenate([[0], np.cumsum(sizes)])
-
-    def each_group(x, convert):
-        out = np.empty_like(x)
-        for g, (perm, signs) in enumerate(frames):
-            out[bounds[g]:bounds[g + 1]] = convert(x[bounds[g]:bounds[g + 1]], perm, signs)
-        return out
-
-    params = np.array([spec.params(I[perm], hs[g]) for g, (I, (perm, _)) in
-                       enumerate(zip(moments, frames))])
-    x = each_group(m0, to_canonical)
+    groups = CanonicalGroups(spec, moments, sizes, hs)
+    bounds, params = groups.bounds, groups.params
+    x = groups.to_canonical(m0)
     tracked = track_axes is not None
     if tracked:
-        axes = np.array([tracking_axes(perm, int(a)) for (perm, _), a in
-                         zip(frames, np.broadcast_to(track_axes, (n_groups,)))])
+        axes = groups.tracking_axes(track_axes)
         levels = _levels(np.zeros((n_groups, 0)) if levels is None else levels, n_groups)
         start = np.empty((3, n_members))
         for g in range(n_groups):
@@ -197,7 +186,7 @@ def propagate_many_gpu(method, moments, m0, sizes, h, n_steps, save_every=0, tra
         if n_groups > 1 and kept:
             short = np.repeat(k_saved, sizes)
             saved[np.arange(kept)[None, :] >= short[:, None]] = np.nan
-        saved = each_group(saved, from_canonical)
+        saved = groups.from_canonical(saved)
     else:
         saved = np.empty((n_members, 0, 3))
     extras = {}
@@ -205,7 +194,7 @@ def propagate_many_gpu(method, moments, m0, sizes, h, n_steps, save_every=0, tra
         extras = tracking_results(np.ascontiguousarray(track_d.copy_to_host().T),
                                   np.ascontiguousarray(passage_d.copy_to_host().T))
     return Propagation(
-        x_final=each_group(x, from_canonical), saved=saved, status=status,
+        x_final=groups.from_canonical(x), saved=saved, status=status,
         fail_step=fail_step, iterations=np.zeros(n_members, dtype=np.int64), steps_done=done,
         interrupted=interrupted, wall_time=wall, compile_time=compile_time, extras=extras,
     )
