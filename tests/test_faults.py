@@ -285,3 +285,16 @@ def test_stopped_map_resumes_to_the_map_of_an_uninterrupted_run(tmp_path):
                 continue
             floats = a[name].dtype.kind == "f"
             assert np.array_equal(a[name].values, b[name].values, equal_nan=floats), name
+
+
+def test_output_folder_removed_while_writing_is_one_line(tmp_path):
+    out = tmp_path / "out"
+    proc = start([*QUICK, "--out", str(out)])
+    lines = Lines(proc)
+    wait_until(lambda: lines.seen("writing"), proc)
+    shutil.rmtree(out)  # someone cleans up the folder under the running study
+    proc.wait(timeout=120)
+    err = lines.wait_done()
+    assert proc.returncode == 2, err
+    assert "No such file or directory" in err[-1] or "vanished" in err[-1], err
+    assert "Traceback" not in "\n".join(err)

@@ -232,7 +232,7 @@ def run(config: dict, out_dir: Path, *, overwrite=False, threads=None, progress=
 
     out = config["output"]
     files = [out_dir / out["dataset"]]
-    say(f"writing {files[0]} and drawing the figures ...")
+    say(f"writing {files[0].name} and drawing the figures ...")
     with saving(ds, files[0], overwrite=overwrite):  # the write runs while the figures draw
         (out_dir / "config.toml").write_text(to_toml(config), encoding="utf-8")
         files.append(out_dir / "config.toml")
