@@ -157,17 +157,18 @@ def _encoding(ds: xr.Dataset, compress: bool = True) -> dict:
     """
     encoding = {}
     for name, var in ds.variables.items():
-        if var.dtype.kind not in "iuf" or var.ndim == 0:
+        dtype = np.dtype(var.dtype)  # a range index reports its dtype as a name
+        if dtype.kind not in "iuf" or var.ndim == 0:
             continue
-        enc = {"zlib": True, "complevel": COMPLEVEL, "shuffle": True, "dtype": var.dtype}
+        enc = {"zlib": True, "complevel": COMPLEVEL, "shuffle": True, "dtype": dtype}
         if not compress:
-            enc = {"zlib": False, "dtype": var.dtype}
+            enc = {"zlib": False, "dtype": dtype}
         if name in ds.coords:
             enc["_FillValue"] = None
         shape = var.shape
         if cv.MEMBER in var.dims:
             i = var.dims.index(cv.MEMBER)
-            per_member = var.dtype.itemsize * int(np.prod(shape)) // max(shape[i], 1)
+            per_member = dtype.itemsize * int(np.prod(shape)) // max(shape[i], 1)
             chunk = list(shape)
             chunk[i] = max(1, min(shape[i], CHUNK_BYTES // max(per_member, 1)))
             enc["chunksizes"] = tuple(max(1, c) for c in chunk)

@@ -193,3 +193,9 @@ def test_a_lost_worker_has_its_chunks_run_again(in_memory, tmp_path):
         with pytest.raises(ProcessLookupError):
             os.kill(pids[0], 0)  # it did die
         assert_same_members(stability.run_ensemble(**run), ds.load())
+
+
+def test_a_stored_run_saves_as_one_file(in_memory, tmp_path):
+    ds = stability.run_ensemble(**RUN, store=tmp_path / "s", chunk_members=256)
+    path = stability.save(ds, tmp_path / "whole.nc")  # dask arrays, range-indexed members
+    assert_same_members(in_memory, stability.load(path))

@@ -244,6 +244,7 @@ def run(config: dict, out_dir: Path, *, overwrite=False, threads=None, progress=
 
 def _ensemble(config, body, axis, work, resume, scheduler, threads, progress, command):
     """The ensemble, streamed through the chunk folder ``work`` and read back into memory."""
+    from .. import conventions as cv
     from ..dataset import config_toml
     from ..stream import run_streamed
 
@@ -259,6 +260,9 @@ def _ensemble(config, body, axis, work, resume, scheduler, threads, progress, co
                         progress=progress, compress=False)
     ds = lazy.compute()
     lazy.close()
+    member = ds[cv.MEMBER]  # an ordinary index in memory, as run_ensemble's own Datasets have
+    ds = ds.drop_indexes(cv.MEMBER).assign_coords(
+        {cv.MEMBER: (cv.MEMBER, np.arange(member.size, dtype=np.int64), member.attrs)})
     ds.attrs["config_toml"] = config_toml(config)  # this run's (a resumed run's may differ)
     return ds
 
