@@ -23,7 +23,9 @@ import contextlib
 import errno
 import os
 import shutil
+import signal
 import socket
+import threading
 import uuid
 from pathlib import Path
 
@@ -77,8 +79,9 @@ class Stage:
         :func:`clean_leftovers` in this folder completes it.
         """
         names = self.names()
-        _write_atomic(self.dir / JOURNAL, "\n".join(names) + "\n")
-        _finish_publishing(self.dir, self.out_dir)
+        with _interrupts_held():  # a result is either the old one or the new one, whole
+            _write_atomic(self.dir / JOURNAL, "\n".join(names) + "\n")
+            _finish_publishing(self.dir, self.out_dir)
         self.published = [self.out_dir / name for name in names]
         return self.published
 
@@ -98,6 +101,8 @@ def staged(out_dir):
     try:
         yield stage
     finally:
+        if (stage.dir / JOURNAL).exists():  # stopped while publishing: finish it
+            _finish_publishing(stage.dir, stage.out_dir)
         stage.discard()  # published files are no longer in it
 
 
@@ -206,6 +211,23 @@ def disk_error(exc: BaseException, path) -> OSError:
 
 
 # --- helpers ----------------------------------------------------------------------------------
+
+
+@contextlib.contextmanager
+def _interrupts_held():
+    """Ctrl-C (and SIGTERM, which the command line turns into it) waits until the block ends.
+
+    Publishing takes milliseconds; a signal in the middle would leave new files beside old
+    ones. A run whose publication completed has finished, so the held signal is dropped.
+    """
+    if threading.current_thread() is not threading.main_thread():
+        yield
+        return
+    previous = signal.signal(signal.SIGINT, lambda signum, frame: None)
+    try:
+        yield
+    finally:
+        signal.signal(signal.SIGINT, previous)
 
 
 def _finish_publishing(stage: Path, out: Path) -> None:

@@ -104,7 +104,7 @@ PHASES = {
     "integrate": (LONG, None, lambda out, lines: (read_progress(
         out / ".stability-work-tennis_racket") or {}).get("chunks_done", 0) >= 2, 0.0),
     "write": (QUICK, None, lambda out, lines: lines.seen("writing"), 0.0),
-    "figures": (QUICK, None, lambda out, lines: lines.seen("writing"), 0.8),
+    "figures": (QUICK, None, lambda out, lines: lines.seen("writing"), 0.4),
 }
 
 
@@ -123,6 +123,9 @@ def test_signal_at_each_phase_loses_nothing_and_leaves_nothing(earlier, tmp_path
     proc.send_signal(getattr(signal, sig))
     proc.wait(timeout=60)
     err = lines.wait_done()
+    if proc.returncode == 0:  # the signal came as the run was publishing: it finished whole
+        assert snapshot(out).keys() == before.keys() and temporaries(out) == []
+        return
     assert snapshot(out) == before, "the earlier result changed"
     if sig == "SIGKILL":
         assert proc.returncode == -signal.SIGKILL
