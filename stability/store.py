@@ -97,7 +97,8 @@ class ChunkStore:
             self._check_not_running()
             for partial in [*self.dir.glob(".*.tmp"), *self.dir.glob(".*.part")]:
                 partial.unlink(missing_ok=True)  # what a killed run was writing
-            done = len(self.done())
+            self.finished = self.done()
+            done = len(self.finished)
             if done and not resume and earlier.get("complete"):
                 raise ValueError(
                     f"{self.dir} already holds this run, complete; open it with "
@@ -112,6 +113,7 @@ class ChunkStore:
         else:
             self.dir.mkdir(parents=True, exist_ok=True)
             self._write_manifest(complete=False, attrs=None)
+            self.finished = []
 
     def _check_not_running(self) -> None:
         """Refuse a store that a live process on this host is still writing."""
@@ -142,7 +144,8 @@ class ChunkStore:
         return finished
 
     def missing(self) -> list[int]:
-        done = set(self.done())
+        """Chunks that were not done when the store was opened (each file is read once)."""
+        done = set(self.finished)
         return [k for k in range(self.n_chunks) if k not in done]
 
     def verify(self, k: int) -> bool:

@@ -77,7 +77,7 @@ def run_streamed(kwargs: dict, store, *, resume=False, scheduler=None, threads=N
 
 def _run_here(plan, chunks, todo, threads, progress, compress):
     """The missing chunks in this process, on all its Numba threads."""
-    from .ensemble import _chunk_plan, _dataset, _run, _threads
+    from .ensemble import _threads
     from .threads import numba_threads
 
     tracker = _Tracker(chunks, todo, progress)
@@ -85,11 +85,7 @@ def _run_here(plan, chunks, todo, threads, progress, compress):
         with numba_threads(_threads(threads)):
             for k in todo:
                 lo, hi = chunks.bounds(k)
-                sub = _chunk_plan(plan, lo, hi)
-                (run,) = _run([sub], tracker.inner_progress)
-                if run.interrupted:
-                    raise KeyboardInterrupt
-                ds = _labelled(_dataset(sub, run, threads), lo)
+                ds = _chunk_dataset(plan, lo, hi, tracker.inner_progress, threads)
                 chunks.write(k, ds, compress)
                 tracker.finished(k, hi - lo)
     except KeyboardInterrupt:  # Ctrl-C between chunks, or while compiling or writing
@@ -103,7 +99,7 @@ def run_chunk(kwargs: dict, directory, k: int, lo: int, hi: int, compress: bool)
     import numba
     from distributed import get_worker
 
-    from .ensemble import _chunk_plan, _dataset, _plan, _run
+    from .ensemble import _plan
     from .store import write_chunk
     from .threads import numba_threads
 
@@ -112,10 +108,8 @@ def run_chunk(kwargs: dict, directory, k: int, lo: int, hi: int, compress: bool)
     except (ValueError, AttributeError):  # not on a worker (a test calling it directly)
         nthreads = numba.config.NUMBA_NUM_THREADS
     plan = _plan(**kwargs, defer_starts=True)
-    sub = _chunk_plan(plan, lo, hi)
     with numba_threads(max(1, min(nthreads, numba.config.NUMBA_NUM_THREADS))):
-        (run,) = _run([sub], False)
-        ds = _labelled(_dataset(sub, run, None), lo)
+        ds = _chunk_dataset(plan, lo, hi, False, None)
     write_chunk(ds, Path(directory) / chunk_name(k), compress)
     return k
 
@@ -169,10 +163,19 @@ def _run_on_dask(kwargs, chunks, todo, scheduler, progress, compress):
             cluster.close()
 
 
-def _labelled(ds, lo: int):
-    """A chunk's Dataset with its members numbered from ``lo``."""
-    from . import conventions as cv
+def _chunk_dataset(plan, lo: int, hi: int, progress, threads):
+    """The Dataset of members ``lo ... hi - 1`` of ``plan``, numbered from ``lo``.
 
+    Raises KeyboardInterrupt if Ctrl-C stopped the chunk (a partial chunk is never kept).
+    """
+    from . import conventions as cv
+    from .ensemble import _chunk_plan, _dataset, _run
+
+    sub = _chunk_plan(plan, lo, hi)
+    (run,) = _run([sub], progress)
+    if run.interrupted:
+        raise KeyboardInterrupt
+    ds = _dataset(sub, run, threads)
     member = ds[cv.MEMBER]
     return ds.assign_coords({cv.MEMBER: (cv.MEMBER, np.arange(lo, lo + member.size),
                                          member.attrs)})
@@ -217,8 +220,7 @@ class _Tracker:
         self.started = time.time()
         self.t0 = time.perf_counter()
         self.done_chunks = chunks.n_chunks - len(todo)
-        self.done_members = sum(hi - lo for lo, hi in map(chunks.bounds, range(chunks.n_chunks))
-                                ) - sum(hi - lo for lo, hi in map(chunks.bounds, todo))
+        self.done_members = chunks.members - sum(hi - lo for lo, hi in map(chunks.bounds, todo))
         self.new_members = 0
         self.many = len(todo) > 1
         self.inner_progress = False if self.many else progress

@@ -217,13 +217,13 @@ def run_study(
                                progress=progress, history=history, **extra)
             stage.publish()
     except BaseException as exc:
-        if kind.resumable:
-            _drop_if_empty(work)
+        kept = _kept(work) if kind.resumable else None
+        if kept is not None and kept[0] == 0:
+            shutil.rmtree(work, ignore_errors=True)  # nothing there to resume
         if created and out.is_dir() and not any(out.iterdir()):
             out.rmdir()  # a folder this run made and left empty
         if isinstance(exc, KeyboardInterrupt):
-            raise RunInterrupted(_interrupted(exc, out, work if kind.resumable else None)
-                                 ) from None
+            raise RunInterrupted(_interrupted(out, work, kept)) from None
         raise
     if kind.resumable:
         shutil.rmtree(work, ignore_errors=True)
@@ -232,39 +232,31 @@ def run_study(
     return summary
 
 
-def _drop_if_empty(work: Path) -> None:
-    """Remove a work folder that holds no finished chunk (nothing there to resume)."""
-    import shutil
-
+def _kept(work: Path):
+    """``(finished chunks, manifest)`` of a work folder; None if absent or unreadable."""
     from ..store import MANIFEST, ChunkStore, read_manifest
 
     if not work.is_dir():
-        return
+        return None
+    if not (work / MANIFEST).exists():
+        return 0, {}
     try:
-        chunks = read_manifest(work)["chunks"] if (work / MANIFEST).exists() else 0
+        manifest = read_manifest(work)
     except ValueError:
-        return
-    if not any(ChunkStore.verify_path(work, k) for k in range(chunks)):
-        shutil.rmtree(work, ignore_errors=True)
+        return None
+    return sum(ChunkStore.verify_path(work, k) for k in range(manifest["chunks"])), manifest
 
 
-def _interrupted(exc, out: Path, work) -> str:
-    """One line: the run stopped, what was kept, how to continue."""
-    from ..store import MANIFEST, ChunkStore, read_manifest
-
+def _interrupted(out: Path, work: Path, kept) -> str:
+    """One line: the run stopped, what was kept (``_kept(work)``), how to continue."""
     text = "interrupted; nothing was published"
     if out.is_dir() and any(not p.name.startswith(".") for p in out.iterdir()):
         text += f" (what {out} held is unchanged)"
-    if work is not None and (work / MANIFEST).exists():
-        try:
-            manifest = read_manifest(work)
-            done = sum(ChunkStore.verify_path(work, k) for k in range(manifest["chunks"]))
-        except ValueError:
-            done = 0
-        if done:
-            text += (f"; {done} of {manifest['chunks']} finished chunks "
-                     f"({manifest.get('unit', 'members')}) are kept in {work}: run the same "
-                     "command with --resume to continue")
+    if kept is not None and kept[0]:
+        done, manifest = kept
+        text += (f"; {done} of {manifest['chunks']} finished chunks "
+                 f"({manifest.get('unit', 'members')}) are kept in {work}: run the same "
+                 "command with --resume to continue")
     return text
 
 
