@@ -1,5 +1,7 @@
 """Reference solutions shared by the tests."""
 
+import time
+
 import numpy as np
 from scipy.integrate import solve_ivp
 
@@ -31,3 +33,21 @@ def reference_omega(body, w0, t_end):
     if hasattr(stability, "exact_omega"):
         return stability.exact_omega(body, w0, np.array([t_end]))[0]
     return dop853_omega(body.moments, w0, t_end)
+
+
+def wait_until(predicate, proc, timeout=180.0, show_stderr=False):
+    """Poll ``predicate()`` until it holds while the subprocess ``proc`` runs.
+
+    AssertionError if ``proc`` ends first (with its stderr when ``show_stderr``, for a
+    process whose stderr nobody else reads) or after ``timeout`` s (``proc`` is killed).
+    """
+    t0 = time.monotonic()
+    while not predicate():
+        if proc.poll() is not None:
+            detail = f": {proc.stderr.read()}" if show_stderr else ""
+            raise AssertionError(f"the process ended (exit {proc.returncode}) before the "
+                                 f"state awaited{detail}")
+        if time.monotonic() - t0 > timeout:
+            proc.kill()
+            raise AssertionError("timed out waiting for the state awaited")
+        time.sleep(0.02)

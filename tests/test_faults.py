@@ -24,6 +24,8 @@ import pytest
 from stability.publish import JOURNAL, STAGE_PREFIX, Stage, clean_leftovers
 from stability.store import read_progress
 
+from .helpers import wait_until
+
 ROOT = Path(__file__).resolve().parents[1]
 TENNIS = ROOT / "studies" / "tennis_racket.toml"
 QUICK = ["--quick", "--members", "512", "--set", "run.chunk_members=128",
@@ -62,17 +64,6 @@ class Lines:
     def wait_done(self):
         self.thread.join(timeout=30)
         return self.lines
-
-
-def wait_until(predicate, proc, timeout=180.0):
-    t0 = time.monotonic()
-    while not predicate():
-        if proc.poll() is not None:
-            raise AssertionError(f"the run ended (exit {proc.returncode}) before the phase")
-        if time.monotonic() - t0 > timeout:
-            proc.kill()
-            raise AssertionError("timed out waiting for the phase")
-        time.sleep(0.02)
 
 
 def snapshot(folder: Path) -> dict:

@@ -20,6 +20,8 @@ import xarray as xr
 import stability
 from stability.store import open_store, read_progress
 
+from .helpers import wait_until
+
 ROOT = Path(__file__).resolve().parents[1]
 BODY = stability.RigidBody(1.0, 2.0, 3.0)
 RUN = dict(body=BODY, axis=2, spin=1.0, epsilon=1e-3, members=700, h=0.01, t_end=30.0, seed=4,
@@ -101,23 +103,13 @@ def _start(script, *args, env=None):
                             env={**os.environ, **(env or {})})
 
 
-def _wait_for(predicate, proc, timeout=120.0):
-    t0 = time.monotonic()
-    while not predicate():
-        if proc.poll() is not None:
-            raise AssertionError(f"process ended early: {proc.stderr.read().decode()}")
-        if time.monotonic() - t0 > timeout:
-            proc.kill()
-            raise AssertionError("timed out waiting")
-        time.sleep(0.05)
-
-
 @pytest.mark.parametrize("how", ["SIGKILL", "SIGINT"])
 def test_resume_after_a_real_kill_is_bitwise_the_uninterrupted_run(tmp_path, how):
     chunks, t_end = 6, 60.0
     store = tmp_path / "s"
     proc = _start(KILLED.format(chunks=chunks, t_end=t_end), str(store))
-    _wait_for(lambda: (read_progress(store) or {}).get("chunks_done", 0) >= 2, proc)
+    wait_until(lambda: (read_progress(store) or {}).get("chunks_done", 0) >= 2, proc,
+               show_stderr=True)
     proc.send_signal(getattr(signal, how))
     proc.wait(timeout=60)
     progress = read_progress(store)
