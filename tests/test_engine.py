@@ -17,14 +17,8 @@ MOMENTS = np.array([1.0, 2.0, 3.0])  # canonical already
 
 
 def starts(scene, n, seed=0):
-    """n states near a spin about the intermediate axis (and the identity attitude)."""
-    rng = np.random.default_rng(seed)
-    m = np.column_stack([1e-2 * rng.standard_normal(n), 2.0 + 0 * rng.standard_normal(n),
-                         1e-2 * rng.standard_normal(n)])
-    if scene.width == 3:
-        return m
-    q = np.tile([1.0, 0.0, 0.0, 0.0], (n, 1))
-    return np.concatenate([m, q], axis=1)
+    """n starts of the scene's own example (for the free body: near the intermediate axis)."""
+    return scene.example(n, seed)[0]
 
 
 CASES = [(scene, name) for scene in SCENES.values() for name in scene.methods]
@@ -35,7 +29,7 @@ def test_groups_are_bitwise_the_runs_alone(scene, name):
     """Ensembles grouped in one call (other bodies, steps and horizons beside them) give every
     member bitwise what a run of its ensemble alone gives, saved samples and tracking included."""
     spec = scene.method(name)
-    bodies = [MOMENTS, np.array([1.0, 1.5, 2.2]), np.array([0.5, 2.0, 2.1])]
+    bodies = scene.example(1)[1]
     sizes = [70, BLOCK, 5]  # a partial block, a whole one, a tiny one
     hs = [0.05, 0.02, 0.04]
     steps = [40, 60, 20]

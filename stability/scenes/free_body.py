@@ -53,6 +53,14 @@ def angular_momentum(m, moments):
     return np.linalg.norm(m, axis=-1)
 
 
+def example(n, seed=0):
+    """Starts near a spin about the intermediate axis, and three bodies (generic tests)."""
+    rng = np.random.default_rng(seed)
+    m = np.column_stack([1e-2 * rng.standard_normal(n), np.full(n, 2.0),
+                         1e-2 * rng.standard_normal(n)])
+    return m, [np.array([1.0, 2.0, 3.0]), np.array([1.0, 1.5, 2.2]), np.array([0.5, 2.0, 2.1])]
+
+
 FREE_BODY = Scene(
     name="free_body",
     title="free rigid body (angular velocity only)",
@@ -64,5 +72,6 @@ FREE_BODY = Scene(
     tracked=tracked,
     invariants={"energy": energy, "angular_momentum": angular_momentum},
     exact=exact_omega,
+    example=example,
 )
 

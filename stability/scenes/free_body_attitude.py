@@ -12,7 +12,8 @@ from numba import njit
 
 from .. import conventions as cv
 from ..integrators import METHODS
-from .free_body import angular_momentum, energy, observe as observe_m, tracked as tracked_m
+from .free_body import angular_momentum, energy, example as example_m, observe as observe_m
+from .free_body import tracked as tracked_m
 from .spec import Scene
 
 
@@ -36,6 +37,12 @@ def quaternion_norm(x, moments):
     return np.linalg.norm(x[:, 3:], axis=-1)
 
 
+def example(n, seed=0):
+    """The free body's starts with the identity attitude, and its bodies."""
+    m, bodies = example_m(n, seed)
+    return np.concatenate([m, np.tile([1.0, 0.0, 0.0, 0.0], (n, 1))], axis=1), bodies
+
+
 FREE_BODY_ATTITUDE = Scene(
     name="free_body_attitude",
     title="free rigid body with attitude",
@@ -51,4 +58,5 @@ FREE_BODY_ATTITUDE = Scene(
         "angular_momentum": lambda x, moments: angular_momentum(x[:, :3], moments),
         "quaternion_norm": quaternion_norm,
     },
+    example=example,
 )

@@ -13,7 +13,8 @@ for a new scene (copy ``stability/scenes/free_body.py``):
 3. Write ``observe(x_0, ..., x_{n-1}, p, ia, ib, ic) -> (a, b, c)``: what the loop tracks (the
    component along the spin axis and two across it), and ``tracked``, the same in NumPy.
 4. Give its invariants (NumPy functions of the state and the parameters) and its exact solution
-   where one exists.
+   where one exists, and ``example(n, seed) -> (x0, parameters)``: starts and a few parameter
+   sets (what ``spec.params`` takes) for the generic tests.
 5. Add the scene to ``SCENES`` in ``stability/scenes/__init__.py``; ``tests/test_engine.py``
    then checks every method of it for bitwise reproducibility across groups and chunks. Write
    its order and invariant tests against its exact solution, as ``tests/test_integrators.py``
@@ -58,6 +59,9 @@ class Scene:
         ``f(x, parameters) -> ndarray (N,)`` for each conserved quantity, states ``x`` (N, n).
     exact : callable or None
         The exact solution, where one exists.
+    example : callable
+        ``example(n, seed=0) -> (x0, parameters)``: ``n`` starts (n, width) and a list of
+        parameter sets (each what ``spec.params`` takes), for the generic tests.
     """
 
     name: str
@@ -71,6 +75,7 @@ class Scene:
     kernel: Callable = field(repr=False, default=_own_step)
     invariants: Mapping = field(repr=False, default_factory=dict)
     exact: Callable | None = field(repr=False, default=None)
+    example: Callable | None = field(repr=False, default=None)
 
     @property
     def width(self) -> int:

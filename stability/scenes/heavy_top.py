@@ -1,0 +1,90 @@
+"""The heavy top on a fixed pivot in uniform gravity: body angular momentum and the vertical.
+
+The state is ``(m1, m2, m3, g1, g2, g3)``: m the angular momentum about the pivot and g the
+upward vertical, both in the principal frame of the moments about the pivot; six numbers per
+member and no attitude (the tilt of any body axis is read from g). Parameters per top:
+``(I1, I2, I3, c1, c2, c3)``, the moments about the pivot and ``c = M g l chi`` with chi the
+unit vector from the pivot to the centre of mass (:class:`stability.top.HeavyTop` makes them).
+Equations, methods and references: :mod:`stability.integrators.heavy_top`. Invariants: the
+energy ``m . I^-1 m / 2 + c . g`` and the Casimirs ``|g|`` and ``g . m`` (the angular momentum
+about the vertical); exact solution for a symmetric top: :mod:`stability.exact_top`.
+
+Tracking: the spin-axis component is ``g_a`` (the cosine of the tilt of body axis a from the
+vertical: it changes sign when that axis passes the horizontal) and the amplitude across it is
+``sqrt(g_b^2 + g_c^2)``, the sine of the tilt, returned as ``b`` with ``c = 0``: the components
+g_b, g_c themselves turn with the spin, and would count the spin's turns as oscillations.
+"""
+
+import math
+
+import numpy as np
+from numba import njit
+
+from .. import conventions as cv
+from ..integrators.heavy_top import METHODS, N_TOP
+from .free_body import component
+from .spec import Scene
+
+
+@njit(inline="always")
+def observe(m1, m2, m3, g1, g2, g3, p, ia, ib, ic):
+    """``(g_a, sqrt(g_b^2 + g_c^2), 0)``: cosine and sine of body axis a's tilt."""
+    gb = component(g1, g2, g3, ib)
+    gc = component(g1, g2, g3, ic)
+    return component(g1, g2, g3, ia), math.sqrt(gb * gb + gc * gc), 0.0
+
+
+def tracked(x, p, axes):
+    """:func:`observe` in NumPy over states ``x`` (N, 6)."""
+    g = x[:, 3:6]
+    return g[:, axes[0]], np.hypot(g[:, axes[1]], g[:, axes[2]]), np.zeros(x.shape[0])
+
+
+def _top(top):
+    top = np.asarray(top, dtype=float).reshape(-1)
+    if top.size < N_TOP:
+        raise ValueError(f"a top is described by {N_TOP} numbers, got {top.size}")
+    return top[:3], top[3:6]
+
+
+def energy(x, top):
+    """``H = m . I^-1 m / 2 + c . g`` (J) of states ``x`` (N, 6) of ``top``."""
+    moments, c = _top(top)
+    return 0.5 * np.sum(x[:, :3] ** 2 / moments, axis=-1) + x[:, 3:6] @ c
+
+
+def vertical_norm(x, top):
+    """``|g|`` (1), a Casimir."""
+    return np.linalg.norm(x[:, 3:6], axis=-1)
+
+
+def vertical_momentum(x, top):
+    """``g . m`` (kg m2 s-1), the angular momentum about the vertical: a Casimir."""
+    return np.sum(x[:, :3] * x[:, 3:6], axis=-1)
+
+
+def example(n, seed=0):
+    """Starts and tops for generic tests: ``n`` states of a tilted, spinning asymmetric top."""
+    rng = np.random.default_rng(seed)
+    tilt = 0.3 + 0.1 * rng.random(n)
+    g = np.column_stack([np.sin(tilt) * 0.6, np.sin(tilt) * 0.8, np.cos(tilt)])
+    m = np.column_stack([0.1 * rng.standard_normal(n), 0.1 * rng.standard_normal(n),
+                         4.0 + rng.random(n)])
+    tops = [np.array([1.0, 1.2, 0.5, 0.0, 0.0, 1.5]), np.array([2.0, 2.0, 0.8, 0.0, 0.0, 3.0]),
+            np.array([1.0, 1.3, 0.9, 0.1, 0.0, 2.0])]
+    return np.concatenate([m, g], axis=1), tops
+
+
+HEAVY_TOP = Scene(
+    name="heavy_top",
+    title="heavy top on a fixed pivot (angular momentum and vertical)",
+    equations="m' = m x I^-1 m + g x c, g' = g x I^-1 m (c = M g l chi)",
+    components=("m1", "m2", "m3", "g1", "g2", "g3"),
+    units=(cv.UNITS_ANGULAR_MOMENTUM,) * 3 + (cv.UNITS_DIMENSIONLESS,) * 3,
+    methods=METHODS,
+    observe=observe,
+    tracked=tracked,
+    invariants={"energy": energy, "vertical_norm": vertical_norm,
+                "vertical_momentum": vertical_momentum},
+    example=example,
+)
