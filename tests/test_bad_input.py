@@ -68,6 +68,18 @@ CLI = {
         [], ["[long] samples", "keep fewer samples"]),
     "time series too large": ('study = "tennis_racket"\n[ensemble]\nmembers = 1000000000000\n',
                               [], ["would take", "TiB", "save_every"]),
+    "asymmetric sleeping top": (
+        'study = "sleeping_top"\n[top]\ncentral_moments = [2e-5, 3e-5, 4.5e-5]\n', [],
+        ["[top] central_moments must have I1 = I2"]),
+    "top breaking the triangle inequality": (
+        'study = "sleeping_top"\n[top]\ncentral_moments = [1e-5, 1e-5, 4.5e-5]\n', [],
+        ["[top] central_moments", "triangle inequality"]),
+    "top of negative mass": ('study = "sleeping_top"\n[top]\nmass = -0.1\n', [],
+                             ["[top] mass must be"]),
+    "top with its centre of mass below the pivot": (
+        'study = "sleeping_top"\n[top]\nlengths = [0.04, -0.01]\n', [], ["[top] lengths"]),
+    "empty spin range": ('study = "sleeping_top"\n[spins]\nmin = 100.0\nmax = 50.0\n', [],
+                         ["[spins] max must exceed"]),
     "step hopeless for the spin": (
         'study = "tennis_racket"\n[spin]\nrate = 1e6\n[integration]\nmethod = "lp2"\n',
         [], ["h = 0.002 s is too large for lp2", "choose h <="]),

@@ -292,3 +292,30 @@ def test_output_folder_removed_while_writing_is_one_line(tmp_path):
     assert proc.returncode == 2, err
     assert "No such file or directory" in err[-1] or "vanished" in err[-1], err
     assert "Traceback" not in "\n".join(err)
+
+
+@pytest.mark.parametrize("sig", ["SIGINT", "SIGTERM"])
+def test_sleeping_top_stopped_while_integrating_keeps_the_earlier_result(tmp_path, sig):
+    """The sleeping-top map runs in one piece: a signal while it integrates publishes nothing,
+    leaves the earlier result byte for byte and no temporary file, and says so in one line."""
+    study = str(ROOT / "studies" / "sleeping_top.toml")
+    out = tmp_path / "out"
+    quick = [sys.executable, "-m", "stability", "run", study, "--quick", "--no-progress",
+             "--set", "output.formats=['png']", "--out", str(out)]
+    done = subprocess.run(quick, cwd=ROOT, capture_output=True, text=True, timeout=300)
+    assert done.returncode == 0, done.stderr
+    before = snapshot(out)
+    proc = subprocess.Popen(
+        [sys.executable, "-m", "stability", "run", study, "--members", "256", "--out",
+         str(out), "--overwrite"], cwd=ROOT, stdout=subprocess.PIPE, stderr=subprocess.PIPE,
+        text=True)
+    lines = Lines(proc)
+    wait_until(lambda: lines.seen("sleeping tops"), proc)  # its progress bar: integrating
+    proc.send_signal(getattr(signal, sig))
+    proc.wait(timeout=60)
+    err = lines.wait_done()
+    assert proc.returncode == (130 if sig == "SIGINT" else 143), err
+    assert err[-1].startswith(f"stability run: {'Ctrl-C' if sig == 'SIGINT' else 'SIGTERM'}: "
+                              "interrupted; nothing was published"), err
+    assert "Traceback" not in "\n".join(err)
+    assert snapshot(out) == before and temporaries(out) == []

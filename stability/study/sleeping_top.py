@@ -1,0 +1,209 @@
+"""The sleeping-top study: a top spun upright is stable only above a critical spin.
+
+A symmetric top (its mass, its moments about the centre of mass and the pivot distances l are
+keys of the study file) is spun upright at each spin of a grid across the threshold
+``w_c = 2 sqrt(A M g l) / C``; an ensemble of tops tilted by a tiny angle at random azimuths
+runs at each (l, spin), and the measured growth rate of the tilt is set beside the analytic
+``sqrt(4 A M g l - C^2 w3^2) / (2 A)`` (:mod:`stability.sleeping_top`). Outputs: the Dataset, one
+figure (:func:`stability.figures.top.sleeping_top_figure`) and the study's configuration.
+"""
+
+from __future__ import annotations
+
+import math
+import time
+from pathlib import Path
+
+import numpy as np
+
+from .config import ConfigError, Key, Schema, Section, StudyKind, StudySummary
+
+NAME = "sleeping_top"
+FIGURE = "sleeping_top"
+
+
+def _top_methods() -> tuple:
+    from ..integrators.heavy_top import METHODS
+
+    return tuple(METHODS)
+
+
+SCHEMA = Schema(
+    top=(Key("title", "str", "Stability of the sleeping top across the critical spin",
+             "one line describing the run (the Dataset's title)"),),
+    sections=(
+        Section("top", "the symmetric top: a disk-like body on an axle over the pivot", (
+            Key("mass", "float", 0.1, "mass M", unit="kg", minimum=0.0, exclusive_minimum=True),
+            Key("central_moments", "floats", [2.25e-5, 2.25e-5, 4.5e-5],
+                "principal moments about the centre of mass, axis 3 the symmetry axis "
+                "(I1 = I2); default: a disk of radius 3 cm", unit="kg m2", minimum=0.0,
+                exclusive_minimum=True, length=3),
+            Key("lengths", "floats", [0.03, 0.04, 0.05],
+                "distances l from the pivot to the centre of mass, one map each", unit="m",
+                minimum=0.0, exclusive_minimum=True),
+            Key("gravity", "float", 9.80665, "g", unit="m s-2", minimum=0.0,
+                exclusive_minimum=True),
+        )),
+        Section("spins", "the spins w3 of the map", (
+            Key("min", "float", 0.0, "smallest spin", unit="rad s-1", minimum=0.0),
+            Key("max", "float", 250.0, "largest spin", unit="rad s-1", minimum=0.0,
+                exclusive_minimum=True),
+            Key("count", "int", 26, "number of spins, evenly spaced", minimum=2),
+        )),
+        Section("ensemble", "the tilted members at each (l, spin)", (
+            Key("members", "int", 64, "members per (l, spin)", minimum=1),
+            Key("tilt", "float", 1e-9, "initial tilt from the vertical (linear regime)",
+                unit="rad", minimum=0.0, exclusive_minimum=True, maximum=1e-3),
+            Key("seed", "int", 0, "seed of the members' azimuths", minimum=0),
+        )),
+        Section("integration", "the integrator and its step", (
+            Key("method", "str", "lp4", "a heavy-top method", choices=_top_methods),
+            Key("step_angle", "float", 0.02,
+                "h times the fastest rate (spin, nutation, fall)", unit="rad", minimum=0.0,
+                exclusive_minimum=True, maximum=0.5),
+            Key("t_stable", "float", 2.0, "run time above the critical spin", unit="s",
+                minimum=0.0, exclusive_minimum=True),
+        )),
+        Section("analysis", "the growth-rate fit over the linear phase", (
+            Key("fit_above", "float", 1e3, "start each member's fit at this times its tilt",
+                minimum=1.0, exclusive_minimum=True),
+            Key("fit_below", "float", 1e-2, "end it at this sin(tilt)", minimum=0.0,
+                exclusive_minimum=True, maximum=0.1),
+            Key("claim", "float", 1e-3,
+                "relative error the measured rate must stay within, away from the threshold",
+                minimum=0.0, exclusive_minimum=True),
+            Key("away", "float", 0.1,
+                "'away from the threshold': analytic rate at least this fraction of its value "
+                "at zero spin", minimum=0.0, maximum=1.0),
+        )),
+        Section("output", "where the results go", (
+            Key("dir", "str", "results/sleeping_top", "output folder"),
+            Key("dataset", "str", "sleeping_top.nc", "file name of the Dataset (netCDF)"),
+            Key("figures", "bool", True, "draw the figure"),
+            Key("formats", "strs", ["png", "pdf"], "figure formats",
+                choices=("png", "pdf", "svg")),
+        )),
+    ),
+)
+
+#: ``--quick``: fewer spins and members, one length.
+QUICK = {"spins": {"count": 11}, "ensemble": {"members": 16}, "top": {"lengths": [0.04]}}
+
+
+def _tops(config, source="<config>"):
+    from ..top import HeavyTop
+
+    t = config["top"]
+    tops = []
+    for length in t["lengths"]:
+        try:
+            tops.append(HeavyTop(t["mass"], length, tuple(t["central_moments"]), t["gravity"],
+                                 name=f"l = {length:g} m"))
+        except ValueError as exc:
+            raise ConfigError(str(exc), source, "top", "central_moments") from None
+    return tops
+
+
+def check(config: dict, source: str) -> dict:
+    """A symmetric, physical top; a non-empty spin range."""
+    t = config["top"]
+    I1, I2, _ = t["central_moments"]
+    if I1 != I2:
+        raise ConfigError(f"must have I1 = I2 (a symmetric top), got {I1:g} and {I2:g}",
+                          source, "top", "central_moments")
+    if not t["lengths"]:
+        raise ConfigError("must list at least one distance", source, "top", "lengths")
+    _tops(config, source)
+    s = config["spins"]
+    if s["max"] <= s["min"]:
+        raise ConfigError(f"must exceed [spins] min ({s['min']:g}), got {s['max']:g}", source,
+                          "spins", "max")
+    return config
+
+
+def outputs(config: dict) -> list[str]:
+    out = config["output"]
+    names = [out["dataset"], "config.toml"]
+    if out["figures"]:
+        names += [f"{FIGURE}.{fmt}" for fmt in out["formats"]]
+    return names
+
+
+def run(config: dict, out_dir: Path, *, overwrite=False, threads=None, progress=None,
+        history=None) -> StudySummary:
+    """Run the map, save the Dataset, draw the figure; the summary of measured against analytic."""
+    from ..dataset import append_history, config_toml, software_attrs
+    from ..figures.style import save
+    from ..figures.top import sleeping_top_figure
+    from ..io import saving
+    from ..sleeping_top import measure_sleeping_tops
+    from ..threads import numba_threads
+    from .config import to_toml
+
+    t_start = time.perf_counter()
+    tops = _tops(config)
+    s, ens, integ, an = config["spins"], config["ensemble"], config["integration"], config["analysis"]
+    spins = np.linspace(s["min"], s["max"], s["count"])
+    with numba_threads(threads):
+        ds = measure_sleeping_tops(
+            tops, spins, members=ens["members"], tilt=ens["tilt"], method=integ["method"],
+            step_angle=integ["step_angle"], t_stable=integ["t_stable"],
+            low_factor=an["fit_above"], high_fraction=an["fit_below"], seed=ens["seed"],
+            progress=progress)
+    t = config["top"]
+    ds.attrs.update({
+        "title": config["title"], "study": NAME, "mass": t["mass"],
+        "central_moments": np.array(t["central_moments"]), "gravity": t["gravity"],
+        "claim": an["claim"], "away_fraction": an["away"],
+        "config": config_toml(config), **software_attrs(),
+    })
+    ds = append_history(ds, history or f"stability run ({NAME})")
+    out = config["output"]
+    files = [out_dir / out["dataset"]]
+    with saving(ds, files[0], overwrite=overwrite):
+        (out_dir / "config.toml").write_text(to_toml(config), encoding="utf-8")
+        files.append(out_dir / "config.toml")
+        if out["figures"]:
+            files += save(sleeping_top_figure(ds, claim=an["claim"]), out_dir, FIGURE,
+                          out["formats"])
+    return summarize(ds, out_dir, files, time.perf_counter() - t_start)
+
+
+def summarize(ds, out_dir, files, wall) -> StudySummary:
+    """Largest relative error away from the threshold, against the claim; the critical spins."""
+    claim, away = ds.attrs["claim"], ds.attrs["away_fraction"]
+    err = np.abs(ds.relative_error.values)
+    counted = (ds.rate_fraction.values >= away) & np.isfinite(err)
+    worst = float(err[counted].max()) if counted.any() else math.nan
+    near = np.isfinite(err) & ~counted
+    unstable = ds.growth_rate_analytic.values > 0
+    wrong_side = int(np.sum(unstable != (ds.growth_rate_measured.values > 0)))
+    crit = np.atleast_1d(ds.critical_spin.values)
+    values = {"max_relative_error": worst, "claim": claim, "counted": int(counted.sum()),
+              "max_relative_error_near": float(err[near].max()) if near.any() else math.nan,
+              "wrong_side": wrong_side, "critical_spins": crit.tolist(), "wall_time": wall,
+              "integration_time": float(ds.attrs["wall_time"]),
+              "member_steps": int(ds.attrs["member_steps"])}
+    rows = [("critical spins 2 sqrt(A M g l) / C",
+             ", ".join(f"{w:.2f}" for w in crit), "rad s-1")]
+    rows += [(f"max |relative error| of the growth rate ({values['counted']} cells, rate >= "
+              f"{away:g} x its zero-spin value)", f"{worst:.1e}", ""),
+             ("  the claim", f"{claim:g}", ""),
+             ("  nearer the threshold (max)", f"{values['max_relative_error_near']:.1e}", ""),
+             ("cells on the wrong side of the threshold", f"{wrong_side}", ""),
+             ("wall time (all) / integration", f"{wall:.1f} / {values['integration_time']:.1f}",
+              "s"),
+             ("member-steps", f"{values['member_steps']:.3g}", "")]
+    return StudySummary(NAME, Path(out_dir), files, rows, values)
+
+
+STUDY = StudyKind(
+    name=NAME,
+    title="sleeping-top study",
+    schema=SCHEMA,
+    run=run,
+    outputs=outputs,
+    check=check,
+    quick=QUICK,
+    members_key=("ensemble", "members"),
+)
