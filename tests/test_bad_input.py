@@ -80,6 +80,11 @@ CLI = {
         'study = "sleeping_top"\n[top]\nlengths = [0.04, -0.01]\n', [], ["[top] lengths"]),
     "empty spin range": ('study = "sleeping_top"\n[spins]\nmin = 100.0\nmax = 50.0\n', [],
                          ["[spins] max must exceed"]),
+    "Earth with no equatorial moment left": (
+        'study = "earth_wobble"\n[earth]\nasymmetry = 1.0\n', [],
+        ["[earth] asymmetry leaves no positive equatorial moment"]),
+    "Earth offset of a negative angle": ('study = "earth_wobble"\n[wobble]\noffset = -0.3\n',
+                                         [], ["[wobble] offset must be"]),
     "step hopeless for the spin": (
         'study = "tennis_racket"\n[spin]\nrate = 1e6\n[integration]\nmethod = "lp2"\n',
         [], ["h = 0.002 s is too large for lp2", "choose h <="]),

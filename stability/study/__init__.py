@@ -16,7 +16,7 @@ from __future__ import annotations
 from pathlib import Path
 
 from ..stream import RunInterrupted
-from . import sleeping_top, stability_map, tennis_racket, work_precision
+from . import earth_wobble, sleeping_top, stability_map, tennis_racket, work_precision
 from .config import (
     REQUIRED,
     STUDY_KEY,
@@ -36,6 +36,7 @@ from .config import (
 )
 
 STUDIES: dict[str, StudyKind] = {
+    "earth_wobble": earth_wobble.STUDY,
     "sleeping_top": sleeping_top.STUDY,
     "stability_map": stability_map.STUDY,
     "tennis_racket": tennis_racket.STUDY,

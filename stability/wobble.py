@@ -1,0 +1,139 @@
+"""The Earth's free wobble, measured: an ensemble for the period, one member for the cones.
+
+:func:`measure_free_wobble` runs an ensemble of rigid Earths whose rotation axis starts
+``offset`` away from the figure axis in random directions (:func:`stability.run_ensemble`,
+summaries only) and measures the period of the rotation axis's circling of the figure axis in
+the body frame from the zero crossings of ``w1`` (:func:`stability.measured_frequency`); it sets
+it beside Euler's period (:func:`stability.earth.euler_period`). One member is also run with
+its attitude (:func:`stability.integrate`) over one period, so that the rotation axis can be
+drawn in the body frame (the body cone about the figure axis) and in space (the space cone
+about the fixed angular momentum).
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import xarray as xr
+
+from . import conventions as cv
+from .attitude import quaternion_to_matrix
+from .earth import ARCSEC, CHANDLER_PERIOD_DAYS, DAY, euler_period, oblate_euler_period
+from .ensemble import run_ensemble
+from .estimators import measured_frequency
+from .integrate import integrate
+
+#: Dimension of the cone member's samples.
+CONE_TIME = "cone_time"
+
+
+def _angle(u, v):
+    """Angle between rows of u and v (rad), by atan2 of |u x v| and u . v (accurate when tiny)."""
+    return np.arctan2(np.linalg.norm(np.cross(u, v), axis=-1), np.sum(u * v, axis=-1))
+
+
+def measure_free_wobble(body, spin, offset, *, members=16, periods=3.0, steps_per_turn=20,
+                        method="lp4", seed=0, cone_samples=1000, progress=None) -> xr.Dataset:
+    """Measured free-wobble period of a body spun about its largest axis, and its cones.
+
+    Parameters
+    ----------
+    body : RigidBody
+        Nearly symmetric, axis 3 the largest moment (the figure axis).
+    spin : float
+        W, rad s-1 (Earth: 2 pi / sidereal day).
+    offset : float
+        Angle between the rotation axis and the figure axis at the start, rad.
+    members : int
+        Ensemble members (random directions of the offset).
+    periods : float
+        Run length in Euler periods (at least 2, for the crossings).
+    steps_per_turn : int
+        Steps per turn of the body (h = 2 pi / (W steps_per_turn)).
+    method : str
+        A free-body method that carries the attitude.
+    cone_samples : int
+        Samples of the cone member over one period (about).
+
+    Returns
+    -------
+    xarray.Dataset
+        Periods in days (86400 s); the cone member's rotation axis in the body frame and in
+        space, and its angles from the figure axis and from L, in arcseconds.
+    """
+    moments = body.moments
+    h = 2.0 * math.pi / (spin * steps_per_turn)
+    t_euler = euler_period(moments, spin)
+    steps = int(math.ceil(periods * t_euler / h))
+    ens = run_ensemble(body, 3, spin, offset, members, h=h, t_end=steps * h, seed=seed,
+                       method=method, summaries_only=True, progress=progress)
+    freq = measured_frequency(ens)
+    period = 2.0 * math.pi / float(freq.oscillation_frequency)
+    member_period = 2.0 * math.pi / freq.member_oscillation_frequency.values
+    stderr = period * float(freq.oscillation_frequency_stderr) / float(freq.oscillation_frequency)
+
+    # One member with its attitude over one period, for the cones.
+    w0 = ens.w0.values[0]
+    one = int(math.ceil(t_euler / h))
+    save_every = max(1, one // cone_samples)
+    one = (one // save_every + 1) * save_every
+    cone = integrate(body, w0, one * h, h, method=method, save_every=save_every, attitude=True,
+                     progress=progress)
+    w_body = cone.w.values
+    R = quaternion_to_matrix(cone.q.values)
+    w_space = np.einsum("tij,tj->ti", R, w_body)
+    figure_space = R[:, :, 2]
+    L = R[0] @ (moments * w0)
+    L = np.broadcast_to(L / np.linalg.norm(L), w_space.shape)
+    e3 = np.broadcast_to([0.0, 0.0, 1.0], w_body.shape)
+    euler_days = t_euler / DAY
+    oblate_days = oblate_euler_period(moments, spin) / DAY
+    axis_attrs = {"units": cv.UNITS_ANGULAR_VELOCITY}
+    arcsec = {"units": "arcsec"}
+    ds = xr.Dataset(
+        {
+            "wobble_period_measured": ((), period / DAY, {
+                "long_name": "period of the rotation axis about the figure axis (body frame), "
+                             "mean over members", "units": "d"}),
+            "wobble_period_stderr": ((), stderr / DAY, {
+                "long_name": "standard error of the measured period", "units": "d"}),
+            "member_wobble_period": ((cv.MEMBER,), member_period / DAY, {
+                "long_name": "measured wobble period of each member", "units": "d"}),
+            "wobble_period_euler": ((), euler_days, {
+                "long_name": "Euler period 2 pi / (W sqrt((C - A)(C - B) / (A B)))",
+                "units": "d"}),
+            "wobble_period_oblate": ((), oblate_days, {
+                "long_name": "A / (C - A) turns, A the mean equatorial moment", "units": "d"}),
+            "relative_error": ((), (period / DAY - euler_days) / euler_days, {
+                "long_name": "(measured - Euler) / Euler period", "units": cv.UNITS_DIMENSIONLESS}),
+            "w_body": ((CONE_TIME, cv.AXIS), w_body, {
+                "long_name": "angular velocity in the body frame (cone member)", **axis_attrs}),
+            "w_space": ((CONE_TIME, cv.AXIS), w_space, {
+                "long_name": "angular velocity in space (cone member)", **axis_attrs}),
+            "body_cone_angle": ((CONE_TIME,), _angle(w_body, e3) / ARCSEC, {
+                "long_name": "angle of the rotation axis from the figure axis", **arcsec}),
+            "space_cone_angle": ((CONE_TIME,), _angle(w_space, L) / ARCSEC, {
+                "long_name": "angle of the rotation axis from the angular momentum", **arcsec}),
+            "figure_axis_angle": ((CONE_TIME,), _angle(figure_space, L) / ARCSEC, {
+                "long_name": "angle of the figure axis from the angular momentum", **arcsec}),
+        },
+        coords={
+            cv.MEMBER: ens[cv.MEMBER].values,
+            CONE_TIME: (CONE_TIME, cone.time.values / DAY, {"long_name": "time", "units": "d"}),
+            cv.AXIS: (cv.AXIS, list(cv.AXES), {"long_name": "principal axis",
+                                                "units": cv.UNITS_DIMENSIONLESS}),
+        },
+        attrs={
+            "moments": moments, "spin": spin, "offset_arcsec": offset / ARCSEC,
+            "method": method, "h": h, "members": members, "periods": periods,
+            "member_steps": members * steps,
+            "chandler_period_days": CHANDLER_PERIOD_DAYS,
+            "chandler_note": (
+                f"the observed Chandler wobble has a period of about {CHANDLER_PERIOD_DAYS:g} "
+                f"days, longer than this rigid body's {euler_days:.1f} days because the Earth "
+                "is not rigid: the elastic mantle, the oceans and the fluid core yield to the "
+                "wobble (Smith & Dahlen 1981)"),
+        },
+    )
+    return ds
