@@ -159,3 +159,27 @@ def test_linear_theory_is_refused_for_an_asymmetric_top():
     top = HeavyTop(0.1, 0.04, (2e-5, 3e-5, 4.5e-5))
     with pytest.raises(ValueError, match="symmetric top"):
         critical_spin(top)
+
+
+@pytest.mark.parametrize("name", list(METHODS))
+def test_symmetric_top_tilt_converges_to_the_exact_solution_at_the_declared_order(name):
+    """cos(theta) = g3 of a released gyroscope against the exact Jacobi-sn solution
+    (stability.exact_top) over several nutation periods: the error's slope is the order."""
+    from stability.exact_top import cos_theta, nutation_period
+
+    top = HeavyTop.disk(0.1, 0.03, 0.04, gravity=9.81)
+    A, _, C = top.pivot_moments
+    x0 = tilted_starts(60.0, np.radians([30.0, 60.0, 80.0]), 3, top=top, seed=2)
+    t = 4.0 * float(np.max(nutation_period(x0, A, C, top.mgl)))
+    exact = cos_theta(t, x0, A, C, top.mgl)
+    spec = METHODS[name]
+    hs = [2e-3, 1e-3, 5e-4] if spec.order == 4 else [5e-4, 2.5e-4, 1.25e-4]
+    errors = []
+    for h in hs:
+        steps = int(round(t / h))
+        hh = t / steps
+        r = propagate_groups(SCENE, spec, x0, spec.params(top.parameters, hh)[None, :], [3], hh,
+                             steps, progress=False)
+        errors.append(np.abs(r.x_final[:, 5] - exact).max())
+    slopes = np.diff(np.log(errors)) / np.diff(np.log(hs))
+    assert np.all(np.abs(slopes - spec.order) < 0.2), (errors, slopes)
