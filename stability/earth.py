@@ -25,6 +25,7 @@ import math
 
 import numpy as np
 
+from .analytic import oscillation_frequency
 from .body import RigidBody
 
 #: Published numbers (module docstring), SI units.
@@ -60,9 +61,9 @@ def earth(**kwargs) -> RigidBody:
 
 def euler_period(moments, spin) -> float:
     """Period (s) of the free wobble about the figure axis: ``2 pi / (W sqrt((C - A)(C - B)
-    / (A B)))`` [Landau & Lifshitz, *Mechanics*, section 36], the small-offset limit."""
-    A, B, C = (float(x) for x in moments)
-    return 2.0 * math.pi / (abs(spin) * math.sqrt((C - A) * (C - B) / (A * B)))
+    / (A B)))`` [Landau & Lifshitz, *Mechanics*, section 36], the small-offset limit: 2 pi
+    over :func:`stability.analytic.oscillation_frequency` about axis 3."""
+    return 2.0 * math.pi / float(oscillation_frequency(moments, 3, spin))
 
 
 def oblate_euler_period(moments, spin) -> float:
