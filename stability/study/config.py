@@ -231,6 +231,34 @@ class Schema:
         return "\n".join(lines).lstrip("\n")
 
 
+#: Figure formats a study can write.
+FIGURE_FORMATS = ("png", "pdf", "svg")
+
+
+def output_section(name: str, figures, extra=()) -> Section:
+    """The ``[output]`` section of a study: its folder ``results/<name>``, the Dataset
+    ``<name>.nc``, the ``extra`` keys (more files), whether to draw ``figures`` (their stems)
+    and in which formats."""
+    what = "draw the figure" if len(figures) == 1 else f"draw the {len(figures)} figures"
+    return Section("output", "where the results go", (
+        Key("dir", "str", f"results/{name}", "output folder (relative to the current directory)"),
+        Key("dataset", "str", f"{name}.nc", "file name of the Dataset (netCDF)"),
+        *extra,
+        Key("figures", "bool", True, what),
+        Key("formats", "strs", ["png", "pdf"], "figure formats", choices=FIGURE_FORMATS),
+    ))
+
+
+def output_files(config: dict, figures, extra=()) -> list[str]:
+    """The files a run of ``config`` writes into its folder: the Dataset, the files named by the
+    ``extra`` keys of ``[output]``, ``config.toml`` and the ``figures`` in every format."""
+    out = config["output"]
+    names = [out["dataset"], *(out[key] for key in extra), "config.toml"]
+    if out["figures"]:
+        names += [f"{stem}.{fmt}" for stem in figures for fmt in out["formats"]]
+    return names
+
+
 def _describe_key(key: Key) -> str:
     if key.default is REQUIRED:
         value = "<required>"

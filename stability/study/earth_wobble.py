@@ -13,7 +13,7 @@ import math
 import time
 from pathlib import Path
 
-from .config import Key, Schema, Section, StudyKind, StudySummary
+from .config import Key, Schema, Section, StudyKind, StudySummary, output_files, output_section
 
 NAME = "earth_wobble"
 FIGURE = "earth_wobble"
@@ -55,13 +55,7 @@ SCHEMA = Schema(
                 choices=_attitude_methods),
             Key("steps_per_turn", "int", 20, "steps per sidereal day", minimum=4),
         )),
-        Section("output", "where the results go", (
-            Key("dir", "str", "results/earth_wobble", "output folder"),
-            Key("dataset", "str", "earth_wobble.nc", "file name of the Dataset (netCDF)"),
-            Key("figures", "bool", True, "draw the figure"),
-            Key("formats", "strs", ["png", "pdf"], "figure formats",
-                choices=("png", "pdf", "svg")),
-        )),
+        output_section(NAME, (FIGURE,)),
     ),
 )
 
@@ -69,11 +63,8 @@ QUICK = {"wobble": {"members": 4, "periods": 2.0}}
 
 
 def outputs(config: dict) -> list[str]:
-    out = config["output"]
-    names = [out["dataset"], "config.toml"]
-    if out["figures"]:
-        names += [f"{FIGURE}.{fmt}" for fmt in out["formats"]]
-    return names
+    """Files a run writes into the output folder."""
+    return output_files(config, (FIGURE,))
 
 
 def check(config: dict, source: str) -> dict:

@@ -16,7 +16,9 @@ from pathlib import Path
 
 import numpy as np
 
-from .config import ConfigError, Key, Schema, Section, StudyKind, StudySummary
+from .config import (
+    ConfigError, Key, Schema, Section, StudyKind, StudySummary, output_files, output_section,
+)
 
 NAME = "sleeping_top"
 FIGURE = "sleeping_top"
@@ -76,13 +78,7 @@ SCHEMA = Schema(
                 "'away from the threshold': analytic rate at least this fraction of its value "
                 "at zero spin", minimum=0.0, maximum=1.0),
         )),
-        Section("output", "where the results go", (
-            Key("dir", "str", "results/sleeping_top", "output folder"),
-            Key("dataset", "str", "sleeping_top.nc", "file name of the Dataset (netCDF)"),
-            Key("figures", "bool", True, "draw the figure"),
-            Key("formats", "strs", ["png", "pdf"], "figure formats",
-                choices=("png", "pdf", "svg")),
-        )),
+        output_section(NAME, (FIGURE,)),
     ),
 )
 
@@ -122,11 +118,8 @@ def check(config: dict, source: str) -> dict:
 
 
 def outputs(config: dict) -> list[str]:
-    out = config["output"]
-    names = [out["dataset"], "config.toml"]
-    if out["figures"]:
-        names += [f"{FIGURE}.{fmt}" for fmt in out["formats"]]
-    return names
+    """Files a run writes into the output folder."""
+    return output_files(config, (FIGURE,))
 
 
 def run(config: dict, out_dir: Path, *, overwrite=False, threads=None, progress=None,
@@ -142,7 +135,8 @@ def run(config: dict, out_dir: Path, *, overwrite=False, threads=None, progress=
 
     t_start = time.perf_counter()
     tops = _tops(config)
-    s, ens, integ, an = config["spins"], config["ensemble"], config["integration"], config["analysis"]
+    s, ens = config["spins"], config["ensemble"]
+    integ, an = config["integration"], config["analysis"]
     spins = np.linspace(s["min"], s["max"], s["count"])
     with numba_threads(threads):
         ds = measure_sleeping_tops(

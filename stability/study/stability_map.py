@@ -23,7 +23,10 @@ import numpy as np
 from .. import stabilitymap as smap
 from ..shapes import amplitude_levels, analytic_omega_squared, edge_series, horizons, shape_grid
 from ..threads import numba_threads
-from .config import UNSET, ConfigError, Key, Schema, Section, StudyKind, StudySummary
+from .config import (
+    UNSET, ConfigError, Key, Schema, Section, StudyKind, StudySummary, output_files,
+    output_section,
+)
 
 NAME = "stability_map"
 
@@ -107,14 +110,7 @@ SCHEMA = Schema(
             Key("t_end", "float", 400.0, "length of the time series", unit="s",
                 minimum=0.0, exclusive_minimum=True),
         )),
-        Section("output", "where the results go", (
-            Key("dir", "str", "results/stability_map",
-                "output folder (relative to the current directory)"),
-            Key("dataset", "str", "stability_map.nc", "file name of the Dataset (netCDF)"),
-            Key("figures", "bool", True, "draw the four figures"),
-            Key("formats", "strs", ["png", "pdf"], "figure formats",
-                choices=("png", "pdf", "svg")),
-        )),
+        output_section(NAME, FIGURES),
     ),
 )
 
@@ -186,11 +182,7 @@ def _check_memory(config: dict, source: str) -> None:
 
 def outputs(config: dict) -> list[str]:
     """Files a run writes into the output folder."""
-    out = config["output"]
-    names = [out["dataset"], "config.toml"]
-    if out["figures"]:
-        names += [f"{stem}.{fmt}" for stem in FIGURES for fmt in out["formats"]]
-    return names
+    return output_files(config, FIGURES)
 
 
 # ----------------------------------------------------------------------------------- the run

@@ -29,7 +29,10 @@ import numpy as np
 
 from ..analytic import MOMENT_NAMES, principal_axis
 from ..estimators import analyse_ensemble
-from .config import UNSET, ConfigError, Key, Schema, Section, StudyKind, StudySummary
+from .config import (
+    UNSET, ConfigError, Key, Schema, Section, StudyKind, StudySummary, output_files,
+    output_section,
+)
 
 NAME = "tennis_racket"
 
@@ -107,14 +110,7 @@ SCHEMA = Schema(
                 "where the member loop runs: 'cpu', or 'gpu' (a CUDA GPU, the gpu extra)",
                 choices=("cpu", "gpu")),
         )),
-        Section("output", "where the results go", (
-            Key("dir", "str", "results/tennis_racket",
-                "output folder (relative to the current directory)"),
-            Key("dataset", "str", "tennis_racket.nc", "file name of the Dataset (netCDF)"),
-            Key("figures", "bool", True, "draw the four figures"),
-            Key("formats", "strs", ["png", "pdf"], "figure formats",
-                choices=("png", "pdf", "svg")),
-        )),
+        output_section(NAME, FIGURES),
     ),
 )
 
@@ -179,11 +175,7 @@ def expected_bytes(config: dict) -> int:
 
 def outputs(config: dict) -> list[str]:
     """Files a run writes into the output folder."""
-    out = config["output"]
-    names = [out["dataset"], "config.toml"]
-    if out["figures"]:
-        names += [f"{stem}.{fmt}" for stem in FIGURES for fmt in out["formats"]]
-    return names
+    return output_files(config, FIGURES)
 
 
 # ----------------------------------------------------------------------------------- the run

@@ -34,7 +34,10 @@ from ..io import save
 from ..progress import progress_bar
 from ..sweeps import jittered_starts, step_grid, sweep_method, sweep_scipy
 from ..threads import numba_threads
-from .config import ConfigError, Key, Schema, Section, StudyKind, StudySummary, to_toml
+from .config import (
+    ConfigError, Key, Schema, Section, StudyKind, StudySummary, output_files, output_section,
+    to_toml,
+)
 
 NAME = "work_precision"
 
@@ -116,14 +119,8 @@ SCHEMA = Schema(
             Key("samples", "int", 10_000, "states kept per member (evenly spaced)", minimum=10),
             Key("seed", "int", 3, "seed of the jitter", minimum=0),
         )),
-        Section("output", "where the results go", (
-            Key("dir", "str", "results/work_precision", "output folder"),
-            Key("dataset", "str", "work_precision.nc", "file name of the Dataset (netCDF)"),
-            Key("table", "str", "work_precision.md", "file name of the Markdown tables"),
-            Key("figures", "bool", True, "draw the two figures"),
-            Key("formats", "strs", ["png", "pdf"], "figure formats",
-                choices=("png", "pdf", "svg")),
-        )),
+        output_section(NAME, FIGURES, extra=(
+            Key("table", "str", "work_precision.md", "file name of the Markdown tables"),)),
     ),
 )
 
@@ -199,11 +196,7 @@ def _check_memory(config: dict, source: str) -> None:
 
 def outputs(config: dict) -> list[str]:
     """Files a run writes into the output folder."""
-    out = config["output"]
-    names = [out["dataset"], out["table"], "config.toml"]
-    if out["figures"]:
-        names += [f"{stem}.{fmt}" for stem in FIGURES for fmt in out["formats"]]
-    return names
+    return output_files(config, FIGURES, extra=("table",))
 
 
 def _body(config: dict) -> RigidBody:
