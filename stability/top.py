@@ -140,11 +140,10 @@ class HeavyTop:
         return np.concatenate([self.pivot_moments, [0.0, 0.0, self.mgl]])
 
     def describe(self) -> dict:
-        """Plain numbers for Dataset attributes."""
-        A, B, C = self.pivot_moments
+        """Numbers and arrays for Dataset attributes (netCDF takes no lists)."""
         return {"top_name": self.name, "mass": self.mass, "length": self.length,
-                "gravity": self.gravity, "central_moments": list(self.central_moments),
-                "pivot_moments": [A, B, C], "mgl": self.mgl}
+                "gravity": self.gravity, "central_moments": np.array(self.central_moments),
+                "pivot_moments": self.pivot_moments, "mgl": self.mgl}
 
 
 def _symmetric(top: HeavyTop, what: str):
@@ -180,14 +179,47 @@ def sleeping_frequencies(top: HeavyTop, spin):
     return (C * w - root) / (2.0 * A), (C * w + root) / (2.0 * A)
 
 
-def tilted_starts(spin, tilt, members, *, top: HeavyTop, seed=0, tilt_rate=0.0):
+def gyroscopic_precession_rate(top: HeavyTop, spin):
+    """Mean precession rate of a fast top, ``M g l / (C w3)`` (rad s-1): the leading term of
+    the slow root of steady precession, ``A W^2 cos(theta) - C w3 W + M g l = 0``, for
+    ``C^2 w3^2 >> 4 A M g l cos(theta)`` (Goldstein, section 5.7)."""
+    A, C, mgl = _symmetric(top, "the gyroscopic precession rate")
+    return mgl / (C * np.asarray(spin, dtype=float))
+
+
+def gyroscopic_nutation_frequency(top: HeavyTop, spin):
+    """Nutation frequency of a fast top, ``C w3 / A`` (rad s-1)."""
+    A, C, _ = _symmetric(top, "the gyroscopic nutation frequency")
+    return C * np.asarray(spin, dtype=float) / A
+
+
+def gyroscopic_nutation_amplitude(top: HeavyTop, spin, tilt, release=0.0):
+    """Peak-to-peak nutation of a fast top released at ``tilt`` (rad), rad.
+
+    To leading order the figure axis runs round a small circle whose centre precesses at
+    ``W = M g l / (C w3)`` with the nutation frequency ``C w3 / A``; released with
+    ``phi' = release W`` it starts off the centre's velocity by ``(1 - release) W sin(tilt)``,
+    so the circle's diameter is ``2 |1 - release| A M g l sin(tilt) / (C w3)^2`` (for a release
+    at rest, the cusped case, it follows from ``p_phi`` and the energy: Goldstein, section 5.7).
+    """
+    A, C, mgl = _symmetric(top, "the gyroscopic nutation amplitude")
+    w = np.asarray(spin, dtype=float)
+    return (2.0 * np.abs(1.0 - np.asarray(release, dtype=float)) * A * mgl
+            * np.sin(np.asarray(tilt, dtype=float)) / (C * w) ** 2)
+
+
+def tilted_starts(spin, tilt, members, *, top: HeavyTop, seed=0, tilt_rate=0.0,
+                  precession_rate=0.0):
     """Starts of tops tilted by ``tilt`` (rad) from the vertical, spinning at ``spin`` about
     their axis 3, at random azimuths of the vertical in the body frame.
 
-    The body frame turns with the spin, so only the tilt and its rate are physical; the random
-    azimuth decorrelates the members. ``tilt_rate`` (rad s-1) sets theta' at the start
-    (w1 = theta' along the line of nodes); ``theta' = phi' = 0`` (the default) is the top
-    released with no transverse angular velocity.
+    The body frame turns with the spin, so only the tilt and its rates are physical; the random
+    azimuth decorrelates the members. With z-x-z Euler angles the body angular velocity is
+    ``w = phi' g + theta' n + psi' e3`` (g the vertical, n the line of nodes, both in the body
+    frame); ``spin`` is its component w3 (``psi' + phi' cos(theta)``), ``tilt_rate`` (rad s-1)
+    sets theta' and ``precession_rate`` (rad s-1, scalar or one per member) phi' at the start.
+    ``theta' = phi' = 0`` (the default) is the top released with no transverse angular
+    velocity: the cusped path of the figure axis.
 
     Returns
     -------
@@ -200,9 +232,11 @@ def tilted_starts(spin, tilt, members, *, top: HeavyTop, seed=0, tilt_rate=0.0):
     s = np.sin(tilt)
     g = np.column_stack([s * np.sin(azimuth), s * np.cos(azimuth), np.cos(tilt)])
     A, B, C = top.pivot_moments
+    phi_rate = np.broadcast_to(np.asarray(precession_rate, dtype=float), (members,))
     # Line of nodes in the body frame: (cos psi, -sin psi, 0) for g = (s sin psi, s cos psi, c).
-    m = np.column_stack([A * tilt_rate * np.cos(azimuth), -B * tilt_rate * np.sin(azimuth),
-                         np.full(members, C * float(spin))])
+    w1 = tilt_rate * np.cos(azimuth) + phi_rate * g[:, 0]
+    w2 = -tilt_rate * np.sin(azimuth) + phi_rate * g[:, 1]
+    m = np.column_stack([A * w1, B * w2, np.full(members, C * float(spin))])
     return np.concatenate([m, g], axis=1)
 
 

@@ -80,6 +80,18 @@ CLI = {
         'study = "sleeping_top"\n[top]\nlengths = [0.04, -0.01]\n', [], ["[top] lengths"]),
     "empty spin range": ('study = "sleeping_top"\n[spins]\nmin = 100.0\nmax = 50.0\n', [],
                          ["[spins] max must exceed"]),
+    "gyroscope released hanging straight down": (
+        'study = "gyroscope"\n[release]\ntilts = [30.0, 180.0]\n', [],
+        ["[release] tilts must be below 180 degrees"]),
+    "asymmetric gyroscope": (
+        'study = "gyroscope"\n[top]\ncentral_moments = [2e-5, 3e-5, 4.5e-5]\n', [],
+        ["[top] central_moments must have I1 = I2"]),
+    "gyroscope keeping too many states": (
+        'study = "gyroscope"\n[integration]\nsamples_per_period = 100000000\n', [],
+        ["[integration] samples_per_period", "GiB", "keep fewer samples or periods"]),
+    "gyroscope with no precession rate": (
+        'study = "gyroscope"\n[release]\nprecession = []\n', [],
+        ["[release] precession must list at least one"]),
     "Earth with no equatorial moment left": (
         'study = "earth_wobble"\n[earth]\nasymmetry = 1.0\n', [],
         ["[earth] asymmetry leaves no positive equatorial moment"]),

@@ -294,11 +294,23 @@ def test_output_folder_removed_while_writing_is_one_line(tmp_path):
     assert "Traceback" not in "\n".join(err)
 
 
+#: Studies that integrate in one piece: (study, label of its progress bar, arguments that make
+#: the run long enough to be stopped while it integrates).
+ONE_PIECE = {
+    "sleeping_top": ("sleeping tops", ["--members", "256"]),
+    "gyroscope": ("gyroscopes", ["--set", "integration.periods=2000",
+                                 "--set", "integration.samples_per_period=8"]),
+}
+
+
 @pytest.mark.parametrize("sig", ["SIGINT", "SIGTERM"])
-def test_sleeping_top_stopped_while_integrating_keeps_the_earlier_result(tmp_path, sig):
-    """The sleeping-top map runs in one piece: a signal while it integrates publishes nothing,
-    leaves the earlier result byte for byte and no temporary file, and says so in one line."""
-    study = str(ROOT / "studies" / "sleeping_top.toml")
+@pytest.mark.parametrize("name", sorted(ONE_PIECE))
+def test_one_piece_study_stopped_while_integrating_keeps_the_earlier_result(tmp_path, name, sig):
+    """A study that runs in one piece (the sleeping-top map, the gyroscope grid): a signal
+    while it integrates publishes nothing, leaves the earlier result byte for byte and no
+    temporary file, and says so in one line."""
+    label, longer = ONE_PIECE[name]
+    study = str(ROOT / "studies" / f"{name}.toml")
     out = tmp_path / "out"
     quick = [sys.executable, "-m", "stability", "run", study, "--quick", "--no-progress",
              "--set", "output.formats=['png']", "--out", str(out)]
@@ -306,11 +318,10 @@ def test_sleeping_top_stopped_while_integrating_keeps_the_earlier_result(tmp_pat
     assert done.returncode == 0, done.stderr
     before = snapshot(out)
     proc = subprocess.Popen(
-        [sys.executable, "-m", "stability", "run", study, "--members", "256", "--out",
-         str(out), "--overwrite"], cwd=ROOT, stdout=subprocess.PIPE, stderr=subprocess.PIPE,
-        text=True)
+        [sys.executable, "-m", "stability", "run", study, *longer, "--out", str(out),
+         "--overwrite"], cwd=ROOT, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
     lines = Lines(proc)
-    wait_until(lambda: lines.seen("sleeping tops"), proc)  # its progress bar: integrating
+    wait_until(lambda: lines.seen(label), proc)  # its progress bar: integrating
     proc.send_signal(getattr(signal, sig))
     proc.wait(timeout=60)
     err = lines.wait_done()

@@ -63,6 +63,18 @@ def new_figure(width: float = 7.0, height: float = 4.5) -> Figure:
     return Figure(figsize=(width, height), layout="constrained")
 
 
+def plain_log_ticks(ax, axis="both"):
+    """Label a log axis spanning a few decades with plain numbers at 1, 2 and 5 times the
+    powers of ten (0.5, 1, 2, 5, 10, ...), instead of overlapping powers of ten."""
+    from matplotlib.ticker import LogLocator, NullFormatter, StrMethodFormatter
+
+    for which in ("x", "y") if axis == "both" else (axis,):
+        target = ax.xaxis if which == "x" else ax.yaxis
+        target.set_major_locator(LogLocator(base=10.0, subs=(1.0, 2.0, 5.0)))
+        target.set_major_formatter(StrMethodFormatter("{x:g}"))
+        target.set_minor_formatter(NullFormatter())
+
+
 def styled(function):
     """Decorator: build the figure inside the package's rc style (fonts, grid, spines)."""
     import functools

@@ -1,0 +1,267 @@
+"""The gyroscope: precession and nutation of released tops, measured against the exact motion.
+
+For every tilt theta0 and spin w3 of a grid, one group of symmetric tops (scene ``heavy_top``)
+is released at theta0 with spin w3 and a precession rate ``phi'(0) = release x M g l / (C w3)``
+for each ``release`` (0: at rest, the cusped path of the figure axis; < 0: loops; between 0 and
+1: waves). Each member runs ``periods`` nutation periods, its state sampled ``samples_per_period``
+times a period, and three numbers are read from the samples (:mod:`stability.periodic`):
+
+- the nutation period, from the upward crossings of cos(theta) = g3 through the middle of its
+  range (cubic Hermite interpolation with ``g3' = g1 w2 - g2 w1``), as a frequency 2 pi / T;
+- the nutation amplitude, theta_max - theta_min, from the turning points of g3 on the same
+  interpolant, averaged over the periods;
+- the mean precession rate, the weighted Birkhoff average of
+  ``phi' = (w1 g1 + w2 g2) / (g1^2 + g2^2)`` (the vertical component of w less its part along
+  the figure axis, over sin^2(theta)).
+
+Each is set beside the exact value for the member's own start (:mod:`stability.exact_top`) and
+beside the fast-top (gyroscopic) approximations ``M g l / (C w3)``, ``C w3 / A`` and
+``2 |1 - release| A M g l sin(theta0) / (C w3)^2`` (:mod:`stability.top`), which the exact values
+approach as w3 grows. For the figure, one (tilt, spin) cell's paths of the figure axis (theta and
+phi, phi the trapezoidal integral of phi') are kept over a few nutation periods, with the exact
+paths at the same times.
+"""
+
+from __future__ import annotations
+
+import math
+import time
+
+import numpy as np
+import xarray as xr
+
+from . import conventions as cv
+from . import exact_top
+from .engine import propagate_groups
+from .periodic import extrema, level_crossings, mean_period, weighted_mean
+from .scenes import SCENES
+from .top import (gyroscopic_nutation_amplitude, gyroscopic_nutation_frequency,
+                  gyroscopic_precession_rate, tilted_starts)
+
+#: Dimension names.
+TILT = "tilt"
+SPIN = "spin"
+RELEASE = "release"
+PATH_TIME = "path_time"
+
+
+def _observables(samples, A, C):
+    """cos(theta), its rate and phi' of states (..., 6)."""
+    m, g = samples[..., 0:3], samples[..., 3:6]
+    w1, w2 = m[..., 0] / A, m[..., 1] / A
+    g1, g2, g3 = g[..., 0], g[..., 1], g[..., 2]
+    phi_rate = (w1 * g1 + w2 * g2) / (g1 * g1 + g2 * g2)
+    return g3, g1 * w2 - g2 * w1, phi_rate
+
+
+def _measure_member(t, u, du, phi_rate):
+    """(nutation frequency, amplitude, mean precession rate) of one member's samples."""
+    keep = np.isfinite(u) & np.isfinite(du) & np.isfinite(phi_rate)
+    t, u, du, phi_rate = t[keep], u[keep], du[keep], phi_rate[keep]
+    middle = 0.5 * (u.min() + u.max())
+    period = mean_period(level_crossings(t, u, du, middle, direction=1))
+    _, lows = extrema(t, u, du, "min")
+    _, highs = extrema(t, u, du, "max")
+    if lows.size and highs.size:
+        amplitude = math.acos(np.clip(lows.mean(), -1, 1)) - math.acos(np.clip(highs.mean(), -1, 1))
+    else:
+        amplitude = math.nan
+    return 2.0 * math.pi / period, amplitude, float(weighted_mean(phi_rate))
+
+
+def measure_gyroscopes(top, spins, tilts, releases=(-1.0, 0.0, 0.5), *, method="lp4",
+                       step_angle=0.02, periods=40, samples_per_period=64, seed=0,
+                       path_tilt=None, path_spin=None, path_periods=3.0,
+                       progress=None) -> xr.Dataset:
+    """Measured nutation and precession of released gyroscopes, with the exact values.
+
+    Parameters
+    ----------
+    top : HeavyTop
+        A symmetric top.
+    spins : array_like, shape (S,)
+        Spins w3 about the symmetry axis, rad s-1, > 0.
+    tilts : array_like, shape (K,)
+        Release tilts theta0 from the vertical, rad, in (0, pi).
+    releases : sequence of float, shape (R,)
+        phi'(0) in units of ``M g l / (C w3)``; one member per (tilt, spin, release).
+    method : str
+        A method of scene ``heavy_top``.
+    step_angle : float
+        Step h = step_angle / max(w3, the nutation frequency), rad.
+    periods : float
+        Run length in nutation periods (of the group's slowest member); the weighted mean of
+        phi' converges faster than any power of it (40 gives ~1e-12).
+    samples_per_period : int
+        States kept per nutation period (at the fastest spin).
+    seed : int
+        Seed of the members' azimuths (irrelevant to the physics).
+    path_tilt, path_spin : float, optional
+        The cell whose figure-axis paths are kept (nearest grid values; default: the middle
+        tilt, the lowest spin).
+    path_periods : float
+        Length of the kept paths, in nutation periods.
+    progress : bool, optional
+        Progress bar.
+
+    Returns
+    -------
+    xarray.Dataset
+        Dims (tilt, spin, release) and (release, path_time); see :data:`VARIABLES`. The tilt
+        coordinate is in degrees.
+    """
+    spins = np.asarray(spins, dtype=float)
+    tilts = np.asarray(tilts, dtype=float)
+    releases = np.asarray(releases, dtype=float)
+    scene = SCENES["heavy_top"]
+    spec = scene.method(method)
+    A, _, C = top.pivot_moments
+    mgl = top.mgl
+    n_rel = releases.size
+    x0, params, hs, steps = [], [], [], []
+    shape = (tilts.size, spins.size, n_rel)
+    exact = {key: np.empty(shape) for key in ("frequency", "amplitude", "precession")}
+    for i, tilt in enumerate(tilts):
+        for j, spin in enumerate(spins):
+            start = tilted_starts(spin, tilt, n_rel, top=top, seed=seed,
+                                  precession_rate=releases * mgl / (C * spin))
+            period = exact_top.nutation_period(start, A, C, mgl)
+            u1, u2, _ = exact_top.nutation_roots(start, A, C, mgl)
+            exact["frequency"][i, j] = 2.0 * np.pi / period
+            exact["amplitude"][i, j] = np.arccos(u1) - np.arccos(u2)
+            exact["precession"][i, j] = exact_top.mean_precession_rate(start, A, C, mgl)
+            h = step_angle / max(spin, 2.0 * np.pi / period.min())
+            x0.append(start)
+            params.append(spec.params(top.parameters, h))
+            hs.append(h)
+            steps.append(int(math.ceil(periods * period.max() / h)))
+    hs = np.array(hs)
+    steps = np.array(steps, dtype=np.int64)
+    x0 = np.concatenate(x0)
+    sizes = np.full(hs.size, n_rel)
+    fastest = (2.0 * np.pi / exact["frequency"]).reshape(hs.size, n_rel).min(axis=1)
+    save_every = max(1, int(np.min(fastest / hs) // samples_per_period))
+    t0 = time.perf_counter()
+    run = propagate_groups(scene, spec, x0, np.array(params), sizes, hs, steps,
+                           save_every=save_every, progress=progress,
+                           label=f"gyroscopes ({method})")
+    wall = time.perf_counter() - t0
+    if run.interrupted:
+        raise KeyboardInterrupt
+    samples = np.concatenate([x0[:, None, :], run.saved], axis=1)
+    u, du, phi_rate = _observables(samples, A, C)
+    measured = {key: np.empty(hs.size * n_rel) for key in exact}
+    for n in range(hs.size * n_rel):
+        t = np.arange(samples.shape[1]) * save_every * hs[n // n_rel]
+        (measured["frequency"][n], measured["amplitude"][n],
+         measured["precession"][n]) = _measure_member(t, u[n], du[n], phi_rate[n])
+    measured = {key: value.reshape(shape) for key, value in measured.items()}
+    status = run.status.reshape(shape)
+
+    # The kept paths: the cell nearest (path_tilt, path_spin).
+    i = int(np.argmin(np.abs(tilts - (np.median(tilts) if path_tilt is None else path_tilt))))
+    j = int(np.argmin(np.abs(spins - (spins.min() if path_spin is None else path_spin))))
+    g = i * spins.size + j
+    rows = slice(g * n_rel, (g + 1) * n_rel)
+    dt = save_every * hs[g]
+    n_path = min(samples.shape[1], int(math.ceil(path_periods * 2.0 * np.pi
+                                                 / exact["frequency"][i, j].min() / dt)) + 1)
+    t_path = np.arange(n_path) * dt
+    rate = phi_rate[rows, :n_path]
+    path_phi = np.concatenate([np.zeros((n_rel, 1)),
+                               np.cumsum(0.5 * dt * (rate[:, 1:] + rate[:, :-1]), axis=1)], axis=1)
+    path_theta = np.arccos(np.clip(u[rows, :n_path], -1.0, 1.0))
+    path_theta_exact = np.arccos(np.clip(exact_top.cos_theta(t_path, x0[rows], A, C, mgl),
+                                         -1.0, 1.0))
+    path_phi_exact = exact_top.precession_angle(t_path, x0[rows], A, C, mgl)
+
+    tilt3 = tilts[:, None, None]
+    spin3 = spins[None, :, None]
+    dims = (TILT, SPIN, RELEASE)
+    with np.errstate(invalid="ignore", divide="ignore"):
+        errors = {key: (measured[key] - exact[key]) / exact[key] for key in exact}
+    data = {
+        "precession_rate_measured": (dims, measured["precession"]),
+        "precession_rate_exact": (dims, exact["precession"]),
+        "precession_rate_error": (dims, errors["precession"]),
+        "precession_rate_gyroscopic": ((SPIN,), gyroscopic_precession_rate(top, spins)),
+        "nutation_frequency_measured": (dims, measured["frequency"]),
+        "nutation_frequency_exact": (dims, exact["frequency"]),
+        "nutation_frequency_error": (dims, errors["frequency"]),
+        "nutation_frequency_gyroscopic": ((SPIN,), gyroscopic_nutation_frequency(top, spins)),
+        "nutation_amplitude_measured": (dims, measured["amplitude"]),
+        "nutation_amplitude_exact": (dims, exact["amplitude"]),
+        "nutation_amplitude_error": (dims, errors["amplitude"]),
+        "nutation_amplitude_gyroscopic": (dims, gyroscopic_nutation_amplitude(
+            top, spin3, tilt3, releases[None, None, :]) + np.zeros(shape)),
+        "status": (dims, status.astype(np.int8)),
+        "step": ((TILT, SPIN), hs.reshape(tilts.size, spins.size)),
+        "t_end": ((TILT, SPIN), (steps * hs).reshape(tilts.size, spins.size)),
+        "path_theta": ((RELEASE, PATH_TIME), path_theta),
+        "path_phi": ((RELEASE, PATH_TIME), path_phi),
+        "path_theta_exact": ((RELEASE, PATH_TIME), path_theta_exact),
+        "path_phi_exact": ((RELEASE, PATH_TIME), path_phi_exact),
+    }
+    ds = xr.Dataset(
+        {name: (d, v, dict(VARIABLES[name])) for name, (d, v) in data.items()},
+        coords={
+            TILT: (TILT, np.round(np.degrees(tilts), 10), {
+                "long_name": "release tilt from the vertical",
+                                            "units": "degree"}),
+            SPIN: (SPIN, spins, {"long_name": "spin w3 about the symmetry axis",
+                                 "units": cv.UNITS_ANGULAR_VELOCITY}),
+            RELEASE: (RELEASE, releases, {
+                "long_name": "initial precession rate / (M g l / (C w3)) (0: released at rest)",
+                "units": cv.UNITS_DIMENSIONLESS}),
+            PATH_TIME: (PATH_TIME, t_path, {"long_name": "time of the kept paths",
+                                            "units": cv.UNITS_TIME}),
+        },
+    )
+    ds.attrs.update({
+        **top.describe(), "method": spec.name, "step_angle": step_angle, "periods": periods,
+        "samples_per_period": samples_per_period, "save_every": save_every,
+        "path_tilt": float(np.degrees(tilts[i])), "path_spin": float(spins[j]),
+        "wall_time": wall, "member_steps": int((sizes * steps).sum()),
+    })
+    return ds
+
+
+_RATE = cv.UNITS_ANGULAR_VELOCITY
+VARIABLES = {
+    "precession_rate_measured": {"long_name": "mean precession rate of the figure axis, from "
+                                 "the run (weighted mean of phi')", "units": _RATE},
+    "precession_rate_exact": {"long_name": "exact mean precession rate over a nutation period",
+                              "units": _RATE},
+    "precession_rate_error": {"long_name": "(measured - exact) / exact mean precession rate",
+                              "units": cv.UNITS_DIMENSIONLESS},
+    "precession_rate_gyroscopic": {"long_name": "fast-top precession rate M g l / (C w3)",
+                                   "units": _RATE},
+    "nutation_frequency_measured": {"long_name": "nutation frequency 2 pi / T, from the run",
+                                    "units": _RATE},
+    "nutation_frequency_exact": {"long_name": "exact nutation frequency 2 pi / T",
+                                 "units": _RATE},
+    "nutation_frequency_error": {"long_name": "(measured - exact) / exact nutation frequency",
+                                 "units": cv.UNITS_DIMENSIONLESS},
+    "nutation_frequency_gyroscopic": {"long_name": "fast-top nutation frequency C w3 / A",
+                                      "units": _RATE},
+    "nutation_amplitude_measured": {"long_name": "nutation amplitude theta_max - theta_min, "
+                                    "from the run", "units": "rad"},
+    "nutation_amplitude_exact": {"long_name": "exact nutation amplitude (turning points of "
+                                 "the cubic)", "units": "rad"},
+    "nutation_amplitude_error": {"long_name": "(measured - exact) / exact nutation amplitude",
+                                 "units": cv.UNITS_DIMENSIONLESS},
+    "nutation_amplitude_gyroscopic": {"long_name": "fast-top nutation amplitude "
+                                      "2 |1 - release| A M g l sin(theta0) / (C w3)^2",
+                                      "units": "rad"},
+    "status": {"long_name": "member status", "flag_values": np.array(cv.STATUS_FLAG_VALUES,
+                                                                      dtype=np.int8),
+               "flag_meanings": cv.STATUS_MEANINGS, "units": cv.UNITS_DIMENSIONLESS},
+    "step": {"long_name": "integration step h", "units": cv.UNITS_TIME},
+    "t_end": {"long_name": "run time", "units": cv.UNITS_TIME},
+    "path_theta": {"long_name": "tilt theta of the figure axis, from the run", "units": "rad"},
+    "path_phi": {"long_name": "precession angle phi of the figure axis, from the run",
+                 "units": "rad"},
+    "path_theta_exact": {"long_name": "exact tilt theta of the figure axis", "units": "rad"},
+    "path_phi_exact": {"long_name": "exact precession angle phi of the figure axis",
+                       "units": "rad"},
+}

@@ -1,0 +1,248 @@
+"""The gyroscope study: precession and nutation of released tops, against exact and fast-top values.
+
+A symmetric top (its mass, moments, pivot distance and gravity are keys of the study file) is
+released at each tilt of a list with each spin of a grid, at rest or with a given initial
+precession rate; :func:`stability.gyroscope.measure_gyroscopes` measures from each run the mean
+precession rate, the nutation frequency and the nutation amplitude and sets them beside the
+exact values and the fast-top formulas ``M g l / (C w3)``, ``C w3 / A`` and
+``2 A M g l sin(theta0) / (C w3)^2``. Outputs: the Dataset, two figures
+(:func:`stability.figures.top.gyroscope_paths_figure`, :func:`~stability.figures.top.gyroscope_rates_figure`)
+and the study's configuration.
+"""
+
+from __future__ import annotations
+
+import math
+import time
+from pathlib import Path
+
+import numpy as np
+
+from .config import (
+    ConfigError, Key, Schema, Section, StudyKind, StudySummary, output_files, output_section,
+)
+
+NAME = "gyroscope"
+#: Figure stems: the paths of the figure axis, the rates against spin.
+FIGURES = ("gyroscope_paths", "gyroscope_rates")
+
+
+def _top_methods() -> tuple:
+    from ..integrators.heavy_top import METHODS
+
+    return tuple(METHODS)
+
+
+SCHEMA = Schema(
+    top=(Key("title", "str", "Precession and nutation of a gyroscope",
+             "one line describing the run (the Dataset's title)"),),
+    sections=(
+        Section("top", "the symmetric top: a disk on a light axle over the pivot", (
+            Key("mass", "float", 0.1, "mass M", unit="kg", minimum=0.0, exclusive_minimum=True),
+            Key("central_moments", "floats", [2.25e-5, 2.25e-5, 4.5e-5],
+                "principal moments about the centre of mass, axis 3 the symmetry axis "
+                "(I1 = I2); default: a disk of radius 3 cm", unit="kg m2", minimum=0.0,
+                exclusive_minimum=True, length=3),
+            Key("length", "float", 0.04, "distance l from the pivot to the centre of mass",
+                unit="m", minimum=0.0, exclusive_minimum=True),
+            Key("gravity", "float", 9.80665, "g", unit="m s-2", minimum=0.0,
+                exclusive_minimum=True),
+        )),
+        Section("spins", "the spins w3 (evenly spaced in log)", (
+            Key("min", "float", 150.0, "smallest spin", unit="rad s-1", minimum=0.0,
+                exclusive_minimum=True),
+            Key("max", "float", 1500.0, "largest spin", unit="rad s-1", minimum=0.0,
+                exclusive_minimum=True),
+            Key("count", "int", 10, "number of spins", minimum=2),
+        )),
+        Section("release", "how each top is let go", (
+            Key("tilts", "floats", [30.0, 60.0, 90.0], "tilts theta0 of the figure axis from "
+                "the vertical", unit="degree", minimum=0.0, exclusive_minimum=True,
+                maximum=180.0),
+            Key("precession", "floats", [-1.0, 0.0, 0.5],
+                "initial precession rates phi'(0) in units of M g l / (C w3): 0 at rest "
+                "(cusps), < 0 loops, between 0 and 1 waves"),
+            Key("seed", "int", 0, "seed of the members' azimuths", minimum=0),
+        )),
+        Section("integration", "the integrator, its step and the run length", (
+            Key("method", "str", "lp4", "a heavy-top method", choices=_top_methods),
+            Key("step_angle", "float", 0.02, "h times the faster of spin and nutation",
+                unit="rad", minimum=0.0, exclusive_minimum=True, maximum=0.5),
+            Key("periods", "float", 40.0, "run length in nutation periods", minimum=3.0),
+            Key("samples_per_period", "int", 64, "states kept per nutation period",
+                minimum=8),
+        )),
+        Section("paths", "the (tilt, spin) cell whose figure-axis paths are drawn", (
+            Key("tilt", "float", 60.0, "tilt (nearest of the list)", unit="degree",
+                minimum=0.0, maximum=180.0),
+            Key("spin", "float", 150.0, "spin (nearest of the grid)", unit="rad s-1",
+                minimum=0.0),
+            Key("periods", "float", 3.0, "length of the drawn paths in nutation periods",
+                minimum=0.5),
+        )),
+        Section("analysis", "what the run must show", (
+            Key("claim", "float", 1e-6,
+                "relative error of the measured rates and amplitude against the exact motion",
+                minimum=0.0, exclusive_minimum=True),
+        )),
+        output_section(NAME, FIGURES),
+    ),
+)
+
+#: ``--quick``: four spins, one tilt, a shorter run.
+QUICK = {"spins": {"count": 4}, "release": {"tilts": [60.0]}, "integration": {"periods": 20.0}}
+
+
+def _top(config, source="<config>"):
+    from ..top import HeavyTop
+
+    t = config["top"]
+    try:
+        return HeavyTop(t["mass"], t["length"], tuple(t["central_moments"]), t["gravity"],
+                        name=f"disk top, l = {100 * t['length']:g} cm")
+    except ValueError as exc:
+        raise ConfigError(str(exc), source, "top", "central_moments") from None
+
+
+def check(config: dict, source: str) -> dict:
+    """A symmetric, physical top; a spin range; tilts strictly between 0 and 180 degrees."""
+    t = config["top"]
+    I1, I2, _ = t["central_moments"]
+    if I1 != I2:
+        raise ConfigError(f"must have I1 = I2 (a symmetric top), got {I1:g} and {I2:g}",
+                          source, "top", "central_moments")
+    _top(config, source)
+    s = config["spins"]
+    if s["max"] <= s["min"]:
+        raise ConfigError(f"must exceed [spins] min ({s['min']:g}), got {s['max']:g}", source,
+                          "spins", "max")
+    r = config["release"]
+    if not r["tilts"]:
+        raise ConfigError("must list at least one tilt", source, "release", "tilts")
+    if max(r["tilts"]) >= 180.0:
+        raise ConfigError(f"must be below 180 degrees (a top hanging straight down has no "
+                          f"precession), got {max(r['tilts']):g}", source, "release", "tilts")
+    if not r["precession"]:
+        raise ConfigError("must list at least one initial precession rate", source, "release",
+                          "precession")
+    _check_memory(config, source)
+    return config
+
+
+def _check_memory(config: dict, source: str) -> None:
+    """Refuse a run whose kept states would not fit in memory, before any is allocated.
+
+    Each member keeps about ``periods x samples_per_period`` states (up to twice that where a
+    slow member sets its group's length) of 6 numbers, held about three times over while they
+    are read (the samples, their observables, the engine's buffer).
+    """
+    from ..ensemble import DEFAULT_MAX_MEMORY, format_bytes
+
+    integ = config["integration"]
+    members = (config["spins"]["count"] * len(config["release"]["tilts"])
+               * len(config["release"]["precession"]))
+    samples = 2 * integ["periods"] * integ["samples_per_period"]
+    nbytes = members * samples * 6 * 8 * 3
+    if nbytes > DEFAULT_MAX_MEMORY:
+        raise ConfigError(
+            f"= {integ['samples_per_period']} with {integ['periods']:g} periods and {members} "
+            f"members would keep about {format_bytes(nbytes)} of states in memory, above "
+            f"{format_bytes(DEFAULT_MAX_MEMORY)}; keep fewer samples or periods", source,
+            "integration", "samples_per_period")
+
+
+def outputs(config: dict) -> list[str]:
+    """Files a run writes into the output folder."""
+    return output_files(config, FIGURES)
+
+
+def run(config: dict, out_dir: Path, *, overwrite=False, threads=None, progress=None,
+        history=None) -> StudySummary:
+    """Run the grid, save the Dataset, draw the figures; the summary of run against exact."""
+    from ..dataset import append_history, config_toml, software_attrs
+    from ..figures.style import save
+    from ..figures.top import gyroscope_paths_figure, gyroscope_rates_figure
+    from ..gyroscope import measure_gyroscopes
+    from ..io import saving
+    from ..threads import numba_threads
+    from .config import to_toml
+
+    t_start = time.perf_counter()
+    top = _top(config)
+    s, r, integ, paths = (config["spins"], config["release"], config["integration"],
+                          config["paths"])
+    spins = np.geomspace(s["min"], s["max"], s["count"])
+    with numba_threads(threads):
+        ds = measure_gyroscopes(
+            top, spins, np.radians(r["tilts"]), r["precession"], method=integ["method"],
+            step_angle=integ["step_angle"], periods=integ["periods"],
+            samples_per_period=integ["samples_per_period"], seed=r["seed"],
+            path_tilt=math.radians(paths["tilt"]), path_spin=paths["spin"],
+            path_periods=paths["periods"], progress=progress)
+    claim = config["analysis"]["claim"]
+    ds.attrs.update({"title": config["title"], "study": NAME, "claim": claim,
+                     "config": config_toml(config), **software_attrs()})
+    ds = append_history(ds, history or f"stability run ({NAME})")
+    out = config["output"]
+    files = [out_dir / out["dataset"]]
+    with saving(ds, files[0], overwrite=overwrite):
+        (out_dir / "config.toml").write_text(to_toml(config), encoding="utf-8")
+        files.append(out_dir / "config.toml")
+        if out["figures"]:
+            files += save(gyroscope_paths_figure(ds), out_dir, FIGURES[0], out["formats"])
+            files += save(gyroscope_rates_figure(ds, claim=claim), out_dir, FIGURES[1],
+                          out["formats"])
+    return summarize(ds, out_dir, files, time.perf_counter() - t_start)
+
+
+_QUANTITIES = (("precession_rate", "mean precession rate"),
+               ("nutation_frequency", "nutation frequency"),
+               ("nutation_amplitude", "nutation amplitude"))
+
+
+def summarize(ds, out_dir, files, wall) -> StudySummary:
+    """Worst relative errors against the exact motion; how far the fast-top values are off."""
+    claim = ds.attrs["claim"]
+    values = {"claim": claim, "wall_time": wall,
+              "integration_time": float(ds.attrs["wall_time"]),
+              "member_steps": int(ds.attrs["member_steps"]),
+              "members_failed": int((ds.status != 0).sum())}
+    rows = []
+    for name, text in _QUANTITIES:
+        worst = float(np.abs(ds[f"{name}_error"]).max())
+        values[f"max_relative_error_{name}"] = worst
+        rows.append((f"max |run - exact| / exact, {text}", f"{worst:.1e}", ""))
+    rows.append(("  the claim", f"{claim:g}", ""))
+    at_rest = ds.release.values == 0.0
+    for label, spin in (("lowest", ds.spin.values[0]),
+                        ("highest", ds.spin.values[-1])):
+        cell = ds.sel(spin=spin)
+        prec = np.abs(cell.precession_rate_exact / cell.precession_rate_gyroscopic - 1.0).max()
+        nut = np.abs(cell.nutation_frequency_exact / cell.nutation_frequency_gyroscopic
+                     - 1.0).max()
+        values[f"fast_top_offset_{label}"] = [float(prec), float(nut)]
+        rows.append((f"exact / fast-top value - 1 at {spin:.0f} rad/s (precession, nutation)",
+                     f"{float(prec):.1e}, {float(nut):.1e}", ""))
+        if at_rest.any():
+            amp = cell.isel(release=np.flatnonzero(at_rest)[0])
+            ratio = np.abs(amp.nutation_amplitude_exact / amp.nutation_amplitude_gyroscopic
+                           - 1.0).max()
+            values[f"fast_top_amplitude_offset_{label}"] = float(ratio)
+            rows.append((f"  amplitude released at rest, at {spin:.0f} rad/s", f"{ratio:.1e}",
+                         ""))
+    rows += [("members not ok", f"{values['members_failed']}", ""),
+             ("wall time (all) / integration",
+              f"{wall:.1f} / {values['integration_time']:.1f}", "s"),
+             ("member-steps", f"{values['member_steps']:.3g}", "")]
+    return StudySummary(NAME, Path(out_dir), files, rows, values)
+
+
+STUDY = StudyKind(
+    name=NAME,
+    title="gyroscope study",
+    schema=SCHEMA,
+    run=run,
+    outputs=outputs,
+    check=check,
+    quick=QUICK,
+)
