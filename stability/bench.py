@@ -1,8 +1,10 @@
-"""``stability bench``: member-steps per second of every integrator, against SciPy and NumPy.
+"""``stability bench``: member-steps per second of every integrator, against SciPy and NumPy,
+and the heavy top's work and precision against its exact motion.
 
-One workload for everyone: the tennis-racket preset spun at 10 rad/s about its intermediate axis,
-each of ``members`` members nudged by 1e-4 of the spin in a random perpendicular direction,
-``steps`` steps of h = 2 ms (the default tennis-racket study's step). Timed on it, in one run:
+The free body (``--scene free_body``, the default). One workload for everyone: the
+tennis-racket preset spun at 10 rad/s about its intermediate axis, each of ``members`` members
+nudged by 1e-4 of the spin in a random perpendicular direction, ``steps`` steps of h = 2 ms (the
+default tennis-racket study's step). Timed on it, in one run:
 
 - every registered method through the parallel member loop (:func:`stability.driver.propagate`,
   nothing saved), with 1 and 2 threads (compile time excluded and reported apart);
@@ -13,15 +15,26 @@ each of ``members`` members nudged by 1e-4 of the spin in a random perpendicular
 - a plain NumPy RK4 on the same arrays of members (no Numba): what vectorizing over members
   without compiling buys.
 
+Each of these rows also gives the largest error of w at the end over members, against the exact
+solution, so that speeds are compared at a known accuracy.
+
 Then, on workload W1 (:data:`W1`: I = (1, 2, 3), 10,000 members near the intermediate axis,
 T = 100 s, h = 0.01), what the engine costs (:func:`engine_costs`): a plain uncompensated RK4
 loop blocked for SIMD (:mod:`stability.engine.reference`), the engine's RK4 loop without and
 with compensated summation, and ``run_ensemble(summaries_only=True)`` (the loop with its
 tracking), each as member-steps/s and as a fraction of the plain loop, all in one process.
 
-Each timing is the best of ``repeat`` runs. Each row also gives the largest error of w at the end over members, against the exact solution,
-so that speeds are compared at a known accuracy. Timings depend on the machine and its load;
-this module prints numbers and asserts nothing about them.
+The heavy top (``--scene heavy_top``; :func:`top_work_precision`): a 0.1 kg disk of radius 3 cm
+4 cm from the pivot, ``members`` tops released at rest at a tilt of 60 degrees with spin
+300 rad/s at random azimuths, run for 5.25 nutation periods. Every method of scene ``heavy_top``
+runs at a ladder of steps h = step_angle / spin (:data:`STEP_ANGLES`); per (method, h): the loop's
+wall time, member-steps/s and the largest error over members of cos(theta) = g3 at the end
+against the exact solution (:func:`stability.exact_top.cos_theta`), which makes the table a
+work-precision diagram; per method, the measured order (:func:`measured_order`). Steps at which a
+method is unstable are reported as such.
+
+Each timing is the best of ``repeat`` runs. Timings depend on the machine and its load; this
+module prints numbers and asserts nothing about them.
 """
 
 from __future__ import annotations
@@ -138,15 +151,7 @@ def bench(members=10_000, steps=1000, threads=None, methods=None, scipy=True, nu
     steps = positive_int("steps", steps)
     repeat = positive_int("repeat", repeat)
     most = numba.config.NUMBA_NUM_THREADS
-    if threads is None:
-        threads = [t for t in (1, 2) if t <= most]
-    threads = [positive_int("threads", t) for t in threads]
-    too_many = [t for t in threads if t > most]
-    if too_many:
-        raise ValueError(
-            f"threads must be <= {most}, the cores Numba started with (NUMBA_NUM_THREADS), "
-            f"got {too_many[0]}"
-        )
+    threads = _thread_counts([t for t in (1, 2) if t <= most] if threads is None else threads)
     specs = [method_spec(name) for name in (methods or list(METHODS))]
     log = log or (lambda line: None)
 
@@ -343,6 +348,23 @@ def _exact(body, w0, t_end):
     return exact_omega_of_starts(body, w0, t_end)
 
 
+def _thread_counts(threads) -> list[int]:
+    """``threads`` checked: whole numbers from 1 to the cores Numba started with."""
+    import numba
+
+    from .checks import positive_int
+
+    most = numba.config.NUMBA_NUM_THREADS
+    threads = [positive_int("threads", t) for t in threads]
+    too_many = [t for t in threads if t > most]
+    if too_many:
+        raise ValueError(
+            f"threads must be <= {most}, the cores Numba started with (NUMBA_NUM_THREADS), "
+            f"got {too_many[0]}"
+        )
+    return threads
+
+
 def _threading_layer() -> str:
     import numba
 
@@ -381,11 +403,7 @@ def format_report(report: BenchReport) -> str:
             _ratio(r.rate, numpy_rate), _ratio(r.rate, scipy_rate),
             f"{r.error:.1e}" if math.isfinite(r.error) else "-", r.note,
         ))
-    widths = [max(len(row[i]) for row in table) for i in range(len(header))]
-    for k, row in enumerate(table):
-        lines.append("  ".join(cell.ljust(w) for cell, w in zip(row, widths)).rstrip())
-        if k == 0:
-            lines.append("  ".join("-" * w for w in widths))
+    lines.append(_aligned(table))
     for note in report.skipped:
         lines.append(f"skipped: {note}")
     lines.append("")
@@ -404,19 +422,244 @@ def _engine_table(rows) -> str:
     for r in rows:
         table.append((r.solver, str(r.threads), f"{r.wall:.3g}", f"{r.rate:.3g}",
                       _ratio(r.rate, reference), r.note))
-    widths = [max(len(row[i]) for row in table) for i in range(len(table[0]))]
-    lines = [
+    return "\n".join([
         f"what the engine costs, workload W1: I = {w['moments']}, {w['members']} members near "
         f"axis {w['axis']} (perturbation {w['epsilon']:g}), T = {w['t_end']:g} s, h = {w['h']:g}",
-    ]
-    for k, row in enumerate(table):
-        lines.append("  ".join(cell.ljust(n) for cell, n in zip(row, widths)).rstrip())
-        if k == 0:
-            lines.append("  ".join("-" * n for n in widths))
-    return "\n".join(lines)
+        _aligned(table),
+    ])
 
 
 def _ratio(rate, reference) -> str:
     if not (math.isfinite(rate) and math.isfinite(reference)) or reference <= 0:
         return "-"
     return f"{rate / reference:.3g}"
+
+
+# The heavy top: work and precision against the exact solution.
+
+#: The heavy-top workload: a 0.1 kg disk of radius 3 cm, 4 cm from the pivot (critical spin
+#: ~119 rad/s), released at rest at a tilt of 60 degrees with spin 300 rad/s about its axis.
+TOP_DISK = {"mass": 0.1, "radius": 0.03, "length": 0.04}
+TOP_SPIN = 300.0
+TOP_TILT = math.radians(60.0)
+#: Horizon in nutation periods: a quarter period past a whole number. After whole periods a top
+#: released at rest is back at a turning point of cos(theta), where an error in the nutation's
+#: phase enters squared: there lp2's error falls as h^4 and lp4's as ~h^7 (until round-off),
+#: overstating both.
+TOP_PERIODS = 5.25
+#: The ladder of steps h = step_angle / spin. RK4 is unstable above a step angle of ~2.8; the
+#: splittings turn with the spin exactly and stay stable.
+STEP_ANGLES = (6.4, 3.2, 1.6, 0.8, 0.4, 0.2, 0.1, 0.05, 0.025, 0.0125)
+#: Errors inside this window enter the measured order: above round-off, and small beside the
+#: nutation's range of cos(theta) (~0.06 here), past which errors are not yet asymptotic.
+ORDER_WINDOW = (1e-13, 1e-4)
+
+
+@dataclass
+class TopRow:
+    """One heavy-top method at one step.
+
+    Attributes
+    ----------
+    method : str
+        Method of scene ``heavy_top``.
+    step_angle : float
+        Asked step in radians of spin; ``h`` is it over the spin, shortened so that ``steps``
+        steps end exactly at the horizon.
+    h : float
+        Step in s.
+    steps : int
+        Steps per member.
+    wall : float
+        Seconds for the whole ensemble, the best of ``repeat`` runs, compilation excluded.
+    rate : float
+        Member-steps per second (NaN if a member failed).
+    error : float
+        Max over members of |g3(T) - cos(theta(T))|, against :func:`stability.exact_top.cos_theta`
+        (NaN if a member failed).
+    failed : int
+        Members whose state stopped being finite (the method is unstable at this step).
+    """
+
+    method: str
+    step_angle: float
+    h: float
+    steps: int
+    wall: float
+    rate: float
+    error: float
+    failed: int = 0
+
+
+@dataclass
+class TopReport:
+    """What :func:`top_work_precision` measured, with its workload."""
+
+    top: object
+    members: int
+    spin: float
+    tilt: float
+    periods: float
+    t_end: float
+    threads: int
+    repeat: int
+    rows: list = field(default_factory=list)
+    compile_times: dict = field(default_factory=dict)
+
+
+def top_workload(members: int, spin=TOP_SPIN, tilt=TOP_TILT, seed=0):
+    """The disk top :data:`TOP_DISK` and ``members`` starts (members, 6) released at rest at
+    ``tilt`` (rad) with spin ``spin`` (rad/s), at random azimuths."""
+    from .top import HeavyTop, tilted_starts
+
+    top = HeavyTop.disk(**TOP_DISK)
+    return top, tilted_starts(spin, tilt, members, top=top, seed=seed)
+
+
+def top_work_precision(members=256, spin=TOP_SPIN, tilt=TOP_TILT, periods=TOP_PERIODS,
+                       step_angles=STEP_ANGLES, methods=None, threads=None, repeat=3,
+                       log=None) -> TopReport:
+    """Wall time and error against the exact motion of each heavy-top method over a ladder of h.
+
+    The workload is :func:`top_workload` run for ``periods`` exact nutation periods
+    (:func:`stability.exact_top.nutation_period`). Each method runs once for one step to compile
+    it or load it from the disk cache (reported apart), then ``repeat`` times at each step; the
+    shortest loop time is kept. The error is that of the tilt's cosine g3 at the end against
+    :func:`stability.exact_top.cos_theta`, the largest over members.
+
+    Parameters
+    ----------
+    members : int
+        Ensemble size.
+    spin, tilt : float
+        Spin about the symmetry axis (rad/s) and initial tilt from the vertical (rad).
+    periods : float
+        Horizon in nutation periods.
+    step_angles : sequence of float
+        Steps as angles of spin, h = step_angle / spin (rad).
+    methods : sequence of str, optional
+        Methods of scene ``heavy_top``; default all.
+    threads : int, optional
+        Numba threads; default those in use.
+    repeat : int
+        Runs per timing.
+    log : callable, optional
+        Called with a line of text before each method (progress).
+
+    Returns
+    -------
+    TopReport
+        One :class:`TopRow` per (method, step), methods in order, steps as given.
+    """
+    import numba
+
+    from .checks import positive_float, positive_int
+    from .engine import propagate_groups
+    from .exact_top import cos_theta, nutation_period
+    from .scenes import SCENES
+
+    members = positive_int("members", members)
+    repeat = positive_int("repeat", repeat)
+    periods = positive_float("periods", periods)
+    threads = _thread_counts([threads if threads is not None else numba.get_num_threads()])[0]
+    scene = SCENES["heavy_top"]
+    specs = [scene.method(name) for name in (methods or list(scene.methods))]
+    log = log or (lambda line: None)
+
+    top, x0 = top_workload(members, spin, tilt)
+    A, _, C = top.pivot_moments
+    t_end = periods * float(np.max(nutation_period(x0, A, C, top.mgl)))
+    exact = cos_theta(t_end, x0, A, C, top.mgl)
+    report = TopReport(top, members, spin, tilt, periods, t_end, threads, repeat)
+
+    def run(spec, h, steps):
+        return propagate_groups(scene, spec, x0, spec.params(top.parameters, h)[None, :],
+                                [members], h, steps, progress=False)
+
+    before = numba.get_num_threads()
+    numba.set_num_threads(threads)
+    try:
+        for spec in specs:
+            log(f"timing heavy top {spec.name} at {len(step_angles)} steps ...")
+            report.compile_times[spec.name] = run(spec, t_end / 1000.0, 1).compile_time
+            for angle in step_angles:
+                steps = max(1, math.ceil(t_end * spin / angle))
+                h = t_end / steps
+                runs = [run(spec, h, steps) for _ in range(repeat)]
+                wall = min(r.wall_time for r in runs)
+                failed = int(np.count_nonzero(runs[0].status))
+                error = np.max(np.abs(runs[0].x_final[:, 5] - exact))
+                report.rows.append(TopRow(
+                    spec.name, angle, h, steps, wall,
+                    math.nan if failed else members * steps / wall,
+                    math.nan if failed else float(error), failed,
+                ))
+    finally:
+        numba.set_num_threads(before)
+    return report
+
+
+def measured_order(h, error, window=ORDER_WINDOW) -> tuple[float, int]:
+    """Least-squares slope of log(error) against log(h) over the errors inside ``window``.
+
+    Returns
+    -------
+    slope : float
+        The measured order (NaN with fewer than two points).
+    points : int
+        Points fitted.
+    """
+    h, error = np.asarray(h, dtype=float), np.asarray(error, dtype=float)
+    keep = np.isfinite(error) & (error > window[0]) & (error < window[1])
+    points = int(np.count_nonzero(keep))
+    if points < 2:
+        return math.nan, points
+    return float(np.polyfit(np.log(h[keep]), np.log(error[keep]), 1)[0]), points
+
+
+def format_top_report(report: TopReport) -> str:
+    """The heavy-top measurements as a table per (method, step), then the measured orders."""
+    from .scenes import SCENES
+
+    top = report.top
+    lines = [
+        f"heavy top: {report.members} members of a {top.name} (M = {top.mass:g} kg, "
+        f"l = {top.length:g} m) released at rest at a tilt of {math.degrees(report.tilt):g} deg "
+        f"with spin {report.spin:g} rad/s, T = {report.periods:g} nutation periods = "
+        f"{report.t_end:.4g} s, {report.threads} thread(s)",
+        "",
+    ]
+    table = [("method", "step angle", "h (s)", "steps", "wall (s)", "member-steps/s",
+              "max |cos(theta) error|")]
+    for r in report.rows:
+        table.append((
+            r.method, f"{r.step_angle:g}", f"{r.h:.3g}", str(r.steps), f"{r.wall:.3g}",
+            f"{r.rate:.3g}" if math.isfinite(r.rate) else "-",
+            f"{r.error:.1e}" if not r.failed else f"unstable ({r.failed} failed)",
+        ))
+    orders = [("method", "declared order", "measured order", "points fitted", "compile/load (s)")]
+    for name, compile_time in report.compile_times.items():
+        rows = [r for r in report.rows if r.method == name]
+        slope, points = measured_order([r.h for r in rows], [r.error for r in rows])
+        orders.append((name, str(SCENES["heavy_top"].method(name).order),
+                       f"{slope:.2f}" if math.isfinite(slope) else "-", str(points),
+                       f"{compile_time:.2f}"))
+    lines += [_aligned(table), "", _aligned(orders), ""]
+    lines += [
+        "error: max over members of |g3(T) - cos(theta(T))| against the exact motion "
+        f"(stability.exact_top); wall: the best of {report.repeat} runs, compilation excluded;",
+        "measured order: slope of log error against log h over the errors between "
+        f"{ORDER_WINDOW[0]:g} and {ORDER_WINDOW[1]:g}.",
+    ]
+    return "\n".join(lines)
+
+
+def _aligned(table) -> str:
+    """Rows of cells as left-aligned columns under a dashed header."""
+    widths = [max(len(row[i]) for row in table) for i in range(len(table[0]))]
+    lines = []
+    for k, row in enumerate(table):
+        lines.append("  ".join(cell.ljust(n) for cell, n in zip(row, widths)).rstrip())
+        if k == 0:
+            lines.append("  ".join("-" * n for n in widths))
+    return "\n".join(lines)

@@ -9,6 +9,7 @@
     stability studies [KIND]          # the study kinds and the keys of their files
     stability methods                 # the integrator registry as a table
     stability bench [--members N] [--steps N] [--threads N ...] [--methods NAME ...] [--repeat N]
+                    [--scene free_body|heavy_top|all] [--top-members N]
 
 A mistake by the user (a bad study file, a bad option, an output that exists) is reported as one
 line on stderr with exit status 2, never a traceback; ``--debug`` shows the traceback instead.
@@ -124,19 +125,29 @@ def build_parser() -> argparse.ArgumentParser:
 
     bench = sub.add_parser(
         "bench",
-        help="member-steps per second of every integrator, against scipy DOP853 and NumPy RK4",
-        description="Time every registered integrator on one ensemble (1 and 2 threads), and on "
-        "the same workload scipy's solve_ivp DOP853 (the whole ensemble as one system) and a "
-        "plain NumPy RK4; print member-steps/s and the speed ratios.",
+        help="member-steps per second of every integrator, against scipy DOP853 and NumPy RK4; "
+        "the heavy top's work and precision",
+        description="Free body: time every registered integrator on one ensemble (1 and 2 "
+        "threads), and on the same workload scipy's solve_ivp DOP853 (the whole ensemble as one "
+        "system) and a plain NumPy RK4; print member-steps/s, the speed ratios and each one's "
+        "error against the exact solution. Heavy top: run each of its methods at a ladder of "
+        "steps on released gyroscopes and print wall time, member-steps/s and the error of "
+        "cos(theta) against the exact motion per step, and each method's measured order.",
     )
+    bench.add_argument("--scene", choices=("free_body", "heavy_top", "all"),
+                       default="free_body", help="what to time (default free_body)")
     bench.add_argument("--members", type=_positive_int, default=10_000, metavar="N",
-                       help="ensemble size (default 10000)")
+                       help="free-body ensemble size (default 10000)")
+    bench.add_argument("--top-members", type=_positive_int, default=256, metavar="N",
+                       help="heavy-top ensemble size (default 256)")
     bench.add_argument("--steps", type=_positive_int, default=1000, metavar="N",
-                       help="steps per member (default 1000)")
+                       help="free-body steps per member (default 1000)")
     bench.add_argument("--threads", type=_positive_int, nargs="+", metavar="N",
-                       help="thread counts to time (default: 1 and 2)")
+                       help="thread counts to time (default: 1 and 2); the heavy top runs "
+                       "on the largest (default: all)")
     bench.add_argument("--methods", nargs="+", metavar="NAME",
-                       help="integrators to time (default: all registered)")
+                       help="integrators to time (default: all registered; with --scene all, "
+                       "the heavy top times those of them it has)")
     bench.add_argument("--repeat", type=_positive_int, default=3, metavar="N",
                        help="runs per timing, the best kept (default 3)")
     bench.add_argument("--no-scipy", action="store_true", help="skip scipy DOP853")
@@ -327,19 +338,37 @@ def _cell(value) -> str:
 
 
 def _cmd_bench(args) -> int:
-    from .bench import bench, format_report
+    from .bench import bench, format_report, format_top_report, top_work_precision
+    from .scenes import SCENES
 
-    report = bench(
-        members=args.members,
-        steps=args.steps,
-        threads=args.threads,
-        methods=args.methods,
-        scipy=not args.no_scipy,
-        numpy=not args.no_numpy,
-        repeat=args.repeat,
-        log=lambda line: print(line, file=sys.stderr, flush=True),
-    )
-    print(format_report(report))
+    log = lambda line: print(line, file=sys.stderr, flush=True)
+    if args.scene in ("free_body", "all"):
+        report = bench(
+            members=args.members,
+            steps=args.steps,
+            threads=args.threads,
+            methods=args.methods,
+            scipy=not args.no_scipy,
+            numpy=not args.no_numpy,
+            repeat=args.repeat,
+            log=log,
+        )
+        print(format_report(report))
+    if args.scene in ("heavy_top", "all"):
+        methods = args.methods
+        if methods and args.scene == "all":
+            methods = [name for name in methods if name in SCENES["heavy_top"].methods]
+            if not methods:
+                print("\nheavy top: none of the --methods runs it")
+                return 0
+        report = top_work_precision(
+            members=args.top_members,
+            methods=methods,
+            threads=max(args.threads) if args.threads else None,
+            repeat=args.repeat,
+            log=log,
+        )
+        print(("\n" if args.scene == "all" else "") + format_top_report(report))
     return 0
 
 

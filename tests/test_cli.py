@@ -163,3 +163,44 @@ def test_bench_measures_every_solver_at_known_accuracy():
         assert row.error < 1e-6
     # The NumPy baseline runs the same RK4 as the kernel: the same error to round-off.
     assert rows["numpy RK4"].error == pytest.approx(rows["rk4"].error, rel=1e-3, abs=1e-13)
+
+
+def test_bench_heavy_top_prints_every_method_and_its_order(capsys):
+    args = ["bench", "--scene", "heavy_top", "--top-members", "4", "--threads", "1",
+            "--repeat", "1"]
+    assert main(args) == 0
+    out = capsys.readouterr().out
+    assert "solver" not in out  # the free-body table is not run
+    lines = out.splitlines()
+    header = next(k for k, line in enumerate(lines) if line.startswith("method  step angle"))
+    n = len(bench_module.STEP_ANGLES)
+    rows = [[cell.strip() for cell in line.split("  ") if cell.strip()]
+            for line in lines[header + 2:header + 2 + 3 * n]]
+    assert [row[0] for row in rows] == ["rk4"] * n + ["lp2"] * n + ["lp4"] * n
+    for row in rows:
+        error = row[-1]
+        if error.startswith("unstable"):
+            # RK4 turning with the spin is unstable above a step angle of 2 sqrt(2).
+            assert row[0] == "rk4" and float(row[1]) > 2.8
+        else:
+            assert 0.0 < float(error) < 0.1
+    orders = next(k for k, line in enumerate(lines) if line.startswith("method  declared order"))
+    for line in lines[orders + 2:orders + 5]:
+        name, declared, measured = line.split()[:3]
+        assert abs(float(measured) - float(declared)) < 0.2, line
+
+
+def test_heavy_top_errors_against_the_exact_motion_fall_at_each_methods_order():
+    """Halving h in the asymptotic range divides lp4's error by ~2^4 and lp2's by ~2^2."""
+    report = bench_module.top_work_precision(members=4, periods=1.25, step_angles=(0.8, 0.4),
+                                             threads=1, repeat=1)
+    rows = {(row.method, row.step_angle): row for row in report.rows}
+    assert {name for name, _ in rows} == {"rk4", "lp2", "lp4"}
+    for row in rows.values():
+        assert row.failed == 0 and np.isfinite(row.error) and row.error > 0.0
+        assert row.steps * row.h == pytest.approx(report.t_end, rel=1e-12)
+    assert rows["lp4", 0.8].error / rows["lp4", 0.4].error > 2.0**3
+    assert 2.0 < rows["lp2", 0.8].error / rows["lp2", 0.4].error < 2.0**3
+    lp4 = [rows["lp4", a] for a in (0.8, 0.4)]
+    slope, points = bench_module.measured_order([r.h for r in lp4], [r.error for r in lp4])
+    assert points == 2 and slope == pytest.approx(4.0, abs=0.3)
