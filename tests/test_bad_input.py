@@ -92,6 +92,14 @@ CLI = {
     "gyroscope with no precession rate": (
         'study = "gyroscope"\n[release]\nprecession = []\n', [],
         ["[release] precession must list at least one"]),
+    "equinoxes over less than the nutation needs": (
+        'study = "equinoxes"\n[run]\nyears = 10.0\n', [], ["[run] years must be a number >= 40"]),
+    "equinoxes with an unknown method": (
+        'study = "equinoxes"\n[integration]\nmethod = "rk4"\n', [],
+        ["[integration] method must be one of", "lp2", "lp4"]),
+    "equinoxes with no steps a day": (
+        'study = "equinoxes"\n[integration]\nsteps_per_day = 0\n', [],
+        ["[integration] steps_per_day must be an integer >= 1"]),
     "Earth with no equatorial moment left": (
         'study = "earth_wobble"\n[earth]\nasymmetry = 1.0\n', [],
         ["[earth] asymmetry leaves no positive equatorial moment"]),

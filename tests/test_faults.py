@@ -300,13 +300,14 @@ ONE_PIECE = {
     "sleeping_top": ("sleeping tops", ["--members", "256"]),
     "gyroscope": ("gyroscopes", ["--set", "integration.periods=2000",
                                  "--set", "integration.samples_per_period=8"]),
+    "equinoxes": ("Earth under Sun and Moon", ["--set", "run.years=3000"]),
 }
 
 
 @pytest.mark.parametrize("sig", ["SIGINT", "SIGTERM"])
 @pytest.mark.parametrize("name", sorted(ONE_PIECE))
 def test_one_piece_study_stopped_while_integrating_keeps_the_earlier_result(tmp_path, name, sig):
-    """A study that runs in one piece (the sleeping-top map, the gyroscope grid): a signal
+    """A study that runs in one piece (sleeping tops, gyroscopes, the equinoxes): a signal
     while it integrates publishes nothing, leaves the earlier result byte for byte and no
     temporary file, and says so in one line."""
     label, longer = ONE_PIECE[name]

@@ -9,9 +9,11 @@ one module beside these (copy ``free_body.py``; the checklist is in ``spec.py``)
 from .free_body import FREE_BODY
 from .free_body_attitude import FREE_BODY_ATTITUDE
 from .heavy_top import HEAVY_TOP
+from .lunisolar_earth import LUNISOLAR_EARTH
+from .precessing_axis import PRECESSING_AXIS
 from .spec import Scene
 
-_ALL = (FREE_BODY, FREE_BODY_ATTITUDE, HEAVY_TOP)
+_ALL = (FREE_BODY, FREE_BODY_ATTITUDE, HEAVY_TOP, LUNISOLAR_EARTH, PRECESSING_AXIS)
 
 SCENES: dict[str, Scene] = {s.name: s for s in _ALL}
 

@@ -16,7 +16,7 @@ from __future__ import annotations
 from pathlib import Path
 
 from ..stream import RunInterrupted
-from . import earth_wobble, gyroscope, sleeping_top, stability_map, tennis_racket, work_precision
+from . import earth_wobble, equinoxes, gyroscope, sleeping_top, stability_map, tennis_racket, work_precision
 from .config import (
     REQUIRED,
     STUDY_KEY,
@@ -37,6 +37,7 @@ from .config import (
 
 STUDIES: dict[str, StudyKind] = {
     "earth_wobble": earth_wobble.STUDY,
+    "equinoxes": equinoxes.STUDY,
     "gyroscope": gyroscope.STUDY,
     "sleeping_top": sleeping_top.STUDY,
     "stability_map": stability_map.STUDY,
