@@ -16,7 +16,9 @@ from __future__ import annotations
 from pathlib import Path
 
 from ..stream import RunInterrupted
-from . import earth_wobble, equinoxes, gyroscope, sleeping_top, stability_map, tennis_racket, work_precision
+from . import (
+    earth_wobble, equinoxes, gyroscope, sleeping_top, stability_map, tennis_racket, work_precision,
+)
 from .config import (
     REQUIRED,
     STUDY_KEY,

@@ -6,8 +6,8 @@ precession rate; :func:`stability.gyroscope.measure_gyroscopes` measures from ea
 precession rate, the nutation frequency and the nutation amplitude and sets them beside the
 exact values and the fast-top formulas ``M g l / (C w3)``, ``C w3 / A`` and
 ``2 A M g l sin(theta0) / (C w3)^2``. Outputs: the Dataset, two figures
-(:func:`stability.figures.top.gyroscope_paths_figure`, :func:`~stability.figures.top.gyroscope_rates_figure`)
-and the study's configuration.
+(:func:`stability.figures.top.gyroscope_paths_figure`,
+:func:`~stability.figures.top.gyroscope_rates_figure`) and the study's configuration.
 """
 
 from __future__ import annotations
@@ -21,33 +21,20 @@ import numpy as np
 from .config import (
     ConfigError, Key, Schema, Section, StudyKind, StudySummary, output_files, output_section,
 )
+from .tops import check_spins, symmetric_top, top_keys, top_methods
 
 NAME = "gyroscope"
 #: Figure stems: the paths of the figure axis, the rates against spin.
 FIGURES = ("gyroscope_paths", "gyroscope_rates")
 
 
-def _top_methods() -> tuple:
-    from ..integrators.heavy_top import METHODS
-
-    return tuple(METHODS)
-
-
 SCHEMA = Schema(
     top=(Key("title", "str", "Precession and nutation of a gyroscope",
              "one line describing the run (the Dataset's title)"),),
     sections=(
-        Section("top", "the symmetric top: a disk on a light axle over the pivot", (
-            Key("mass", "float", 0.1, "mass M", unit="kg", minimum=0.0, exclusive_minimum=True),
-            Key("central_moments", "floats", [2.25e-5, 2.25e-5, 4.5e-5],
-                "principal moments about the centre of mass, axis 3 the symmetry axis "
-                "(I1 = I2); default: a disk of radius 3 cm", unit="kg m2", minimum=0.0,
-                exclusive_minimum=True, length=3),
+        Section("top", "the symmetric top: a disk on a light axle over the pivot", top_keys(
             Key("length", "float", 0.04, "distance l from the pivot to the centre of mass",
-                unit="m", minimum=0.0, exclusive_minimum=True),
-            Key("gravity", "float", 9.80665, "g", unit="m s-2", minimum=0.0,
-                exclusive_minimum=True),
-        )),
+                unit="m", minimum=0.0, exclusive_minimum=True))),
         Section("spins", "the spins w3 (evenly spaced in log)", (
             Key("min", "float", 150.0, "smallest spin", unit="rad s-1", minimum=0.0,
                 exclusive_minimum=True),
@@ -65,7 +52,7 @@ SCHEMA = Schema(
             Key("seed", "int", 0, "seed of the members' azimuths", minimum=0),
         )),
         Section("integration", "the integrator, its step and the run length", (
-            Key("method", "str", "lp4", "a heavy-top method", choices=_top_methods),
+            Key("method", "str", "lp4", "a heavy-top method", choices=top_methods),
             Key("step_angle", "float", 0.02, "h times the faster of spin and nutation",
                 unit="rad", minimum=0.0, exclusive_minimum=True, maximum=0.5),
             Key("periods", "float", 40.0, "run length in nutation periods", minimum=3.0),
@@ -94,28 +81,14 @@ QUICK = {"spins": {"count": 4}, "release": {"tilts": [60.0]}, "integration": {"p
 
 
 def _top(config, source="<config>"):
-    from ..top import HeavyTop
-
-    t = config["top"]
-    try:
-        return HeavyTop(t["mass"], t["length"], tuple(t["central_moments"]), t["gravity"],
-                        name=f"disk top, l = {100 * t['length']:g} cm")
-    except ValueError as exc:
-        raise ConfigError(str(exc), source, "top", "central_moments") from None
+    length = config["top"]["length"]
+    return symmetric_top(config, length, source, name=f"disk top, l = {100 * length:g} cm")
 
 
 def check(config: dict, source: str) -> dict:
     """A symmetric, physical top; a spin range; tilts strictly between 0 and 180 degrees."""
-    t = config["top"]
-    I1, I2, _ = t["central_moments"]
-    if I1 != I2:
-        raise ConfigError(f"must have I1 = I2 (a symmetric top), got {I1:g} and {I2:g}",
-                          source, "top", "central_moments")
     _top(config, source)
-    s = config["spins"]
-    if s["max"] <= s["min"]:
-        raise ConfigError(f"must exceed [spins] min ({s['min']:g}), got {s['max']:g}", source,
-                          "spins", "max")
+    check_spins(config, source)
     r = config["release"]
     if not r["tilts"]:
         raise ConfigError("must list at least one tilt", source, "release", "tilts")

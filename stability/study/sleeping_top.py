@@ -19,33 +19,20 @@ import numpy as np
 from .config import (
     ConfigError, Key, Schema, Section, StudyKind, StudySummary, output_files, output_section,
 )
+from .tops import check_spins, symmetric_top, top_keys, top_methods
 
 NAME = "sleeping_top"
 FIGURE = "sleeping_top"
-
-
-def _top_methods() -> tuple:
-    from ..integrators.heavy_top import METHODS
-
-    return tuple(METHODS)
 
 
 SCHEMA = Schema(
     top=(Key("title", "str", "Stability of the sleeping top across the critical spin",
              "one line describing the run (the Dataset's title)"),),
     sections=(
-        Section("top", "the symmetric top: a disk-like body on an axle over the pivot", (
-            Key("mass", "float", 0.1, "mass M", unit="kg", minimum=0.0, exclusive_minimum=True),
-            Key("central_moments", "floats", [2.25e-5, 2.25e-5, 4.5e-5],
-                "principal moments about the centre of mass, axis 3 the symmetry axis "
-                "(I1 = I2); default: a disk of radius 3 cm", unit="kg m2", minimum=0.0,
-                exclusive_minimum=True, length=3),
+        Section("top", "the symmetric top: a disk-like body on an axle over the pivot", top_keys(
             Key("lengths", "floats", [0.03, 0.04, 0.05],
                 "distances l from the pivot to the centre of mass, one map each", unit="m",
-                minimum=0.0, exclusive_minimum=True),
-            Key("gravity", "float", 9.80665, "g", unit="m s-2", minimum=0.0,
-                exclusive_minimum=True),
-        )),
+                minimum=0.0, exclusive_minimum=True))),
         Section("spins", "the spins w3 of the map", (
             Key("min", "float", 0.0, "smallest spin", unit="rad s-1", minimum=0.0),
             Key("max", "float", 250.0, "largest spin", unit="rad s-1", minimum=0.0,
@@ -59,7 +46,7 @@ SCHEMA = Schema(
             Key("seed", "int", 0, "seed of the members' azimuths", minimum=0),
         )),
         Section("integration", "the integrator and its step", (
-            Key("method", "str", "lp4", "a heavy-top method", choices=_top_methods),
+            Key("method", "str", "lp4", "a heavy-top method", choices=top_methods),
             Key("step_angle", "float", 0.02,
                 "h times the fastest rate (spin, nutation, fall)", unit="rad", minimum=0.0,
                 exclusive_minimum=True, maximum=0.5),
@@ -87,33 +74,16 @@ QUICK = {"spins": {"count": 11}, "ensemble": {"members": 16}, "top": {"lengths":
 
 
 def _tops(config, source="<config>"):
-    from ..top import HeavyTop
-
-    t = config["top"]
-    tops = []
-    for length in t["lengths"]:
-        try:
-            tops.append(HeavyTop(t["mass"], length, tuple(t["central_moments"]), t["gravity"],
-                                 name=f"l = {length:g} m"))
-        except ValueError as exc:
-            raise ConfigError(str(exc), source, "top", "central_moments") from None
-    return tops
+    return [symmetric_top(config, length, source, name=f"l = {length:g} m")
+            for length in config["top"]["lengths"]]
 
 
 def check(config: dict, source: str) -> dict:
     """A symmetric, physical top; a non-empty spin range."""
-    t = config["top"]
-    I1, I2, _ = t["central_moments"]
-    if I1 != I2:
-        raise ConfigError(f"must have I1 = I2 (a symmetric top), got {I1:g} and {I2:g}",
-                          source, "top", "central_moments")
-    if not t["lengths"]:
+    if not config["top"]["lengths"]:
         raise ConfigError("must list at least one distance", source, "top", "lengths")
     _tops(config, source)
-    s = config["spins"]
-    if s["max"] <= s["min"]:
-        raise ConfigError(f"must exceed [spins] min ({s['min']:g}), got {s['max']:g}", source,
-                          "spins", "max")
+    check_spins(config, source)
     return config
 
 
