@@ -259,6 +259,50 @@ def output_files(config: dict, figures, extra=()) -> list[str]:
     return names
 
 
+def write_outputs(ds, config: dict, out_dir, name: str, figures: dict, *, overwrite=False,
+                  history=None, attrs=None):
+    """Label ``ds`` and write what ``[output]`` asks for: the Dataset, ``config.toml`` and the
+    figures, published together (:func:`stability.io.saving`: the write runs while the figures
+    draw; an interruption publishes nothing).
+
+    Parameters
+    ----------
+    ds : xarray.Dataset
+        The study's result; gets the title, the study kind, the configuration, the software
+        versions, ``attrs`` and a history line.
+    config : dict
+        The resolved configuration.
+    out_dir : Path
+        The output folder (it exists).
+    name : str
+        The study kind.
+    figures : dict
+        ``{stem: draw}``, ``draw(ds) -> Figure`` for each figure the study draws.
+
+    Returns
+    -------
+    ds : xarray.Dataset
+        As written.
+    files : list of Path
+    """
+    from ..dataset import append_history, config_toml, software_attrs
+    from ..figures.style import save
+    from ..io import saving
+
+    ds.attrs.update({"title": config["title"], "study": name, **(attrs or {}),
+                     "config": config_toml(config), **software_attrs()})
+    ds = append_history(ds, history or f"stability run ({name})")
+    out = config["output"]
+    files = [out_dir / out["dataset"]]
+    with saving(ds, files[0], overwrite=overwrite):
+        (out_dir / "config.toml").write_text(to_toml(config), encoding="utf-8")
+        files.append(out_dir / "config.toml")
+        if out["figures"]:
+            for stem, draw in figures.items():
+                files += save(draw(ds), out_dir, stem, out["formats"])
+    return ds, files
+
+
 def _describe_key(key: Key) -> str:
     if key.default is REQUIRED:
         value = "<required>"

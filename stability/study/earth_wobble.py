@@ -13,7 +13,10 @@ import math
 import time
 from pathlib import Path
 
-from .config import Key, Schema, Section, StudyKind, StudySummary, output_files, output_section
+from .config import (
+    Key, Schema, Section, StudyKind, StudySummary, output_files, output_section,
+    write_outputs,
+)
 
 NAME = "earth_wobble"
 FIGURE = "earth_wobble"
@@ -90,14 +93,10 @@ def run(config: dict, out_dir: Path, *, overwrite=False, threads=None, progress=
         history=None) -> StudySummary:
     """Measure the wobble, save the Dataset, draw the cones; the period against Euler's."""
     from ..body import RigidBody
-    from ..dataset import append_history, config_toml, software_attrs
     from ..earth import ARCSEC, earth_moments
     from ..figures.earth import wobble_cones_figure
-    from ..figures.style import save
-    from ..io import saving
     from ..threads import numba_threads
     from ..wobble import measure_free_wobble
-    from .config import to_toml
 
     t_start = time.perf_counter()
     e, w, integ = config["earth"], config["wobble"], config["integration"]
@@ -108,16 +107,9 @@ def run(config: dict, out_dir: Path, *, overwrite=False, threads=None, progress=
         ds = measure_free_wobble(body, spin, w["offset"] * ARCSEC, members=w["members"],
                                  periods=w["periods"], steps_per_turn=integ["steps_per_turn"],
                                  method=integ["method"], seed=w["seed"], progress=progress)
-    ds.attrs.update({"title": config["title"], "study": NAME, "config": config_toml(config),
-                     "sidereal_day": e["sidereal_day"], **software_attrs()})
-    ds = append_history(ds, history or f"stability run ({NAME})")
-    out = config["output"]
-    files = [out_dir / out["dataset"]]
-    with saving(ds, files[0], overwrite=overwrite):
-        (out_dir / "config.toml").write_text(to_toml(config), encoding="utf-8")
-        files.append(out_dir / "config.toml")
-        if out["figures"]:
-            files += save(wobble_cones_figure(ds), out_dir, FIGURE, out["formats"])
+    ds, files = write_outputs(ds, config, out_dir, NAME, {FIGURE: wobble_cones_figure},
+                              overwrite=overwrite, history=history,
+                              attrs={"sidereal_day": e["sidereal_day"]})
     wall = time.perf_counter() - t_start
     sidereal = e["sidereal_day"] / 86400.0
     values = {name: float(ds[name]) for name in (

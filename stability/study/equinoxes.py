@@ -13,7 +13,10 @@ from __future__ import annotations
 import time
 from pathlib import Path
 
-from .config import Key, Schema, Section, StudyKind, StudySummary, output_files, output_section
+from .config import (
+    Key, Schema, Section, StudyKind, StudySummary, output_files, output_section,
+    write_outputs,
+)
 
 NAME = "equinoxes"
 FIGURE = "equinoxes"
@@ -66,13 +69,9 @@ def outputs(config: dict) -> list[str]:
 def run(config: dict, out_dir: Path, *, overwrite=False, threads=None, progress=None,
         history=None) -> StudySummary:
     """Run both models, save the Dataset, draw the figure; the summary against published values."""
-    from ..dataset import append_history, config_toml, software_attrs
     from ..equinoxes import measure_equinoxes
     from ..figures.equinoxes import equinoxes_figure
-    from ..figures.style import save
-    from ..io import saving
     from ..threads import numba_threads
-    from .config import to_toml
 
     t_start = time.perf_counter()
     r, integ = config["run"], config["integration"]
@@ -82,17 +81,9 @@ def run(config: dict, out_dir: Path, *, overwrite=False, threads=None, progress=
                                averaged_step_days=integ["averaged_step"],
                                cycle_years=integ["cycle_years"], seed=r["seed"],
                                progress=progress)
-    ds.attrs.update({"title": config["title"], "study": NAME,
-                     "claim": config["analysis"]["claim"], "config": config_toml(config),
-                     **software_attrs()})
-    ds = append_history(ds, history or f"stability run ({NAME})")
-    out = config["output"]
-    files = [out_dir / out["dataset"]]
-    with saving(ds, files[0], overwrite=overwrite):
-        (out_dir / "config.toml").write_text(to_toml(config), encoding="utf-8")
-        files.append(out_dir / "config.toml")
-        if out["figures"]:
-            files += save(equinoxes_figure(ds), out_dir, FIGURE, out["formats"])
+    ds, files = write_outputs(ds, config, out_dir, NAME, {FIGURE: equinoxes_figure},
+                              overwrite=overwrite, history=history,
+                              attrs={"claim": config["analysis"]["claim"]})
     return summarize(ds, out_dir, files, time.perf_counter() - t_start)
 
 

@@ -20,6 +20,7 @@ import numpy as np
 
 from .config import (
     ConfigError, Key, Schema, Section, StudyKind, StudySummary, output_files, output_section,
+    write_outputs,
 )
 from .tops import check_spins, symmetric_top, top_keys, top_methods
 
@@ -132,13 +133,9 @@ def outputs(config: dict) -> list[str]:
 def run(config: dict, out_dir: Path, *, overwrite=False, threads=None, progress=None,
         history=None) -> StudySummary:
     """Run the grid, save the Dataset, draw the figures; the summary of run against exact."""
-    from ..dataset import append_history, config_toml, software_attrs
-    from ..figures.style import save
     from ..figures.top import gyroscope_paths_figure, gyroscope_rates_figure
     from ..gyroscope import measure_gyroscopes
-    from ..io import saving
     from ..threads import numba_threads
-    from .config import to_toml
 
     t_start = time.perf_counter()
     top = _top(config)
@@ -153,18 +150,11 @@ def run(config: dict, out_dir: Path, *, overwrite=False, threads=None, progress=
             path_tilt=math.radians(paths["tilt"]), path_spin=paths["spin"],
             path_periods=paths["periods"], progress=progress)
     claim = config["analysis"]["claim"]
-    ds.attrs.update({"title": config["title"], "study": NAME, "claim": claim,
-                     "config": config_toml(config), **software_attrs()})
-    ds = append_history(ds, history or f"stability run ({NAME})")
-    out = config["output"]
-    files = [out_dir / out["dataset"]]
-    with saving(ds, files[0], overwrite=overwrite):
-        (out_dir / "config.toml").write_text(to_toml(config), encoding="utf-8")
-        files.append(out_dir / "config.toml")
-        if out["figures"]:
-            files += save(gyroscope_paths_figure(ds), out_dir, FIGURES[0], out["formats"])
-            files += save(gyroscope_rates_figure(ds, claim=claim), out_dir, FIGURES[1],
-                          out["formats"])
+    ds, files = write_outputs(
+        ds, config, out_dir, NAME,
+        {FIGURES[0]: gyroscope_paths_figure,
+         FIGURES[1]: lambda ds: gyroscope_rates_figure(ds, claim=claim)},
+        overwrite=overwrite, history=history, attrs={"claim": claim})
     return summarize(ds, out_dir, files, time.perf_counter() - t_start)
 
 

@@ -18,6 +18,7 @@ import numpy as np
 
 from .config import (
     ConfigError, Key, Schema, Section, StudyKind, StudySummary, output_files, output_section,
+    write_outputs,
 )
 from .tops import check_spins, symmetric_top, top_keys, top_methods
 
@@ -95,13 +96,9 @@ def outputs(config: dict) -> list[str]:
 def run(config: dict, out_dir: Path, *, overwrite=False, threads=None, progress=None,
         history=None) -> StudySummary:
     """Run the map, save the Dataset, draw the figure; the summary of measured against analytic."""
-    from ..dataset import append_history, config_toml, software_attrs
-    from ..figures.style import save
     from ..figures.top import sleeping_top_figure
-    from ..io import saving
     from ..sleeping_top import measure_sleeping_tops
     from ..threads import numba_threads
-    from .config import to_toml
 
     t_start = time.perf_counter()
     tops = _tops(config)
@@ -115,21 +112,11 @@ def run(config: dict, out_dir: Path, *, overwrite=False, threads=None, progress=
             low_factor=an["fit_above"], high_fraction=an["fit_below"], seed=ens["seed"],
             progress=progress)
     t = config["top"]
-    ds.attrs.update({
-        "title": config["title"], "study": NAME, "mass": t["mass"],
-        "central_moments": np.array(t["central_moments"]), "gravity": t["gravity"],
-        "claim": an["claim"], "away_fraction": an["away"],
-        "config": config_toml(config), **software_attrs(),
-    })
-    ds = append_history(ds, history or f"stability run ({NAME})")
-    out = config["output"]
-    files = [out_dir / out["dataset"]]
-    with saving(ds, files[0], overwrite=overwrite):
-        (out_dir / "config.toml").write_text(to_toml(config), encoding="utf-8")
-        files.append(out_dir / "config.toml")
-        if out["figures"]:
-            files += save(sleeping_top_figure(ds, claim=an["claim"]), out_dir, FIGURE,
-                          out["formats"])
+    ds, files = write_outputs(
+        ds, config, out_dir, NAME, {FIGURE: lambda ds: sleeping_top_figure(ds, an["claim"])},
+        overwrite=overwrite, history=history,
+        attrs={"mass": t["mass"], "central_moments": np.array(t["central_moments"]),
+               "gravity": t["gravity"], "claim": an["claim"], "away_fraction": an["away"]})
     return summarize(ds, out_dir, files, time.perf_counter() - t_start)
 
 
