@@ -230,8 +230,7 @@ SERIES_TIME, CYCLE_TIME = "time", "cycle_time"
 def _switched(orbits, torque):
     """The (sun, moon) elements of one member for ``torque`` ("sun", "moon" or "both")."""
     sun, moon = orbits
-    return (sun * (torque != "moon") if torque != "moon" else _off(sun),
-            moon if torque != "sun" else _off(moon))
+    return (sun if torque != "moon" else _off(sun), moon if torque != "sun" else _off(moon))
 
 
 def _off(elements):
@@ -297,8 +296,6 @@ def measure_equinoxes(*, years=100.0, members=4, steps_per_day=4, method="lp4",
     n_steps = int(round(years * 365.25 * steps_per_day))
     # Full model: the three torques at h, and "both" at 2h for the error estimate.
     groups = [(torque, h) for torque in TORQUES] + [("both", 2.0 * h)]
-    params = [spec.params(earth_parameters(*_switched(orbits[0], torque)), step)
-              for torque, step in groups]
     # Members of a group differ in their orbital phases: one group per (torque, member).
     x0 = full_start(members, seed=seed)
     rows, p_rows, h_rows, n_rows = [], [], [], []
@@ -308,7 +305,6 @@ def measure_equinoxes(*, years=100.0, members=4, steps_per_day=4, method="lp4",
             p_rows.append(spec.params(earth_parameters(*_switched(orbits[k], torque)), step))
             h_rows.append(step)
             n_rows.append(n_steps if step == h else n_steps // 2)
-    del params
     t0 = _time.perf_counter()
     run = propagate_groups(full, spec, np.array(rows), np.array(p_rows), np.ones(len(rows)),
                            np.array(h_rows), np.array(n_rows), save_every=steps_per_day,
