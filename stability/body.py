@@ -609,6 +609,62 @@ class Part:
         return cls(mass, across * np.eye(3) + (along - across) * np.outer(n, n), position, name)
 
     @classmethod
+    def frustum(
+        cls, mass, radius0, radius1, length, base=(0.0, 0.0, 0.0), axis=(0.0, 0.0, 1.0),
+        name: str = "frustum",
+    ):
+        """A solid truncated cone of uniform density (a cone when one radius is 0).
+
+        With the radius ``r(z) = r0 + (r1 - r0) z / L`` along the axis from the base (z = 0) and
+        density rho = M / (pi int r^2 dz): centre ``z_c = int z r^2 dz / int r^2 dz``, moment
+        about the axis ``rho pi int r^4 / 2 dz`` and across it, about the centre,
+        ``rho pi int (r^4 / 4 + (z - z_c)^2 r^2) dz`` (thin disks; the integrals are exact
+        polynomial ones). Equal radii give :meth:`cylinder`.
+
+        Parameters
+        ----------
+        mass : float
+            Mass in kg, finite and > 0.
+        radius0, radius1 : float
+            Radii of the base and of the far face, in m, finite and >= 0, not both 0.
+        length : float
+            In m, finite and > 0.
+        base : array_like, shape (3,), default (0, 0, 0)
+            Centre of the base face (radius0) in the assembly frame, in m.
+        axis : array_like, shape (3,), default (0, 0, 1)
+            Direction from the base to the far face (any non-zero length).
+        name : str, default "frustum"
+        """
+        mass = positive_float(f"mass of part {name!r}", mass, "kg")
+        length = positive_float(f"length of part {name!r}", length, "m")
+        r0, r1 = (real_number(f"{label} of part {name!r}", r, "m")
+                  for label, r in (("radius0", radius0), ("radius1", radius1)))
+        if not (math.isfinite(r0) and math.isfinite(r1) and min(r0, r1) >= 0.0
+                and max(r0, r1) > 0.0):
+            raise ValueError(f"radii of part {name!r} must be finite and >= 0, not both 0 "
+                             f"(in m), got {radius0!r} and {radius1!r}")
+        n = _vector(f"axis of part {name!r}", axis, "any unit")
+        norm = float(np.linalg.norm(n))
+        if norm == 0.0:
+            raise ValueError(f"axis of part {name!r} must be a non-zero vector, got {n.tolist()}")
+        n = n / norm
+        radius = np.polynomial.Polynomial([r0, (r1 - r0) / length])
+        z = np.polynomial.Polynomial([0.0, 1.0])
+
+        def integral(poly):
+            antiderivative = poly.integ()
+            return float(antiderivative(length) - antiderivative(0.0))
+
+        volume = integral(radius**2)  # / pi
+        rho = mass / volume
+        centre = integral(z * radius**2) / volume
+        along = rho * integral(radius**4) / 2.0
+        across = rho * integral(radius**4 / 4.0 + (z - centre) ** 2 * radius**2)
+        base = _vector(f"base of part {name!r}", base, "m")
+        tensor = across * np.eye(3) + (along - across) * np.outer(n, n)
+        return cls(mass, tensor, base + centre * n, name)
+
+    @classmethod
     def from_body(cls, body: RigidBody, mass, position, rotation=None, name: str | None = None):
         """A part with the principal moments of a body, turned by ``rotation``.
 

@@ -11,9 +11,12 @@ from .free_body_attitude import FREE_BODY_ATTITUDE
 from .heavy_top import HEAVY_TOP
 from .lunisolar_earth import LUNISOLAR_EARTH
 from .precessing_axis import PRECESSING_AXIS
+from .rolling_body import ROLLING_BODY
+from .struck_body import STRUCK_BODY
 from .spec import Scene
 
-_ALL = (FREE_BODY, FREE_BODY_ATTITUDE, HEAVY_TOP, LUNISOLAR_EARTH, PRECESSING_AXIS)
+_ALL = (FREE_BODY, FREE_BODY_ATTITUDE, HEAVY_TOP, LUNISOLAR_EARTH, PRECESSING_AXIS,
+        ROLLING_BODY, STRUCK_BODY)
 
 SCENES: dict[str, Scene] = {s.name: s for s in _ALL}
 

@@ -1,0 +1,285 @@
+"""Rolling with and without slipping: the formulas, and ensembles run on scene ``rolling_body``.
+
+A round body with I = k M R^2 (k: :data:`SHAPES`) under Coulomb friction (mu_s >= mu_k); the
+equations and the exact event-located step are in :mod:`stability.integrators.rolling`.
+
+On an incline of angle theta, released at rest [course notes, corrected: ERRATA.md section 4]:
+
+- it rolls without slipping iff ``tan(theta) <= mu_s (1 + M R^2 / I)``, with
+  ``a = g sin(theta) / (1 + I / (M R^2))`` (:func:`rolls`, :func:`rolling_acceleration`);
+- otherwise it slips: ``a = g (sin(theta) - mu_k cos(theta))`` and the spin grows at
+  ``mu_k M g R cos(theta) / I`` (:func:`slipping_acceleration`, :func:`slipping_spin_rate`).
+
+Launched along a level floor with speed v0 and spin w0, friction acts on the slip u = v - R w
+until it vanishes: the body rolls from ``t = |v0 - R w0| / (mu_k g (1 + M R^2 / I))`` on, at
+``(v0 + (I / (M R^2)) R w0) / (1 + I / (M R^2))`` (angular momentum about the contact point is
+kept), having turned ``M (v0 - R w0)^2 k / (2 (1 + k))`` of energy into heat
+(:func:`launch_formulas`).
+
+:func:`measure_incline` maps the regime over (theta, mu_s) with scattered friction and shape,
+:func:`measure_launches` runs a billiard or bowling ensemble; both return labelled Datasets.
+"""
+
+from __future__ import annotations
+
+import time
+
+import numpy as np
+import xarray as xr
+
+from . import conventions as cv
+from .engine import propagate_groups
+from .integrators.rolling import (HEAT, MODE, P_K, P_R, P_SECTIONS, P_TRACK, SWITCHES,
+                                  T_ROLL, V, W, X, X_ROLL, track_row)
+from .scenes import SCENES
+
+#: I / (M R^2) of the shapes by name.
+SHAPES = {"sphere": 0.4, "cylinder": 0.5, "spherical_shell": 2.0 / 3.0, "hoop": 1.0}
+#: Standard gravity (m s-2).
+G = 9.80665
+
+
+def rolls(theta, mu_s, k):
+    """Released at rest on an incline of ``theta`` (rad), does it roll without slipping?"""
+    return np.tan(np.abs(theta)) <= mu_s * (1.0 + 1.0 / np.asarray(k, dtype=float))
+
+
+def rolling_acceleration(theta, k, g=G):
+    """``g sin(theta) / (1 + k)`` (m s-2)."""
+    return g * np.sin(theta) / (1.0 + np.asarray(k, dtype=float))
+
+
+def slipping_acceleration(theta, mu_k, g=G):
+    """``g (sin(theta) - mu_k cos(theta))`` (m s-2), the body slipping forward."""
+    return g * (np.sin(theta) - mu_k * np.cos(theta))
+
+
+def slipping_spin_rate(theta, mu_k, k, radius, g=G):
+    """``mu_k M g R cos(theta) / I = mu_k g cos(theta) / (k R)`` (rad s-2)."""
+    return mu_k * g * np.cos(theta) / (np.asarray(k, dtype=float) * radius)
+
+
+def launch_formulas(v0, w0, k, radius, mu_k, mass=1.0, g=G) -> dict:
+    """Time and distance to pure rolling, final speed and energy turned into heat of a body
+    launched along a level floor with speed ``v0`` (m s-1) and spin ``w0`` (rad s-1)."""
+    v0, w0, k = (np.asarray(a, dtype=float) for a in (v0, w0, k))
+    u0 = v0 - radius * w0
+    t_roll = np.abs(u0) / (mu_k * g * (1.0 + 1.0 / k))
+    return {
+        "t_roll": t_roll,
+        "x_roll": v0 * t_roll - 0.5 * np.sign(u0) * mu_k * g * t_roll**2,
+        "v_final": (v0 + k * radius * w0) / (1.0 + k),
+        "energy_lost": 0.5 * mass * u0**2 * k / (1.0 + k),
+    }
+
+
+def start_states(v0, w0, rows, x0=0.0) -> np.ndarray:
+    """Scene states (N, 9) of bodies at ``x0`` with speed ``v0`` and spin ``w0`` on the tracks
+    ``rows`` (N, n_params), the regime set as the start requires: slipping if u0 != 0, else
+    rolling where static friction can hold it, slipping forward where it cannot."""
+    rows = np.atleast_2d(rows)
+    n = rows.shape[0]
+    x = np.zeros((n, 9))
+    x[:, X] = x0
+    x[:, V] = v0
+    x[:, W] = w0
+    x[:, X_ROLL] = x0
+    u0 = x[:, V] - rows[:, P_R] * x[:, W]
+    # the section at x0 (moving forward from a section's start)
+    starts = rows[:, P_TRACK::3][:, :int(rows[:, P_SECTIONS].max())]
+    j = np.sum(starts <= x[:, [X]], axis=1) - 1
+    sn = rows[np.arange(n), P_TRACK + 3 * j + 1]
+    cs = rows[np.arange(n), P_TRACK + 3 * j + 2]
+    holds = rows[:, P_K] * np.abs(sn) <= rows[:, 3] * cs * (1.0 + rows[:, P_K])
+    x[:, MODE] = np.where(u0 != 0.0, np.sign(u0), np.where(holds, 0.0, np.sign(sn)))
+    return x
+
+
+def measure_incline(shapes, angles, mu_s, *, members=4, mu_ratio=0.8, mu_scatter=0.05,
+                    shape_scatter=0.02, duration=1.0, seed=0, progress=None) -> xr.Dataset:
+    """Release bodies at rest on inclines over a grid of angles (rad) and mu_s, each member
+    with its own mu_s, mu_k = mu_ratio mu_s and k scattered (relative, uniform) about the
+    cell's; measure the regime, the acceleration and the spin rate from the runs."""
+    scene = SCENES["rolling_body"]
+    spec = scene.method("exact")
+    rng = np.random.default_rng(seed)
+    names = list(shapes)
+    k_nominal = np.array([SHAPES[name] for name in names])
+    angles, mu_s = np.asarray(angles, dtype=float), np.asarray(mu_s, dtype=float)
+    shape = (len(names), angles.size, mu_s.size, members)
+    k = k_nominal[:, None, None, None] * (1.0 + shape_scatter * rng.uniform(-1, 1, shape))
+    mus = mu_s[None, None, :, None] * (1.0 + mu_scatter * rng.uniform(-1, 1, shape))
+    theta = np.broadcast_to(angles[None, :, None, None], shape)
+    muk = mu_ratio * mus
+    radius = 0.05
+    rows = np.array([track_row(kk, radius, a, b, angles=(t,))
+                     for kk, a, b, t in zip(k.ravel(), mus.ravel(), muk.ravel(), theta.ravel())])
+    x0 = start_states(0.0, 0.0, rows)
+    t0 = time.perf_counter()
+    run = propagate_groups(scene, spec, x0, rows, np.ones(rows.shape[0], int), duration, 1,
+                           progress=progress, label="inclines")
+    wall = time.perf_counter() - t0
+    if run.interrupted:
+        raise KeyboardInterrupt
+    xf = run.x_final
+    slipped = (xf[:, HEAT] > 0.0).reshape(shape)
+    own = rolls(theta, mus, k)
+    expected_a = np.where(own, rolling_acceleration(theta, k), slipping_acceleration(theta, muk))
+    expected_alpha = np.where(own, rolling_acceleration(theta, k) / radius,
+                              slipping_spin_rate(theta, muk, k, radius))
+    accel = (2.0 * xf[:, X] / duration**2).reshape(shape)
+    alpha = (xf[:, W] / duration).reshape(shape)
+    nominal = rolls(angles[None, :, None], mu_s[None, None, :], k_nominal[:, None, None])
+    fraction = slipped.mean(axis=-1)
+    # the cell's scatter box (mu_s and k within their relative spreads) spans the boundary
+    tan = np.tan(np.abs(angles))[None, :, None]
+    mu_cell, k_cell = mu_s[None, None, :], k_nominal[:, None, None]
+    lowest = mu_cell * (1 - mu_scatter) * (1 + 1 / (k_cell * (1 + shape_scatter)))
+    highest = mu_cell * (1 + mu_scatter) * (1 + 1 / (k_cell * (1 - shape_scatter)))
+    straddles = (lowest < tan) & (tan < highest)
+    wrong = (np.round(fraction) == nominal) & ~straddles  # majority against the nominal regime
+    dims = ("shape", "angle", "mu_s", "member")
+    data = {
+        "slipped": (dims, slipped.astype(np.int8)),
+        "rolls_formula": (dims, own.astype(np.int8)),
+        "acceleration": (dims, accel),
+        "acceleration_formula": (dims, expected_a),
+        "spin_rate": (dims, alpha),
+        "spin_rate_formula": (dims, expected_alpha),
+        "member_mu_s": (dims, mus),
+        "member_k": (dims, k),
+        "slip_fraction": (dims[:3], fraction),
+        "rolls_nominal": (dims[:3], nominal.astype(np.int8)),
+        "scatter_straddles": (dims[:3], straddles.astype(np.int8)),
+        "wrong_side": (dims[:3], wrong.astype(np.int8)),
+        "boundary_mu_s": (("shape", "angle"),
+                          np.tan(angles)[None, :] / (1.0 + 1.0 / k_nominal[:, None])),
+        "status": (dims, run.status.reshape(shape).astype(np.int8)),
+    }
+    ds = xr.Dataset(
+        {name: (d, v, dict(VARIABLES[name])) for name, (d, v) in data.items()},
+        coords={
+            "shape": ("shape", names, {"long_name": "shape", "units": cv.UNITS_DIMENSIONLESS}),
+            "shape_factor": ("shape", k_nominal, {"long_name": "nominal I / (M R^2)",
+                                                  "units": cv.UNITS_DIMENSIONLESS}),
+            "angle": ("angle", np.degrees(angles), {"long_name": "incline angle theta",
+                                                    "units": "degree"}),
+            "mu_s": ("mu_s", mu_s, {"long_name": "nominal static friction coefficient",
+                                    "units": cv.UNITS_DIMENSIONLESS}),
+            "member": ("member", np.arange(members), {"long_name": "member",
+                                                      "units": cv.UNITS_DIMENSIONLESS}),
+        },
+    )
+    ds.attrs.update({"mu_ratio": mu_ratio, "mu_scatter": mu_scatter,
+                     "shape_scatter": shape_scatter, "duration": duration, "seed": seed,
+                     "radius": radius, "g": G, "method": spec.name, "wall_time": wall})
+    return ds
+
+
+def measure_launches(*, radius, mass, k, mu_k, speeds, spin_ratios, members, mu_scatter=0.1,
+                     samples=200, seed=0, paths=5, progress=None) -> xr.Dataset:
+    """Launch ``members`` balls along a level floor, speed uniform in ``speeds`` (m s-1), spin
+    ``w0 = ratio v0 / R`` with the ratio uniform in ``spin_ratios`` (negative: backspin), mu_k
+    scattered (relative, uniform); the time, place and speed of the start of pure rolling and
+    the heat, from the runs, against :func:`launch_formulas`."""
+    scene = SCENES["rolling_body"]
+    spec = scene.method("exact")
+    rng = np.random.default_rng(seed)
+    v0 = rng.uniform(*speeds, members)
+    ratio = rng.uniform(*spin_ratios, members)
+    w0 = ratio * v0 / radius
+    muk = mu_k * (1.0 + mu_scatter * rng.uniform(-1, 1, members))
+    rows = np.array([track_row(k, radius, m, m, mass=mass) for m in muk])
+    formulas = launch_formulas(v0, w0, k, radius, muk, mass)
+    duration = 1.25 * float(formulas["t_roll"].max())
+    x0 = start_states(v0, w0, rows)
+    h = duration / samples
+    t0 = time.perf_counter()
+    run = propagate_groups(scene, spec, x0, rows, np.ones(members, int), h, samples,
+                           save_every=1, progress=progress, label="launches")
+    wall = time.perf_counter() - t0
+    if run.interrupted:
+        raise KeyboardInterrupt
+    xf = run.x_final
+    e0 = 0.5 * mass * (v0**2 + k * radius**2 * w0**2)
+    e1 = 0.5 * mass * (xf[:, V] ** 2 + k * radius**2 * xf[:, W] ** 2)
+    keep = np.argsort(ratio)[np.linspace(0, members - 1, min(paths, members)).astype(int)]
+    path = np.concatenate([x0[keep, None, :], run.saved[keep]], axis=1)
+    data = {
+        "v0": (("member",), v0), "w0": (("member",), w0), "spin_ratio": (("member",), ratio),
+        "mu_k": (("member",), muk),
+        "t_roll": (("member",), xf[:, T_ROLL]),
+        "t_roll_formula": (("member",), formulas["t_roll"]),
+        "x_roll": (("member",), xf[:, X_ROLL]),
+        "x_roll_formula": (("member",), formulas["x_roll"]),
+        "v_final": (("member",), xf[:, V]),
+        "v_final_formula": (("member",), formulas["v_final"]),
+        "heat": (("member",), xf[:, HEAT]),
+        "energy_lost": (("member",), e0 - e1),
+        "energy_lost_formula": (("member",), formulas["energy_lost"]),
+        "switches": (("member",), xf[:, SWITCHES].astype(np.int64)),
+        "status": (("member",), run.status.astype(np.int8)),
+        "path_v": (("path", "time"), path[:, :, V]),
+        "path_rw": (("path", "time"), radius * path[:, :, W]),
+        "path_member": (("path",), keep),
+    }
+    ds = xr.Dataset(
+        {name: (d, v, dict(VARIABLES[name])) for name, (d, v) in data.items()},
+        coords={"member": ("member", np.arange(members), {"long_name": "member",
+                                                          "units": cv.UNITS_DIMENSIONLESS}),
+                "time": ("time", np.arange(samples + 1) * h, {"long_name": "time",
+                                                               "units": cv.UNITS_TIME})},
+    )
+    ds.attrs.update({"radius": radius, "mass": mass, "shape_factor": k, "mu_k": mu_k,
+                     "mu_scatter": mu_scatter, "seed": seed, "g": G, "method": spec.name,
+                     "duration": duration, "wall_time": wall})
+    return ds
+
+
+_ONE = cv.UNITS_DIMENSIONLESS
+_FLAG = {"units": _ONE}
+VARIABLES = {
+    "slipped": {"long_name": "slipped (friction did work) in the run", **_FLAG},
+    "rolls_formula": {"long_name": "rolls: tan(theta) <= mu_s (1 + M R^2 / I), own mu_s and k",
+                      **_FLAG},
+    "acceleration": {"long_name": "acceleration along the incline, 2 x(T) / T^2 from the run",
+                     "units": "m s-2"},
+    "acceleration_formula": {"long_name": "g sin(theta) / (1 + k) rolling, g (sin(theta) - "
+                             "mu_k cos(theta)) slipping", "units": "m s-2"},
+    "spin_rate": {"long_name": "angular acceleration w(T) / T from the run", "units": "rad s-2"},
+    "spin_rate_formula": {"long_name": "a / R rolling, mu_k M g R cos(theta) / I slipping",
+                          "units": "rad s-2"},
+    "member_mu_s": {"long_name": "member's static friction coefficient", **_FLAG},
+    "member_k": {"long_name": "member's I / (M R^2)", **_FLAG},
+    "slip_fraction": {"long_name": "fraction of the cell's members that slipped", **_FLAG},
+    "rolls_nominal": {"long_name": "rolls by the formula at the cell's nominal mu_s and shape",
+                      **_FLAG},
+    "scatter_straddles": {"long_name": "the cell's scatter spans the rolling boundary", **_FLAG},
+    "wrong_side": {"long_name": "cell's majority regime against the formula, scatter not "
+                   "spanning the boundary", **_FLAG},
+    "boundary_mu_s": {"long_name": "mu_s on the boundary, tan(theta) / (1 + M R^2 / I)",
+                      **_FLAG},
+    "status": {"long_name": "member status", "flag_values": np.array(cv.STATUS_FLAG_VALUES,
+                                                                      dtype=np.int8),
+               "flag_meanings": cv.STATUS_MEANINGS, "units": _ONE},
+    "v0": {"long_name": "launch speed", "units": "m s-1"},
+    "w0": {"long_name": "launch spin (negative: backspin)", "units": cv.UNITS_ANGULAR_VELOCITY},
+    "spin_ratio": {"long_name": "R w0 / v0 (1: launched rolling)", **_FLAG},
+    "mu_k": {"long_name": "kinetic friction coefficient", **_FLAG},
+    "t_roll": {"long_name": "time pure rolling starts, from the run", "units": cv.UNITS_TIME},
+    "t_roll_formula": {"long_name": "|v0 - R w0| / (mu_k g (1 + M R^2 / I))",
+                       "units": cv.UNITS_TIME},
+    "x_roll": {"long_name": "distance to pure rolling, from the run", "units": "m"},
+    "x_roll_formula": {"long_name": "v0 t - sign(u0) mu_k g t^2 / 2 at t = t_roll",
+                       "units": "m"},
+    "v_final": {"long_name": "speed at the end, from the run", "units": "m s-1"},
+    "v_final_formula": {"long_name": "(v0 + k R w0) / (1 + k)", "units": "m s-1"},
+    "heat": {"long_name": "work done by kinetic friction, from the run", "units": "J"},
+    "energy_lost": {"long_name": "kinetic energy lost, from the run", "units": "J"},
+    "energy_lost_formula": {"long_name": "M (v0 - R w0)^2 k / (2 (1 + k))", "units": "J"},
+    "switches": {"long_name": "switches of regime in the run", **_FLAG},
+    "path_v": {"long_name": "speed of the centre v (kept members)", "units": "m s-1"},
+    "path_rw": {"long_name": "R w, the speed rolling would need (kept members)",
+                "units": "m s-1"},
+    "path_member": {"long_name": "member of each kept path", **_FLAG},
+}

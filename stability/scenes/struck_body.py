@@ -1,0 +1,66 @@
+"""A bat or racket struck across its axis, held at the hands or free (planar motion).
+
+The state is ``(x, y, phi, vx, vy, w, j_along, j_across, t)``: the centre of mass, the angle of
+the body's axis, the velocity of the centre, the angular velocity, the reaction impulse at the
+hands along and across the body, and the time; the hands (the pivot) start at the origin with
+the body along +x. Parameters per group: a strike ``(M, d, I_cm, s, J, tau, held)``
+(:func:`stability.integrators.struck.strike_params`). Equations: :mod:`stability.integrators.struck`.
+Invariants: after the contact, the angular momentum about the hands (held) or about the centre
+(free); exact solution, held: :func:`stability.integrators.struck.held_exact`.
+"""
+
+import numpy as np
+from numba import njit
+
+from .. import conventions as cv
+from ..integrators.struck import (J_ACROSS, METHODS, P_I_CM, P_MASS, W, X, Y, VX, VY,
+                                  held_exact)
+from .spec import Scene
+
+
+@njit(inline="always")
+def observe(x, y, phi, vx, vy, w, j_along, j_across, t, p, ia, ib, ic):
+    """``(j_across, w, 0)``: the sting across the hands and the angular velocity."""
+    return j_across, w, 0.0
+
+
+def tracked(x, p, axes):
+    """:func:`observe` in NumPy over states ``x`` (N, 9)."""
+    return x[:, J_ACROSS], x[:, W], np.zeros(x.shape[0])
+
+
+def angular_momentum(x, strike):
+    """Angular momentum about the start of the hands (kg m2 s-1): ``I_cm w + M (r x v)``;
+    constant after the contact when free, and while held (the reaction acts at the origin)
+    kept by the force's torque only."""
+    strike = np.asarray(strike, dtype=float)
+    mass, i_cm = strike[P_MASS], strike[P_I_CM]
+    return i_cm * x[:, W] + mass * (x[:, X] * x[:, VY] - x[:, Y] * x[:, VX])
+
+
+def example(n, seed=0):
+    """Starts and strikes for generic tests: bodies at rest; held and free strikes."""
+    rng = np.random.default_rng(seed)
+    x = np.zeros((n, 9))
+    x[:, X] = 0.4 + 0.01 * rng.random(n)
+    strikes = [np.array([0.85, 0.4, 0.04, 0.6, 10.0, 0.5, 1.0]),
+               np.array([0.30, 0.25, 0.015, 0.5, 5.0, 0.3, 0.0]),
+               np.array([0.85, 0.4, 0.04, 0.52, 10.0, 0.2, 1.0])]
+    return x, strikes
+
+
+STRUCK_BODY = Scene(
+    name="struck_body",
+    title="bat or racket struck across its axis, held at the hands or free (planar)",
+    equations="held: I_P w' = s F, R = M d (w' n - w^2 e) - F n; free: I_cm w' = (s - d) F, "
+              "M v' = F n",
+    components=("x", "y", "phi", "vx", "vy", "w", "j_along", "j_across", "t"),
+    units=("m", "m", "rad", "m s-1", "m s-1", cv.UNITS_ANGULAR_VELOCITY, "N s", "N s",
+           cv.UNITS_TIME),
+    methods=METHODS,
+    observe=observe,
+    tracked=tracked,
+    invariants={"angular_momentum": angular_momentum},
+    exact=held_exact,
+    example=example,
+)

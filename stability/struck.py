@@ -1,0 +1,299 @@
+"""The centre of percussion: a bat or racket struck across its axis, held at the hands or free.
+
+A struck body is described by what its planar motion needs: mass M, length, the distance of its
+centre of mass from the end held (the knob or butt) and its moment of inertia I_cm about a
+transverse axis through that centre (:class:`StruckBody`; :func:`baseball_bat` builds a tapered
+wooden bat from cylinders and truncated cones, :func:`tennis_racket` takes the package's racket
+preset). Hit with impulse J at distance s from the hands (the pivot P, d from the centre):
+
+- held (the hands a hinge), the body turns about P at w = s J / I_P and the hands take the
+  reaction impulse across the body ``J (M d s / I_P - 1)`` (:func:`reaction_impulse`);
+- free, the centre moves off at J / M and the body spins at (s - d) J / I_cm, so the point at
+  the hands moves across at ``J / M - d (s - d) J / I_cm`` (:func:`hand_velocity`).
+
+Both vanish at the centre of percussion ``q = I_P / (M d)`` from the hands, where
+``(q - d) d = I_cm / M`` [the course notes' "baseball bat theorem"; Cross, Am. J. Phys. 72, 622
+(2004)]. :func:`measure_strikes` runs ensembles of strikes (scene ``struck_body``, the contact a
+short half-sine force) and finds q and the sweet zone from the runs.
+"""
+
+from __future__ import annotations
+
+import math
+import time
+from dataclasses import dataclass, field
+
+import numpy as np
+import xarray as xr
+
+from . import conventions as cv
+from .checks import positive_float, real_number
+from .engine import propagate_groups
+from .integrators.struck import J_ACROSS, J_ALONG, PHI, VX, VY, W, X, strike_params
+from .scenes import SCENES
+
+INCH = 0.0254
+#: A 33-inch wooden baseball bat, stations (distance from the knob end, radius) in inches; two
+#: stations at one distance are a step. Knob 1.5 in across, handle 0.92 in, a taper over 10 in
+#: to a 2.44 in barrel, a rounded end. At 0.85 kg (30 oz) its balance point is 22.2 in from the
+#: knob and its moment about the pivot 6 in from the knob 0.176 kg m^2, in the range of the WSU
+#: Sports Science Lab's measurements of wood bats (0.146 to 0.183 kg m^2).
+BAT_PROFILE = ((0.0, 0.75), (0.5, 0.75), (0.5, 0.46), (11.0, 0.46), (21.0, 1.22),
+               (31.5, 1.22), (33.0, 0.85))
+
+#: Dimension names.
+HOLD = "hold"
+PIVOT = "pivot"
+STRIKE = "strike"
+
+
+@dataclass(frozen=True)
+class StruckBody:
+    """What the planar strike needs of a body.
+
+    Attributes
+    ----------
+    name : str
+    mass : float
+        M (kg).
+    length : float
+        From the end held (x = 0) to the tip (m).
+    centre : float
+        The centre of mass, from the end held (m).
+    inertia : float
+        I_cm about a transverse axis through the centre (kg m2).
+    outline : ndarray, shape (n, 2)
+        Stations (x, half-width) in m along the body, for drawing it to scale.
+    """
+
+    name: str
+    mass: float
+    length: float
+    centre: float
+    inertia: float
+    outline: np.ndarray = field(repr=False)
+
+    def moment_about(self, pivot) -> np.ndarray:
+        """I_P = I_cm + M d^2 about a transverse axis at ``pivot`` (m from the end)."""
+        return self.inertia + self.mass * (self.centre - np.asarray(pivot, dtype=float)) ** 2
+
+    def describe(self) -> dict:
+        return {"body": self.name, "mass": self.mass, "length": self.length,
+                "centre_of_mass": self.centre, "inertia_cm": self.inertia}
+
+
+def baseball_bat(mass=0.850, profile=BAT_PROFILE, unit=INCH, name="baseball bat"):
+    """A wooden bat of uniform density: one truncated cone (``Part.frustum``) per section of
+    ``profile``, the stations ``(x, radius)`` in ``unit`` (m per unit), scaled to ``mass``."""
+    from .body import Part, RigidBody
+
+    mass = positive_float("mass of the bat", mass, "kg")
+    stations = np.asarray(profile, dtype=float) * unit
+    parts = []
+    volumes = []
+    for (x0, r0), (x1, r1) in zip(stations[:-1], stations[1:]):
+        if x1 > x0:
+            volumes.append(math.pi * (x1 - x0) * (r0 * r0 + r0 * r1 + r1 * r1) / 3.0)
+            parts.append((x0, x1, r0, r1))
+    density = mass / sum(volumes)
+    pieces = [Part.frustum(density * v, r0, r1, x1 - x0, base=(x0, 0.0, 0.0), axis=(1, 0, 0),
+                           name=f"section {k}")
+              for k, ((x0, x1, r0, r1), v) in enumerate(zip(parts, volumes))]
+    bat = RigidBody.composite(pieces, name=name)
+    return StruckBody(name, bat.mass, float(stations[-1, 0]), float(bat.centre_of_mass[0]),
+                      float(bat.inertia[1, 1]), stations)
+
+
+def tennis_racket():
+    """The package's tennis-racket preset (``RigidBody.preset("tennis_racket")``), struck on
+    its strings: the rotation is about the axis across the head in the string plane."""
+    from .body import PRESETS, RigidBody
+
+    racket = RigidBody.composite(PRESETS["tennis_racket"].parts(), name="tennis racket")
+    x = np.linspace(0.0, 0.69, 139)
+    head = np.clip(1.0 - ((x - 0.525) / 0.165) ** 2, 0.0, None)
+    throat = 0.015 + (0.095 - 0.015) * np.clip((x - 0.19) / (0.40 - 0.19), 0.0, 1.0)
+    half_width = np.where(x < 0.19, 0.015, np.maximum(0.14 * np.sqrt(head), throat * (x < 0.40)))
+    return StruckBody("tennis racket", racket.mass, 0.69, float(racket.centre_of_mass[0]),
+                      float(racket.inertia[1, 1]), np.column_stack([x, half_width]))
+
+
+BODIES = {"baseball_bat": baseball_bat, "tennis_racket": tennis_racket}
+
+
+def check_pivot(body: StruckBody, pivot) -> float:
+    """``pivot`` (m from the end) as a float on the body and off its centre, else ValueError."""
+    pivot = real_number("pivot", pivot, "m")
+    if not 0.0 <= pivot <= body.length:
+        raise ValueError(f"pivot {pivot:g} m is off the {body.name} (0 to {body.length:g} m "
+                         "from the end held)")
+    if abs(pivot - body.centre) <= 1e-9 * body.length:
+        raise ValueError(f"a pivot at the centre of mass ({body.centre:.4g} m) has no centre "
+                         "of percussion: any strike there pushes on the hands; hold the "
+                         f"{body.name} elsewhere")
+    return pivot
+
+
+def centre_of_percussion(body: StruckBody, pivot) -> float:
+    """The centre of percussion for hands at ``pivot``: ``pivot + I_P / (M d)`` (m from the
+    end held; it lies beyond the centre of mass, on the far side from the hands)."""
+    pivot = check_pivot(body, pivot)
+    d = body.centre - pivot
+    return pivot + body.moment_about(pivot) / (body.mass * d)
+
+
+def reaction_impulse(body: StruckBody, pivot, strike, impulse):
+    """Reaction impulse across the body at hands holding it at ``pivot``, for an impulse hit
+    at ``strike`` (m from the end): ``J (M d s / I_P - 1)`` with s = strike - pivot (N s)."""
+    d = body.centre - pivot
+    s = np.asarray(strike, dtype=float) - pivot
+    return impulse * (body.mass * d * s / body.moment_about(pivot) - 1.0)
+
+
+def hand_velocity(body: StruckBody, pivot, strike, impulse):
+    """Velocity across the body of the point at ``pivot`` of a free body just after an impulse
+    at ``strike``: ``J / M - d (s - d) J / I_cm`` (m s-1)."""
+    d = body.centre - pivot
+    lever = np.asarray(strike, dtype=float) - body.centre
+    return impulse / body.mass - d * lever * impulse / body.inertia
+
+
+def zero_crossings(x, y):
+    """Where the samples ``y(x)`` cross zero, by linear interpolation (exact for y linear)."""
+    x, y = np.asarray(x, dtype=float), np.asarray(y, dtype=float)
+    k = np.flatnonzero((y[:-1] == 0.0) | (np.sign(y[:-1]) * np.sign(y[1:]) < 0))
+    return x[k] - y[k] * (x[k + 1] - x[k]) / (y[k + 1] - y[k])
+
+
+def measure_strikes(body: StruckBody, pivots, strikes, impulse=12.0, contact_time=7e-4,
+                    steps_per_contact=64, sting=0.1, method="rk4", progress=None) -> xr.Dataset:
+    """Strike ``body`` at each point of ``strikes`` for hands at each of ``pivots`` (m from the
+    end held), held and free; the state at the end of the contact against the formulas.
+
+    Per (hold, pivot) the centre of percussion is measured where the runs' reaction impulse
+    (held) or hand velocity (free) crosses zero, and, held, the sweet zone where the reaction
+    is at most ``sting`` J. Returns a labelled Dataset.
+    """
+    scene = SCENES["struck_body"]
+    spec = scene.method(method)
+    impulse = positive_float("impulse", impulse, "N s")
+    contact_time = positive_float("contact_time", contact_time, "s")
+    pivots = np.array([check_pivot(body, p) for p in np.atleast_1d(pivots)])
+    strikes = np.sort(np.asarray(strikes, dtype=float).reshape(-1))
+    if strikes.size < 2:
+        raise ValueError("give at least two strike points")
+    off = (strikes < 0.0) | (strikes > body.length)
+    if off.any():
+        raise ValueError(f"strike point {strikes[off][0]:g} m is off the {body.name} (0 to "
+                         f"{body.length:g} m from the end held)")
+    holds = np.array([1.0, 0.0])
+    grid = np.stack(np.meshgrid(holds, pivots, strikes, indexing="ij"), axis=-1).reshape(-1, 3)
+    rows = [strike_params((body.mass, body.centre - p, body.inertia, s - p, impulse,
+                           contact_time, held)) for held, p, s in grid]
+    x0 = np.zeros((grid.shape[0], scene.width))
+    x0[:, X] = body.centre - grid[:, 1]
+    h = contact_time / steps_per_contact
+    t0 = time.perf_counter()
+    run = propagate_groups(scene, spec, x0, np.array(rows), np.ones(grid.shape[0], int), h,
+                           steps_per_contact, progress=progress, label=f"strikes ({method})")
+    wall = time.perf_counter() - t0
+    if run.interrupted:
+        raise KeyboardInterrupt
+    shape = (holds.size, pivots.size, strikes.size)
+    xf = run.x_final
+    phi = xf[:, PHI]
+    n = np.stack([-np.sin(phi), np.cos(phi)], axis=-1)  # across the body, at the end
+    v_cm = xf[:, [VX, VY]]
+    d = (body.centre - grid[:, 1])
+    v_hand = v_cm - (d * xf[:, W])[:, None] * n
+    measured = {
+        "angular_velocity": xf[:, W],
+        "cm_velocity_across": np.sum(v_cm * n, axis=-1),
+        "hand_velocity_across": np.sum(v_hand * n, axis=-1),
+        "reaction_impulse_across": xf[:, J_ACROSS],
+        "reaction_impulse_along": xf[:, J_ALONG],
+    }
+    measured = {key: value.reshape(shape) for key, value in measured.items()}
+    p2, s2 = pivots[:, None], strikes[None, :]
+    formula_reaction = reaction_impulse(body, p2, s2, impulse)
+    formula_hand = hand_velocity(body, p2, s2, impulse)
+    cop = np.full((holds.size, pivots.size), np.nan)
+    zone = np.full((pivots.size, 2), np.nan)
+    for i in range(pivots.size):
+        for k, key in enumerate(("reaction_impulse_across", "hand_velocity_across")):
+            beyond = strikes > pivots[i]
+            roots = zero_crossings(strikes[beyond], measured[key][k, i, beyond])
+            cop[k, i] = roots[0] if roots.size else np.nan
+        ratio = measured["reaction_impulse_across"][0, i] / impulse
+        for e, level in enumerate((-sting, sting)):
+            roots = zero_crossings(strikes[strikes > pivots[i]],
+                                   (ratio - level)[strikes > pivots[i]])
+            zone[i, e] = roots[0] if roots.size else np.nan
+    q = np.array([centre_of_percussion(body, p) for p in pivots])
+    zone_formula = pivots[:, None] + (q - pivots)[:, None] * np.array([1.0 - sting, 1.0 + sting])
+    zone_formula = np.where(zone_formula <= body.length, zone_formula, np.nan)
+
+    dims = (HOLD, PIVOT, STRIKE)
+    data = {
+        **{key: (dims, value) for key, value in measured.items()},
+        "reaction_impulse_formula": ((PIVOT, STRIKE), formula_reaction),
+        "hand_velocity_formula": ((PIVOT, STRIKE), formula_hand),
+        "percussion_centre_measured": ((HOLD, PIVOT), cop),
+        "percussion_centre_formula": ((PIVOT,), q),
+        "sweet_zone_measured": ((PIVOT, "edge"), zone),
+        "sweet_zone_formula": ((PIVOT, "edge"), zone_formula),
+        "status": (dims, run.status.reshape(shape).astype(np.int8)),
+        "outline": (("station", "xy"), body.outline),
+    }
+    ds = xr.Dataset(
+        {name: (dd, v, dict(VARIABLES[name])) for name, (dd, v) in data.items()},
+        coords={
+            HOLD: (HOLD, ["held", "free"], {"long_name": "hands: a hinge at the pivot, or none",
+                                            "units": cv.UNITS_DIMENSIONLESS}),
+            PIVOT: (PIVOT, pivots, {"long_name": "hands (pivot), from the end held",
+                                    "units": "m"}),
+            STRIKE: (STRIKE, strikes, {"long_name": "strike point, from the end held",
+                                       "units": "m"}),
+            "edge": ("edge", ["near", "far"], {"long_name": "edge of the sweet zone",
+                                               "units": cv.UNITS_DIMENSIONLESS}),
+        },
+    )
+    ds.attrs.update({
+        **body.describe(), "impulse": impulse, "contact_time": contact_time, "sting": sting,
+        "method": spec.name, "step": h, "steps_per_contact": steps_per_contact,
+        "wall_time": wall, "member_steps": int(grid.shape[0] * steps_per_contact),
+    })
+    return ds
+
+
+_NS = "N s"
+VARIABLES = {
+    "angular_velocity": {"long_name": "angular velocity just after the contact",
+                         "units": cv.UNITS_ANGULAR_VELOCITY},
+    "cm_velocity_across": {"long_name": "velocity of the centre of mass across the body, just "
+                           "after the contact", "units": "m s-1"},
+    "hand_velocity_across": {"long_name": "velocity across the body of its point at the hands, "
+                             "just after the contact (0 when held)", "units": "m s-1"},
+    "reaction_impulse_across": {"long_name": "reaction impulse across the body at the hands "
+                                "over the contact (0 when free)", "units": _NS},
+    "reaction_impulse_along": {"long_name": "reaction impulse along the body at the hands over "
+                               "the contact (centripetal; 0 when free)", "units": _NS},
+    "reaction_impulse_formula": {"long_name": "held, instantaneous impulse: J (M d s / I_P - 1)",
+                                 "units": _NS},
+    "hand_velocity_formula": {"long_name": "free, instantaneous impulse: "
+                              "J / M - d (s - d) J / I_cm", "units": "m s-1"},
+    "percussion_centre_measured": {"long_name": "centre of percussion from the runs (zero "
+                                   "reaction held, hands at rest free), from the end held",
+                                   "units": "m"},
+    "percussion_centre_formula": {"long_name": "centre of percussion pivot + I_P / (M d), from "
+                                  "the end held", "units": "m"},
+    "sweet_zone_measured": {"long_name": "strike points where the reaction across is sting x J, "
+                            "from the runs (held)", "units": "m"},
+    "sweet_zone_formula": {"long_name": "pivot + (1 -+ sting) I_P / (M d) (NaN: beyond the tip)",
+                           "units": "m"},
+    "status": {"long_name": "member status", "flag_values": np.array(cv.STATUS_FLAG_VALUES,
+                                                                      dtype=np.int8),
+               "flag_meanings": cv.STATUS_MEANINGS, "units": cv.UNITS_DIMENSIONLESS},
+    "outline": {"long_name": "outline of the body: stations (x from the end held, half-width)",
+                "units": "m"},
+}

@@ -1,0 +1,136 @@
+"""Rolling with and without slipping (scene ``rolling_body``) against the formulas."""
+
+import math
+
+import numpy as np
+import pytest
+
+from stability.engine import propagate_groups
+from stability.integrators.rolling import (HEAT, MODE, SWITCHES, T_ROLL, V, W, X, X_ROLL,
+                                           track_row)
+from stability.rolling import (G, SHAPES, launch_formulas, measure_incline, measure_launches,
+                               rolling_acceleration, rolls, slipping_acceleration,
+                               slipping_spin_rate, start_states)
+from stability.scenes import SCENES
+
+SCENE = SCENES["rolling_body"]
+
+
+def run(rows, x0, h, steps, save_every=0):
+    rows = np.atleast_2d(rows)
+    return propagate_groups(SCENE, "exact", x0, rows, np.ones(rows.shape[0], int), h, steps,
+                            save_every=save_every, progress=False)
+
+
+def test_released_on_an_incline_rolls_iff_tan_theta_within_mu_s_1_plus_mr2_over_i():
+    """Random slopes, friction and shapes: the regime is the formula's, the acceleration is
+    g sin / (1 + k) rolling, g (sin - mu_k cos) slipping, and the spin rate a / R or
+    mu_k g cos / (k R), to round-off."""
+    rng = np.random.default_rng(1)
+    n = 400
+    theta = rng.uniform(0.01, 1.4, n)
+    mu_s = rng.uniform(0.02, 0.8, n)
+    mu_k = mu_s * rng.uniform(0.3, 1.0, n)
+    k = rng.uniform(0.2, 1.0, n)
+    rows = np.array([track_row(*a, angles=(b,)) for a, b in
+                     zip(zip(k, np.full(n, 0.07), mu_s, mu_k), theta)])
+    T = 0.7
+    out = run(rows, start_states(0.0, 0.0, rows), T, 1).x_final
+    expect_roll = rolls(theta, mu_s, k)
+    assert 50 < expect_roll.sum() < n - 50  # both regimes are tried
+    assert np.array_equal(out[:, HEAT] == 0.0, expect_roll)
+    a = np.where(expect_roll, rolling_acceleration(theta, k), slipping_acceleration(theta, mu_k))
+    alpha = np.where(expect_roll, rolling_acceleration(theta, k) / 0.07,
+                     slipping_spin_rate(theta, mu_k, k, 0.07))
+    np.testing.assert_allclose(2 * out[:, X] / T**2, a, rtol=1e-13)
+    np.testing.assert_allclose(out[:, W] / T, alpha, rtol=1e-13)
+    # while slipping, the slip speed grows at g (sin - mu_k cos (1 + 1/k))
+    u = out[:, V] - 0.07 * out[:, W]
+    rate = G * (np.sin(theta) - mu_k * np.cos(theta) * (1 + 1 / k))
+    np.testing.assert_allclose(u[~expect_roll] / T, rate[~expect_roll], rtol=1e-12)
+
+
+@pytest.mark.parametrize("steps", [1, 7, 1000])
+def test_launch_on_a_floor_rolls_from_the_formula_time_at_the_formula_speed(steps):
+    """Any speed and spin (backspin, topspin beyond rolling): the switch time, place and final
+    speed (5/7 v0 + 2/7 R w0 for a sphere), the heat M u0^2 k / (2 (1 + k)): to round-off, for
+    any number of steps (the event is found inside the step)."""
+    rng = np.random.default_rng(2)
+    n, R = 300, 0.0286
+    v0 = rng.uniform(0.2, 5.0, n)
+    w0 = rng.uniform(-2.0, 3.0, n) * v0 / R
+    mu_k = rng.uniform(0.05, 0.4, n)
+    k = np.where(np.arange(n) % 2 == 0, SHAPES["sphere"], rng.uniform(0.2, 1.0, n))
+    rows = np.array([track_row(kk, R, m, m, mass=0.17) for kk, m in zip(k, mu_k)])
+    f = launch_formulas(v0, w0, k, R, mu_k, 0.17)
+    T = 1.1 * f["t_roll"].max()
+    out = run(rows, start_states(v0, w0, rows), T / steps, steps).x_final
+    assert np.all(out[:, SWITCHES] == 1) and np.all(out[:, MODE] == 0)
+    np.testing.assert_allclose(out[:, T_ROLL], f["t_roll"], rtol=4e-15 * max(steps, 8) ** 0.5,
+                               atol=1e-15)
+    np.testing.assert_allclose(out[:, X_ROLL], f["x_roll"], rtol=1e-13)
+    # (v0 + k R w0) / (1 + k) cancels near 0: errors relative to the launch speeds
+    np.testing.assert_allclose(out[:, V], f["v_final"], rtol=1e-13, atol=1e-14 * v0.max())
+    sphere = k == SHAPES["sphere"]
+    np.testing.assert_allclose(out[sphere, V], 5 / 7 * v0[sphere] + 2 / 7 * R * w0[sphere],
+                               rtol=1e-13, atol=1e-14 * v0.max())
+    np.testing.assert_allclose(out[:, HEAT], f["energy_lost"], rtol=1e-12)
+    np.testing.assert_allclose(out[:, V], R * out[:, W], rtol=1e-13, atol=1e-14 * v0.max())
+
+
+def test_a_member_switches_twice_on_a_track_and_keeps_its_energy():
+    """Rolling down a gentle slope, slipping down a steep one (static friction cannot hold it),
+    rolling again on the floor: two switches, the first where the steep section starts, at the
+    time the rolling acceleration gives; the energy with the heat added back is kept."""
+    k, R, mu_s, mu_k = SHAPES["sphere"], 0.1, 0.3, 0.25
+    row = track_row(k, R, mu_s, mu_k, angles=(0.2, 1.0, 0.0), starts=(0.5, 1.5))
+    assert rolls(0.2, mu_s, k) and not rolls(1.0, mu_s, k)
+    x0 = start_states(0.0, 0.0, row[None])
+    t_switch = math.sqrt(2 * 0.5 / rolling_acceleration(0.2, k))
+    h = 0.0137  # steps never land on an event
+    out = run(row, x0, h, 400, save_every=1)
+    samples = np.concatenate([x0, out.saved[0]])
+    assert out.x_final[0, SWITCHES] == 2 and out.x_final[0, MODE] == 0
+    energy = SCENE.invariants["energy"](samples, row)
+    assert np.abs(energy).max() < 1e-13 * np.abs(0.5 * samples[:, V] ** 2).max()
+    slipping = samples[:, MODE] != 0
+    t = np.arange(samples.shape[0]) * h
+    assert t[slipping].min() == pytest.approx(t_switch, abs=h)
+    assert out.x_final[0, X_ROLL] > 1.5  # rolls again on the floor
+
+
+def test_a_slip_started_where_kinetic_friction_cannot_stop_it_never_ends():
+    """Hysteresis: with mu_k (1 + 1/k) < tan(theta) <= mu_s (1 + 1/k) a body released at rest
+    rolls, a body nudged into a forward slip slips for ever; below that band the slip ends at
+    t = u0 / (mu_k g cos (1 + 1/k) - g sin)."""
+    k, R, mu_s, mu_k = SHAPES["cylinder"], 0.05, 0.3, 0.2
+    band = math.atan(0.5 * (mu_k + mu_s) * (1 + 1 / k))
+    below = math.atan(0.5 * mu_k * (1 + 1 / k))
+    rows = np.array([track_row(k, R, mu_s, mu_k, angles=(a,)) for a in (band, band, below)])
+    x0 = start_states(np.array([0.0, 0.1, 0.1]), 0.0, rows)
+    out = run(rows, x0, 2.0, 3).x_final
+    assert out[0, HEAT] == 0.0 and out[0, MODE] == 0  # at rest: rolls
+    assert out[1, MODE] == 1 and out[1, SWITCHES] == 0  # nudged: slips on
+    rate = G * (mu_k * math.cos(below) * (1 + 1 / k) - math.sin(below))
+    assert out[2, T_ROLL] == pytest.approx(0.1 / rate, rel=1e-14)
+
+
+def test_incline_map_has_no_cell_on_the_wrong_side_and_the_launches_match():
+    ds = measure_incline(["sphere", "hoop"], np.radians(np.linspace(3, 60, 12)),
+                         np.linspace(0.05, 0.5, 10), members=3, progress=False)
+    assert int(ds.wrong_side.sum()) == 0
+    assert np.array_equal(ds.slipped.values, 1 - ds.rolls_formula.values)
+    assert 0 < float(ds.slip_fraction.mean()) < 1
+    dl = measure_launches(radius=0.1085, mass=7.26, k=0.4, mu_k=0.2, speeds=(6, 9),
+                          spin_ratios=(-0.3, 0.3), members=50, progress=False)
+    for key in ("t_roll", "x_roll", "v_final"):
+        np.testing.assert_allclose(dl[key], dl[key + "_formula"], rtol=1e-13)
+    np.testing.assert_allclose(dl.heat, dl.energy_lost_formula, rtol=1e-12)
+    np.testing.assert_allclose(dl.energy_lost, dl.energy_lost_formula, rtol=1e-8)
+
+
+def test_a_track_must_be_described_in_order():
+    with pytest.raises(ValueError, match="must ascend"):
+        track_row(0.4, 0.1, 0.3, 0.2, angles=(0.1, 0.2, 0.3), starts=(2.0, 1.0))
+    with pytest.raises(ValueError, match="one start fewer"):
+        track_row(0.4, 0.1, 0.3, 0.2, angles=(0.1, 0.2), starts=())
