@@ -29,8 +29,8 @@ import xarray as xr
 
 from . import conventions as cv
 from .engine import propagate_groups
-from .integrators.rolling import (HEAT, MODE, P_K, P_R, P_SECTIONS, P_TRACK, SWITCHES,
-                                  T_ROLL, V, W, X, X_ROLL, track_row)
+from .integrators.rolling import (HEAT, MODE, P_K, P_MU_K, P_MU_S, P_R, P_SECTIONS, P_TRACK,
+                                  SWITCHES, T_ROLL, V, W, X, X_ROLL, track_row)
 from .scenes import SCENES
 
 #: I / (M R^2) of the shapes by name.
@@ -112,8 +112,9 @@ def measure_incline(shapes, angles, mu_s, *, members=4, mu_ratio=0.8, mu_scatter
     theta = np.broadcast_to(angles[None, :, None, None], shape)
     muk = mu_ratio * mus
     radius = 0.05
-    rows = np.array([track_row(kk, radius, a, b, angles=(t,))
-                     for kk, a, b, t in zip(k.ravel(), mus.ravel(), muk.ravel(), theta.ravel())])
+    rows = np.tile(track_row(1.0, radius, 1.0, 1.0, angles=(0.0,)), (k.size, 1))
+    rows[:, P_K], rows[:, P_MU_S], rows[:, P_MU_K] = k.ravel(), mus.ravel(), muk.ravel()
+    rows[:, P_TRACK + 1], rows[:, P_TRACK + 2] = np.sin(theta).ravel(), np.cos(theta).ravel()
     x0 = start_states(0.0, 0.0, rows)
     t0 = time.perf_counter()
     run = propagate_groups(scene, spec, x0, rows, np.ones(rows.shape[0], int), duration, 1,
@@ -138,7 +139,7 @@ def measure_incline(shapes, angles, mu_s, *, members=4, mu_ratio=0.8, mu_scatter
     highest = mu_cell * (1 + mu_scatter) * (1 + 1 / (k_cell * (1 - shape_scatter)))
     straddles = (lowest < tan) & (tan < highest)
     wrong = (np.round(fraction) == nominal) & ~straddles  # majority against the nominal regime
-    dims = ("shape", "angle", "mu_s", "member")
+    dims = ("shape", "angle", "mu_s", "replica")
     data = {
         "slipped": (dims, slipped.astype(np.int8)),
         "rolls_formula": (dims, own.astype(np.int8)),
@@ -154,7 +155,7 @@ def measure_incline(shapes, angles, mu_s, *, members=4, mu_ratio=0.8, mu_scatter
         "wrong_side": (dims[:3], wrong.astype(np.int8)),
         "boundary_mu_s": (("shape", "angle"),
                           np.tan(angles)[None, :] / (1.0 + 1.0 / k_nominal[:, None])),
-        "status": (dims, run.status.reshape(shape).astype(np.int8)),
+        "incline_status": (dims, run.status.reshape(shape).astype(np.int8)),
     }
     ds = xr.Dataset(
         {name: (d, v, dict(VARIABLES[name])) for name, (d, v) in data.items()},
@@ -166,8 +167,9 @@ def measure_incline(shapes, angles, mu_s, *, members=4, mu_ratio=0.8, mu_scatter
                                                     "units": "degree"}),
             "mu_s": ("mu_s", mu_s, {"long_name": "nominal static friction coefficient",
                                     "units": cv.UNITS_DIMENSIONLESS}),
-            "member": ("member", np.arange(members), {"long_name": "member",
-                                                      "units": cv.UNITS_DIMENSIONLESS}),
+            "replica": ("replica", np.arange(members), {
+                "long_name": "member of the cell (own mu_s, mu_k and shape)",
+                "units": cv.UNITS_DIMENSIONLESS}),
         },
     )
     ds.attrs.update({"mu_ratio": mu_ratio, "mu_scatter": mu_scatter,
@@ -189,22 +191,26 @@ def measure_launches(*, radius, mass, k, mu_k, speeds, spin_ratios, members, mu_
     ratio = rng.uniform(*spin_ratios, members)
     w0 = ratio * v0 / radius
     muk = mu_k * (1.0 + mu_scatter * rng.uniform(-1, 1, members))
-    rows = np.array([track_row(k, radius, m, m, mass=mass) for m in muk])
+    rows = np.tile(track_row(k, radius, 1.0, 1.0, mass=mass), (members, 1))
+    rows[:, P_MU_S] = rows[:, P_MU_K] = muk
     formulas = launch_formulas(v0, w0, k, radius, muk, mass)
     duration = 1.25 * float(formulas["t_roll"].max())
     x0 = start_states(v0, w0, rows)
     h = duration / samples
     t0 = time.perf_counter()
     run = propagate_groups(scene, spec, x0, rows, np.ones(members, int), h, samples,
-                           save_every=1, progress=progress, label="launches")
+                           progress=progress, label="launches")
     wall = time.perf_counter() - t0
     if run.interrupted:
         raise KeyboardInterrupt
     xf = run.x_final
     e0 = 0.5 * mass * (v0**2 + k * radius**2 * w0**2)
     e1 = 0.5 * mass * (xf[:, V] ** 2 + k * radius**2 * xf[:, W] ** 2)
+    # a few members again, every sample kept, for the figure (bitwise the same run)
     keep = np.argsort(ratio)[np.linspace(0, members - 1, min(paths, members)).astype(int)]
-    path = np.concatenate([x0[keep, None, :], run.saved[keep]], axis=1)
+    kept = propagate_groups(scene, spec, x0[keep], rows[keep], np.ones(keep.size, int), h,
+                            samples, save_every=1, progress=False)
+    path = np.concatenate([x0[keep, None, :], kept.saved], axis=1)
     data = {
         "v0": (("member",), v0), "w0": (("member",), w0), "spin_ratio": (("member",), ratio),
         "mu_k": (("member",), muk),
@@ -218,7 +224,7 @@ def measure_launches(*, radius, mass, k, mu_k, speeds, spin_ratios, members, mu_
         "energy_lost": (("member",), e0 - e1),
         "energy_lost_formula": (("member",), formulas["energy_lost"]),
         "switches": (("member",), xf[:, SWITCHES].astype(np.int64)),
-        "status": (("member",), run.status.astype(np.int8)),
+        "launch_status": (("member",), run.status.astype(np.int8)),
         "path_v": (("path", "time"), path[:, :, V]),
         "path_rw": (("path", "time"), radius * path[:, :, W]),
         "path_member": (("path",), keep),
@@ -237,6 +243,8 @@ def measure_launches(*, radius, mass, k, mu_k, speeds, spin_ratios, members, mu_
 
 
 _ONE = cv.UNITS_DIMENSIONLESS
+_STATUS = {"flag_values": np.array(cv.STATUS_FLAG_VALUES, dtype=np.int8),
+           "flag_meanings": cv.STATUS_MEANINGS, "units": _ONE}
 _FLAG = {"units": _ONE}
 VARIABLES = {
     "slipped": {"long_name": "slipped (friction did work) in the run", **_FLAG},
@@ -259,9 +267,8 @@ VARIABLES = {
                    "spanning the boundary", **_FLAG},
     "boundary_mu_s": {"long_name": "mu_s on the boundary, tan(theta) / (1 + M R^2 / I)",
                       **_FLAG},
-    "status": {"long_name": "member status", "flag_values": np.array(cv.STATUS_FLAG_VALUES,
-                                                                      dtype=np.int8),
-               "flag_meanings": cv.STATUS_MEANINGS, "units": _ONE},
+    "launch_status": {**_STATUS, "long_name": "member status (launches)"},
+    "incline_status": {**_STATUS, "long_name": "member status (inclines)"},
     "v0": {"long_name": "launch speed", "units": "m s-1"},
     "w0": {"long_name": "launch spin (negative: backspin)", "units": cv.UNITS_ANGULAR_VELOCITY},
     "spin_ratio": {"long_name": "R w0 / v0 (1: launched rolling)", **_FLAG},

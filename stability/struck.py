@@ -127,7 +127,7 @@ def check_pivot(body: StruckBody, pivot) -> float:
     if not 0.0 <= pivot <= body.length:
         raise ValueError(f"pivot {pivot:g} m is off the {body.name} (0 to {body.length:g} m "
                          "from the end held)")
-    if abs(pivot - body.centre) <= 1e-9 * body.length:
+    if abs(pivot - body.centre) <= 1e-3 * body.length:
         raise ValueError(f"a pivot at the centre of mass ({body.centre:.4g} m) has no centre "
                          "of percussion: any strike there pushes on the hands; hold the "
                          f"{body.name} elsewhere")

@@ -105,6 +105,27 @@ CLI = {
         ["[earth] asymmetry leaves no positive equatorial moment"]),
     "Earth offset of a negative angle": ('study = "earth_wobble"\n[wobble]\noffset = -0.3\n',
                                          [], ["[wobble] offset must be"]),
+    "rolling with kinetic friction above static": (
+        'study = "rolling"\n[launch]\nmu_s = 0.2\nmu_k = 0.3\n', [],
+        ["[launch] mu_k = 0.3 exceeds mu_s = 0.2"]),
+    "rolling with mu_k / mu_s above 1": (
+        'study = "rolling"\n[incline]\nmu_k_ratio = 1.2\n', [],
+        ["[incline] mu_k_ratio = 1.2 makes mu_k > mu_s"]),
+    "rolling with negative friction": ('study = "rolling"\n[launch]\nmu_s = -0.1\n', [],
+                                       ["[launch] mu_s must be a number >= 0"]),
+    "rolling on a wall": ('study = "rolling"\n[incline]\nangle_max = 95.0\n', [],
+                          ["[incline] angle_max must be inside (-90, 90) degrees"]),
+    "rolling ball of no mass": ('study = "rolling"\n[launch]\nmass = 0.0\n', [],
+                                ["[launch] mass must be a number > 0"]),
+    "bat struck off its tip": ('study = "bat"\n[strikes]\nlast = 1.2\n', [],
+                               ["[strikes] last = 1.2 m is off the baseball bat"]),
+    "bat held at its centre of mass": (
+        'study = "bat"\n[hands]\npivots = [0.1, 0.5645]\n', [],
+        ["[hands] pivots = 0.5645", "has no centre of percussion"]),
+    "bat held off its end": ('study = "bat"\n[hands]\npivots = [-0.1]\n', [],
+                             ["[hands] pivots"]),
+    "bat of no mass": ('study = "bat"\n[body]\nmass = 0.0\n', [],
+                       ["[body] mass must be a number > 0"]),
     "step hopeless for the spin": (
         'study = "tennis_racket"\n[spin]\nrate = 1e6\n[integration]\nmethod = "lp2"\n',
         [], ["h = 0.002 s is too large for lp2", "choose h <="]),

@@ -301,6 +301,8 @@ ONE_PIECE = {
     "gyroscope": ("gyroscopes", ["--set", "integration.periods=2000",
                                  "--set", "integration.samples_per_period=8"]),
     "equinoxes": ("Earth under Sun and Moon", ["--set", "run.years=3000"]),
+    "bat": ("strikes", ["--set", "strikes.count=20000", "--set", "hit.steps_per_contact=512"]),
+    "rolling": ("launches", ["--set", "launch.members=200000", "--set", "launch.samples=5000"]),
 }
 
 

@@ -17,7 +17,8 @@ from pathlib import Path
 
 from ..stream import RunInterrupted
 from . import (
-    earth_wobble, equinoxes, gyroscope, sleeping_top, stability_map, tennis_racket, work_precision,
+    bat, earth_wobble, equinoxes, gyroscope, rolling, sleeping_top, stability_map, tennis_racket,
+    work_precision,
 )
 from .config import (
     REQUIRED,
@@ -38,9 +39,11 @@ from .config import (
 )
 
 STUDIES: dict[str, StudyKind] = {
+    "bat": bat.STUDY,
     "earth_wobble": earth_wobble.STUDY,
     "equinoxes": equinoxes.STUDY,
     "gyroscope": gyroscope.STUDY,
+    "rolling": rolling.STUDY,
     "sleeping_top": sleeping_top.STUDY,
     "stability_map": stability_map.STUDY,
     "tennis_racket": tennis_racket.STUDY,

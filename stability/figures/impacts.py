@@ -1,0 +1,148 @@
+"""Figures of impacts and rolling (:mod:`stability.struck`, :mod:`stability.rolling`).
+
+:func:`bat_figure`: the body drawn to scale with its hands, centre of mass, centre of percussion
+and sweet zone, the reaction impulse at the held hands and the velocity of the free body's
+hands against the strike point. :func:`rolling_map_figure`: the fraction of members that slip
+over (incline angle, mu_s) per shape, with the analytic boundary.
+:func:`rolling_launch_figure`: launched balls' v and R w meeting where rolling starts, and the
+final speed and heat against the formulas.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from .style import EXACT_COLOR, label, new_figure, styled
+
+_PIVOT_COLORS = ("#1f77b4", "#2ca02c", "#9467bd", "#8c564b", "#e377c2")
+
+
+@styled
+def bat_figure(ds):
+    """Bat to scale; reaction impulse (held) and hand velocity (free) against strike point."""
+    fig = new_figure(9.0, 8.0)
+    body_ax, held_ax, free_ax = fig.subplots(3, 1, sharex=True,
+                                             gridspec_kw={"height_ratios": [1.0, 2.0, 2.0]})
+    x, r = ds.outline.values[:, 0], ds.outline.values[:, 1]
+    body_ax.fill_between(x, -r, r, color="#d8b37a", edgecolor="#7a5a2a")
+    centre = ds.attrs["centre_of_mass"]
+    body_ax.plot([centre], [0.0], "o", color="black", ms=5, label="centre of mass")
+    main = ds.pivot.size // 2
+    impulse, sting = ds.attrs["impulse"], ds.attrs["sting"]
+    near, far = ds.sweet_zone_measured.values[main]
+    if np.isfinite(near):
+        body_ax.axvspan(near, far if np.isfinite(far) else x[-1], color="#ffdd55", alpha=0.5,
+                        label=f"sweet zone (sting < {sting:g} J), hands at "
+                              f"{100 * float(ds.pivot[main]):.1f} cm")
+    for i, pivot in enumerate(ds.pivot.values):
+        color = _PIVOT_COLORS[i % len(_PIVOT_COLORS)]
+        cop = float(ds.percussion_centre_measured.sel(hold="held")[i])
+        body_ax.plot([pivot], [0.0], "s", color=color, ms=6)
+        body_ax.plot([cop], [0.0], "*", color=color, ms=11)
+    body_ax.set_aspect("equal")
+    body_ax.set_ylim(-3 * r.max(), 3 * r.max())
+    body_ax.set_ylabel(label("half-width", "m"))
+    body_ax.legend(loc="upper left", fontsize=7.5, ncol=2)
+    body_ax.set_title(f"{ds.attrs['body']}, {ds.attrs['mass']:.3g} kg, to scale: hands "
+                      "(squares) and their centres of percussion (stars)")
+    strikes = ds.strike.values
+    for i, pivot in enumerate(ds.pivot.values):
+        color = _PIVOT_COLORS[i % len(_PIVOT_COLORS)]
+        beyond = strikes > pivot
+        tag = f"hands at {100 * pivot:.1f} cm"
+        held_ax.plot(strikes[beyond], ds.reaction_impulse_across.sel(hold="held")[i, beyond]
+                     / impulse, color=color, lw=1.8, label=f"{tag}: run")
+        held_ax.plot(strikes[beyond], ds.reaction_impulse_formula[i, beyond] / impulse, "--",
+                     color=EXACT_COLOR, lw=0.9)
+        free_ax.plot(strikes, ds.hand_velocity_across.sel(hold="free")[i], color=color, lw=1.8,
+                     label=f"{tag}: run")
+        free_ax.plot(strikes, ds.hand_velocity_formula[i], "--", color=EXACT_COLOR, lw=0.9)
+        for ax, hold in ((held_ax, "held"), (free_ax, "free")):
+            ax.axvline(float(ds.percussion_centre_measured.sel(hold=hold)[i]), color=color,
+                       lw=0.7, ls=":")
+    held_ax.axhspan(-sting, sting, color="#ffdd55", alpha=0.4)
+    held_ax.set_ylabel(label("reaction at the hands / J", "1"))
+    held_ax.set_title(f"held: J = {impulse:g} N s over {1e3 * ds.attrs['contact_time']:g} ms; "
+                      "dashed: J (M d s / I_P - 1); zero at the centre of percussion")
+    held_ax.legend(fontsize=7.5)
+    free_ax.axhline(0.0, color="grey", lw=0.6)
+    free_ax.set_ylabel(label("hands' velocity after", "m s-1"))
+    free_ax.set_xlabel(label("strike point from the end held", "m"))
+    free_ax.set_title("free: dashed J / M - d (s - d) J / I_cm; the hands' point stays at rest "
+                      "after a hit at the centre of percussion")
+    return fig
+
+
+@styled
+def rolling_map_figure(ds):
+    """Fraction of members slipping over (angle, mu_s), one panel per shape, with the boundary
+    ``mu_s = tan(theta) / (1 + M R^2 / I)``."""
+    shapes = ds.shape.values
+    fig = new_figure(4.2 * shapes.size, 4.2)
+    axes = np.atleast_1d(fig.subplots(1, shapes.size, sharey=True))
+    angle, mu = ds.angle.values, ds.mu_s.values
+    for ax, name in zip(axes, shapes):
+        cell = ds.sel(shape=name)
+        mesh = ax.pcolormesh(angle, mu, cell.slip_fraction.values.T, cmap="RdYlBu_r",
+                             vmin=0.0, vmax=1.0, shading="nearest")
+        fine = np.linspace(angle.min(), angle.max(), 200)
+        k = float(cell.shape_factor)
+        ax.plot(fine, np.tan(np.radians(fine)) / (1.0 + 1.0 / k), color="black", lw=1.5,
+                label="tan(theta) = mu_s (1 + M R^2 / I)")
+        wrong = cell.wrong_side.values
+        if wrong.any():
+            i, j = np.nonzero(wrong)
+            ax.plot(angle[i], mu[j], "kx", ms=7, label="cell on the wrong side")
+        ax.set_ylim(mu.min(), mu.max())
+        ax.set_title(f"{name}, I / (M R^2) = {k:.3g}\n{int(wrong.sum())} cells on the wrong "
+                     "side")
+        ax.set_xlabel(label("incline angle theta", "degree"))
+        ax.legend(loc="upper left", fontsize=7.5)
+    axes[0].set_ylabel(label("static friction coefficient mu_s", "1"))
+    fig.colorbar(mesh, ax=axes, label=label("fraction of the cell's members that slip", "1"))
+    fig.suptitle("Released at rest on an incline: rolls below the line, slips above it "
+                 f"(mu_s scattered {100 * ds.attrs['incline_mu_scatter']:g}%, shape "
+                 f"{100 * ds.attrs['incline_shape_scatter']:g}%, mu_k = "
+                 f"{ds.attrs['incline_mu_ratio']:g} mu_s)")
+    return fig
+
+
+@styled
+def rolling_launch_figure(ds):
+    """Launched balls: v and R w converge at the start of rolling; final speed and heat."""
+    fig = new_figure(13.0, 4.2)
+    path_ax, speed_ax, heat_ax = fig.subplots(1, 3)
+    t = ds.time.values
+    for i in range(ds.path.size):
+        color = _PIVOT_COLORS[i % len(_PIVOT_COLORS)]
+        member = int(ds.path_member[i])
+        path_ax.plot(t, ds.path_v[i], color=color, lw=1.6,
+                     label=f"R w0 / v0 = {float(ds.spin_ratio[member]):+.2f}")
+        path_ax.plot(t, ds.path_rw[i], "--", color=color, lw=1.0)
+        path_ax.axvline(float(ds.t_roll_formula[member]), color=color, lw=0.6, ls=":")
+    path_ax.set_xlabel(label("time", "s"))
+    path_ax.set_ylabel(label("v (solid) and R w (dashed)", "m s-1"))
+    path_ax.set_title("slip ends where they meet (dotted: the formula's time)")
+    path_ax.legend(fontsize=7.5)
+    k = ds.attrs["launch_shape_factor"]
+    ratio = ds.spin_ratio.values
+    speed_ax.plot(ratio, ds.v_final / ds.v0, ".", ms=3, label="run")
+    line = np.linspace(ratio.min(), ratio.max(), 50)
+    speed_ax.plot(line, (1.0 + k * line) / (1.0 + k), color=EXACT_COLOR, lw=1.0,
+                  label="(1 + k R w0 / v0) / (1 + k)")
+    speed_ax.set_xlabel(label("launch spin R w0 / v0", "1"))
+    speed_ax.set_ylabel(label("rolling speed / launch speed", "1"))
+    speed_ax.set_title("final speed (5/7 v0 + 2/7 R w0 for a solid sphere)")
+    speed_ax.legend(fontsize=7.5)
+    e0 = 0.5 * ds.attrs["launch_mass"] * ds.v0**2 * (1.0 + k * ratio**2)
+    heat_ax.plot(ratio, ds.heat / e0, ".", ms=3, label="run: work of friction")
+    heat_ax.plot(line, (1.0 - line) ** 2 * k / ((1.0 + k) * (1.0 + k * line**2)),
+                 color=EXACT_COLOR, lw=1.0, label="M (v0 - R w0)^2 k / (2 (1 + k))")
+    heat_ax.set_xlabel(label("launch spin R w0 / v0", "1"))
+    heat_ax.set_ylabel(label("heat / launch energy", "1"))
+    heat_ax.set_title("energy lost to friction")
+    heat_ax.legend(fontsize=7.5)
+    fig.suptitle(f"{ds.member.size} balls launched along a level floor (R = "
+                 f"{100 * ds.attrs['launch_radius']:.2f} cm, mu_k = {ds.attrs['launch_mu_k']:g}"
+                 f" +- {100 * ds.attrs['launch_mu_scatter']:g}%)")
+    return fig
