@@ -1,6 +1,7 @@
 """Rolling with and without slipping (scene ``rolling_body``) against the formulas."""
 
 import math
+from pathlib import Path
 
 import numpy as np
 import pytest
@@ -134,3 +135,27 @@ def test_a_track_must_be_described_in_order():
         track_row(0.4, 0.1, 0.3, 0.2, angles=(0.1, 0.2, 0.3), starts=(2.0, 1.0))
     with pytest.raises(ValueError, match="one start fewer"):
         track_row(0.4, 0.1, 0.3, 0.2, angles=(0.1, 0.2), starts=())
+
+
+def test_rolling_study_meets_its_claim_with_units_everywhere(tmp_path):
+    import xarray as xr
+
+    from stability.figures.impacts import rolling_launch_figure, rolling_map_figure
+    from stability.figures.style import missing_units
+    from stability.study import run_study
+
+    root = Path(__file__).resolve().parents[1]
+    summary = run_study(root / "studies" / "rolling.toml", tmp_path, quick=True,
+                        progress=False, overrides=[("output.formats", "['png']")])
+    v = summary.values
+    assert v["cells_wrong_side"] == 0 and v["members_against_own_formula"] == 0
+    for key in ("t_roll", "x_roll", "v_final", "heat", "acceleration", "spin_rate"):
+        assert v[f"max_error_{key}"] < v["claim"], key
+    assert v["members_failed"] == 0
+    assert sorted(p.name for p in summary.files) == [
+        "config.toml", "rolling.nc", "rolling_launch.png", "rolling_map.png"]
+    with xr.open_dataset(tmp_path / "rolling.nc") as ds:
+        for name, var in {**ds.data_vars, **ds.coords}.items():
+            assert var.attrs.get("units") and var.attrs.get("long_name"), name
+        assert missing_units(rolling_map_figure(ds)) == []
+        assert missing_units(rolling_launch_figure(ds)) == []

@@ -1,5 +1,7 @@
 """The struck bat or racket (scene ``struck_body``): the centre of percussion from the runs."""
 
+from pathlib import Path
+
 import numpy as np
 import pytest
 
@@ -110,3 +112,28 @@ def test_bad_strikes_are_refused():
         centre_of_percussion(BAT, BAT.centre)
     with pytest.raises(ValueError, match="off the baseball bat"):
         measure_strikes(BAT, [0.15], [0.2, 0.9], progress=False)
+
+
+def test_bat_study_meets_its_claim_with_units_everywhere(tmp_path):
+    import xarray as xr
+
+    from stability.figures.impacts import bat_figure
+    from stability.figures.style import missing_units
+    from stability.study import run_study
+
+    root = Path(__file__).resolve().parents[1]
+    summary = run_study(root / "studies" / "bat.toml", tmp_path, quick=True, progress=False,
+                        overrides=[("output.formats", "['png']")])
+    v = summary.values
+    assert v["max_error_held"] < v["claim"] and v["max_error_free"] < 1e-4
+    assert v["max_error_sweet_zone"] < 1e-6 and v["members_failed"] == 0  # 16 RK4 steps
+    assert sorted(p.name for p in summary.files) == ["bat.nc", "bat.png", "config.toml"]
+    with xr.open_dataset(tmp_path / "bat.nc") as ds:
+        for name, var in {**ds.data_vars, **ds.coords}.items():
+            assert var.attrs.get("units") and var.attrs.get("long_name"), name
+        assert missing_units(bat_figure(ds)) == []
+    racket = run_study(root / "studies" / "bat.toml", tmp_path / "racket", quick=True,
+                       progress=False, overrides=[("body.kind", '"tennis_racket"'),
+                                                  ("hands.pivots", "[0.08]"),
+                                                  ("output.figures", "false")])
+    assert racket.values["max_error_held"] < 1e-9

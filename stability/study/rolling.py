@@ -149,7 +149,8 @@ def run(config: dict, out_dir: Path, *, overwrite=False, threads=None, progress=
             spin_ratios=(launch["spin_min"], launch["spin_max"]), members=launch["members"],
             mu_scatter=launch["mu_scatter"], samples=launch["samples"], seed=launch["seed"],
             progress=progress)
-    ds = xr.merge([incline, launches], combine_attrs="drop")
+    ds = xr.merge([incline, launches], combine_attrs="override")  # variables keep theirs
+    ds.attrs = {}
     ds.attrs.update({f"incline_{k}": v for k, v in incline.attrs.items()})
     ds.attrs.update({f"launch_{k}": v for k, v in launches.attrs.items()})
     ds, files = write_outputs(ds, config, out_dir, NAME,
