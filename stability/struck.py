@@ -29,6 +29,7 @@ import xarray as xr
 from . import conventions as cv
 from .checks import positive_float, real_number
 from .engine import propagate_groups
+from .estimators import zero_crossings
 from .integrators.struck import J_ACROSS, J_ALONG, PHI, VX, VY, W, X, strike_params
 from .scenes import SCENES
 
@@ -158,13 +159,6 @@ def hand_velocity(body: StruckBody, pivot, strike, impulse):
     return impulse / body.mass - d * lever * impulse / body.inertia
 
 
-def zero_crossings(x, y):
-    """Where the samples ``y(x)`` cross zero, by linear interpolation (exact for y linear)."""
-    x, y = np.asarray(x, dtype=float), np.asarray(y, dtype=float)
-    k = np.flatnonzero((y[:-1] == 0.0) | (np.sign(y[:-1]) * np.sign(y[1:]) < 0))
-    return x[k] - y[k] * (x[k + 1] - x[k]) / (y[k + 1] - y[k])
-
-
 def measure_strikes(body: StruckBody, pivots, strikes, impulse=12.0, contact_time=7e-4,
                     steps_per_contact=64, sting=0.1, method="rk4", progress=None) -> xr.Dataset:
     """Strike ``body`` at each point of ``strikes`` for hands at each of ``pivots`` (m from the
@@ -217,18 +211,13 @@ def measure_strikes(body: StruckBody, pivots, strikes, impulse=12.0, contact_tim
     p2, s2 = pivots[:, None], strikes[None, :]
     formula_reaction = reaction_impulse(body, p2, s2, impulse)
     formula_hand = hand_velocity(body, p2, s2, impulse)
-    cop = np.full((holds.size, pivots.size), np.nan)
-    zone = np.full((pivots.size, 2), np.nan)
-    for i in range(pivots.size):
-        for k, key in enumerate(("reaction_impulse_across", "hand_velocity_across")):
-            beyond = strikes > pivots[i]
-            roots = zero_crossings(strikes[beyond], measured[key][k, i, beyond])
-            cop[k, i] = roots[0] if roots.size else np.nan
-        ratio = measured["reaction_impulse_across"][0, i] / impulse
-        for e, level in enumerate((-sting, sting)):
-            roots = zero_crossings(strikes[strikes > pivots[i]],
-                                   (ratio - level)[strikes > pivots[i]])
-            zone[i, e] = roots[0] if roots.size else np.nan
+    # first sign change beyond the hands of each pivot's curve (strikes before them masked)
+    beyond = np.where(strikes[None, :] > pivots[:, None], 1.0, np.nan)
+    cop = np.array([zero_crossings(strikes, measured[key][k] * beyond)[1] for k, key in
+                    enumerate(("reaction_impulse_across", "hand_velocity_across"))])
+    ratio = measured["reaction_impulse_across"][0] / impulse * beyond
+    zone = np.column_stack([zero_crossings(strikes, ratio - level)[1]
+                            for level in (-sting, sting)])
     q = np.array([centre_of_percussion(body, p) for p in pivots])
     zone_formula = pivots[:, None] + (q - pivots)[:, None] * np.array([1.0 - sting, 1.0 + sting])
     zone_formula = np.where(zone_formula <= body.length, zone_formula, np.nan)
