@@ -90,7 +90,8 @@ def start_states(v0, w0, rows, x0=0.0) -> np.ndarray:
     j = np.sum(starts <= x[:, [X]], axis=1) - 1
     sn = rows[np.arange(n), P_TRACK + 3 * j + 1]
     cs = rows[np.arange(n), P_TRACK + 3 * j + 2]
-    holds = rows[:, P_K] * np.abs(sn) <= rows[:, 3] * cs * (1.0 + rows[:, P_K])
+    # the kernel's can_roll, over all members
+    holds = rows[:, P_K] * np.abs(sn) <= rows[:, P_MU_S] * cs * (1.0 + rows[:, P_K])
     x[:, MODE] = np.where(u0 != 0.0, np.sign(u0), np.where(holds, 0.0, np.sign(sn)))
     return x
 

@@ -157,6 +157,7 @@ def exact_step(x, v, w, t, mode, switches, t_roll, x_roll, heat, h, p, s):
         if m1 == 0.0 and not can_roll(sn, cs, p):
             m1 = 1.0 if sn > 0.0 else -1.0  # the rolling motion would outrun the contact
             n1 += 1.0
+        u = v1 - radius * w1
         if m1 == 0.0:
             a = g * sn / (1.0 + k)
             alpha = a / radius
@@ -166,14 +167,12 @@ def exact_step(x, v, w, t, mode, switches, t_roll, x_roll, heat, h, p, s):
             a = g * (sn - m1 * mu_k * cs)
             alpha = m1 * mu_k * g * cs / (k * radius)
             du = a - radius * alpha
-            u = v1 - radius * w1
             tau_stop = max(-u / du, 0.0) if m1 * du < 0.0 else math.inf
         tau_ahead = time_to(p[P_TRACK + 3 * (j + 1)] - x1, v1, a) if j + 1 < MAX_SECTIONS \
             else math.inf
         tau_back = time_to(p[P_TRACK + 3 * j] - x1, v1, a) if j > 0 else math.inf
         tau = min(left, tau_stop, tau_ahead, tau_back)
         if m1 != 0.0:
-            u = v1 - radius * w1
             q1 += mu_k * mass * g * cs * m1 * (u * tau + 0.5 * du * tau * tau)
         x1 += (v1 + 0.5 * a * tau) * tau
         v1 += a * tau

@@ -78,6 +78,12 @@ def _body(config):
     return baseball_bat(b["mass"]) if b["kind"] == "baseball_bat" else tennis_racket()
 
 
+def _last_strike(config, body) -> float:
+    """``[strikes] last``, the tip when unset."""
+    last = config["strikes"].get("last")
+    return body.length if last is None else last
+
+
 def check(config: dict, source: str) -> dict:
     """Pivots on the body and off its centre of mass; strike points on the body."""
     from ..struck import check_pivot
@@ -91,7 +97,7 @@ def check(config: dict, source: str) -> dict:
         except ValueError as exc:
             raise ConfigError(f"= {pivot:g}: {exc}", source, "hands", "pivots") from None
     s = config["strikes"]
-    last = body.length if s.get("last") is None else s["last"]
+    last = _last_strike(config, body)
     for key, value in (("first", s["first"]), ("last", last)):
         if value > body.length:
             raise ConfigError(f"= {value:g} m is off the {body.name} (0 to {body.length:g} m "
@@ -112,7 +118,7 @@ def run(config: dict, out_dir: Path, *, overwrite=False, threads=None, progress=
     t_start = time.perf_counter()
     body = _body(config)
     s, hit, analysis = config["strikes"], config["hit"], config["analysis"]
-    last = body.length if s.get("last") is None else s["last"]
+    last = _last_strike(config, body)
     with numba_threads(threads):
         ds = measure_strikes(body, config["hands"]["pivots"],
                              np.linspace(s["first"], last, s["count"]), hit["impulse"],
