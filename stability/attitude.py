@@ -227,3 +227,92 @@ def propagate_attitude(
         "q_norm_error_saved": norm_saved - 1.0,
     }
     return run
+
+
+# --- ensembles of bodies, with the run's own solution between the saved steps ------------------
+
+
+class AttitudeRuns:
+    """Members each with its own body and step, carried with their attitude (canonical frame).
+
+    Made by :func:`propagate_attitudes`. ``saved[:, k]`` is each member's state (m, q) after
+    ``k * save_every`` steps (``k = 0``: the start); :meth:`state_at` continues the run's own
+    solution from the last saved state to any time with the same method (the remainder in equal
+    steps no longer than the member's h), so roots of functions of the state can be found to
+    round-off on the discrete solution itself.
+    """
+
+    def __init__(self, spec, moments, h, save_every, saved, run):
+        self.spec = spec
+        self.moments = moments  # (N, 3), canonical
+        self.h = h  # (N,)
+        self.save_every = save_every
+        self.saved = saved  # (N, n_saved + 1, 7)
+        self.run = run  # the Propagation (status, wall time)
+
+    @property
+    def times(self) -> np.ndarray:
+        """Times of the saved states, shape (N, n_saved + 1), s."""
+        k = np.arange(self.saved.shape[1])
+        return self.h[:, None] * self.save_every * k
+
+    def state_at(self, t) -> np.ndarray:
+        """Each member's state at its own time ``t`` (N,), within the run; shape (N, 7)."""
+        t = np.asarray(t, dtype=float)
+        interval = self.h * self.save_every
+        k = np.clip(np.floor(t / interval).astype(np.int64), 0, self.saved.shape[1] - 1)
+        rest = t - k * interval
+        x = self.saved[np.arange(t.size), k]
+        n_sub = np.maximum(np.ceil(rest / self.h - 1e-9).astype(np.int64), 1)
+        h_sub = np.where(rest > 0.0, rest / n_sub, self.h)  # rest = 0: the saved state itself
+        params = np.array([self.spec.params(I, hs) for I, hs in zip(self.moments, h_sub)])
+        prop = propagate_groups(
+            SCENES["free_body_attitude"], self.spec, x, params, np.ones(t.size, np.int64),
+            h_sub, n_sub, progress=False,
+        )
+        return np.where((rest == 0.0)[:, None], x, prop.x_final)
+
+
+def propagate_attitudes(method, moments, m0, q0, h, n_steps, save_every=1, progress=None):
+    """Advance members each of its own body and step, with their attitudes, canonical frame.
+
+    Parameters
+    ----------
+    method : str or MethodSpec
+        A name from :func:`attitude_methods`.
+    moments : array_like, shape (N, 3)
+        Each member's principal moments in kg m^2, sorted ascending (canonical frame).
+    m0 : array_like, shape (N, 3)
+        Initial body angular momenta, canonical frame, kg m^2/s.
+    q0 : array_like, shape (N, 4)
+        Initial attitudes in the canonical frame (body to space), unit quaternions.
+    h : array_like, shape (N,)
+        Each member's step in s.
+    n_steps : int
+        Steps, the same for every member; a multiple of ``save_every``.
+    save_every : int, default 1
+    progress : bool or None
+
+    Returns
+    -------
+    AttitudeRuns
+    """
+    spec = method_spec(method)
+    if not spec.attitude:
+        raise ValueError(
+            f"method {spec.name!r} cannot carry the attitude; methods that can: "
+            + ", ".join(attitude_methods())
+        )
+    moments = np.atleast_2d(real_array("moments", moments, "kg m^2"))
+    if np.any(np.diff(moments, axis=1) < 0.0):
+        raise ValueError("moments must be sorted ascending (the canonical frame)")
+    h = np.broadcast_to(real_array("h", h, "s"), (moments.shape[0],)).copy()
+    if n_steps % save_every:
+        raise ValueError(f"n_steps = {n_steps} is not a multiple of save_every = {save_every}")
+    x = np.concatenate([np.atleast_2d(m0), np.atleast_2d(q0)], axis=1)
+    params = np.array([spec.params(I, hh) for I, hh in zip(moments, h)])
+    sizes = np.ones(x.shape[0], dtype=np.int64)
+    run = propagate_groups(SCENES["free_body_attitude"], spec, x, params, sizes, h, n_steps,
+                           save_every=save_every, progress=progress)
+    saved = np.concatenate([x[:, None, :], run.saved], axis=1)
+    return AttitudeRuns(spec, moments, h, save_every, saved, run)

@@ -22,6 +22,7 @@ UNITS_ENERGY = "J"
 UNITS_RATE = "s-1"
 UNITS_RATE_SQUARED = "s-2"
 UNITS_DIMENSIONLESS = "1"
+UNITS_ANGLE = "rad"
 
 # Per-member status codes (int8). A member whose status is not OK has its numbers masked.
 STATUS_OK = 0

@@ -99,6 +99,11 @@ VARIABLES = {
     "last_perp_crossing": ("time of the last sign change of w_b", _S),
     "max_perp_amplitude": ("maximum perpendicular amplitude sqrt(w_b^2 + w_c^2)", _RAD_S),
     "passage_time": ("first time the perpendicular amplitude reaches the level", _S),
+    "q": ("attitude quaternion, body to space (scalar first)", _ONE),
+    "q_norm_error": ("norm error |q| - 1 of the carried attitude quaternion", _ONE),
+    "attitude_error": ("angle of the rotation from the exact attitude to the computed one",
+                       cv.UNITS_ANGLE),
+    cv.QUATERNION: ("quaternion component (0: scalar part cos(angle/2))", _ONE),
     "energy_error": ("relative kinetic-energy error at the end, (E - E0) / E0", _ONE),
     "angular_momentum_error": ("relative |L| error at the end, (|L| - |L0|) / |L0|", _ONE),
     cv.MEMBER: ("ensemble member", None),
@@ -118,6 +123,11 @@ SUMMARIES = (
 _COMMENTS = {
     "flip_count": "a count stored as float64 so that masked members can be NaN",
     "perp_crossing_count": "a count stored as float64 so that masked members can be NaN",
+    "q": "R(q) maps body components to space components; q' = q (0, w) / 2; normalised on "
+         "output (the carried norm error is q_norm_error)",
+    "q_norm_error": "q is carried without renormalisation and normalised on output",
+    "attitude_error": "exact attitude: Euler angles about L from the elliptic solution and an "
+                      "exact quadrature of the precession rate (stability.exact_attitude)",
     "first_flip_time": "NaN where no flip happened",
     "mean_flip_interval": "NaN where fewer than two flips happened",
     "passage_time": "NaN where the level was never reached; 0 where the start is above it",
@@ -415,6 +425,16 @@ def ensemble_dataset(w0, status, fail_time, summaries, levels, attrs, time=None,
         dims = (cv.MEMBER, LEVEL) if name == "passage_time" else (cv.MEMBER,)
         data[name] = (dims, np.asarray(summaries[name], dtype=float), variable_attrs(name))
     return xr.Dataset(data, coords=coords, attrs=storable_attrs(attrs))
+
+
+def add_attitude(ds: xr.Dataset, q, norm_error, error) -> None:
+    """Add the attitude series ``q`` (member, time, 4), ``q_norm_error`` and ``attitude_error``
+    (member, time) to an ensemble Dataset in place."""
+    dims = (cv.MEMBER, cv.TIME)
+    ds.coords[cv.QUATERNION] = ((cv.QUATERNION,), np.arange(4), variable_attrs(cv.QUATERNION))
+    ds["q"] = (dims + (cv.QUATERNION,), q, variable_attrs("q"))
+    ds["q_norm_error"] = (dims, norm_error, variable_attrs("q_norm_error"))
+    ds["attitude_error"] = (dims, error, variable_attrs("attitude_error"))
 
 
 def summary_bytes(n_levels: int) -> int:

@@ -11,6 +11,7 @@ from __future__ import annotations
 import numpy as np
 
 from .analytic import perpendicular_axes
+from .attitude import canonical_quaternion, quaternion_conjugate, quaternion_multiply
 from .body import canonical_frame, from_canonical, to_canonical
 from .checks import real_array, real_number
 from .engine import BLOCK, CHECK_EVERY, Propagation, propagate_groups, untrusted
@@ -75,7 +76,7 @@ def propagate(
 
 def propagate_many(
     method, moments, m0, sizes, h, n_steps, save_every=0, progress=None, chunk_steps=None,
-    track_axes=None, levels=None,
+    track_axes=None, levels=None, q0=None,
 ):
     """Advance several ensembles, each of its own body, step and length, in one parallel call.
 
@@ -99,31 +100,37 @@ def propagate_many(
         Body axis (0-based) of each group's spin; turns on tracking.
     levels : array_like, shape (G, L), optional
         Each group's amplitude levels (rad/s) for the passage times.
+    q0 : array_like, shape (N, 4), optional
+        Carry the attitude too (scene ``free_body_attitude``): each member's initial
+        body-to-space unit quaternion, scalar first.
 
     Returns
     -------
     Propagation
-        Body frame; ``steps_done`` per group.
+        Body frame; ``steps_done`` per group. With ``q0`` the states are (m, q), q the carried
+        (unnormalised) body-to-space quaternion.
     """
-    scene = SCENES["free_body"]
+    scene = SCENES["free_body" if q0 is None else "free_body_attitude"]
     spec = scene.method(method)
     moments = np.atleast_2d(np.asarray(moments, dtype=float))
     sizes = np.asarray(sizes, dtype=np.int64).reshape(-1)
     n_groups = sizes.size
     hs = np.broadcast_to(np.asarray(h, dtype=float), (n_groups,))
     groups = CanonicalGroups(spec, moments, sizes, hs)
-    m0 = np.atleast_2d(np.asarray(m0, dtype=float))
+    x0 = groups.to_canonical(np.atleast_2d(np.asarray(m0, dtype=float)))
+    if q0 is not None:
+        x0 = np.concatenate([x0, groups.attitudes(q0, to_canonical=True)], axis=1)
     axes = None
     if track_axes is not None:
         axes = groups.tracking_axes(track_axes)
         levels = _levels(np.zeros((n_groups, 0)) if levels is None else levels, n_groups)
     run = propagate_groups(
-        scene, spec, groups.to_canonical(m0), groups.params, sizes, hs, n_steps,
+        scene, spec, x0, groups.params, sizes, hs, n_steps,
         save_every=save_every, axes=axes, levels=levels, progress=progress,
         chunk_steps=chunk_steps,
     )
-    run.x_final = groups.from_canonical(run.x_final)
-    run.saved = groups.from_canonical(run.saved)
+    run.x_final = groups.from_canonical_state(run.x_final)
+    run.saved = groups.from_canonical_state(run.saved)
     return run
 
 
@@ -146,6 +153,7 @@ class CanonicalGroups:
     """
 
     def __init__(self, spec, moments, sizes, hs):
+        self.moments = moments
         self.frames = [canonical_frame(I) for I in moments]
         self.bounds = np.concatenate([[0], np.cumsum(sizes)])
         self.params = np.array([spec.params(I[perm], hs[g]) for g, (I, (perm, _)) in
@@ -158,6 +166,24 @@ class CanonicalGroups:
     def from_canonical(self, x) -> np.ndarray:
         """States ``x`` (members first) from each group's canonical frame to the body frame."""
         return self._each(x, from_canonical)
+
+    def attitudes(self, q, to_canonical: bool) -> np.ndarray:
+        """Body-to-space quaternions ``q`` (members first, (..., 4)) into each group's canonical
+        frame (``q c*``) or back (``q c``), c the frame's quaternion."""
+        out = np.empty_like(np.asarray(q, dtype=float))
+        for g, moments in enumerate(self.moments):
+            c = canonical_quaternion(moments)
+            part = slice(self.bounds[g], self.bounds[g + 1])
+            out[part] = quaternion_multiply(q[part], quaternion_conjugate(c) if to_canonical
+                                            else c)
+        return out
+
+    def from_canonical_state(self, x) -> np.ndarray:
+        """States (m, or m and q) from the canonical frames to the body frames."""
+        m = self.from_canonical(np.ascontiguousarray(x[..., :3]))
+        if x.shape[-1] == 3:
+            return m
+        return np.concatenate([m, self.attitudes(x[..., 3:], to_canonical=False)], axis=-1)
 
     def tracking_axes(self, track_axes) -> np.ndarray:
         """:func:`tracking_axes` of each group, shape (G, 3)."""

@@ -35,13 +35,16 @@ from .analytic import perpendicular_axes
 from .body import RigidBody
 from .checks import positive_float, positive_int, real_array, real_number, step_count, vectors3
 from .dataset import (
+    add_attitude,
     config_toml,
     ensemble_dataset,
     provenance_attrs,
     summary_bytes,
     threading_layer,
 )
+from .attitude import IDENTITY, attitude_error
 from .driver import propagate_many
+from .exact_attitude import exact_attitudes
 from .integrators import method_spec
 from .threads import numba_threads
 
@@ -72,7 +75,8 @@ DEFAULT_LEVELS = 10.0 ** (np.arange(-12, 1) / 2.0)
 PEAK_COPIES = 3
 
 
-def ensemble_memory(members: int, n_saved: int, n_levels: int = DEFAULT_LEVELS.size) -> int:
+def ensemble_memory(members: int, n_saved: int, n_levels: int = DEFAULT_LEVELS.size,
+                    attitude: bool = False) -> int:
     """Bytes of the Dataset ``run_ensemble`` returns.
 
     Parameters
@@ -84,17 +88,21 @@ def ensemble_memory(members: int, n_saved: int, n_levels: int = DEFAULT_LEVELS.s
         summaries-only run.
     n_levels : int, optional
         Number of ``passage_time`` levels.
+    attitude : bool, default False
+        With the attitude series (``q``, ``q_norm_error``, ``attitude_error``): 6 more doubles
+        a sample.
 
     Returns
     -------
     int
         ``N (n_saved + 1) 3 8`` bytes of time series (``w`` in float64, start included; none if
-        ``n_saved`` is 0) plus the per-member summaries. A time-series run needs about
+        ``n_saved`` is 0; 9 doubles a sample with the attitude) plus the per-member summaries. A time-series run needs about
         :data:`PEAK_COPIES` times the time series while it builds the Dataset.
     """
     members = positive_int("members", members)
     n_saved = positive_int("n_saved", n_saved, allow_zero=True)
-    series = members * (n_saved + 1) * 3 * 8 if n_saved > 0 else 0
+    per_sample = 9 if attitude else 3
+    series = members * (n_saved + 1) * per_sample * 8 if n_saved > 0 else 0
     return series + members * summary_bytes(n_levels)
 
 
@@ -240,6 +248,7 @@ def run_ensemble(
     direction=None,
     starts=None,
     summaries_only: bool = False,
+    attitude: bool = False,
     levels=None,
     divergence_tolerance: float = DEFAULT_DIVERGENCE_TOLERANCE,
     max_memory: float = DEFAULT_MAX_MEMORY,
@@ -300,6 +309,12 @@ def run_ensemble(
         ``ensemble_memory(members, 0)``, ~250 bytes a member): for ensembles of 1e6
         members and more, and for many small ensembles. The summaries are bitwise those of the
         time-series run.
+    attitude : bool, default False
+        Carry each member's attitude too (scene ``free_body_attitude``; a method of
+        ``stability.attitude.attitude_methods()``, time series only, on the CPU): every member
+        starts at the identity (body axes along the space axes), and the Dataset gains ``q``,
+        ``q_norm_error`` and ``attitude_error``, the angle to the exact attitude
+        (:mod:`stability.exact_attitude`) at each saved time.
     levels : array_like, shape (n_levels,), optional
         Ascending perpendicular-amplitude levels in rad/s for ``passage_time``; default
         :data:`DEFAULT_LEVELS` times the spin (with ``starts``, times the median |w0|).
@@ -362,6 +377,9 @@ def run_ensemble(
     >>> float(ds.mean_flip_interval.median())  # doctest: +SKIP
     28.7
     """
+    if attitude and store is not None:
+        raise ValueError("attitude=True is not streamed to disk; leave store out (attitude runs "
+                         "hold their time series in memory)")
     if store is not None:
         from .stream import run_streamed
 
@@ -382,7 +400,7 @@ def run_ensemble(
         save_every=save_every, direction=direction, starts=starts, summaries_only=summaries_only,
         levels=levels, divergence_tolerance=divergence_tolerance, max_memory=max_memory,
         chunk_members=chunk_members, chunk_steps=chunk_steps, config=config, command=command,
-        device=device,
+        device=device, attitude=attitude,
     )
     with numba_threads(_threads(threads)):
         (run,) = _run([plan], progress)
@@ -464,13 +482,14 @@ class _Plan:
     config_text: str | None
     command: str | None
     device: str = "cpu"
+    attitude: bool = False
 
 
 def _plan(body, axis, spin=None, epsilon=None, members=None, *, h, t_end, seed=0, method="lp2",
           save_every=1, direction=None, starts=None, summaries_only=False, levels=None,
           divergence_tolerance=DEFAULT_DIVERGENCE_TOLERANCE, max_memory=DEFAULT_MAX_MEMORY,
           chunk_members=None, chunk_steps=None, config=None, command=None, device="cpu",
-          defer_starts=False) -> _Plan:
+          defer_starts=False, attitude=False) -> _Plan:
     """Validate the arguments of :func:`run_ensemble` and draw the starts; ValueError if bad.
 
     With ``defer_starts`` random starts are not drawn: :func:`_chunk_plan` draws each chunk's.
@@ -496,6 +515,16 @@ def _plan(body, axis, spin=None, epsilon=None, members=None, *, h, t_end, seed=0
     save_every = positive_int("save_every", save_every)
     if not isinstance(summaries_only, (bool, np.bool_)):
         raise ValueError(f"summaries_only must be True or False, got {summaries_only!r}")
+    if not isinstance(attitude, (bool, np.bool_)):
+        raise ValueError(f"attitude must be True or False, got {attitude!r}")
+    if attitude and not spec.attitude:
+        from .attitude import attitude_methods
+
+        raise ValueError(f"method {spec.name!r} cannot carry the attitude; with attitude=True "
+                         f"use one of {', '.join(attitude_methods())}")
+    if attitude and (summaries_only or device != "cpu"):
+        raise ValueError("attitude=True needs the time series on the CPU: leave summaries_only "
+                         "False and device 'cpu'")
     if n_steps % save_every and not summaries_only:
         raise ValueError(
             f"t_end / h = {n_steps} steps is not a multiple of save_every = {save_every}; "
@@ -547,7 +576,8 @@ def _plan(body, axis, spin=None, epsilon=None, members=None, *, h, t_end, seed=0
     if defer_starts:  # streamed to disk: a chunk at a time in memory
         chunk_members = min(chunk_members or STREAM_CHUNK_MEMBERS, n_members)
     held = chunk_members if defer_starts else n_members
-    stored = ensemble_memory(held, 0 if summaries_only else n_saved, levels.size)
+    stored = ensemble_memory(held, 0 if summaries_only else n_saved, levels.size,
+                             attitude=bool(attitude))
     if not summaries_only and stored > max_memory:
         raise ValueError(
             f"the time series of {held} members x {n_time} samples x 3 doubles would "
@@ -599,6 +629,7 @@ def _plan(body, axis, spin=None, epsilon=None, members=None, *, h, t_end, seed=0
         "t_end": t_end,
         "save_every": save_every,
         "summaries_only": bool(summaries_only),
+        "attitude": bool(attitude),
         "levels": levels,
         "divergence_tolerance": divergence_tolerance,
         "threads": None,
@@ -611,6 +642,7 @@ def _plan(body, axis, spin=None, epsilon=None, members=None, *, h, t_end, seed=0
         chunk_steps=chunk_steps,
         resolved=resolved, start_kind=start_kind, spin=spin, epsilon=epsilon,
         direction=direction, ss=ss, config_text=config_text, command=command, device=device,
+        attitude=bool(attitude),
     )
 
 
@@ -714,10 +746,16 @@ def _dataset(plan: _Plan, run, threads):
                 {"run_ensemble": resolved}),
         }
     )
-    return ensemble_dataset(
+    ds = ensemble_dataset(
         run.w0, run.status, run.fail_time, run.summaries, levels, attrs,
         time=run.time, w=run.w,
     )
+    if run.q is not None:
+        norm = np.linalg.norm(run.q, axis=-1)
+        q = run.q / norm[..., None]
+        exact = exact_attitudes(body.moments, run.w0, run.time, IDENTITY)
+        add_attitude(ds, q, norm - 1.0, attitude_error(q, exact))
+    return ds
 
 
 # --- the run ----------------------------------------------------------------------------------
@@ -738,6 +776,7 @@ class _Run:
     interrupted: bool
     wall_time: float
     compile_time: float
+    q: np.ndarray | None = None  # (N, n_time, 4) carried attitudes, with attitude=True
 
 
 def _run(plans, progress) -> list:
@@ -802,6 +841,7 @@ def _finish(plan, parts, done, steps_done, interrupted) -> _Run:
     w0 = plan.w0[:done]
     n_kept_time = steps_done // plan.save_every + 1
     w_all = None if plan.summaries_only else np.empty((done, n_kept_time, 3))
+    q_all = np.empty((done, n_kept_time, 4)) if plan.attitude else None
     status = np.empty(done, dtype=np.int8)
     fail_time = np.empty(done)
     summaries = {}
@@ -811,7 +851,7 @@ def _finish(plan, parts, done, steps_done, interrupted) -> _Run:
         wall += part.share * prop.wall_time
         compile_time += part.share * prop.compile_time
         chunk_status, chunk_fail, errors = _member_status(
-            prop.status[rows], prop.fail_step[rows], prop.x_final[rows], w0[mine], moments, h,
+            prop.status[rows], prop.fail_step[rows], prop.x_final[rows, :3], w0[mine], moments, h,
             plan.tolerance, part.steps_done, plan.step_angle[mine], plan.spec.max_step_angle,
         )
         chunk = _summaries({name: value[rows] for name, value in prop.extras.items()}, errors)
@@ -828,8 +868,13 @@ def _finish(plan, parts, done, steps_done, interrupted) -> _Run:
         if w_all is not None:
             w = w_all[mine]
             w[:, 0] = w0[mine]
-            np.divide(prop.saved[rows, : n_kept_time - 1], moments, out=w[:, 1:])
+            np.divide(prop.saved[rows, : n_kept_time - 1, :3], moments, out=w[:, 1:])
             w[bad] = np.nan
+        if q_all is not None:
+            q = q_all[mine]
+            q[:, 0] = IDENTITY
+            q[:, 1:] = prop.saved[rows, : n_kept_time - 1, 3:]
+            q[bad] = np.nan
         status[mine] = chunk_status
         fail_time[mine] = chunk_fail
     return _Run(
@@ -840,6 +885,7 @@ def _finish(plan, parts, done, steps_done, interrupted) -> _Run:
         summaries=summaries,
         time=None if plan.summaries_only else np.arange(n_kept_time) * plan.save_every * h,
         w=w_all,
+        q=q_all,
         steps_done=steps_done,
         interrupted=interrupted,
         wall_time=wall,
@@ -869,6 +915,7 @@ def _propagate_tracked(plans, progress, rows):
         [plan.n_steps for plan in plans], 0 if first.summaries_only else first.save_every,
         progress, first.chunk_steps if len(plans) == 1 else None,
         track_axes=[plan.a for plan in plans], levels=[plan.levels for plan in plans],
+        q0=np.tile(IDENTITY, (sum(w.shape[0] for w in starts), 1)) if first.attitude else None,
     )
 
 

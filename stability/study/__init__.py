@@ -18,7 +18,7 @@ from pathlib import Path
 from ..stream import RunInterrupted
 from . import (
     bat, earth_wobble, equinoxes, gyroscope, rolling, sleeping_top, stability_map, tennis_racket,
-    work_precision,
+    twisting_racket, work_precision,
 )
 from .config import (
     REQUIRED,
@@ -47,6 +47,7 @@ STUDIES: dict[str, StudyKind] = {
     "sleeping_top": sleeping_top.STUDY,
     "stability_map": stability_map.STUDY,
     "tennis_racket": tennis_racket.STUDY,
+    "twisting_racket": twisting_racket.STUDY,
     "work_precision": work_precision.STUDY,
 }
 
