@@ -6,6 +6,7 @@ one module beside these (copy ``free_body.py``; the checklist is in ``spec.py``)
 ``_ALL`` below.
 """
 
+from .engine_body import ENGINE_BODY
 from .free_body import FREE_BODY
 from .free_body_attitude import FREE_BODY_ATTITUDE
 from .heavy_top import HEAVY_TOP
@@ -16,7 +17,7 @@ from .struck_body import STRUCK_BODY
 from .spec import Scene
 
 _ALL = (FREE_BODY, FREE_BODY_ATTITUDE, HEAVY_TOP, LUNISOLAR_EARTH, PRECESSING_AXIS,
-        ROLLING_BODY, STRUCK_BODY)
+        ROLLING_BODY, STRUCK_BODY, ENGINE_BODY)
 
 SCENES: dict[str, Scene] = {s.name: s for s in _ALL}
 
