@@ -273,7 +273,8 @@ class AttitudeRuns:
         return np.where((rest == 0.0)[:, None], x, prop.x_final)
 
 
-def propagate_attitudes(method, moments, m0, q0, h, n_steps, save_every=1, progress=None):
+def propagate_attitudes(method, moments, m0, q0, h, n_steps, save_every=1, progress=None,
+                        label=None):
     """Advance members each of its own body and step, with their attitudes, canonical frame.
 
     Parameters
@@ -292,10 +293,17 @@ def propagate_attitudes(method, moments, m0, q0, h, n_steps, save_every=1, progr
         Steps, the same for every member; a multiple of ``save_every``.
     save_every : int, default 1
     progress : bool or None
+    label : str, optional
+        Progress bar label.
 
     Returns
     -------
     AttitudeRuns
+
+    Raises
+    ------
+    KeyboardInterrupt
+        If Ctrl-C stopped the run (a partial run is not returned).
     """
     spec = method_spec(method)
     if not spec.attitude:
@@ -313,6 +321,8 @@ def propagate_attitudes(method, moments, m0, q0, h, n_steps, save_every=1, progr
     params = np.array([spec.params(I, hh) for I, hh in zip(moments, h)])
     sizes = np.ones(x.shape[0], dtype=np.int64)
     run = propagate_groups(SCENES["free_body_attitude"], spec, x, params, sizes, h, n_steps,
-                           save_every=save_every, progress=progress)
+                           save_every=save_every, progress=progress, label=label)
+    if run.interrupted:
+        raise KeyboardInterrupt
     saved = np.concatenate([x[:, None, :], run.saved], axis=1)
     return AttitudeRuns(spec, moments, h, save_every, saved, run)

@@ -104,7 +104,8 @@ def measure_twisting(moments, w0, *, method="lp8", steps_per_period=2000, save_e
     t_start = time.perf_counter()
     runs = propagate_attitudes(method, moments, moments * w0, np.tile(IDENTITY, (n, 1)),
                                period / steps_per_period, 2 * steps_per_period,
-                               save_every=save_every, progress=progress)
+                               save_every=save_every, progress=progress,
+                               label=f"tossed bodies ({method})")
     run_wall = time.perf_counter() - t_start
     exact = exact_angles(motions, period)
     ran = run_angles(runs, period, exact["flip_time"])  # the same flip: nearest the exact one

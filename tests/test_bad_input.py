@@ -126,6 +126,23 @@ CLI = {
                              ["[hands] pivots"]),
     "bat of no mass": ('study = "bat"\n[body]\nmass = 0.0\n', [],
                        ["[body] mass must be a number > 0"]),
+    "twisting with an unknown preset": (
+        'study = "twisting_racket"\n[body]\npreset = "kite"\n', [],
+        ["[body] preset = 'kite' is not a preset"]),
+    "twisting with the nudges reversed": (
+        'study = "twisting_racket"\n[toss]\nepsilon_min = 0.1\nepsilon_max = 0.01\n', [],
+        ["[toss] epsilon_max must be at least epsilon_min"]),
+    "twisting without the attitude": (
+        'study = "twisting_racket"\n[integration]\nmethod = "exact"\n', [],
+        ["[integration] method = 'exact' cannot carry the attitude"]),
+    "engine rule unknown": ('study = "engine_artefacts"\n[rules]\nengine = ["verlet"]\n', [],
+                            ["[rules] engine has 'verlet', not an engine rule"]),
+    "engine horizon not whole steps": (
+        'study = "engine_artefacts"\n[rules]\nt_end = 10.001\n', [],
+        ["[rules] t_end = 10.001 s is not a whole number of steps"]),
+    "engine frame rate of zero": (
+        'study = "engine_artefacts"\n[rules]\nframe_rates = [60.0, 0.0]\n', [],
+        ["[rules] frame_rates"]),
     "step hopeless for the spin": (
         'study = "tennis_racket"\n[spin]\nrate = 1e6\n[integration]\nmethod = "lp2"\n',
         [], ["h = 0.002 s is too large for lp2", "choose h <="]),

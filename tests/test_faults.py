@@ -303,6 +303,9 @@ ONE_PIECE = {
     "equinoxes": ("Earth under Sun and Moon", ["--set", "run.years=3000"]),
     "bat": ("strikes", ["--set", "strikes.count=20000", "--set", "hit.steps_per_contact=512"]),
     "rolling": ("launches", ["--set", "launch.members=200000", "--set", "launch.samples=5000"]),
+    "twisting_racket": ("tossed bodies", ["--set", "ensemble.members=512",
+                                          "--set", "integration.steps_per_period=200000"]),
+    "engine_artefacts": ("explicit_euler, h =", ["--set", "ensemble.members=400000"]),
 }
 
 

@@ -17,8 +17,8 @@ from pathlib import Path
 
 from ..stream import RunInterrupted
 from . import (
-    bat, earth_wobble, equinoxes, gyroscope, rolling, sleeping_top, stability_map, tennis_racket,
-    twisting_racket, work_precision,
+    bat, earth_wobble, engine_artefacts, equinoxes, gyroscope, rolling, sleeping_top,
+    stability_map, tennis_racket, twisting_racket, work_precision,
 )
 from .config import (
     REQUIRED,
@@ -41,6 +41,7 @@ from .config import (
 STUDIES: dict[str, StudyKind] = {
     "bat": bat.STUDY,
     "earth_wobble": earth_wobble.STUDY,
+    "engine_artefacts": engine_artefacts.STUDY,
     "equinoxes": equinoxes.STUDY,
     "gyroscope": gyroscope.STUDY,
     "rolling": rolling.STUDY,

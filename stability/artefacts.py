@@ -1,0 +1,249 @@
+"""What physics engines' update rules do to the tennis-racket flip, measured against the exact motion.
+
+An ensemble tossed about the middle axis is run with each engine rule (scene ``engine_body``,
+:mod:`stability.integrators.engine_rules`) and, beside them, with the package's integrators
+carrying the attitude (scene ``free_body_attitude``), at the time steps engines use. Per rule and
+step (:func:`measure_rule`): the fraction of members that flip, the flip interval and the growth
+rate against the exact ones (:func:`stability.estimators.flip_estimate`,
+:func:`stability.estimators.omega_squared_estimate`), the drift of the energy, of |L| and of the
+direction of the spatial angular momentum, and the measured cost per step;
+:func:`step_for_accuracy` finds the step each rule needs for a flip interval within a tolerance.
+Everything in the canonical frame, spin about axis 2.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import xarray as xr
+
+from . import conventions as cv
+from .analytic import growth_rate, omega_squared
+from .attitude import IDENTITY, quaternion_to_matrix
+from .body import RigidBody
+from .dataset import storable_attrs
+from .engine import propagate_groups
+from .estimators import exact_flip_intervals, flip_estimate, omega_squared_estimate
+from .estimators import tracked_members
+from .integrators.engine_rules import ENGINE_RULES, body_state, world_state
+from .scenes import SCENES
+
+#: Tracked axes in the canonical frame: spin about axis 2, across it axes 1 and 3.
+_AXES = np.array([[1, 0, 2]])
+
+#: Perpendicular-amplitude levels for the growth rate, relative to the spin.
+LEVELS = np.geomspace(1e-3, 0.3, 12)
+
+#: The growth rate's fit window: from 10 times the start's amplitude to 3 % of the spin (the
+#: tennis-racket study's), so that nudges of 1e-4 of the spin leave a linear phase to fit.
+GROWTH_WINDOW = (10.0, 0.03)
+
+
+def rule_scene(rule: str) -> str:
+    """The scene a rule runs on: ``engine_body`` for the engine rules, the attitude scene for
+    the package's methods that carry it, ``free_body`` for the exact flow."""
+    if rule in ENGINE_RULES:
+        return "engine_body"
+    return "free_body" if rule == "exact" else "free_body_attitude"
+
+
+def run_rule(rule, moments, w0, h, t_end, *, save_every=0, progress=None):
+    """Run the members ``w0`` (N, 3, rad/s, canonical) of the body ``moments`` (canonical) with
+    ``rule`` from the identity attitude, tracking flips; returns the Propagation, the final
+    body angular momenta (N, 3) and attitudes (N, 4), and the saved body angular velocities
+    (N, n_saved, 3)."""
+    scene = SCENES[rule_scene(rule)]
+    spec = scene.method(rule)
+    m0 = moments * w0
+    q0 = np.tile(IDENTITY, (w0.shape[0], 1))
+    x0 = {"engine_body": lambda: world_state(moments, m0, q0), "free_body": lambda: m0,
+          "free_body_attitude": lambda: np.concatenate([m0, q0], axis=1)}[scene.name]()
+    n_steps = int(round(t_end / h))
+    spin = float(np.median(np.abs(w0[:, 1])))
+    prop = propagate_groups(scene, spec, x0, spec.params(moments, h)[None, :], [w0.shape[0]],
+                            h, n_steps, save_every=save_every, axes=_AXES,
+                            levels=(LEVELS * spin)[None, :], progress=progress,
+                            label=f"{rule}, h = {h:.3g} s")
+    if prop.interrupted:  # a partial run has no flip statistics to report
+        raise KeyboardInterrupt
+
+    def body(x):
+        if scene.name == "engine_body":
+            m, q = body_state(x.reshape(-1, 7), moments)
+            return m.reshape(x.shape[:-1] + (3,)), q.reshape(x.shape[:-1] + (4,))
+        if scene.name == "free_body":  # the exact flow: the attitude is exact, not carried
+            return x, None
+        return x[..., :3], x[..., 3:]
+
+    m, q = body(prop.x_final)
+    saved_w = body(prop.saved)[0] / moments if save_every else None
+    return prop, m, q, saved_w
+
+
+def measure_rule(rule, moments, w0, h, t_end) -> dict:
+    """The numbers of one rule at one step (see the module docstring); scalars."""
+    body = RigidBody(*moments, physical=False)
+    spin = float(np.median(np.abs(w0[:, 1])))
+    prop, m, q, _ = run_rule(rule, moments, w0, h, t_end)
+    ok = prop.status == cv.STATUS_OK
+    mem = tracked_members(prop.extras, w0, 2, spin, LEVELS * spin, prop.status)
+    exact, asymptote = exact_flip_intervals(body, 2, w0)
+    flips = flip_estimate(mem, exact, asymptote)
+    growth = omega_squared_estimate(mem, omega_squared(body, 2, spin), low_factor=GROWTH_WINDOW[0],
+                                    high_fraction=GROWTH_WINDOW[1])
+    m0 = moments * w0
+    energy0 = 0.5 * np.sum(m0 * w0, axis=1)
+    energy = 0.5 * np.sum(m * m / moments, axis=1)
+    if q is None:
+        turned = np.zeros(w0.shape[0])
+    else:  # angle between the spatial angular momentum R(q) m and its start m0
+        space_l = np.einsum("nij,nj->ni", quaternion_to_matrix(q), m)
+        turned = np.arctan2(np.linalg.norm(np.cross(space_l, m0), axis=1),
+                            np.sum(space_l * m0, axis=1))
+    exact_rate = float(growth_rate(body, 2, spin))
+    with np.errstate(invalid="ignore"):
+        return {
+            "fraction_flipping": float(np.mean(flips["n_flips"][ok] >= 1)) if ok.any() else 0.0,
+            "flip_interval": float(np.nanmedian(flips["flip_interval"]))
+            if np.isfinite(flips["flip_interval"]).any() else math.nan,
+            "flip_interval_error": flips["flip_interval_relative_error"],
+            "growth_rate": growth["growth_rate"],
+            "growth_rate_error": (growth["growth_rate"] - exact_rate) / exact_rate,
+            "energy_drift": float(np.median(((energy - energy0) / energy0)[ok])),
+            "momentum_drift": float(np.median((np.linalg.norm(m, axis=1)
+                                               / np.linalg.norm(m0, axis=1) - 1.0)[ok])),
+            "l_direction_drift": float(np.median(turned[ok])),
+            "cost_per_step": prop.wall_time / (w0.shape[0] * max(int(round(t_end / h)), 1)),
+            "members_ok": int(ok.sum()),
+        }
+
+
+def step_for_accuracy(rule, moments, w0, t_end, h_max, tolerance=0.01, halvings=20,
+                      quantity="flip_interval_error") -> float:
+    """The largest step ``h_max / 2^(k/2)``, k = 0, 1, ..., 2 halvings, at which ``quantity``
+    of :func:`measure_rule` (a relative error) is within ``tolerance``; NaN if at none."""
+    for k in range(2 * halvings + 1):
+        steps = int(round(t_end * 2.0 ** (0.5 * k) / h_max))
+        error = measure_rule(rule, moments, w0, t_end / steps, t_end)[quantity]
+        if abs(error) <= tolerance:
+            return t_end / steps
+    return math.nan
+
+
+def measure_artefacts(rules, moments, w0, steps, t_end, *, tolerance=0.01, search_members=64,
+                      halvings=12, trace_member=0) -> xr.Dataset:
+    """Every rule at every step, the step each needs, and one member's spin-axis trace.
+
+    Parameters
+    ----------
+    rules : sequence of str
+        Engine rules (``ENGINE_RULES``) and attitude methods.
+    moments : array_like, shape (3,)
+        Canonical (ascending) moments, kg m^2.
+    w0 : array_like, shape (N, 3)
+        Starts near axis 2, rad/s, canonical frame.
+    steps : sequence of float
+        Time steps in s (engines: 1/60, 1/120, 1/240).
+    t_end : float
+        Horizon in s, a whole number of every step.
+    tolerance : float
+        Relative flip-interval error for ``step_for_accuracy``.
+    search_members : int
+        Members used to search that step.
+    halvings : int
+        The search goes down to ``steps[0] / 2^halvings``.
+
+    Returns
+    -------
+    xarray.Dataset
+    """
+    moments = np.asarray(moments, dtype=float)
+    w0 = np.atleast_2d(np.asarray(w0, dtype=float))
+    table = {name: np.full((len(rules), len(steps)), np.nan) for name in _UNITS}
+    for i, rule in enumerate(rules):
+        for j, h in enumerate(steps):
+            for name, value in measure_rule(rule, moments, w0, h, t_end).items():
+                table[name][i, j] = value
+    needed = np.array([[step_for_accuracy(rule, moments, w0[:search_members], t_end, steps[0],
+                                          tolerance, halvings, quantity) for rule in rules]
+                       for quantity in ("flip_interval_error", "energy_drift")])
+    trace_h = steps[0]
+    traces = []
+    for rule in rules:
+        saved = run_rule(rule, moments, w0[trace_member:trace_member + 1], trace_h, t_end,
+                         save_every=1)[3]
+        traces.append(np.concatenate([w0[trace_member:trace_member + 1, 1], saved[0, :, 1]]))
+    exact = exact_flip_intervals(RigidBody(*moments, physical=False), 2, w0)[0]
+    spin = float(np.median(np.abs(w0[:, 1])))
+    exact_trace = _exact_trace(moments, w0[trace_member], trace_h, t_end)
+    return _dataset(rules, steps, table, needed, traces, exact_trace, trace_h, moments, exact,
+                    spin, tolerance, t_end, w0.shape[0])
+
+
+def _exact_trace(moments, w0, h, t_end):
+    from .exact import exact_omega
+
+    t = np.arange(int(round(t_end / h)) + 1) * h
+    return exact_omega(RigidBody(*moments, physical=False), w0, t)[:, 1]
+
+
+_UNITS = {
+    "fraction_flipping": ("fraction of members that flip at least once", cv.UNITS_DIMENSIONLESS),
+    "flip_interval": ("median flip interval", cv.UNITS_TIME),
+    "flip_interval_error": ("mean relative error of the flip interval against the exact 2K/nu",
+                            cv.UNITS_DIMENSIONLESS),
+    "growth_rate": ("growth rate of the perpendicular amplitude", cv.UNITS_RATE),
+    "growth_rate_error": ("relative error of the growth rate against sqrt(-Omega^2)",
+                          cv.UNITS_DIMENSIONLESS),
+    "energy_drift": ("median relative energy error at the end", cv.UNITS_DIMENSIONLESS),
+    "momentum_drift": ("median relative |L| error at the end", cv.UNITS_DIMENSIONLESS),
+    "l_direction_drift": ("median angle turned by the spatial angular momentum at the end",
+                          cv.UNITS_ANGLE),
+    "cost_per_step": ("measured wall time per member-step (tracking included)", cv.UNITS_TIME),
+    "members_ok": ("members whose run stayed finite", cv.UNITS_DIMENSIONLESS),
+}
+
+
+def _dataset(rules, steps, table, needed, traces, exact_trace, trace_h, moments, exact, spin,
+             tolerance, t_end, members):
+    from .integrators import METHODS
+
+    specs = {**METHODS, **ENGINE_RULES}
+    dims = ("rule", "step")
+    data = {name: (dims, value, {"long_name": _UNITS[name][0], "units": _UNITS[name][1]})
+            for name, value in table.items()}
+    evaluations = np.array([specs[r].evaluations for r in rules], dtype=float)
+    data["evaluations_per_second"] = (dims, evaluations[:, None] / np.asarray(steps)[None, :], {
+        "long_name": "right-hand-side evaluations (or sub-flows) per simulated second",
+        "units": cv.UNITS_RATE})
+    searched = ("searched at h / 2^(k/2) from the largest step; NaN: not reached down to the "
+                "search's smallest step")
+    data["step_needed"] = (("rule",), needed[0], {
+        "long_name": f"largest step with the flip interval within {tolerance:g} of the exact",
+        "units": cv.UNITS_TIME, "comment": searched})
+    data["step_needed_energy"] = (("rule",), needed[1], {
+        "long_name": f"largest step with the energy at the end within {tolerance:g} of the "
+                     "start", "units": cv.UNITS_TIME, "comment": searched})
+    data["spin_component"] = (("rule", "time"), np.array(traces), {
+        "long_name": f"member's spin-axis angular velocity w2 at h = {trace_h:g} s",
+        "units": cv.UNITS_ANGULAR_VELOCITY})
+    data["spin_component_exact"] = (("time",), exact_trace, {
+        "long_name": "the same member's exact w2", "units": cv.UNITS_ANGULAR_VELOCITY})
+    coords = {
+        "rule": ("rule", np.array(rules, dtype=object), {"long_name": "update rule or method",
+                                                         "units": cv.UNITS_DIMENSIONLESS}),
+        "step": ("step", np.asarray(steps, dtype=float), {"long_name": "time step",
+                                                          "units": cv.UNITS_TIME}),
+        "time": ("time", np.arange(exact_trace.size) * trace_h,
+                 {"long_name": "time", "units": cv.UNITS_TIME}),
+    }
+    family = ["engine rule" if r in ENGINE_RULES else specs[r].family for r in rules]
+    data["family"] = (("rule",), np.array(family, dtype=object),
+                      {"long_name": "family of the rule", "units": cv.UNITS_DIMENSIONLESS})
+    attrs = {"moments": moments, "spin": spin, "members": members, "t_end": t_end,
+             "flip_interval_exact": float(np.median(exact)),
+             "growth_rate_exact": float(growth_rate(RigidBody(*moments, physical=False), 2,
+                                                    spin)),
+             "tolerance": tolerance}
+    return xr.Dataset(data, coords=coords, attrs=storable_attrs(attrs))

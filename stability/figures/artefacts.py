@@ -1,0 +1,61 @@
+"""Figure of the engine artefacts (:mod:`stability.artefacts`): what each update rule does to the flip.
+
+:func:`artefacts_figure`: the flip interval's error, the energy drift and the growth rate's error
+against the time step for every rule, and one member's spin-axis angular velocity at the
+largest step beside the exact one.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from .style import EXACT_COLOR, label, new_figure, styled
+
+#: Zero drawn on a log axis at this value (an invariant kept exactly).
+_FLOOR = 1e-17
+
+
+@styled
+def artefacts_figure(ds):
+    """Errors against the step per rule (engine rules solid, the package's methods dashed)."""
+    fig = new_figure(11.0, 8.0)
+    (flip_ax, energy_ax), (growth_ax, trace_ax) = fig.subplots(2, 2)
+    steps = ds.step.values
+    colors = [f"C{k % 10}" for k in range(ds.rule.size)]
+    for k, rule in enumerate(ds.rule.values):
+        engine = str(ds.family.values[k]) == "engine rule"
+        style = dict(color=colors[k], ls="-" if engine else "--", marker="o" if engine else "s",
+                     ms=4, label=str(rule))
+        flip_ax.loglog(steps, np.maximum(np.abs(ds.flip_interval_error.values[k]), _FLOOR),
+                       **style)
+        energy_ax.loglog(steps, np.maximum(np.abs(ds.energy_drift.values[k]), _FLOOR), **style)
+        growth_ax.loglog(steps, np.maximum(np.abs(ds.growth_rate_error.values[k]), _FLOOR),
+                         **style)
+        if engine:
+            trace_ax.plot(ds.time, ds.spin_component.values[k], color=colors[k], lw=1.0,
+                          label=str(rule))
+    trace_ax.plot(ds.time, ds.spin_component_exact, color=EXACT_COLOR, lw=2.0, ls=":",
+                  label="exact")
+    tolerance = ds.attrs["tolerance"]
+    flip_ax.axhline(tolerance, color="black", lw=0.8, ls=":")
+    for ax, what in ((flip_ax, "|flip interval error|, relative"),
+                     (energy_ax, "|energy drift| at the end, relative"),
+                     (growth_ax, "|growth rate error|, relative")):
+        ax.set_xlabel(label("time step h", "s"))
+        ax.set_ylabel(label(what, "1"))
+        ax.invert_xaxis()
+    flip_ax.set_title(f"flip interval vs exact 2K/nu ({ds.attrs['flip_interval_exact']:.3f} s); "
+                      f"dotted: {100 * tolerance:g} %", fontsize=9)
+    energy_ax.set_title("energy after the run (no gyroscopic term and rescaled energy: 0)",
+                        fontsize=9)
+    growth_ax.set_title(f"growth rate vs sqrt(-Omega^2) = {ds.attrs['growth_rate_exact']:.3f} "
+                        "1/s", fontsize=9)
+    energy_ax.legend(loc="lower left", fontsize=7, ncol=2)
+    trace_ax.set_xlabel(label("time", "s"))
+    trace_ax.set_ylabel(label("spin-axis angular velocity w2", "rad s-1"))
+    trace_ax.set_title(f"one member, engine rules at h = {float(steps[0]):.4g} s", fontsize=9)
+    trace_ax.legend(loc="lower left", fontsize=7, ncol=2)
+    fig.suptitle(f"{ds.attrs['members']} tossed rackets, spin {ds.attrs['spin']:g} rad/s about "
+                 "the middle axis: engine update rules (solid) and the package's methods "
+                 "(dashed)", fontsize=10)
+    return fig
