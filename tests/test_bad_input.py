@@ -128,7 +128,7 @@ CLI = {
                        ["[body] mass must be a number > 0"]),
     "twisting with an unknown preset": (
         'study = "twisting_racket"\n[body]\npreset = "kite"\n', [],
-        ["[body] preset = 'kite' is not a preset"]),
+        ["[body] preset must be one of", 'got "kite"']),
     "twisting with the nudges reversed": (
         'study = "twisting_racket"\n[toss]\nepsilon_min = 0.1\nepsilon_max = 0.01\n', [],
         ["[toss] epsilon_max must be at least epsilon_min"]),

@@ -32,7 +32,7 @@ import math
 import numpy as np
 from numba import njit
 
-from .rotations import solve3
+from .rotations import rotate_increment, solve3
 from .spec import P_A1, P_A2, P_A3, P_I1, P_I2, P_I3, P_INV1, P_INV2, P_INV3, MethodSpec
 from .spec import body_params
 
@@ -42,14 +42,8 @@ def rotate3(q0, q1, q2, q3, x1, x2, x3, sign):
     """``R x`` (sign = 1) or ``R^T x`` (sign = -1) for ``R = R(q / |q|)``:
     ``x + (2 / |q|^2) (sign q0 v x x + v x (v x x))`` with v = (q1, q2, q3)."""
     s = 2.0 / (q0 * q0 + q1 * q1 + q2 * q2 + q3 * q3)
-    u1 = q2 * x3 - q3 * x2  # v x x
-    u2 = q3 * x1 - q1 * x3
-    u3 = q1 * x2 - q2 * x1
-    t1 = q2 * u3 - q3 * u2  # v x (v x x)
-    t2 = q3 * u1 - q1 * u3
-    t3 = q1 * u2 - q2 * u1
-    c = sign * q0
-    return x1 + s * (c * u1 + t1), x2 + s * (c * u2 + t2), x3 + s * (c * u3 + t3)
+    d1, d2, d3 = rotate_increment(q1, q2, q3, x1, x2, x3, sign * q0 * s, s)
+    return x1 + d1, x2 + d2, x3 + d3
 
 
 @njit(inline="always", error_model="numpy")

@@ -235,6 +235,26 @@ class Schema:
 FIGURE_FORMATS = ("png", "pdf", "svg")
 
 
+def preset_names() -> tuple:
+    """The names of ``stability.RigidBody.presets()``, for a ``preset`` key's choices."""
+    from ..body import RigidBody
+
+    return tuple(RigidBody.presets())
+
+
+def tossed_body_sections(rate_default: float = 10.0) -> tuple:
+    """The ``[body]`` section (a preset) of a study that tosses a body about its middle axis,
+    and the spin key of its ``[toss]`` section."""
+    return (
+        Section("body", "the body tossed", (
+            Key("preset", "str", "tennis_racket", "a body from RigidBody.presets()",
+                choices=preset_names),
+        )),
+        Key("rate", "float", rate_default, "spin W about the middle axis", unit="rad/s",
+            minimum=0.0, exclusive_minimum=True),
+    )
+
+
 def output_section(name: str, figures, extra=()) -> Section:
     """The ``[output]`` section of a study: its folder ``results/<name>``, the Dataset
     ``<name>.nc``, the ``extra`` keys (more files), whether to draw ``figures`` (their stems)

@@ -18,8 +18,10 @@ import numpy as np
 
 from .config import (
     ConfigError, Key, Schema, Section, StudyKind, StudySummary, output_files, output_section,
-    write_outputs,
+    tossed_body_sections, write_outputs,
 )
+
+BODY, RATE = tossed_body_sections()
 
 NAME = "engine_artefacts"
 FIGURE = "engine_artefacts"
@@ -28,12 +30,9 @@ SCHEMA = Schema(
     top=(Key("title", "str", "What physics engines do to the tennis-racket flip",
              "one line describing the run (the Dataset's title)"),),
     sections=(
-        Section("body", "the body tossed", (
-            Key("preset", "str", "tennis_racket", "a preset body (stability.RigidBody.presets())"),
-        )),
+        BODY,
         Section("toss", "the spin and its nudge", (
-            Key("rate", "float", 10.0, "spin W about the middle axis", unit="rad/s",
-                minimum=0.0, exclusive_minimum=True),
+            RATE,
             Key("epsilon", "float", 1e-4, "nudge across the axis relative to W, random "
                 "direction", minimum=0.0, exclusive_minimum=True, maximum=0.5),
         )),
@@ -74,15 +73,10 @@ def outputs(config: dict) -> list[str]:
 
 
 def check(config: dict, source: str) -> dict:
-    """Known rules and methods, a known preset, and a horizon that is a whole number of steps."""
+    """Known rules and methods, and a horizon that is a whole number of steps."""
     from ..attitude import attitude_methods
-    from ..body import RigidBody
     from ..integrators.engine_rules import ENGINE_RULES
 
-    name = config["body"]["preset"]
-    if name not in RigidBody.presets():
-        raise ConfigError(f"= {name!r} is not a preset; presets: "
-                          f"{', '.join(RigidBody.presets())}", source, "body", "preset")
     rules = config["rules"]
     for rule in rules["engine"]:
         if rule not in ENGINE_RULES:

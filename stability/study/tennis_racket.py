@@ -31,7 +31,7 @@ from ..analytic import MOMENT_NAMES, principal_axis
 from ..estimators import analyse_ensemble
 from .config import (
     UNSET, ConfigError, Key, Schema, Section, StudyKind, StudySummary, output_files,
-    output_section,
+    output_section, preset_names,
 )
 
 NAME = "tennis_racket"
@@ -41,12 +41,6 @@ AXIS_NAMES = MOMENT_NAMES
 
 #: Figure file stems, in the order of the issue: flips, polhodes, growth, flip intervals.
 FIGURES = ("fig1_flips", "fig2_polhodes", "fig3_growth", "fig4_flip_intervals")
-
-
-def _preset_names() -> tuple:
-    from ..body import RigidBody
-
-    return tuple(RigidBody.presets())
 
 
 def _method_names() -> tuple:
@@ -61,7 +55,7 @@ SCHEMA = Schema(
     sections=(
         Section("body", "the rigid body: a preset, or its principal moments", (
             Key("preset", "str", "tennis_racket", "a body from RigidBody.presets()",
-                choices=_preset_names),
+                choices=preset_names),
             Key("moments", "floats", UNSET, "principal moments I1, I2, I3 (instead of preset)",
                 unit="kg m2", minimum=0.0, exclusive_minimum=True, length=3),
             Key("physical", "bool", True,

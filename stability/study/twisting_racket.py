@@ -17,8 +17,10 @@ import numpy as np
 
 from .config import (
     ConfigError, Key, Schema, Section, StudyKind, StudySummary, output_files, output_section,
-    write_outputs,
+    tossed_body_sections, write_outputs,
 )
+
+BODY, RATE = tossed_body_sections()
 
 NAME = "twisting_racket"
 FIGURES = ("twist", "flip")
@@ -27,12 +29,9 @@ SCHEMA = Schema(
     top=(Key("title", "str", "The twisting tennis racket",
              "one line describing the run (the Dataset's title)"),),
     sections=(
-        Section("body", "the body tossed", (
-            Key("preset", "str", "tennis_racket", "a preset body (stability.RigidBody.presets())"),
-        )),
+        BODY,
         Section("toss", "the spin and its nudge", (
-            Key("rate", "float", 10.0, "spin W about the middle axis", unit="rad/s",
-                minimum=0.0, exclusive_minimum=True),
+            RATE,
             Key("epsilon_min", "float", 1e-4, "smallest nudge across the axis, relative to W",
                 minimum=0.0, exclusive_minimum=True),
             Key("epsilon_max", "float", 0.1, "largest nudge (log-uniform between the two)",
@@ -68,18 +67,9 @@ def outputs(config: dict) -> list[str]:
 
 
 def check(config: dict, source: str) -> dict:
-    """A known preset with three distinct moments; a nudge range in order; an attitude method."""
+    """A nudge range in order; an attitude method; whole saved intervals per period."""
     from ..attitude import attitude_methods
-    from ..body import RigidBody
 
-    name = config["body"]["preset"]
-    if name not in RigidBody.presets():
-        raise ConfigError(f"= {name!r} is not a preset; presets: "
-                          f"{', '.join(RigidBody.presets())}", source, "body", "preset")
-    moments = np.sort(RigidBody.preset(name).moments)
-    if not (moments[0] < moments[1] < moments[2]):
-        raise ConfigError(f"= {name!r} has two equal moments {moments.tolist()}: it has no "
-                          "middle axis to toss about", source, "body", "preset")
     toss = config["toss"]
     if not toss["epsilon_min"] <= toss["epsilon_max"]:
         raise ConfigError(f"must be at least epsilon_min ({toss['epsilon_min']:g}), got "
