@@ -30,7 +30,7 @@ from __future__ import annotations
 import numpy as np
 
 from .body import canonical_frame, from_canonical, to_canonical
-from .checks import real_array
+from .checks import positive_int, real_array
 from .engine import propagate_groups
 from .integrators import method_spec
 from .scenes import SCENES
@@ -147,6 +147,17 @@ def attitude_methods() -> tuple[str, ...]:
     return tuple(SCENES["free_body_attitude"].methods)
 
 
+def _attitude_spec(method):
+    """The MethodSpec of ``method``; ValueError naming the others if it cannot carry q."""
+    spec = method_spec(method)
+    if not spec.attitude:
+        raise ValueError(
+            f"method {spec.name!r} cannot carry the attitude; methods that can: "
+            + ", ".join(attitude_methods())
+        )
+    return spec
+
+
 # --- the run -----------------------------------------------------------------------------------
 
 
@@ -190,12 +201,7 @@ def propagate_attitude(
         If the method cannot carry the attitude, or q0 has the wrong shape.
     """
     scene = SCENES["free_body_attitude"]
-    spec = method_spec(method)
-    if not spec.attitude:
-        raise ValueError(
-            f"method {spec.name!r} cannot carry the attitude; methods that can: "
-            + ", ".join(attitude_methods())
-        )
+    spec = _attitude_spec(method)
     moments = real_array("moments", moments, "kg m^2")
     perm, signs = canonical_frame(moments)
     m = to_canonical(np.atleast_2d(real_array("m0", m0, "kg m2/s")), perm, signs)
@@ -237,9 +243,9 @@ class AttitudeRuns:
 
     Made by :func:`propagate_attitudes`. ``saved[:, k]`` is each member's state (m, q) after
     ``k * save_every`` steps (``k = 0``: the start); :meth:`state_at` continues the run's own
-    solution from the last saved state to any time with the same method (the remainder in equal
-    steps no longer than the member's h), so roots of functions of the state can be found to
-    round-off on the discrete solution itself.
+    solution from the last saved state to any time with the same method (whole steps of the
+    member's h, then one step of the remainder: a continuous function of time), so roots of
+    functions of the state can be found to round-off on the discrete solution itself.
     """
 
     def __init__(self, spec, moments, h, save_every, saved, run):
@@ -257,20 +263,30 @@ class AttitudeRuns:
         return self.h[:, None] * self.save_every * k
 
     def state_at(self, t) -> np.ndarray:
-        """Each member's state at its own time ``t`` (N,), within the run; shape (N, 7)."""
+        """Each member's state at its own time ``t`` (N,), within the run; shape (N, 7).
+
+        Raises KeyboardInterrupt if Ctrl-C stopped the continuation.
+        """
         t = np.asarray(t, dtype=float)
         interval = self.h * self.save_every
         k = np.clip(np.floor(t / interval).astype(np.int64), 0, self.saved.shape[1] - 1)
         rest = t - k * interval
         x = self.saved[np.arange(t.size), k]
-        n_sub = np.maximum(np.ceil(rest / self.h - 1e-9).astype(np.int64), 1)
-        h_sub = np.where(rest > 0.0, rest / n_sub, self.h)  # rest = 0: the saved state itself
-        params = np.array([self.spec.params(I, hs) for I, hs in zip(self.moments, h_sub)])
-        prop = propagate_groups(
-            SCENES["free_body_attitude"], self.spec, x, params, np.ones(t.size, np.int64),
-            h_sub, n_sub, progress=False,
-        )
-        return np.where((rest == 0.0)[:, None], x, prop.x_final)
+        whole = np.clip(np.floor(rest / self.h).astype(np.int64), 0, self.save_every)
+        last = rest - whole * self.h  # in [0, h): the step that lands on t
+        ones = np.ones(t.size, np.int64)
+        if whole.any():
+            x = self._advance(x, self.h, whole, ones)
+        return np.where((last > 0.0)[:, None],
+                        self._advance(x, np.where(last > 0.0, last, self.h), ones, ones), x)
+
+    def _advance(self, x, h, n_steps, sizes):
+        params = np.array([self.spec.params(I, hh) for I, hh in zip(self.moments, h)])
+        prop = propagate_groups(SCENES["free_body_attitude"], self.spec, x, params, sizes,
+                                h, n_steps, progress=False)
+        if prop.interrupted:
+            raise KeyboardInterrupt
+        return prop.x_final
 
 
 def propagate_attitudes(method, moments, m0, q0, h, n_steps, save_every=1, progress=None,
@@ -305,19 +321,25 @@ def propagate_attitudes(method, moments, m0, q0, h, n_steps, save_every=1, progr
     KeyboardInterrupt
         If Ctrl-C stopped the run (a partial run is not returned).
     """
-    spec = method_spec(method)
-    if not spec.attitude:
-        raise ValueError(
-            f"method {spec.name!r} cannot carry the attitude; methods that can: "
-            + ", ".join(attitude_methods())
-        )
+    spec = _attitude_spec(method)
     moments = np.atleast_2d(real_array("moments", moments, "kg m^2"))
-    if np.any(np.diff(moments, axis=1) < 0.0):
-        raise ValueError("moments must be sorted ascending (the canonical frame)")
-    h = np.broadcast_to(real_array("h", h, "s"), (moments.shape[0],)).copy()
+    n = moments.shape[0]
+    if moments.shape[1:] != (3,) or np.any(np.diff(moments, axis=1) < 0.0):
+        raise ValueError("moments must have shape (N, 3), each row sorted ascending (the "
+                         f"canonical frame), got shape {moments.shape}")
+    h = np.broadcast_to(real_array("h", h, "s"), (n,)).copy()
+    if not np.all(h > 0.0):
+        raise ValueError("every step h must be a number > 0 (s)")
+    n_steps = positive_int("n_steps", n_steps)
+    save_every = positive_int("save_every", save_every)
     if n_steps % save_every:
         raise ValueError(f"n_steps = {n_steps} is not a multiple of save_every = {save_every}")
-    x = np.concatenate([np.atleast_2d(m0), np.atleast_2d(q0)], axis=1)
+    m0 = np.atleast_2d(real_array("m0", m0, "kg m2/s"))
+    q0 = np.atleast_2d(real_array("q0", q0))
+    if m0.shape != (n, 3) or q0.shape != (n, 4):
+        raise ValueError(f"m0 and q0 must have shapes ({n}, 3) and ({n}, 4), one row per "
+                         f"member, got {m0.shape} and {q0.shape}")
+    x = np.concatenate([m0, q0], axis=1)
     params = np.array([spec.params(I, hh) for I, hh in zip(moments, h)])
     sizes = np.ones(x.shape[0], dtype=np.int64)
     run = propagate_groups(SCENES["free_body_attitude"], spec, x, params, sizes, h, n_steps,

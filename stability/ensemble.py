@@ -580,7 +580,8 @@ def _plan(body, axis, spin=None, epsilon=None, members=None, *, h, t_end, seed=0
                              attitude=bool(attitude))
     if not summaries_only and stored > max_memory:
         raise ValueError(
-            f"the time series of {held} members x {n_time} samples x 3 doubles would "
+            f"the time series of {held} members x {n_time} samples x "
+            f"{9 if attitude else 3} doubles would "
             f"take {format_bytes(stored)} (about {PEAK_COPIES}x that while the run builds it), "
             f"above max_memory = {format_bytes(max_memory)}; raise save_every, use fewer "
             "members, pass summaries_only=True (per-member summaries only), or raise max_memory"

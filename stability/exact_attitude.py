@@ -19,7 +19,8 @@ is the quadrature of
 (Landau & Lifshitz section 37 writes the same integral as a third-kind elliptic integral).
 phi' is analytic and periodic with the period P = 2K / nu of m2^2 and m3^2, so its Fourier
 coefficients, from the trapezoid rule over one period, converge geometrically; the number of
-nodes is doubled until the highest quarter of the spectrum is below round-off, and
+nodes is doubled until the highest quarter of the spectrum is at round-off (below 1e-15 of c0,
+or no longer falling), the coefficients below 1e-16 of c0 are dropped, and
 
     phi(t) = c0 t + sum_{k != 0} c_k (exp(i k W t) - 1) / (i k W),   W = 2 pi / P,
 
@@ -94,11 +95,15 @@ class FreeMotion:
         phi = self.phi_mean * t
         if self.phi_coeffs.size:
             half = 0.5 * self.period  # the period of phi'
-            tau = np.mod(t, half)[..., None]
-            k = np.arange(1, self.phi_coeffs.size + 1)
-            omega = 2.0 * math.pi / half * k
-            terms = self.phi_coeffs * np.expm1(1j * omega * tau) / (1j * omega)
-            phi = phi + 2.0 * terms.real.sum(axis=-1)
+            tau = np.mod(t, half).reshape(-1)
+            omega = 2.0 * math.pi / half * np.arange(1, self.phi_coeffs.size + 1)
+            weights = self.phi_coeffs / (1j * omega)
+            wave = np.empty(tau.size)
+            step = max(1, 2**20 // omega.size)  # at most ~16 MB of complex terms at a time
+            for lo in range(0, tau.size, step):
+                terms = weights * np.expm1(1j * omega * tau[lo:lo + step, None])
+                wave[lo:lo + step] = 2.0 * terms.real.sum(axis=-1)
+            phi = phi + wave.reshape(t.shape)
         return phi
 
     def phi_rate(self, t) -> np.ndarray:
@@ -153,22 +158,23 @@ def free_motion(moments, w0) -> FreeMotion:
         rate0 = float(precession_rate(m0, I))
         return FreeMotion(I, w, kind, math.inf, momentum, energy, rate0, np.zeros(0, complex))
     half = 0.5 * period
-    n = 32
+    n, previous = 32, math.inf
     while True:
         t = np.arange(n) * (half / n)
         out = np.empty((n, 3))
         _omega_many(*I, *w, t, out)
         c = np.fft.rfft(precession_rate(out * I, I)) / n
+        scale = abs(c[0].real)
         tail = np.abs(c[n // 4:]).max()
-        if tail <= 1e-17 * abs(c[0].real) or n >= MAX_NODES:
-            break
-        n *= 2
-    if tail > 1e-14 * abs(c[0].real):
+        if tail <= 1e-15 * scale or (n >= 128 and tail >= 0.5 * previous) or n >= MAX_NODES:
+            break  # converged, or the tail no longer falls: it is round-off
+        n, previous = 2 * n, tail
+    if tail > 1e-13 * scale:
         raise ValueError(
             f"the precession rate needs more than {MAX_NODES} quadrature nodes per period "
             "(the start is within round-off of the separatrix)"
         )
-    keep = np.flatnonzero(np.abs(c[1:n // 2]) > 1e-18 * abs(c[0].real))  # drop the zeros
+    keep = np.flatnonzero(np.abs(c[1:n // 2]) > 1e-16 * scale)  # round-off dropped
     coeffs = c[1:2 + keep[-1]] if keep.size else np.zeros(0, complex)
     return FreeMotion(I, w, kind, period, momentum, energy, float(c[0].real),
                       np.ascontiguousarray(coeffs))
@@ -240,6 +246,8 @@ def exact_attitude(body: RigidBody, w0, t, q0=None) -> np.ndarray:
         raise ValueError(f"w0 must have shape (3,), got {w0.shape}")
     t = np.atleast_1d(real_array("t", t, "s"))
     q0 = IDENTITY if q0 is None else real_array("q0", q0)
+    if q0.shape != (4,) or not abs(np.linalg.norm(q0) - 1.0) <= 1e-9:
+        raise ValueError(f"q0 must be a unit quaternion of shape (4,), scalar first, got {q0!r}")
     return exact_attitudes(body.moments[None, :], w0[None, :], t, q0[None, :])[0]
 
 
@@ -248,7 +256,8 @@ def exact_attitudes(moments, w0, t, q0) -> np.ndarray:
 
     ``moments`` (N, 3) (or (1, 3) for all) in any order, ``w0`` (N, 3) rad/s along the
     bodies' axes, ``t`` (n,) s, ``q0`` (N, 4). A member on the separatrix (no period: a steady
-    spin about the middle axis, or within round-off of one) gets NaN.
+    spin about the middle axis, or within round-off of one) or spinning exactly about its
+    smallest-moment axis (where phi is undefined) gets NaN.
     """
     moments = np.atleast_2d(np.asarray(moments, dtype=float))
     w0 = np.atleast_2d(np.asarray(w0, dtype=float))

@@ -31,6 +31,7 @@ import math
 import numpy as np
 
 from .attitude import quaternion_conjugate, quaternion_multiply, quaternion_to_matrix
+from .exact import MAJOR, PRECESS3
 from .exact_attitude import FreeMotion, l_frame, precession_rate
 from .roots import bracketed_newton
 
@@ -71,7 +72,7 @@ def solid_angle(fm: FreeMotion, nodes: int = 64) -> float:
     and the nodes are doubled until two estimates agree to 1e-15 of 4 pi.
     """
     m0 = fm.m(0.0)[0]
-    k = 2 if fm.kind == 1 else 0  # MAJOR circles axis 3, MINOR axis 1
+    k = 2 if fm.kind in (MAJOR, PRECESS3) else 0  # the axis the path circles: 3, else 1
     sign = 1.0 if m0[k] >= 0.0 else -1.0
     a_i, b_i = (k + 1) % 3, (k + 2) % 3  # (a, b, n) right-handed: e_{k+1} x e_{k+2} = e_k
     previous = math.nan
@@ -193,12 +194,16 @@ def run_angles(runs, period, t_near) -> dict:
     """
     n = runs.saved.shape[0]
     rows = np.arange(n)
-    period = np.asarray(period, dtype=float)
+    period = np.broadcast_to(np.asarray(period, dtype=float), (n,))
     times = runs.times
     x = runs.saved
     m0, q0 = x[:, 0, :3], x[:, 0, 3:]
     a = l_frame(m0, q0)
     k_period = np.rint(period / (runs.h * runs.save_every)).astype(np.int64)
+    if np.any(k_period >= times.shape[1]) or not np.allclose(
+            times[rows, np.minimum(k_period, times.shape[1] - 1)], period, rtol=1e-12):
+        raise ValueError("the run must reach each member's period T at a saved step: take h = "
+                         "T / n with n a multiple of save_every, over at least n steps")
     space_l = np.einsum("nij,nj->ni", quaternion_to_matrix(q0), m0)
     montgomery = rotation_about(q0, x[rows, k_period, 3:], space_l)
 

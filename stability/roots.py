@@ -28,7 +28,8 @@ def bracketed_newton(f, lo, hi):
     Returns
     -------
     ndarray, shape (n,)
-        The roots; NaN where the bracket did not hold a sign change.
+        The roots; NaN where the bracket did not hold a sign change, where ``f`` gave a
+        non-finite value, or where the iteration cap was reached first.
     """
     lo = np.array(lo, dtype=float)
     hi = np.array(hi, dtype=float)
@@ -42,6 +43,9 @@ def bracketed_newton(f, lo, hi):
         if done.all():
             break
         value, slope = f(x)
+        broken = ~np.isfinite(value) & ~done
+        valid &= ~broken
+        done |= broken
         exact = value == 0.0
         below = np.sign(value) == lo_sign
         lo = np.where(below & ~done, x, lo)
@@ -55,4 +59,4 @@ def bracketed_newton(f, lo, hi):
         converged = exact | (step <= tiny) | (hi - lo <= tiny)
         x = np.where(done | exact, x, x_new)
         done |= converged
-    return np.where(valid, x, np.nan)
+    return np.where(valid & done, x, np.nan)

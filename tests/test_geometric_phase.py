@@ -69,8 +69,9 @@ def test_montgomery_and_twist_hold_for_random_bodies_from_runs_and_exactly():
                                period / n, 2 * n, save_every=5, progress=False)
     ran = run_angles(runs, period, exact["flip_time"])
     assert np.max(np.abs(wrap(ran["montgomery"] - exact["montgomery_formula"]))) < 1e-8
-    fits = np.isfinite(ran["twist"])
-    assert fits.sum() >= 8
+    flip, half = exact["flip_time"], exact["half_window"]
+    fits = (flip - half >= 0.0) & (flip + half <= 2 * period)  # the window inside the run
+    assert fits.sum() >= 8 and np.array_equal(np.isfinite(ran["twist"]), fits)
     assert np.max(np.abs(ran["twist"] - exact["twist"])[fits]) < 1e-8
     # the window is what it says: m2 = 0 at its centre, phi advances by exactly 2 pi
     for fm, f, d in zip(motions, exact["flip_time"], exact["half_window"]):
@@ -99,6 +100,34 @@ def test_the_racket_twists_by_nearly_a_half_turn():
     defect = np.pi - np.abs(exact["twist"])
     assert np.all((defect > 0.15) & (defect < 0.3))  # close to, not exactly, pi
     assert np.ptp(defect) < 1e-3  # near the separatrix it depends on the moments alone
+
+
+def test_run_continued_between_saved_steps_is_continuous_and_lands_on_the_steps():
+    moments, w0 = random_members(2, 5)
+    runs = propagate_attitudes("rk4", moments, moments * w0, np.tile([1.0, 0, 0, 0], (2, 1)),
+                               [0.01, 0.013], 40, save_every=8, progress=False)
+    k = np.array([3, 5])  # a saved state, reached by continuing from the one before it
+    t = runs.h * 8 * k
+    np.testing.assert_allclose(runs.state_at(t - runs.h * 8 * 1e-12), runs.saved[[0, 1], k],
+                               rtol=0, atol=1e-11)
+    for j in range(1, 8):  # across a whole step of h inside a saved interval: no jump
+        t = runs.h * (8 * 2 + j)
+        gap = runs.state_at(t + 1e-13) - runs.state_at(t - 1e-13)
+        assert np.max(np.abs(gap)) < 1e-11
+
+
+def test_attitude_run_bad_input_says_what_is_wrong():
+    moments, w0 = random_members(2, 5)
+    q0 = np.tile([1.0, 0, 0, 0], (2, 1))
+    for kwargs, message in ((dict(save_every=0), "save_every"), (dict(h=[0.01, -1.0]), "h"),
+                            (dict(q0=q0[0]), "shapes")):
+        args = dict(method="lp2", moments=moments, m0=moments * w0, q0=q0, h=[0.01, 0.01],
+                    n_steps=10, save_every=1)
+        with pytest.raises(ValueError, match=message):
+            propagate_attitudes(**{**args, **kwargs}, progress=False)
+    runs = propagate_attitudes("lp2", moments, moments * w0, q0, 0.01, 10, progress=False)
+    with pytest.raises(ValueError, match="period T at a saved step"):
+        run_angles(runs, [1.0, 1.0], [0.5, 0.5])
 
 
 def test_separatrix_and_handle_spin_are_refused_with_a_reason():

@@ -115,7 +115,7 @@ def run(config: dict, out_dir: Path, *, overwrite=False, threads=None, progress=
     body = RigidBody.preset(config["body"]["preset"])
     moments = np.sort(body.moments)
     w0 = perturbed_starts(2, toss["rate"], toss["epsilon"], ens["members"], ens["seed"])
-    steps = [1.0 / rate for rate in rules["frame_rates"]]
+    steps = [1.0 / rate for rate in sorted(rules["frame_rates"])]  # the largest step first
     with numba_threads(threads):
         ds = measure_artefacts(rules["engine"] + rules["methods"], moments, w0, steps,
                                rules["t_end"], tolerance=analysis["tolerance"],

@@ -114,6 +114,8 @@ def run(config: dict, out_dir: Path, *, overwrite=False, threads=None, progress=
 
 def summarize(ds, out_dir, files, wall) -> StudySummary:
     """Both angles' agreement, and the twist of the body itself."""
+    from ..geometric_phase import wrap
+
     ok = ds.status.values == 0
     same = np.isclose(ds.moments.values[:, 0], ds.moments.values[0, 0], rtol=1e-12)
     body_defect = ds.twist_defect.values[same & ok]
@@ -122,13 +124,15 @@ def summarize(ds, out_dir, files, wall) -> StudySummary:
         "max_montgomery_error": float(np.nanmax(ds.montgomery_error.values[ok])),
         "max_twist_error": float(np.nanmax(ds.twist_error.values[ok])),
         "max_montgomery_exact_vs_formula": float(np.nanmax(np.abs(
-            np.angle(np.exp(1j * (ds.montgomery_exact - ds.montgomery_formula).values))))),
+            wrap(ds.montgomery_exact - ds.montgomery_formula)))),
         "twist_member0": float(ds.twist_exact[0]),
         "twist_defect_member0": float(ds.twist_defect[0]),
         "twist_defect_body_range": [float(body_defect.min()), float(body_defect.max())],
         "twist_defect_range": [float(np.nanmin(ds.twist_defect)),
                                float(np.nanmax(ds.twist_defect))],
         "members_failed": int((~ok).sum()),
+        # the window about the flip nearest T did not fit in the run of 2 T, or a root failed
+        "members_without_twist": int((ok & ~np.isfinite(ds.twist_run.values)).sum()),
     }
     rows = [
         (f"{ds.member.size} members ({int(same.sum())} of the {ds.attrs['body']} itself), "
@@ -144,7 +148,8 @@ def summarize(ds, out_dir, files, wall) -> StudySummary:
         (f"defect, the {ds.attrs['body']} at every nudge",
          "{:.4f} to {:.4f}".format(*values["twist_defect_body_range"]), "rad"),
         ("defect, all shapes", "{:.4f} to {:.4f}".format(*values["twist_defect_range"]), "rad"),
-        ("members not ok", f"{values['members_failed']}", ""),
+        ("members not ok; ok members without a twist from the run",
+         f"{values['members_failed']}; {values['members_without_twist']}", ""),
         ("wall time", f"{wall:.1f}", "s"),
     ]
     return StudySummary(NAME, Path(out_dir), files, rows, values)
