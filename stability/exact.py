@@ -485,6 +485,13 @@ def flip_interval(body: RigidBody, w0) -> float:
     racket flip (+e2 -> -e2) takes 2K/nu; the motion repeats after :func:`full_period` =
     4K/nu, which contains two flips.
 
+    Parameters
+    ----------
+    body : RigidBody
+        Moments in any order.
+    w0 : array_like, shape (3,)
+        Angular velocity along the body's axes, rad/s.
+
     Returns
     -------
     float
@@ -558,6 +565,18 @@ def full_period(body: RigidBody, w0) -> float:
     Many texts call this "the Dzhanibekov period"; the time of one flip is
     :func:`flip_interval`. ``inf`` on the separatrix and for a sphere; 2 pi / |precession rate|
     for a symmetric body (``inf`` for steady spin in its equal-moment plane).
+
+    Parameters
+    ----------
+    body : RigidBody
+        Moments in any order.
+    w0 : array_like, shape (3,)
+        Angular velocity along the body's axes, rad/s.
+
+    Returns
+    -------
+    float
+        4K/nu in s.
     """
     return 2.0 * flip_interval(body, w0)
 

@@ -23,7 +23,17 @@ METHODS: dict[str, MethodSpec] = {spec.name: spec for spec in _ALL}
 
 
 def method_spec(name) -> MethodSpec:
-    """Return the spec registered under ``name``; ``ValueError`` listing the known names if none."""
+    """Return the spec registered under ``name``; ``ValueError`` listing the known names if none.
+
+    Parameters
+    ----------
+    name : str or MethodSpec
+        A key of :data:`METHODS` (``"rk4"``, ``"lp2"``, ...); a spec is returned as it is.
+
+    Returns
+    -------
+    MethodSpec
+    """
     if isinstance(name, MethodSpec):
         return name
     try:

@@ -1,0 +1,251 @@
+"""Pages generated from the code when the documentation is built, so that they cannot drift.
+
+When the configuration is read this writes ``docs/generated/``:
+
+- ``scene_<name>.md``: each registered scene's equations, state and units, methods, invariants
+  and exact solution (``stability.scenes.SCENES``);
+- ``methods.md``: the registered integrators and what they declare (``stability.METHODS``);
+- ``dataset_schema.md``: every ensemble variable's long name, units and comment
+  (``stability.dataset.VARIABLES``, what ``ensemble_dataset`` writes);
+- ``studies.md``: every study kind's keys, defaults, units and allowed values (the schemas that
+  validate study files);
+- ``cli.md``: the help of every ``stability`` command (the argument parser);
+- ``work_precision.md``: the work-precision study, run at build time (``--quick`` when the
+  environment variable ``STABILITY_DOCS_QUICK`` is 1), its report and figures.
+"""
+
+from __future__ import annotations
+
+import importlib
+import math
+import os
+import re
+import shutil
+from pathlib import Path
+
+DOCS = Path(__file__).resolve().parents[1]
+ROOT = DOCS.parent
+OUT = DOCS / "generated"
+
+
+def _cell(text) -> str:
+    return str(text).replace("|", "\\|").replace("\n", " ")
+
+
+def _table(header, rows) -> str:
+    lines = ["| " + " | ".join(header) + " |", "|" + "---|" * len(header)]
+    lines += ["| " + " | ".join(_cell(c) for c in row) + " |" for row in rows]
+    return "\n".join(lines) + "\n"
+
+
+def scene_page(scene) -> str:
+    """Equations, state, methods, invariants and exact solution of one scene."""
+    state = _table(("component", "units"), zip(scene.components, scene.units))
+    methods = ", ".join(f"`{name}`" for name in scene.methods)
+    invariants = ", ".join(f"`{name}`" for name in scene.invariants) or "none"
+    exact = "yes" if scene.exact is not None else "none in closed form"
+    doc = (importlib.import_module(scene.tracked.__module__).__doc__ or "").strip()
+    return (f"## Scene `{scene.name}`: {scene.title}\n\n"
+            f"Equations: `{scene.equations}`\n\n{doc}\n\n"
+            f"State ({scene.width} numbers a member, in the kernels' frame):\n\n{state}\n"
+            f"Methods: {methods}. Invariants checked: {invariants}. Exact solution: {exact}.\n")
+
+
+def methods_page() -> str:
+    from stability import METHODS
+
+    rows = []
+    for spec in METHODS.values():
+        keeps = [name for name, flag in (("|L|", spec.preserves_casimir),
+                                         ("energy", spec.preserves_energy)) if flag]
+        order = "exact" if math.isinf(spec.order) else f"{spec.order:g}"
+        rows.append((f"`{spec.name}`", spec.title, order, spec.family,
+                     ", ".join(keeps) or "-", "yes" if spec.attitude else "no",
+                     spec.evaluations, spec.note))
+    return ("Every registered integrator and what it declares (`stability.METHODS`, the "
+            "registry the tests and the command `stability methods` read):\n\n"
+            + _table(("name", "method", "order", "family", "keeps", "attitude",
+                      "cost units a step", "when to use it"), rows))
+
+
+def dataset_page() -> str:
+    from stability.dataset import VARIABLES, variable_attrs
+
+    rows = []
+    for name in VARIABLES:
+        attrs = variable_attrs(name)
+        rows.append((f"`{name}`", attrs["long_name"], attrs.get("units", ""),
+                     attrs.get("comment", "")))
+    return _table(("name", "long name", "units", "comment"), rows)
+
+
+def _default(key) -> str:
+    from stability.study.config import REQUIRED
+
+    if key.default is REQUIRED:
+        return "(required)"
+    if key.default is None:
+        return "(unset)"
+    return f"`{key.default!r}`".replace("'", '"')
+
+
+def studies_page() -> str:
+    from stability.study import STUDIES
+
+    out = []
+    for kind in STUDIES.values():
+        out.append(f"## `{kind.name}`: {kind.title}\n\n"
+                   f"A study file starts with `study = \"{kind.name}\"`; its file in `studies/` "
+                   f"is `studies/{kind.name}.toml` where one ships.\n")
+        rows = [("(top)", f"`{k.name}`", _default(k), k.unit, k.allowed(), k.doc)
+                for k in kind.schema.top]
+        for section in kind.schema.sections:
+            rows += [(f"`[{section.name}]`", f"`{k.name}`", _default(k), k.unit, k.allowed(),
+                      k.doc) for k in section.keys]
+        out.append(_table(("section", "key", "default", "unit", "allowed", "meaning"), rows))
+    return "\n".join(out)
+
+
+def cli_page() -> str:
+    import argparse
+
+    from stability.cli import build_parser
+
+    parser = build_parser()
+    parser.prog = "stability"
+    out = ["```text", parser.format_help().rstrip(), "```", ""]
+    for action in parser._actions:
+        if isinstance(action, argparse._SubParsersAction):
+            for name, sub in action.choices.items():
+                sub.prog = f"stability {name}"
+                out += [f"### `stability {name}`", "", "```text", sub.format_help().rstrip(),
+                        "```", ""]
+    return "\n".join(out)
+
+
+def work_precision_page(quick: bool) -> str:
+    """Run the work-precision study and return its report, with its figures beside it."""
+    from stability.study import run_study
+
+    folder = OUT / "work_precision"
+    if folder.exists():
+        shutil.rmtree(folder)
+    folder.mkdir(parents=True)
+    run_study(ROOT / "studies" / "work_precision.toml", folder, quick=quick, progress=False,
+              overrides=[("output.formats", "['png']")])
+    report = (folder / "work_precision.md").read_text()
+    report = report.replace("\n# ", "\n### ").replace("\n## ", "\n### ")
+    if report.startswith("# "):
+        report = "###" + report[1:]
+    mode = ("in quick mode (`--quick`: fewer members and steps)" if quick
+            else "with the study file as it is")
+    return (f"Run {mode} on the machine that built these pages, by "
+            "`stability run studies/work_precision.toml`; times are that machine's.\n\n"
+            + report
+            + "\n![speed against error of every integrator]"
+              "(generated/work_precision/work_precision.png)\n"
+            + "\n![invariant drift over long runs](generated/work_precision/invariant_drift.png)\n")
+
+
+#: Modules whose public functions and classes the API reference lists (beside the top level).
+API_MODULES = (
+    ("Bodies and linear theory", ("body", "analytic", "top")),
+    ("Exact solutions", ("exact", "exact_attitude", "exact_top", "elliptic")),
+    ("Ensembles, runs and files", ("ensemble", "integrate", "attitude", "io", "stream")),
+    ("Measures and estimators", ("estimators", "geometric_phase", "periodic", "roots",
+                                 "drift", "reference")),
+    ("Scenes, integrators and the engine", ("scenes", "integrators", "engine")),
+    ("Studies' library functions", ("twisting", "artefacts", "struck", "rolling", "gyroscope",
+                                     "sleeping_top", "wobble", "equinoxes", "earth",
+                                     "stabilitymap", "workprecision", "sweeps", "shapes",
+                                     "flipsweep", "polhodes")),
+)
+
+
+def public_names(module_name: str) -> list[str]:
+    """Public functions and classes of ``stability.<module_name>``: its ``__all__``, else those
+    defined in it whose names do not start with an underscore; those the top level exports are
+    listed there only."""
+    import inspect
+
+    import stability
+
+    top = {id(getattr(stability, n)) for n in stability.__all__}
+    module = importlib.import_module(f"stability.{module_name}")
+    if hasattr(module, "__all__"):
+        names = list(module.__all__)
+    else:
+        names = [name for name, obj in vars(module).items()
+                 if not name.startswith("_") and getattr(obj, "__module__", None) == module.__name__
+                 and (inspect.isfunction(obj) or inspect.isclass(obj)
+                      or hasattr(obj, "py_func"))]
+    return [n for n in names if callable(getattr(module, n)) and id(getattr(module, n)) not in top]
+
+
+def api_names() -> list[str]:
+    """Every name the API reference lists, dotted from ``stability``."""
+    import stability
+
+    names = [f"stability.{n}" for n in stability.__all__ if callable(getattr(stability, n))]
+    for _, modules in API_MODULES:
+        names += [f"stability.{m}.{n}" for m in modules for n in public_names(m)]
+    return names
+
+
+def api_page() -> str:
+    import stability
+
+    out = ["API reference", "=" * 13, "",
+           "Every public function and class, with its shapes and units (numpydoc docstrings).",
+           "", "Top level", "---------", "", ".. currentmodule:: stability", "",
+           ".. autosummary::", "   :toctree: ../api", ""]
+    out += [f"   {n}" for n in stability.__all__ if callable(getattr(stability, n))]
+    for title, modules in API_MODULES:
+        out += ["", title, "-" * len(title), ""]
+        for m in modules:
+            out += [f"``stability.{m}``: {_first_line(m)}", "", ".. autosummary::",
+                    "   :toctree: ../api", ""]
+            out += [f"   {m}.{n}" for n in public_names(m)]
+            out.append("")
+    return "\n".join(out) + "\n"
+
+
+def _first_line(module_name) -> str:
+    doc = importlib.import_module(f"stability.{module_name}").__doc__ or ""
+    line = doc.strip().splitlines()[0].rstrip(".") + "." if doc.strip() else ""
+    return "".join(p if p.startswith("``") else p.replace("|", "\\|") for p in _LITERAL.split(line))
+
+
+def generate(app=None) -> None:
+    """Write every generated page (see the module docstring)."""
+    from stability.scenes import SCENES
+
+    OUT.mkdir(exist_ok=True)
+    for scene in SCENES.values():
+        (OUT / f"scene_{scene.name}.md").write_text(scene_page(scene))
+    (OUT / "methods.md").write_text(methods_page())
+    (OUT / "dataset_schema.md").write_text(dataset_page())
+    (OUT / "studies.md").write_text(studies_page())
+    (OUT / "cli.md").write_text(cli_page())
+    (OUT / "api.rst").write_text(api_page())
+    quick = os.environ.get("STABILITY_DOCS_QUICK") == "1"
+    (OUT / "work_precision.md").write_text(work_precision_page(quick))
+
+
+_LITERAL = re.compile(r"(``.*?``)")
+
+
+def escape_bars(app, what, name, obj, options, lines) -> None:
+    """The docstrings write norms as |L| (plain text, as the terminal shows them); outside
+    literals, escape the bars so that reStructuredText does not read substitutions."""
+    for i, line in enumerate(lines):
+        if "|" in line:
+            parts = _LITERAL.split(line)
+            lines[i] = "".join(p if p.startswith("``") else p.replace("|", "\\|")
+                               for p in parts)
+
+
+def setup(app):
+    app.connect("config-inited", lambda app, config: generate(app))  # before any page is read
+    app.connect("autodoc-process-docstring", escape_bars, priority=400)
+    return {"parallel_read_safe": True, "parallel_write_safe": True}

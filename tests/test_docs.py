@@ -1,0 +1,126 @@
+"""The documentation: docstrings of the public API, and the site built with warnings as errors.
+
+The build runs the gallery's examples and the work-precision study (quick mode) and writes the
+pages generated from the code; the built HTML is then parsed and every internal link checked.
+"""
+
+import inspect
+import os
+import re
+import subprocess
+import sys
+from html.parser import HTMLParser
+from pathlib import Path
+from urllib.parse import unquote, urldefrag
+
+import pytest
+
+ROOT = Path(__file__).resolve().parents[1]
+sys.path.insert(0, str(ROOT / "docs" / "_ext"))
+
+numpydoc = pytest.importorskip("numpydoc.docscrape", reason="the docs extra is not installed")
+
+from stability_docs import api_names  # noqa: E402
+
+
+def _object(dotted):
+    import importlib
+
+    module, _, name = dotted.rpartition(".")
+    try:
+        return getattr(importlib.import_module(module), name)
+    except ModuleNotFoundError:  # a class attribute path
+        parent, _, attr = module.rpartition(".")
+        return getattr(getattr(importlib.import_module(parent), attr), name)
+
+
+def test_every_name_in_the_api_reference_has_a_numpydoc_summary():
+    missing = []
+    for name in api_names():
+        obj = getattr(_object(name), "py_func", _object(name))
+        doc = inspect.getdoc(obj)
+        if not doc:
+            missing.append(f"{name}: no docstring")
+            continue
+        parsed = (numpydoc.ClassDoc(obj) if inspect.isclass(obj) else numpydoc.FunctionDoc(obj))
+        if not parsed["Summary"]:
+            missing.append(f"{name}: no one-line summary")
+    assert missing == []
+
+
+def test_the_top_level_functions_document_every_parameter():
+    import stability
+
+    missing = []
+    for name in stability.__all__:
+        obj = getattr(stability, name)
+        if not inspect.isfunction(obj):
+            continue
+        documented = {part.strip() for p in numpydoc.FunctionDoc(obj)["Parameters"]
+                      for part in p.name.split(",")}
+        for param in inspect.signature(obj).parameters.values():
+            if param.kind not in (param.VAR_POSITIONAL, param.VAR_KEYWORD) and \
+                    param.name not in documented:
+                missing.append(f"stability.{name}({param.name})")
+    assert missing == []
+
+
+class _Links(HTMLParser):
+    def __init__(self):
+        super().__init__()
+        self.links, self.ids = [], set()
+
+    def handle_starttag(self, tag, attrs):
+        attrs = dict(attrs)
+        if "id" in attrs:
+            self.ids.add(attrs["id"])
+        for key in ("href", "src"):
+            if tag in ("a", "img", "link", "script") and attrs.get(key):
+                self.links.append(attrs[key])
+
+
+@pytest.mark.slow
+def test_the_site_builds_without_warnings_and_its_internal_links_resolve(tmp_path):
+    out = tmp_path / "html"
+    env = dict(os.environ, STABILITY_DOCS_QUICK="1", MPLBACKEND="Agg")
+    done = subprocess.run(
+        [sys.executable, "-m", "sphinx", "-W", "--keep-going", "-q", "-b", "html",
+         "-d", str(tmp_path / "doctrees"), "docs", str(out)],
+        cwd=ROOT, env=env, capture_output=True, text=True, timeout=900)
+    assert done.returncode == 0, done.stderr[-4000:]
+    pages = sorted(p for p in out.rglob("*.html")
+                   if p.relative_to(out).parts[0] not in ("_static", "_sources"))
+    assert (out / "index.html").exists() and (out / "gallery" / "index.html").exists()
+    for needed in ("getting_started", "theory", "integrators", "dataset", "studies", "cli",
+                   "scaling", "generated/api", "guide/twisting"):
+        assert (out / f"{needed}.html").exists(), needed
+    parsed = {}
+    for page in pages:
+        links = _Links()
+        links.feed(page.read_text(errors="replace"))
+        parsed[page] = links
+    broken = []
+    for page, links in parsed.items():
+        for link in links.links:
+            if re.match(r"^[a-z]+:", link) or link.startswith("//"):
+                continue  # external: mailto, https, data
+            target, anchor = urldefrag(unquote(link))
+            target = target.split("?", 1)[0]  # a file's version query (?digest=...)
+            path = (page.parent / target).resolve() if target else page
+            if not path.exists():
+                broken.append(f"{page.relative_to(out)} -> {link}")
+            elif anchor and path.suffix == ".html" and path in parsed and \
+                    anchor not in parsed[path].ids:
+                broken.append(f"{page.relative_to(out)} -> {link} (no such anchor)")
+    assert broken == []
+    # the generated pages carry what the code says: every study kind and every scene
+    from stability.scenes import SCENES
+    from stability.study import STUDIES
+
+    studies = (out / "studies.html").read_text()
+    assert all(kind in studies for kind in STUDIES)
+    guides = "".join((out / "guide" / f"{g}.html").read_text() for g in (
+        "free_body", "torqued", "impacts_rolling", "twisting"))
+    assert all("Scene <code" in guides and name in guides for name in SCENES)
+    api = (out / "generated" / "api.html").read_text()
+    assert "run_ensemble" in api and "exact_attitude" in api
