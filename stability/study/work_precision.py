@@ -11,7 +11,7 @@ steps to see what happens to the energy and |L| (:mod:`stability.drift`).
 
 Outputs: the Dataset (:mod:`stability.workprecision`), two figures
 (:mod:`stability.figures.work_precision`) and ``work_precision.md``, the tables of the fastest
-method at each accuracy (quoted in the README under "How to choose an integrator").
+method at each accuracy (shown in the documentation's "How to choose an integrator").
 """
 
 from __future__ import annotations
