@@ -45,6 +45,7 @@ def scene_page(scene) -> str:
     invariants = ", ".join(f"`{name}`" for name in scene.invariants) or "none"
     exact = "yes" if scene.exact is not None else "none in closed form"
     doc = (importlib.import_module(scene.tracked.__module__).__doc__ or "").strip()
+    doc = re.sub(r":(func|mod|class|meth|data|attr):`([^`]+)`", r"{py:\1}`\2`", doc)  # to MyST
     return (f"## Scene `{scene.name}`: {scene.title}\n\n"
             f"Equations: `{scene.equations}`\n\n{doc}\n\n"
             f"State ({scene.width} numbers a member, in the kernels' frame):\n\n{state}\n"
