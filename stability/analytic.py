@@ -209,6 +209,13 @@ def euler_system(body, members: int):
     ``3 members`` (``np.ascontiguousarray(w0.T).ravel()`` for starts ``w0`` (N, 3)), so the
     right-hand side is three NumPy expressions over all members (:func:`euler_rhs`'s terms).
 
+    Parameters
+    ----------
+    body : RigidBody or array_like, shape (3,)
+        Principal moments in kg m^2, one body shared by all members.
+    members : int
+        Number of starts integrated together.
+
     Returns
     -------
     callable
@@ -362,7 +369,25 @@ def intermediate_axis(body):
 
 def principal_axis(body, which: str) -> int:
     """Label (1, 2 or 3) of the axis with the ``"smallest"``, ``"intermediate"`` or
-    ``"largest"`` moment (:data:`MOMENT_NAMES`); equal moments are ranked by label."""
+    ``"largest"`` moment (:data:`MOMENT_NAMES`); equal moments are ranked by label.
+
+    Parameters
+    ----------
+    body : RigidBody or array_like, shape (3,)
+        Principal moments in kg m^2, any order.
+    which : {"smallest", "intermediate", "largest"}
+        The moment wanted.
+
+    Returns
+    -------
+    int
+        The axis label, 1, 2 or 3.
+
+    Raises
+    ------
+    ValueError
+        If ``which`` is not one of :data:`MOMENT_NAMES`.
+    """
     if which not in MOMENT_NAMES:
         raise ValueError(f"which must be one of {', '.join(MOMENT_NAMES)}, got {which!r}")
     order = np.argsort(_moments(body), kind="stable")
@@ -371,13 +396,37 @@ def principal_axis(body, which: str) -> int:
 
 def moment_name(body, axis: int) -> str:
     """Which moment body axis ``axis`` (1, 2, 3) carries: ``"smallest"``, ``"intermediate"`` or
-    ``"largest"``; the inverse of :func:`principal_axis`."""
+    ``"largest"``; the inverse of :func:`principal_axis`.
+
+    Parameters
+    ----------
+    body : RigidBody or array_like, shape (3,)
+        Principal moments in kg m^2, any order.
+    axis : int
+        The axis label, 1, 2 or 3.
+
+    Returns
+    -------
+    str
+        One of :data:`MOMENT_NAMES`; equal moments are ranked by label.
+    """
     rank = int(np.argsort(np.argsort(_moments(body), kind="stable"))[axis - 1])
     return MOMENT_NAMES[rank]
 
 
 def perpendicular_axes(axis: int) -> tuple[int, int]:
-    """The two principal axes (1-based, ascending) perpendicular to ``axis``."""
+    """The two principal axes (1-based, ascending) perpendicular to ``axis``.
+
+    Parameters
+    ----------
+    axis : int
+        An axis label, 1, 2 or 3.
+
+    Returns
+    -------
+    tuple of int
+        The other two labels, ascending.
+    """
     b, c = (a for a in (1, 2, 3) if a != axis)
     return b, c
 

@@ -42,7 +42,18 @@ GROWTH_WINDOW = (10.0, 0.03)
 
 def rule_scene(rule: str) -> str:
     """The scene a rule runs on: ``engine_body`` for the engine rules, the attitude scene for
-    the package's methods that carry it, ``free_body`` for the exact flow."""
+    the package's methods that carry it, ``free_body`` for the exact flow.
+
+    Parameters
+    ----------
+    rule : str
+        An engine rule (``ENGINE_RULES``), an attitude method, or ``"exact"``.
+
+    Returns
+    -------
+    str
+        The scene's name.
+    """
     if rule in ENGINE_RULES:
         return "engine_body"
     return "free_body" if rule == "exact" else "free_body_attitude"
@@ -52,7 +63,42 @@ def run_rule(rule, moments, w0, h, t_end, *, save_every=0, progress=None):
     """Run the members ``w0`` (N, 3, rad/s, canonical) of the body ``moments`` (canonical) with
     ``rule`` from the identity attitude, tracking flips; returns the Propagation, the final
     body angular momenta (N, 3) and attitudes (N, 4), and the saved body angular velocities
-    (N, n_saved, 3)."""
+    (N, n_saved, 3).
+
+    Parameters
+    ----------
+    rule : str
+        An engine rule (``ENGINE_RULES``), an attitude method, or ``"exact"``.
+    moments : ndarray, shape (3,)
+        Canonical (ascending) principal moments, kg m^2.
+    w0 : ndarray, shape (N, 3)
+        Initial body angular velocities, canonical frame, rad/s.
+    h : float
+        Time step in s.
+    t_end : float
+        Horizon in s; the run takes ``round(t_end / h)`` steps.
+    save_every : int, default 0
+        Store the state every ``save_every`` steps; 0 stores only the final state (and no
+        angular velocities are returned).
+    progress : bool or None, optional
+        Progress bar; ``None`` shows one when the run is expected to take long.
+
+    Returns
+    -------
+    prop : Propagation
+        The run, with the flip tracking in ``extras``.
+    m : ndarray, shape (N, 3)
+        Final body angular momenta, canonical frame, kg m^2/s.
+    q : ndarray, shape (N, 4) or None
+        Final attitudes (body to space quaternions, scalar first); None for ``"exact"``.
+    saved_w : ndarray, shape (N, n_saved, 3) or None
+        Saved body angular velocities in rad/s; None when ``save_every`` is 0.
+
+    Raises
+    ------
+    KeyboardInterrupt
+        If Ctrl-C stopped the run.
+    """
     scene = SCENES[rule_scene(rule)]
     spec = scene.method(rule)
     m0 = moments * w0
@@ -82,7 +128,28 @@ def run_rule(rule, moments, w0, h, t_end, *, save_every=0, progress=None):
 
 
 def measure_rule(rule, moments, w0, h, t_end) -> dict:
-    """The numbers of one rule at one step (see the module docstring); scalars."""
+    """The numbers of one rule at one step (see the module docstring); scalars.
+
+    Parameters
+    ----------
+    rule : str
+        An engine rule (``ENGINE_RULES``), an attitude method, or ``"exact"``.
+    moments : ndarray, shape (3,)
+        Canonical (ascending) principal moments, kg m^2.
+    w0 : ndarray, shape (N, 3)
+        Starts near axis 2, canonical frame, rad/s.
+    h : float
+        Time step in s.
+    t_end : float
+        Horizon in s.
+
+    Returns
+    -------
+    dict
+        ``fraction_flipping``, ``flip_interval`` (s), ``flip_interval_error``,
+        ``growth_rate`` (1/s), ``growth_rate_error``, ``energy_drift``, ``momentum_drift``,
+        ``l_direction_drift`` (rad), ``cost_per_step`` (s per member-step) and ``members_ok``.
+    """
     body = RigidBody(*moments, physical=False)
     spin = float(np.median(np.abs(w0[:, 1])))
     prop, m, q, _ = run_rule(rule, moments, w0, h, t_end)
@@ -122,7 +189,34 @@ def measure_rule(rule, moments, w0, h, t_end) -> dict:
 def step_for_accuracy(rule, moments, w0, t_end, h_max, tolerance=0.01, halvings=20,
                       quantity="flip_interval_error") -> float:
     """The largest step ``h_max / 2^(k/2)``, k = 0, 1, ..., 2 halvings, at which ``quantity``
-    of :func:`measure_rule` (a relative error) is within ``tolerance``; NaN if at none."""
+    of :func:`measure_rule` (a relative error) is within ``tolerance``; NaN if at none.
+
+    Each trial step is rounded so that ``t_end`` is a whole number of steps.
+
+    Parameters
+    ----------
+    rule : str
+        An engine rule (``ENGINE_RULES``), an attitude method, or ``"exact"``.
+    moments : ndarray, shape (3,)
+        Canonical (ascending) principal moments, kg m^2.
+    w0 : ndarray, shape (N, 3)
+        Starts near axis 2, canonical frame, rad/s.
+    t_end : float
+        Horizon in s.
+    h_max : float
+        Largest step tried, s.
+    tolerance : float, default 0.01
+        Largest accepted ``abs(quantity)``.
+    halvings : int, default 20
+        The search goes down to ``h_max / 2^halvings``.
+    quantity : str, default "flip_interval_error"
+        Key of :func:`measure_rule`'s result to test.
+
+    Returns
+    -------
+    float
+        The step in s, or NaN.
+    """
     for k in range(2 * halvings + 1):
         steps = int(round(t_end * 2.0 ** (0.5 * k) / h_max))
         error = measure_rule(rule, moments, w0, t_end / steps, t_end)[quantity]
@@ -147,12 +241,15 @@ def measure_artefacts(rules, moments, w0, steps, t_end, *, tolerance=0.01, searc
         Time steps in s (engines: 1/60, 1/120, 1/240).
     t_end : float
         Horizon in s, a whole number of every step.
-    tolerance : float
-        Relative flip-interval error for ``step_for_accuracy``.
-    search_members : int
+    tolerance : float, default 0.01
+        Relative flip-interval error (and energy error) for ``step_for_accuracy``.
+    search_members : int, default 64
         Members used to search that step.
-    halvings : int
+    halvings : int, default 12
         The search goes down to ``steps[0] / 2^halvings``.
+    trace_member : int, default 0
+        Index of the member whose spin-axis angular velocity w2 is stored, run at
+        ``steps[0]``, beside its exact w2.
 
     Returns
     -------

@@ -43,7 +43,18 @@ IDENTITY = np.array([1.0, 0.0, 0.0, 0.0])
 
 
 def quaternion_multiply(a, b) -> np.ndarray:
-    """Hamilton product ``a b`` of quaternions, arrays of shape (..., 4), scalar first."""
+    """Hamilton product ``a b`` of quaternions, arrays of shape (..., 4), scalar first.
+
+    Parameters
+    ----------
+    a, b : array_like, shape (..., 4)
+        Quaternions, scalar first; the leading shapes broadcast.
+
+    Returns
+    -------
+    ndarray, shape (..., 4)
+        The product ``a b``.
+    """
     a = real_array("a", a)
     b = real_array("b", b)
     a0, a1, a2, a3 = np.moveaxis(a, -1, 0)
@@ -60,14 +71,36 @@ def quaternion_multiply(a, b) -> np.ndarray:
 
 
 def quaternion_conjugate(q) -> np.ndarray:
-    """``(q0, -q1, -q2, -q3)``; the inverse of a unit quaternion."""
+    """``(q0, -q1, -q2, -q3)``; the inverse of a unit quaternion.
+
+    Parameters
+    ----------
+    q : array_like, shape (..., 4)
+        Quaternions, scalar first.
+
+    Returns
+    -------
+    ndarray, shape (..., 4)
+        The conjugates (a new array; ``q`` is not modified).
+    """
     q = real_array("q", q)
     q[..., 1:] *= -1.0
     return q
 
 
 def quaternion_to_matrix(q) -> np.ndarray:
-    """Rotation matrices R(q / |q|), shape (..., 3, 3), from quaternions of shape (..., 4)."""
+    """Rotation matrices R(q / |q|), shape (..., 3, 3), from quaternions of shape (..., 4).
+
+    Parameters
+    ----------
+    q : array_like, shape (..., 4)
+        Quaternions, scalar first, nonzero; normalised before use.
+
+    Returns
+    -------
+    ndarray, shape (..., 3, 3)
+        The body-to-space rotation matrices.
+    """
     q = real_array("q", q)
     q = q / np.linalg.norm(q, axis=-1, keepdims=True)
     w, x, y, z = np.moveaxis(q, -1, 0)
@@ -87,6 +120,21 @@ def matrix_to_quaternion(R) -> np.ndarray:
     Shepperd's method: the largest of 4 q0^2, 4 q1^2, 4 q2^2, 4 q3^2 (read off the trace and
     the diagonal) is taken as the pivot, so no division by a small number [Shepperd, J.
     Guidance Control 1, 223 (1978)].
+
+    Parameters
+    ----------
+    R : array_like, shape (3, 3)
+        A rotation matrix.
+
+    Returns
+    -------
+    ndarray, shape (4,)
+        The unit quaternion, scalar first, with q0 >= 0.
+
+    Raises
+    ------
+    ValueError
+        If R does not have shape (3, 3).
     """
     R = real_array("R", R)
     if R.shape != (3, 3):
@@ -112,6 +160,18 @@ def spatial_angular_momentum(q, m) -> np.ndarray:
     """``R(q) m``: the space components of the body angular momentum m; shapes (..., 4), (..., 3).
 
     Constant along the exact free motion, so its drift measures the attitude's consistency with m.
+
+    Parameters
+    ----------
+    q : array_like, shape (..., 4)
+        Body-to-space quaternions, scalar first (normalised before use).
+    m : array_like, shape (..., 3)
+        Body angular momenta, body frame, kg m^2/s.
+
+    Returns
+    -------
+    ndarray, shape (..., 3)
+        Space components of the angular momentum, kg m^2/s.
     """
     R = quaternion_to_matrix(q)
     return np.einsum("...ij,...j->...i", R, real_array("m", m, "kg m2/s"))
@@ -122,6 +182,16 @@ def attitude_error(q, q_ref) -> np.ndarray:
 
     Insensitive to the sign of either quaternion (q and -q are the same rotation) and to their
     norms.
+
+    Parameters
+    ----------
+    q, q_ref : array_like, shape (..., 4)
+        Quaternions, scalar first; the leading shapes broadcast.
+
+    Returns
+    -------
+    ndarray, shape (...)
+        Rotation angles in rad, in [0, pi].
     """
     d = quaternion_multiply(quaternion_conjugate(q_ref), q)
     return 2.0 * np.arctan2(np.linalg.norm(d[..., 1:], axis=-1), np.abs(d[..., 0]))
@@ -132,6 +202,16 @@ def canonical_quaternion(moments) -> np.ndarray:
 
     ``m_canonical = C m``; an attitude q (body to space) is ``q c*`` in the canonical frame
     (R(q) C^T), and ``q_canonical c`` back in the body frame.
+
+    Parameters
+    ----------
+    moments : array_like, shape (3,)
+        Principal moments (I1, I2, I3) in kg m^2, any order.
+
+    Returns
+    -------
+    ndarray, shape (4,)
+        The unit quaternion c, scalar first, with c0 >= 0.
     """
     perm, signs = canonical_frame(moments)
     C = np.zeros((3, 3))
@@ -246,6 +326,22 @@ class AttitudeRuns:
     solution from the last saved state to any time with the same method (whole steps of the
     member's h, then one step of the remainder: a continuous function of time), so roots of
     functions of the state can be found to round-off on the discrete solution itself.
+
+    Parameters
+    ----------
+    spec : MethodSpec
+        The method that made the run and continues it.
+    moments : ndarray, shape (N, 3)
+        Each member's principal moments in kg m^2, sorted ascending (canonical frame).
+    h : ndarray, shape (N,)
+        Each member's step in s.
+    save_every : int
+        Steps between saved states.
+    saved : ndarray, shape (N, n_saved + 1, 7)
+        Saved states (m, q): body angular momentum in kg m^2/s and the carried, unnormalised
+        quaternion, canonical frame; ``saved[:, 0]`` is the start.
+    run : Propagation
+        The run itself (status, wall time).
     """
 
     def __init__(self, spec, moments, h, save_every, saved, run):

@@ -358,7 +358,20 @@ class RigidBody:
 
 
 def canonical_frame(moments) -> tuple[np.ndarray, np.ndarray]:
-    """Signed permutation sorting ``moments`` ascending; see :meth:`RigidBody.canonical_frame`."""
+    """Signed permutation sorting ``moments`` ascending; see :meth:`RigidBody.canonical_frame`.
+
+    Parameters
+    ----------
+    moments : array_like, shape (3,)
+        Principal moments in kg m^2, any order; equal moments keep their order (stable sort).
+
+    Returns
+    -------
+    perm : ndarray of int, shape (3,)
+        ``perm[i]`` is the body axis (0-based) that becomes canonical axis i.
+    signs : ndarray of float, shape (3,)
+        +1 or -1 per canonical axis, chosen so that the map is a proper rotation.
+    """
     moments = np.asarray(moments, dtype=float)
     perm = np.argsort(moments, kind="stable")
     parity = np.linalg.det(np.eye(3)[perm])  # +1 even, -1 odd permutation
@@ -367,7 +380,22 @@ def canonical_frame(moments) -> tuple[np.ndarray, np.ndarray]:
 
 
 def to_canonical(x, perm, signs) -> np.ndarray:
-    """Body components ``x[..., 3]`` to the canonical frame: ``signs * x[..., perm]``."""
+    """Body components ``x[..., 3]`` to the canonical frame: ``signs * x[..., perm]``.
+
+    Parameters
+    ----------
+    x : array_like, shape (..., 3)
+        Components along body axes 1, 2, 3 (any vector: w, m, ...).
+    perm : array_like of int, shape (3,)
+        Body axis (0-based) of each canonical axis, from :func:`canonical_frame`.
+    signs : array_like of float, shape (3,)
+        +1 or -1 per canonical axis, from :func:`canonical_frame`.
+
+    Returns
+    -------
+    ndarray, shape (..., 3)
+        Canonical components, in the units of ``x``.
+    """
     x = np.asarray(x, dtype=float)
     y = np.empty_like(x)
     for i in range(3):  # per axis: ~10x faster than fancy indexing on large ensembles
@@ -376,7 +404,22 @@ def to_canonical(x, perm, signs) -> np.ndarray:
 
 
 def from_canonical(y, perm, signs) -> np.ndarray:
-    """Inverse of :func:`to_canonical`."""
+    """Inverse of :func:`to_canonical`.
+
+    Parameters
+    ----------
+    y : array_like, shape (..., 3)
+        Components along the canonical axes.
+    perm : array_like of int, shape (3,)
+        Body axis (0-based) of each canonical axis, from :func:`canonical_frame`.
+    signs : array_like of float, shape (3,)
+        +1 or -1 per canonical axis, from :func:`canonical_frame`.
+
+    Returns
+    -------
+    ndarray, shape (..., 3)
+        Components along body axes 1, 2, 3, in the units of ``y``.
+    """
     y = np.asarray(y, dtype=float)
     x = np.empty_like(y)
     for i in range(3):
@@ -716,7 +759,19 @@ class Composite(NamedTuple):
 
 @dataclass(frozen=True)
 class Preset:
-    """A named body: a one-line description (dimensions assumed) and a function giving its parts."""
+    """A named body: a one-line description (dimensions assumed) and a function giving its parts.
+
+    The fields are the constructor's parameters and the instance's attributes.
+
+    Parameters
+    ----------
+    name : str
+        Registry key (``"tennis_racket"``).
+    description : str
+        One line: what the body is, its dimensions and which axis is 1, 2, 3.
+    parts : callable
+        ``parts() -> list of Part``: the parts, for :meth:`RigidBody.composite`.
+    """
 
     name: str
     description: str

@@ -61,7 +61,21 @@ def long_horizon(spec, body, w0, h, steps, samples):
 
 
 def envelope(err) -> np.ndarray:
-    """Running maximum of |err| over time: the error reached so far (NaN stays NaN)."""
+    """Running maximum of |err| over time: the error reached so far.
+
+    NaNs are skipped; only those before the first number stay NaN.
+
+    Parameters
+    ----------
+    err : array_like, shape (S,)
+        An error against time (signed or not), dimensionless.
+
+    Returns
+    -------
+    ndarray, shape (S,)
+        ``max(|err[:k + 1]|)`` over the non-NaN entries at each k (``numpy.fmax``): NaN only
+        before the first number.
+    """
     err = np.abs(np.asarray(err, dtype=float))
     return np.fmax.accumulate(err) if err.size else err
 
@@ -71,6 +85,21 @@ def log_slope(t, err, decades=2.0) -> float:
 
     The envelope (running maximum) turns an oscillating but bounded error into a plateau
     (slope 0), so the slope separates bounded, random-walk (1/2) and drifting (1) errors.
+
+    Parameters
+    ----------
+    t : array_like, shape (S,)
+        Times, ascending and > 0, s.
+    err : array_like, shape (S,)
+        The error at each time, dimensionless.
+    decades : float, default 2.0
+        The fit uses the times ``t >= t[-1] * 10 ** -decades``.
+
+    Returns
+    -------
+    float
+        The slope, dimensionless; NaN if fewer than three finite, positive envelope points lie
+        in the window.
     """
     t, err = np.asarray(t), envelope(err)
     keep = (t >= t[-1] * 10.0**-decades) & np.isfinite(err) & (err > 0)
@@ -85,6 +114,20 @@ def drift_kind(slope: float, size: float = math.inf) -> str:
     "bounded" (slope < BOUNDED_SLOPE), "linear drift" (slope > DRIFT_SLOPE) or "random walk"
     in between; an error that stays below ROUNDOFF_LEVEL is "round-off", and its slope then
     tells an unbiased random walk (t^(1/2), Brouwer's law) from a biased one (closer to t).
+
+    Parameters
+    ----------
+    slope : float
+        Long-run log-log slope (:func:`log_slope`).
+    size : float, default inf
+        Largest relative error reached (the maximum of :func:`envelope`), dimensionless;
+        the default never counts as round-off.
+
+    Returns
+    -------
+    str
+        ``"bounded"``, ``"random walk"``, ``"linear drift"``, ``"round-off, bounded"``,
+        ``"round-off, grows like t^<slope>"``, or ``"n/a"`` for a NaN slope.
     """
     if not np.isfinite(slope):
         return "n/a"

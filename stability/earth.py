@@ -46,7 +46,26 @@ ARCSEC = math.pi / (180.0 * 3600.0)
 def earth_moments(mass=MASS, radius=EQUATORIAL_RADIUS, polar_factor=POLAR_MOMENT_FACTOR,
                   ellipticity=DYNAMICAL_ELLIPTICITY, asymmetry=EQUATORIAL_ASYMMETRY):
     """Principal moments ``(A, B, C)`` (kg m2) from ``C / (M a^2)``, the dynamical ellipticity
-    ``H = (C - (A + B) / 2) / C`` and ``(B - A) / (M a^2)``."""
+    ``H = (C - (A + B) / 2) / C`` and ``(B - A) / (M a^2)``.
+
+    Parameters
+    ----------
+    mass : float, default :data:`MASS`
+        M, kg.
+    radius : float, default :data:`EQUATORIAL_RADIUS`
+        Equatorial radius a, m.
+    polar_factor : float, default :data:`POLAR_MOMENT_FACTOR`
+        ``C / (M a^2)``.
+    ellipticity : float, default :data:`DYNAMICAL_ELLIPTICITY`
+        Dynamical ellipticity H.
+    asymmetry : float, default :data:`EQUATORIAL_ASYMMETRY`
+        ``(B - A) / (M a^2)``.
+
+    Returns
+    -------
+    ndarray, shape (3,)
+        ``(A, B, C)``, kg m2.
+    """
     ma2 = mass * radius * radius
     C = polar_factor * ma2
     mean = C * (1.0 - ellipticity)
@@ -62,12 +81,39 @@ def earth(**kwargs) -> RigidBody:
 def euler_period(moments, spin) -> float:
     """Period (s) of the free wobble about the figure axis: ``2 pi / (W sqrt((C - A)(C - B)
     / (A B)))`` [Landau & Lifshitz, *Mechanics*, section 36], the small-offset limit: 2 pi
-    over :func:`stability.analytic.oscillation_frequency` about axis 3."""
+    over :func:`stability.analytic.oscillation_frequency` about axis 3.
+
+    Parameters
+    ----------
+    moments : array_like, shape (3,)
+        Principal moments ``(A, B, C)``, kg m2; C, the figure axis, the largest or the
+        smallest.
+    spin : float
+        W, rad s-1.
+
+    Returns
+    -------
+    float
+        Period, s.
+    """
     return 2.0 * math.pi / float(oscillation_frequency(moments, 3, spin))
 
 
 def oblate_euler_period(moments, spin) -> float:
-    """``A / (C - A)`` turns (s), A the mean equatorial moment: ``(1 - H) / H`` sidereal days."""
+    """``A / (C - A)`` turns (s), A the mean equatorial moment: ``(1 - H) / H`` sidereal days.
+
+    Parameters
+    ----------
+    moments : array_like, shape (3,)
+        Principal moments ``(A, B, C)``, kg m2, C the polar moment.
+    spin : float
+        W, rad s-1 (its sign is ignored).
+
+    Returns
+    -------
+    float
+        Period, s.
+    """
     A, B, C = (float(x) for x in moments)
     mean = 0.5 * (A + B)
     return mean / (C - mean) * 2.0 * math.pi / abs(spin)

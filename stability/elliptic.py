@@ -59,7 +59,18 @@ RF_MAX_STEPS = 60
 
 @njit(cache=True, error_model="numpy")
 def agm(a, b):
-    """Arithmetic-geometric mean of ``a, b >= 0`` (DLMF 19.8.1); 0 if either is 0."""
+    """Arithmetic-geometric mean of ``a, b >= 0`` (DLMF 19.8.1); 0 if either is 0.
+
+    Parameters
+    ----------
+    a, b : float
+        Non-negative numbers.
+
+    Returns
+    -------
+    float
+        AGM(a, b); 0 if either is 0, else NaN if either is negative or NaN.
+    """
     if not (a > 0.0 and b > 0.0):
         return 0.0 if (a == 0.0 or b == 0.0) else math.nan
     for _ in range(AGM_MAX_STEPS):
@@ -99,6 +110,16 @@ def carlson_rf(x, y, z):
 
     Duplication algorithm with the fifth-order series (Carlson, Numer. Algorithms 10, 13 (1995),
     algorithm 1; DLMF 19.36.1). Relative error a few ulp. Returns inf if two arguments are 0.
+
+    Parameters
+    ----------
+    x, y, z : float
+        Non-negative arguments, at most one of them 0.
+
+    Returns
+    -------
+    float
+        R_F(x, y, z); inf if two arguments are 0, NaN if any is negative or NaN.
     """
     if not (x >= 0.0 and y >= 0.0 and z >= 0.0):
         return math.nan
@@ -219,6 +240,20 @@ def sncndn_k(u, m, m1, K):
 
     The same as :func:`sncndn` for callers that evaluate many arguments at one parameter and
     have K already (it must be ``ellipk(m1)`` exactly, so the reduction matches the phase).
+
+    Parameters
+    ----------
+    u : float
+        Argument (any real).
+    m, m1 : float
+        Parameter m = k^2 in [0, 1] and its complement m1 = k'^2 = 1 - m, as in :func:`sncndn`.
+    K : float
+        The quarter period ``ellipk(m1)``.
+
+    Returns
+    -------
+    sn, cn, dn : float
+        As :func:`sncndn` returns them; NaN for m1 outside [0, 1] or non-finite u.
     """
     if not (0.0 <= m1 <= 1.0) or u - u != 0.0:
         return math.nan, math.nan, math.nan

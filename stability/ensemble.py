@@ -141,7 +141,18 @@ def max_angular_speed(moments, w0) -> np.ndarray:
 
 
 def format_bytes(n: float) -> str:
-    """``n`` bytes in binary units, e.g. ``"1.5 GiB"``."""
+    """``n`` bytes in binary units, e.g. ``"1.5 GiB"``.
+
+    Parameters
+    ----------
+    n : float
+        A number of bytes.
+
+    Returns
+    -------
+    str
+        Whole bytes below 1 KiB, else one decimal in KiB, MiB, GiB or TiB.
+    """
     for unit in ("B", "KiB", "MiB", "GiB", "TiB"):
         if abs(n) < 1024.0 or unit == "TiB":
             return f"{n:.0f} {unit}" if unit == "B" else f"{n:.1f} {unit}"
@@ -149,7 +160,22 @@ def format_bytes(n: float) -> str:
 
 
 def seed_sequence(seed) -> np.random.SeedSequence:
-    """``seed`` (int >= 0, ``None`` for fresh entropy, or a SeedSequence) as a SeedSequence."""
+    """``seed`` (int >= 0, ``None`` for fresh entropy, or a SeedSequence) as a SeedSequence.
+
+    Parameters
+    ----------
+    seed : int, None or numpy.random.SeedSequence
+        The seed; a SeedSequence is returned as it is.
+
+    Returns
+    -------
+    numpy.random.SeedSequence
+
+    Raises
+    ------
+    ValueError
+        If ``seed`` is not one of these (a bool or a negative integer included).
+    """
     if isinstance(seed, np.random.SeedSequence):
         return seed
     if seed is None:

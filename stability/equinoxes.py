@@ -77,6 +77,27 @@ def orbit_elements(body, *, mean_anomaly=None, node=None, strength=1.0) -> np.nd
 
     ``mean_anomaly`` and ``node`` (rad) replace the epoch's (for members started at other
     phases); ``strength = 0`` switches the body off.
+
+    Parameters
+    ----------
+    body : {"sun", "moon"}
+        The perturber (the Sun's apparent orbit about the Earth, or the Moon's).
+    mean_anomaly : float, optional
+        Mean anomaly at the epoch, rad; default the J2000 value.
+    node : float, optional
+        Longitude of the Moon's ascending node on the ecliptic at the epoch, rad; default the
+        J2000 value. Ignored for the Sun.
+    strength : float, default 1.0
+        Factor on ``G M / a^3``.
+
+    Returns
+    -------
+    ndarray, shape (9,)
+        ``(G M / a^3, e, n, M0, w0, w', i, node0, node')`` (indices ``O_K`` ... ``O_NODEDOT`` of
+        :mod:`stability.integrators.lunisolar`): ``G M / a^3`` in s-2, the eccentricity, the
+        mean motion of the mean anomaly, the mean anomaly and argument of perigee at the epoch
+        and the perigee's rate, the inclination, the node at the epoch and its rate; angles in
+        rad, rates in rad s-1.
     """
     p = np.zeros(N_ORBIT)
     if body == "sun":
@@ -109,26 +130,87 @@ def orbit_elements(body, *, mean_anomaly=None, node=None, strength=1.0) -> np.nd
 
 def oblate_earth_moments(mass=MASS, radius=EQUATORIAL_RADIUS, polar_factor=POLAR_MOMENT_FACTOR,
                          ellipticity=DYNAMICAL_ELLIPTICITY):
-    """``(A, C)`` (kg m2) of the oblate Earth: C = polar_factor M a^2, A = C (1 - H)."""
+    """``(A, C)`` (kg m2) of the oblate Earth: C = polar_factor M a^2, A = C (1 - H).
+
+    Parameters
+    ----------
+    mass : float, default :data:`~stability.earth.MASS`
+        M, kg.
+    radius : float, default :data:`~stability.earth.EQUATORIAL_RADIUS`
+        Equatorial radius a, m.
+    polar_factor : float, default :data:`~stability.earth.POLAR_MOMENT_FACTOR`
+        ``C / (M a^2)``.
+    ellipticity : float, default :data:`~stability.earth.DYNAMICAL_ELLIPTICITY`
+        Dynamical ellipticity ``H = (C - A) / C``.
+
+    Returns
+    -------
+    A, C : float
+        Equatorial and polar moments, kg m2.
+    """
     C = polar_factor * mass * radius * radius
     return C * (1.0 - ellipticity), C
 
 
 def earth_parameters(sun, moon, moments=None) -> np.ndarray:
-    """Parameters of scene ``lunisolar_earth``: ``(A, C, sun's elements, moon's elements)``."""
+    """Parameters of scene ``lunisolar_earth``: ``(A, C, sun's elements, moon's elements)``.
+
+    Parameters
+    ----------
+    sun, moon : array_like, shape (9,)
+        Elements of the Sun and the Moon (:func:`orbit_elements`).
+    moments : tuple of 2 floats, optional
+        ``(A, C)``, kg m2; default :func:`oblate_earth_moments`.
+
+    Returns
+    -------
+    ndarray, shape (20,)
+    """
     A, C = oblate_earth_moments() if moments is None else moments
     return np.concatenate([[A, C], sun, moon])
 
 
 def averaged_parameters(sun, moon, *, ellipticity=DYNAMICAL_ELLIPTICITY,
                         spin=NOMINAL_SPIN) -> np.ndarray:
-    """Parameters of scene ``precessing_axis``: ``(H / W, sun's elements, moon's elements)``."""
+    """Parameters of scene ``precessing_axis``: ``(H / W, sun's elements, moon's elements)``.
+
+    Parameters
+    ----------
+    sun, moon : array_like, shape (9,)
+        Elements of the Sun and the Moon (:func:`orbit_elements`).
+    ellipticity : float, default :data:`~stability.earth.DYNAMICAL_ELLIPTICITY`
+        Dynamical ellipticity H.
+    spin : float, default :data:`NOMINAL_SPIN`
+        The Earth's spin W, rad s-1.
+
+    Returns
+    -------
+    ndarray, shape (19,)
+        ``H / W`` in s, then the elements.
+    """
     return np.concatenate([[ellipticity / spin], sun, moon])
 
 
 def precession_formula(body, *, ellipticity=DYNAMICAL_ELLIPTICITY, spin=NOMINAL_SPIN,
                        obliquity=OBLIQUITY) -> float:
-    """The averaged precession rate (rad s-1) caused by ``body`` (module docstring)."""
+    """The averaged precession rate (rad s-1) caused by ``body`` (module docstring).
+
+    Parameters
+    ----------
+    body : {"sun", "moon"}
+        The perturber; its J2000 elements (:func:`orbit_elements`) are used.
+    ellipticity : float, default :data:`~stability.earth.DYNAMICAL_ELLIPTICITY`
+        Dynamical ellipticity H.
+    spin : float, default :data:`NOMINAL_SPIN`
+        The Earth's spin W, rad s-1.
+    obliquity : float, default :data:`OBLIQUITY`
+        eps0, rad.
+
+    Returns
+    -------
+    float
+        ``p_j``, rad s-1.
+    """
     p = orbit_elements(body)
     factor = 1.0 - 1.5 * math.sin(p[O_I]) ** 2
     return (1.5 * ellipticity * math.cos(obliquity) / spin * p[O_K]
@@ -138,7 +220,27 @@ def precession_formula(body, *, ellipticity=DYNAMICAL_ELLIPTICITY, spin=NOMINAL_
 def full_start(members, *, obliquity=OBLIQUITY, spin=NOMINAL_SPIN, moments=None, seed=0):
     """Starts ``(m, q, t = 0)`` of the full model: the figure axis at ``obliquity`` toward the
     ecliptic longitude -90 degrees (the equinox on +X), spinning at ``spin`` about it, the spin
-    phase random (member 0: zero)."""
+    phase random (member 0: zero).
+
+    Parameters
+    ----------
+    members : int
+        Number of starts.
+    obliquity : float, default :data:`OBLIQUITY`
+        Angle of the figure axis from the ecliptic pole, rad.
+    spin : float, default :data:`NOMINAL_SPIN`
+        Spin W about the figure axis, rad s-1.
+    moments : tuple of 2 floats, optional
+        ``(A, C)``, kg m2 (only C is used); default :func:`oblate_earth_moments`.
+    seed : int, default 0
+        Seed of the spin phases.
+
+    Returns
+    -------
+    ndarray, shape (members, 8)
+        ``(m1, m2, m3, q0, q1, q2, q3, t)``: the body-frame angular momentum ``(0, 0, C W)``
+        (kg m2 s-1), the attitude quaternion and t = 0 (s).
+    """
     rng = np.random.default_rng(seed)
     _, C = oblate_earth_moments() if moments is None else moments
     phase = rng.random(members) * 2.0 * np.pi
@@ -152,14 +254,40 @@ def full_start(members, *, obliquity=OBLIQUITY, spin=NOMINAL_SPIN, moments=None,
 
 
 def averaged_start(members, *, obliquity=OBLIQUITY):
-    """Starts ``(k, t = 0)`` of the averaged model, the figure axis as in :func:`full_start`."""
+    """Starts ``(k, t = 0)`` of the averaged model, the figure axis as in :func:`full_start`.
+
+    Parameters
+    ----------
+    members : int
+        Number of starts (all the same).
+    obliquity : float, default :data:`OBLIQUITY`
+        Angle of the figure axis from the ecliptic pole, rad.
+
+    Returns
+    -------
+    ndarray, shape (members, 4)
+        ``(k1, k2, k3, t)``: the unit figure axis in the ecliptic frame and t = 0 (s).
+    """
     k = np.array([0.0, -math.sin(obliquity), math.cos(obliquity), 0.0])
     return np.tile(k, (members, 1))
 
 
 def member_orbits(members, seed=0):
     """The Sun's and Moon's elements of each member: member 0 at J2000, the others with random
-    mean anomalies and Moon's node (the phases of every periodic term), as (members, 2, 9)."""
+    mean anomalies and Moon's node (the phases of every periodic term), as (members, 2, 9).
+
+    Parameters
+    ----------
+    members : int
+        Number of members.
+    seed : int, default 0
+        Seed of the random phases.
+
+    Returns
+    -------
+    ndarray, shape (members, 2, 9)
+        The Sun's (index 0) and the Moon's (index 1) elements (:func:`orbit_elements`).
+    """
     rng = np.random.default_rng(seed)
     out = np.empty((members, 2, N_ORBIT))
     for k in range(members):
@@ -174,7 +302,18 @@ def member_orbits(members, seed=0):
 
 def equinox_angles(k):
     """Longitude of the equinox ``phi = atan2(k1, -k2)`` (unwrapped along the last time axis)
-    and obliquity (rad) of figure axes ``k`` (..., 3)."""
+    and obliquity (rad) of figure axes ``k`` (..., 3).
+
+    Parameters
+    ----------
+    k : ndarray, shape (..., T, 3)
+        Unit figure axes in the ecliptic frame of the epoch, time along the second-last axis.
+
+    Returns
+    -------
+    phi, eps : ndarray, shape (..., T)
+        Longitude of the equinox and obliquity, rad.
+    """
     phi = np.unwrap(np.arctan2(k[..., 0], -k[..., 1]), axis=-1)
     eps = np.arctan2(np.hypot(k[..., 0], k[..., 1]), k[..., 2])
     return phi, eps
@@ -216,7 +355,18 @@ def fit_precession(t, phi, eps, frequencies):
 
 
 def arcsec_per_year(rate):
-    """A rate in rad s-1 as arcsec per Julian year."""
+    """A rate in rad s-1 as arcsec per Julian year.
+
+    Parameters
+    ----------
+    rate : float or array_like
+        Rate, rad s-1.
+
+    Returns
+    -------
+    ndarray
+        The rate in arcsec per Julian year, same shape.
+    """
     return np.asarray(rate) * YEAR / ARCSEC
 
 
@@ -242,7 +392,18 @@ def _off(elements):
 def nutation_frequencies(model):
     """Angular frequencies (rad s-1) fitted beside the line: the node's 18.6 years and its
     half; for the full model also the semi-annual, fortnightly, annual and monthly terms (the
-    averaged model has none of these)."""
+    averaged model has none of these).
+
+    Parameters
+    ----------
+    model : {"full", "averaged"}
+        The model whose fit they are for.
+
+    Returns
+    -------
+    list of float
+        Angular frequencies, rad s-1; the node's first.
+    """
     node = _rate(NODE_PERIOD_DAYS)
     if model == "averaged":
         return [node, 2.0 * node]
@@ -257,20 +418,23 @@ def measure_equinoxes(*, years=100.0, members=4, steps_per_day=4, method="lp4",
 
     Parameters
     ----------
-    years : float
+    years : float, default 100.0
         Run length, Julian years (at least a century for the 18.6-year terms to separate).
-    members : int
+    members : int, default 4
         Members per torque: member 0 starts at J2000, the others at random orbital phases.
-    steps_per_day : int
+    steps_per_day : int, default 4
         Steps of the full model per day; the error is estimated from a second run of the
         "both" members at half as many (Richardson, the method's order).
-    method : str
+    method : str, default "lp4"
         A method of scene ``lunisolar_earth``.
-    averaged_step_days : float
+    averaged_step_days : float, default 5.0
         Step of the averaged model, days.
-    cycle_years : float
+    cycle_years : float, default 30000.0
         Length of the averaged model's long run (member 0, both bodies) for the full turn of
-        the axis about the ecliptic pole; 0 to skip it.
+        the axis about the ecliptic pole, Julian years; 0 to skip it.
+    seed : int, default 0
+        Seed of the members' orbital phases (:func:`member_orbits`) and spin phases
+        (:func:`full_start`); member 0 starts at the J2000 phases whatever the seed.
     progress : bool, optional
         Progress bars.
 

@@ -118,7 +118,10 @@ W0 = "w0"
 class Members:
     """Per-member facts the estimators need, from a time series or from summaries.
 
-    Attributes
+    The fields are the constructor's parameters and the instance's attributes; build one with
+    :func:`members` or :func:`tracked_members`.
+
+    Parameters
     ----------
     axis : int
         Spin axis, 1-based.
@@ -830,6 +833,23 @@ def omega_squared_estimate(mem: Members, analytic=None, *, low_factor=WINDOW_LOW
     For loops over many ensembles (the stability map), where building a Dataset per ensemble
     would cost more than the estimate. Keys: those of ``ESTIMATE_ATTRS`` from ``regime`` to
     ``n_fitted`` (Python scalars), and ``member_regime`` (ndarray, shape (N,)).
+
+    Parameters
+    ----------
+    mem : Members
+        The ensemble's members (:func:`members`, :func:`tracked_members`).
+    analytic : float, optional
+        Analytic Omega^2 in s-2 for the relative error and the sign check; NaN if not given.
+    low_factor : float, default WINDOW_LOW_FACTOR
+        Lower edge of the growth-rate window, as a multiple of the initial amplitude.
+    high_fraction : float, default WINDOW_HIGH_FRACTION
+        Upper edge of the growth-rate window, as a fraction of min(spin, saturation
+        amplitude) (see :func:`measured_growth_rate`).
+
+    Returns
+    -------
+    dict
+        The estimates named above; Omega^2 in s-2, rates in s-1, frequencies in rad/s.
     """
     regime, _, _, drift = _classify(mem)
     rate = _member_rates(mem, regime, low_factor, high_fraction)
@@ -953,6 +973,18 @@ def complementary_moduli(body, w0) -> np.ndarray:
 
     ``k'^2 = 1 - k^2`` (:func:`stability.exact.elliptic_parameters`): proportional to the
     perturbation near the separatrix, where the flip interval goes as (2/lambda) ln(4/k').
+
+    Parameters
+    ----------
+    body : RigidBody
+        Moments in any order.
+    w0 : array_like, shape (N, 3)
+        Starts, body frame, rad/s; one start of shape (3,) is taken as (1, 3).
+
+    Returns
+    -------
+    ndarray, shape (N,)
+        k' of each start (0 on the separatrix, 1 for a symmetric body, NaN for a sphere).
     """
     from .exact import flip_intervals
 

@@ -146,7 +146,21 @@ def _hyperbolic_invariant(I1, I2, I3, w1, w2, w3):
 
 @njit(cache=True, error_model="numpy")
 def invariants(I1, I2, I3, w1, w2, w3):
-    """The cancellation-free invariants (D1, D2, D3) of a state, canonical frame (module doc)."""
+    """The cancellation-free invariants (D1, D2, D3) of a state, canonical frame (module doc).
+
+    Parameters
+    ----------
+    I1, I2, I3 : float
+        Principal moments, I1 <= I2 <= I3 (kg m^2).
+    w1, w2, w3 : float
+        Body angular velocity, canonical frame (rad/s).
+
+    Returns
+    -------
+    D1, D2, D3 : float
+        ``L^2 - 2 E I1 >= 0``, ``L^2 - 2 E I2`` (summed in double-double, rounded once) and
+        ``2 E I3 - L^2 >= 0``, in kg^2 m^4 s^-2.
+    """
     D1 = I2 * (I2 - I1) * w2 * w2 + I3 * (I3 - I1) * w3 * w3
     D3 = I1 * (I3 - I1) * w1 * w1 + I2 * (I3 - I2) * w2 * w2
     return D1, _hyperbolic_invariant(I1, I2, I3, w1, w2, w3), D3
@@ -248,6 +262,20 @@ def increment(q, w1, w2, w3, t):
     ulp, so a step of the ``exact`` method keeps the compensated sum as accurate as its input;
     for any t the absolute error is a few ulp of |w|. Exactly 0 at t = 0.
 
+    Parameters
+    ----------
+    q : tuple
+        The motion, as :func:`motion` returns it for the same state.
+    w1, w2, w3 : float
+        Body angular velocity at t = 0, canonical frame (rad/s).
+    t : float
+        Time in s (any real value; negative runs the motion backwards).
+
+    Returns
+    -------
+    d1, d2, d3 : float
+        ``w(t) - w(0)``, canonical frame (rad/s).
+
     Notes
     -----
     Jacobi's addition theorem (DLMF 22.8.1-22.8.3) at u0 + v, v = nu t, with sn^2 u0 and cn^2 u0
@@ -321,20 +349,65 @@ def increment(q, w1, w2, w3, t):
 
 @njit(cache=True, error_model="numpy")
 def omega_at(q, w1, w2, w3, t):
-    """w(t) for the motion ``q = motion(I1, I2, I3, w1, w2, w3)``; exactly (w1, w2, w3) at t = 0."""
+    """w(t) for the motion ``q = motion(I1, I2, I3, w1, w2, w3)``; exactly (w1, w2, w3) at t = 0.
+
+    Parameters
+    ----------
+    q : tuple
+        The motion, as :func:`motion` returns it for the same state.
+    w1, w2, w3 : float
+        Body angular velocity at t = 0, canonical frame (rad/s).
+    t : float
+        Time in s (any real value; negative runs the motion backwards).
+
+    Returns
+    -------
+    w1, w2, w3 : float
+        w(t), canonical frame (rad/s).
+    """
     d1, d2, d3 = increment(q, w1, w2, w3, t)
     return w1 + d1, w2 + d2, w3 + d3
 
 
 @njit(cache=True, error_model="numpy")
 def flow(I1, I2, I3, w1, w2, w3, t):
-    """Exact flow of Euler's equations: w(t) from w(0) = (w1, w2, w3), canonical frame."""
+    """Exact flow of Euler's equations: w(t) from w(0) = (w1, w2, w3), canonical frame.
+
+    Parameters
+    ----------
+    I1, I2, I3 : float
+        Principal moments, I1 <= I2 <= I3 (kg m^2).
+    w1, w2, w3 : float
+        Body angular velocity at t = 0, canonical frame (rad/s).
+    t : float
+        Time in s.
+
+    Returns
+    -------
+    w1, w2, w3 : float
+        w(t), canonical frame (rad/s).
+    """
     return omega_at(motion(I1, I2, I3, w1, w2, w3), w1, w2, w3, t)
 
 
 @njit(cache=True, error_model="numpy")
 def flow_increment(I1, I2, I3, w1, w2, w3, t):
-    """w(t) - w(0) of the exact flow from (w1, w2, w3), canonical frame (see :func:`increment`)."""
+    """w(t) - w(0) of the exact flow from (w1, w2, w3), canonical frame (see :func:`increment`).
+
+    Parameters
+    ----------
+    I1, I2, I3 : float
+        Principal moments, I1 <= I2 <= I3 (kg m^2).
+    w1, w2, w3 : float
+        Body angular velocity at t = 0, canonical frame (rad/s).
+    t : float
+        Time in s.
+
+    Returns
+    -------
+    d1, d2, d3 : float
+        ``w(t) - w(0)``, canonical frame (rad/s).
+    """
     return increment(motion(I1, I2, I3, w1, w2, w3), w1, w2, w3, t)
 
 
@@ -361,6 +434,26 @@ def exact_omega_of_starts(body: RigidBody, w0, t) -> np.ndarray:
     """:func:`exact_omega` at one time ``t`` for many starts ``w0`` (N, 3); shape (N, 3).
 
     One compiled loop over the starts, bitwise what :func:`exact_omega` gives for each.
+
+    Parameters
+    ----------
+    body : RigidBody
+        Moments in any order.
+    w0 : array_like, shape (N, 3)
+        Angular velocities at t = 0 along the body's axes 1, 2, 3 (rad/s); one start of
+        shape (3,) is taken as (1, 3).
+    t : float
+        Time in s, finite.
+
+    Returns
+    -------
+    ndarray, shape (N, 3)
+        w(t) of each start in rad/s, body axes in the caller's order.
+
+    Raises
+    ------
+    ValueError
+        If ``body`` is not a RigidBody, ``w0`` is not of shape (N, 3) or ``t`` is not finite.
     """
     if not isinstance(body, RigidBody):
         raise ValueError(f"body must be a stability.RigidBody, got {type(body).__name__}")
@@ -434,6 +527,13 @@ def _summary(body, w0):
 def regime(body: RigidBody, w0) -> str:
     """Kind of torque-free motion that starts at ``w0``.
 
+    Parameters
+    ----------
+    body : RigidBody
+        Moments in any order.
+    w0 : array_like, shape (3,)
+        Angular velocity at t = 0 along the body's axes 1, 2, 3 (rad/s).
+
     Returns
     -------
     str
@@ -457,9 +557,17 @@ def elliptic_parameters(body: RigidBody, w0) -> tuple[float, float]:
     separatrix where 1 - k^2 would be all rounding error. Returns (1, 0) on the separatrix,
     (0, 1) for symmetric bodies, and (nan, nan) for a sphere.
 
+    Parameters
+    ----------
+    body : RigidBody
+        Moments in any order.
+    w0 : array_like, shape (3,)
+        Angular velocity at t = 0 along the body's axes 1, 2, 3 (rad/s).
+
     Returns
     -------
     m, m1 : float
+        k^2 and k'^2 (dimensionless).
     """
     q = _summary(body, w0)[2]
     return float(q[Q_M]), float(q[Q_M1])
@@ -471,6 +579,18 @@ def elliptic_frequency(body: RigidBody, w0) -> float:
     On the separatrix, the rate lambda of the tanh/sech solution (the linear growth rate about
     the intermediate axis at spin W = sqrt(2E / I2)); for a symmetric body, |(I3 - I1) w3 / I1|
     (I1 = I2) or |(I2 - I1) w1 / I2| (I2 = I3), the precession rate; 0 for a sphere.
+
+    Parameters
+    ----------
+    body : RigidBody
+        Moments in any order.
+    w0 : array_like, shape (3,)
+        Angular velocity at t = 0 along the body's axes 1, 2, 3 (rad/s).
+
+    Returns
+    -------
+    float
+        The rate in rad/s, >= 0.
     """
     return abs(float(_summary(body, w0)[2][Q_RATE]))
 
@@ -591,6 +711,13 @@ def flip_interval_asymptote(body: RigidBody, w0) -> float:
     against 2K/nu = 20.754610 (4e-6). (The 20.755042 of literature.md 1.5 is the same formula
     with the leading-order k' = eps and W = 1.) ``inf`` on the separatrix, like
     :func:`flip_interval`.
+
+    Parameters
+    ----------
+    body : RigidBody
+        Moments in any order.
+    w0 : array_like, shape (3,)
+        Angular velocity at t = 0 along the body's axes 1, 2, 3 (rad/s).
 
     Returns
     -------

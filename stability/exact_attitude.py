@@ -54,9 +54,13 @@ MAX_NODES = 2**16
 class FreeMotion:
     """One member's exact torque-free motion, canonical frame (I1 <= I2 <= I3).
 
-    Attributes
+    The fields are the constructor's parameters and the instance's attributes; build one with
+    :func:`free_motion`.
+
+    Parameters
     ----------
     moments : ndarray, shape (3,)
+        Principal moments, ascending, kg m^2.
     w0 : ndarray, shape (3,)
         Angular velocity at t = 0, rad/s.
     kind : int
@@ -112,7 +116,20 @@ class FreeMotion:
 
 
 def precession_rate(m, moments) -> np.ndarray:
-    """phi' = |L| (m2^2/I2 + m3^2/I3) / (m2^2 + m3^2) for canonical m (..., 3), rad/s."""
+    """phi' = |L| (m2^2/I2 + m3^2/I3) / (m2^2 + m3^2) for canonical m (..., 3), rad/s.
+
+    Parameters
+    ----------
+    m : array_like, shape (..., 3)
+        Body angular momenta, canonical frame, kg m^2/s; m2 and m3 not both 0.
+    moments : array_like, shape (3,) or (..., 3)
+        Principal moments, ascending, kg m^2.
+
+    Returns
+    -------
+    ndarray, shape (...)
+        The precession rate phi' of the smallest-moment axis about L, rad/s.
+    """
     m = np.asarray(m, dtype=float)
     I = np.asarray(moments, dtype=float)
     across = m[..., 1] ** 2 + m[..., 2] ** 2
@@ -123,10 +140,22 @@ def precession_rate(m, moments) -> np.ndarray:
 def free_motion(moments, w0) -> FreeMotion:
     """The exact motion of one member from its canonical moments and start (rad/s).
 
+    Parameters
+    ----------
+    moments : array_like, shape (3,)
+        Principal moments, ascending (canonical frame), kg m^2.
+    w0 : array_like, shape (3,)
+        Angular velocity at t = 0, canonical frame, rad/s.
+
+    Returns
+    -------
+    FreeMotion
+        The motion, with the Fourier series of phi' (empty where phi' is constant).
+
     Raises
     ------
     ValueError
-        On the separatrix (L^2 = 2 E I2 exactly, or k'^2 below the double range), where the
+        For w0 = 0; on the separatrix (L^2 = 2 E I2 exactly, or k'^2 below the double range), where the
         motion is not periodic, or for a start along the handle (phi undefined).
     """
     I = np.asarray(moments, dtype=float)
@@ -181,7 +210,18 @@ def free_motion(moments, w0) -> FreeMotion:
 
 
 def euler_quaternion(phi, theta, psi) -> np.ndarray:
-    """Quaternion of Rz(phi) Rx(theta) Rz(psi), shape (..., 4)."""
+    """Quaternion of Rz(phi) Rx(theta) Rz(psi), shape (..., 4).
+
+    Parameters
+    ----------
+    phi, theta, psi : float or array_like, shape (...)
+        z-x-z Euler angles in rad; they broadcast.
+
+    Returns
+    -------
+    ndarray, shape (..., 4)
+        Unit quaternions, scalar first.
+    """
     a, b, c = (0.5 * np.asarray(x, dtype=float) for x in (phi, theta, psi))
     ca, sa, cb, sb = np.cos(a), np.sin(a), np.cos(b), np.sin(b)
     cc, sc = np.cos(c), np.sin(c)
@@ -190,7 +230,20 @@ def euler_quaternion(phi, theta, psi) -> np.ndarray:
 
 
 def nutation_spin(m):
-    """theta and psi (rad) of canonical body angular momenta m (..., 3): L along space Z."""
+    """theta and psi (rad) of canonical body angular momenta m (..., 3): L along space Z.
+
+    Parameters
+    ----------
+    m : array_like, shape (..., 3)
+        Body angular momenta, canonical frame, kg m^2/s (only the direction matters).
+
+    Returns
+    -------
+    theta : ndarray, shape (...)
+        Nutation angle in rad, in [0, pi]: the angle between L and the smallest-moment axis.
+    psi : ndarray, shape (...)
+        Spin angle in rad, in [-pi, pi], ``atan2(m2, m3)``.
+    """
     m = np.asarray(m, dtype=float)
     theta = np.arctan2(np.hypot(m[..., 1], m[..., 2]), m[..., 0])
     return theta, np.arctan2(m[..., 1], m[..., 2])
@@ -201,6 +254,18 @@ def l_frame(m0, q0) -> np.ndarray:
 
     ``m0`` (..., 3) canonical body angular momenta and ``q0`` (..., 4) canonical attitudes at
     t = 0; A = R(q0) P^T (Rx(theta0) Rz(psi0))^T.
+
+    Parameters
+    ----------
+    m0 : array_like, shape (..., 3)
+        Body angular momenta at t = 0, canonical frame, kg m^2/s.
+    q0 : array_like, shape (..., 4)
+        Canonical-frame attitudes at t = 0, unit quaternions, scalar first.
+
+    Returns
+    -------
+    ndarray, shape (..., 4)
+        The quaternions of A, scalar first.
     """
     theta0, psi0 = nutation_spin(m0)
     g0 = euler_quaternion(np.zeros_like(theta0), theta0, psi0)
@@ -209,7 +274,22 @@ def l_frame(m0, q0) -> np.ndarray:
 
 
 def canonical_attitude(fm: FreeMotion, t, q0_canonical) -> np.ndarray:
-    """Exact canonical-frame attitude quaternions at times ``t`` (n,) from ``q0``; (n, 4)."""
+    """Exact canonical-frame attitude quaternions at times ``t`` (n,) from ``q0``; (n, 4).
+
+    Parameters
+    ----------
+    fm : FreeMotion
+        The member's motion (:func:`free_motion`).
+    t : array_like, shape (n,)
+        Times in s.
+    q0_canonical : array_like, shape (4,)
+        Canonical-frame attitude at t = 0, unit quaternion, scalar first.
+
+    Returns
+    -------
+    ndarray, shape (n, 4)
+        Quaternions q(t), scalar first (sign not fixed).
+    """
     a = l_frame(fm.m(0.0)[0], q0_canonical)
     theta, psi = nutation_spin(fm.m(t))
     g = euler_quaternion(fm.phi(t), theta, psi)
@@ -258,6 +338,27 @@ def exact_attitudes(moments, w0, t, q0) -> np.ndarray:
     bodies' axes, ``t`` (n,) s, ``q0`` (N, 4). A member on the separatrix (no period: a steady
     spin about the middle axis, or within round-off of one) or spinning exactly about its
     smallest-moment axis (where phi is undefined) gets NaN.
+
+    Parameters
+    ----------
+    moments : array_like, shape (N, 3) or (1, 3)
+        Principal moments of each member in kg m^2, any order; one row for all members.
+    w0 : array_like, shape (N, 3)
+        Angular velocities at t = 0 along the bodies' axes, rad/s.
+    t : array_like, shape (n,)
+        Times in s.
+    q0 : array_like, shape (N, 4) or (4,)
+        Attitudes at t = 0, unit quaternions, scalar first; broadcast over the members.
+
+    Returns
+    -------
+    ndarray, shape (N, n, 4)
+        Unit quaternions q(t) (R(q) body to space) with q0 >= 0, NaN for the members above.
+
+    Raises
+    ------
+    ValueError
+        For a member with w0 = 0.
     """
     moments = np.atleast_2d(np.asarray(moments, dtype=float))
     w0 = np.atleast_2d(np.asarray(w0, dtype=float))

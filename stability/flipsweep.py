@@ -15,7 +15,20 @@ import numpy as np
 
 
 def flip_sweep_starts(epsilons, spin: float) -> np.ndarray:
-    """Starts ``(epsilon W, W, 0)``, one per epsilon; (E, 3) in rad/s."""
+    """Starts ``(epsilon W, W, 0)``, one per epsilon; (E, 3) in rad/s.
+
+    Parameters
+    ----------
+    epsilons : array_like, shape (E,)
+        Perturbations along axis 1, relative to the spin.
+    spin : float
+        W, rad/s, about axis 2.
+
+    Returns
+    -------
+    ndarray, shape (E, 3)
+        Body-frame angular velocities, rad/s.
+    """
     epsilons = np.asarray(epsilons, dtype=float)
     w0 = np.zeros((epsilons.size, 3))
     w0[:, 0] = epsilons * spin

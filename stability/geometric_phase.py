@@ -42,7 +42,18 @@ _PSI_SAMPLES = 257
 
 
 def wrap(angle):
-    """``angle`` reduced to [-pi, pi) (rad), any shape."""
+    """``angle`` reduced to [-pi, pi) (rad), any shape.
+
+    Parameters
+    ----------
+    angle : array_like
+        Angles in rad.
+
+    Returns
+    -------
+    ndarray
+        The reduced angles in rad, same shape as ``angle``.
+    """
     return np.mod(np.asarray(angle, dtype=float) + math.pi, TWO_PI) - math.pi
 
 
@@ -50,6 +61,18 @@ def rotation_about(q_start, q_end, axis) -> np.ndarray:
     """Angle in rad, in [-pi, pi), of the rotation R(q_end) R(q_start)^T about ``axis`` (..., 3).
 
     Right-handed about the axis; exact when that rotation's axis is ``axis``.
+
+    Parameters
+    ----------
+    q_start, q_end : array_like, shape (..., 4)
+        Body-to-space quaternions, scalar first, at the start and the end.
+    axis : array_like, shape (..., 3)
+        The axis, space frame, any nonzero length (normalised before use).
+
+    Returns
+    -------
+    ndarray, shape (...)
+        The angle in rad, in [-pi, pi).
     """
     d = quaternion_multiply(q_end, quaternion_conjugate(q_start))
     n = np.asarray(axis, dtype=float)
@@ -70,6 +93,18 @@ def solid_angle(fm: FreeMotion, nodes: int = 64) -> float:
     ``(x y' - y x') / (|L| (|L| + z))`` in time with (x, y, z) the components of m along a
     right-handed frame (a, b, n); the trapezoid rule over the period converges geometrically,
     and the nodes are doubled until two estimates agree to 1e-15 of 4 pi.
+
+    Parameters
+    ----------
+    fm : FreeMotion
+        One member's exact motion (:func:`stability.exact_attitude.free_motion`).
+    nodes : int, default 64
+        Trapezoid nodes per period to start from; doubled up to 2**16.
+
+    Returns
+    -------
+    float
+        The solid angle S in sr.
     """
     m0 = fm.m(0.0)[0]
     k = 2 if fm.kind in (MAJOR, PRECESS3) else 0  # the axis the path circles: 3, else 1
@@ -89,7 +124,19 @@ def solid_angle(fm: FreeMotion, nodes: int = 64) -> float:
 
 
 def montgomery_formula(fm: FreeMotion) -> tuple[float, float, float]:
-    """Montgomery's angle from the formula: ``(wrap(2 E T / |L| - S), 2 E T / |L|, S)`` in rad."""
+    """Montgomery's angle from the formula: ``(wrap(2 E T / |L| - S), 2 E T / |L|, S)`` in rad.
+
+    Parameters
+    ----------
+    fm : FreeMotion
+        One member's exact motion (:func:`stability.exact_attitude.free_motion`).
+
+    Returns
+    -------
+    tuple of float
+        Montgomery's angle wrapped to [-pi, pi), the dynamic phase ``2 E T / |L|`` and the
+        solid angle S (:func:`solid_angle`), all in rad.
+    """
     dynamic = 2.0 * fm.energy * fm.period / fm.momentum
     s = solid_angle(fm)
     return float(wrap(dynamic - s)), dynamic, s
@@ -186,11 +233,25 @@ def run_angles(runs, period, t_near) -> dict:
     attitude there) and cover the twist's window about the flip nearest ``t_near``; the flip
     and the window are roots of the run's own solution (:meth:`AttitudeRuns.state_at`).
 
+    Parameters
+    ----------
+    runs : AttitudeRuns
+        The run, from :func:`stability.attitude.propagate_attitudes` (canonical frame).
+    period : float or array_like, shape (N,)
+        Each member's period T of the body motion in s.
+    t_near : array_like, shape (N,)
+        The twist is measured about the flip nearest this time (s).
+
     Returns
     -------
     dict of ndarray, shape (N,)
         ``montgomery``, ``flip_time``, ``half_window``, ``twist`` (rad and s), NaN where the
         window does not fit in the run.
+
+    Raises
+    ------
+    ValueError
+        If the run does not reach each member's period at a saved step.
     """
     n = runs.saved.shape[0]
     rows = np.arange(n)

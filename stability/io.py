@@ -39,6 +39,20 @@ def saving(ds: xr.Dataset, path, overwrite: bool = False):
     The netCDF library compresses and writes without holding the interpreter lock, so a study
     draws its figures meanwhile (the tennis-racket study: 1.2 s of writing and 2.4 s of drawing
     took 2.3 s together). The write is complete, or its error raised, when the block ends.
+
+    Parameters
+    ----------
+    ds : xarray.Dataset
+        The Dataset to write, as for :func:`save`; leave it unchanged inside the block.
+    path : str or path-like
+        Target file, conventionally ``*.nc``. Its directory must exist.
+    overwrite : bool, default False
+        Replace an existing file.
+
+    Raises
+    ------
+    FileExistsError, ValueError, OSError
+        As :func:`save`, when the block ends.
     """
     with ThreadPoolExecutor(max_workers=1) as pool:
         written = pool.submit(save, ds, path, overwrite)

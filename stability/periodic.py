@@ -118,7 +118,18 @@ def extrema(t, x, dxdt, kind="min"):
 
 def mean_period(crossings):
     """Mean spacing of successive same-direction crossings: ``(t_K - t_1) / (K - 1)``; NaN
-    with fewer than two."""
+    with fewer than two.
+
+    Parameters
+    ----------
+    crossings : array_like, shape (K,)
+        Crossing times, ascending (e.g. from :func:`level_crossings`).
+
+    Returns
+    -------
+    float
+        The mean period, in the units of ``crossings``.
+    """
     crossings = np.asarray(crossings, dtype=float)
     if crossings.size < 2:
         return np.nan
@@ -132,6 +143,18 @@ def weighted_mean(f, axis=-1):
     (Das & Yorke 2018), normalised to sum 1. For a smooth (quasi-)periodic signal sampled
     finely enough to resolve it, the error falls faster than any power of the number of
     periods covered. NaN if any sample is NaN.
+
+    Parameters
+    ----------
+    f : array_like
+        Samples, equally spaced in time along ``axis``.
+    axis : int, default -1
+        The time axis.
+
+    Returns
+    -------
+    ndarray or float
+        The average, with the shape of ``f`` without ``axis``, in the units of ``f``.
     """
     f = np.asarray(f, dtype=float)
     n = f.shape[axis]

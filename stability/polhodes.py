@@ -67,6 +67,13 @@ def separatrix_circles(body, samples: int = 721):
     ``m_c = +-m_a sqrt(Ic (Ib - Ia) / (Ia (Ic - Ib)))`` through the intermediate axis e_b
     (sorted moments Ia <= Ib <= Ic).
 
+    Parameters
+    ----------
+    body : RigidBody
+        The body, its moments in any order (sorted here into Ia <= Ib <= Ic).
+    samples : int, default 721
+        Points per circle, over one turn (the first and last coincide).
+
     Returns
     -------
     list of two ndarrays, shape (samples, 3)

@@ -114,6 +114,15 @@ def attitude_reference(body: RigidBody, w0, t_end: float):
     (``stability.attitude``'s convention: body-to-space, scalar first) for all members as one
     system. Its accuracy is measured on its w part against the exact solution.
 
+    Parameters
+    ----------
+    body : RigidBody
+        The body.
+    w0 : array_like, shape (N, 3) or (3,)
+        Starts, rad/s; every member starts at the identity attitude.
+    t_end : float
+        Time, s.
+
     Returns
     -------
     q_ref : ndarray, shape (N, 4)

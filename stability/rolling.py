@@ -40,28 +40,117 @@ G = 9.80665
 
 
 def rolls(theta, mu_s, k):
-    """Released at rest on an incline of ``theta`` (rad), does it roll without slipping?"""
+    """Released at rest on an incline of ``theta`` (rad), does it roll without slipping?
+
+    Parameters
+    ----------
+    theta : float or array_like
+        Incline angle in rad (its sign does not matter).
+    mu_s : float or array_like
+        Static friction coefficient (dimensionless).
+    k : float or array_like
+        Shape factor ``I / (M R^2)`` (dimensionless, :data:`SHAPES`).
+
+    Returns
+    -------
+    bool or ndarray of bool
+        True where ``tan(theta) <= mu_s (1 + 1 / k)``; the arguments broadcast.
+    """
     return np.tan(np.abs(theta)) <= mu_s * (1.0 + 1.0 / np.asarray(k, dtype=float))
 
 
 def rolling_acceleration(theta, k, g=G):
-    """``g sin(theta) / (1 + k)`` (m s-2)."""
+    """``g sin(theta) / (1 + k)`` (m s-2).
+
+    Parameters
+    ----------
+    theta : float or array_like
+        Incline angle in rad, positive downhill.
+    k : float or array_like
+        Shape factor ``I / (M R^2)`` (dimensionless).
+    g : float, default G
+        Gravity in m s-2.
+
+    Returns
+    -------
+    float or ndarray
+        Acceleration along the incline of a body rolling without slipping, in m s-2.
+    """
     return g * np.sin(theta) / (1.0 + np.asarray(k, dtype=float))
 
 
 def slipping_acceleration(theta, mu_k, g=G):
-    """``g (sin(theta) - mu_k cos(theta))`` (m s-2), the body slipping forward."""
+    """``g (sin(theta) - mu_k cos(theta))`` (m s-2), the body slipping forward.
+
+    Parameters
+    ----------
+    theta : float or array_like
+        Incline angle in rad, positive downhill.
+    mu_k : float or array_like
+        Kinetic friction coefficient (dimensionless).
+    g : float, default G
+        Gravity in m s-2.
+
+    Returns
+    -------
+    float or ndarray
+        Acceleration along the incline in m s-2.
+    """
     return g * (np.sin(theta) - mu_k * np.cos(theta))
 
 
 def slipping_spin_rate(theta, mu_k, k, radius, g=G):
-    """``mu_k M g R cos(theta) / I = mu_k g cos(theta) / (k R)`` (rad s-2)."""
+    """``mu_k M g R cos(theta) / I = mu_k g cos(theta) / (k R)`` (rad s-2).
+
+    Parameters
+    ----------
+    theta : float or array_like
+        Incline angle in rad.
+    mu_k : float or array_like
+        Kinetic friction coefficient (dimensionless).
+    k : float or array_like
+        Shape factor ``I / (M R^2)`` (dimensionless).
+    radius : float or array_like
+        Radius R in m.
+    g : float, default G
+        Gravity in m s-2.
+
+    Returns
+    -------
+    float or ndarray
+        Angular acceleration of a body slipping forward, in rad s-2.
+    """
     return mu_k * g * np.cos(theta) / (np.asarray(k, dtype=float) * radius)
 
 
 def launch_formulas(v0, w0, k, radius, mu_k, mass=1.0, g=G) -> dict:
     """Time and distance to pure rolling, final speed and energy turned into heat of a body
-    launched along a level floor with speed ``v0`` (m s-1) and spin ``w0`` (rad s-1)."""
+    launched along a level floor with speed ``v0`` (m s-1) and spin ``w0`` (rad s-1).
+
+    Parameters
+    ----------
+    v0 : float or array_like
+        Launch speed in m s-1.
+    w0 : float or array_like
+        Launch spin in rad s-1 (rolling forward: ``w0 = v0 / R``; negative: backspin).
+    k : float or array_like
+        Shape factor ``I / (M R^2)`` (dimensionless).
+    radius : float or array_like
+        Radius R in m.
+    mu_k : float or array_like
+        Kinetic friction coefficient (dimensionless).
+    mass : float, default 1.0
+        Mass M in kg (only the energy depends on it).
+    g : float, default G
+        Gravity in m s-2.
+
+    Returns
+    -------
+    dict of str to ndarray
+        ``"t_roll"``: time to pure rolling (s); ``"x_roll"``: distance covered by then (m);
+        ``"v_final"``: the rolling speed (m s-1); ``"energy_lost"``: kinetic energy turned
+        into heat (J). The arguments broadcast.
+    """
     v0, w0, k = (np.asarray(a, dtype=float) for a in (v0, w0, k))
     u0 = v0 - radius * w0
     t_roll = np.abs(u0) / (mu_k * g * (1.0 + 1.0 / k))
@@ -76,7 +165,25 @@ def launch_formulas(v0, w0, k, radius, mu_k, mass=1.0, g=G) -> dict:
 def start_states(v0, w0, rows, x0=0.0) -> np.ndarray:
     """Scene states (N, 9) of bodies at ``x0`` with speed ``v0`` and spin ``w0`` on the tracks
     ``rows`` (N, n_params), the regime set as the start requires: slipping if u0 != 0, else
-    rolling where static friction can hold it, slipping forward where it cannot."""
+    rolling where static friction can hold it, slipping forward where it cannot.
+
+    Parameters
+    ----------
+    v0 : float or array_like, shape (N,)
+        Speed of the centre in m s-1.
+    w0 : float or array_like, shape (N,)
+        Spin in rad s-1.
+    rows : array_like, shape (N, n_params)
+        Group parameters, one row per body (:func:`stability.integrators.rolling.track_row`);
+        a single row is taken as shape (1, n_params).
+    x0 : float or array_like, shape (N,), default 0.0
+        Position along the track in m.
+
+    Returns
+    -------
+    ndarray, shape (N, 9)
+        Start states of scene ``rolling_body``.
+    """
     rows = np.atleast_2d(rows)
     n = rows.shape[0]
     x = np.zeros((n, 9))
@@ -100,7 +207,46 @@ def measure_incline(shapes, angles, mu_s, *, members=4, mu_ratio=0.8, mu_scatter
                     shape_scatter=0.02, duration=1.0, seed=0, progress=None) -> xr.Dataset:
     """Release bodies at rest on inclines over a grid of angles (rad) and mu_s, each member
     with its own mu_s, mu_k = mu_ratio mu_s and k scattered (relative, uniform) about the
-    cell's; measure the regime, the acceleration and the spin rate from the runs."""
+    cell's; measure the regime, the acceleration and the spin rate from the runs.
+
+    Parameters
+    ----------
+    shapes : sequence of str
+        Names of shapes, keys of :data:`SHAPES`.
+    angles : array_like, shape (A,)
+        Incline angles in rad.
+    mu_s : array_like, shape (S,)
+        Nominal static friction coefficients (dimensionless).
+    members : int, default 4
+        Members per (shape, angle, mu_s) cell.
+    mu_ratio : float, default 0.8
+        ``mu_k / mu_s`` of every member.
+    mu_scatter : float, default 0.05
+        Relative half-width of the uniform scatter of mu_s about the cell's.
+    shape_scatter : float, default 0.02
+        Relative half-width of the uniform scatter of k about the shape's.
+    duration : float, default 1.0
+        Length of each run in s (one exact step).
+    seed : int, default 0
+        Seed of the random scatter.
+    progress : bool or None, optional
+        Progress bar; ``None`` shows one when the run is expected to take more than 2 s.
+
+    Returns
+    -------
+    xarray.Dataset
+        Dimensions ``shape``, ``angle`` (coordinate in degrees), ``mu_s`` and ``replica``:
+        per member the regime, acceleration and spin rate from the runs and by the formulas
+        and its own mu_s and k; per cell the fraction that slipped, the nominal regime and
+        whether the scatter straddles the boundary; per (shape, angle) the boundary mu_s.
+
+    Raises
+    ------
+    KeyError
+        If a name in ``shapes`` is not in :data:`SHAPES`.
+    KeyboardInterrupt
+        If the run was interrupted.
+    """
     scene = SCENES["rolling_body"]
     spec = scene.method("exact")
     rng = np.random.default_rng(seed)
@@ -184,7 +330,48 @@ def measure_launches(*, radius, mass, k, mu_k, speeds, spin_ratios, members, mu_
     """Launch ``members`` balls along a level floor, speed uniform in ``speeds`` (m s-1), spin
     ``w0 = ratio v0 / R`` with the ratio uniform in ``spin_ratios`` (negative: backspin), mu_k
     scattered (relative, uniform); the time, place and speed of the start of pure rolling and
-    the heat, from the runs, against :func:`launch_formulas`."""
+    the heat, from the runs, against :func:`launch_formulas`.
+
+    Parameters
+    ----------
+    radius : float
+        Radius R in m.
+    mass : float
+        Mass M in kg.
+    k : float
+        Shape factor ``I / (M R^2)`` (dimensionless).
+    mu_k : float
+        Nominal kinetic friction coefficient (dimensionless); mu_s is set equal to each
+        member's mu_k.
+    speeds : tuple of float
+        ``(low, high)`` bounds of the launch speed in m s-1.
+    spin_ratios : tuple of float
+        ``(low, high)`` bounds of ``R w0 / v0`` (1: launched rolling; negative: backspin).
+    members : int
+        Number of balls.
+    mu_scatter : float, default 0.1
+        Relative half-width of the uniform scatter of mu_k.
+    samples : int, default 200
+        Steps over the run, which lasts 1.25 times the longest ``t_roll`` of the formulas.
+    seed : int, default 0
+        Seed of the random draws.
+    paths : int, default 5
+        Members (spread over the spin ratios) whose every sample is kept.
+    progress : bool or None, optional
+        Progress bar; ``None`` shows one when the run is expected to take more than 2 s.
+
+    Returns
+    -------
+    xarray.Dataset
+        Per ``member``: the launch, mu_k, the time, place and speed of the start of pure
+        rolling, the heat and the energy lost, from the runs and by the formulas; per
+        (``path``, ``time``): the speed ``v`` and ``R w`` of the kept members.
+
+    Raises
+    ------
+    KeyboardInterrupt
+        If the run was interrupted.
+    """
     scene = SCENES["rolling_body"]
     spec = scene.method("exact")
     rng = np.random.default_rng(seed)

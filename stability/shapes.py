@@ -86,7 +86,22 @@ def analytic_omega_squared(moments, spin: float) -> np.ndarray:
 
 
 def amplitude_levels(spin: float, epsilon: float, per_decade: int) -> np.ndarray:
-    """Ascending perpendicular-amplitude levels (rad/s) from 1.5 epsilon W up to W."""
+    """Ascending perpendicular-amplitude levels (rad/s) from 1.5 epsilon W up to W.
+
+    Parameters
+    ----------
+    spin : float
+        Spin rate W, rad/s.
+    epsilon : float
+        Perturbation relative to the spin.
+    per_decade : int
+        Levels per decade, on the grid ``W 10 ** (k / per_decade)``.
+
+    Returns
+    -------
+    ndarray, shape (L,)
+        Levels in rad/s, from the grid level at or below ``1.5 epsilon W`` up to W included.
+    """
     first = math.floor(per_decade * math.log10(1.5 * epsilon))
     return spin * 10.0 ** (np.arange(first, 1) / per_decade)
 
@@ -98,6 +113,22 @@ def horizons(omega2: np.ndarray, horizon: float, t_max: float, t_neutral: float)
     Enough, with ``horizon`` of a few tens, for two flips of an unstable axis (the first comes
     after about ln(1/epsilon) / lambda, then one every 2 ln(1/epsilon) / lambda) and for ten
     periods of a stable one; it depends on |Omega^2| only, never on its sign.
+
+    Parameters
+    ----------
+    omega2 : ndarray, shape (S, 3)
+        Analytic Omega^2 per (shape, axis), s-2 (:func:`analytic_omega_squared`).
+    horizon : float
+        Run length in units of ``1 / |Omega|``, dimensionless.
+    t_max : float
+        Longest run, s.
+    t_neutral : float
+        Run length where Omega^2 = 0, s.
+
+    Returns
+    -------
+    ndarray, shape (S, 3)
+        Run lengths, s.
     """
     rate = np.sqrt(np.abs(omega2))
     with np.errstate(divide="ignore"):
@@ -112,6 +143,19 @@ def edge_series(spin: float, epsilon: float, t_end: float, method: str, h: float
     steps). Linear theory: Omega^2 = 0; exactly, the distinct-axis component stays constant and
     the other perpendicular one moves off linearly in t at its initial rate of change (Euler's
     equations at the start, :func:`stability.analytic.euler_rhs`), with no flip.
+
+    Parameters
+    ----------
+    spin : float
+        Spin rate W, rad/s.
+    epsilon : float
+        Perturbation relative to the spin.
+    t_end : float
+        Run length, s; rounded up to a whole number of steps.
+    method : str
+        Registry name of the integrator.
+    h : float
+        Step, s.
 
     Returns
     -------

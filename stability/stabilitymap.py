@@ -194,6 +194,16 @@ def write_batch(checkpoint, j: int, batch) -> None:
 
     Each number is its own netCDF variable ``c<cell>.<name>`` (int, float or a per-member
     array), so :func:`read_batch` gives back the same values bit for bit.
+
+    Parameters
+    ----------
+    checkpoint : stability.store.ChunkStore
+        The run's chunk store; the chunk is written uncompressed, with its checksum.
+    j : int
+        Index of the batch in ``runs`` (:func:`measure_map`), the chunk number.
+    batch : list of (int, float, dict)
+        Per cell (shape, axis) of the batch: member-steps, kernel loop time in s, and
+        :func:`ensemble_estimates`.
     """
     import xarray as xr
 
@@ -209,7 +219,21 @@ def write_batch(checkpoint, j: int, batch) -> None:
 
 
 def read_batch(path, n_cells: int) -> list:
-    """The batch :func:`write_batch` kept in ``path``."""
+    """The batch :func:`write_batch` kept in ``path``.
+
+    Parameters
+    ----------
+    path : path-like
+        The chunk file (netCDF).
+    n_cells : int
+        Number of cells (shape, axis) in the batch.
+
+    Returns
+    -------
+    list of (int, float, dict)
+        Per cell: member-steps, kernel loop time in s, and the estimates (scalars as Python
+        numbers, per-member arrays as ndarrays; booleans come back as int8).
+    """
     import xarray as xr
 
     with xr.open_dataset(path, engine="netcdf4") as ds:
@@ -224,7 +248,23 @@ def read_batch(path, n_cells: int) -> list:
 
 
 def empty_estimates(n_methods: int, n_shapes: int):
-    """Arrays (methods, shapes, 3) for the estimates at h (``out``) and at h / 2 (``half``)."""
+    """Arrays (methods, shapes, 3) for the estimates at h (``out``) and at h / 2 (``half``).
+
+    Parameters
+    ----------
+    n_methods : int
+        Number of integrators (entries of ``specs``).
+    n_shapes : int
+        Number of shapes.
+
+    Returns
+    -------
+    out : dict
+        ``MAP_FLOATS`` (float, NaN), ``regime``, ``sign_agrees``, ``status`` (int8, 0) and
+        ``members_failed`` (int32, 0), each of shape (n_methods, n_shapes, 3).
+    half : dict
+        ``omega_squared_measured`` (float, NaN) and ``regime`` (int8, 0), same shape.
+    """
     shape3 = (n_methods, n_shapes, 3)
     nan = np.full(shape3, np.nan)
     out = {name: nan.copy() for name in MAP_FLOATS}
@@ -237,14 +277,35 @@ def empty_estimates(n_methods: int, n_shapes: int):
 
 
 def store(arrays: dict, index, estimates: dict) -> None:
-    """Put one ensemble's :func:`ensemble_estimates` at ``index`` of every array it has."""
+    """Put one ensemble's :func:`ensemble_estimates` at ``index`` of every array it has.
+
+    Parameters
+    ----------
+    arrays : dict
+        Name -> ndarray, shape (methods, shapes, 3) (:func:`empty_estimates`); changed in place.
+    index : tuple of int
+        ``(method, shape, axis)``, the axis 0-based.
+    estimates : dict
+        :func:`ensemble_estimates` of the ensemble; names without an array are skipped.
+    """
     for name, values in arrays.items():
         if name in estimates:
             values[index] = estimates[name]
 
 
 def first_flip_relative_error(first, reference) -> float:
-    """Mean over members of (first flip - reference) / reference, finite members only."""
+    """Mean over members of (first flip - reference) / reference, finite members only.
+
+    Parameters
+    ----------
+    first, reference : ndarray, shape (N,)
+        Each member's first-flip time and the exact flow's, s (NaN: no flip).
+
+    Returns
+    -------
+    float
+        Mean relative difference, dimensionless; NaN if no member is finite.
+    """
     with np.errstate(invalid="ignore", divide="ignore"):
         return _finite_mean((first - reference) / reference)
 
@@ -401,6 +462,12 @@ def _moment_attrs(i):
 def headline(ds: xr.Dataset):
     """The numbers a map ends with: per integrator the accuracy against the bar, the sign, the
     step bias beside the literature's, the flips; the edges, classified; the flip sweep.
+
+    Parameters
+    ----------
+    ds : xarray.Dataset
+        The map's Dataset (:func:`map_dataset`), with the attributes ``tolerance``,
+        ``min_omega_squared``, ``spin``, ``members`` and ``epsilon``.
 
     Returns
     -------

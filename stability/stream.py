@@ -48,6 +48,44 @@ def run_streamed(kwargs: dict, store, *, resume=False, scheduler=None, threads=N
     Returns the Dataset over the chunk files (dask arrays). See :func:`stability.run_ensemble`
     for ``kwargs``; ``chunk_members`` there is the members per chunk file here
     (default :data:`stability.ensemble.STREAM_CHUNK_MEMBERS`).
+
+    Parameters
+    ----------
+    kwargs : dict
+        Keyword arguments of :func:`stability.run_ensemble` (without ``threads``,
+        ``progress``, ``store``, ``resume``, ``scheduler`` and ``attitude``).
+    store : str or path-like
+        Folder of the chunk files; created if missing.
+    resume : bool, default False
+        Finish a run of the same arguments stopped earlier: only the chunks not on disk are
+        run. Without it, a store that already has chunks done is refused.
+    scheduler : str or distributed.Client, optional
+        Run the chunks on dask.distributed: ``"dask"`` for a local cluster, a scheduler
+        address such as ``"tcp://host:8786"``, or a client. By default they run in this
+        process.
+    threads : int, optional
+        Numba threads when the chunks run in this process; default: Numba's current setting.
+        Dask workers use their own threads.
+    progress : bool, optional
+        Progress bar: over members when several chunks are run, else the chunk's own;
+        ``False`` shows none.
+    compress : bool, default True
+        zlib-compress the chunk files (:func:`stability.io.save`).
+
+    Returns
+    -------
+    xarray.Dataset
+        The whole run over the chunk files (dask arrays).
+
+    Raises
+    ------
+    RunInterrupted
+        If Ctrl-C or SIGTERM stopped the run; the finished chunks are kept.
+    ValueError
+        For invalid arguments, or a store with chunks done and no ``resume``.
+    OSError
+        If the dask scheduler cannot be reached, or a chunk written by a worker is not
+        readable here.
     """
     from .ensemble import _plan
 
@@ -95,7 +133,27 @@ def _run_here(plan, chunks, todo, threads, progress, compress):
 
 
 def run_chunk(kwargs: dict, directory, k: int, lo: int, hi: int, compress: bool) -> int:
-    """One chunk on a dask worker: run it with the worker's threads, write it; returns ``k``."""
+    """One chunk on a dask worker: run it with the worker's threads, write it; returns ``k``.
+
+    Parameters
+    ----------
+    kwargs : dict
+        Keyword arguments of :func:`stability.run_ensemble` for the whole run, as given to
+        :func:`run_streamed` (with ``chunk_members`` resolved).
+    directory : str or path-like
+        The store's folder, on a file system the worker shares.
+    k : int
+        Index of the chunk.
+    lo, hi : int
+        The chunk's members are ``lo ... hi - 1`` of the whole run.
+    compress : bool
+        zlib-compress the chunk file.
+
+    Returns
+    -------
+    int
+        ``k``.
+    """
     import numba
     from distributed import get_worker
 

@@ -52,9 +52,12 @@ STRIKE = "strike"
 class StruckBody:
     """What the planar strike needs of a body.
 
-    Attributes
+    The fields are the constructor's parameters and the instance's attributes.
+
+    Parameters
     ----------
     name : str
+        Name of the body, for labels and messages.
     mass : float
         M (kg).
     length : float
@@ -85,7 +88,25 @@ class StruckBody:
 
 def baseball_bat(mass=0.850, profile=BAT_PROFILE, unit=INCH, name="baseball bat"):
     """A wooden bat of uniform density: one truncated cone (``Part.frustum``) per section of
-    ``profile``, the stations ``(x, radius)`` in ``unit`` (m per unit), scaled to ``mass``."""
+    ``profile``, the stations ``(x, radius)`` in ``unit`` (m per unit), scaled to ``mass``.
+
+    Parameters
+    ----------
+    mass : float, default 0.850
+        Mass of the bat in kg.
+    profile : array_like, shape (n, 2), default BAT_PROFILE
+        Stations ``(x, radius)`` from the knob end, x non-decreasing; two stations at one x
+        are a step.
+    unit : float, default INCH
+        Length of one profile unit in m.
+    name : str, default "baseball bat"
+        Name of the body.
+
+    Returns
+    -------
+    StruckBody
+        The bat, held at its knob end (x = 0); ``outline`` is the stations in m.
+    """
     from .body import Part, RigidBody
 
     mass = positive_float("mass of the bat", mass, "kg")
@@ -123,7 +144,26 @@ BODIES = {"baseball_bat": baseball_bat, "tennis_racket": tennis_racket}
 
 
 def check_pivot(body: StruckBody, pivot) -> float:
-    """``pivot`` (m from the end) as a float on the body and off its centre, else ValueError."""
+    """``pivot`` (m from the end) as a float on the body and off its centre, else ValueError.
+
+    Parameters
+    ----------
+    body : StruckBody
+        The body struck.
+    pivot : float
+        Position of the hands in m from the end held.
+
+    Returns
+    -------
+    float
+        ``pivot``.
+
+    Raises
+    ------
+    ValueError
+        If ``pivot`` is not a real number, is off the body (outside 0 to ``body.length``), or
+        lies within ``1e-3 body.length`` of the centre of mass.
+    """
     pivot = real_number("pivot", pivot, "m")
     if not 0.0 <= pivot <= body.length:
         raise ValueError(f"pivot {pivot:g} m is off the {body.name} (0 to {body.length:g} m "
@@ -137,7 +177,20 @@ def check_pivot(body: StruckBody, pivot) -> float:
 
 def centre_of_percussion(body: StruckBody, pivot) -> float:
     """The centre of percussion for hands at ``pivot``: ``pivot + I_P / (M d)`` (m from the
-    end held; it lies beyond the centre of mass, on the far side from the hands)."""
+    end held; it lies beyond the centre of mass, on the far side from the hands).
+
+    Parameters
+    ----------
+    body : StruckBody
+        The body struck.
+    pivot : float
+        Position of the hands in m from the end held (checked by :func:`check_pivot`).
+
+    Returns
+    -------
+    float
+        The centre of percussion in m from the end held.
+    """
     pivot = check_pivot(body, pivot)
     d = body.centre - pivot
     return pivot + body.moment_about(pivot) / (body.mass * d)
@@ -145,7 +198,25 @@ def centre_of_percussion(body: StruckBody, pivot) -> float:
 
 def reaction_impulse(body: StruckBody, pivot, strike, impulse):
     """Reaction impulse across the body at hands holding it at ``pivot``, for an impulse hit
-    at ``strike`` (m from the end): ``J (M d s / I_P - 1)`` with s = strike - pivot (N s)."""
+    at ``strike`` (m from the end): ``J (M d s / I_P - 1)`` with s = strike - pivot (N s).
+
+    Parameters
+    ----------
+    body : StruckBody
+        The body struck.
+    pivot : float or array_like
+        Position of the hands in m from the end held (not checked).
+    strike : float or array_like
+        Strike point in m from the end held; broadcast against ``pivot``.
+    impulse : float
+        Impulse J of the strike in N s.
+
+    Returns
+    -------
+    ndarray or float
+        Reaction impulse across the body at the hands in N s, for an instantaneous strike;
+        0 at the centre of percussion.
+    """
     d = body.centre - pivot
     s = np.asarray(strike, dtype=float) - pivot
     return impulse * (body.mass * d * s / body.moment_about(pivot) - 1.0)
@@ -153,7 +224,25 @@ def reaction_impulse(body: StruckBody, pivot, strike, impulse):
 
 def hand_velocity(body: StruckBody, pivot, strike, impulse):
     """Velocity across the body of the point at ``pivot`` of a free body just after an impulse
-    at ``strike``: ``J / M - d (s - d) J / I_cm`` (m s-1)."""
+    at ``strike``: ``J / M - d (s - d) J / I_cm`` (m s-1).
+
+    Parameters
+    ----------
+    body : StruckBody
+        The body struck.
+    pivot : float or array_like
+        Position of the hands in m from the end held (not checked).
+    strike : float or array_like
+        Strike point in m from the end held; broadcast against ``pivot``.
+    impulse : float
+        Impulse J of the strike in N s.
+
+    Returns
+    -------
+    ndarray or float
+        Velocity across the body of the point at the hands in m s-1, for an instantaneous
+        strike; 0 at the centre of percussion.
+    """
     d = body.centre - pivot
     lever = np.asarray(strike, dtype=float) - body.centre
     return impulse / body.mass - d * lever * impulse / body.inertia
@@ -167,6 +256,44 @@ def measure_strikes(body: StruckBody, pivots, strikes, impulse=12.0, contact_tim
     Per (hold, pivot) the centre of percussion is measured where the runs' reaction impulse
     (held) or hand velocity (free) crosses zero, and, held, the sweet zone where the reaction
     is at most ``sting`` J. Returns a labelled Dataset.
+
+    Parameters
+    ----------
+    body : StruckBody
+        The body struck (:func:`baseball_bat`, :func:`tennis_racket`).
+    pivots : float or array_like, shape (P,)
+        Positions of the hands in m from the end held, each checked by :func:`check_pivot`.
+    strikes : array_like, shape (S,)
+        Strike points in m from the end held, on the body; at least two (sorted before use).
+    impulse : float, default 12.0
+        Impulse J of each strike in N s.
+    contact_time : float, default 7e-4
+        Duration of the half-sine contact force in s.
+    steps_per_contact : int, default 64
+        Steps over the contact; the run ends with it.
+    sting : float, default 0.1
+        Edge of the sweet zone: the reaction impulse across the hands as a fraction of J.
+    method : str, default "rk4"
+        Name of a method that runs scene ``struck_body``.
+    progress : bool or None, optional
+        Progress bar; ``None`` shows one when the run is expected to take more than 2 s.
+
+    Returns
+    -------
+    xarray.Dataset
+        Dimensions ``hold`` (held, free), ``pivot``, ``strike`` and ``edge`` (near, far): the
+        measured velocities and reaction impulses, the formulas', the centres of percussion
+        and sweet zones measured and by the formulas, the member status and the body's
+        outline; lengths in m from the end held.
+
+    Raises
+    ------
+    ValueError
+        If a pivot or strike point is off the body, a pivot is at the centre of mass, fewer
+        than two strike points are given, ``impulse`` or ``contact_time`` is not > 0, or
+        ``method`` does not run the scene.
+    KeyboardInterrupt
+        If the run was interrupted.
     """
     scene = SCENES["struck_body"]
     spec = scene.method(method)

@@ -31,6 +31,16 @@ REPEATS = 5
 def step_grid(t_end: float, h_max: float, h_min: float, per_octave: int) -> np.ndarray:
     """Step counts n (ascending, distinct) with h = t_end / n from about h_max down to h_min.
 
+    Parameters
+    ----------
+    t_end : float
+        Run length, s.
+    h_max, h_min : float
+        Coarsest and finest step, s; the first count is ``ceil(t_end / h_max)``, and counts
+        whose step would go below ``h_min`` are left out.
+    per_octave : int
+        Counts per doubling of n (geometric spacing ``2 ** (1 / per_octave)``, rounded).
+
     Returns
     -------
     ndarray of int64, shape (K,)
@@ -51,7 +61,22 @@ def step_grid(t_end: float, h_max: float, h_min: float, per_octave: int) -> np.n
 
 
 def jittered_starts(w0, members: int, seed: int) -> np.ndarray:
-    """``members`` starts (members, 3): w0 moved by a random relative 1e-3 (member 0 is w0)."""
+    """``members`` starts (members, 3): w0 moved by a random relative 1e-3 (member 0 is w0).
+
+    Parameters
+    ----------
+    w0 : array_like, shape (3,)
+        The central start, rad/s.
+    members : int
+        Number of starts.
+    seed : int
+        Seed of the normal jitter (standard deviation ``1e-3 |w0|`` per component).
+
+    Returns
+    -------
+    ndarray, shape (members, 3)
+        The starts, rad/s.
+    """
     rng = np.random.default_rng(np.random.SeedSequence(seed))
     jitter = 1e-3 * np.linalg.norm(w0) * rng.standard_normal((members, 3))
     jitter[0] = 0.0
@@ -60,7 +85,38 @@ def jittered_starts(w0, members: int, seed: int) -> np.ndarray:
 
 def sweep_point(h=np.nan, rtol=np.nan, steps=np.nan, wall=np.nan, evaluations=np.nan,
                 iterations=np.nan, failed=0, members=1, errors=None) -> dict:
-    """One point of a sweep: scalars, and (max, p99, median) of each error (NaN if not run)."""
+    """One point of a sweep: scalars, and (max, p99, median) of each error (NaN if not run).
+
+    Parameters
+    ----------
+    h : float, default NaN
+        Step, s (NaN for scipy's adaptive runs).
+    rtol : float, default NaN
+        scipy's relative tolerance (NaN for the fixed-step methods).
+    steps : int or float, default NaN
+        Steps per member; NaN leaves ``member_step_time`` NaN.
+    wall : float, default NaN
+        Kernel wall time for the whole ensemble, s.
+    evaluations : float, default NaN
+        Right-hand-side evaluations or exact sub-flows per member.
+    iterations : float, default NaN
+        Nonlinear-solver iterations per step, mean over members.
+    failed : int, default 0
+        Members whose run failed.
+    members : int, default 1
+        Ensemble size, for the time per member-step.
+    errors : dict, optional
+        :func:`stability.reference.final_errors` of the run (``w``, ``energy``, ``momentum``,
+        each of shape (N,)); None leaves the error statistics NaN.
+
+    Returns
+    -------
+    dict
+        ``h``, ``rtol``, ``steps``, ``wall_time``, ``member_step_time`` (s), ``evaluations``,
+        ``iterations``, ``failed``, and ``w_error``, ``energy_error``, ``momentum_error``,
+        ``attitude_error`` (ndarray, shape (3,), in the order of
+        :data:`stability.reference.METRICS`; the attitude one NaN, filled in by the caller).
+    """
     point = {
         "h": h, "rtol": rtol, "steps": steps, "wall_time": wall,
         "member_step_time": wall / (members * steps) if steps == steps else np.nan,
@@ -79,6 +135,26 @@ def timed_propagate(spec, moments, m0, h, n_steps):
     A run shorter than ``MIN_TIMING`` seconds is repeated (at most ``REPEATS`` times in all,
     or until the repeats add up to ``MIN_TIMING``) and the minimum kept, the usual defence of
     a benchmark against a busy machine; the results are identical (the loop is deterministic).
+
+    Parameters
+    ----------
+    spec : MethodSpec or str
+        The method (registry name or spec).
+    moments : array_like, shape (3,)
+        Principal moments, kg m^2.
+    m0 : ndarray, shape (N, 3)
+        Initial body angular momenta m = I w, body frame, kg m^2/s.
+    h : float
+        Step, s.
+    n_steps : int
+        Number of steps.
+
+    Returns
+    -------
+    run : Propagation
+        The first run (:func:`stability.driver.propagate`, no progress bar).
+    wall : float
+        Fastest kernel wall time over the repeats, s.
     """
     run = propagate(spec, moments, m0, h, n_steps, progress=False)
     best, total, repeats = run.wall_time, run.wall_time, 1
@@ -92,6 +168,27 @@ def attitude_errors(spec, body, w0, q_ref, h, n_steps) -> np.ndarray:
     """Rotation angle (rad) between each member's attitude after n_steps and ``q_ref``; (N,).
 
     NaN for a member whose run failed; all NaN when the method cannot carry the attitude.
+
+    Parameters
+    ----------
+    spec : MethodSpec
+        The method; ``spec.attitude`` says whether it carries the attitude.
+    body : RigidBody
+        The body (its ``moments``, kg m^2).
+    w0 : ndarray, shape (N, 3)
+        Starts, rad/s; every member starts at the identity attitude.
+    q_ref : array_like, shape (N, 4)
+        Reference attitudes after ``n_steps`` (unit quaternions, scalar first, body to space),
+        from :func:`stability.reference.attitude_reference`.
+    h : float
+        Step, s.
+    n_steps : int
+        Number of steps.
+
+    Returns
+    -------
+    ndarray, shape (N,)
+        Rotation angles, rad.
     """
     from .attitude import IDENTITY, attitude_error, propagate_attitude
 
@@ -114,6 +211,28 @@ def sweep_method(spec, body, w0, w_ref, t_end, counts, budget, stop_error,
     would take the method's total (of the w runs' timed kernels) past ``budget`` seconds is
     not run; the sweep also stops once the median relative w error is below ``stop_error`` or
     has not improved for three points (the conditioning floor).
+
+    Parameters
+    ----------
+    spec : MethodSpec
+        The method.
+    body : RigidBody
+        The body (its ``moments``, kg m^2).
+    w0 : ndarray, shape (N, 3)
+        Starts, rad/s.
+    w_ref : ndarray, shape (N, 3)
+        Reference w at ``t_end``, rad/s (:func:`stability.reference.exact_final_w`).
+    t_end : float
+        Run length, s.
+    counts : array_like of int, shape (K,)
+        Step counts, ascending (:func:`step_grid`); the step is ``t_end / n``.
+    budget : float
+        Most kernel seconds the method may spend on the sweep, s.
+    stop_error : float
+        The sweep stops once the median relative w error is below this.
+    attitude : tuple of (int, ndarray), optional
+        ``(n, q_ref)``: run the first n members' attitude as well, against ``q_ref``, shape
+        (n, 4); None or n = 0 runs no attitude.
 
     Returns
     -------
@@ -159,6 +278,27 @@ def sweep_scipy(body, w0, w_ref, t_end, rtols, scale) -> list[dict]:
     The right-hand side is vectorized over members (:func:`stability.analytic.euler_system`);
     ``atol = rtol * scale``. ``evaluations`` is scipy's ``nfev`` (each call evaluates every
     member once); ``wall_time`` is the whole call, Python overhead included.
+
+    Parameters
+    ----------
+    body : RigidBody
+        The body.
+    w0 : ndarray, shape (N, 3)
+        Starts, rad/s.
+    w_ref : ndarray, shape (N, 3)
+        Reference w at ``t_end``, rad/s (:func:`stability.reference.exact_final_w`).
+    t_end : float
+        Run length, s.
+    rtols : sequence of float
+        Relative tolerances, one sweep point each.
+    scale : float
+        Typical size of w (the spin), rad/s: ``atol = rtol * scale``.
+
+    Returns
+    -------
+    list of dict
+        :func:`sweep_point` per tolerance, in the order of ``rtols``; a call that fails
+        (``sol.status != 0``) gives a point with every member failed and NaN errors.
     """
     from scipy.integrate import solve_ivp
 

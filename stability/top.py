@@ -155,14 +155,38 @@ def _symmetric(top: HeavyTop, what: str):
 
 
 def critical_spin(top: HeavyTop) -> float:
-    """``w_c = 2 sqrt(A M g l) / C`` (rad s-1): a sleeping top is stable above it."""
+    """``w_c = 2 sqrt(A M g l) / C`` (rad s-1): a sleeping top is stable above it.
+
+    Parameters
+    ----------
+    top : HeavyTop
+        A symmetric top (``top.symmetric``); otherwise ValueError.
+
+    Returns
+    -------
+    float
+        w_c, rad s-1.
+    """
     A, C, mgl = _symmetric(top, "the critical spin")
     return 2.0 * math.sqrt(A * mgl) / C
 
 
 def sleeping_growth_rate(top: HeavyTop, spin):
     """Growth rate of a sleeping top's tilt, ``sqrt(4 A M g l - C^2 w3^2) / (2 A)`` (s-1);
-    0 at and above the critical spin. ``spin`` (rad s-1) may be an array."""
+    0 at and above the critical spin. ``spin`` (rad s-1) may be an array.
+
+    Parameters
+    ----------
+    top : HeavyTop
+        A symmetric top (``top.symmetric``); otherwise ValueError.
+    spin : float or array_like
+        Spin w3 about the symmetry axis, rad s-1.
+
+    Returns
+    -------
+    ndarray
+        Growth rate, s-1, the shape of ``spin``.
+    """
     A, C, mgl = _symmetric(top, "the sleeping-top growth rate")
     w = np.asarray(spin, dtype=float)
     return np.sqrt(np.maximum(4.0 * A * mgl - (C * w) ** 2, 0.0)) / (2.0 * A)
@@ -171,7 +195,20 @@ def sleeping_growth_rate(top: HeavyTop, spin):
 def sleeping_frequencies(top: HeavyTop, spin):
     """Angular frequencies ``(C w3 -+ sqrt(C^2 w3^2 - 4 A M g l)) / (2 A)`` (rad s-1) of a
     stable sleeping top's small tilt (slow and fast precession of the tilt); NaN below the
-    critical spin."""
+    critical spin.
+
+    Parameters
+    ----------
+    top : HeavyTop
+        A symmetric top (``top.symmetric``); otherwise ValueError.
+    spin : float or array_like
+        Spin w3 about the symmetry axis, rad s-1.
+
+    Returns
+    -------
+    slow, fast : ndarray
+        The two frequencies, rad s-1, the shape of ``spin``.
+    """
     A, C, mgl = _symmetric(top, "the sleeping-top frequencies")
     w = np.asarray(spin, dtype=float)
     with np.errstate(invalid="ignore"):
@@ -182,13 +219,39 @@ def sleeping_frequencies(top: HeavyTop, spin):
 def gyroscopic_precession_rate(top: HeavyTop, spin):
     """Mean precession rate of a fast top, ``M g l / (C w3)`` (rad s-1): the leading term of
     the slow root of steady precession, ``A W^2 cos(theta) - C w3 W + M g l = 0``, for
-    ``C^2 w3^2 >> 4 A M g l cos(theta)`` (Goldstein, section 5.7)."""
+    ``C^2 w3^2 >> 4 A M g l cos(theta)`` (Goldstein, section 5.7).
+
+    Parameters
+    ----------
+    top : HeavyTop
+        A symmetric top (``top.symmetric``); otherwise ValueError.
+    spin : float or array_like
+        Spin w3 about the symmetry axis, rad s-1.
+
+    Returns
+    -------
+    ndarray
+        Precession rate, rad s-1, the shape of ``spin``.
+    """
     A, C, mgl = _symmetric(top, "the gyroscopic precession rate")
     return mgl / (C * np.asarray(spin, dtype=float))
 
 
 def gyroscopic_nutation_frequency(top: HeavyTop, spin):
-    """Nutation frequency of a fast top, ``C w3 / A`` (rad s-1)."""
+    """Nutation frequency of a fast top, ``C w3 / A`` (rad s-1).
+
+    Parameters
+    ----------
+    top : HeavyTop
+        A symmetric top (``top.symmetric``); otherwise ValueError.
+    spin : float or array_like
+        Spin w3 about the symmetry axis, rad s-1.
+
+    Returns
+    -------
+    ndarray
+        Nutation frequency, rad s-1, the shape of ``spin``.
+    """
     A, C, _ = _symmetric(top, "the gyroscopic nutation frequency")
     return C * np.asarray(spin, dtype=float) / A
 
@@ -201,6 +264,23 @@ def gyroscopic_nutation_amplitude(top: HeavyTop, spin, tilt, release=0.0):
     ``phi' = release W`` it starts off the centre's velocity by ``(1 - release) W sin(tilt)``,
     so the circle's diameter is ``2 |1 - release| A M g l sin(tilt) / (C w3)^2`` (for a release
     at rest, the cusped case, it follows from ``p_phi`` and the energy: Goldstein, section 5.7).
+
+    Parameters
+    ----------
+    top : HeavyTop
+        A symmetric top (``top.symmetric``); otherwise ValueError.
+    spin : float or array_like
+        Spin w3 about the symmetry axis, rad s-1.
+    tilt : float or array_like
+        Angle of the symmetry axis from the vertical at release, rad.
+    release : float or array_like, default 0.0
+        Precession rate phi' at release in units of ``W = M g l / (C w3)``: 0 at rest (the
+        cusped path), 1 the steady precession (no nutation).
+
+    Returns
+    -------
+    ndarray
+        Peak-to-peak nutation, rad, the broadcast shape of ``spin``, ``tilt`` and ``release``.
     """
     A, C, mgl = _symmetric(top, "the gyroscopic nutation amplitude")
     w = np.asarray(spin, dtype=float)
@@ -221,10 +301,28 @@ def tilted_starts(spin, tilt, members, *, top: HeavyTop, seed=0, tilt_rate=0.0,
     ``theta' = phi' = 0`` (the default) is the top released with no transverse angular
     velocity: the cusped path of the figure axis.
 
+    Parameters
+    ----------
+    spin : float
+        w3, rad s-1.
+    tilt : float or array_like, shape (members,)
+        Angle of body axis 3 from the vertical, rad.
+    members : int
+        Number of starts.
+    top : HeavyTop
+        The top; its moments about the pivot turn the angular velocity into ``m``.
+    seed : int, default 0
+        Seed of the azimuths.
+    tilt_rate : float, default 0.0
+        theta', rad s-1.
+    precession_rate : float or array_like, shape (members,), default 0.0
+        phi', rad s-1.
+
     Returns
     -------
     ndarray, shape (members, 6)
-        ``(m1, m2, m3, g1, g2, g3)``.
+        ``(m1, m2, m3, g1, g2, g3)``: the angular momentum about the pivot in the body frame
+        (kg m2 s-1) and the unit upward vertical in the body frame.
     """
     rng = np.random.default_rng(seed)
     azimuth = 2.0 * np.pi * rng.random(members)
@@ -247,6 +345,23 @@ def tilt_members(extras, x0, status, levels):
     estimators fit its growth exactly as they fit the perpendicular angular velocity of a
     free body; the "spin" that scales the window's upper edge is 1 (``sin`` of the largest
     tilt).
+
+    Parameters
+    ----------
+    extras : dict
+        ``Propagation.extras`` of these runs' rows, as
+        :func:`stability.estimators.tracked_members` takes them (crossings,
+        ``max_perp_amplitude`` (N,), ``passage_time`` (N, n_levels)).
+    x0 : ndarray, shape (N, 6)
+        Starts ``(m1, m2, m3, g1, g2, g3)`` (:func:`tilted_starts`).
+    status : array_like, shape (N,)
+        Per-member status codes; members not ``STATUS_OK`` are left out of every estimate.
+    levels : array_like, shape (n_levels,)
+        The ascending levels of ``passage_time``, in ``sin(tilt)`` (dimensionless).
+
+    Returns
+    -------
+    Members
     """
     from .estimators import tracked_members
 

@@ -79,14 +79,16 @@ def measure_twisting(moments, w0, *, method="lp8", steps_per_period=2000, save_e
         Canonical (ascending) moments, kg m^2, three distinct per member.
     w0 : array_like, shape (N, 3)
         Starts in rad/s, canonical frame, off the separatrix.
-    method : str
+    method : str, default "lp8"
         An attitude method (``stability.attitude.attitude_methods()``).
-    steps_per_period : int
+    steps_per_period : int, default 2000
         Steps per period T of each member's body motion; the run covers 2 T.
-    save_every : int
+    save_every : int, default 4
         Saved states every so many steps (the twist follows psi along them).
     epsilon : array_like, shape (N,), optional
         The nudges, stored with the members.
+    progress : bool or None, optional
+        Progress bar; ``None`` shows one when the run is expected to take long.
 
     Returns
     -------

@@ -45,16 +45,20 @@ def measure_free_wobble(body, spin, offset, *, members=16, periods=3.0, steps_pe
         W, rad s-1 (Earth: 2 pi / sidereal day).
     offset : float
         Angle between the rotation axis and the figure axis at the start, rad.
-    members : int
+    members : int, default 16
         Ensemble members (random directions of the offset).
-    periods : float
+    periods : float, default 3.0
         Run length in Euler periods (at least 2, for the crossings).
-    steps_per_turn : int
+    steps_per_turn : int, default 20
         Steps per turn of the body (h = 2 pi / (W steps_per_turn)).
-    method : str
+    method : str, default "lp4"
         A free-body method that carries the attitude.
-    cone_samples : int
+    seed : int, default 0
+        Seed of the random directions of the offset (:func:`stability.run_ensemble`).
+    cone_samples : int, default 1000
         Samples of the cone member over one period (about).
+    progress : bool, optional
+        Progress bars of the ensemble and of the cone member's run.
 
     Returns
     -------

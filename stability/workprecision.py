@@ -165,6 +165,25 @@ def time_to_reach(ds: xr.Dataset, workload: str, method: str, target: float,
     Among the sweep points without failed members, the cheapest one whose error is <= target;
     the time is interpolated in log-log between it and the costlier-error point before it
     (the next coarser step), since the sweep is a discrete ladder.
+
+    Parameters
+    ----------
+    ds : xarray.Dataset
+        The work-precision Dataset (:func:`work_precision_dataset`).
+    workload : str
+        ``"tennis"`` or ``"stable"`` (``WORKLOADS``).
+    method : str
+        Name in the ``method`` dimension: a registry name, or ``"dop853"`` (``SCIPY``).
+    target : float
+        Relative w error to reach, dimensionless.
+    metric : str, default "p99"
+        Statistic over members of the w error: ``"max"``, ``"p99"`` or ``"median"``.
+
+    Returns
+    -------
+    float
+        Kernel wall time for the whole ensemble, s; NaN if no sweep point without failed
+        members reaches ``target``.
     """
     sel = ds.sel({"workload": workload, "method": method})
     err = sel.w_error.sel(metric=metric).values
@@ -190,6 +209,17 @@ def fastest(ds: xr.Dataset, workload: str, target: float, metric: str = "p99"):
     """Every method's :func:`time_to_reach` ``target``, and the methods that reach it, fastest
     first.
 
+    Parameters
+    ----------
+    ds : xarray.Dataset
+        The work-precision Dataset (:func:`work_precision_dataset`).
+    workload : str
+        ``"tennis"`` or ``"stable"`` (``WORKLOADS``).
+    target : float
+        Relative w error to reach, dimensionless.
+    metric : str, default "p99"
+        Statistic over members of the w error: ``"max"``, ``"p99"`` or ``"median"``.
+
     Returns
     -------
     times : dict
@@ -207,7 +237,18 @@ def fastest(ds: xr.Dataset, workload: str, target: float, metric: str = "p99"):
 
 
 def format_time(seconds: float) -> str:
-    """Seconds in the tables' units (µs, ms, s; "–" for NaN: not reached)."""
+    """Seconds in the tables' units (µs, ms, s; "–" for NaN: not reached).
+
+    Parameters
+    ----------
+    seconds : float
+        A time in s; NaN or infinite for "not reached".
+
+    Returns
+    -------
+    str
+        ``"12 µs"`` below 1 ms, ``"3.45 ms"`` below 1 s, else ``"1.23 s"``; ``"–"`` if not finite.
+    """
     if not np.isfinite(seconds):
         return "–"
     if seconds < 1e-3:
@@ -228,6 +269,23 @@ def winner_table(ds: xr.Dataset, workload: str, metric: str = "p99", targets=TAR
     Times are kernel seconds for the whole ensemble ("–": not reached within the sweep). The
     third column leaves out the exact flow, which exists for the torque-free body only: it is
     the answer for a user who will add torques.
+
+    Parameters
+    ----------
+    ds : xarray.Dataset
+        The work-precision Dataset (:func:`work_precision_dataset`).
+    workload : str
+        ``"tennis"`` or ``"stable"`` (``WORKLOADS``).
+    metric : str, default "p99"
+        Statistic over members of the w error: ``"max"``, ``"p99"`` or ``"median"``.
+    targets : sequence of float, default TARGETS
+        Relative w errors, one row each; a target below the workload's conditioning floor is
+        marked so.
+
+    Returns
+    -------
+    str
+        The table, one row per target, one time column per method.
     """
     methods = [str(m) for m in ds.method.values]
     floor = float(ds.floor.sel(workload=workload, metric=metric))
@@ -245,7 +303,20 @@ def winner_table(ds: xr.Dataset, workload: str, metric: str = "p99", targets=TAR
 
 
 def invariants_table(ds: xr.Dataset) -> str:
-    """Markdown table of the long-horizon run: final energy and |L| errors, slope, behaviour."""
+    """Markdown table of the long-horizon run: final energy and |L| errors, slope, behaviour.
+
+    Parameters
+    ----------
+    ds : xarray.Dataset
+        The work-precision Dataset (:func:`work_precision_dataset`); methods without a
+        long-horizon run are left out.
+
+    Returns
+    -------
+    str
+        The table: per method the RMS energy and ``|L|`` errors at the end, the log-log slope
+        and :func:`stability.drift.drift_kind`.
+    """
     lines = ["| method | energy error at end | |L| error at end | log-log slope | behaviour |",
              "|---|---|---|---|---|"]
     for m in ds.method.values:
@@ -260,7 +331,21 @@ def invariants_table(ds: xr.Dataset) -> str:
 
 
 def cost_table(ds: xr.Dataset, workload: str = "tennis") -> str:
-    """Markdown table of the cost per member-step and the work per step, per method."""
+    """Markdown table of the cost per member-step and the work per step, per method.
+
+    Parameters
+    ----------
+    ds : xarray.Dataset
+        The work-precision Dataset (:func:`work_precision_dataset`).
+    workload : str, default "tennis"
+        The workload whose sweeps are read.
+
+    Returns
+    -------
+    str
+        The table: per method (scipy's DOP853 left out) its order, the median kernel time per
+        member-step (ns), the evaluations per step and the solver iterations per step.
+    """
     lines = ["| method | order | time per member-step | evaluations per step | "
              "solver iterations per step |", "|---|---|---|---|---|"]
     for m in ds.method.values:
@@ -280,7 +365,20 @@ def cost_table(ds: xr.Dataset, workload: str = "tennis") -> str:
 
 
 def attitude_table(ds: xr.Dataset) -> str:
-    """Markdown table: attitude error (p99, rad) at each method's finest step, per workload."""
+    """Markdown table: attitude error (p99, rad) at each method's finest step, per workload.
+
+    Parameters
+    ----------
+    ds : xarray.Dataset
+        The work-precision Dataset (:func:`work_precision_dataset`); methods without an
+        attitude error in every workload are left out.
+
+    Returns
+    -------
+    str
+        The table: per method and workload the finest step h run (s), its p99 attitude error
+        (rad) and its p99 relative w error.
+    """
     header = "| method | " + " | ".join(
         f"{w}: h | {w}: attitude error p99 | {w}: w error p99" for w in WORKLOADS) + " |"
     lines = [header, "|" + "---|" * (1 + 3 * len(WORKLOADS))]
@@ -304,6 +402,11 @@ def attitude_table(ds: xr.Dataset) -> str:
 def headline(ds: xr.Dataset):
     """The numbers a run ends with: the fastest method per target (tennis, p99), the floor,
     each method's long-run energy behaviour.
+
+    Parameters
+    ----------
+    ds : xarray.Dataset
+        The work-precision Dataset (:func:`work_precision_dataset`).
 
     Returns
     -------
@@ -338,7 +441,20 @@ def headline(ds: xr.Dataset):
 
 
 def markdown_report(ds: xr.Dataset) -> str:
-    """The whole Markdown report: winners per workload, the floor, costs, invariants."""
+    """The whole Markdown report: winners per workload, the floor, costs, invariants.
+
+    Parameters
+    ----------
+    ds : xarray.Dataset
+        The work-precision Dataset (:func:`work_precision_dataset`), with the attributes
+        ``body``, ``tennis_workload``, ``stable_workload`` and ``long_workload`` (and optionally
+        ``title`` and ``numba_num_threads``).
+
+    Returns
+    -------
+    str
+        The report, Markdown.
+    """
     floor = ds.floor
     parts = [
         f"# {ds.attrs.get('title', 'Work-precision study')}",

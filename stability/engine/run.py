@@ -44,6 +44,26 @@ def compiled_loop(scene, spec, compensated=True):
 
     Rendered and imported through the disk cache (:mod:`stability.engine.cache`); compiled on
     its first call in the first process, loaded from disk after that.
+
+    Parameters
+    ----------
+    scene : Scene
+        A registered scene (``stability.scenes.SCENES``).
+    spec : MethodSpec
+        A method of the scene.
+    compensated : bool, default True
+        Kahan-compensated update; False only to measure what compensation costs.
+
+    Returns
+    -------
+    numba dispatcher
+        The loop's ``advance`` function, kept for the rest of the process.
+
+    Raises
+    ------
+    ValueError
+        If the scene's kernel or its ``observe`` is not a module-level ``@njit`` function
+        bound to its own name, so the rendered loop cannot import it.
     """
     kernel = scene.kernel(spec)
     key = (scene.name, spec.name, kernel, compensated)
@@ -87,7 +107,9 @@ def loop_ready(advance, width, n_params) -> float:
 class Propagation:
     """What a propagation returns.
 
-    Attributes
+    The fields are the constructor's parameters and the instance's attributes.
+
+    Parameters
     ----------
     x_final : ndarray, shape (N, n)
         State after the last completed step.
@@ -99,14 +121,15 @@ class Propagation:
         was detected (-1 if none; see :func:`untrusted`), and the nonlinear-solver iterations.
     steps_done : int or ndarray of int, shape (G,)
         Steps completed (fewer than asked if the run was interrupted); per group for groups.
-    interrupted : bool
+    interrupted : bool, default False
         True if Ctrl-C ended the run early.
-    wall_time : float
+    wall_time : float, default 0.0
         Seconds spent in the loop, compilation excluded.
-    compile_time : float
+    compile_time : float, default 0.0
         Seconds spent compiling or loading the loop from the disk cache.
-    extras : dict
-        Tracking results (:func:`tracking_results`) and scene-specific outputs.
+    extras : dict, optional
+        Tracking results (:func:`tracking_results`) and scene-specific outputs; empty by
+        default.
     """
 
     x_final: np.ndarray

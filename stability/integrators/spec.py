@@ -45,6 +45,20 @@ def body_params(moments, h: float = 0.0) -> np.ndarray:
 
     Differences of inverse moments are formed as (I_j - I_k) / (I_j I_k), which is exact to a
     rounding for nearly symmetric bodies, where 1/I_k - 1/I_j would cancel.
+
+    Parameters
+    ----------
+    moments : array_like, shape (3,)
+        Canonical (ascending) principal moments (I1, I2, I3), kg m^2.
+    h : float, default 0.0
+        Step in s; not used by these parameters, taken so that ``body_params`` can serve as a
+        spec's ``params(moments, h)``.
+
+    Returns
+    -------
+    ndarray, shape (N_BODY_PARAMS,)
+        I1, I2, I3 (kg m^2), their inverses (kg^-1 m^-2) and A1, A2, A3 (kg^-1 m^-2), at the
+        indices ``P_I1 ... P_A3``.
     """
     I1, I2, I3 = (float(x) for x in moments)
     p = np.empty(N_BODY_PARAMS)
@@ -60,7 +74,9 @@ def body_params(moments, h: float = 0.0) -> np.ndarray:
 class MethodSpec:
     """A registered integrator: its kernel and what it declares about itself.
 
-    Attributes
+    The fields are the constructor's parameters and the instance's attributes.
+
+    Parameters
     ----------
     name : str
         Short lowercase registry key (``"rk4"``, ``"lp2"``...).

@@ -23,7 +23,17 @@ SCENES: dict[str, Scene] = {s.name: s for s in _ALL}
 
 
 def scene(name) -> Scene:
-    """The scene registered under ``name``; ValueError listing the known ones if none."""
+    """The scene registered under ``name``; ValueError listing the known ones if none.
+
+    Parameters
+    ----------
+    name : str or Scene
+        A key of :data:`SCENES`; a Scene is returned as it is.
+
+    Returns
+    -------
+    Scene
+    """
     if isinstance(name, Scene):
         return name
     try:

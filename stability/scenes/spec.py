@@ -35,7 +35,9 @@ def _own_step(spec):
 class Scene:
     """A registered scene; see the module docstring.
 
-    Attributes
+    The fields are the constructor's parameters and the instance's attributes.
+
+    Parameters
     ----------
     name : str
         Short lowercase registry key (``"free_body"``).
@@ -53,13 +55,14 @@ class Scene:
         Tracking kernel (see the module docstring).
     tracked : callable
         ``tracked(x, p, axes) -> (a, b, c)``: ``observe`` in NumPy over states ``x`` (N, n).
-    kernel : callable
+    kernel : callable, optional
         ``kernel(spec)``: this scene's stage kernel in a method's spec (default ``spec.step``).
-    invariants : mapping of str to callable
-        ``f(x, parameters) -> ndarray (N,)`` for each conserved quantity, states ``x`` (N, n).
-    exact : callable or None
+    invariants : mapping of str to callable, optional
+        ``f(x, parameters) -> ndarray (N,)`` for each conserved quantity, states ``x`` (N, n);
+        empty by default.
+    exact : callable or None, default None
         The exact solution, where one exists.
-    example : callable
+    example : callable or None, default None
         ``example(n, seed=0) -> (x0, parameters)``: ``n`` starts (n, width) and a list of
         parameter sets (each what ``spec.params`` takes), for the generic tests.
     """
