@@ -81,6 +81,7 @@ class _Links(HTMLParser):
 
 
 @pytest.mark.slow
+@pytest.mark.run_last
 def test_the_site_builds_without_warnings_and_its_internal_links_resolve(tmp_path):
     out = tmp_path / "html"
     env = dict(os.environ, STABILITY_DOCS_QUICK="1", MPLBACKEND="Agg")
