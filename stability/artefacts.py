@@ -7,7 +7,8 @@ step (:func:`measure_rule`): the fraction of members that flip, the flip interva
 rate against the exact ones (:func:`stability.estimators.flip_estimate`,
 :func:`stability.estimators.omega_squared_estimate`), the drift of the energy, of |L| and of the
 direction of the spatial angular momentum, and the measured cost per step;
-:func:`step_for_accuracy` finds the step each rule needs for a flip interval within a tolerance.
+:func:`step_for_accuracy` finds the step each rule needs for a flip interval within a tolerance
+(:func:`steps_for_accuracy`: for several quantities in one search).
 Everything in the canonical frame, spin about axis 2.
 """
 
@@ -20,7 +21,7 @@ import xarray as xr
 
 from . import conventions as cv
 from .analytic import growth_rate, omega_squared
-from .attitude import IDENTITY, quaternion_to_matrix
+from .attitude import IDENTITY, spatial_angular_momentum
 from .body import RigidBody
 from .dataset import storable_attrs
 from .engine import propagate_groups
@@ -165,7 +166,7 @@ def measure_rule(rule, moments, w0, h, t_end) -> dict:
     if q is None:
         turned = np.zeros(w0.shape[0])
     else:  # angle between the spatial angular momentum R(q) m and its start m0
-        space_l = np.einsum("nij,nj->ni", quaternion_to_matrix(q), m)
+        space_l = spatial_angular_momentum(q, m)
         turned = np.arctan2(np.linalg.norm(np.cross(space_l, m0), axis=1),
                             np.sum(space_l * m0, axis=1))
     exact_rate = float(growth_rate(body, 2, spin))
@@ -217,12 +218,37 @@ def step_for_accuracy(rule, moments, w0, t_end, h_max, tolerance=0.01, halvings=
     float
         The step in s, or NaN.
     """
+    return steps_for_accuracy(rule, moments, w0, t_end, h_max, tolerance, halvings,
+                              (quantity,))[quantity]
+
+
+def steps_for_accuracy(rule, moments, w0, t_end, h_max, tolerance=0.01, halvings=20,
+                       quantities=("flip_interval_error", "energy_drift")) -> dict:
+    """:func:`step_for_accuracy` for several quantities in one search: each trial step is run
+    once for all of them, and the search stops when every quantity has its step.
+
+    Parameters
+    ----------
+    rule, moments, w0, t_end, h_max, tolerance, halvings
+        As in :func:`step_for_accuracy`.
+    quantities : sequence of str, default ("flip_interval_error", "energy_drift")
+        Keys of :func:`measure_rule`'s result to test.
+
+    Returns
+    -------
+    dict
+        Each quantity's step in s, or NaN.
+    """
+    found = dict.fromkeys(quantities, math.nan)
     for k in range(2 * halvings + 1):
         steps = int(round(t_end * 2.0 ** (0.5 * k) / h_max))
-        error = measure_rule(rule, moments, w0, t_end / steps, t_end)[quantity]
-        if abs(error) <= tolerance:
-            return t_end / steps
-    return math.nan
+        result = measure_rule(rule, moments, w0, t_end / steps, t_end)
+        for quantity in quantities:
+            if math.isnan(found[quantity]) and abs(result[quantity]) <= tolerance:
+                found[quantity] = t_end / steps
+        if not any(math.isnan(h) for h in found.values()):
+            break
+    return found
 
 
 def measure_artefacts(rules, moments, w0, steps, t_end, *, tolerance=0.01, search_members=64,
@@ -262,8 +288,9 @@ def measure_artefacts(rules, moments, w0, steps, t_end, *, tolerance=0.01, searc
         for j, h in enumerate(steps):
             for name, value in measure_rule(rule, moments, w0, h, t_end).items():
                 table[name][i, j] = value
-    needed = np.array([[step_for_accuracy(rule, moments, w0[:search_members], t_end, steps[0],
-                                          tolerance, halvings, quantity) for rule in rules]
+    searches = [steps_for_accuracy(rule, moments, w0[:search_members], t_end, steps[0],
+                                   tolerance, halvings) for rule in rules]
+    needed = np.array([[found[quantity] for found in searches]
                        for quantity in ("flip_interval_error", "energy_drift")])
     trace_h = steps[0]
     traces = []

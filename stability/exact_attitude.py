@@ -246,7 +246,24 @@ def nutation_spin(m):
     """
     m = np.asarray(m, dtype=float)
     theta = np.arctan2(np.hypot(m[..., 1], m[..., 2]), m[..., 0])
-    return theta, np.arctan2(m[..., 1], m[..., 2])
+    return theta, spin_angle(m)
+
+
+def spin_angle(m):
+    """The spin angle psi = atan2(m2, m3): the body's turn about its smallest-moment axis.
+
+    Parameters
+    ----------
+    m : array_like, shape (..., 3)
+        Body angular momenta, canonical frame, kg m^2/s (only the direction matters).
+
+    Returns
+    -------
+    ndarray, shape (...)
+        psi in rad, in [-pi, pi].
+    """
+    m = np.asarray(m, dtype=float)
+    return np.arctan2(m[..., 1], m[..., 2])
 
 
 def l_frame(m0, q0) -> np.ndarray:

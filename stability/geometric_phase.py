@@ -30,9 +30,10 @@ import math
 
 import numpy as np
 
-from .attitude import quaternion_conjugate, quaternion_multiply, quaternion_to_matrix
+from .attitude import (quaternion_conjugate, quaternion_multiply, quaternion_to_matrix,
+                       spatial_angular_momentum)
 from .exact import MAJOR, PRECESS3
-from .exact_attitude import FreeMotion, l_frame, precession_rate
+from .exact_attitude import FreeMotion, l_frame, precession_rate, spin_angle
 from .roots import bracketed_newton
 
 TWO_PI = 2.0 * math.pi
@@ -142,10 +143,6 @@ def montgomery_formula(fm: FreeMotion) -> tuple[float, float, float]:
     return float(wrap(dynamic - s)), dynamic, s
 
 
-def _psi(m):
-    return np.arctan2(m[..., 1], m[..., 2])
-
-
 def _continuous_change(psi) -> np.ndarray:
     """Change of an angle sampled densely enough along the last axis (wrapped increments)."""
     return np.sum(wrap(np.diff(psi, axis=-1)), axis=-1)
@@ -207,8 +204,8 @@ def exact_angles(motions, t_near) -> dict:
 
     half = bracketed_newton(window, *_window_bracket(moments, momentum))
     s = np.linspace(-1.0, 1.0, _PSI_SAMPLES)
-    twist = np.array([_continuous_change(_psi(fm.m(f + d * s))) if np.isfinite(f + d) else np.nan
-                      for fm, f, d in zip(motions, flip, half)])
+    twist = np.array([_continuous_change(spin_angle(fm.m(f + d * s)))
+                      if np.isfinite(f + d) else np.nan for fm, f, d in zip(motions, flip, half)])
     return {
         "montgomery": wrap(np.array([fm.phi(fm.period) for fm in motions])),
         "montgomery_formula": formula[:, 0],
@@ -265,7 +262,7 @@ def run_angles(runs, period, t_near) -> dict:
             times[rows, np.minimum(k_period, times.shape[1] - 1)], period, rtol=1e-12):
         raise ValueError("the run must reach each member's period T at a saved step: take h = "
                          "T / n with n a multiple of save_every, over at least n steps")
-    space_l = np.einsum("nij,nj->ni", quaternion_to_matrix(q0), m0)
+    space_l = spatial_angular_momentum(q0, m0)
     montgomery = rotation_about(q0, x[rows, k_period, 3:], space_l)
 
     raw = _handle_azimuth(a[:, None, :], x[..., 3:])
@@ -298,12 +295,12 @@ def run_angles(runs, period, t_near) -> dict:
     half = np.where(fits, bracketed_newton(window, lo, hi), np.nan)
     start = np.nan_to_num(flip - half)
     end = np.nan_to_num(flip + half)
-    psi_start = _psi(runs.state_at(start)[:, :3])
-    psi_end = _psi(runs.state_at(end)[:, :3])
+    psi_start = spin_angle(runs.state_at(start)[:, :3])
+    psi_end = spin_angle(runs.state_at(end)[:, :3])
     inside = (times > start[:, None]) & (times < end[:, None])
     twist = np.empty(n)
     for j in range(n):  # psi along the saved states inside the window, then its ends
-        path = np.concatenate([[psi_start[j]], _psi(x[j, inside[j], :3]), [psi_end[j]]])
+        path = np.concatenate([[psi_start[j]], spin_angle(x[j, inside[j], :3]), [psi_end[j]]])
         twist[j] = _continuous_change(path)
     return {
         "montgomery": montgomery,

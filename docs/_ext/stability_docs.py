@@ -214,7 +214,7 @@ def api_page() -> str:
 def _first_line(module_name) -> str:
     doc = importlib.import_module(f"stability.{module_name}").__doc__ or ""
     line = doc.strip().splitlines()[0].rstrip(".") + "." if doc.strip() else ""
-    return "".join(p if p.startswith("``") else p.replace("|", "\\|") for p in _LITERAL.split(line))
+    return _escape_bars(line)
 
 
 def generate(app=None) -> None:
@@ -236,14 +236,16 @@ def generate(app=None) -> None:
 _LITERAL = re.compile(r"(``.*?``)")
 
 
-def escape_bars(app, what, name, obj, options, lines) -> None:
+def _escape_bars(line: str) -> str:
     """The docstrings write norms as |L| (plain text, as the terminal shows them); outside
     literals, escape the bars so that reStructuredText does not read substitutions."""
-    for i, line in enumerate(lines):
-        if "|" in line:
-            parts = _LITERAL.split(line)
-            lines[i] = "".join(p if p.startswith("``") else p.replace("|", "\\|")
-                               for p in parts)
+    return "".join(p if p.startswith("``") else p.replace("|", "\\|")
+                   for p in _LITERAL.split(line))
+
+
+def escape_bars(app, what, name, obj, options, lines) -> None:
+    """Autodoc hook: :func:`_escape_bars` on every docstring line."""
+    lines[:] = [_escape_bars(line) for line in lines]
 
 
 def setup(app):

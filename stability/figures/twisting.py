@@ -9,7 +9,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..attitude import quaternion_to_matrix
+from ..attitude import quaternion_to_matrix, spatial_angular_momentum
 from .style import AXIS_COLORS, label, new_figure, styled
 
 #: A stylised racket in its body frame (handle along axis 1, head across axis 2), metres.
@@ -70,8 +70,8 @@ def flip_figure(ds):
     fig = new_figure(1.9 * n, 3.0)
     axes = fig.subplots(1, n, sharey=True)
     head, handle = _outline()
-    space_l = quaternion_to_matrix(ds.snapshot_q.values[0]) @ (
-        ds.moments.values[0] * ds.w0.values[0])
+    space_l = spatial_angular_momentum(ds.snapshot_q.values[0],
+                                       ds.moments.values[0] * ds.w0.values[0])
     z = space_l / np.linalg.norm(space_l)
     x = np.cross([0.0, 1.0, 0.0], z) if abs(z[1]) < 0.9 else np.cross([1.0, 0.0, 0.0], z)
     x /= np.linalg.norm(x)
