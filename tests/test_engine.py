@@ -145,6 +145,20 @@ def test_loops_load_from_disk_and_compile_again_when_a_kernel_changes(tmp_path):
     assert edited["x"][1:] == first["x"][1:]
 
 
+def test_processes_that_need_one_loop_at_once_compile_it_once(tmp_path):
+    """Two processes start together on an empty cache: one compiles the loop while the other
+    waits on the loop's lock file, then loads that compile from disk."""
+    (tmp_path / "decay.py").write_text(textwrap.dedent(KERNEL.format(factor="1.0")))
+    (tmp_path / "script.py").write_text(SCRIPT)
+    env = dict(os.environ, STABILITY_CACHE_DIR=str(tmp_path / "cache"))
+    both = [subprocess.Popen([sys.executable, str(tmp_path / "script.py"), str(tmp_path)],
+                             stdout=subprocess.PIPE, text=True, env=env) for _ in range(2)]
+    outputs = [json.loads(p.communicate()[0].strip().splitlines()[-1]) for p in both]
+    assert all(p.returncode == 0 for p in both)
+    assert sorted((o["misses"], o["hits"]) for o in outputs) == [(0, 1), (1, 0)]
+    assert outputs[0]["x"] == outputs[1]["x"]
+
+
 def test_block_table_covers_every_active_member_once_and_splits_the_last_groups():
     from stability.engine.run import MIN_BLOCK, block_table
 

@@ -11,7 +11,10 @@ made of: the rendered source and the text of every module it reaches (the kernel
 scene's, and the package modules those refer to, followed through their globals). Editing any of
 them gives a new name, hence a fresh compile; unchanged sources give the same name and a cache
 hit. Files are written atomically (a temporary name, then ``os.replace``), so processes that
-render the same loop at once (dask workers, a crashed run) never see half a file.
+render the same loop at once (dask workers, a crashed run) never see half a file, and the first
+compile of a loop holds a lock file beside it (:func:`compiling`), so processes that need the
+same loop at once (test workers, dask workers on one machine) compile it once: the others wait,
+then load it from disk.
 
 The directory is ``$STABILITY_CACHE_DIR`` if set, else ``$XDG_CACHE_HOME/stability`` (by default
 ``~/.cache/stability``), with a ``loops`` folder inside; on a cluster, point
@@ -20,6 +23,7 @@ The directory is ``$STABILITY_CACHE_DIR`` if set, else ``$XDG_CACHE_HOME/stabili
 
 from __future__ import annotations
 
+import contextlib
 import hashlib
 import importlib.util
 import marshal
@@ -28,6 +32,11 @@ import sys
 import tempfile
 from pathlib import Path
 from types import ModuleType
+
+try:  # POSIX; elsewhere each process compiles for itself
+    import fcntl
+except ImportError:  # pragma: no cover - Windows
+    fcntl = None
 
 #: Environment variable naming the cache directory.
 CACHE_ENV = "STABILITY_CACHE_DIR"
@@ -115,3 +124,27 @@ def load_module(stem: str, source: str, roots, code=()) -> ModuleType:
         del sys.modules[name]
         raise
     return module
+
+
+@contextlib.contextmanager
+def compiling(function):
+    """Hold an exclusive lock on ``<module>.lock`` beside the file defining ``function``.
+
+    Numba looks for the function's machine code on disk when it is called without it, so a
+    process that waited here for another one's compile of the same loop loads that compile
+    instead of repeating it. Without ``fcntl`` (Windows) or a writable folder, nothing is held.
+    """
+    path = Path(function.py_func.__code__.co_filename).with_suffix(".lock")
+    try:
+        handle = open(path, "a") if fcntl is not None else None
+    except OSError:
+        handle = None
+    if handle is None:
+        yield
+        return
+    with handle:
+        fcntl.flock(handle, fcntl.LOCK_EX)
+        try:
+            yield
+        finally:
+            fcntl.flock(handle, fcntl.LOCK_UN)

@@ -25,7 +25,7 @@ import numba
 import numpy as np
 
 from ..scenes import scene as registered_scene
-from .cache import load_module
+from .cache import compiling, load_module
 from .loop import BLOCK, CHECK_EVERY, N_TRACK, T_FIRST_A, T_FIRST_B, T_LAST_A, T_LAST_B
 from .loop import T_MAX_AMP2, T_NEXT_LEVEL, T_PREV_A, T_PREV_AMP2, T_PREV_B, T_COUNT_A
 from .loop import T_COUNT_B, level_thresholds, render
@@ -90,7 +90,9 @@ def compiled_loop(scene, spec, compensated=True):
 def loop_ready(advance, width, n_params) -> float:
     """Compile or load ``advance`` for the standard argument types; the seconds it took."""
     t0 = time.perf_counter()
-    if not advance.signatures:
+    if advance.signatures:
+        return time.perf_counter() - t0
+    with compiling(advance):  # one process compiles; the others then load its machine code
         i64 = np.int64
         one = np.zeros((1, width))
         advance(
