@@ -92,8 +92,8 @@ SCHEMA = Schema(
                 unit="s", minimum=0.0, exclusive_minimum=True),
             Key("h_min", "float", 1e-4, "smallest step tried", unit="s", minimum=0.0,
                 exclusive_minimum=True),
-            Key("per_octave", "int", 2, "step sizes per halving of h", minimum=1),
-            Key("budget", "float", 12.0,
+            Key("per_octave", "int", 1, "step sizes per halving of h", minimum=1),
+            Key("budget", "float", 6.0,
                 "kernel seconds per method and workload; a step size whose predicted time "
                 "would exceed it is not run", unit="s", minimum=0.0, exclusive_minimum=True),
             Key("stop_error", "float", 1e-13,
