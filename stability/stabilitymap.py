@@ -19,9 +19,7 @@ from __future__ import annotations
 
 import math
 import time
-from concurrent.futures import Future, ThreadPoolExecutor
 
-import numba
 import numpy as np
 import xarray as xr
 
@@ -144,35 +142,42 @@ def measure_map(bodies, omega2, t_end, levels, specs, runs, *, spin, epsilon, me
             exact_flip[s, a] = est.exact_flip_intervals(bodies[s], a, starts[a])
         return exact_flip[s, a]
 
-    def estimates(cells, ensembles):
-        batch = []
-        for (s, a), run in zip(cells, ensembles):
-            exact, asymptote = exact_flips(s, a, run.variables["w0"].values)
-            x = ensemble_estimates(run, omega2[s, a - 1], exact, asymptote,
-                                   low_factor=low_factor, high_fraction=high_fraction)
-            batch.append((run.attrs["members"] * run.attrs["steps_done"],
-                          run.attrs["wall_time"], x))
-        return batch
-
     out, half = empty_estimates(len(specs), n_shapes)
     first_exact = {}
     total = sum(len(shapes) for _, _, shapes, _ in runs) * 3
     bar = progress_bar(total, progress, "stability_map", unit="ensemble")
-    work = {"member_steps": 0, "loop_time": 0.0}
+    member_steps, loop_time = 0, 0.0
     started = time.time()
-
-    def collect(j, cells, batch, fresh):
-        """Keep batch j (on disk if it was run here) and put its estimates in the arrays."""
-        i, _, _, is_half = runs[j]
-        if isinstance(batch, Future):
-            batch = batch.result()
-        if fresh and checkpoint is not None:
-            write_batch(checkpoint, j, batch)
-            checkpoint.report("running", j + 1, j + 1, (j + 1) / (time.time() - started),
-                              started)
+    # Every ensemble of one method and step in one batch: all cores busy, each ensemble bitwise
+    # what it gives alone.
+    for j, (i, h, shapes, is_half) in enumerate(runs):
+        cells = [(s, a) for s in shapes for a in cv.AXES]
+        if checkpoint is not None and checkpoint.verify(j):  # done by an earlier, stopped run
+            batch = read_batch(checkpoint.path(j), len(cells))
+        else:
+            ensembles = run_ensembles([
+                dict(body=bodies[s], axis=int(a), spin=spin, epsilon=epsilon, members=members,
+                     h=h, t_end=max(1, int(math.ceil(t_end[s, a - 1] / h - 1e-9))) * h,
+                     seed=seed, method=specs[i].name, summaries_only=True, levels=levels,
+                     command=command)
+                for s, a in cells], progress=False)
+            batch = []
+            for (s, a), run in zip(cells, ensembles):
+                if run.attrs["interrupted"]:  # Ctrl-C stopped the batch: stop the map
+                    bar.close()
+                    raise KeyboardInterrupt
+                exact, asymptote = exact_flips(s, a, run.variables["w0"].values)
+                x = ensemble_estimates(run, omega2[s, a - 1], exact, asymptote,
+                                       low_factor=low_factor, high_fraction=high_fraction)
+                batch.append((run.attrs["members"] * run.attrs["steps_done"],
+                              run.attrs["wall_time"], x))
+            if checkpoint is not None:
+                write_batch(checkpoint, j, batch)
+                checkpoint.report("running", j + 1, j + 1, (j + 1) / (time.time() - started),
+                                  started)
         for (s, a), (steps, seconds, x) in zip(cells, batch):
-            work["member_steps"] += steps
-            work["loop_time"] += seconds
+            member_steps += steps
+            loop_time += seconds
             store(half if is_half else out, (i, s, a - 1), x)
             if specs[i].is_exact and not is_half:
                 first_exact[s, a] = x["first_flip_time"]
@@ -180,44 +185,8 @@ def measure_map(bodies, omega2, t_end, levels, specs, runs, *, spin, epsilon, me
                 out["first_flip_time_relative_error"][i, s, a - 1] = (
                     first_flip_relative_error(x["first_flip_time"], first_exact[s, a]))
         bar.update(len(cells))
-
-    # Every ensemble of one method and step in one batch: all cores busy, each ensemble bitwise
-    # what it gives alone. With more than one thread, a batch's estimates (Python, about a
-    # third of the map's time on one core) are worked out in a helper thread while the next
-    # batch runs in compiled code, which holds no interpreter lock.
-    overlap = numba.get_num_threads() > 1
-    pending = None  # (j, cells, batch or its Future, run here)
-    try:
-        with ThreadPoolExecutor(max_workers=1) as helper:
-            for j, (i, h, shapes, is_half) in enumerate(runs):
-                cells = [(s, a) for s in shapes for a in cv.AXES]
-                if checkpoint is not None and checkpoint.verify(j):  # done by a stopped run
-                    this = (j, cells, read_batch(checkpoint.path(j), len(cells)), False)
-                else:
-                    ensembles = run_ensembles([
-                        dict(body=bodies[s], axis=int(a), spin=spin, epsilon=epsilon,
-                             members=members, h=h,
-                             t_end=max(1, int(math.ceil(t_end[s, a - 1] / h - 1e-9))) * h,
-                             seed=seed, method=specs[i].name, summaries_only=True,
-                             levels=levels, command=command)
-                        for s, a in cells], progress=False)
-                    if any(run.attrs["interrupted"] for run in ensembles):
-                        raise KeyboardInterrupt  # Ctrl-C stopped the batch: stop the map
-                    this = (j, cells, helper.submit(estimates, cells, ensembles) if overlap
-                            else estimates(cells, ensembles), True)
-                previous, pending = pending, this
-                if previous is not None:
-                    collect(*previous)
-            previous, pending = pending, None
-            if previous is not None:
-                collect(*previous)
-    except KeyboardInterrupt:
-        if pending is not None:  # the last batch that finished is kept for --resume
-            collect(*pending)
-        raise
-    finally:
-        bar.close()
-    return out, half, work
+    bar.close()
+    return out, half, {"member_steps": member_steps, "loop_time": loop_time}
 
 
 def write_batch(checkpoint, j: int, batch) -> None:
