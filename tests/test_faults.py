@@ -251,7 +251,10 @@ def test_stopped_map_resumes_to_the_map_of_an_uninterrupted_run(tmp_path):
     import xarray as xr
 
     study = str(ROOT / "studies" / "stability_map.toml")
-    args = ["--quick", "--members", "256", "--no-progress", "--set", "output.figures=false"]
+    # lp2 at h = 0.01 makes the batches after the first take seconds, so the signal sent once
+    # the first batch is kept lands while a later one runs.
+    args = ["--quick", "--members", "256", "--no-progress", "--set", "output.figures=false",
+            "--set", "integration.h=[0.1, 0.01, 0.1]"]
 
     def cmd(out, *more):
         return [sys.executable, "-m", "stability", "run", study, *args, "--out", str(out), *more]
