@@ -201,7 +201,13 @@ def _terminate_as_interrupt():
         return terminated
 
     def handler(signum, frame):
+        from .engine.run import request_stop
+
         terminated.set()
+        if request_stop():  # a run in progress ends after its chunk in flight
+            return
+        if signal.getsignal(signal.SIGINT) is signal.SIG_IGN:  # started as a background job
+            raise KeyboardInterrupt
         signal.raise_signal(signal.SIGINT)  # whatever handles Ctrl-C now handles this too
 
     signal.signal(signal.SIGTERM, handler)

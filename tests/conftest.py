@@ -1,8 +1,18 @@
 """Fixtures shared by the tests."""
 
+import signal
+
 import pytest
 
 import stability
+
+
+def pytest_configure(config):
+    """Give the suite a terminal's Ctrl-C. A suite started as a background job of a script
+    (``.ci/run &``) inherits SIGINT ignored, and so would every ``stability run`` the fault
+    tests start and then send a real SIGINT to, as from a terminal."""
+    if signal.getsignal(signal.SIGINT) is signal.SIG_IGN:
+        signal.signal(signal.SIGINT, signal.default_int_handler)
 
 
 @pytest.fixture

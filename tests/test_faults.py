@@ -246,6 +246,31 @@ def test_bad_output_names_are_refused_before_computing(tmp_path, dataset, messag
     assert [p.name for p in (tmp_path / "out").iterdir()] == ["folder"]
 
 
+@pytest.mark.parametrize("phase", ["integrate", "write"])
+def test_sigterm_stops_a_run_started_with_ctrl_c_ignored(earlier, tmp_path, phase):
+    """A background job of a script (``stability run ... &``) starts with SIGINT ignored, as
+    the shell asks; SIGTERM, a batch system's stop, still stops it cleanly in every phase
+    (it used to be passed on as a SIGINT, which such a process ignores)."""
+    out = tmp_path / "out"
+    shutil.copytree(earlier, out)
+    before = snapshot(out)
+    args, _, in_phase, delay = PHASES[phase]
+    previous = signal.signal(signal.SIGINT, signal.SIG_IGN)  # inherited, as from `cmd &`
+    try:
+        proc = start([*args, "--out", str(out), "--overwrite"])
+    finally:
+        signal.signal(signal.SIGINT, previous)
+    lines = Lines(proc)
+    wait_until(lambda: in_phase(out, lines), proc)
+    time.sleep(delay)
+    proc.send_signal(signal.SIGTERM)
+    proc.wait(timeout=60)
+    err = lines.wait_done()
+    assert proc.returncode == 143, err
+    assert err[-1].startswith("stability run: SIGTERM: interrupted; nothing was published"), err
+    assert snapshot(out) == before and temporaries(out) == []
+
+
 def test_stopped_map_resumes_to_the_map_of_an_uninterrupted_run(tmp_path):
     import numpy as np
     import xarray as xr

@@ -424,9 +424,17 @@ class _Interrupt:
     requested = False
 
 
+#: The flags of the runs in progress in the main thread, innermost last.
+_RUNNING: list = []
+
+
 @contextlib.contextmanager
 def deferred_interrupt():
-    """Turn Ctrl-C into a flag checked between chunks, so no half-finished chunk is lost."""
+    """Turn Ctrl-C into a flag checked between chunks, so no half-finished chunk is lost.
+
+    A process that was started with Ctrl-C ignored (a background job of a script) keeps it
+    ignored; :func:`request_stop` still reaches the run.
+    """
     flag = _Interrupt()
     if threading.current_thread() is not threading.main_thread():
         yield flag
@@ -435,11 +443,24 @@ def deferred_interrupt():
     def handler(signum, frame):
         flag.requested = True
 
-    previous = signal.signal(signal.SIGINT, handler)
+    ignored = signal.getsignal(signal.SIGINT) is signal.SIG_IGN
+    previous = None if ignored else signal.signal(signal.SIGINT, handler)
+    _RUNNING.append(flag)
     try:
         yield flag
     finally:
-        signal.signal(signal.SIGINT, previous)
+        _RUNNING.remove(flag)
+        if not ignored:
+            signal.signal(signal.SIGINT, previous)
+
+
+def request_stop() -> bool:
+    """Stop the run in progress as Ctrl-C does, after its chunk in flight (a signal handler
+    calls this); False when no run is in progress."""
+    if not _RUNNING:
+        return False
+    _RUNNING[-1].requested = True
+    return True
 
 
 def _progress_bar(total, initial, label, unit):
