@@ -439,19 +439,16 @@ def deferred_interrupt():
     if threading.current_thread() is not threading.main_thread():
         yield flag
         return
-
-    def handler(signum, frame):
-        flag.requested = True
-
-    ignored = signal.getsignal(signal.SIGINT) is signal.SIG_IGN
-    previous = None if ignored else signal.signal(signal.SIGINT, handler)
-    _RUNNING.append(flag)
+    previous = signal.getsignal(signal.SIGINT)
+    _RUNNING.append(flag)  # before the handler, so no Ctrl-C finds the list without it
     try:
+        if previous is not signal.SIG_IGN:
+            signal.signal(signal.SIGINT, lambda signum, frame: request_stop())
         yield flag
     finally:
-        _RUNNING.remove(flag)
-        if not ignored:
+        if previous is not signal.SIG_IGN:
             signal.signal(signal.SIGINT, previous)
+        _RUNNING.remove(flag)
 
 
 def request_stop() -> bool:
