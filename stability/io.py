@@ -15,7 +15,7 @@ from __future__ import annotations
 import contextlib
 import os
 import uuid
-from concurrent.futures import ThreadPoolExecutor, wait
+from concurrent.futures import ThreadPoolExecutor
 from pathlib import Path
 
 import numpy as np
@@ -121,14 +121,14 @@ def save(ds: xr.Dataset, path, overwrite: bool = False, compress: bool = True) -
 
 
 def _write_in_thread(ds: xr.Dataset, path: Path, encoding: dict) -> None:
-    """:func:`_write` in a worker thread; on Ctrl-C, let it end, then raise the interrupt."""
+    """:func:`_write` in a worker thread; on Ctrl-C, let it end, then raise the interrupt.
+
+    The shutdown waits for the write whenever the interrupt comes, even while ``submit`` is
+    still starting the thread, so the caller's clean-up never runs before the file is closed.
+    """
     pool = ThreadPoolExecutor(max_workers=1)
-    written = pool.submit(_write, ds, path, encoding)
     try:
-        written.result()
-    except KeyboardInterrupt:
-        wait([written])
-        raise
+        pool.submit(_write, ds, path, encoding).result()
     finally:
         pool.shutdown(wait=True)
 
