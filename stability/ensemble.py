@@ -403,9 +403,6 @@ def run_ensemble(
     >>> float(ds.mean_flip_interval.median())  # doctest: +SKIP
     28.7
     """
-    if attitude and store is not None:
-        raise ValueError("attitude=True is not streamed to disk; leave store out (attitude runs "
-                         "hold their time series in memory)")
     if store is not None:
         from .stream import run_streamed
 
@@ -415,7 +412,7 @@ def run_ensemble(
             starts=starts, summaries_only=summaries_only, levels=levels,
             divergence_tolerance=divergence_tolerance, max_memory=max_memory,
             chunk_members=chunk_members, chunk_steps=chunk_steps, config=config,
-            command=command, device=device,
+            command=command, device=device, attitude=attitude,
         )
         return run_streamed(kwargs, store, resume=resume, scheduler=scheduler, threads=threads,
                             progress=progress)
@@ -735,6 +732,7 @@ def _dataset(plan: _Plan, run, threads):
     attrs = provenance_attrs(title, body, spec, h, command)
     attrs.update(
         {
+            "scene": "free_body_attitude" if run.q is not None else "free_body",
             "axis": a + 1,
             "start_kind": start_kind,
             **({"spin": spin, "epsilon": epsilon} if start_kind != "given" else {}),

@@ -53,7 +53,7 @@ def run_streamed(kwargs: dict, store, *, resume=False, scheduler=None, threads=N
     ----------
     kwargs : dict
         Keyword arguments of :func:`stability.run_ensemble` (without ``threads``,
-        ``progress``, ``store``, ``resume``, ``scheduler`` and ``attitude``).
+        ``progress``, ``store``, ``resume`` and ``scheduler``).
     store : str or path-like
         Folder of the chunk files; created if missing.
     resume : bool, default False

@@ -39,15 +39,19 @@ def in_memory():
     return stability.run_ensemble(**RUN)
 
 
-@pytest.mark.parametrize("chunk, save", [(256, None), (700, None), (100, 50)])
-def test_stored_run_is_the_in_memory_run(in_memory, tmp_path, chunk, save):
-    run = dict(RUN, summaries_only=save is None, save_every=save or 1)
+@pytest.mark.parametrize("chunk, save, attitude",
+                         [(256, None, False), (700, None, False), (100, 50, False),
+                          (300, 50, True)])
+def test_stored_run_is_the_in_memory_run(in_memory, tmp_path, chunk, save, attitude):
+    run = dict(RUN, summaries_only=save is None, save_every=save or 1, attitude=attitude)
     reference = in_memory if save is None else stability.run_ensemble(**run)
     ds = stability.run_ensemble(**run, store=tmp_path / "s", chunk_members=chunk)
     assert ds.flip_count.chunks is not None  # dask arrays: read a chunk at a time
     assert_same_members(reference, ds.load())
     assert ds.attrs["members"] == 700 and ds.attrs["chunks"] == -(-700 // chunk)
     assert ds.attrs["title"].startswith("700-member ensemble")
+    assert ds.attrs["scene"] == ("free_body_attitude" if attitude else "free_body")
+    assert ("q" in ds) == attitude
     progress = read_progress(tmp_path / "s")
     assert progress["state"] == "finished" and progress["members_done"] == 700
 

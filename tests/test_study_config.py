@@ -46,6 +46,18 @@ BAD = {
     "unknown method": (
         '[integration]\nmethod = "euler"\n', ['method must be one of "rk4"', '"lp2"', '"euler"']
     ),
+    "unknown scene": (
+        '[integration]\nscene = "heavy_top"\n',
+        ['scene must be one of "free_body", "free_body_attitude"', '"heavy_top"'],
+    ),
+    "method without attitude": (
+        '[integration]\nscene = "free_body_attitude"\nmethod = "exact"\n',
+        ["[integration] method must carry the attitude", "rk4", "'exact'"],
+    ),
+    "attitude on the gpu": (
+        '[integration]\nscene = "free_body_attitude"\n[run]\ndevice = "gpu"\n',
+        ["[run] device must be 'cpu' with scene = 'free_body_attitude'"],
+    ),
     "unknown preset": ('[body]\npreset = "bat"\n', ['preset must be one of', '"tennis_racket"']),
     "axis out of range": ("[spin]\naxis = 4\n", ["axis must be one of 1, 2, 3", "got 4"]),
     "short moments": ("[body]\nmoments = [1.0, 2.0]\n", ["moments must be a list of 3 numbers"]),

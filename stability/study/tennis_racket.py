@@ -43,6 +43,10 @@ AXIS_NAMES = MOMENT_NAMES
 FIGURES = ("fig1_flips", "fig2_polhodes", "fig3_growth", "fig4_flip_intervals")
 
 
+#: Scenes the study runs on: the same w either way; the second adds each member's attitude.
+SCENE_NAMES = ("free_body", "free_body_attitude")
+
+
 def _method_names() -> tuple:
     from ..integrators import METHODS
 
@@ -77,7 +81,10 @@ SCHEMA = Schema(
             Key("seed", "int", 1, "seed of the random directions (numpy SeedSequence entropy)",
                 minimum=0),
         )),
-        Section("integration", "the integrator and the time grid", (
+        Section("integration", "what is integrated, the integrator and the time grid", (
+            Key("scene", "str", "free_body",
+                "what is integrated: w alone (free_body), or w and each member's attitude q "
+                "(free_body_attitude, with a method that carries it)", choices=SCENE_NAMES),
             Key("method", "str", "rk4", "integrator (stability methods lists them)",
                 choices=_method_names),
             Key("h", "float", 2e-3, "step", unit="s", minimum=0.0, exclusive_minimum=True),
@@ -141,9 +148,21 @@ def check(config: dict, source: str) -> dict:
         _body(config)
     except ValueError as exc:
         raise ConfigError(str(exc), source, "body") from None
+    if _attitude(config):
+        from ..attitude import attitude_methods
+
+        if integ["method"] not in attitude_methods():
+            raise ConfigError(
+                f"must carry the attitude with scene = 'free_body_attitude': one of "
+                f"{', '.join(attitude_methods())}, got {integ['method']!r}",
+                source, "integration", "method")
+        if config["run"]["device"] != "cpu":
+            raise ConfigError("must be 'cpu' with scene = 'free_body_attitude' (the GPU loop "
+                              "carries w alone)", source, "run", "device")
     from ..ensemble import DEFAULT_MAX_MEMORY, ensemble_memory, format_bytes
 
-    memory = ensemble_memory(config["ensemble"]["members"], n_steps // integ["save_every"])
+    memory = ensemble_memory(config["ensemble"]["members"], n_steps // integ["save_every"],
+                             attitude=_attitude(config))
     if memory > DEFAULT_MAX_MEMORY:  # the analysis and figures hold the whole time series
         raise ConfigError(
             f"the time series of {config['ensemble']['members']} members would take "
@@ -164,7 +183,7 @@ def expected_bytes(config: dict) -> int:
 
     integ = config["integration"]
     saved = round(integ["t_end"] / integ["h"]) // integ["save_every"]
-    return 2 * ensemble_memory(config["ensemble"]["members"], saved)
+    return 2 * ensemble_memory(config["ensemble"]["members"], saved, attitude=_attitude(config))
 
 
 def outputs(config: dict) -> list[str]:
@@ -202,7 +221,8 @@ def run(config: dict, out_dir: Path, *, overwrite=False, threads=None, progress=
     spin = config["spin"]["rate"]
     ens, integ = config["ensemble"], config["integration"]
     steps = round(integ["t_end"] / integ["h"])
-    memory = stability.ensemble_memory(ens["members"], steps // integ["save_every"])
+    memory = stability.ensemble_memory(ens["members"], steps // integ["save_every"],
+                                       attitude=_attitude(config))
     say(f"{body.name}: {ens['members']} members x {steps} steps of {integ['method']} "
         f"(h = {integ['h']:g} s), w kept every {integ['save_every']} steps: "
         f"{format_bytes(memory)} of results")
@@ -240,7 +260,7 @@ def _ensemble(config, body, axis, work, resume, scheduler, threads, progress, co
         members=ens["members"], h=integ["h"], t_end=integ["t_end"], seed=ens["seed"],
         method=integ["method"], save_every=integ["save_every"],
         chunk_members=config["run"]["chunk_members"], config=config, command=command,
-        device=config["run"]["device"],
+        device=config["run"]["device"], attitude=_attitude(config),
     )
     lazy = run_streamed(kwargs, work, resume=resume, scheduler=scheduler, threads=threads,
                         progress=progress, compress=False)
@@ -251,6 +271,11 @@ def _ensemble(config, body, axis, work, resume, scheduler, threads, progress, co
         {cv.MEMBER: (cv.MEMBER, np.arange(member.size, dtype=np.int64), member.attrs)})
     ds.attrs["config_toml"] = config_toml(config)  # this run's (a resumed run's may differ)
     return ds
+
+
+def _attitude(config: dict) -> bool:
+    """Whether the run carries each member's attitude (scene ``free_body_attitude``)."""
+    return config["integration"]["scene"] == "free_body_attitude"
 
 
 def _reporter(progress):
@@ -332,6 +357,13 @@ def summarize(ds, out_dir, files, wall, t_ensemble) -> StudySummary:
          f"{values['max_flip_interval_rel_error']:.1e}", ""),
         ("max |relative energy error|", f"{values['max_energy_error']:.1e}", ""),
         ("max |relative |L| error|", f"{values['max_angular_momentum_error']:.1e}", ""),
+    ]
+    if "attitude_error" in ds:  # scene free_body_attitude
+        values["max_attitude_error"] = float(np.nanmax(ds.attitude_error.values[ok])) \
+            if n_ok else math.nan
+        rows.append(("max attitude error, angle to the exact attitude",
+                     f"{values['max_attitude_error']:.1e}", "rad"))
+    rows += [
         ("wall time (all: compile, run, analysis, files)", f"{wall:.1f}", "s"),
         ("  integration / Numba compile", f"{loop:.2f} / {values['compile_time']:.1f}", "s"),
         (f"member-steps per second ({n} x {steps} steps)",
