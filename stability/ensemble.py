@@ -430,7 +430,7 @@ def run_ensemble(
         return _dataset(plan, run, threads)
 
 
-def run_ensembles(calls, *, threads=None, progress=None) -> list:
+def run_ensembles(calls, *, threads=None, progress=None, datasets=True) -> list:
     """Run many ensembles together, each exactly as :func:`run_ensemble` runs it alone.
 
     The ensembles that share a method (and the kind of output) are advanced in one parallel call
@@ -448,10 +448,14 @@ def run_ensembles(calls, *, threads=None, progress=None) -> list:
         Numba threads for the whole batch.
     progress : bool, optional
         Progress bar per call of the loop.
+    datasets : bool, default True
+        False: each summaries-only ensemble comes back as an :class:`EnsembleSummary` (what the
+        estimators need) instead of its Dataset, about 1 ms less per ensemble, for maps of
+        thousands of small ensembles.
 
     Returns
     -------
-    list of xarray.Dataset
+    list of xarray.Dataset or EnsembleSummary
         In the order of ``calls``. If Ctrl-C stopped the batch, the Datasets of the ensembles it
         stopped say so (``interrupted``), as :func:`run_ensemble`'s do.
     """
@@ -463,6 +467,8 @@ def run_ensembles(calls, *, threads=None, progress=None) -> list:
             raise ValueError(f"calls[{k}]: {sorted(bad)[0]} is set for the whole batch, not per "
                              "ensemble; pass it to run_ensembles")
         plans.append(_plan(**call))
+        if not (datasets or plans[-1].summaries_only):
+            raise ValueError(f"calls[{k}]: datasets=False needs summaries_only=True")
     batches: dict = {}
     for k, plan in enumerate(plans):
         # Time series run one ensemble at a time, so each stays within its max_memory.
@@ -474,7 +480,50 @@ def run_ensembles(calls, *, threads=None, progress=None) -> list:
         for indices in batches.values():
             for k, run in zip(indices, _run([plans[k] for k in indices], progress)):
                 runs[k] = run
+        if not datasets:
+            return [_summary(plan, run) for plan, run in zip(plans, runs)]
         return [_dataset(plan, run, threads) for plan, run in zip(plans, runs)]
+
+
+@dataclass(frozen=True)
+class EnsembleSummary:
+    """A summaries-only ensemble without its Dataset (:func:`run_ensembles`, ``datasets=False``).
+
+    Attributes
+    ----------
+    members : stability.estimators.Members
+        What the estimators take, as ``estimators.members`` gives it from the Dataset.
+    status : ndarray of int8, shape (N,)
+    energy_error : ndarray, shape (N,)
+        Relative energy error at the end, per member (NaN for failed members).
+    member_steps : int
+        Members times the steps done.
+    wall_time : float
+        Seconds in compiled code.
+    interrupted : bool
+        Ctrl-C stopped the ensemble before its end.
+    """
+
+    members: object
+    status: np.ndarray
+    energy_error: np.ndarray
+    member_steps: int
+    wall_time: float
+    interrupted: bool
+
+
+def _summary(plan: _Plan, run) -> EnsembleSummary:
+    """The :class:`EnsembleSummary` of one summaries-only ensemble, from its plan and run."""
+    from .estimators import summary_members
+
+    axis = plan.a + 1
+    spin = (abs(float(plan.spin)) if plan.start_kind != "given"
+            else float(np.nanmedian(np.abs(run.w0[:, plan.a]))))  # as estimators.members
+    members = summary_members(run.summaries, plan.levels, axis, spin, w0=run.w0,
+                              ok=np.asarray(run.status) == cv.STATUS_OK)
+    return EnsembleSummary(members, np.asarray(run.status, dtype=np.int8),
+                           np.asarray(run.summaries["energy_error"], dtype=float),
+                           run.members * run.steps_done, run.wall_time, run.interrupted)
 
 
 @dataclass

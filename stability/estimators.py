@@ -112,6 +112,9 @@ FIRST_PERP_CROSSING = "first_perp_crossing"
 LAST_PERP_CROSSING = "last_perp_crossing"
 MAX_PERP = "max_perp_amplitude"
 W0 = "w0"
+#: The per-member summaries besides the passage times.
+_TRACKED = (AXIS_CROSSINGS, FIRST_AXIS_CROSSING, LAST_AXIS_CROSSING, PERP_CROSSINGS,
+            FIRST_PERP_CROSSING, LAST_PERP_CROSSING, MAX_PERP)
 
 
 @dataclass
@@ -304,43 +307,76 @@ def _members_from_series(ds, axis, spin):
 
 
 def _members_from_summaries(ds, axis, spin):
-    missing = [
-        name
-        for name in (AXIS_CROSSINGS, FIRST_AXIS_CROSSING, LAST_AXIS_CROSSING, PERP_CROSSINGS,
-                     FIRST_PERP_CROSSING, LAST_PERP_CROSSING, MAX_PERP)
-        if name not in ds
-    ]
+    missing = [name for name in _TRACKED if name not in ds]
     if missing:
         raise ValueError(f"summaries-only Dataset lacks {', '.join(missing)}")
-    passage = ds.variables[PASSAGE].transpose(cv.MEMBER, LEVEL)
-    levels = np.asarray(ds.variables[LEVEL].values, dtype=float)
-    if levels.ndim != 1 or np.any(np.diff(levels) <= 0):
-        raise ValueError(f"'{LEVEL}' must be ascending amplitude levels in rad/s")
     w0 = None
     if W0 in ds:
         w0 = np.asarray(ds.variables[W0].transpose(cv.MEMBER, cv.AXIS).values, dtype=float)
     axis = _spin_axis(ds, axis, w0)
     spin = _spin_value(ds, spin, w0, axis)
+    # The Variables, not DataArrays: ~10x cheaper for many small ensembles.
+    summaries = {name: ds.variables[name].transpose(cv.MEMBER).values for name in _TRACKED}
+    summaries[PASSAGE] = ds.variables[PASSAGE].transpose(cv.MEMBER, LEVEL).values
+    n = summaries[PASSAGE].shape[0]
+    a0 = None
+    if w0 is None:
+        if "epsilon" not in ds.attrs:
+            raise ValueError("summaries-only Dataset needs 'w0' (member, axis) or "
+                             "attrs['epsilon']")
+        a0 = np.full(n, float(ds.attrs["epsilon"]) * spin)
+    return summary_members(summaries, ds.variables[LEVEL].values, axis, spin, w0=w0, a0=a0,
+                           ok=_status_ok(ds, n), member=np.asarray(ds.variables[cv.MEMBER].values))
+
+
+def summary_members(summaries, levels, axis: int, spin: float, *, w0=None, a0=None, ok=None,
+                    member=None) -> Members:
+    """Members from the member loop's tracked summaries, with or without their Dataset.
+
+    Parameters
+    ----------
+    summaries : mapping of str to ndarray
+        The summaries-only variables by name (:data:`stability.dataset.SUMMARIES`): shape (N,),
+        ``passage_time`` (N, n_levels); counts as floats, NaN for masked members.
+    levels : array_like, shape (n_levels,)
+        Ascending amplitude levels of ``passage_time``, rad/s.
+    axis : int
+        Spin axis, 1-based.
+    spin : float
+        Spin in rad/s.
+    w0 : ndarray, shape (N, 3), optional
+        Starts, rad/s; the initial perpendicular amplitude comes from it.
+    a0 : ndarray, shape (N,), optional
+        Initial perpendicular amplitude, rad/s, when there is no ``w0``.
+    ok : ndarray of bool, shape (N,), optional
+        Members whose status is ok; default all.
+    member : ndarray, shape (N,), optional
+        Member labels; default 0 ... N - 1.
+
+    Returns
+    -------
+    Members
+    """
+    levels = np.asarray(levels, dtype=float)
+    if levels.ndim != 1 or np.any(np.diff(levels) <= 0):
+        raise ValueError(f"'{LEVEL}' must be ascending amplitude levels in rad/s")
+
+    def get(name):
+        return np.asarray(summaries[name], dtype=float)
+
+    def count(name):  # counts are stored as float with NaN for masked members
+        return np.nan_to_num(get(name), nan=0.0).astype(np.int64)
+
+    passage = get(PASSAGE)
     n = passage.shape[0]
     if w0 is not None:
         b, c = perpendicular_axes(axis)
         a0 = np.hypot(w0[:, b - 1], w0[:, c - 1])
-    elif "epsilon" in ds.attrs:
-        a0 = np.full(n, float(ds.attrs["epsilon"]) * spin)
-    else:
-        raise ValueError("summaries-only Dataset needs 'w0' (member, axis) or attrs['epsilon']")
-
-    def get(name):  # the Variable, not a DataArray: ~10x cheaper for many small ensembles
-        return np.asarray(ds.variables[name].transpose(cv.MEMBER).values, dtype=float)
-
-    def count(name):  # counts may be stored as float with NaN for masked members
-        return np.nan_to_num(get(name), nan=0.0).astype(np.int64)
-
+    ok = np.ones(n, dtype=bool) if ok is None else ok
     return Members(
-        axis=axis, spin=spin, member=np.asarray(ds.variables[cv.MEMBER].values), a0=a0,
-        valid=_status_ok(ds, n) & np.isfinite(get(MAX_PERP)), t=None, amp=None, levels=levels,
-        passage=np.asarray(passage.values, dtype=float),
-        axis_crossings=count(AXIS_CROSSINGS), first_axis=get(FIRST_AXIS_CROSSING),
+        axis=axis, spin=spin, member=np.arange(n) if member is None else member, a0=a0,
+        valid=ok & np.isfinite(get(MAX_PERP)), t=None, amp=None, levels=levels,
+        passage=passage, axis_crossings=count(AXIS_CROSSINGS), first_axis=get(FIRST_AXIS_CROSSING),
         last_axis=get(LAST_AXIS_CROSSING), perp_crossings=count(PERP_CROSSINGS),
         first_perp=get(FIRST_PERP_CROSSING), last_perp=get(LAST_PERP_CROSSING),
         max_perp=get(MAX_PERP), w0=w0,
@@ -1202,5 +1238,5 @@ __all__ = [
     "flip_estimate", "flip_statistics", "growth_line", "measured_frequency",
     "measured_growth_rate", "measured_omega_squared", "member_regimes", "members",
     "omega_squared_estimate", "perpendicular_amplitude", "perpendicular_axes",
-    "richardson_bias", "sign_change_times", "tracked_members", "zero_crossings",
+    "richardson_bias", "sign_change_times", "summary_members", "tracked_members", "zero_crossings",
 ]

@@ -48,14 +48,15 @@ MAP_FLOATS = (
 )
 
 
-def ensemble_estimates(run: xr.Dataset, analytic: float, exact=None, asymptote=None, *,
+def ensemble_estimates(run, analytic: float, exact=None, asymptote=None, *,
                        low_factor, high_fraction) -> dict:
     """Every number the map keeps of one summaries-only ensemble.
 
     Parameters
     ----------
-    run : xarray.Dataset
-        :func:`stability.run_ensemble` with ``summaries_only=True``.
+    run : xarray.Dataset or stability.ensemble.EnsembleSummary
+        :func:`stability.run_ensemble` with ``summaries_only=True``, or the same ensemble from
+        :func:`stability.ensemble.run_ensembles` with ``datasets=False``.
     analytic : float
         Analytic Omega^2, s-2.
     exact, asymptote : ndarray, shape (N,), optional
@@ -70,18 +71,20 @@ def ensemble_estimates(run: xr.Dataset, analytic: float, exact=None, asymptote=N
         :func:`stability.estimators.flip_estimate`, and ``members_failed``, ``status`` (the
         worst member status) and ``energy_error_max``.
     """
-    mem = est.members(run)
+    if isinstance(run, xr.Dataset):
+        mem, status, energy = (est.members(run), run.variables["status"].values,
+                               run.variables["energy_error"].values)
+    else:
+        mem, status, energy = run.members, run.status, run.energy_error
     e = est.omega_squared_estimate(mem, analytic, low_factor=low_factor,
                                    high_fraction=high_fraction)
     f = est.flip_estimate(mem, exact, asymptote)
-    status = run.variables["status"].values
     return {**f, **e, "members_failed": int(np.sum(status != cv.STATUS_OK)),
-            "status": int(np.max(status)),
-            "energy_error_max": _nanmax_abs(run.variables["energy_error"].values)}
+            "status": int(np.max(status)), "energy_error_max": _nanmax_abs(energy)}
 
 
 def measure_map(bodies, omega2, t_end, levels, specs, runs, *, spin, epsilon, members, seed,
-                low_factor, high_fraction, progress=None, command=None, checkpoint=None):
+                low_factor, high_fraction, progress=None, checkpoint=None):
     """Run every ensemble of the map and keep its estimates.
 
     Every (shape, axis) runs ``members`` starts ``spin e_a`` nudged by ``epsilon spin`` in the
@@ -106,8 +109,6 @@ def measure_map(bodies, omega2, t_end, levels, specs, runs, *, spin, epsilon, me
         The growth-rate window.
     progress : bool, optional
         Progress bar over the ensembles; by default on a terminal.
-    command : str, optional
-        The command, for the ensembles' history.
     checkpoint : stability.store.ChunkStore, optional
         One chunk per entry of ``runs``: the estimates of each finished batch are kept there,
         and batches found there are not run again (``stability run --resume``).
@@ -158,19 +159,17 @@ def measure_map(bodies, omega2, t_end, levels, specs, runs, *, spin, epsilon, me
             ensembles = run_ensembles([
                 dict(body=bodies[s], axis=int(a), spin=spin, epsilon=epsilon, members=members,
                      h=h, t_end=max(1, int(math.ceil(t_end[s, a - 1] / h - 1e-9))) * h,
-                     seed=seed, method=specs[i].name, summaries_only=True, levels=levels,
-                     command=command)
-                for s, a in cells], progress=False)
+                     seed=seed, method=specs[i].name, summaries_only=True, levels=levels)
+                for s, a in cells], progress=False, datasets=False)
             batch = []
             for (s, a), run in zip(cells, ensembles):
-                if run.attrs["interrupted"]:  # Ctrl-C stopped the batch: stop the map
+                if run.interrupted:  # Ctrl-C stopped the batch: stop the map
                     bar.close()
                     raise KeyboardInterrupt
-                exact, asymptote = exact_flips(s, a, run.variables["w0"].values)
+                exact, asymptote = exact_flips(s, a, run.members.w0)
                 x = ensemble_estimates(run, omega2[s, a - 1], exact, asymptote,
                                        low_factor=low_factor, high_fraction=high_fraction)
-                batch.append((run.attrs["members"] * run.attrs["steps_done"],
-                              run.attrs["wall_time"], x))
+                batch.append((run.member_steps, run.wall_time, x))
             if checkpoint is not None:
                 write_batch(checkpoint, j, batch)
                 checkpoint.report("running", j + 1, j + 1, (j + 1) / (time.time() - started),

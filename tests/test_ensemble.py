@@ -438,6 +438,47 @@ def test_ensembles_run_together_are_bitwise_the_ensembles_run_alone():
             assert np.array_equal(a, b, equal_nan=a.dtype.kind == "f"), name
 
 
+def test_summaries_without_datasets_are_what_the_estimators_read_from_the_datasets():
+    """run_ensembles(datasets=False): each EnsembleSummary holds bitwise the Members,
+    status and energy errors the Dataset of the same ensemble gives, for random and given
+    starts, and the map's estimates of both are the same numbers."""
+    import dataclasses
+
+    from stability import estimators as est
+    from stability.ensemble import EnsembleSummary, run_ensembles
+    from stability.stabilitymap import ensemble_estimates
+
+    calls = [
+        dict(body=BODY, axis=2, spin=1.0, epsilon=1e-3, members=70, h=0.02, t_end=30.0,
+             summaries_only=True, method="rk4"),
+        dict(body=BODY, axis=3, starts=[[0.01, 0.0, 1.0], [0.0, 0.02, -1.0]], h=0.05,
+             t_end=40.0, summaries_only=True, method="rk4"),
+        dict(body=BODY, axis=1, spin=2.0, epsilon=0.05, members=9, h=0.05, t_end=20.0,
+             summaries_only=True, method="rk4", seed=3),
+    ]
+    for call, ds, summary in zip(calls, run_ensembles(calls), run_ensembles(calls,
+                                                                             datasets=False)):
+        assert isinstance(summary, EnsembleSummary) and not summary.interrupted
+        assert summary.member_steps == ds.attrs["members"] * ds.attrs["steps_done"]
+        np.testing.assert_array_equal(summary.status, ds.status.values)
+        np.testing.assert_array_equal(summary.energy_error, ds.energy_error.values)
+        mem = est.members(ds)
+        for field in dataclasses.fields(mem):
+            a, b = getattr(mem, field.name), getattr(summary.members, field.name)
+            if isinstance(a, np.ndarray):
+                assert a.dtype == b.dtype and np.array_equal(a, b, equal_nan=a.dtype.kind == "f"
+                                                             ), field.name
+            else:
+                assert a == b, field.name
+        kw = dict(low_factor=10.0, high_fraction=0.03)
+        x, y = ensemble_estimates(ds, -1.0, **kw), ensemble_estimates(summary, -1.0, **kw)
+        assert x.keys() == y.keys()
+        for key in x:
+            assert np.array_equal(x[key], y[key], equal_nan=True), key
+    with pytest.raises(ValueError, match=r"calls\[0\]: datasets=False needs summaries_only"):
+        run_ensembles([dict(calls[0], summaries_only=False)], datasets=False)
+
+
 def test_run_ensembles_refuses_settings_of_the_whole_batch_per_call():
     from stability.ensemble import run_ensembles
 

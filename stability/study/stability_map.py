@@ -277,7 +277,7 @@ def compute(config: dict, progress=None, work_dir=None, resume=False):
     out, half, work = smap.measure_map(
         bodies, omega2, t_end, levels, specs, runs, spin=spin, epsilon=eps, members=members,
         seed=seed, low_factor=ana["window_low"], high_fraction=ana["window_high"],
-        progress=progress, command=f"stability run ({NAME})", checkpoint=checkpoint)
+        progress=progress, checkpoint=checkpoint)
 
     p = np.array([spec.order if not spec.is_exact else np.inf for spec in specs])
     with np.errstate(invalid="ignore", divide="ignore"):
