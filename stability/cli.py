@@ -191,6 +191,24 @@ def main(argv=None) -> int:
         return EXIT_USAGE
 
 
+def console() -> int:
+    """The ``stability`` console script (and ``python -m stability``): :func:`main`, with the
+    garbage collector tuned for one command in a short-lived process.
+
+    numba, xarray and matplotlib hold about 250,000 objects, which every full collection walks
+    (0.07 s each). The youngest generation is collected every 10,000 allocations instead of
+    700, so that the imports and the run set off no full collection (0.43 s of collections in
+    the tennis study, 0.18 s now); at the end the objects are frozen out of the collector
+    (:func:`gc.freeze`), so that the interpreter's passes on the way out skip them (0.5 s).
+    """
+    import gc
+
+    gc.set_threshold(10_000, 10, 10)
+    status = main()
+    gc.freeze()
+    return status
+
+
 def _terminate_as_interrupt():
     """Make SIGTERM stop a run as Ctrl-C does (cleanly); return the event it sets."""
     import signal
