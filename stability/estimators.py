@@ -455,7 +455,7 @@ def _points(mem: Members, low, high):
         t = np.where(inside, mem.t[None, :], np.nan)
         a = np.where(inside, amp, np.nan)
         return t, a
-    levels = mem.levels[None, :]
+    levels = mem.levels if mem.levels.ndim == 2 else mem.levels[None, :]  # per row: stacked
     inside = (levels >= low) & (levels < high) & np.isfinite(mem.passage)
     t = np.where(inside, mem.passage, np.nan)
     a = np.where(inside, levels, np.nan)
@@ -887,13 +887,93 @@ def omega_squared_estimate(mem: Members, analytic=None, *, low_factor=WINDOW_LOW
     dict
         The estimates named above; Omega^2 in s-2, rates in s-1, frequencies in rad/s.
     """
-    regime, _, _, drift = _classify(mem)
-    rate = _member_rates(mem, regime, low_factor, high_fraction)
-    freq = _member_frequencies(mem, regime)
+    return omega_squared_estimates([mem], [analytic], low_factor=low_factor,
+                                   high_fraction=high_fraction)[0]
+
+
+def omega_squared_estimates(mems, analytic=None, *, low_factor=WINDOW_LOW_FACTOR,
+                            high_fraction=WINDOW_HIGH_FRACTION) -> list:
+    """:func:`omega_squared_estimate` of many ensembles, bitwise the same numbers.
+
+    The per-member fits of every summaries-only ensemble with the same number of levels run in
+    one pass of array operations over all their members (row by row, as for one ensemble), so
+    that thousands of small ensembles (the stability map) do not each pay numpy's per-call cost.
+
+    Parameters
+    ----------
+    mems : sequence of Members
+    analytic : sequence of float, optional
+        Analytic Omega^2 of each ensemble, s-2.
+    low_factor, high_fraction : float
+        The growth-rate window (:func:`omega_squared_estimate`).
+
+    Returns
+    -------
+    list of dict
+        :func:`omega_squared_estimate` of each ensemble, in order.
+    """
+    mems = list(mems)
+    analytic = [None] * len(mems) if analytic is None else list(analytic)
+    out = [None] * len(mems)
+    for indices in _stacks(mems):
+        mem = mems[indices[0]] if len(indices) == 1 else _stacked([mems[k] for k in indices])
+        regime, _, _, drift = _classify(mem)
+        rate = _member_rates(mem, regime, low_factor, high_fraction)
+        freq = _member_frequencies(mem, regime)
+        lo = 0
+        for k in indices:
+            rows = slice(lo, lo + mems[k].a0.size)
+            lo = rows.stop
+            out[k] = _omega_squared_of(regime[rows], rate[rows], freq[rows], drift[rows],
+                                       mems[k].valid, analytic[k])
+    return out
+
+
+#: Members fitted together at most: the fits' temporaries then stay in the CPU's cache.
+_STACK_ROWS = 2048
+
+
+def _stacks(mems) -> list:
+    """Indices of ``mems`` fitted together: summaries-only ensembles with the same number of
+    levels, up to :data:`_STACK_ROWS` members; a time series alone."""
+    stacks, open_stacks = [], {}
+    for k, mem in enumerate(mems):
+        if mem.amp is not None:
+            stacks.append([k])
+            continue
+        key = mem.levels.size
+        stack = open_stacks.get(key)
+        if stack is None or stack[1] + mem.a0.size > _STACK_ROWS:
+            stack = open_stacks[key] = [[], 0]
+            stacks.append(stack[0])
+        stack[0].append(k)
+        stack[1] += mem.a0.size
+    return stacks
+
+
+def _stacked(mems) -> Members:
+    """The members of summaries-only ensembles (same number of levels) one after another;
+    the spin and the levels become per-row arrays."""
+    def rows(name):
+        return np.concatenate([getattr(m, name) for m in mems])
+
+    return Members(
+        axis=0, spin=np.concatenate([np.full(m.a0.size, m.spin) for m in mems]),
+        member=rows("member"), a0=rows("a0"), valid=rows("valid"), t=None, amp=None,
+        levels=np.concatenate([np.broadcast_to(m.levels, m.passage.shape) for m in mems]),
+        passage=rows("passage"), axis_crossings=rows("axis_crossings"),
+        first_axis=rows("first_axis"), last_axis=rows("last_axis"),
+        perp_crossings=rows("perp_crossings"), first_perp=rows("first_perp"),
+        last_perp=rows("last_perp"), max_perp=rows("max_perp"), w0=None,
+    )
+
+
+def _omega_squared_of(regime, rate, freq, drift, valid, analytic) -> dict:
+    """One ensemble's Omega^2 estimate from its members' regimes, rates and frequencies."""
     r_mean, r_se, r_n = _mean_stderr(rate)
     f_mean, f_se, f_n = _mean_stderr(freq)
     d_mean, _, _ = _mean_stderr(drift)
-    ens = _ensemble_regime(regime, mem.valid)
+    ens = _ensemble_regime(regime, valid)
     n_fitted = 0
     if ens == REGIME_EXPONENTIAL and r_n:
         value, err, n_fitted = -(r_mean**2), 2.0 * r_mean * r_se, r_n
@@ -1237,6 +1317,6 @@ __all__ = [
     "WINDOW_LOW_FACTOR", "analyse_ensemble", "complementary_moduli", "exact_flip_intervals",
     "flip_estimate", "flip_statistics", "growth_line", "measured_frequency",
     "measured_growth_rate", "measured_omega_squared", "member_regimes", "members",
-    "omega_squared_estimate", "perpendicular_amplitude", "perpendicular_axes",
+    "omega_squared_estimate", "omega_squared_estimates", "perpendicular_amplitude", "perpendicular_axes",
     "richardson_bias", "sign_change_times", "summary_members", "tracked_members", "zero_crossings",
 ]

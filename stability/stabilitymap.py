@@ -71,16 +71,43 @@ def ensemble_estimates(run, analytic: float, exact=None, asymptote=None, *,
         :func:`stability.estimators.flip_estimate`, and ``members_failed``, ``status`` (the
         worst member status) and ``energy_error_max``.
     """
-    if isinstance(run, xr.Dataset):
-        mem, status, energy = (est.members(run), run.variables["status"].values,
-                               run.variables["energy_error"].values)
-    else:
-        mem, status, energy = run.members, run.status, run.energy_error
-    e = est.omega_squared_estimate(mem, analytic, low_factor=low_factor,
-                                   high_fraction=high_fraction)
-    f = est.flip_estimate(mem, exact, asymptote)
-    return {**f, **e, "members_failed": int(np.sum(status != cv.STATUS_OK)),
-            "status": int(np.max(status)), "energy_error_max": _nanmax_abs(energy)}
+    return batch_estimates([run], [analytic], [(exact, asymptote)], low_factor=low_factor,
+                           high_fraction=high_fraction)[0]
+
+
+def batch_estimates(runs, analytic, flips, *, low_factor, high_fraction) -> list:
+    """:func:`ensemble_estimates` of many ensembles, their member fits in one pass.
+
+    Parameters
+    ----------
+    runs : sequence of xarray.Dataset or stability.ensemble.EnsembleSummary
+    analytic : sequence of float
+        Analytic Omega^2 of each, s-2.
+    flips : sequence of (exact, asymptote)
+        Each ensemble's exact flip intervals and their asymptotes, or (None, None).
+    low_factor, high_fraction : float
+        The growth-rate window.
+
+    Returns
+    -------
+    list of dict
+        :func:`ensemble_estimates` of each ensemble, in order.
+    """
+    gathered = []
+    for run in runs:
+        if isinstance(run, xr.Dataset):
+            gathered.append((est.members(run), run.variables["status"].values,
+                             run.variables["energy_error"].values))
+        else:
+            gathered.append((run.members, run.status, run.energy_error))
+    omega = est.omega_squared_estimates([mem for mem, _, _ in gathered], analytic,
+                                        low_factor=low_factor, high_fraction=high_fraction)
+    out = []
+    for (mem, status, energy), e, (exact, asymptote) in zip(gathered, omega, flips):
+        f = est.flip_estimate(mem, exact, asymptote)
+        out.append({**f, **e, "members_failed": int(np.sum(status != cv.STATUS_OK)),
+                    "status": int(np.max(status)), "energy_error_max": _nanmax_abs(energy)})
+    return out
 
 
 def measure_map(bodies, omega2, t_end, levels, specs, runs, *, spin, epsilon, members, seed,
@@ -161,15 +188,15 @@ def measure_map(bodies, omega2, t_end, levels, specs, runs, *, spin, epsilon, me
                      h=h, t_end=max(1, int(math.ceil(t_end[s, a - 1] / h - 1e-9))) * h,
                      seed=seed, method=specs[i].name, summaries_only=True, levels=levels)
                 for s, a in cells], progress=False, datasets=False)
-            batch = []
-            for (s, a), run in zip(cells, ensembles):
-                if run.interrupted:  # Ctrl-C stopped the batch: stop the map
-                    bar.close()
-                    raise KeyboardInterrupt
-                exact, asymptote = exact_flips(s, a, run.members.w0)
-                x = ensemble_estimates(run, omega2[s, a - 1], exact, asymptote,
-                                       low_factor=low_factor, high_fraction=high_fraction)
-                batch.append((run.member_steps, run.wall_time, x))
+            if any(run.interrupted for run in ensembles):  # Ctrl-C stopped the batch: stop
+                bar.close()
+                raise KeyboardInterrupt
+            estimates = batch_estimates(
+                ensembles, [omega2[s, a - 1] for s, a in cells],
+                [exact_flips(s, a, run.members.w0) for (s, a), run in zip(cells, ensembles)],
+                low_factor=low_factor, high_fraction=high_fraction)
+            batch = [(run.member_steps, run.wall_time, x)
+                     for run, x in zip(ensembles, estimates)]
             if checkpoint is not None:
                 write_batch(checkpoint, j, batch)
                 checkpoint.report("running", j + 1, j + 1, (j + 1) / (time.time() - started),

@@ -33,6 +33,44 @@ def test_ensemble_estimates_of_an_unstable_axis():
     assert 0 <= x["energy_error_max"] < 1e-6
 
 
+def test_estimates_of_many_ensembles_are_bitwise_those_of_each_alone(monkeypatch):
+    """batch_estimates fits the members of many ensembles together (in stacks, each row as
+    alone): every estimate of every ensemble is bitwise ensemble_estimates' of it alone, over
+    stable and unstable axes, two level grids, member counts that cut the stacks, a
+    time-series ensemble and a failed member."""
+    from stability import estimators
+
+    monkeypatch.setattr(estimators, "_STACK_ROWS", 40)  # stacks of two or three ensembles
+    runs, analytic, flips = [], [], []
+    for k, (axis, members, per_decade) in enumerate(
+            [(2, 16, 8), (1, 16, 8), (3, 9, 8), (2, 20, 4), (1, 16, 4), (2, 16, 8)]):
+        run = stability.run_ensemble(
+            BODY, axis, SPIN, EPS, members, h=0.1, t_end=60.0, seed=k, method="rk4",
+            summaries_only=True, levels=amplitude_levels(SPIN, EPS, per_decade),
+            progress=False)
+        runs.append(run)
+        analytic.append(float(stability.omega_squared(BODY, axis, SPIN)))
+        flips.append(exact_flip_intervals(BODY, axis, run.w0.values) if axis == 2
+                     else (None, None))
+    runs[0]["status"][3] = 2  # a member that failed
+    runs.append(stability.run_ensemble(BODY, 2, SPIN, 1e-3, 8, h=0.1, t_end=40.0, seed=9,
+                                       method="rk4", progress=False))
+    analytic.append(analytic[0])
+    flips.append((None, None))
+    kw = dict(low_factor=30.0, high_fraction=0.03)
+    together = smap.batch_estimates(runs, analytic, flips, **kw)
+    # By level grid, at most 40 members a stack, the time series alone.
+    assert estimators._stacks([estimators.members(r) for r in runs]) == [[0, 1], [2, 5],
+                                                                          [3, 4], [6]]
+    for run, a, (exact, asymptote), x in zip(runs, analytic, flips, together):
+        alone = smap.ensemble_estimates(run, a, exact, asymptote, **kw)
+        assert alone.keys() == x.keys()
+        for key in alone:
+            assert np.array_equal(alone[key], x[key], equal_nan=True), key
+    assert together[0]["members_failed"] == 1
+    assert together[1]["regime"] != together[0]["regime"]  # stable and unstable both in
+
+
 def test_store_fills_the_arrays_it_knows():
     out, half = smap.empty_estimates(2, 3)
     assert set(smap.MAP_FLOATS) <= set(out) and set(half) == {"omega_squared_measured", "regime"}
