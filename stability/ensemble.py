@@ -489,7 +489,9 @@ def run_ensembles(calls, *, threads=None, progress=None, datasets=True) -> list:
 class EnsembleSummary:
     """A summaries-only ensemble without its Dataset (:func:`run_ensembles`, ``datasets=False``).
 
-    Attributes
+    The fields are the constructor's parameters and the instance's attributes.
+
+    Parameters
     ----------
     members : stability.estimators.Members
         What the estimators take, as ``estimators.members`` gives it from the Dataset.
