@@ -227,8 +227,43 @@ def attitude_methods() -> tuple[str, ...]:
     return tuple(SCENES["free_body_attitude"].methods)
 
 
-def _attitude_spec(method):
-    """The MethodSpec of ``method``; ValueError naming the others if it cannot carry q."""
+#: The free body's scenes, picked by name (``run_ensemble``, ``integrate``, the tennis study):
+#: w alone, or w and the body-to-space attitude q.
+FREE_BODY_SCENES = ("free_body", "free_body_attitude")
+
+
+def carries_attitude(scene) -> bool:
+    """Whether the free-body scene ``scene`` carries the attitude; ValueError if it is none.
+
+    Parameters
+    ----------
+    scene : str
+        A name of :data:`FREE_BODY_SCENES`.
+
+    Returns
+    -------
+    bool
+        True for ``"free_body_attitude"``.
+    """
+    if scene not in FREE_BODY_SCENES:
+        raise ValueError(
+            f"scene must be one of {', '.join(map(repr, FREE_BODY_SCENES))} (the free body "
+            f"without and with its attitude; the torqued and struck bodies are run by their own "
+            f"functions and studies), got {scene!r}")
+    return scene == "free_body_attitude"
+
+
+def attitude_spec(method):
+    """The MethodSpec of ``method``; ValueError naming the others if it cannot carry q.
+
+    Parameters
+    ----------
+    method : str or MethodSpec
+
+    Returns
+    -------
+    MethodSpec
+    """
     spec = method_spec(method)
     if not spec.attitude:
         raise ValueError(
@@ -281,7 +316,7 @@ def propagate_attitude(
         If the method cannot carry the attitude, or q0 has the wrong shape.
     """
     scene = SCENES["free_body_attitude"]
-    spec = _attitude_spec(method)
+    spec = attitude_spec(method)
     moments = real_array("moments", moments, "kg m^2")
     perm, signs = canonical_frame(moments)
     m = to_canonical(np.atleast_2d(real_array("m0", m0, "kg m2/s")), perm, signs)
@@ -417,7 +452,7 @@ def propagate_attitudes(method, moments, m0, q0, h, n_steps, save_every=1, progr
     KeyboardInterrupt
         If Ctrl-C stopped the run (a partial run is not returned).
     """
-    spec = _attitude_spec(method)
+    spec = attitude_spec(method)
     moments = np.atleast_2d(real_array("moments", moments, "kg m^2"))
     n = moments.shape[0]
     if moments.shape[1:] != (3,) or np.any(np.diff(moments, axis=1) < 0.0):

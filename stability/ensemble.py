@@ -42,7 +42,7 @@ from .dataset import (
     summary_bytes,
     threading_layer,
 )
-from .attitude import IDENTITY, attitude_error
+from .attitude import IDENTITY, attitude_error, attitude_spec, carries_attitude
 from .driver import propagate_many
 from .exact_attitude import exact_attitudes
 from .integrators import method_spec
@@ -76,7 +76,7 @@ PEAK_COPIES = 3
 
 
 def ensemble_memory(members: int, n_saved: int, n_levels: int = DEFAULT_LEVELS.size,
-                    attitude: bool = False) -> int:
+                    scene: str = "free_body") -> int:
     """Bytes of the Dataset ``run_ensemble`` returns.
 
     Parameters
@@ -88,8 +88,8 @@ def ensemble_memory(members: int, n_saved: int, n_levels: int = DEFAULT_LEVELS.s
         summaries-only run.
     n_levels : int, optional
         Number of ``passage_time`` levels.
-    attitude : bool, default False
-        With the attitude series (``q``, ``q_norm_error``, ``attitude_error``): 6 more doubles
+    scene : {"free_body", "free_body_attitude"}, default "free_body"
+        With the attitude (``q``, ``q_norm_error``, ``attitude_error``): 6 more doubles
         a sample.
 
     Returns
@@ -101,7 +101,7 @@ def ensemble_memory(members: int, n_saved: int, n_levels: int = DEFAULT_LEVELS.s
     """
     members = positive_int("members", members)
     n_saved = positive_int("n_saved", n_saved, allow_zero=True)
-    per_sample = 9 if attitude else 3
+    per_sample = 9 if carries_attitude(scene) else 3
     series = members * (n_saved + 1) * per_sample * 8 if n_saved > 0 else 0
     return series + members * summary_bytes(n_levels)
 
@@ -274,7 +274,7 @@ def run_ensemble(
     direction=None,
     starts=None,
     summaries_only: bool = False,
-    attitude: bool = False,
+    scene: str = "free_body",
     levels=None,
     divergence_tolerance: float = DEFAULT_DIVERGENCE_TOLERANCE,
     max_memory: float = DEFAULT_MAX_MEMORY,
@@ -335,10 +335,11 @@ def run_ensemble(
         ``ensemble_memory(members, 0)``, ~250 bytes a member): for ensembles of 1e6
         members and more, and for many small ensembles. The summaries are bitwise those of the
         time-series run.
-    attitude : bool, default False
-        Carry each member's attitude too (scene ``free_body_attitude``; a method of
-        ``stability.attitude.attitude_methods()``, time series only, on the CPU): every member
-        starts at the identity (body axes along the space axes), and the Dataset gains ``q``,
+    scene : {"free_body", "free_body_attitude"}, default "free_body"
+        What is integrated: w alone, or w and each member's attitude (a method of
+        ``stability.attitude.attitude_methods()``, time series only, on the CPU; w is bitwise
+        the same): every member starts at the identity (body axes along the space axes), and
+        the Dataset gains ``q``,
         ``q_norm_error`` and ``attitude_error``, the angle to the exact attitude
         (:mod:`stability.exact_attitude`) at each saved time.
     levels : array_like, shape (n_levels,), optional
@@ -412,7 +413,7 @@ def run_ensemble(
             starts=starts, summaries_only=summaries_only, levels=levels,
             divergence_tolerance=divergence_tolerance, max_memory=max_memory,
             chunk_members=chunk_members, chunk_steps=chunk_steps, config=config,
-            command=command, device=device, attitude=attitude,
+            command=command, device=device, scene=scene,
         )
         return run_streamed(kwargs, store, resume=resume, scheduler=scheduler, threads=threads,
                             progress=progress)
@@ -423,7 +424,7 @@ def run_ensemble(
         save_every=save_every, direction=direction, starts=starts, summaries_only=summaries_only,
         levels=levels, divergence_tolerance=divergence_tolerance, max_memory=max_memory,
         chunk_members=chunk_members, chunk_steps=chunk_steps, config=config, command=command,
-        device=device, attitude=attitude,
+        device=device, scene=scene,
     )
     with numba_threads(_threads(threads)):
         (run,) = _run([plan], progress)
@@ -563,7 +564,7 @@ def _plan(body, axis, spin=None, epsilon=None, members=None, *, h, t_end, seed=0
           save_every=1, direction=None, starts=None, summaries_only=False, levels=None,
           divergence_tolerance=DEFAULT_DIVERGENCE_TOLERANCE, max_memory=DEFAULT_MAX_MEMORY,
           chunk_members=None, chunk_steps=None, config=None, command=None, device="cpu",
-          defer_starts=False, attitude=False) -> _Plan:
+          defer_starts=False, scene="free_body") -> _Plan:
     """Validate the arguments of :func:`run_ensemble` and draw the starts; ValueError if bad.
 
     With ``defer_starts`` random starts are not drawn: :func:`_chunk_plan` draws each chunk's.
@@ -589,16 +590,12 @@ def _plan(body, axis, spin=None, epsilon=None, members=None, *, h, t_end, seed=0
     save_every = positive_int("save_every", save_every)
     if not isinstance(summaries_only, (bool, np.bool_)):
         raise ValueError(f"summaries_only must be True or False, got {summaries_only!r}")
-    if not isinstance(attitude, (bool, np.bool_)):
-        raise ValueError(f"attitude must be True or False, got {attitude!r}")
-    if attitude and not spec.attitude:
-        from .attitude import attitude_methods
-
-        raise ValueError(f"method {spec.name!r} cannot carry the attitude; with attitude=True "
-                         f"use one of {', '.join(attitude_methods())}")
+    attitude = carries_attitude(scene)
+    if attitude:
+        attitude_spec(spec)
     if attitude and (summaries_only or device != "cpu"):
-        raise ValueError("attitude=True needs the time series on the CPU: leave summaries_only "
-                         "False and device 'cpu'")
+        raise ValueError("scene 'free_body_attitude' needs the time series on the CPU: leave "
+                         "summaries_only False and device 'cpu'")
     if n_steps % save_every and not summaries_only:
         raise ValueError(
             f"t_end / h = {n_steps} steps is not a multiple of save_every = {save_every}; "
@@ -651,7 +648,7 @@ def _plan(body, axis, spin=None, epsilon=None, members=None, *, h, t_end, seed=0
         chunk_members = min(chunk_members or STREAM_CHUNK_MEMBERS, n_members)
     held = chunk_members if defer_starts else n_members
     stored = ensemble_memory(held, 0 if summaries_only else n_saved, levels.size,
-                             attitude=bool(attitude))
+                             scene=scene)
     if not summaries_only and stored > max_memory:
         raise ValueError(
             f"the time series of {held} members x {n_time} samples x "
@@ -704,7 +701,7 @@ def _plan(body, axis, spin=None, epsilon=None, members=None, *, h, t_end, seed=0
         "t_end": t_end,
         "save_every": save_every,
         "summaries_only": bool(summaries_only),
-        "attitude": bool(attitude),
+        "scene": scene,
         "levels": levels,
         "divergence_tolerance": divergence_tolerance,
         "threads": None,
@@ -783,7 +780,7 @@ def _dataset(plan: _Plan, run, threads):
     attrs = provenance_attrs(title, body, spec, h, command)
     attrs.update(
         {
-            "scene": "free_body_attitude" if run.q is not None else "free_body",
+            "scene": plan.resolved["scene"],
             "axis": a + 1,
             "start_kind": start_kind,
             **({"spin": spin, "epsilon": epsilon} if start_kind != "given" else {}),
@@ -852,7 +849,7 @@ class _Run:
     interrupted: bool
     wall_time: float
     compile_time: float
-    q: np.ndarray | None = None  # (N, n_time, 4) carried attitudes, with attitude=True
+    q: np.ndarray | None = None  # (N, n_time, 4) carried attitudes, scene free_body_attitude
 
 
 def _run(plans, progress) -> list:

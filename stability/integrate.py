@@ -1,7 +1,8 @@
 """One trajectory, any registered method: ``integrate(body, w0, t_end, h, method)``.
 
-With ``attitude=True`` the body-to-space attitude quaternion comes too (``stability.attitude``);
-without it the run goes through the 3-number member loop of ``stability.driver`` unchanged.
+On scene ``free_body_attitude`` the body-to-space attitude quaternion comes too
+(``stability.attitude``); on ``free_body`` the run goes through the 3-number member loop of
+``stability.driver`` unchanged.
 """
 
 from __future__ import annotations
@@ -12,15 +13,15 @@ import xarray as xr
 from . import conventions as cv
 from .body import RigidBody
 from .checks import positive_float, positive_int, real_array, step_count, vectors3
-from .attitude import IDENTITY, attitude_methods, propagate_attitude
+from .attitude import IDENTITY, attitude_spec, carries_attitude, propagate_attitude
 from .dataset import provenance_attrs, storable_attrs
 from .driver import propagate, untrusted
 from .integrators import method_spec
 
 
 def integrate(
-    body: RigidBody, w0, t_end, h, method="rk4", save_every=1, progress=None, attitude=False,
-    q0=None,
+    body: RigidBody, w0, t_end, h, method="rk4", save_every=1, progress=None,
+    scene="free_body", q0=None,
 ):
     """Integrate the torque-free Euler equations from ``w0`` and return the trajectory.
 
@@ -39,12 +40,12 @@ def integrate(
         Keep every ``save_every``-th step (the initial state is always kept).
     progress : bool, optional
         Progress bar; by default shown for runs expected to take more than 2 s.
-    attitude : bool, default False
-        Also propagate the attitude, with the method's own attitude update (methods that can:
-        ``stability.attitude.attitude_methods()``).
+    scene : {"free_body", "free_body_attitude"}, default "free_body"
+        What is integrated: w alone, or w and the attitude, with the method's own attitude
+        update (methods that can: ``stability.attitude.attitude_methods()``).
     q0 : array_like, shape (4,), optional
         Initial body-to-space attitude as a unit quaternion, scalar first; default the identity
-        (body axes along the space axes). Only with ``attitude=True``.
+        (body axes along the space axes). Only on scene ``free_body_attitude``.
 
     Returns
     -------
@@ -53,16 +54,18 @@ def integrate(
         attributes naming the body, the method, its order, ``h``, the run's status and the
         nonlinear-solver iterations (``solver_iterations``, 0 for explicit methods).
         After a non-finite or failed state the remaining samples are NaN and ``status`` says so.
-        With ``attitude=True`` also ``q`` (time, quaternion_component), the unit quaternion of
-        the body-to-space rotation (normalised on output), and ``q_norm_error`` (time), the
+        On scene ``free_body_attitude`` also ``q`` (time, quaternion_component), the unit
+        quaternion of the body-to-space rotation (normalised on output), and ``q_norm_error``
+        (time), the
         norm error ``|q| - 1`` of the quaternion the method carried (not renormalised in the
         loop; see ``stability.attitude``).
 
     Raises
     ------
     ValueError
-        For a bad body, w0, t_end, h or save_every; for ``attitude=True`` with a method that
-        cannot carry the attitude; for q0 that is not a finite unit quaternion.
+        For a bad body, w0, t_end, h, save_every or scene; for scene ``free_body_attitude``
+        with a method that cannot carry the attitude; for q0 that is not a finite unit
+        quaternion.
     """
     if not isinstance(body, RigidBody):
         raise ValueError(f"body must be a stability.RigidBody, got {type(body).__name__}")
@@ -81,15 +84,12 @@ def integrate(
             f"final state would not be kept; choose save_every among the divisors of {n_steps}"
         )
 
+    attitude = carries_attitude(scene)
     if attitude:
-        if not spec.attitude:
-            raise ValueError(
-                f"method {spec.name!r} cannot carry the attitude; use one of "
-                + ", ".join(attitude_methods())
-            )
+        attitude_spec(spec)
         q0 = _unit_quaternion(q0)
     elif q0 is not None:
-        raise ValueError("q0 is the initial attitude and needs attitude=True")
+        raise ValueError("q0 is the initial attitude and needs scene='free_body_attitude'")
 
     moments = body.moments
     m0 = (moments * w0)[None, :]
@@ -123,7 +123,7 @@ def integrate(
                     f"torque-free rotation of {body!r} by {spec.name}", body, spec, h,
                     f"stability.integrate({body!r}, w0={w0.tolist()}, t_end={t_end!r}, "
                     f"h={h!r}, method={spec.name!r}, save_every={save_every}"
-                    + (f", attitude=True, q0={q0.tolist()})" if attitude else ")"),
+                    + (f", scene='free_body_attitude', q0={q0.tolist()})" if attitude else ")"),
                 ),
                 "save_every": save_every,
                 "steps": result.steps_done,

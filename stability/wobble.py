@@ -82,8 +82,8 @@ def measure_free_wobble(body, spin, offset, *, members=16, periods=3.0, steps_pe
     one = int(math.ceil(t_euler / h))
     save_every = max(1, one // cone_samples)
     one = (one // save_every + 1) * save_every
-    cone = integrate(body, w0, one * h, h, method=method, save_every=save_every, attitude=True,
-                     progress=progress)
+    cone = integrate(body, w0, one * h, h, method=method, save_every=save_every,
+                     scene="free_body_attitude", progress=progress)
     w_body = cone.w.values
     R = quaternion_to_matrix(cone.q.values)
     w_space = np.einsum("tij,tj->ti", R, w_body)

@@ -1,5 +1,5 @@
 """The attitude: order of the attitude error, norm error, spatial angular momentum, the m of a
-w-only run reproduced, the loop's layout guarantees, and integrate(attitude=True).
+w-only run reproduced, the loop's layout guarantees, and integrate(scene="free_body_attitude").
 
 Reference: scipy ``solve_ivp`` DOP853 on (m, q), q' = q (0, w) / 2, at rtol = atol = 1e-13, a
 very-high-accuracy numerical reference (its attitude differs from a 1e-14 run by 8e-14 rad at
@@ -167,14 +167,15 @@ def test_attitude_failure_is_flagged():
     assert run.fail_step[0] == -1  # found at the first finiteness check, as for every scene
     assert 1 <= run.fail_step[1] <= CHECK_EVERY
     body = stability.RigidBody(*MOMENTS, physical=False)
-    ds = stability.integrate(body, W0, 20.0, 10.0, "lgvi", attitude=True, q0=Q0)
+    ds = stability.integrate(body, W0, 20.0, 10.0, "lgvi", scene="free_body_attitude", q0=Q0)
     assert ds.attrs["status"] == "not_converged"
     assert np.all(np.isnan(ds.q.values[1:])) and np.all(np.isnan(ds.q_norm_error.values[1:]))
 
 
 def test_integrate_with_attitude_returns_labelled_quaternions():
     body = stability.RigidBody(*MOMENTS, physical=False)
-    ds = stability.integrate(body, W0, 2.0, 0.01, "lp2", save_every=10, attitude=True, q0=Q0)
+    ds = stability.integrate(body, W0, 2.0, 0.01, "lp2", save_every=10,
+                             scene="free_body_attitude", q0=Q0)
     assert ds.q.dims == ("time", "quaternion_component")
     assert ds.q_norm_error.dims == ("time",)
     for var in (ds.q, ds.q_norm_error):
@@ -185,18 +186,19 @@ def test_integrate_with_attitude_returns_labelled_quaternions():
     plain = stability.integrate(body, W0, 2.0, 0.01, "lp2", save_every=10)
     np.testing.assert_array_equal(ds.w.values, plain.w.values)
     assert "q" not in plain  # a w-only run stays w-only
-    identity = stability.integrate(body, W0, 1.0, 0.1, "rk4", attitude=True)
+    identity = stability.integrate(body, W0, 1.0, 0.1, "rk4", scene="free_body_attitude")
     np.testing.assert_array_equal(identity.q.values[0], [1.0, 0.0, 0.0, 0.0])
 
 
 @pytest.mark.parametrize(
     "kwargs, message",
     [
-        ({"method": "exact", "attitude": True}, "cannot carry the attitude.*lgvi"),
-        ({"attitude": True, "q0": [1.0, 0.0, 0.0]}, "q0 must be 4 finite numbers"),
-        ({"attitude": True, "q0": [2.0, 0.0, 0.0, 0.0]}, "unit quaternion.*divide"),
-        ({"attitude": True, "q0": [np.nan, 0.0, 0.0, 1.0]}, "q0 must be 4 finite numbers"),
-        ({"q0": [1.0, 0.0, 0.0, 0.0]}, "needs attitude=True"),
+        ({"method": "exact", "scene": "free_body_attitude"}, "cannot carry the attitude.*lgvi"),
+        ({"scene": "free_body_attitude", "q0": [1.0, 0.0, 0.0]}, "q0 must be 4 finite numbers"),
+        ({"scene": "free_body_attitude", "q0": [2.0, 0.0, 0.0, 0.0]}, "unit quaternion.*divide"),
+        ({"scene": "free_body_attitude", "q0": [np.nan, 0.0, 0.0, 1.0]},
+         "q0 must be 4 finite numbers"),
+        ({"q0": [1.0, 0.0, 0.0, 0.0]}, "needs scene=.free_body_attitude."),
     ],
 )
 def test_bad_attitude_requests_are_refused_clearly(kwargs, message, body123):

@@ -209,8 +209,12 @@ API = {
     "complex64 w0 (integrate)": (
         lambda: stability.integrate(BODY, np.ones(3, dtype=np.complex64), 1.0, 0.1),
         "imaginary part would be dropped"),
-    "complex q0": (lambda: stability.integrate(BODY, [1.0, 2.0, 3.0], 1.0, 0.1, attitude=True,
-                                               q0=[1j, 0, 0, 0]), "q0 (a unit quaternion"),
+    "complex q0": (lambda: stability.integrate(BODY, [1.0, 2.0, 3.0], 1.0, 0.1,
+                                               scene="free_body_attitude", q0=[1j, 0, 0, 0]),
+                   "q0 (a unit quaternion"),
+    "unknown scene (integrate)": (
+        lambda: stability.integrate(BODY, [1.0, 2.0, 3.0], 1.0, 0.1, scene="attitude"),
+        "scene must be one of 'free_body', 'free_body_attitude'"),
     "complex horizon": (lambda: stability.integrate(BODY, [1.0, 2.0, 3.0], 1j, 0.1),
                         "t_end must be a number"),
     "string step": (lambda: stability.integrate(BODY, [1.0, 2.0, 3.0], 1.0, "0.1"),

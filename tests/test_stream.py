@@ -43,7 +43,8 @@ def in_memory():
                          [(256, None, False), (700, None, False), (100, 50, False),
                           (300, 50, True)])
 def test_stored_run_is_the_in_memory_run(in_memory, tmp_path, chunk, save, attitude):
-    run = dict(RUN, summaries_only=save is None, save_every=save or 1, attitude=attitude)
+    run = dict(RUN, summaries_only=save is None, save_every=save or 1,
+               scene="free_body_attitude" if attitude else "free_body")
     reference = in_memory if save is None else stability.run_ensemble(**run)
     ds = stability.run_ensemble(**run, store=tmp_path / "s", chunk_members=chunk)
     assert ds.flip_count.chunks is not None  # dask arrays: read a chunk at a time

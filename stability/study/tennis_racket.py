@@ -28,6 +28,7 @@ from pathlib import Path
 import numpy as np
 
 from ..analytic import MOMENT_NAMES, principal_axis
+from ..attitude import FREE_BODY_SCENES, attitude_methods, carries_attitude
 from ..estimators import analyse_ensemble
 from .config import (
     UNSET, ConfigError, Key, Schema, Section, StudyKind, StudySummary, output_files,
@@ -41,10 +42,6 @@ AXIS_NAMES = MOMENT_NAMES
 
 #: Figure file stems, in the order of the issue: flips, polhodes, growth, flip intervals.
 FIGURES = ("fig1_flips", "fig2_polhodes", "fig3_growth", "fig4_flip_intervals")
-
-
-#: Scenes the study runs on: the same w either way; the second adds each member's attitude.
-SCENE_NAMES = ("free_body", "free_body_attitude")
 
 
 def _method_names() -> tuple:
@@ -84,7 +81,7 @@ SCHEMA = Schema(
         Section("integration", "what is integrated, the integrator and the time grid", (
             Key("scene", "str", "free_body",
                 "what is integrated: w alone (free_body), or w and each member's attitude q "
-                "(free_body_attitude, with a method that carries it)", choices=SCENE_NAMES),
+                "(free_body_attitude, with a method that carries it)", choices=FREE_BODY_SCENES),
             Key("method", "str", "rk4", "integrator (stability methods lists them)",
                 choices=_method_names),
             Key("h", "float", 2e-3, "step", unit="s", minimum=0.0, exclusive_minimum=True),
@@ -148,9 +145,7 @@ def check(config: dict, source: str) -> dict:
         _body(config)
     except ValueError as exc:
         raise ConfigError(str(exc), source, "body") from None
-    if _attitude(config):
-        from ..attitude import attitude_methods
-
+    if carries_attitude(integ["scene"]):
         if integ["method"] not in attitude_methods():
             raise ConfigError(
                 f"must carry the attitude with scene = 'free_body_attitude': one of "
@@ -162,7 +157,7 @@ def check(config: dict, source: str) -> dict:
     from ..ensemble import DEFAULT_MAX_MEMORY, ensemble_memory, format_bytes
 
     memory = ensemble_memory(config["ensemble"]["members"], n_steps // integ["save_every"],
-                             attitude=_attitude(config))
+                             scene=integ["scene"])
     if memory > DEFAULT_MAX_MEMORY:  # the analysis and figures hold the whole time series
         raise ConfigError(
             f"the time series of {config['ensemble']['members']} members would take "
@@ -183,7 +178,7 @@ def expected_bytes(config: dict) -> int:
 
     integ = config["integration"]
     saved = round(integ["t_end"] / integ["h"]) // integ["save_every"]
-    return 2 * ensemble_memory(config["ensemble"]["members"], saved, attitude=_attitude(config))
+    return 2 * ensemble_memory(config["ensemble"]["members"], saved, scene=integ["scene"])
 
 
 def outputs(config: dict) -> list[str]:
@@ -222,7 +217,7 @@ def run(config: dict, out_dir: Path, *, overwrite=False, threads=None, progress=
     ens, integ = config["ensemble"], config["integration"]
     steps = round(integ["t_end"] / integ["h"])
     memory = stability.ensemble_memory(ens["members"], steps // integ["save_every"],
-                                       attitude=_attitude(config))
+                                       scene=integ["scene"])
     say(f"{body.name}: {ens['members']} members x {steps} steps of {integ['method']} "
         f"(h = {integ['h']:g} s), w kept every {integ['save_every']} steps: "
         f"{format_bytes(memory)} of results")
@@ -260,7 +255,7 @@ def _ensemble(config, body, axis, work, resume, scheduler, threads, progress, co
         members=ens["members"], h=integ["h"], t_end=integ["t_end"], seed=ens["seed"],
         method=integ["method"], save_every=integ["save_every"],
         chunk_members=config["run"]["chunk_members"], config=config, command=command,
-        device=config["run"]["device"], attitude=_attitude(config),
+        device=config["run"]["device"], scene=integ["scene"],
     )
     lazy = run_streamed(kwargs, work, resume=resume, scheduler=scheduler, threads=threads,
                         progress=progress, compress=False)
@@ -271,11 +266,6 @@ def _ensemble(config, body, axis, work, resume, scheduler, threads, progress, co
         {cv.MEMBER: (cv.MEMBER, np.arange(member.size, dtype=np.int64), member.attrs)})
     ds.attrs["config_toml"] = config_toml(config)  # this run's (a resumed run's may differ)
     return ds
-
-
-def _attitude(config: dict) -> bool:
-    """Whether the run carries each member's attitude (scene ``free_body_attitude``)."""
-    return config["integration"]["scene"] == "free_body_attitude"
 
 
 def _reporter(progress):
