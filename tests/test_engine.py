@@ -5,6 +5,7 @@ import os
 import subprocess
 import sys
 import textwrap
+from pathlib import Path
 
 import numpy as np
 import pytest
@@ -12,6 +13,8 @@ import pytest
 from stability.engine import BLOCK, compiled_loop, propagate_groups
 from stability.engine.loop import level_thresholds
 from stability.scenes import SCENES
+
+ROOT = Path(__file__).resolve().parents[1]
 
 MOMENTS = np.array([1.0, 2.0, 3.0])  # canonical already
 
@@ -143,6 +146,38 @@ def test_loops_load_from_disk_and_compile_again_when_a_kernel_changes(tmp_path):
     assert (edited["misses"], edited["hits"]) == (1, 0)
     assert edited["x"][0] == pytest.approx(0.9 ** 10, rel=1e-14)
     assert edited["x"][1:] == first["x"][1:]
+
+
+def _loop_digests():
+    """The digest naming each registered (scene, method) loop, as compiled_loop computes it."""
+    from stability.engine.cache import digest
+
+    out = {}
+    for scene in SCENES.values():
+        for spec in scene.methods.values():
+            kernel = scene.kernel(spec)
+            roots = (kernel.py_func.__module__, scene.observe.py_func.__module__,
+                     "stability.engine.loop")
+            out[f"{scene.name}/{spec.name}"] = digest(
+                "", roots, (kernel.py_func, scene.observe.py_func))
+    return out
+
+
+def test_a_loops_name_does_not_depend_on_what_the_process_holds():
+    """The digest in a loop's file name is the same whatever else refers to its kernels'
+    constants, and under another string hash seed (in a new process): with marshal's bytes
+    it was not, and the lp4/6/8 attitude loops and the engine rules were compiled twice in
+    one test run, under two names."""
+    before = _loop_digests()
+    held = [const for scene in SCENES.values() for spec in scene.methods.values()
+            for function in (scene.kernel(spec), scene.observe)
+            for const in function.py_func.__code__.co_consts]
+    assert held and _loop_digests() == before
+    script = ("import json; from tests.test_engine import _loop_digests; "
+              "print(json.dumps(_loop_digests()))")
+    done = subprocess.run([sys.executable, "-c", script], capture_output=True, text=True,
+                          check=True, cwd=ROOT, env=dict(os.environ, PYTHONHASHSEED="12345"))
+    assert json.loads(done.stdout.strip().splitlines()[-1]) == before
 
 
 def test_processes_that_need_one_loop_at_once_compile_it_once(tmp_path):

@@ -26,12 +26,11 @@ from __future__ import annotations
 import contextlib
 import hashlib
 import importlib.util
-import marshal
 import os
 import sys
 import tempfile
 from pathlib import Path
-from types import ModuleType
+from types import CodeType, ModuleType
 
 try:  # POSIX; elsewhere each process compiles for itself
     import fcntl
@@ -89,8 +88,32 @@ def digest(source: str, roots, code=()) -> str:
         h.update(Path(path).name.encode())
         h.update(Path(path).read_bytes())
     for function in code:
-        h.update(marshal.dumps(function.__code__))
+        h.update(code_fingerprint(function.__code__))
     return h.hexdigest()
+
+
+def code_fingerprint(code: CodeType) -> bytes:
+    """What compiled code says, the same in every process: bytecode, names and constants.
+
+    Nested code objects are followed, and a frozenset's elements are sorted. Not
+    ``marshal.dumps``: it marks an object shared when something else in the process refers to
+    it too, so its bytes (and a digest of them) changed with what the process had run.
+    """
+    parts = [code.co_code, repr((code.co_names, code.co_varnames, code.co_freevars,
+                                 code.co_cellvars, code.co_argcount, code.co_kwonlyargcount,
+                                 code.co_flags)).encode()]
+    parts += [_constant_fingerprint(const) for const in code.co_consts]
+    return hashlib.sha256(b"\0".join(parts)).digest()
+
+
+def _constant_fingerprint(const) -> bytes:
+    if isinstance(const, CodeType):
+        return code_fingerprint(const)
+    if isinstance(const, (tuple, frozenset)):
+        items = [_constant_fingerprint(item) for item in const]
+        return (b"(" if isinstance(const, tuple) else b"{") + b",".join(
+            items if isinstance(const, tuple) else sorted(items)) + b")"
+    return repr((type(const).__name__, const)).encode()
 
 
 def load_module(stem: str, source: str, roots, code=()) -> ModuleType:
