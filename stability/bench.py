@@ -219,13 +219,22 @@ def bench(members=10_000, steps=1000, threads=None, methods=None, scipy=True, nu
     return report
 
 
+#: Rounds of the engine-cost table at least (:func:`engine_costs`).
+ENGINE_ROUNDS = 7
+
+
 def engine_costs(repeat=3, workload=None) -> list[BenchRow]:
     """Member-steps/s on W1 of a plain RK4 loop and of the engine's, with all threads.
 
     Rows: the plain uncompensated loop (:func:`stability.engine.reference.plain_rk4`); the
     engine's RK4 loop with an uncompensated update; the engine's loop as every run uses it
     (compensated); ``run_ensemble(summaries_only=True)`` (compensated, with tracking; its rate
-    is the loop's, from the Dataset's ``member_steps_per_second``). The best of ``repeat`` runs.
+    is the loop's, from the Dataset's ``member_steps_per_second``). Each run takes about 0.1 s,
+    so the four are interleaved, one of each per round, and each row keeps its best of
+    ``max(repeat, ENGINE_ROUNDS)`` rounds: a change in the machine's speed during the bench
+    then reaches every row alike, and the ratios between them hold (best of 3 in a row each,
+    the ensemble's ratio to the plain loop moved between 0.42 and 0.62 from one bench to the
+    next; interleaved over 7 rounds, 0.61 and 0.61).
     """
     import numba
 
@@ -246,9 +255,6 @@ def engine_costs(repeat=3, workload=None) -> list[BenchRow]:
     threads = numba.get_num_threads()
     work = members * steps
 
-    def best(run):
-        return min(run() for _ in range(repeat))
-
     def plain():
         m = m0.copy()
         t0 = time.perf_counter()
@@ -267,16 +273,18 @@ def engine_costs(repeat=3, workload=None) -> list[BenchRow]:
         return work / ds.attrs["member_steps_per_second"]
 
     plain_rk4(m0.copy(), p, h, 1)  # compile or load once, outside the timings
-    rows = []
-    for name, run, note in (
+    variants = (
         ("plain RK4 loop", plain, "uncompensated, no checks: the reference"),
         ("engine rk4, uncompensated", engine_loop(False), "the engine's loop, m += dm"),
         ("engine rk4", engine_loop(True), "compensated (every run)"),
         ("run_ensemble rk4, summaries only", ensemble, "compensated + tracking"),
-    ):
-        wall = best(run)
-        rows.append(BenchRow(name, threads, wall, work / wall, note=note))
-    return rows
+    )
+    walls = [[] for _ in variants]
+    for _ in range(max(repeat, ENGINE_ROUNDS)):
+        for k, (_, run, _) in enumerate(variants):
+            walls[k].append(run())
+    return [BenchRow(name, threads, min(wall), work / min(wall), note=note)
+            for (name, _, note), wall in zip(variants, walls)]
 
 
 def euler_coefficients(moments):
