@@ -519,10 +519,8 @@ def _summary(plan: _Plan, run) -> EnsembleSummary:
     """The :class:`EnsembleSummary` of one summaries-only ensemble, from its plan and run."""
     from .estimators import summary_members
 
-    axis = plan.a + 1
-    spin = (abs(float(plan.spin)) if plan.start_kind != "given"
-            else float(np.nanmedian(np.abs(run.w0[:, plan.a]))))  # as estimators.members
-    members = summary_members(run.summaries, plan.levels, axis, spin, w0=run.w0,
+    spin = abs(float(plan.spin)) if plan.start_kind != "given" else None  # None: from w0
+    members = summary_members(run.summaries, plan.levels, plan.a + 1, spin, w0=run.w0,
                               ok=np.asarray(run.status) == cv.STATUS_OK)
     return EnsembleSummary(members, np.asarray(run.status, dtype=np.int8),
                            np.asarray(run.summaries["energy_error"], dtype=float),

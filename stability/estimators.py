@@ -262,7 +262,7 @@ def _spin_axis(ds, axis, w0):
 
 
 def _spin_value(ds, spin, w0, axis):
-    if spin is None:
+    if spin is None and ds is not None:
         spin = ds.attrs.get("spin")
     if spin is None and w0 is not None:
         spin = float(np.nanmedian(np.abs(w0[:, axis - 1])))
@@ -329,7 +329,7 @@ def _members_from_summaries(ds, axis, spin):
                            ok=_status_ok(ds, n), member=np.asarray(ds.variables[cv.MEMBER].values))
 
 
-def summary_members(summaries, levels, axis: int, spin: float, *, w0=None, a0=None, ok=None,
+def summary_members(summaries, levels, axis: int, spin=None, *, w0=None, a0=None, ok=None,
                     member=None) -> Members:
     """Members from the member loop's tracked summaries, with or without their Dataset.
 
@@ -342,8 +342,9 @@ def summary_members(summaries, levels, axis: int, spin: float, *, w0=None, a0=No
         Ascending amplitude levels of ``passage_time``, rad/s.
     axis : int
         Spin axis, 1-based.
-    spin : float
-        Spin in rad/s.
+    spin : float, optional
+        Spin in rad/s; by default the median |w0| about ``axis``, as :func:`members` takes it
+        for given starts.
     w0 : ndarray, shape (N, 3), optional
         Starts, rad/s; the initial perpendicular amplitude comes from it.
     a0 : ndarray, shape (N,), optional
@@ -367,6 +368,8 @@ def summary_members(summaries, levels, axis: int, spin: float, *, w0=None, a0=No
     def count(name):  # counts are stored as float with NaN for masked members
         return np.nan_to_num(get(name), nan=0.0).astype(np.int64)
 
+    if spin is None:
+        spin = _spin_value(None, None, w0, axis)
     passage = get(PASSAGE)
     n = passage.shape[0]
     if w0 is not None:
@@ -1317,6 +1320,7 @@ __all__ = [
     "WINDOW_LOW_FACTOR", "analyse_ensemble", "complementary_moduli", "exact_flip_intervals",
     "flip_estimate", "flip_statistics", "growth_line", "measured_frequency",
     "measured_growth_rate", "measured_omega_squared", "member_regimes", "members",
-    "omega_squared_estimate", "omega_squared_estimates", "perpendicular_amplitude", "perpendicular_axes",
-    "richardson_bias", "sign_change_times", "summary_members", "tracked_members", "zero_crossings",
+    "omega_squared_estimate", "omega_squared_estimates", "perpendicular_amplitude",
+    "perpendicular_axes", "richardson_bias", "sign_change_times", "summary_members",
+    "tracked_members", "zero_crossings",
 ]
