@@ -271,6 +271,16 @@ def provenance_attrs(title: str, body, spec, h: float, command: str) -> dict:
 # --- configuration as TOML --------------------------------------------------------------------
 
 
+def body_from_attrs(attrs):
+    """The body named by a Dataset's attributes (``I1``, ``I2``, ``I3`` in kg m2 and
+    ``body_name``, as :func:`provenance_attrs` writes them), as a mathematical body
+    (``physical=False``: the moments are taken as recorded)."""
+    from .body import RigidBody
+
+    return RigidBody(attrs["I1"], attrs["I2"], attrs["I3"], physical=False,
+                     name=attrs.get("body_name", "body"))
+
+
 def config_toml(config: Mapping) -> str:
     """The configuration ``config`` as a TOML document (written with ``tomli_w``).
 

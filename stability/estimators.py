@@ -1047,10 +1047,9 @@ def measured_omega_squared(ds: xr.Dataset, axis=None, spin=None, *, analytic=Non
 def _analytic_from_attrs(ds, mem):
     if not all(k in ds.attrs for k in ("I1", "I2", "I3")):
         return None
-    from .body import RigidBody
+    from .dataset import body_from_attrs
 
-    body = RigidBody(ds.attrs["I1"], ds.attrs["I2"], ds.attrs["I3"], physical=False)
-    return omega_squared(body, mem.axis, mem.spin)
+    return omega_squared(body_from_attrs(ds.attrs), mem.axis, mem.spin)
 
 
 # ---------------------------------------------------------------------------------------------
@@ -1196,9 +1195,9 @@ def flip_statistics(ds: xr.Dataset, axis=None, spin=None, *, body=None) -> xr.Da
     if body is None and isinstance(ds, xr.Dataset) and all(
         k in ds.attrs for k in ("I1", "I2", "I3")
     ):
-        from .body import RigidBody
+        from .dataset import body_from_attrs
 
-        body = RigidBody(ds.attrs["I1"], ds.attrs["I2"], ds.attrs["I3"], physical=False)
+        body = body_from_attrs(ds.attrs)
     exact = asymptote = None
     if body is not None and mem.w0 is not None:
         exact, asymptote = exact_flip_intervals(body, mem.axis, mem.w0)

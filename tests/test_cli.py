@@ -92,6 +92,7 @@ def test_quick_run_writes_dataset_and_figures(tmp_path, capsys):
     assert config == load_study(TENNIS, quick=True, members=64)[1]
     assert config == tomllib.loads((out / "config.toml").read_text())
     assert "stability run" in ds.attrs["history"]
+    assert ds.attrs["study"] == "tennis_racket" and ds.attrs["numba_num_threads"] == 1
     for name in ("exact_flip_interval", "flip_interval_asymptote", "perp_amplitude_median"):
         assert ds[name].attrs["units"] in ("s", "rad s-1")
     ok = ds.status == 0

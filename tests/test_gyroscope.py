@@ -1,5 +1,6 @@
 """The gyroscope: periodic-signal measurement, released tops against the exact motion, the study."""
 
+import tomllib
 from pathlib import Path
 
 import numpy as np
@@ -160,7 +161,7 @@ def test_paths_loop_cusp_and_wave(grid):
 @pytest.fixture(scope="module")
 def quick(tmp_path_factory):
     out = tmp_path_factory.mktemp("gyroscope")
-    summary = run_study(STUDY, out, quick=True, progress=False,
+    summary = run_study(STUDY, out, quick=True, progress=False, threads=1,
                         overrides=[("output.formats", "['png']")])
     return summary, out
 
@@ -177,6 +178,10 @@ def test_study_meets_its_claim_with_units_everywhere(quick):
         for name, var in {**ds.data_vars, **ds.coords}.items():
             assert var.attrs.get("units") and var.attrs.get("long_name"), name
         assert list(ds.tilt.values) == [60.0] and ds.sizes["spin"] == 4
+        # The Dataset records its study, its configuration and the threads it ran on.
+        assert ds.attrs["study"] == "gyroscope" and ds.attrs["numba_num_threads"] == 1
+        assert tomllib.loads(ds.attrs["config_toml"]) == tomllib.loads(
+            (out / "config.toml").read_text())
         assert missing_units(gyroscope_paths_figure(ds)) == []
         assert missing_units(gyroscope_rates_figure(ds, claim=1e-6)) == []
 

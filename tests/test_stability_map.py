@@ -1,6 +1,8 @@
 """The stability map: the grid of shapes, a small map within the accuracy bar, its edges."""
 
 import math
+import re
+import tomllib
 
 import numpy as np
 import pytest
@@ -128,3 +130,9 @@ def test_dataset_is_labelled_and_figures_carry_units(small_map):
     assert {"fig1_map.png", "fig4_edges.png", "stability_map.nc", "config.toml"} <= names
     rows = dict((r[0], r[1]) for r in summary.rows)
     assert any("peak memory" in key for key in rows)
+    # Provenance as every study writes it: the kind, the configuration, a dated history line.
+    assert ds.attrs["study"] == "stability_map"
+    assert tomllib.loads(ds.attrs["config_toml"]) == tomllib.loads(
+        (summary.out_dir / "config.toml").read_text())
+    assert re.fullmatch(r"\d{4}-\d\d-\d\dT[\d:]+Z: stability run \(stability_map\)",
+                        ds.attrs["history"])

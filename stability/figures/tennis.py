@@ -7,9 +7,10 @@
 4. :func:`flip_interval_figure`: measured flip intervals against the exact 2K/nu of each member
    and the ln(4/k') asymptote.
 
-Each takes ``(ds, body, axis)``: the study's Dataset (an ensemble with the variables and
-attributes the tennis-racket study adds), the body and the spin axis (1, 2, 3), and returns a
-``matplotlib.figure.Figure`` whose every axis is labelled with its unit. Curves of the exact
+Each draws the study's Dataset (an ensemble with the variables and attributes the
+tennis-racket study adds) and returns a ``matplotlib.figure.Figure`` whose every axis is
+labelled with its unit. The body and the spin axis (1, 2, 3) are those the Dataset records
+(``I1``, ``I2``, ``I3``, ``body_name``, ``axis``) unless given. Curves of the exact
 solution come from the package (:func:`stability.exact_omega`, :mod:`stability.polhodes`).
 """
 
@@ -31,6 +32,14 @@ def _subtitle(ds, body, axis) -> str:
             f"moment), perturbation ε = {eps:g}")
 
 
+def _body_and_axis(ds, body, axis):
+    """``body`` and ``axis``; by default those the Dataset records."""
+    from ..dataset import body_from_attrs
+
+    return (body_from_attrs(ds.attrs) if body is None else body,
+            int(ds.attrs["axis"]) if axis is None else int(axis))
+
+
 def typical_member(ds) -> int:
     """Index of an ok member whose mean flip interval is the median one (member 0 if none)."""
     ok = (ds.status == cv.STATUS_OK).values & np.isfinite(ds.mean_flip_interval.values)
@@ -42,16 +51,17 @@ def typical_member(ds) -> int:
 
 
 @styled
-def flips_figure(ds, body, axis, member=None, samples=2000):
+def flips_figure(ds, body=None, axis=None, member=None, samples=2000):
     """Figure 1: w1, w2, w3 of one member against time, with the exact solution overlaid.
 
     Parameters
     ----------
     ds : xarray.Dataset
         The study's Dataset (``w`` (member, time, axis) in rad/s, ``w0``).
-    body : RigidBody
-    axis : int
-        Spin axis (1, 2, 3); its sign changes (flips) are marked.
+    body : RigidBody, optional
+        Default: the body the Dataset records.
+    axis : int, optional
+        Spin axis (1, 2, 3); its sign changes (flips) are marked. Default: the Dataset's.
     member : int, optional
         Member to show; default :func:`typical_member`.
     samples : int
@@ -59,6 +69,7 @@ def flips_figure(ds, body, axis, member=None, samples=2000):
     """
     from ..exact import exact_omega
 
+    body, axis = _body_and_axis(ds, body, axis)
     j = typical_member(ds) if member is None else int(member)
     t = ds[cv.TIME].values
     w = ds.w.isel({cv.MEMBER: j}).values
@@ -95,7 +106,7 @@ def flips_figure(ds, body, axis, member=None, samples=2000):
 
 
 @styled
-def polhode_figure(ds, body, axis=None, levels=(0.12, 0.35, 0.6, 0.82, 0.96), samples=400):
+def polhode_figure(ds, body=None, axis=None, levels=(0.12, 0.35, 0.6, 0.82, 0.96), samples=400):
     """Figure 2: polhodes (paths of the body angular momentum m/|L|) on the unit sphere.
 
     Around each stable axis (smallest and largest moment) orbits are drawn at energies
@@ -105,6 +116,7 @@ def polhode_figure(ds, body, axis=None, levels=(0.12, 0.35, 0.6, 0.82, 0.96), sa
     D2 = 0 is drawn from its closed form (:func:`stability.polhodes.separatrix_circles`).
     Left: 3-D view of the near side; right: the hemisphere around the saddle seen head-on.
     """
+    body, axis = _body_and_axis(ds, body, axis)
     I = body.moments
     a, b, c = np.argsort(I, kind="stable")  # body axes (0-based) of the smallest ... largest
     families = polhodes(body, levels, samples)
@@ -191,7 +203,7 @@ def polhode_figure(ds, body, axis=None, levels=(0.12, 0.35, 0.6, 0.82, 0.96), sa
 
 
 @styled
-def growth_figure(ds, body, axis):
+def growth_figure(ds, body=None, axis=None):
     """Figure 3: ensemble growth of the perpendicular amplitude against the analytic slope.
 
     The median over members of ``sqrt(w_b^2 + w_c^2)`` and its 10-90 % band on a log scale;
@@ -201,6 +213,7 @@ def growth_figure(ds, body, axis):
     the analytic ``exp(lambda t)`` (lambda = sqrt(-Omega^2)) through the same point at the
     middle of the window.
     """
+    body, axis = _body_and_axis(ds, body, axis)
     t = ds[cv.TIME].values
     median = ds.perp_amplitude_median.values
     lo, hi = ds.perp_amplitude_p10.values, ds.perp_amplitude_p90.values
@@ -251,7 +264,7 @@ def growth_figure(ds, body, axis):
 
 
 @styled
-def flip_interval_figure(ds, body, axis, max_points=3000):
+def flip_interval_figure(ds, body=None, axis=None, max_points=3000):
     """Figure 4: measured flip intervals against the exact 2K/nu and the ln(4/k') asymptote.
 
     Left: histograms over members of the measured mean flip interval and of the exact 2K/nu of
@@ -260,6 +273,7 @@ def flip_interval_figure(ds, body, axis, max_points=3000):
     exact 2K/nu, and the asymptote (2/lambda) ln(4/k') (literature notes 1.5). Right: the
     relative differences from 2K/nu of the measured intervals and of the asymptote.
     """
+    body, axis = _body_and_axis(ds, body, axis)
     ok = (ds.status == cv.STATUS_OK).values
     measured = ds.mean_flip_interval.values
     exact = ds.exact_flip_interval.values

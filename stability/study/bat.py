@@ -125,7 +125,7 @@ def run(config: dict, out_dir: Path, *, overwrite=False, threads=None, progress=
                              hit["contact_time"], hit["steps_per_contact"],
                              sting=analysis["sting"], progress=progress)
     ds, files = write_outputs(ds, config, out_dir, NAME, {FIGURE: bat_figure},
-                              overwrite=overwrite, history=history,
+                              overwrite=overwrite, history=history, threads=threads,
                               attrs={"claim": analysis["claim"]})
     return summarize(ds, out_dir, files, time.perf_counter() - t_start)
 

@@ -242,6 +242,14 @@ def preset_names() -> tuple:
     return tuple(RigidBody.presets())
 
 
+def method_names() -> tuple:
+    """The names of the registered integrators (``stability methods``), for a method key's
+    choices."""
+    from ..integrators import METHODS
+
+    return tuple(METHODS)
+
+
 def tossed_body_sections(rate_default: float = 10.0) -> tuple:
     """The ``[body]`` section (a preset) of a study that tosses a body about its middle axis,
     and the spin key of its ``[toss]`` section."""
@@ -280,7 +288,7 @@ def output_files(config: dict, figures, extra=()) -> list[str]:
 
 
 def write_outputs(ds, config: dict, out_dir, name: str, figures: dict, *, overwrite=False,
-                  history=None, attrs=None):
+                  history=None, attrs=None, threads=None):
     """Label ``ds`` and write what ``[output]`` asks for: the Dataset, ``config.toml`` and the
     figures, published together (:func:`stability.io.saving`: the write runs while the figures
     draw; an interruption publishes nothing).
@@ -288,8 +296,8 @@ def write_outputs(ds, config: dict, out_dir, name: str, figures: dict, *, overwr
     Parameters
     ----------
     ds : xarray.Dataset
-        The study's result; gets the title, the study kind, the configuration, the software
-        versions, ``attrs`` and a history line.
+        The study's result; gets the title, the study kind, the configuration
+        (``config_toml``), the software versions, ``attrs`` and a history line.
     config : dict
         The resolved configuration.
     out_dir : Path
@@ -298,6 +306,11 @@ def write_outputs(ds, config: dict, out_dir, name: str, figures: dict, *, overwr
         The study kind.
     figures : dict
         ``{stem: draw}``, ``draw(ds) -> Figure`` for each figure the study draws.
+    history : str or False, optional
+        The command to record (default ``stability run (<name>)``); False where ``ds`` already
+        records the run that made it (a streamed ensemble does).
+    threads : int, optional
+        The Numba threads the run used (``stability run --threads``), as recorded.
 
     Returns
     -------
@@ -308,10 +321,14 @@ def write_outputs(ds, config: dict, out_dir, name: str, figures: dict, *, overwr
     from ..dataset import append_history, config_toml, software_attrs
     from ..figures.style import save
     from ..io import saving
+    from ..threads import numba_threads
 
+    with numba_threads(threads):
+        software = software_attrs()
     ds.attrs.update({"title": config["title"], "study": name, **(attrs or {}),
-                     "config": config_toml(config), **software_attrs()})
-    ds = append_history(ds, history or f"stability run ({name})")
+                     "config_toml": config_toml(config), **software})
+    if history is not False:
+        ds = append_history(ds, history or f"stability run ({name})")
     out = config["output"]
     files = [out_dir / out["dataset"]]
     with saving(ds, files[0], overwrite=overwrite):

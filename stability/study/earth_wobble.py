@@ -108,7 +108,7 @@ def run(config: dict, out_dir: Path, *, overwrite=False, threads=None, progress=
                                  periods=w["periods"], steps_per_turn=integ["steps_per_turn"],
                                  method=integ["method"], seed=w["seed"], progress=progress)
     ds, files = write_outputs(ds, config, out_dir, NAME, {FIGURE: wobble_cones_figure},
-                              overwrite=overwrite, history=history,
+                              overwrite=overwrite, history=history, threads=threads,
                               attrs={"sidereal_day": e["sidereal_day"]})
     wall = time.perf_counter() - t_start
     sidereal = e["sidereal_day"] / 86400.0

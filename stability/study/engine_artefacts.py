@@ -122,7 +122,8 @@ def run(config: dict, out_dir: Path, *, overwrite=False, threads=None, progress=
                                search_members=min(analysis["search_members"], ens["members"]),
                                halvings=analysis["halvings"])
     ds, files = write_outputs(ds, config, out_dir, NAME, {FIGURE: artefacts_figure},
-                              overwrite=overwrite, history=history, attrs={"body": body.name})
+                              overwrite=overwrite, history=history, threads=threads,
+                              attrs={"body": body.name})
     return summarize(ds, out_dir, files, time.perf_counter() - t_start)
 
 

@@ -82,7 +82,7 @@ def run(config: dict, out_dir: Path, *, overwrite=False, threads=None, progress=
                                cycle_years=integ["cycle_years"], seed=r["seed"],
                                progress=progress)
     ds, files = write_outputs(ds, config, out_dir, NAME, {FIGURE: equinoxes_figure},
-                              overwrite=overwrite, history=history,
+                              overwrite=overwrite, history=history, threads=threads,
                               attrs={"claim": config["analysis"]["claim"]})
     return summarize(ds, out_dir, files, time.perf_counter() - t_start)
 

@@ -154,7 +154,7 @@ def run(config: dict, out_dir: Path, *, overwrite=False, threads=None, progress=
         ds, config, out_dir, NAME,
         {FIGURES[0]: gyroscope_paths_figure,
          FIGURES[1]: lambda ds: gyroscope_rates_figure(ds, claim=claim)},
-        overwrite=overwrite, history=history, attrs={"claim": claim})
+        overwrite=overwrite, history=history, threads=threads, attrs={"claim": claim})
     return summarize(ds, out_dir, files, time.perf_counter() - t_start)
 
 

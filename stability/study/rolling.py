@@ -156,7 +156,7 @@ def run(config: dict, out_dir: Path, *, overwrite=False, threads=None, progress=
     ds, files = write_outputs(ds, config, out_dir, NAME,
                               {FIGURES[0]: rolling_map_figure,
                                FIGURES[1]: rolling_launch_figure},
-                              overwrite=overwrite, history=history,
+                              overwrite=overwrite, history=history, threads=threads,
                               attrs={"claim": config["analysis"]["claim"]})
     return summarize(ds, out_dir, files, time.perf_counter() - t_start)
 

@@ -114,7 +114,7 @@ def run(config: dict, out_dir: Path, *, overwrite=False, threads=None, progress=
     t = config["top"]
     ds, files = write_outputs(
         ds, config, out_dir, NAME, {FIGURE: lambda ds: sleeping_top_figure(ds, an["claim"])},
-        overwrite=overwrite, history=history,
+        overwrite=overwrite, history=history, threads=threads,
         attrs={"mass": t["mass"], "central_moments": np.array(t["central_moments"]),
                "gravity": t["gravity"], "claim": an["claim"], "away_fraction": an["away"]})
     return summarize(ds, out_dir, files, time.perf_counter() - t_start)

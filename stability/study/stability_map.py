@@ -24,20 +24,14 @@ from .. import stabilitymap as smap
 from ..shapes import amplitude_levels, analytic_omega_squared, edge_series, horizons, shape_grid
 from ..threads import numba_threads
 from .config import (
-    UNSET, ConfigError, Key, Schema, Section, StudyKind, StudySummary, output_files,
-    output_section,
+    UNSET, ConfigError, Key, Schema, Section, StudyKind, StudySummary, method_names,
+    output_files, output_section, write_outputs,
 )
 
 NAME = "stability_map"
 
 #: Figure file stems: the map, measured against analytic, flip intervals, the edges.
 FIGURES = ("fig1_map", "fig2_measured_vs_analytic", "fig3_flip_interval", "fig4_edges")
-
-
-def _method_names() -> tuple:
-    from ..integrators import METHODS
-
-    return tuple(METHODS)
 
 
 SCHEMA = Schema(
@@ -63,7 +57,7 @@ SCHEMA = Schema(
         )),
         Section("integration", "methods, steps and run lengths", (
             Key("methods", "strs", ["rk4", "lp2", "exact"], "integrators to run",
-                choices=_method_names),
+                choices=method_names),
             Key("h", "floats", [0.1, 0.05, 0.1], "step of each method, in the same order",
                 unit="s", minimum=0.0, exclusive_minimum=True),
             Key("bias_check", "bool", True,
@@ -198,29 +192,17 @@ def run(config: dict, out_dir: Path, *, overwrite=False, threads=None, progress=
     if scheduler is not None:
         raise ValueError("the stability map runs its batches on this machine (all cores); "
                          "drop --scheduler")
-    from ..io import saving
-    from .config import to_toml
+    from ..figures import stability_map as figures
 
     t_start = time.perf_counter()
     threads = config["integration"].get("threads") if threads is None else threads
     with numba_threads(threads):
         ds, work = compute(config, progress=progress, work_dir=work, resume=resume)
-    ds.attrs["history"] = history or f"stability run ({NAME})"
-    ds.attrs["config_toml"] = to_toml(config)
     compute_time = time.perf_counter() - t_start
-
-    out = config["output"]
-    files = [out_dir / out["dataset"]]
-    with saving(ds, files[0], overwrite=overwrite):  # the write runs while the figures draw
-        (out_dir / "config.toml").write_text(to_toml(config), encoding="utf-8")
-        files.append(out_dir / "config.toml")
-        if out["figures"]:
-            from ..figures import stability_map as figures
-            from ..figures.style import save
-
-            for stem, make in zip(FIGURES, (figures.map_figure, figures.scatter_figure,
-                                            figures.flip_interval_figure, figures.edges_figure)):
-                files += save(make(ds), out_dir, stem, out["formats"])
+    draw = (figures.map_figure, figures.scatter_figure, figures.flip_interval_figure,
+            figures.edges_figure)
+    ds, files = write_outputs(ds, config, out_dir, NAME, dict(zip(FIGURES, draw)),
+                              overwrite=overwrite, history=history, threads=threads)
     wall = time.perf_counter() - t_start
     return summarize(ds, out_dir, files, wall, compute_time, work)
 

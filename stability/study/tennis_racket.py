@@ -31,8 +31,8 @@ from ..analytic import MOMENT_NAMES, principal_axis
 from ..attitude import FREE_BODY_SCENES, attitude_methods, carries_attitude
 from ..estimators import analyse_ensemble
 from .config import (
-    UNSET, ConfigError, Key, Schema, Section, StudyKind, StudySummary, output_files,
-    output_section, preset_names,
+    UNSET, ConfigError, Key, Schema, Section, StudyKind, StudySummary, method_names,
+    output_files, output_section, preset_names, write_outputs,
 )
 
 NAME = "tennis_racket"
@@ -42,12 +42,6 @@ AXIS_NAMES = MOMENT_NAMES
 
 #: Figure file stems, in the order of the issue: flips, polhodes, growth, flip intervals.
 FIGURES = ("fig1_flips", "fig2_polhodes", "fig3_growth", "fig4_flip_intervals")
-
-
-def _method_names() -> tuple:
-    from ..integrators import METHODS
-
-    return tuple(METHODS)
 
 
 SCHEMA = Schema(
@@ -83,7 +77,7 @@ SCHEMA = Schema(
                 "what is integrated: w alone (free_body), or w and each member's attitude q "
                 "(free_body_attitude, with a method that carries it)", choices=FREE_BODY_SCENES),
             Key("method", "str", "rk4", "integrator (stability methods lists them)",
-                choices=_method_names),
+                choices=method_names),
             Key("h", "float", 2e-3, "step", unit="s", minimum=0.0, exclusive_minimum=True),
             Key("t_end", "float", 10.0, "horizon: a whole number of save_every steps", unit="s",
                 minimum=0.0, exclusive_minimum=True),
@@ -206,8 +200,7 @@ def run(config: dict, out_dir: Path, *, overwrite=False, threads=None, progress=
     import stability
     from stability.ensemble import format_bytes
 
-    from ..io import saving
-    from .config import to_toml
+    from ..figures import tennis
 
     say = _reporter(progress)
     t_start = time.perf_counter()
@@ -229,16 +222,12 @@ def run(config: dict, out_dir: Path, *, overwrite=False, threads=None, progress=
     ds = analyse_ensemble(ds, body, axis, spin, ens["epsilon"],
                           low_factor=config["analysis"]["fit_above"],
                           high_fraction=config["analysis"]["fit_below"])
-    ds.attrs["title"] = config["title"]
 
-    out = config["output"]
-    files = [out_dir / out["dataset"]]
-    say(f"writing {files[0].name} and drawing the figures ...")
-    with saving(ds, files[0], overwrite=overwrite):  # the write runs while the figures draw
-        (out_dir / "config.toml").write_text(to_toml(config), encoding="utf-8")
-        files.append(out_dir / "config.toml")
-        if out["figures"]:
-            files += draw_figures(ds, body, axis, out_dir, out["formats"])
+    say(f"writing {config['output']['dataset']} and drawing the figures ...")
+    figures = (tennis.flips_figure, tennis.polhode_figure, tennis.growth_figure,
+               tennis.flip_interval_figure)
+    ds, files = write_outputs(ds, config, out_dir, NAME, dict(zip(FIGURES, figures)),
+                              overwrite=overwrite, history=False, threads=threads)
     wall = time.perf_counter() - t_start
     return summarize(ds, out_dir, files, wall, t_ensemble)
 
@@ -246,7 +235,6 @@ def run(config: dict, out_dir: Path, *, overwrite=False, threads=None, progress=
 def _ensemble(config, body, axis, work, resume, scheduler, threads, progress, command):
     """The ensemble, streamed through the chunk folder ``work`` and read back into memory."""
     from .. import conventions as cv
-    from ..dataset import config_toml
     from ..stream import run_streamed
 
     ens, integ = config["ensemble"], config["integration"]
@@ -262,10 +250,8 @@ def _ensemble(config, body, axis, work, resume, scheduler, threads, progress, co
     ds = lazy.compute()
     lazy.close()
     member = ds[cv.MEMBER]  # an ordinary index in memory, as run_ensemble's own Datasets have
-    ds = ds.drop_indexes(cv.MEMBER).assign_coords(
+    return ds.drop_indexes(cv.MEMBER).assign_coords(
         {cv.MEMBER: (cv.MEMBER, np.arange(member.size, dtype=np.int64), member.attrs)})
-    ds.attrs["config_toml"] = config_toml(config)  # this run's (a resumed run's may differ)
-    return ds
 
 
 def _reporter(progress):
@@ -289,19 +275,6 @@ def spin_axis(body, axis) -> int:
     if axis in (1, 2, 3):
         return int(axis)
     return principal_axis(body, axis)
-
-
-def draw_figures(ds, body, axis, out_dir, formats):
-    """Draw and save the four figures; return the paths written."""
-    from ..figures import tennis
-    from ..figures.style import save
-
-    paths = []
-    for stem, make in zip(FIGURES, (tennis.flips_figure, tennis.polhode_figure,
-                                    tennis.growth_figure, tennis.flip_interval_figure)):
-        fig = make(ds, body, axis)
-        paths += save(fig, out_dir, stem, formats)
-    return paths
 
 
 def summarize(ds, out_dir, files, wall, t_ensemble) -> StudySummary:

@@ -107,7 +107,7 @@ def run(config: dict, out_dir: Path, *, overwrite=False, threads=None, progress=
                               progress=progress)
     ds, files = write_outputs(ds, config, out_dir, NAME,
                               {"twist": twist_figure, "flip": flip_figure},
-                              overwrite=overwrite, history=history,
+                              overwrite=overwrite, history=history, threads=threads,
                               attrs={"claim": config["analysis"]["claim"], "body": body.name})
     return summarize(ds, out_dir, files, time.perf_counter() - t_start)
 

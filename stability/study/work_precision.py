@@ -35,18 +35,14 @@ from ..progress import progress_bar
 from ..sweeps import jittered_starts, step_grid, sweep_method, sweep_scipy
 from ..threads import numba_threads
 from .config import (
-    ConfigError, Key, Schema, Section, StudyKind, StudySummary, output_files, output_section,
-    to_toml,
+    ConfigError, Key, Schema, Section, StudyKind, StudySummary, method_names, output_files,
+    output_section, to_toml,
 )
 
 NAME = "work_precision"
 
 #: Figure stems.
 FIGURES = ("work_precision", "invariant_drift")
-
-
-def _method_names() -> tuple:
-    return tuple(METHODS)
 
 
 SCHEMA = Schema(
@@ -87,7 +83,7 @@ SCHEMA = Schema(
         )),
         Section("sweep", "the step sizes tried per method", (
             Key("methods", "strs", [], "methods to run; empty: every registered method",
-                choices=_method_names),
+                choices=method_names),
             Key("h_max", "float", 0.5, "largest step (times spin: the step's rotation angle)",
                 unit="s", minimum=0.0, exclusive_minimum=True),
             Key("h_min", "float", 1e-4, "smallest step tried", unit="s", minimum=0.0,
