@@ -1306,6 +1306,68 @@ def analyse_ensemble(ds: xr.Dataset, body, axis: int, spin: float, epsilon: floa
     return ds
 
 
+def analysis_headline(ds: xr.Dataset):
+    """The numbers an analysed ensemble (:func:`analyse_ensemble`) ends with: Omega^2, the
+    analytic and measured growth rates, the measured flip intervals against the exact 2K/nu,
+    the largest invariant errors (and attitude error, where the attitude was carried), over the
+    members with status ok.
+
+    Returns
+    -------
+    rows : list of (str, str, str)
+        Label, value and unit, for the printed summary.
+    values : dict
+        The same numbers as floats: ``members``, ``members_ok``, ``omega_squared``,
+        ``growth_rate``, ``growth_rate_fitted`` (and ``_stderr``), ``growth_rate_rel_error``,
+        ``median_flip_interval``, ``median_exact_flip_interval``,
+        ``max_flip_interval_rel_error``, ``max_energy_error``, ``max_angular_momentum_error``
+        and ``max_attitude_error``.
+    """
+    ok = (ds.status == cv.STATUS_OK).values
+    n_ok = int(ok.sum())
+
+    def worst(name):
+        return float(np.nanmax(np.abs(ds[name].values[ok]))) if n_ok else math.nan
+
+    rate, fitted = ds.attrs["growth_rate_analytic"], ds.attrs["growth_rate_fitted"]
+    stderr = ds.attrs["growth_rate_fitted_stderr"]
+    measured = ds.mean_flip_interval.values[ok]
+    exact = ds.exact_flip_interval.values[ok]
+    both = np.isfinite(measured) & np.isfinite(exact)
+    flips = both.any()
+    values = {
+        "members": ok.size, "members_ok": n_ok, "omega_squared": ds.attrs["omega_squared"],
+        "growth_rate": rate, "growth_rate_fitted": fitted, "growth_rate_fitted_stderr": stderr,
+        "growth_rate_rel_error": (fitted - rate) / rate if rate > 0 else math.nan,
+        "median_flip_interval": float(np.median(measured[both])) if flips else math.nan,
+        "median_exact_flip_interval": float(np.median(exact[both])) if flips else math.nan,
+        "max_flip_interval_rel_error": float(np.max(
+            np.abs(measured[both] - exact[both]) / exact[both])) if flips else math.nan,
+        "max_energy_error": worst("energy_error"),
+        "max_angular_momentum_error": worst("angular_momentum_error"),
+    }
+    v = values
+    rows = [
+        ("members (ok / all)", f"{n_ok} / {ok.size}", ""),
+        ("Omega^2 (analytic)", f"{v['omega_squared'] + 0.0:.6g}", "s-2"),  # no "-0"
+        ("growth rate sqrt(-Omega^2) (analytic)", f"{rate:.6f}", "s-1"),
+        ("growth rate fitted (mean over members, linear phase)", f"{fitted:.6f}", "s-1"),
+        ("  its standard error", f"{stderr:.1e}", "s-1"),
+        ("  relative error of the fit", f"{v['growth_rate_rel_error']:.1e}", ""),
+        ("median flip interval, measured", f"{v['median_flip_interval']:.6f}", "s"),
+        ("median flip interval, exact 2K/nu", f"{v['median_exact_flip_interval']:.6f}", "s"),
+        ("  max relative difference over members", f"{v['max_flip_interval_rel_error']:.1e}",
+         ""),
+        ("max |relative energy error|", f"{v['max_energy_error']:.1e}", ""),
+        ("max |relative |L| error|", f"{v['max_angular_momentum_error']:.1e}", ""),
+    ]
+    if "attitude_error" in ds:  # scene free_body_attitude
+        values["max_attitude_error"] = worst("attitude_error")
+        rows.append(("max attitude error, angle to the exact attitude",
+                     f"{values['max_attitude_error']:.1e}", "rad"))
+    return rows, values
+
+
 def _is_intermediate(moments, axis):
     moments = np.asarray(moments, dtype=float)
     others = np.delete(moments, axis - 1)
@@ -1316,10 +1378,10 @@ __all__ = [
     "DEPARTURE_FACTOR", "ESTIMATE_ATTRS", "MIN_CROSSINGS", "MIN_POINTS", "Members",
     "REGIME_ALGEBRAIC", "REGIME_EXPONENTIAL", "REGIME_MEANINGS", "REGIME_NEUTRAL",
     "REGIME_OSCILLATION", "REGIME_UNDETERMINED", "WINDOW_ATTRS", "WINDOW_HIGH_FRACTION",
-    "WINDOW_LOW_FACTOR", "analyse_ensemble", "complementary_moduli", "exact_flip_intervals",
-    "flip_estimate", "flip_statistics", "growth_line", "measured_frequency",
-    "measured_growth_rate", "measured_omega_squared", "member_regimes", "members",
-    "omega_squared_estimate", "omega_squared_estimates", "perpendicular_amplitude",
+    "WINDOW_LOW_FACTOR", "analyse_ensemble", "analysis_headline", "complementary_moduli",
+    "exact_flip_intervals", "flip_estimate", "flip_statistics", "growth_line",
+    "measured_frequency", "measured_growth_rate", "measured_omega_squared", "member_regimes",
+    "members", "omega_squared_estimate", "omega_squared_estimates", "perpendicular_amplitude",
     "perpendicular_axes", "richardson_bias", "sign_change_times", "summary_members",
     "tracked_members", "zero_crossings",
 ]

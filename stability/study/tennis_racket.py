@@ -29,7 +29,7 @@ import numpy as np
 
 from ..analytic import MOMENT_NAMES, principal_axis
 from ..attitude import FREE_BODY_SCENES, attitude_methods, carries_attitude
-from ..estimators import analyse_ensemble
+from ..estimators import analyse_ensemble, analysis_headline
 from .config import (
     UNSET, ConfigError, Key, Schema, Section, StudyKind, StudySummary, method_names,
     output_files, output_section, preset_names, write_outputs,
@@ -278,54 +278,15 @@ def spin_axis(body, axis) -> int:
 
 
 def summarize(ds, out_dir, files, wall, t_ensemble) -> StudySummary:
-    """The summary table of a finished run."""
-    from .. import conventions as cv
-
-    ok = (ds.status == cv.STATUS_OK).values
-    n_ok, n = int(ok.sum()), ok.size
-    rate, fitted = ds.attrs["growth_rate_analytic"], ds.attrs["growth_rate_fitted"]
-    stderr = ds.attrs["growth_rate_fitted_stderr"]
-    rel = (fitted - rate) / rate if rate > 0 else math.nan
-    measured = ds.mean_flip_interval.values[ok]
-    exact = ds.exact_flip_interval.values[ok]
-    both = np.isfinite(measured) & np.isfinite(exact)
-    flip_err = np.abs(measured[both] - exact[both]) / exact[both]
-    e_err = np.nanmax(np.abs(ds.energy_error.values[ok])) if n_ok else math.nan
-    l_err = np.nanmax(np.abs(ds.angular_momentum_error.values[ok])) if n_ok else math.nan
-    steps = int(ds.attrs["steps_done"])
-    loop = float(ds.attrs["wall_time"])
-    values = {
-        "members": n, "members_ok": n_ok,
-        "omega_squared": ds.attrs["omega_squared"],
-        "growth_rate": rate, "growth_rate_fitted": fitted, "growth_rate_fitted_stderr": stderr,
-        "growth_rate_rel_error": rel,
-        "median_flip_interval": float(np.median(measured[both])) if both.any() else math.nan,
-        "median_exact_flip_interval": float(np.median(exact[both])) if both.any() else math.nan,
-        "max_flip_interval_rel_error": float(flip_err.max()) if both.any() else math.nan,
-        "max_energy_error": float(e_err), "max_angular_momentum_error": float(l_err),
+    """The summary table of a finished run: the analysis
+    (:func:`stability.estimators.analysis_headline`), then its cost."""
+    rows, values = analysis_headline(ds)
+    n, steps, loop = values["members"], int(ds.attrs["steps_done"]), float(ds.attrs["wall_time"])
+    values.update({
         "wall_time": wall, "ensemble_time": t_ensemble, "integration_time": loop,
         "compile_time": float(ds.attrs["compile_time"]),
         "member_steps_per_s": n * steps / loop if loop > 0 else math.nan,
-    }
-    rows = [
-        ("members (ok / all)", f"{n_ok} / {n}", ""),
-        ("Omega^2 (analytic)", f"{values['omega_squared'] + 0.0:.6g}", "s-2"),  # no "-0"
-        ("growth rate sqrt(-Omega^2) (analytic)", f"{rate:.6f}", "s-1"),
-        ("growth rate fitted (mean over members, linear phase)", f"{fitted:.6f}", "s-1"),
-        ("  its standard error", f"{stderr:.1e}", "s-1"),
-        ("  relative error of the fit", f"{rel:.1e}", ""),
-        ("median flip interval, measured", f"{values['median_flip_interval']:.6f}", "s"),
-        ("median flip interval, exact 2K/nu", f"{values['median_exact_flip_interval']:.6f}", "s"),
-        ("  max relative difference over members",
-         f"{values['max_flip_interval_rel_error']:.1e}", ""),
-        ("max |relative energy error|", f"{values['max_energy_error']:.1e}", ""),
-        ("max |relative |L| error|", f"{values['max_angular_momentum_error']:.1e}", ""),
-    ]
-    if "attitude_error" in ds:  # scene free_body_attitude
-        values["max_attitude_error"] = float(np.nanmax(ds.attitude_error.values[ok])) \
-            if n_ok else math.nan
-        rows.append(("max attitude error, angle to the exact attitude",
-                     f"{values['max_attitude_error']:.1e}", "rad"))
+    })
     rows += [
         ("wall time (all: compile, run, analysis, files)", f"{wall:.1f}", "s"),
         ("  integration / Numba compile", f"{loop:.2f} / {values['compile_time']:.1f}", "s"),
