@@ -110,6 +110,25 @@ def batch_estimates(runs, analytic, flips, *, low_factor, high_fraction) -> list
     return out
 
 
+def map_runs(specs, steps, n_shapes: int, bias_check: bool = True, bias_stride: int = 1):
+    """The batches a map runs (:func:`measure_map`'s ``runs``): each method at its step over
+    every shape and, with ``bias_check``, each finite-order method again at half its step over
+    every ``bias_stride``-th shape (its O(h^p) bias, :func:`stability.estimators.richardson_bias`).
+    Exact flows come first: their first-flip times are the reference of the others.
+
+    Returns
+    -------
+    list of (int, float, ndarray, bool)
+        (method index, h, shape indices, whether it is the half-step bias run).
+    """
+    runs = []
+    for i in sorted(range(len(specs)), key=lambda i: not specs[i].is_exact):
+        runs.append((i, steps[i], np.arange(n_shapes), False))
+        if bias_check and not specs[i].is_exact:
+            runs.append((i, steps[i] / 2, np.arange(0, n_shapes, bias_stride), True))
+    return runs
+
+
 def measure_map(bodies, omega2, t_end, levels, specs, runs, *, spin, epsilon, members, seed,
                 low_factor, high_fraction, progress=None, checkpoint=None):
     """Run every ensemble of the map and keep its estimates.
@@ -129,7 +148,7 @@ def measure_map(bodies, omega2, t_end, levels, specs, runs, *, spin, epsilon, me
     specs : list of MethodSpec
     runs : list of (int, float, ndarray, bool)
         (method index, h, shape indices, whether it is the half-step bias run), exact flows
-        first: their first-flip times are the reference of the others.
+        first: their first-flip times are the reference of the others (:func:`map_runs`).
     spin, epsilon, members, seed
         The ensembles (rad/s, relative, count, seed of the directions).
     low_factor, high_fraction : float

@@ -37,7 +37,8 @@ def test_quick_study_writes_dataset_figures_and_table(quick):
         if name in ("workload", "method", "sweep", "metric"):
             continue
         assert var.attrs.get("units") is not None and var.attrs.get("long_name"), name
-    assert "config_toml" in ds.attrs
+    assert "config_toml" in ds.attrs and ds.attrs["study"] == "work_precision"
+    assert (out / "work_precision.md").read_text() == wp.markdown_report(ds)
     assert summary.values["wall_time"] > 0
 
 

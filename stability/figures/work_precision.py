@@ -17,7 +17,7 @@ import numpy as np
 
 from .. import conventions as cv
 from ..drift import envelope
-from .style import EXACT_COLOR, label, new_figure, save, styled
+from .style import EXACT_COLOR, label, new_figure, styled
 
 #: Line style per method family, so families read at a glance; colours cycle within a family.
 _FAMILY_STYLE = {
@@ -144,11 +144,3 @@ def _guides(ax, t):
     t0 = t[0]
     ax.plot(t, 1e-16 * np.sqrt(t / t0), color="0.5", lw=0.8, ls=":", label="∝ t^(1/2)")
     ax.plot(t, 1e-16 * (t / t0), color="0.5", lw=0.8, ls=(0, (5, 5)), label="∝ t")
-
-
-def draw(ds, out_dir, formats=("png", "pdf")) -> list:
-    """Draw both figures into ``out_dir``; return the paths written."""
-    paths = []
-    paths += save(work_precision_figure(ds), out_dir, "work_precision", formats)
-    paths += save(invariant_drift_figure(ds), out_dir, "invariant_drift", formats)
-    return paths

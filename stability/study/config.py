@@ -288,7 +288,7 @@ def output_files(config: dict, figures, extra=()) -> list[str]:
 
 
 def write_outputs(ds, config: dict, out_dir, name: str, figures: dict, *, overwrite=False,
-                  history=None, attrs=None, threads=None):
+                  history=None, attrs=None, threads=None, texts=None):
     """Label ``ds`` and write what ``[output]`` asks for: the Dataset, ``config.toml`` and the
     figures, published together (:func:`stability.io.saving`: the write runs while the figures
     draw; an interruption publishes nothing).
@@ -311,6 +311,8 @@ def write_outputs(ds, config: dict, out_dir, name: str, figures: dict, *, overwr
         records the run that made it (a streamed ensemble does).
     threads : int, optional
         The Numba threads the run used (``stability run --threads``), as recorded.
+    texts : dict, optional
+        ``{file name: text}``: more files written beside ``config.toml`` (a report, say).
 
     Returns
     -------
@@ -332,8 +334,9 @@ def write_outputs(ds, config: dict, out_dir, name: str, figures: dict, *, overwr
     out = config["output"]
     files = [out_dir / out["dataset"]]
     with saving(ds, files[0], overwrite=overwrite):
-        (out_dir / "config.toml").write_text(to_toml(config), encoding="utf-8")
-        files.append(out_dir / "config.toml")
+        for file, text in {**(texts or {}), "config.toml": to_toml(config)}.items():
+            (out_dir / file).write_text(text, encoding="utf-8")
+            files.append(out_dir / file)
         if out["figures"]:
             for stem, draw in figures.items():
                 files += save(draw(ds), out_dir, stem, out["formats"])

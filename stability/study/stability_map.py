@@ -238,13 +238,7 @@ def compute(config: dict, progress=None, work_dir=None, resume=False):
     t_end = horizons(omega2, integ["horizon"], integ["t_max"], integ["t_neutral"])
     levels = amplitude_levels(spin, eps, ana["levels_per_decade"])
     specs = [method_spec(m) for m in integ["methods"]]
-    # The exact flow first: its per-member flip times are the reference of the others.
-    order = sorted(range(len(specs)), key=lambda i: not specs[i].is_exact)
-    runs = []  # (method index, h, shape indices, is the half-step bias run)
-    for i in order:
-        runs.append((i, integ["h"][i], np.arange(n_shapes), False))
-        if integ["bias_check"] and not specs[i].is_exact:
-            runs.append((i, integ["h"][i] / 2, np.arange(0, n_shapes, integ["bias_stride"]), True))
+    runs = smap.map_runs(specs, integ["h"], n_shapes, integ["bias_check"], integ["bias_stride"])
     checkpoint = None
     if work_dir is not None:
         from .. import __version__

@@ -26,17 +26,16 @@ from .. import reference as ref
 from .. import workprecision as wp
 from ..analytic import principal_axis
 from ..body import RigidBody
-from ..dataset import CONVENTIONS, history_line, software_attrs
+from ..dataset import CONVENTIONS, software_attrs
 from ..drift import long_horizon
 from ..ensemble import perturbed_starts
 from ..integrators import METHODS, method_spec
-from ..io import save
 from ..progress import progress_bar
 from ..sweeps import jittered_starts, step_grid, sweep_method, sweep_scipy
 from ..threads import numba_threads
 from .config import (
     ConfigError, Key, Schema, Section, StudyKind, StudySummary, method_names, output_files,
-    output_section, to_toml,
+    output_section, write_outputs,
 )
 
 NAME = "work_precision"
@@ -213,20 +212,15 @@ def run(config: dict, out_dir: Path, *, overwrite=False, threads=None, progress=
         Rows: the fastest method per accuracy target on the tennis workload, the conditioning
         floor, the long-horizon behaviour per method, and the run time.
     """
+    from ..figures import work_precision as figures
+
     with numba_threads(threads):
         ds, wall = measure(config, progress=progress)
-    ds.attrs["history"] = history_line(history or f"stability run ({NAME})")
-    out = config["output"]
-    out_dir = Path(out_dir)
-    files = [save(ds, out_dir / out["dataset"], overwrite=overwrite)]
-    table = out_dir / out["table"]
-    table.write_text(wp.markdown_report(ds), encoding="utf-8")
-    (out_dir / "config.toml").write_text(to_toml(config), encoding="utf-8")
-    files += [table, out_dir / "config.toml"]
-    if out["figures"]:
-        from ..figures import work_precision as figures
-
-        files += figures.draw(ds, out_dir, out["formats"])
+    ds, files = write_outputs(
+        ds, config, out_dir, NAME,
+        dict(zip(FIGURES, (figures.work_precision_figure, figures.invariant_drift_figure))),
+        overwrite=overwrite, history=history, threads=threads,
+        texts={config["output"]["table"]: wp.markdown_report(ds)})
     return summarize(ds, out_dir, files, wall)
 
 
@@ -302,7 +296,6 @@ def _global_attrs(config, body, wall_total) -> dict:
             f"{long['members']} members jittered by 1e-3 around w0 = {long['w0']} rad/s, "
             f"h = {long['h']} s, {long['steps']} steps"),
         "wall_time_total": float(wall_total),
-        "config_toml": to_toml(config),
     }
 
 
