@@ -1312,6 +1312,11 @@ def analysis_headline(ds: xr.Dataset):
     the largest invariant errors (and attitude error, where the attitude was carried), over the
     members with status ok.
 
+    Parameters
+    ----------
+    ds : xarray.Dataset
+        An ensemble with saved samples, analysed by :func:`analyse_ensemble`.
+
     Returns
     -------
     rows : list of (str, str, str)

@@ -116,6 +116,18 @@ def map_runs(specs, steps, n_shapes: int, bias_check: bool = True, bias_stride: 
     every ``bias_stride``-th shape (its O(h^p) bias, :func:`stability.estimators.richardson_bias`).
     Exact flows come first: their first-flip times are the reference of the others.
 
+    Parameters
+    ----------
+    specs : list of MethodSpec
+    steps : sequence of float
+        The step h of each method, s.
+    n_shapes : int
+        Shapes in the map.
+    bias_check : bool
+        Run the half-step bias runs.
+    bias_stride : int
+        Bias runs on every ``bias_stride``-th shape.
+
     Returns
     -------
     list of (int, float, ndarray, bool)
