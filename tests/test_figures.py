@@ -43,6 +43,22 @@ def test_figure_builds_with_units_and_a_legend(make, analysed, tmp_path):
     assert sorted(p.name for p in tmp_path.iterdir()) == ["figure.pdf", "figure.png"]
 
 
+def test_save_lays_out_once_and_gives_the_layout_engine_back(analysed, tmp_path):
+    """PNG and PDF share the positions the first drawing settled, and the figure keeps its
+    constrained layout afterwards (a second save lays it out again)."""
+    fig = tennis.growth_figure(*analysed)
+    engine = fig.get_layout_engine()
+    save(fig, tmp_path, "a", ("png", "pdf"))
+    position = fig.axes[0].get_position().bounds
+    assert fig.get_layout_engine() is engine
+    fig.set_size_inches(5.0, 6.0)
+    save(fig, tmp_path, "b", ("png",))
+    assert fig.axes[0].get_position().bounds != position  # laid out again for the new size
+    with pytest.raises(ValueError, match="figure format must be one of png, pdf, svg"):
+        save(fig, tmp_path, "c", ("png", "jpeg"))
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["a.pdf", "a.png", "b.png"]
+
+
 def test_missing_units_finds_a_bare_label():
     fig = Figure()
     ax = fig.subplots()

@@ -94,24 +94,31 @@ def save(fig: Figure, out_dir, stem: str, formats=("png", "pdf"), dpi: int = 150
 
     The file is written under a temporary name and renamed, so an interrupted run never leaves
     a truncated figure behind. The layout is worked out once, by the first format drawn, and
-    kept for the others (constrained layout takes about half of each drawing).
+    kept for the others (constrained layout takes about half of each drawing); the figure's
+    layout engine is given back afterwards.
     """
     out_dir = Path(out_dir)
-    paths = []
-    for k, fmt in enumerate(formats):
-        if k == 1:
-            fig.set_layout_engine("none")  # keep the positions the first drawing settled
+    for fmt in formats:
         if fmt not in FORMATS:
             raise ValueError(f"figure format must be one of {', '.join(FORMATS)}, got {fmt!r}")
-        path = out_dir / f"{stem}.{fmt}"
-        partial = out_dir / f".{stem}.{fmt}.part"
-        try:
-            fig.savefig(partial, format=fmt, dpi=dpi)
-            partial.replace(path)
-        except OSError as exc:  # a full disk, a vanished folder: one line naming both
-            partial.unlink(missing_ok=True)
-            raise disk_error(exc, path) from exc
-        paths.append(path)
+    engine = fig.get_layout_engine()
+    paths = []
+    try:
+        for k, fmt in enumerate(formats):
+            if k == 1 and engine is not None:
+                fig.set_layout_engine("none")  # keep the positions the first drawing settled
+            path = out_dir / f"{stem}.{fmt}"
+            partial = out_dir / f".{stem}.{fmt}.part"
+            try:
+                fig.savefig(partial, format=fmt, dpi=dpi)
+                partial.replace(path)
+            except OSError as exc:  # a full disk, a vanished folder: one line naming both
+                partial.unlink(missing_ok=True)
+                raise disk_error(exc, path) from exc
+            paths.append(path)
+    finally:
+        if engine is not None:
+            fig.set_layout_engine(engine)
     return paths
 
 
