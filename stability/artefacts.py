@@ -112,8 +112,6 @@ def run_rule(rule, moments, w0, h, t_end, *, save_every=0, progress=None):
                             h, n_steps, save_every=save_every, axes=_AXES,
                             levels=(LEVELS * spin)[None, :], progress=progress,
                             label=f"{rule}, h = {h:.3g} s")
-    if prop.interrupted:  # a partial run has no flip statistics to report
-        raise KeyboardInterrupt
 
     def body(x):
         if scene.name == "engine_body":

@@ -277,7 +277,8 @@ def attitude_spec(method):
 
 
 def propagate_attitude(
-    method, moments, m0, q0, h, n_steps, save_every=0, progress=None, chunk_steps=None
+    method, moments, m0, q0, h, n_steps, save_every=0, progress=None, chunk_steps=None,
+    partial=False,
 ):
     """Advance body angular momenta and attitudes of an ensemble with a registered method.
 
@@ -301,6 +302,8 @@ def propagate_attitude(
         Progress bar; ``None`` shows one when the run is expected to take > 2 s.
     chunk_steps : int, optional
         Steps per kernel call; by default about 0.25 s of work per call.
+    partial : bool, default False
+        On Ctrl-C, return the steps done instead of raising KeyboardInterrupt.
 
     Returns
     -------
@@ -331,7 +334,7 @@ def propagate_attitude(
     x = np.concatenate([m, q], axis=1)
     run = propagate_groups(
         scene, spec, x, spec.params(moments[perm], h)[None, :], [n_members], h, n_steps,
-        save_every=save_every, progress=progress, chunk_steps=chunk_steps,
+        save_every=save_every, progress=progress, chunk_steps=chunk_steps, partial=partial,
     )
     q, saved_q = run.x_final[:, 3:], run.saved[:, :, 3:]
     norm_final = np.linalg.norm(q, axis=-1)  # of the carried quaternion, canonical frame
@@ -415,8 +418,6 @@ class AttitudeRuns:
         params = np.array([self.spec.params(I, hh) for I, hh in zip(self.moments, h)])
         prop = propagate_groups(SCENES["free_body_attitude"], self.spec, x, params, sizes,
                                 h, n_steps, progress=False)
-        if prop.interrupted:
-            raise KeyboardInterrupt
         return prop.x_final
 
 
@@ -475,7 +476,5 @@ def propagate_attitudes(method, moments, m0, q0, h, n_steps, save_every=1, progr
     sizes = np.ones(x.shape[0], dtype=np.int64)
     run = propagate_groups(SCENES["free_body_attitude"], spec, x, params, sizes, h, n_steps,
                            save_every=save_every, progress=progress, label=label)
-    if run.interrupted:
-        raise KeyboardInterrupt
     saved = np.concatenate([x[:, None, :], run.saved], axis=1)
     return AttitudeRuns(spec, moments, h, save_every, saved, run)

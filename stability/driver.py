@@ -23,7 +23,7 @@ __all__ = ["BLOCK", "CHECK_EVERY", "Propagation", "propagate", "propagate_many",
 
 def propagate(
     method, moments, m0, h, n_steps, save_every=0, progress=None, chunk_steps=None,
-    track_axis=None, levels=None,
+    track_axis=None, levels=None, partial=False,
 ):
     """Advance an ensemble of body angular momenta with a registered method.
 
@@ -56,6 +56,9 @@ def propagate(
         sqrt(w_b^2 + w_c^2) reaches each level (0 for levels the start reaches, NaN if never).
     levels : array_like, optional
         Ascending perpendicular-amplitude levels in rad/s for ``passage_time``.
+    partial : bool, default False
+        On Ctrl-C, return the steps done (``interrupted`` True) instead of raising
+        KeyboardInterrupt (:func:`stability.engine.propagate_groups`).
 
     Returns
     -------
@@ -69,6 +72,7 @@ def propagate(
         real_number("h", h, "s"), n_steps, save_every=save_every, progress=progress,
         chunk_steps=chunk_steps, track_axes=None if track_axis is None else [track_axis],
         levels=None if levels is None else real_array("levels", levels, "rad/s")[None, :],
+        partial=partial,
     )
     run.steps_done = int(run.steps_done[0])
     return run
@@ -76,7 +80,7 @@ def propagate(
 
 def propagate_many(
     method, moments, m0, sizes, h, n_steps, save_every=0, progress=None, chunk_steps=None,
-    track_axes=None, levels=None, q0=None,
+    track_axes=None, levels=None, q0=None, partial=False,
 ):
     """Advance several ensembles, each of its own body, step and length, in one parallel call.
 
@@ -94,7 +98,7 @@ def propagate_many(
         Members per group.
     h, n_steps : array_like, shape (G,) or scalars
         Step (s) and step count of each group.
-    save_every, progress, chunk_steps
+    save_every, progress, chunk_steps, partial
         As in :func:`propagate` (one value for all groups).
     track_axes : array_like of int, shape (G,), optional
         Body axis (0-based) of each group's spin; turns on tracking.
@@ -127,7 +131,7 @@ def propagate_many(
     run = propagate_groups(
         scene, spec, x0, groups.params, sizes, hs, n_steps,
         save_every=save_every, axes=axes, levels=levels, progress=progress,
-        chunk_steps=chunk_steps,
+        chunk_steps=chunk_steps, partial=partial,
     )
     run.x_final = groups.from_canonical_state(run.x_final)
     run.saved = groups.from_canonical_state(run.saved)

@@ -515,6 +515,16 @@ class EnsembleSummary:
     interrupted: bool
 
 
+def completed(*runs) -> None:
+    """Raise KeyboardInterrupt if Ctrl-C stopped any of ``runs``: Datasets of
+    :func:`run_ensemble` or :func:`stability.integrate` (``interrupted`` 1: the part done), or
+    :class:`EnsembleSummary`. A function that builds on runs calls it, so it never passes a
+    partial run on as a whole one."""
+    for run in runs:
+        if run.interrupted if isinstance(run, EnsembleSummary) else run.attrs["interrupted"]:
+            raise KeyboardInterrupt
+
+
 def _summary(plan: _Plan, run) -> EnsembleSummary:
     """The :class:`EnsembleSummary` of one summaries-only ensemble, from its plan and run."""
     from .estimators import summary_members
@@ -987,6 +997,7 @@ def _propagate_tracked(plans, progress, rows):
         progress, first.chunk_steps if len(plans) == 1 else None,
         track_axes=[plan.a for plan in plans], levels=[plan.levels for plan in plans],
         q0=np.tile(IDENTITY, (sum(w.shape[0] for w in starts), 1)) if first.attitude else None,
+        partial=True,  # Ctrl-C: the chunks done are kept, the Dataset marked interrupted
     )
 
 

@@ -474,8 +474,6 @@ def measure_equinoxes(*, years=100.0, members=4, steps_per_day=4, method="lp4",
                            np.array(h_rows), np.array(n_rows), save_every=steps_per_day,
                            progress=progress, label=f"Earth under Sun and Moon ({method})")
     wall = _time.perf_counter() - t0
-    if run.interrupted:
-        raise KeyboardInterrupt
     samples = np.concatenate([np.array(rows)[:, None, :], run.saved], axis=1)
     t_full = np.arange(samples.shape[1]) * DAY
     phi, eps = equinox_angles(figure_axes(samples))
@@ -490,8 +488,6 @@ def measure_equinoxes(*, years=100.0, members=4, steps_per_day=4, method="lp4",
     run_a = propagate_groups(averaged, avg_spec, xa, np.array(pa), np.ones(len(pa)), ha, na,
                              save_every=1, progress=progress, label="orbit-averaged Earth (rk4)")
     wall_averaged = _time.perf_counter() - t1
-    if run_a.interrupted:
-        raise KeyboardInterrupt
     samples_a = np.concatenate([xa[:, None, :], run_a.saved], axis=1)
     t_avg = np.arange(samples_a.shape[1]) * ha
     phi_a, eps_a = equinox_angles(samples_a[..., :3])
@@ -526,8 +522,6 @@ def measure_equinoxes(*, years=100.0, members=4, steps_per_day=4, method="lp4",
                                                                          + 1]),
                                  [1], ha, nc, save_every=every, progress=progress,
                                  label="orbit-averaged Earth, full cycle (rk4)")
-        if run_c.interrupted:
-            raise KeyboardInterrupt
         cycle = np.concatenate([xa[:1, None, :], run_c.saved], axis=1)[0]
         t_cycle = np.arange(cycle.shape[0]) * every * ha
 

@@ -92,7 +92,7 @@ def flip_sweep(moments, epsilons, spin: float, methods, steps, command=None) -> 
     """
     from .analytic import growth_rate
     from .body import RigidBody
-    from .ensemble import run_ensembles
+    from .ensemble import completed, run_ensembles
 
     moments = np.asarray(moments, dtype=float)
     epsilons = np.array(epsilons, dtype=float)
@@ -111,8 +111,7 @@ def flip_sweep(moments, epsilons, spin: float, methods, steps, command=None) -> 
                   for i, (method, h) in enumerate(zip(methods, steps))]
     # Every shape of a method in one parallel call, each ensemble bitwise what it gives alone.
     for (i, f, _), run in zip(calls, run_ensembles([c for _, _, c in calls], progress=False)):
-        if run.attrs["interrupted"]:
-            raise KeyboardInterrupt
+        completed(run)
         measured[i, f] = run.mean_flip_interval.values  # NaN below two flips or not ok
     return {"moments": moments, "epsilons": epsilons, "measured": measured, "exact": exact,
             "asymptote": asymptote, "growth_rate": rate}

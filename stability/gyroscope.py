@@ -146,8 +146,6 @@ def measure_gyroscopes(top, spins, tilts, releases=(-1.0, 0.0, 0.5), *, method="
                            save_every=save_every, progress=progress,
                            label=f"gyroscopes ({method})")
     wall = time.perf_counter() - t0
-    if run.interrupted:
-        raise KeyboardInterrupt
     samples = np.concatenate([x0[:, None, :], run.saved], axis=1)
     u, du, phi_rate = _observables(samples, A, C)
     measured = {key: np.empty(hs.size * n_rel) for key in exact}

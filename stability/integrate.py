@@ -94,9 +94,10 @@ def integrate(
     moments = body.moments
     m0 = (moments * w0)[None, :]
     if attitude:
-        result = propagate_attitude(spec, moments, m0, q0, h, n_steps, save_every, progress)
-    else:
-        result = propagate(spec, moments, m0, h, n_steps, save_every, progress)
+        result = propagate_attitude(spec, moments, m0, q0, h, n_steps, save_every, progress,
+                                    partial=True)
+    else:  # Ctrl-C: the steps done, marked interrupted
+        result = propagate(spec, moments, m0, h, n_steps, save_every, progress, partial=True)
 
     m = np.concatenate([(moments * w0)[None, :], result.saved[0]], axis=0)
     w = m / moments

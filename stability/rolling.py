@@ -267,8 +267,6 @@ def measure_incline(shapes, angles, mu_s, *, members=4, mu_ratio=0.8, mu_scatter
     run = propagate_groups(scene, spec, x0, rows, np.ones(rows.shape[0], int), duration, 1,
                            progress=progress, label="inclines")
     wall = time.perf_counter() - t0
-    if run.interrupted:
-        raise KeyboardInterrupt
     xf = run.x_final
     slipped = (xf[:, HEAT] > 0.0).reshape(shape)
     own = rolls(theta, mus, k)
@@ -389,8 +387,6 @@ def measure_launches(*, radius, mass, k, mu_k, speeds, spin_ratios, members, mu_
     run = propagate_groups(scene, spec, x0, rows, np.ones(members, int), h, samples,
                            progress=progress, label="launches")
     wall = time.perf_counter() - t0
-    if run.interrupted:
-        raise KeyboardInterrupt
     xf = run.x_final
     e0 = 0.5 * mass * (v0**2 + k * radius**2 * w0**2)
     e1 = 0.5 * mass * (xf[:, V] ** 2 + k * radius**2 * xf[:, W] ** 2)

@@ -168,6 +168,7 @@ def edge_series(spin: float, epsilon: float, t_end: float, method: str, h: float
     """
     from . import estimators as est
     from .body import RigidBody
+    from .ensemble import completed
     from .integrate import integrate
 
     t_end = h * math.ceil(t_end / h - 1e-9)
@@ -182,6 +183,7 @@ def edge_series(spin: float, epsilon: float, t_end: float, method: str, h: float
         w0 = np.full(3, epsilon * spin / math.sqrt(2.0))
         w0[a - 1] = spin
         ds = integrate(body, w0, t_end, h, method=method, save_every=save_every)
+        completed(ds)
         w = ds.w.values
         t = ds.time.values
         others = perpendicular_axes(a)

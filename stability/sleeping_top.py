@@ -115,8 +115,6 @@ def measure_sleeping_tops(tops, spins, *, members=64, tilt=1e-9, method="lp4",
                            levels=np.tile(levels, (hs.size, 1)), progress=progress,
                            label=f"sleeping tops ({method})")
     wall = time.perf_counter() - t0
-    if run.interrupted:
-        raise KeyboardInterrupt
     out = {name: np.full(hs.size, np.nan) for name in
            ("growth_rate_measured", "growth_rate_stderr", "amplification", "n_fitted",
             "members_failed")}

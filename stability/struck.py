@@ -318,8 +318,6 @@ def measure_strikes(body: StruckBody, pivots, strikes, impulse=12.0, contact_tim
     run = propagate_groups(scene, spec, x0, np.array(rows), np.ones(grid.shape[0], int), h,
                            steps_per_contact, progress=progress, label=f"strikes ({method})")
     wall = time.perf_counter() - t0
-    if run.interrupted:
-        raise KeyboardInterrupt
     shape = (holds.size, pivots.size, strikes.size)
     xf = run.x_final
     phi = xf[:, PHI]

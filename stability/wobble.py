@@ -20,7 +20,7 @@ import xarray as xr
 from . import conventions as cv
 from .attitude import quaternion_to_matrix
 from .earth import ARCSEC, CHANDLER_PERIOD_DAYS, DAY, euler_period, oblate_euler_period
-from .ensemble import run_ensemble
+from .ensemble import completed, run_ensemble
 from .estimators import measured_frequency
 from .integrate import integrate
 
@@ -72,6 +72,7 @@ def measure_free_wobble(body, spin, offset, *, members=16, periods=3.0, steps_pe
     steps = int(math.ceil(periods * t_euler / h))
     ens = run_ensemble(body, 3, spin, offset, members, h=h, t_end=steps * h, seed=seed,
                        method=method, summaries_only=True, progress=progress)
+    completed(ens)
     freq = measured_frequency(ens)
     period = 2.0 * math.pi / float(freq.oscillation_frequency)
     member_period = 2.0 * math.pi / freq.member_oscillation_frequency.values
@@ -84,6 +85,7 @@ def measure_free_wobble(body, spin, offset, *, members=16, periods=3.0, steps_pe
     one = (one // save_every + 1) * save_every
     cone = integrate(body, w0, one * h, h, method=method, save_every=save_every,
                      scene="free_body_attitude", progress=progress)
+    completed(cone)
     w_body = cone.w.values
     R = quaternion_to_matrix(cone.q.values)
     w_space = np.einsum("tij,tj->ti", R, w_body)

@@ -14,6 +14,7 @@ import numpy as np
 import stability
 from stability.driver import propagate
 from stability.exact import exact_omega_of_starts
+from stability.gpu import GPU_METHODS
 
 #: A body in non-canonical axis order (body axis 0 is the intermediate one), spun about it.
 MOMENTS = np.array([2.0, 1.0, 3.0])
@@ -171,7 +172,7 @@ def main():
     if "--no-device" in sys.argv:
         print(json.dumps(no_device()))
         return
-    results = {method: compare(method) for method in ("rk4", "lp2", "lp4", "exact")}
+    results = {method: compare(method) for method in GPU_METHODS}
     results["exact_vs_elliptic"] = exact_against_elliptic()
     results["chunks_and_groups"] = chunks_and_groups()
     results["no_kernel_error"] = errors()

@@ -24,6 +24,7 @@ from stability.attitude import (
 )
 from stability.conventions import STATUS_NONFINITE, STATUS_NOT_CONVERGED, STATUS_OK
 from stability.driver import CHECK_EVERY, propagate
+from stability.integrators import METHODS
 
 # Unsorted moments (canonical frame = a cyclic relabelling) and a tilted start, so the frame
 # conversions of m and q are exercised.
@@ -48,7 +49,9 @@ ATTITUDE_STEPS = {
     "rkmk4": (320, 640, 1280),
     "midpoint": (40, 80, 160, 320),
 }
-GEOMETRIC_ATTITUDE = ["lp2", "lp4", "dmv", "dmv4", "lgvi", "rkmk4", "midpoint"]
+#: The methods that carry the attitude on the rotation group: every one that keeps |m| (the
+#: Casimir) updates q by rotations too.
+GEOMETRIC_ATTITUDE = [name for name in attitude_methods() if METHODS[name].preserves_casimir]
 
 
 def reference_attitude(moments, w0, q0, t_end):

@@ -63,18 +63,31 @@ def test_non_finite_members_are_flagged_with_the_step():
 
 
 def test_interrupt_stops_after_the_chunk_in_flight():
-    """Ctrl-C ends the run between chunks; the state is exactly that of ``steps_done`` steps."""
+    """Ctrl-C ends the run between chunks; asked for its partial result, the state is exactly
+    that of ``steps_done`` steps."""
     m0 = starts(2000)
     timer = threading.Timer(0.5, os.kill, (os.getpid(), signal.SIGINT))
     timer.start()
     try:
-        run = propagate("lp2", MOMENTS, m0, 1e-3, 10_000_000, chunk_steps=2000)
+        run = propagate("lp2", MOMENTS, m0, 1e-3, 10_000_000, chunk_steps=2000, partial=True)
     finally:
         timer.cancel()
     assert run.interrupted
     assert 0 < run.steps_done < 10_000_000 and run.steps_done % 2000 == 0
     again = propagate("lp2", MOMENTS, m0, 1e-3, run.steps_done, chunk_steps=2000)
     np.testing.assert_array_equal(again.m_final, run.m_final)
+
+
+def test_interrupt_raises_unless_the_partial_result_is_asked_for():
+    """By default a stopped run raises KeyboardInterrupt after its chunk in flight, so no
+    caller can take a partial run for a whole one."""
+    timer = threading.Timer(0.5, os.kill, (os.getpid(), signal.SIGINT))
+    timer.start()
+    try:
+        with pytest.raises(KeyboardInterrupt):  # run to its end, it would return (minutes)
+            propagate("lp2", MOMENTS, starts(2000), 1e-3, 10_000_000, chunk_steps=2000)
+    finally:
+        timer.cancel()
 
 
 @pytest.mark.parametrize(

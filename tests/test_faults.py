@@ -23,6 +23,7 @@ import pytest
 
 from stability.publish import JOURNAL, STAGE_PREFIX, Stage, clean_leftovers
 from stability.store import read_progress
+from stability.study import STUDIES
 
 from .helpers import wait_until
 
@@ -320,8 +321,8 @@ def test_output_folder_removed_while_writing_is_one_line(tmp_path):
     assert "Traceback" not in "\n".join(err)
 
 
-#: Studies that integrate in one piece: (study, label of its progress bar, arguments that make
-#: the run long enough to be stopped while it integrates).
+#: Studies that integrate in one piece: (study, label of its progress bar or the seconds to
+#: wait, arguments that make the run long enough to be stopped while it integrates).
 ONE_PIECE = {
     "sleeping_top": ("sleeping tops", ["--members", "256"]),
     "gyroscope": ("gyroscopes", ["--set", "integration.periods=2000",
@@ -332,7 +333,15 @@ ONE_PIECE = {
     "twisting_racket": ("tossed bodies", ["--set", "ensemble.members=512",
                                           "--set", "integration.steps_per_period=200000"]),
     "engine_artefacts": ("explicit_euler, h =", ["--set", "ensemble.members=400000"]),
+    "earth_wobble": ("lp4:", ["--set", "wobble.members=4096",
+                              "--set", "integration.steps_per_turn=400"]),
+    # No progress output on a pipe (its runs are short and timed): stopped 10 s into 110 s.
+    "work_precision": (10.0, []),
 }
+
+
+def test_every_study_that_runs_in_one_piece_is_stopped_in_the_fault_suite():
+    assert set(ONE_PIECE) == {name for name, kind in STUDIES.items() if not kind.resumable}
 
 
 @pytest.mark.parametrize("sig", ["SIGINT", "SIGTERM"])
@@ -353,7 +362,11 @@ def test_one_piece_study_stopped_while_integrating_keeps_the_earlier_result(tmp_
         [sys.executable, "-m", "stability", "run", study, *longer, "--out", str(out),
          "--overwrite"], cwd=ROOT, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
     lines = Lines(proc)
-    wait_until(lambda: lines.seen(label), proc)  # its progress bar: integrating
+    if isinstance(label, float):
+        time.sleep(label)
+        assert proc.poll() is None, lines.wait_done()
+    else:
+        wait_until(lambda: lines.seen(label), proc)  # its progress bar: integrating
     proc.send_signal(getattr(signal, sig))
     proc.wait(timeout=60)
     err = lines.wait_done()

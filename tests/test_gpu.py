@@ -53,7 +53,7 @@ def simulated():
 
 
 @needs_numba_cuda
-@pytest.mark.parametrize("method", ["rk4", "lp2", "lp4", "exact"])
+@pytest.mark.parametrize("method", GPU_METHODS)
 def test_agrees_with_cpu(simulated, method):
     r = simulated[method]
     assert r["final"] <= TOLERANCE

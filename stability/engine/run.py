@@ -124,7 +124,7 @@ class Propagation:
     steps_done : int or ndarray of int, shape (G,)
         Steps completed (fewer than asked if the run was interrupted); per group for groups.
     interrupted : bool, default False
-        True if Ctrl-C ended the run early.
+        True if Ctrl-C ended the run early (a run asked for its ``partial`` result).
     wall_time : float, default 0.0
         Seconds spent in the loop, compilation excluded.
     compile_time : float, default 0.0
@@ -238,9 +238,12 @@ def tracking_results(track, passage):
 
 def propagate_groups(
     scene, method, x0, params, sizes, h, n_steps, *, save_every=0, axes=None, levels=None,
-    progress=None, chunk_steps=None, compensated=True, label=None,
+    progress=None, chunk_steps=None, compensated=True, label=None, partial=False,
 ):
     """Advance groups of members of ``scene`` with ``method``, in the kernels' frame.
+
+    Ctrl-C (or :func:`request_stop`, which SIGTERM calls) stops the run after its chunk in
+    flight and raises KeyboardInterrupt, unless ``partial``.
 
     Parameters
     ----------
@@ -274,11 +277,19 @@ def propagate_groups(
         Kahan-compensated update; False only to measure what compensation costs.
     label : str, optional
         Progress bar label (default: the method's name).
+    partial : bool, default False
+        On Ctrl-C, return what was done (``interrupted`` True, ``steps_done`` short) instead
+        of raising: for callers that keep the completed part of a run.
 
     Returns
     -------
     Propagation
         In the kernels' frame; ``steps_done`` per group; tracking results in ``extras``.
+
+    Raises
+    ------
+    KeyboardInterrupt
+        When Ctrl-C stopped the run (without ``partial``).
     """
     scene = registered_scene(scene)
     spec = scene.method(method)
@@ -339,6 +350,8 @@ def propagate_groups(
         )
     finally:
         numba.set_parallel_chunksize(chunksize)
+    if interrupted and not partial:
+        raise KeyboardInterrupt
     # The last check: a state that stopped being finite after the last multiple of CHECK_EVERY.
     lost = (status == 0) & ~np.all(np.isfinite(x), axis=1)
     status[lost] = 1
