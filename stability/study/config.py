@@ -297,7 +297,8 @@ def write_outputs(ds, config: dict, out_dir, name: str, figures: dict, *, overwr
     ----------
     ds : xarray.Dataset
         The study's result; gets the title, the study kind, the configuration
-        (``config_toml``), the software versions, ``attrs`` and a history line.
+        (``config_toml``), ``attrs``, a history line, and the software versions and threads
+        where it does not record them already (a run records them where it ran).
     config : dict
         The resolved configuration.
     out_dir : Path
@@ -310,7 +311,8 @@ def write_outputs(ds, config: dict, out_dir, name: str, figures: dict, *, overwr
         The command to record (default ``stability run (<name>)``); False where ``ds`` already
         records the run that made it (a streamed ensemble does).
     threads : int, optional
-        The Numba threads the run used (``stability run --threads``), as recorded.
+        The Numba threads the run used (``stability run --threads``), recorded where ``ds``
+        does not record them.
     texts : dict, optional
         ``{file name: text}``: more files written beside ``config.toml`` (a report, say).
 
@@ -325,8 +327,8 @@ def write_outputs(ds, config: dict, out_dir, name: str, figures: dict, *, overwr
     from ..io import saving
     from ..threads import numba_threads
 
-    with numba_threads(threads):
-        software = software_attrs()
+    with numba_threads(threads):  # what the run recorded where it ran is kept
+        software = {k: v for k, v in software_attrs().items() if k not in ds.attrs}
     ds.attrs.update({"title": config["title"], "study": name, **(attrs or {}),
                      "config_toml": config_toml(config), **software})
     if history is not False:
