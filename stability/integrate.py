@@ -56,9 +56,8 @@ def integrate(
         After a non-finite or failed state the remaining samples are NaN and ``status`` says so.
         On scene ``free_body_attitude`` also ``q`` (time, quaternion_component), the unit
         quaternion of the body-to-space rotation (normalised on output), and ``q_norm_error``
-        (time), the
-        norm error ``|q| - 1`` of the quaternion the method carried (not renormalised in the
-        loop; see ``stability.attitude``).
+        (time), the norm error ``|q| - 1`` of the quaternion the method carried (not
+        renormalised in the loop; see ``stability.attitude``).
 
     Raises
     ------

@@ -17,6 +17,7 @@ edge_time (:func:`stability.shapes.edge_series`). :func:`headline` reads it back
 
 from __future__ import annotations
 
+import contextlib
 import math
 import time
 
@@ -183,7 +184,7 @@ def measure_map(bodies, omega2, t_end, levels, specs, runs, *, spin, epsilon, me
     KeyboardInterrupt
         When Ctrl-C stopped an ensemble.
     """
-    from .ensemble import perturbed_starts, run_ensembles
+    from .ensemble import completed, perturbed_starts, run_ensembles
     from .progress import progress_bar
 
     # The same random directions for every ensemble about an axis (run_ensemble draws them so).
@@ -204,45 +205,43 @@ def measure_map(bodies, omega2, t_end, levels, specs, runs, *, spin, epsilon, me
     out, half = empty_estimates(len(specs), n_shapes)
     first_exact = {}
     total = sum(len(shapes) for _, _, shapes, _ in runs) * 3
-    bar = progress_bar(total, progress, "stability_map", unit="ensemble")
     member_steps, loop_time = 0, 0.0
     started = time.time()
     # Every ensemble of one method and step in one batch: all cores busy, each ensemble bitwise
     # what it gives alone.
-    for j, (i, h, shapes, is_half) in enumerate(runs):
-        cells = [(s, a) for s in shapes for a in cv.AXES]
-        if checkpoint is not None and checkpoint.verify(j):  # done by an earlier, stopped run
-            batch = read_batch(checkpoint.path(j), len(cells))
-        else:
-            ensembles = run_ensembles([
-                dict(body=bodies[s], axis=int(a), spin=spin, epsilon=epsilon, members=members,
-                     h=h, t_end=max(1, int(math.ceil(t_end[s, a - 1] / h - 1e-9))) * h,
-                     seed=seed, method=specs[i].name, summaries_only=True, levels=levels)
-                for s, a in cells], progress=False, datasets=False)
-            if any(run.interrupted for run in ensembles):  # Ctrl-C stopped the batch: stop
-                bar.close()
-                raise KeyboardInterrupt
-            estimates = batch_estimates(
-                ensembles, [omega2[s, a - 1] for s, a in cells],
-                [exact_flips(s, a, run.members.w0) for (s, a), run in zip(cells, ensembles)],
-                low_factor=low_factor, high_fraction=high_fraction)
-            batch = [(run.member_steps, run.wall_time, x)
-                     for run, x in zip(ensembles, estimates)]
-            if checkpoint is not None:
-                write_batch(checkpoint, j, batch)
-                checkpoint.report("running", j + 1, j + 1, (j + 1) / (time.time() - started),
-                                  started)
-        for (s, a), (steps, seconds, x) in zip(cells, batch):
-            member_steps += steps
-            loop_time += seconds
-            store(half if is_half else out, (i, s, a - 1), x)
-            if specs[i].is_exact and not is_half:
-                first_exact[s, a] = x["first_flip_time"]
-            elif not is_half and (s, a) in first_exact:
-                out["first_flip_time_relative_error"][i, s, a - 1] = (
-                    first_flip_relative_error(x["first_flip_time"], first_exact[s, a]))
-        bar.update(len(cells))
-    bar.close()
+    bar = progress_bar(total, progress, "stability_map", unit="ensemble")
+    with contextlib.closing(bar):  # closed however the loop ends, Ctrl-C included
+        for j, (i, h, shapes, is_half) in enumerate(runs):
+            cells = [(s, a) for s in shapes for a in cv.AXES]
+            if checkpoint is not None and checkpoint.verify(j):  # done by an earlier, stopped run
+                batch = read_batch(checkpoint.path(j), len(cells))
+            else:
+                ensembles = run_ensembles([
+                    dict(body=bodies[s], axis=int(a), spin=spin, epsilon=epsilon, members=members,
+                         h=h, t_end=max(1, int(math.ceil(t_end[s, a - 1] / h - 1e-9))) * h,
+                         seed=seed, method=specs[i].name, summaries_only=True, levels=levels)
+                    for s, a in cells], progress=False, datasets=False)
+                completed(*ensembles)  # Ctrl-C stopped the batch: stop the map
+                estimates = batch_estimates(
+                    ensembles, [omega2[s, a - 1] for s, a in cells],
+                    [exact_flips(s, a, run.members.w0) for (s, a), run in zip(cells, ensembles)],
+                    low_factor=low_factor, high_fraction=high_fraction)
+                batch = [(run.member_steps, run.wall_time, x)
+                         for run, x in zip(ensembles, estimates)]
+                if checkpoint is not None:
+                    write_batch(checkpoint, j, batch)
+                    checkpoint.report("running", j + 1, j + 1, (j + 1) / (time.time() - started),
+                                      started)
+            for (s, a), (steps, seconds, x) in zip(cells, batch):
+                member_steps += steps
+                loop_time += seconds
+                store(half if is_half else out, (i, s, a - 1), x)
+                if specs[i].is_exact and not is_half:
+                    first_exact[s, a] = x["first_flip_time"]
+                elif not is_half and (s, a) in first_exact:
+                    out["first_flip_time_relative_error"][i, s, a - 1] = (
+                        first_flip_relative_error(x["first_flip_time"], first_exact[s, a]))
+            bar.update(len(cells))
     return out, half, {"member_steps": member_steps, "loop_time": loop_time}
 
 
