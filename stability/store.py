@@ -5,16 +5,20 @@ A :class:`ChunkStore` is a folder::
     manifest.json          what run this is (its fingerprint), how it is chunked, and, once
                            every chunk is done, the attributes of the whole Dataset
     chunk-000000.nc        members 0 ... C - 1, written atomically (temporary name, rename)
-    chunk-000000.nc.sha256 its checksum, written (atomically) after it
+    chunk-000000.nc.sha256 its checksum and the store's fingerprint, written (atomically)
+                           after it
     progress.json          chunks done, members/s, time left: for ``stability status DIR``
+    .lock                  held by the process writing the store (:mod:`stability.lock`)
 
-A chunk counts as done only when its file and its checksum are both there and agree, so a run
-killed at any point (while compiling, integrating or writing, or by a full disk) leaves only
-whole chunks, and a chunk whose file was damaged later is found and recomputed. Resuming runs
+A chunk counts as done only when its file and its checksum are both there and agree, and the
+checksum names this store's fingerprint, so a run killed at any point (while compiling,
+integrating or writing, or by a full disk) leaves only whole chunks, a chunk whose file was
+damaged later is found and recomputed, and a chunk copied from another run (its own valid
+checksum, another seed) is never taken for one of this run. Resuming runs
 the chunks that are not done; every member is computed independently of the others, so the
 result is bitwise that of an uninterrupted run. A store refuses to resume a different run (its
 fingerprint: the resolved arguments and the package version) with a message saying what
-differs.
+differs, and a store that another live process holds (its lock) with that process's id.
 
 :meth:`ChunkStore.open` returns the Dataset over all chunks with dask arrays (xarray's
 ``open_mfdataset``), so a run of 1e8 members is read a chunk at a time.
@@ -27,6 +31,7 @@ import json
 import logging
 import os
 import socket
+import stat
 import time
 from pathlib import Path
 
@@ -37,7 +42,8 @@ from xarray.indexes import RangeIndex
 
 from . import conventions as cv
 from .dataset import variable_attrs
-from .publish import process_alive, write_text
+from .lock import FolderLock
+from .publish import write_text
 
 MANIFEST = "manifest.json"
 PROGRESS = "progress.json"
@@ -45,7 +51,10 @@ PROGRESS = "progress.json"
 log = logging.getLogger(__name__)
 
 #: Version of the store layout; a store of another layout is not resumed.
-LAYOUT = 1
+LAYOUT = 2
+
+#: The lock file of a store, held by the process writing it.
+LOCK = ".lock"
 
 
 class StoreMismatch(ValueError):
@@ -54,6 +63,9 @@ class StoreMismatch(ValueError):
 
 class ChunkStore:
     """The chunk files of one run in ``directory``.
+
+    The store holds its folder's lock (:class:`~stability.lock.FolderLock`) from here until
+    :meth:`close` (or the end of the process): a second process is refused, naming the first.
 
     Parameters
     ----------
@@ -87,6 +99,15 @@ class ChunkStore:
         manifest = self.dir / MANIFEST
         if self.dir.exists() and not self.dir.is_dir():
             raise ValueError(f"{self.dir} is a file; a run's chunks need a folder there")
+        self.dir.mkdir(parents=True, exist_ok=True)
+        self._lock = FolderLock(self.dir, LOCK, "chunk folder").acquire()
+        try:
+            self._open(manifest, resume)
+        except BaseException:
+            self.close()
+            raise
+
+    def _open(self, manifest: Path, resume: bool) -> None:
         if manifest.exists():
             earlier = read_manifest(self.dir)
             if earlier.get("fingerprint") != self.fingerprint:
@@ -94,7 +115,6 @@ class ChunkStore:
                     f"{self.dir} holds chunks of a different run ({_difference(earlier, self)}); "
                     "choose another folder, or remove it to start afresh"
                 )
-            self._check_not_running()
             for partial in [*self.dir.glob(".*.tmp"), *self.dir.glob(".*.part")]:
                 partial.unlink(missing_ok=True)  # what a killed run was writing
             self.finished = self.done()
@@ -111,19 +131,12 @@ class ChunkStore:
                     "afresh"
                 )
         else:
-            self.dir.mkdir(parents=True, exist_ok=True)
             self._write_manifest(complete=False, attrs=None)
             self.finished = []
 
-    def _check_not_running(self) -> None:
-        """Refuse a store that a live process on this host is still writing."""
-        progress = read_progress(self.dir) or {}
-        pid = progress.get("pid")
-        if (progress.get("state") == "running" and progress.get("host") == socket.gethostname()
-                and isinstance(pid, int) and pid != os.getpid() and process_alive(pid)):
-            raise ValueError(f"{self.dir} is being written by process {pid}, which is still "
-                             "running; wait for it (stability status shows how far it is) or "
-                             "stop it first")
+    def close(self) -> None:
+        """Give the folder's lock back (the chunks stay)."""
+        self._lock.release()
 
     # --- chunks ---------------------------------------------------------------------------
 
@@ -150,25 +163,39 @@ class ChunkStore:
 
     def verify(self, k: int) -> bool:
         """Whether chunk ``k`` is done; a file that does not match its checksum is removed."""
-        return self.verify_path(self.dir, k)
+        return self.verify_path(self.dir, k, self.fingerprint)
 
     @staticmethod
-    def verify_path(directory, k: int) -> bool:
-        """:meth:`verify` for the store in ``directory``."""
+    def verify_path(directory, k: int, fingerprint: str, remove: bool = True) -> bool:
+        """Whether chunk ``k`` of the store in ``directory`` (of ``fingerprint``) is done.
+
+        Done: the chunk file and its checksum file are plain files (not links), the file's
+        SHA-256 is the one recorded, and the record names ``fingerprint``. Otherwise, with
+        ``remove``, both files are removed (the chunk is run again), with a warning when
+        there was a chunk file.
+        """
         path = Path(directory) / chunk_name(k)
         check = _checksum_path(path)
-        if not path.exists() or not check.exists():
+        kinds = [_file_kind(path), _file_kind(check)]
+        if "other" in kinds:
+            raise ValueError(f"{path if kinds[0] == 'other' else check} is not a file, where a "
+                             "run keeps a chunk; remove it")
+        if kinds != ["file", "file"]:
+            if remove and "link" in kinds:
+                _discard(path, check, "or its checksum is a symbolic link")
             return False
-        if file_checksum(path) == check.read_text(encoding="utf-8").strip():
+        record = _read_small(check).split()
+        if len(record) == 2 and record[1] == fingerprint and file_checksum(path) == record[0]:
             return True
-        log.warning("chunk file %s does not match its checksum: it is run again", path)
-        path.unlink(missing_ok=True)
-        check.unlink(missing_ok=True)
+        if remove:
+            _discard(path, check, "does not match its checksum" if len(record) == 2 and (
+                record[1] == fingerprint) else "is not a chunk of this run (its checksum names "
+                "another run)")
         return False
 
     def write(self, k: int, ds: xr.Dataset, compress: bool = True) -> Path:
         """Write chunk ``k`` (atomically), then its checksum."""
-        write_chunk(ds, self.path(k), compress)
+        write_chunk(ds, self.path(k), compress, self.fingerprint)
         return self.path(k)
 
     # --- the whole ------------------------------------------------------------------------
@@ -218,13 +245,14 @@ def chunk_name(k: int) -> str:
     return f"chunk-{k:06d}.nc"
 
 
-def write_chunk(ds: xr.Dataset, path, compress: bool = True) -> None:
-    """Write one chunk file atomically, then its checksum beside it."""
+def write_chunk(ds: xr.Dataset, path, compress: bool, fingerprint: str) -> None:
+    """Write one chunk file atomically, then its checksum beside it, bound to the store's
+    ``fingerprint`` (so that the chunk counts only in the store of that run)."""
     from .io import save
 
     path = Path(path)
     save(ds, path, overwrite=True, compress=compress)
-    write_text(_checksum_path(path), file_checksum(path) + "\n")
+    write_text(_checksum_path(path), f"{file_checksum(path)} {fingerprint}\n")
 
 
 def read_manifest(directory) -> dict:
@@ -324,6 +352,36 @@ def status_lines(directory) -> list[str]:
 
 def _checksum_path(path: Path) -> Path:
     return path.with_name(path.name + ".sha256")
+
+
+def _file_kind(path: Path) -> str:
+    """"file", "link", "missing" or "other" (a folder, a FIFO ...), never following a link."""
+    try:
+        mode = os.lstat(path).st_mode
+    except FileNotFoundError:
+        return "missing"
+    return "file" if stat.S_ISREG(mode) else "link" if stat.S_ISLNK(mode) else "other"
+
+
+def _read_small(path: Path, most: int = 4096) -> str:
+    """The first ``most`` bytes of a file as text ("" if unreadable), never through a link."""
+    try:
+        fd = os.open(path, os.O_RDONLY | os.O_NOFOLLOW | os.O_NONBLOCK | os.O_CLOEXEC)
+    except OSError:
+        return ""
+    try:
+        return os.read(fd, most).decode("utf-8", "replace")
+    except OSError:
+        return ""
+    finally:
+        os.close(fd)
+
+
+def _discard(path: Path, check: Path, why: str) -> None:
+    """Remove a chunk file and its checksum that do not count (the links themselves, if so)."""
+    log.warning("chunk file %s %s: it is run again", path, why)
+    path.unlink(missing_ok=True)
+    check.unlink(missing_ok=True)
 
 
 def _fingerprint(value) -> str:

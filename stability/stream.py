@@ -97,20 +97,24 @@ def run_streamed(kwargs: dict, store, *, resume=False, scheduler=None, threads=N
     identity = {"run_ensemble": {k: v for k, v in plan.resolved.items() if k != "threads"},
                 "software": f"stability {__version__}"}
     chunks = ChunkStore(store, identity, plan.members, chunk, resume=resume)
-    todo = chunks.missing()
-    if todo:
-        if scheduler is None:
-            _run_here(plan, chunks, todo, threads, progress, compress)
-        else:
-            _run_on_dask(kwargs, chunks, todo, scheduler, progress, compress)
-    attrs = _whole_attrs(chunks)
-    progress = read_progress(chunks.dir) or {}
-    attrs["history"] = attrs.get("history", "") + "\n" + history_line(
-        f"streamed to {chunks.dir}: {chunks.n_chunks} chunks of {chunks.chunk_members} "
-        f"members ({len(todo)} run by this call), {progress.get('members_per_second', 0):.3g} "
-        f"members/s, {progress.get('elapsed_seconds', 0):.1f} s")
-    chunks.complete(attrs)
-    return chunks.open()
+    try:
+        todo = chunks.missing()
+        if todo:
+            if scheduler is None:
+                _run_here(plan, chunks, todo, threads, progress, compress)
+            else:
+                _run_on_dask(kwargs, chunks, todo, scheduler, progress, compress)
+        attrs = _whole_attrs(chunks)
+        progress = read_progress(chunks.dir) or {}
+        attrs["history"] = attrs.get("history", "") + "\n" + history_line(
+            f"streamed to {chunks.dir}: {chunks.n_chunks} chunks of {chunks.chunk_members} "
+            f"members ({len(todo)} run by this call), "
+            f"{progress.get('members_per_second', 0):.3g} members/s, "
+            f"{progress.get('elapsed_seconds', 0):.1f} s")
+        chunks.complete(attrs)
+        return chunks.open()
+    finally:
+        chunks.close()
 
 
 def _run_here(plan, chunks, todo, threads, progress, compress):
@@ -132,7 +136,8 @@ def _run_here(plan, chunks, todo, threads, progress, compress):
         tracker.close()
 
 
-def run_chunk(kwargs: dict, directory, k: int, lo: int, hi: int, compress: bool) -> int:
+def run_chunk(kwargs: dict, directory, k: int, lo: int, hi: int, compress: bool,
+              fingerprint: str) -> int:
     """One chunk on a dask worker: run it with the worker's threads, write it; returns ``k``.
 
     Parameters
@@ -148,6 +153,8 @@ def run_chunk(kwargs: dict, directory, k: int, lo: int, hi: int, compress: bool)
         The chunk's members are ``lo ... hi - 1`` of the whole run.
     compress : bool
         zlib-compress the chunk file.
+    fingerprint : str
+        The store's fingerprint, recorded beside the chunk's checksum.
 
     Returns
     -------
@@ -168,7 +175,7 @@ def run_chunk(kwargs: dict, directory, k: int, lo: int, hi: int, compress: bool)
     plan = _plan(**kwargs, defer_starts=True)
     with numba_threads(max(1, min(nthreads, numba.config.NUMBA_NUM_THREADS))):
         ds = _chunk_dataset(plan, lo, hi, False, None)
-    write_chunk(ds, Path(directory) / chunk_name(k), compress)
+    write_chunk(ds, Path(directory) / chunk_name(k), compress, fingerprint)
     return k
 
 
@@ -200,9 +207,10 @@ def _run_on_dask(kwargs, chunks, todo, scheduler, progress, compress):
         futures = []
         for k in todo:
             lo, hi = chunks.bounds(k)
-            futures.append(client.submit(run_chunk, kwargs, str(chunks.dir.resolve()), k, lo,
-                                         hi, compress, key=f"stability-chunk-{k}-{chunks.fingerprint[:12]}",
-                                         retries=2, pure=False))
+            futures.append(client.submit(
+                run_chunk, kwargs, str(chunks.dir.resolve()), k, lo, hi, compress,
+                chunks.fingerprint, key=f"stability-chunk-{k}-{chunks.fingerprint[:12]}",
+                retries=2, pure=False))
         for future in as_completed(futures):
             k = future.result()
             lo, hi = chunks.bounds(k)

@@ -21,7 +21,7 @@ from pathlib import Path
 
 import pytest
 
-from stability.publish import JOURNAL, STAGE_PREFIX, Stage, clean_leftovers
+from stability.publish import JOURNAL, STAGE_PREFIX, Stage, clean_leftovers, journal_text
 from stability.store import read_progress
 from stability.study import STUDIES
 
@@ -148,7 +148,7 @@ def test_publication_killed_half_way_is_completed_by_the_next_run(tmp_path):
     stage = Stage(out)
     stage.path("a.nc").write_text("new a")
     stage.path("b.png").write_text("new b")
-    (stage.dir / JOURNAL).write_text("a.nc\nb.png\n")  # the journal was written ...
+    (stage.dir / JOURNAL).write_text(journal_text(["a.nc", "b.png"]))  # the journal ...
     os.replace(stage.path("a.nc"), out / "a.nc")  # ... and one file moved, then the kill
     stage.dir.rename(out / f"{STAGE_PREFIX}otherhost-1-abcdef01")  # any host: it was whole
     assert clean_leftovers(out) == [f"completed the publication of {STAGE_PREFIX}"

@@ -13,6 +13,10 @@ there, once), saves the Dataset, draws the figures and summarises; figures draw 
 
 from __future__ import annotations
 
+import contextlib
+import errno
+import os
+import stat
 from pathlib import Path
 
 from ..stream import RunInterrupted
@@ -151,12 +155,16 @@ def run_study(
 ) -> StudySummary:
     """Run a study and publish its outputs together; return its summary.
 
-    Everything about the output folder is checked before any computation (it can be written,
-    nothing is replaced without ``overwrite``, the free space suffices where the size is
-    known). The outputs are written into a hidden stage and published only when all are
-    complete (:mod:`stability.publish`): a stopped run publishes nothing and leaves an earlier
-    result intact. What a resumable study has finished (the chunks of its ensemble) is kept in
-    a work folder beside the outputs until the run is published.
+    Everything about the output folder is checked before any computation (the output names
+    are plain and distinct, it can be written, nothing is replaced without ``overwrite``, the
+    free space suffices where the size is known). The run holds the folder's lock
+    (:mod:`stability.lock`) from then on, so a second run into the same folder is refused
+    while this one lives, ``overwrite`` included. The outputs are written into a hidden stage
+    and published only when all are complete (:mod:`stability.publish`), then checked to be
+    there: a stopped run publishes nothing and leaves an earlier result intact. What a
+    resumable study has finished (the chunks of its ensemble) is kept in a work folder beside
+    the outputs until the run is published; a run that fails removes that folder only if it
+    made it and nothing there can be resumed.
 
     Parameters
     ----------
@@ -193,9 +201,8 @@ def run_study(
     stability.stream.RunInterrupted
         Ctrl-C or SIGTERM; its message says what was kept and how to continue.
     """
-    import shutil
-
-    from ..publish import check_target, clean_leftovers, staged
+    from ..lock import FolderLock
+    from ..publish import check_target, clean_leftovers, remove_folder, staged
 
     if isinstance(study, dict):
         kind = study_kind(study.get(STUDY_KEY))
@@ -213,41 +220,87 @@ def run_study(
     out = Path(out_dir if out_dir is not None else config["output"]["dir"])
     names = kind.outputs(config)
     expected = kind.expected_bytes(config) if kind.expected_bytes is not None else None
-    clean_leftovers(out)  # first: it may complete the publication of a killed run
-    check_target(out, names, overwrite=overwrite, expected_bytes=expected)
+    check_target(out, names, overwrite=overwrite, expected_bytes=expected)  # before writing
     extra = {}
     work = out / f".stability-work-{Path(names[0]).stem}"
-    if kind.resumable:
-        if overwrite and not resume and work.exists():
-            shutil.rmtree(work)  # the user asked to start afresh
-        extra = {"work": work, "resume": resume, "scheduler": scheduler}
     created = not out.exists()
+    made_work = False
+    lock = FolderLock(out, what="output folder")
     try:
+        _make_folder(out)
+        lock.acquire()  # from here on, no other run writes into out
+        clean_leftovers(out)  # it may complete the publication of a killed run ...
+        check_target(out, names, overwrite=overwrite, expected_bytes=expected)  # ... so again
+        if kind.resumable:
+            _check_work_folder(work)
+            if overwrite and not resume and work.exists():
+                remove_folder(out, work.name)  # the user asked to start afresh
+            made_work = not work.exists()
+            extra = {"work": work, "resume": resume, "scheduler": scheduler}
         with staged(out) as stage:
             summary = kind.run(config, stage.dir, overwrite=True, threads=threads,
                                progress=progress, history=history, **extra)
+            _check_outputs(stage.dir, names, "wrote")
             stage.publish()
+        _check_outputs(out, names, "published")
     except BaseException as exc:
-        kept = _kept(work) if kind.resumable else None
-        if kept is not None and kept[0] == 0:
-            shutil.rmtree(work, ignore_errors=True)  # nothing there to resume
+        kept = _kept(work) if kind.resumable and lock.held else None
+        if made_work and kept is not None and kept[0] == 0:
+            remove_folder(out, work.name)  # made by this run, nothing there to resume
+        lock.release()
         if created and out.is_dir() and not any(out.iterdir()):
-            out.rmdir()  # a folder this run made and left empty
+            with contextlib.suppress(OSError):  # another run may have just begun in it
+                out.rmdir()  # a folder this run made and left empty
         if isinstance(exc, KeyboardInterrupt):
             raise RunInterrupted(_interrupted(out, work, kept)) from None
         raise
     if kind.resumable:
-        shutil.rmtree(work, ignore_errors=True)
+        remove_folder(out, work.name)
+    lock.release()
     summary.out_dir = out
     summary.files = [out / Path(p).name for p in summary.files]
     return summary
 
 
+def _make_folder(out: Path) -> None:
+    """Create the output folder (and its parents) if missing, as an OSError naming it."""
+    try:
+        out.mkdir(parents=True, exist_ok=True)
+    except OSError as exc:
+        raise OSError(exc.errno, f"cannot create the output folder ({exc.strerror or exc})",
+                      str(out)) from None
+
+
+def _check_work_folder(work: Path) -> None:
+    """Refuse a work folder that is a link or not a folder: a run writes only inside ``out``."""
+    if work.is_symlink():
+        raise ValueError(f"{work} is a symbolic link; a run keeps its finished parts only in a "
+                         "real folder inside the output folder: remove the link")
+    if os.path.lexists(work) and not work.is_dir():
+        raise ValueError(f"{work} is not a folder, where a run keeps its finished parts; "
+                         "remove it")
+
+
+def _check_outputs(folder: Path, names, done: str) -> None:
+    """OSError naming the first of ``names`` that is not a plain file of ``folder``."""
+    for name in names:
+        try:
+            plain = stat.S_ISREG(os.lstat(folder / name).st_mode)
+        except FileNotFoundError:
+            plain = False
+        if not plain:
+            raise OSError(errno.EIO, f"the run {done} no file {name!r}, one of its outputs",
+                          str(folder / name))
+
+
 def _kept(work: Path):
-    """``(finished chunks, manifest)`` of a work folder; None if absent or unreadable."""
+    """``(finished chunks, manifest)`` of a work folder; None if absent or unreadable.
+
+    Nothing there is changed: the folder may be another run's.
+    """
     from ..store import MANIFEST, ChunkStore, read_manifest
 
-    if not work.is_dir():
+    if work.is_symlink() or not work.is_dir():
         return None
     if not (work / MANIFEST).exists():
         return 0, {}
@@ -255,7 +308,8 @@ def _kept(work: Path):
         manifest = read_manifest(work)
     except ValueError:
         return None
-    return sum(ChunkStore.verify_path(work, k) for k in range(manifest["chunks"])), manifest
+    return sum(ChunkStore.verify_path(work, k, manifest.get("fingerprint"), remove=False)
+               for k in range(manifest["chunks"])), manifest
 
 
 def _interrupted(out: Path, work: Path, kept) -> str:

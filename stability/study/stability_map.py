@@ -250,10 +250,14 @@ def compute(config: dict, progress=None, work_dir=None, resume=False):
             k: v for k, v in config["integration"].items() if k != "threads"}
         checkpoint = ChunkStore(work_dir, identity, len(runs), 1, resume=resume,
                                 unit="ensemble batches")
-    out, half, work = smap.measure_map(
-        bodies, omega2, t_end, levels, specs, runs, spin=spin, epsilon=eps, members=members,
-        seed=seed, low_factor=ana["window_low"], high_fraction=ana["window_high"],
-        progress=progress, checkpoint=checkpoint)
+    try:
+        out, half, work = smap.measure_map(
+            bodies, omega2, t_end, levels, specs, runs, spin=spin, epsilon=eps,
+            members=members, seed=seed, low_factor=ana["window_low"],
+            high_fraction=ana["window_high"], progress=progress, checkpoint=checkpoint)
+    finally:
+        if checkpoint is not None:
+            checkpoint.close()
 
     p = np.array([spec.order if not spec.is_exact else np.inf for spec in specs])
     with np.errstate(invalid="ignore", divide="ignore"):
