@@ -42,6 +42,7 @@ import secrets
 import sys
 import tempfile
 import time
+from collections.abc import Iterator
 from pathlib import Path
 from types import CodeType, ModuleType
 
@@ -74,21 +75,24 @@ def _user_cache() -> str:
     return os.path.join(base, "stability")
 
 
-def private_dirs() -> list[Path]:
+def private_dirs() -> Iterator[Path]:
     """Where a process keeps the loops :func:`cache_dir` cannot hold, in the order tried.
 
     The user's own cache (when ``$STABILITY_CACHE_DIR`` names another folder), then a folder of
-    the user's own in the temporary directory (a home may be missing or read-only): created
-    with mode 0700, and left out where it exists but belongs to someone else.
+    the user's own in the temporary directory (a home may be missing or read-only): created,
+    mode 0700, only when reached, and skipped where it exists but belongs to someone else.
     """
-    folders = [Path(_user_cache()) / "loops"]
+    if (own := Path(_user_cache()) / "loops") != cache_dir():
+        yield own
     user = os.getuid() if hasattr(os, "getuid") else getpass.getuser()
-    own = Path(tempfile.gettempdir()) / f"stability-{user}"
-    with contextlib.suppress(OSError):
-        own.mkdir(mode=0o700, exist_ok=True)
-        if not hasattr(os, "getuid") or own.stat().st_uid == user:
-            folders.append(own / "loops")
-    return [folder for folder in folders if folder != cache_dir()]
+    temp = Path(tempfile.gettempdir()) / f"stability-{user}"
+    try:
+        temp.mkdir(mode=0o700, exist_ok=True)
+        ours = not hasattr(os, "getuid") or temp.stat().st_uid == user
+    except OSError:
+        ours = False
+    if ours:
+        yield temp / "loops"
 
 
 def source_files(*roots: str) -> list[str]:
