@@ -10,10 +10,10 @@ implicit solve fails, gets a status code and the step count at which it was foun
 
 The loop is written once, as the template below, and rendered for each (scene, method) pair with
 the state width, the kernel and the stage count written in: the step kernel is then an ordinary
-global of a module-level function, which Numba inlines and caches on disk (``cache=True``; a
-closure around a kernel could be cached by neither). :mod:`stability.engine.cache` writes the
-rendered module, keyed by a digest of every source it depends on, so an edited kernel is
-compiled again and an unchanged one is loaded from disk in the next process.
+global of a module-level function, which Numba inlines and caches on disk (a closure around a
+kernel could not be cached). :mod:`stability.engine.cache` writes the rendered module, keyed by
+a digest of every source it depends on, and gives its ``advance`` Numba's disk cache, so an
+edited kernel is compiled again and an unchanged one is loaded from disk in the next process.
 
 Groups: one call advances any number of independent ensembles ("groups"), each with its own
 parameter row, step, step count and tracking axes; blocks never straddle two groups, so a
@@ -172,7 +172,7 @@ from {observe_module} import {observe_name} as observe
 {rows}
 
 
-@njit(parallel=True, nogil=True, cache=True, error_model="numpy")
+@njit(parallel=True, nogil=True, error_model="numpy")
 def advance(
     x, comp, params, block_lo, block_size, block_group, hs, steps, step0, save_every, saved,
     k0, status, fail_step, iterations, axes, track, levels, thresholds, passage,

@@ -1,0 +1,264 @@
+"""Faults of the compiled-loop cache, for real: damaged files, umasks, a second user, a held lock.
+
+Each case runs the engine tests' small decay loop (``tests.test_engine.SCRIPT``) in a new
+process on a cache folder of its own (``STABILITY_CACHE_DIR``) and reads what the process
+printed: its cache hits and misses (a miss is a compile) and its stderr, every line of it. The
+loop is compiled for the module by two cold runs at once, under umask 022 and 002; the cases
+copy the first cache, and only those that must compile again do (about 10 s each).
+"""
+
+import contextlib
+import fcntl
+import json
+import os
+import pwd
+import shutil
+import subprocess
+import sys
+import textwrap
+import time
+from pathlib import Path
+
+import pytest
+
+WAIT_NOTICE_S = 3.0  # stability.engine.cache.WAIT_NOTICE_S
+
+from .helpers import wait_until
+from .test_engine import KERNEL, SCRIPT
+from .test_faults import Lines
+
+ROOT = Path(__file__).resolve().parents[1]
+NOBODY = 65534
+#: The decay loop's final state (explicit Euler, k = 0.5, h = 0.1, 10 steps).
+EXPECTED = [0.95 ** 10] * 3
+
+
+def start(work, cache, *, umask=None, prefix=(), home=None):
+    """The decay loop's script in a new process on the cache folder ``cache``."""
+    env = {**os.environ, "STABILITY_CACHE_DIR": str(cache), "PYTHONPATH": str(ROOT)}
+    env.pop("XDG_CACHE_HOME", None)
+    if home is not None:
+        env["HOME"] = str(home)
+    return subprocess.Popen(
+        [*prefix, sys.executable, str(work / "script.py"), str(work)], cwd=ROOT, env=env,
+        stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True,
+        preexec_fn=None if umask is None else lambda: os.umask(umask))
+
+
+def finish(proc, timeout=120):
+    """What the process printed: its result, and its stderr lines. AssertionError if it fails
+    or runs past ``timeout`` s (it is killed)."""
+    try:
+        out, err = proc.communicate(timeout=timeout)
+    except subprocess.TimeoutExpired:
+        proc.kill()
+        proc.communicate()
+        raise AssertionError(f"the run was still going after {timeout} s") from None
+    assert proc.returncode == 0, err
+    result = json.loads(out.strip().splitlines()[-1])
+    assert result["x"] == pytest.approx(EXPECTED, rel=1e-14)
+    return result, err.splitlines()
+
+
+def run(work, cache, **options):
+    return finish(start(work, cache, **options))
+
+
+def loop_files(cache: Path) -> dict:
+    """The files of the one loop in ``cache``, by kind: py, lock, nbi, nbc."""
+    files = [p for p in (cache / "loops").rglob("*") if p.is_file()]
+    return {p.suffix[1:]: p for p in files}
+
+
+@pytest.fixture(scope="module")
+def work(tmp_path_factory):
+    """The decay kernel's module and the script that runs its loop."""
+    folder = tmp_path_factory.mktemp("decay")
+    (folder / "decay.py").write_text(textwrap.dedent(KERNEL.format(factor="1.0")))
+    (folder / "script.py").write_text(SCRIPT)
+    return folder
+
+
+@pytest.fixture(scope="module")
+def made(work, tmp_path_factory):
+    """Caches made by a cold run each, under umask 022 and 002 (both at once), by umask."""
+    caches = {umask: tmp_path_factory.mktemp(f"umask{umask:03o}") / "cache"
+              for umask in (0o022, 0o002)}
+    procs = [start(work, cache, umask=umask) for umask, cache in caches.items()]
+    for proc in procs:
+        result, err = finish(proc)
+        assert (result["misses"], result["hits"], err) == (1, 0, [])
+    return caches
+
+
+@pytest.fixture(scope="module")
+def warm(made):
+    """A cache holding the compiled loop, written under umask 022 (copy it)."""
+    return made[0o022]
+
+
+def copy_of(warm, tmp_path):
+    return Path(shutil.copytree(warm, tmp_path / "cache"))
+
+
+# --- damaged entries ---------------------------------------------------------------------------
+
+def truncate(path):
+    os.truncate(path, path.stat().st_size // 2)
+
+
+def garble(path):
+    path.write_bytes(bytes(range(256)) * (path.stat().st_size // 256 + 1))
+
+
+@pytest.mark.parametrize("kind, damage", [("nbi", truncate), ("nbc", truncate),
+                                          ("py", truncate), ("py", garble)])
+def test_a_damaged_entry_is_compiled_again_with_one_warning(kind, damage, work, warm, tmp_path):
+    """A truncated Numba index or machine code, a truncated or garbled rendered file: the next
+    run discards it with one line naming it and compiles (or renders) it again, and the run
+    after that is warm. Numba's entries failed every later run; a rendered file was rewritten
+    without a word."""
+    cache = copy_of(warm, tmp_path)
+    damaged = loop_files(cache)[kind]
+    damage(damaged)
+    result, err = run(work, cache)
+    assert len(err) == 1 and str(damaged) in err[0] and "damaged" in err[0], err
+    # The machine code of a rendered file holds: Numba stamps it with the file's contents.
+    assert result["misses"] == (0 if kind == "py" else 1)
+    again, err = run(work, cache)
+    assert (again["misses"], again["hits"], err) == (0, 1, [])
+
+
+# --- modes -------------------------------------------------------------------------------------
+
+def modes(cache: Path) -> dict:
+    return {str(p.relative_to(cache)): p.stat().st_mode & 0o777
+            for p in [cache, *cache.rglob("*")]}
+
+
+@pytest.mark.parametrize("umask", [0o022, 0o002], ids=["022", "002"])
+def test_cache_files_have_the_mode_the_umask_gives(umask, made):
+    """Every folder and file a cold run creates (rendered loop, lock file, Numba's index and
+    machine code) has the mode 0777 or 0666 less the umask, so other users of a shared cache
+    can read it (and, under umask 002, its group can lock and write). The rendered loop was
+    0600: every other user got "Permission denied"."""
+    cache = made[umask]
+    assert set(loop_files(cache)) == {"py", "lock", "nbi", "nbc"}
+    expected = {name: (0o777 if (cache / name).is_dir() else 0o666) & ~umask
+                for name in modes(cache)}
+    assert modes(cache) == expected
+
+
+# --- a second user -----------------------------------------------------------------------------
+
+@pytest.fixture
+def nobody(tmp_path):
+    """How to run a process as the user nobody, and a home of its own.
+
+    Nobody is given CAP_DAC_READ_SEARCH, so that it can reach the interpreter and the test's
+    files wherever they are (a Python under /root, pytest's 0700 temporary folders); it reads
+    past permissions, but writes nothing it may not (what the umask lets others read is
+    :func:`test_cache_files_have_the_mode_the_umask_gives`).
+    """
+    setpriv = shutil.which("setpriv")
+    if setpriv is None or os.geteuid() != 0:
+        pytest.skip("running a second user needs root and setpriv")
+    try:
+        pwd.getpwuid(NOBODY)
+    except KeyError:
+        pytest.skip(f"no user {NOBODY} (nobody)")
+    prefix = [setpriv, f"--reuid={NOBODY}", f"--regid={NOBODY}", "--clear-groups",
+              "--inh-caps=+dac_read_search", "--ambient-caps=+dac_read_search"]
+    home = tmp_path / "home"
+    home.mkdir()
+    os.chown(home, NOBODY, NOBODY)
+    probe = subprocess.run([*prefix, sys.executable, "-c", "import stability"], cwd=ROOT,
+                           capture_output=True, text=True,
+                           env={**os.environ, "HOME": str(home), "PYTHONPATH": str(ROOT)})
+    if probe.returncode != 0:
+        pytest.skip(f"nobody cannot run the package: {probe.stderr.strip()[-300:]}")
+    return prefix, home
+
+
+def test_another_user_loads_a_warm_shared_cache_without_writing(work, warm, tmp_path, nobody):
+    """A cache root wrote under umask 022 is loaded by nobody, who may not write there: no
+    compile, no warning, nothing in the cache touched. Numba's own cache locator skipped the
+    read-only folder, and nobody compiled the loop again."""
+    prefix, home = nobody
+    cache = copy_of(warm, tmp_path)
+    before = {str(p): p.stat().st_mtime_ns for p in cache.rglob("*")}
+    result, err = run(work, cache, prefix=prefix, home=home)
+    assert (result["misses"], result["hits"], err) == (0, 1, [])
+    assert {str(p): p.stat().st_mtime_ns for p in cache.rglob("*")} == before
+
+
+def test_a_cache_another_user_cannot_write_falls_back_to_a_private_one(work, warm, tmp_path,
+                                                                      nobody):
+    """A cold cache folder nobody may not write (root's, 0755): nobody's run renders the loop in
+    its own cache (``~/.cache/stability``; its machine code already there, to spare a compile)
+    with one warning naming both folders, and succeeds. It failed with "Permission denied"."""
+    prefix, home = nobody
+    shared = tmp_path / "shared"
+    shared.mkdir(mode=0o755)
+    private = home / ".cache" / "stability" / "loops"
+    shutil.copytree(warm / "loops" / "__pycache__", private / "__pycache__")
+    for path in [home / ".cache", *(home / ".cache").rglob("*")]:
+        os.chown(path, NOBODY, NOBODY)
+    result, err = run(work, shared, prefix=prefix, home=home)
+    assert len(err) == 1 and str(shared) in err[0] and str(private) in err[0], err
+    assert (result["misses"], result["hits"]) == (0, 1)
+    assert loop_files(home / ".cache" / "stability")["py"].name == loop_files(warm)["py"].name
+    assert list(shared.iterdir()) == []
+
+
+# --- the compile lock --------------------------------------------------------------------------
+
+@contextlib.contextmanager
+def holding(lock_file: Path):
+    """Hold the compile lock ``lock_file`` as a compiling process does (its id written in)."""
+    with open(lock_file, "a") as f:
+        fcntl.flock(f, fcntl.LOCK_EX)
+        f.truncate(0)
+        f.write(f"{os.getpid()} on {os.uname().nodename}")
+        f.flush()
+        yield
+
+def test_a_held_compile_lock_does_not_delay_a_warm_loop(work, warm, tmp_path):
+    """Another process holds the loop's compile lock (compiling, or stopped): a run whose
+    loop is warm takes no lock and finishes in its usual time, without a word. It waited
+    silently for as long as the lock was held."""
+    cache = copy_of(warm, tmp_path)
+    with holding(loop_files(cache)["lock"]):
+        t0 = time.monotonic()
+        result, err = finish(start(work, cache), timeout=60)
+    assert (result["misses"], result["hits"], err) == (0, 1, [])
+    assert time.monotonic() - t0 < 30
+
+
+def test_a_run_waiting_for_a_compile_says_so_then_loads_it(work, warm, tmp_path):
+    """A cold loop whose lock another process holds while compiling: the run says, once and
+    after WAIT_NOTICE_S, which process it waits for, on which loop and lock file; it goes on
+    waiting, and once the lock is released loads the machine code the holder saved instead of
+    compiling it again. It waited without a word."""
+    cache = copy_of(warm, tmp_path)
+    machine_code = cache / "loops" / "__pycache__"
+    aside = machine_code.rename(tmp_path / "compiled")
+    lock_file = loop_files(cache)["lock"]
+    with holding(lock_file):
+        t0 = time.monotonic()
+        proc = start(work, cache)
+        lines = Lines(proc)
+        wait_until(lambda: lines.seen("waiting for"), proc, timeout=60)
+        waited = time.monotonic() - t0
+        time.sleep(1.0)  # it goes on waiting
+        assert proc.poll() is None
+        aside.rename(machine_code)  # the holder's compile, saved
+    proc.wait(timeout=60)
+    err = lines.wait_done()
+    assert proc.returncode == 0, err
+    assert waited >= WAIT_NOTICE_S
+    assert len(err) == 1, err
+    assert f"waiting for process {os.getpid()} on " in err[0] and str(lock_file) in err[0]
+    assert lock_file.stem in err[0].replace(str(lock_file), "")
+    result = json.loads(proc.stdout.read().strip().splitlines()[-1])
+    assert (result["misses"], result["hits"]) == (0, 1)
