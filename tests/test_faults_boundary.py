@@ -25,6 +25,7 @@ import pytest
 import xarray as xr
 
 import stability
+from stability.cli import main
 from stability.lock import OUTPUT_LOCK, FolderBusy, FolderLock, holder_of
 from stability.publish import (
     JOURNAL, STAGE_PREFIX, Stage, check_target, clean_leftovers, journal_text,
@@ -159,16 +160,23 @@ def test_a_valid_journal_of_a_killed_run_is_still_completed(victim):
 # --- links where a run writes ------------------------------------------------------------
 
 
+def run_here(capsys, *args) -> tuple[int, list]:
+    """``stability run`` of the quick tennis study in this process: (exit status, stderr lines).
+
+    For runs refused before any work, which need no process of their own."""
+    status = main(["run", str(ROOT / "studies" / "tennis_racket.toml"), *QUICK, *args])
+    return status, capsys.readouterr().err.strip().splitlines()
+
+
 @pytest.mark.parametrize("options", [[], ["--overwrite"], ["--resume"]])
-def test_a_work_folder_that_is_a_link_is_refused_and_nothing_is_touched(victim, options):
+def test_a_work_folder_that_is_a_link_is_refused_and_nothing_is_touched(victim, capsys,
+                                                                       options):
     out, elsewhere = victim
     (out / WORK).symlink_to(elsewhere)
     (elsewhere / "chunk-000000.nc").write_text("someone's file")
     before, outside = tree(out), tree(elsewhere)
-    done = subprocess.run(stability_cmd(*QUICK, "--out", str(out), *options), cwd=ROOT,
-                          capture_output=True, text=True, timeout=300)
-    assert done.returncode == 2, done.stderr
-    err = done.stderr.strip().splitlines()
+    status, err = run_here(capsys, "--out", str(out), *options)
+    assert status == 2, err
     assert len(err) == 1 and "is a symbolic link" in err[0] and WORK in err[0], err
     assert tree(out) == before and tree(elsewhere) == outside
 
@@ -324,13 +332,11 @@ def test_a_stale_lock_file_of_another_user_does_not_block_a_run(request):
     ("fig1_flips.png", "two outputs of this run are named"),
     ("FIG1_FLIPS.png", "two outputs of this run are named"),
 ])
-def test_output_names_that_would_be_lost_are_refused_before_computing(tmp_path, dataset,
-                                                                       message):
-    done = subprocess.run(stability_cmd(*QUICK, "--out", str(tmp_path / "out"), "--set",
-                                        f"output.dataset={json.dumps(dataset)}"),
-                          cwd=ROOT, capture_output=True, text=True, timeout=120)
-    assert done.returncode == 2, done.stderr
-    err = done.stderr.strip().splitlines()
+def test_output_names_that_would_be_lost_are_refused_before_computing(tmp_path, capsys,
+                                                                       dataset, message):
+    status, err = run_here(capsys, "--out", str(tmp_path / "out"), "--set",
+                           f"output.dataset={json.dumps(dataset)}")
+    assert status == 2, err
     assert len(err) == 1 and message in err[0], err
     assert not (tmp_path / "out").exists()
 
