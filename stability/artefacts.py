@@ -126,7 +126,7 @@ def run_rule(rule, moments, w0, h, t_end, *, save_every=0, progress=None):
     return prop, m, q, saved_w
 
 
-def measure_rule(rule, moments, w0, h, t_end) -> dict:
+def measure_rule(rule, moments, w0, h, t_end, progress=None) -> dict:
     """The numbers of one rule at one step (see the module docstring); scalars.
 
     Parameters
@@ -141,6 +141,8 @@ def measure_rule(rule, moments, w0, h, t_end) -> dict:
         Time step in s.
     t_end : float
         Horizon in s.
+    progress : bool or None, optional
+        The engine's progress bar (:func:`run_rule`); ``False`` shows none.
 
     Returns
     -------
@@ -151,7 +153,7 @@ def measure_rule(rule, moments, w0, h, t_end) -> dict:
     """
     body = RigidBody(*moments, physical=False)
     spin = float(np.median(np.abs(w0[:, 1])))
-    prop, m, q, _ = run_rule(rule, moments, w0, h, t_end)
+    prop, m, q, _ = run_rule(rule, moments, w0, h, t_end, progress=progress)
     ok = prop.status == cv.STATUS_OK
     mem = tracked_members(prop.extras, w0, 2, spin, LEVELS * spin, prop.status)
     exact, asymptote = exact_flip_intervals(body, 2, w0)
@@ -186,7 +188,7 @@ def measure_rule(rule, moments, w0, h, t_end) -> dict:
 
 
 def step_for_accuracy(rule, moments, w0, t_end, h_max, tolerance=0.01, halvings=20,
-                      quantity="flip_interval_error") -> float:
+                      quantity="flip_interval_error", progress=None) -> float:
     """The largest step ``h_max / 2^(k/2)``, k = 0, 1, ..., 2 halvings, at which ``quantity``
     of :func:`measure_rule` (a relative error) is within ``tolerance``; NaN if at none.
 
@@ -210,6 +212,8 @@ def step_for_accuracy(rule, moments, w0, t_end, h_max, tolerance=0.01, halvings=
         The search goes down to ``h_max / 2^halvings``.
     quantity : str, default "flip_interval_error"
         Key of :func:`measure_rule`'s result to test.
+    progress : bool or None, optional
+        The engine's progress bars; ``False`` shows none.
 
     Returns
     -------
@@ -217,17 +221,18 @@ def step_for_accuracy(rule, moments, w0, t_end, h_max, tolerance=0.01, halvings=
         The step in s, or NaN.
     """
     return steps_for_accuracy(rule, moments, w0, t_end, h_max, tolerance, halvings,
-                              (quantity,))[quantity]
+                              (quantity,), progress)[quantity]
 
 
 def steps_for_accuracy(rule, moments, w0, t_end, h_max, tolerance=0.01, halvings=20,
-                       quantities=("flip_interval_error", "energy_drift")) -> dict:
+                       quantities=("flip_interval_error", "energy_drift"),
+                       progress=None) -> dict:
     """:func:`step_for_accuracy` for several quantities in one search: each trial step is run
     once for all of them, and the search stops when every quantity has its step.
 
     Parameters
     ----------
-    rule, moments, w0, t_end, h_max, tolerance, halvings
+    rule, moments, w0, t_end, h_max, tolerance, halvings, progress
         As in :func:`step_for_accuracy`.
     quantities : sequence of str, default ("flip_interval_error", "energy_drift")
         Keys of :func:`measure_rule`'s result to test.
@@ -240,7 +245,7 @@ def steps_for_accuracy(rule, moments, w0, t_end, h_max, tolerance=0.01, halvings
     found = dict.fromkeys(quantities, math.nan)
     for k in range(2 * halvings + 1):
         steps = int(round(t_end * 2.0 ** (0.5 * k) / h_max))
-        result = measure_rule(rule, moments, w0, t_end / steps, t_end)
+        result = measure_rule(rule, moments, w0, t_end / steps, t_end, progress)
         for quantity in quantities:
             if math.isnan(found[quantity]) and abs(result[quantity]) <= tolerance:
                 found[quantity] = t_end / steps
@@ -250,7 +255,7 @@ def steps_for_accuracy(rule, moments, w0, t_end, h_max, tolerance=0.01, halvings
 
 
 def measure_artefacts(rules, moments, w0, steps, t_end, *, tolerance=0.01, search_members=64,
-                      halvings=12, trace_member=0) -> xr.Dataset:
+                      halvings=12, trace_member=0, progress=None) -> xr.Dataset:
     """Every rule at every step, the step each needs, and one member's spin-axis trace.
 
     Parameters
@@ -274,6 +279,9 @@ def measure_artefacts(rules, moments, w0, steps, t_end, *, tolerance=0.01, searc
     trace_member : int, default 0
         Index of the member whose spin-axis angular velocity w2 is stored, run at
         ``steps[0]``, beside its exact w2.
+    progress : bool or None, optional
+        The engine's progress bars (shown for runs expected to take more than a few seconds);
+        ``False`` shows none.
 
     Returns
     -------
@@ -284,17 +292,17 @@ def measure_artefacts(rules, moments, w0, steps, t_end, *, tolerance=0.01, searc
     table = {name: np.full((len(rules), len(steps)), np.nan) for name in _UNITS}
     for i, rule in enumerate(rules):
         for j, h in enumerate(steps):
-            for name, value in measure_rule(rule, moments, w0, h, t_end).items():
+            for name, value in measure_rule(rule, moments, w0, h, t_end, progress).items():
                 table[name][i, j] = value
     searches = [steps_for_accuracy(rule, moments, w0[:search_members], t_end, steps[0],
-                                   tolerance, halvings) for rule in rules]
+                                   tolerance, halvings, progress=progress) for rule in rules]
     needed = np.array([[found[quantity] for found in searches]
                        for quantity in ("flip_interval_error", "energy_drift")])
     trace_h = steps[0]
     traces = []
     for rule in rules:
         saved = run_rule(rule, moments, w0[trace_member:trace_member + 1], trace_h, t_end,
-                         save_every=1)[3]
+                         save_every=1, progress=progress)[3]
         traces.append(np.concatenate([w0[trace_member:trace_member + 1, 1], saved[0, :, 1]]))
     exact = exact_flip_intervals(RigidBody(*moments, physical=False), 2, w0)[0]
     spin = float(np.median(np.abs(w0[:, 1])))

@@ -55,3 +55,14 @@ def test_study_engine_artefacts_quick(tmp_path):
         for name, var in {**ds.data_vars, **ds.coords}.items():
             assert var.attrs.get("units") and var.attrs.get("long_name"), name
         assert missing_units(artefacts_figure(ds)) == []
+
+
+def test_progress_false_silences_every_bar_of_the_study(capfd):
+    """``--no-progress`` reaches every run the study makes (they showed their bars)."""
+    from stability.artefacts import measure_artefacts
+
+    args = (["rk4", "semi_implicit_euler"], RACKET, STARTS[:4], [1 / 60], 1.0)
+    measure_artefacts(*args, halvings=1, search_members=4, progress=True)
+    assert "step" in capfd.readouterr().err  # bars with units of steps, when asked for
+    measure_artefacts(*args, halvings=1, search_members=4, progress=False)
+    assert capfd.readouterr().err == ""

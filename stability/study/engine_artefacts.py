@@ -120,7 +120,7 @@ def run(config: dict, out_dir: Path, *, overwrite=False, threads=None, progress=
         ds = measure_artefacts(rules["engine"] + rules["methods"], moments, w0, steps,
                                rules["t_end"], tolerance=analysis["tolerance"],
                                search_members=min(analysis["search_members"], ens["members"]),
-                               halvings=analysis["halvings"])
+                               halvings=analysis["halvings"], progress=progress)
     ds, files = write_outputs(ds, config, out_dir, NAME, {FIGURE: artefacts_figure},
                               overwrite=overwrite, history=history, threads=threads,
                               attrs={"body": body.name})
