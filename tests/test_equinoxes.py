@@ -156,3 +156,12 @@ def test_study_meets_the_published_values_and_the_formula(quick):
         assert missing_units(equinoxes_figure(ds)) == []
         k = figure_axes(np.zeros((1, 8)) + [0, 0, 1, 1, 0, 0, 0, 0])
         assert np.allclose(k, [[0.0, 0.0, 1.0]])
+
+
+def test_quick_mode_says_it_ran_no_full_turn_and_draws_no_empty_panel(quick):
+    from stability.figures.equinoxes import equinoxes_figure
+
+    summary, out = quick
+    assert "nan" not in summary.table() and "cycle_years = 0" in summary.table()
+    with xr.open_dataset(out / "equinoxes.nc") as ds:
+        assert len(equinoxes_figure(ds).axes) == 2  # no third, empty, panel

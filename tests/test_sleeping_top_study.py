@@ -54,3 +54,11 @@ def test_set_changes_the_top_and_moves_the_threshold(tmp_path):
     ratio = np.sqrt((r2 + m * 0.08**2) * 0.08 / ((r2 + m * 0.04**2) * 0.04))
     assert longer.values["critical_spins"][0] / base.values["critical_spins"][0] == \
         pytest.approx(ratio, rel=1e-12)
+
+
+def test_the_summary_says_in_words_what_it_has_no_number_for(quick):
+    """Quick mode fits no cell near the threshold: the summary says so, not "nan"."""
+    summary, _ = quick
+    assert "nan" not in summary.table()
+    assert "nearer the threshold: no fitted cell below 0.1 x its zero-spin rate" in (
+        summary.table())

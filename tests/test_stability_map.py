@@ -136,3 +136,13 @@ def test_dataset_is_labelled_and_figures_carry_units(small_map):
         (summary.out_dir / "config.toml").read_text())
     assert re.fullmatch(r"\d{4}-\d\d-\d\dT[\d:]+Z: stability run \(stability_map\)",
                         ds.attrs["history"])
+
+
+def test_the_edges_figure_says_in_words_when_a_misfit_was_not_fitted(small_map):
+    """The neutral sphere's amplitude never leaves its start: no misfit, said in words."""
+    from stability.figures.stability_map import edges_figure
+
+    _, ds = small_map
+    texts = [t.get_text() for ax in edges_figure(ds).axes for t in ax.texts]
+    assert texts and not any("nan" in text for text in texts)
+    assert any("not fitted" in text for text in texts)

@@ -22,12 +22,13 @@ def _detrended(t, y):
 
 @styled
 def equinoxes_figure(ds):
-    """Precession of the equinox, its nutation, and the pole over a full turn."""
-    fig = new_figure(11.0, 7.5)
-    grid = fig.add_gridspec(2, 2, width_ratios=(1.5, 1.0))
+    """Precession of the equinox, its nutation, and the pole over a full turn (a third panel,
+    when the Dataset holds the long run of the averaged model)."""
+    long_run = "cycle_longitude" in ds  # the averaged model over a full turn, if it was run
+    fig = new_figure(11.0 if long_run else 7.0, 7.5)
+    grid = fig.add_gridspec(2, 2, width_ratios=(1.5, 1.0)) if long_run else fig.add_gridspec(2, 1)
     prec_ax = fig.add_subplot(grid[0, 0])
     nut_ax = fig.add_subplot(grid[1, 0], sharex=prec_ax)
-    cycle_ax = fig.add_subplot(grid[:, 1])
     t = ds.time.values
     for i, torque in enumerate(ds.torque.values):
         color = AXIS_COLORS[i % len(AXIS_COLORS)]
@@ -60,7 +61,8 @@ def equinoxes_figure(ds):
     nut_ax.set_ylabel(label("nutation (line removed)", "arcsec"))
     nut_ax.set_title("18.6-year nutation; dotted: published amplitudes (IAU 1980)", fontsize=9)
     nut_ax.legend(fontsize=7, loc="lower right")
-    if "cycle_longitude" in ds:
+    if long_run:
+        cycle_ax = fig.add_subplot(grid[:, 1])
         phi = np.radians(ds.cycle_longitude.values)
         eps = ds.cycle_obliquity.values
         # The pole seen from above the ecliptic pole: (sin eps sin phi, -sin eps cos phi).
@@ -74,8 +76,6 @@ def equinoxes_figure(ds):
         cycle_ax.set_ylabel(label("pole from the ecliptic pole, across", "degree"))
         cycle_ax.set_title(f"one turn in {ds.attrs['precession_period_years']:.0f} yr "
                            "(orbit-averaged model)", fontsize=9)
-    else:
-        cycle_ax.remove()  # no long run in this Dataset
     fig.suptitle("Precession of the equinoxes: a rigid oblate Earth under the Sun and the Moon",
                  fontsize=10)
     return fig

@@ -17,6 +17,7 @@ from __future__ import annotations
 
 import numpy as np
 
+from ..estimators import DEPARTURE_FACTOR, MIN_POINTS
 from .style import AXIS_COLORS, EXACT_COLOR, label, new_figure, styled
 
 #: Marker of each method in the scatter and sweep figures (cycled).
@@ -267,8 +268,8 @@ def edges_figure(ds):
         ax.set_title(f"I = ({I[0]:g}, {I[1]:g}, {I[2]:g}), spin about axis {a}\n"
                      f"{meanings[int(ds.edge_regime.values[c])].replace('_', ' ')}, "
                      f"flips: {int(ds.edge_flips.values[c])}", fontsize=8.5)
-        ax.text(0.97, 0.03, f"misfit: straight line {float(ds.edge_linear_residual[c]):.1e}\n"
-                f"exponential {float(ds.edge_exponential_residual[c]):.1e}",
+        ax.text(0.97, 0.03, _misfits(float(ds.edge_linear_residual[c]),
+                                     float(ds.edge_exponential_residual[c])),
                 transform=ax.transAxes, ha="right", va="bottom", fontsize=7)
         ax.set_xlabel(label("time", "s"))
         ax.set_ylabel(label("perpendicular components of w", "rad s-1"))
@@ -277,3 +278,11 @@ def edges_figure(ds):
                  f"h = {float(ds.attrs['edge_h']):g} s, ε = {ds.attrs['edge_epsilon']:g})",
                  fontsize=9.5)
     return fig
+
+
+def _misfits(linear: float, exponential: float) -> str:
+    """The two departure models' misfits, or in words why there are none."""
+    if not (np.isfinite(linear) and np.isfinite(exponential)):
+        return (f"misfit: not fitted (fewer than {MIN_POINTS} samples\n"
+                f"past {DEPARTURE_FACTOR:g} x the start's amplitude in this run)")
+    return f"misfit: straight line {linear:.1e}\nexponential {exponential:.1e}"

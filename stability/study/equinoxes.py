@@ -10,6 +10,7 @@ Dataset, one figure (:func:`stability.figures.equinoxes.equinoxes_figure`) and t
 
 from __future__ import annotations
 
+import math
 import time
 from pathlib import Path
 
@@ -126,7 +127,10 @@ def summarize(ds, out_dir, files, wall) -> StudySummary:
          f"{nut_lon:.4f}  ({values['nutation_longitude_relative']:+.2%})", "\""),
         ("18.6-year nutation in obliquity (IAU 1980 9.2025)",
          f"{nut_obl:.4f}  ({values['nutation_obliquity_relative']:+.2%})", "\""),
-        ("one turn of the axis (averaged model)", f"{values['period_years']:.0f}", "yr"),
+        ("one turn of the axis (averaged model)", f"{values['period_years']:.0f}", "yr")
+        if math.isfinite(values["period_years"]) else
+        ("one turn of the axis (averaged model): no long run, [integration] cycle_years = 0",
+         "not run", ""),
         ("estimated integration error of the rate (steps halved)",
          f"{values['step_error']:.1e}", "\"/yr"),
         ("full model: steps, member-steps/s",

@@ -140,7 +140,10 @@ def summarize(ds, out_dir, files, wall) -> StudySummary:
     rows += [(f"max |relative error| of the growth rate ({values['counted']} cells, rate >= "
               f"{away:g} x its zero-spin value)", f"{worst:.1e}", ""),
              ("  the claim", f"{claim:g}", ""),
-             ("  nearer the threshold (max)", f"{values['max_relative_error_near']:.1e}", ""),
+             ("  nearer the threshold (max)", f"{values['max_relative_error_near']:.1e}", "")
+             if near.any() else
+             (f"  nearer the threshold: no fitted cell below {away:g} x its zero-spin rate",
+              "none", ""),
              ("cells on the wrong side of the threshold", f"{wrong_side}", ""),
              ("wall time (all) / integration", f"{wall:.1f} / {values['integration_time']:.1f}",
               "s"),
