@@ -172,7 +172,7 @@ def measure_rule(rule, moments, w0, h, t_end, progress=None) -> dict:
     exact_rate = float(growth_rate(body, 2, spin))
     with np.errstate(invalid="ignore"):
         return {
-            "fraction_flipping": float(np.mean(flips["n_flips"][ok] >= 1)) if ok.any() else 0.0,
+            "fraction_flipping": float(np.mean(flips["flip_count"][ok] >= 1)) if ok.any() else 0.0,
             "flip_interval": float(np.nanmedian(flips["flip_interval"]))
             if np.isfinite(flips["flip_interval"]).any() else math.nan,
             "flip_interval_error": flips["flip_interval_relative_error"],

@@ -268,7 +268,7 @@ def _cmd_run(args) -> int:
         history=history,
         source=source,
     )
-    print(f"\n{kind.title}: summary")
+    print(f"\nsummary of the {kind.name} study ({kind.title})")
     print(summary.table())
     print(f"\nwrote {len(summary.files)} files to {summary.out_dir}/:")
     for path in summary.files:

@@ -1121,8 +1121,8 @@ def flip_estimate(mem: Members, exact=None, asymptote=None) -> dict:
     Returns
     -------
     dict
-        Per member (ndarray, shape (N,)): ``n_flips``, ``first_flip_time``, ``flip_interval``,
-        ``flip_interval_exact``, ``flip_interval_asymptote``; scalars: the ``ESTIMATE_ATTRS``
+        Per member (ndarray, shape (N,)): ``flip_count`` (int), ``first_flip_time``,
+        ``flip_interval``, ``flip_interval_exact``, ``flip_interval_asymptote``; scalars: the ``ESTIMATE_ATTRS``
         keys from ``first_flip_time_mean`` to ``n_with_interval``.
     """
     n_members = mem.a0.size
@@ -1139,7 +1139,7 @@ def flip_estimate(mem: Members, exact=None, asymptote=None) -> dict:
     int_m, int_se, n_int = _mean_stderr(interval)
     rel_m, rel_se, _ = _mean_stderr(rel)
     return {
-        "n_flips": np.where(mem.valid, n, 0), "first_flip_time": first,
+        "flip_count": np.where(mem.valid, n, 0), "first_flip_time": first,
         "flip_interval": interval, "flip_interval_exact": exact,
         "flip_interval_asymptote": asymptote,
         "first_flip_time_mean": first_m, "first_flip_time_stderr": first_se,
@@ -1154,7 +1154,8 @@ def flip_estimate(mem: Members, exact=None, asymptote=None) -> dict:
 
 #: Long names of the per-member flip variables.
 _FLIP_MEMBER_NAMES = {
-    "n_flips": ("sign changes of the spin-axis component", cv.UNITS_DIMENSIONLESS),
+    "flip_count": ("number of sign changes of the spin-axis component of w (flips)",
+                   cv.UNITS_DIMENSIONLESS),
     "first_flip_time": ("time of the first flip", cv.UNITS_TIME),
     "flip_interval": ("mean time between flips", cv.UNITS_TIME),
     "flip_interval_exact": ("exact flip interval 2K/nu of the member's start", cv.UNITS_TIME),
@@ -1185,7 +1186,8 @@ def flip_statistics(ds: xr.Dataset, axis=None, spin=None, *, body=None) -> xr.Da
     Returns
     -------
     xarray.Dataset
-        Per member (member): ``n_flips``, ``first_flip_time``, ``flip_interval``,
+        Per member (member): ``flip_count`` (an integer, as named in a run's Dataset),
+        ``first_flip_time``, ``flip_interval``,
         ``flip_interval_exact``, ``flip_interval_asymptote`` (s); scalars: their means over
         members (``*_mean``), ``flip_interval_relative_error`` (mean over members of
         (measured - exact) / exact) and its standard error, ``n_flips_mean``,

@@ -187,7 +187,8 @@ def test_omega_squared_is_minus_rate_squared_with_propagated_error():
 def test_flip_statistics_on_the_separatrix():
     t, w, t0, _ = separatrix(8)
     flips = est.flip_statistics(series_dataset(w, t, axis=2))
-    assert np.all(flips.n_flips.values == 1)
+    assert np.all(flips.flip_count.values == 1)
+    assert flips.flip_count.dtype.kind == "i"  # a count, named as in a run's Dataset
     # tanh is linear through its zero: interpolated crossing times are exact to (lam dt)^3.
     np.testing.assert_allclose(flips.first_flip_time.values, t0, atol=1e-6)
     assert np.all(np.isnan(flips.flip_interval.values))  # one flip: no interval
@@ -223,7 +224,7 @@ def test_degenerate_axis_drifts_linearly_without_growth_or_flip():
     assert res.regime == est.REGIME_ALGEBRAIC and bool(res.sign_agrees)
     assert math.isnan(float(res.omega_squared_measured))  # no rate forced
     assert math.isnan(float(est.measured_growth_rate(ds, axis=1).growth_rate))
-    assert est.flip_statistics(ds, axis=1).n_flips.item() == 0
+    assert est.flip_statistics(ds, axis=1).flip_count.item() == 0
 
 
 def test_sphere_is_neutral():

@@ -202,7 +202,7 @@ def summarize(ds, out_dir, files, wall) -> StudySummary:
 
 STUDY = StudyKind(
     name=NAME,
-    title="gyroscope study",
+    title="precession and nutation of released tops against the exact and fast-top values",
     schema=SCHEMA,
     run=run,
     outputs=outputs,

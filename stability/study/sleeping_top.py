@@ -153,7 +153,7 @@ def summarize(ds, out_dir, files, wall) -> StudySummary:
 
 STUDY = StudyKind(
     name=NAME,
-    title="sleeping-top study",
+    title="a top spun upright: stable above its critical spin, growth rate below it",
     schema=SCHEMA,
     run=run,
     outputs=outputs,

@@ -305,7 +305,7 @@ def summarize(ds, out_dir, files, wall, compute_time, work) -> StudySummary:
 
 STUDY = StudyKind(
     name=NAME,
-    title="stability map",
+    title="measured against analytic Omega^2 for every shape of body and every axis",
     schema=SCHEMA,
     run=run,
     outputs=outputs,

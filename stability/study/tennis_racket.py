@@ -298,7 +298,7 @@ def summarize(ds, out_dir, files, wall, t_ensemble) -> StudySummary:
 
 STUDY = StudyKind(
     name=NAME,
-    title="tennis-racket study",
+    title="the tennis-racket flip: growth rate and flip intervals of a tossed ensemble",
     schema=SCHEMA,
     run=run,
     outputs=outputs,
