@@ -244,7 +244,10 @@ def run_study(
 
 
 def _kept(work: Path):
-    """``(finished chunks, manifest)`` of a work folder; None if absent or unreadable."""
+    """``(finished chunks, manifest)`` of a work folder; None if absent or unreadable.
+
+    Only the chunk files there are checked (a manifest may claim any number of chunks).
+    """
     from ..store import MANIFEST, ChunkStore, read_manifest
 
     if not work.is_dir():
@@ -253,9 +256,12 @@ def _kept(work: Path):
         return 0, {}
     try:
         manifest = read_manifest(work)
-    except ValueError:
+    except (ValueError, OSError):
         return None
-    return sum(ChunkStore.verify_path(work, k) for k in range(manifest["chunks"])), manifest
+    numbers = (path.name[len("chunk-"):-len(".nc")] for path in work.glob("chunk-*.nc"))
+    chunks = {int(k) for k in numbers if k.isdigit()}
+    done = sum(ChunkStore.verify_path(work, k) for k in chunks if k < manifest["chunks"])
+    return done, manifest
 
 
 def _interrupted(out: Path, work: Path, kept) -> str:
