@@ -90,17 +90,19 @@ class ChunkStore:
             raise ValueError(f"{self.dir} is a file; a run's chunks need a folder there")
         if manifest.exists():
             earlier = read_manifest(self.dir)
-            if earlier.get("fingerprint") != self.fingerprint:
+            if earlier["fingerprint"] != self.fingerprint:
                 raise StoreMismatch(
-                    f"{self.dir} holds chunks of a different run ({_difference(earlier, self)}); "
-                    "choose another folder, or remove it to start afresh"
+                    f"the settings changed since the run kept in {self.dir} was started: "
+                    f"{_difference(earlier, self)}; give the settings it had to finish it "
+                    "(--resume), or start afresh (stability run: --overwrite without --resume; "
+                    "run_ensemble: another folder, or remove this one)"
                 )
             self._check_not_running()
             for partial in [*self.dir.glob(".*.tmp"), *self.dir.glob(".*.part")]:
                 partial.unlink(missing_ok=True)  # what a killed run was writing
             self.finished = self.done()
             done = len(self.finished)
-            if done and not resume and earlier.get("complete"):
+            if done and not resume and earlier["complete"]:
                 raise ValueError(
                     f"{self.dir} already holds this run, complete; open it with "
                     "stability.open_store, or pass --resume (resume=True) to reuse it"
@@ -456,15 +458,40 @@ def _jsonable(value):
 
 
 def _difference(earlier: dict, store: ChunkStore) -> str:
-    """The first few keys in which the run in a store differs from this one."""
-    old, new = _flat(earlier.get("identity", {})), _flat(store.identity)
-    old.update({"members": earlier.get("members"), "chunk_members": earlier.get("chunk_members")})
+    """What differs between the run in a store and this one, the changed settings first.
+
+    Settings of one value (a spin, a step, a seed) lead, with both values; lists (such as the
+    amplitude levels that follow from the spin) are named after them, so the line says what
+    was changed rather than quoting long lists.
+    """
+    old, new = _flat(earlier["identity"]), _flat(store.identity)
+    old.update({"members": earlier["members"], "chunk_members": earlier["chunk_members"]})
     new.update({"members": store.members, "chunk_members": store.chunk_members})
-    keys = [k for k in sorted(set(old) | set(new)) if old.get(k) != new.get(k)]
+    keys = [k for k in sorted(set(old) | set(new)) if old.get(k, _ABSENT) != new.get(k, _ABSENT)]
     if not keys:
-        return "a different layout"
-    shown = [f"{k}: {old.get(k)!r} there, {new.get(k)!r} here" for k in keys[:3]]
-    return "; ".join(shown) + (f"; and {len(keys) - 3} more" if len(keys) > 3 else "")
+        return "the same settings, another fingerprint (another version of the store)"
+    scalar = [k for k in keys
+              if not isinstance(old.get(k), (list, dict)) and not isinstance(new.get(k), list)]
+    lead = (scalar or keys)[:3]
+    text = "; ".join(f"{k} {_brief(old.get(k, _ABSENT))} there, {_brief(new.get(k, _ABSENT))} "
+                     "here" for k in lead)
+    rest = [k for k in keys if k not in lead]
+    if rest:
+        named = ", ".join(rest[:3]) + (f" and {len(rest) - 3} more" if len(rest) > 3 else "")
+        text += f"; {named} differ{'s' if len(rest) == 1 else ''} too"
+    return text
+
+
+#: A setting one run has and the other has not.
+_ABSENT = object()
+
+
+def _brief(value) -> str:
+    """A setting's value for a message: on one line, at most about 40 characters."""
+    if value is _ABSENT:
+        return "(unset)"
+    text = " ".join(repr(value).split())
+    return text if len(text) <= 40 else text[:36] + " ...]" if text[0] == "[" else text[:37] + "..."
 
 
 def _flat(value, prefix="") -> dict:
