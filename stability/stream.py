@@ -232,6 +232,13 @@ def scheduler_client(address: str, timeout: float = CONNECT_TIMEOUT):
     made once under a deadline, in a thread with its own event loop (the caller may be in one,
     as a notebook is); only a scheduler that answered gets the Client.
 
+    Parameters
+    ----------
+    address : str
+        The scheduler's address, such as ``"tcp://host:8786"``.
+    timeout : float, default :data:`CONNECT_TIMEOUT`
+        Seconds to reach it; its answer to the handshake may take 2 s more.
+
     Raises
     ------
     OSError
