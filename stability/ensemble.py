@@ -25,6 +25,7 @@ from __future__ import annotations
 import logging
 import math
 import numbers
+import sys
 from dataclasses import dataclass, replace
 
 import numba
@@ -158,10 +159,19 @@ def format_bytes(n: float) -> str:
     Returns
     -------
     str
-        Whole bytes below 1 KiB, else one decimal in KiB, MiB, GiB or TiB.
+        Whole bytes below 1 KiB, else one decimal in KiB, MiB, GiB or TiB (three digits
+        from 1e5 TiB).
     """
+    try:
+        n = float(n)
+    except OverflowError:  # a product of counts beyond a float
+        n = math.inf
+    if not math.isfinite(n):
+        return f"more than {sys.float_info.max / 2**40:.3g} TiB"
     for unit in ("B", "KiB", "MiB", "GiB", "TiB"):
         if abs(n) < 1024.0 or unit == "TiB":
+            if unit == "TiB" and abs(n) >= 1e5:
+                return f"{n:.3g} TiB"
             return f"{n:.0f} {unit}" if unit == "B" else f"{n:.1f} {unit}"
         n /= 1024.0
 

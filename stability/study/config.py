@@ -266,6 +266,75 @@ def tossed_body_sections(rate_default: float = 10.0) -> tuple:
     )
 
 
+#: Rough bytes one member of a run that keeps no time series holds at its peak (its start and
+#: end states, parameters and summaries: about 64 numbers, copies included), for the memory
+#: checks of kinds that keep no finer account.
+MEMBER_BYTES = 512
+
+
+def check_memory(config: dict, source: str, nbytes: float, keys, what: str, fix: str) -> None:
+    """Refuse, before any work, a run that would not fit in memory: one line saying what it
+    would take, what a run may hold and the machine has, and how to fix it.
+
+    The one memory check of every study kind; each estimates its own ``nbytes`` (a rough
+    upper bound of what it holds at its peak) from its keys, so that a huge count is refused
+    at once rather than by NumPy's allocation error, perhaps after minutes of work.
+
+    Parameters
+    ----------
+    config : dict
+        The resolved configuration.
+    source : str
+        File name for the message.
+    nbytes : float
+        Bytes the run would hold.
+    keys : sequence of (section, key)
+        The settings the memory grows with; the message names the one raised most above its
+        default (the first on a tie), as the one to lower.
+    what : str
+        What takes the memory, e.g. ``"the time series of 1000000 members"``.
+    fix : str
+        How to bring it down, e.g. ``"use fewer members or a larger [integration] save_every"``.
+
+    Raises
+    ------
+    ConfigError
+        If ``nbytes`` exceeds :data:`stability.ensemble.DEFAULT_MAX_MEMORY` or the machine's
+        memory.
+    """
+    from ..ensemble import DEFAULT_MAX_MEMORY, format_bytes
+
+    machine = _machine_memory()
+    limit = min(DEFAULT_MAX_MEMORY, machine or DEFAULT_MAX_MEMORY)
+    if nbytes <= limit:
+        return
+    section, key = max(keys, key=lambda k: _growth(config, *k))
+    has = f"; this machine has {format_bytes(machine)}" if machine else ""
+    raise ConfigError(
+        f"= {_show(config[section][key])}: {what} would take about {format_bytes(nbytes)} in "
+        f"memory, above the {format_bytes(limit)} a run may hold{has}; {fix}",
+        source, section, key)
+
+
+def _growth(config: dict, section: str, key: str) -> float:
+    """How many times its default a numeric key is (1 where there is no default to compare)."""
+    from . import STUDIES
+
+    value = config[section][key]
+    default = STUDIES[config[STUDY_KEY]].schema.section(section).key(key).default
+    if not isinstance(default, (int, float)) or isinstance(default, bool) or default <= 0:
+        return 1.0
+    return value / default
+
+
+def _machine_memory() -> int | None:
+    """Bytes of physical memory of this machine; None where the system does not say."""
+    try:
+        return os.sysconf("SC_PAGE_SIZE") * os.sysconf("SC_PHYS_PAGES")
+    except (AttributeError, ValueError, OSError):
+        return None
+
+
 def output_section(name: str, figures, extra=()) -> Section:
     """The ``[output]`` section of a study: its folder ``results/<name>``, the Dataset
     ``<name>.nc``, the ``extra`` keys (more files), whether to draw ``figures`` (their stems)
