@@ -25,6 +25,7 @@ from __future__ import annotations
 import logging
 import math
 import numbers
+import sys
 from dataclasses import dataclass, replace
 
 import numba
@@ -125,6 +126,13 @@ def max_angular_speed(moments, w0) -> np.ndarray:
     """
     I = np.asarray(moments, dtype=float)
     w0 = np.atleast_2d(np.asarray(w0, dtype=float))
+    # The motion is the same for moments scaled alike, and scales with w0: both are brought to
+    # order 1 first, so that the squares below neither overflow (a spin of 1e160 rad/s) nor
+    # underflow (moments of 1e-160 kg m^2) into inf or nan.
+    I = I / I.max()
+    with np.errstate(invalid="ignore", over="ignore"):
+        scale = np.max(np.abs(w0), axis=1)
+        w0 = w0 / np.where(scale > 0.0, scale, 1.0)[:, None]
     m = w0 * I
     L2 = np.sum(m * m, axis=1)
     E2 = np.sum(m * w0, axis=1)  # 2E
@@ -137,7 +145,7 @@ def max_angular_speed(moments, w0) -> np.ndarray:
             uj = L2 - ui
             inside = (ui >= 0.0) & (uj >= 0.0)
             best = np.where(inside, np.maximum(best, ui * b[i] ** 2 + uj * b[j] ** 2), best)
-    return np.sqrt(best)
+    return np.sqrt(best) * scale
 
 
 def format_bytes(n: float) -> str:
@@ -151,10 +159,19 @@ def format_bytes(n: float) -> str:
     Returns
     -------
     str
-        Whole bytes below 1 KiB, else one decimal in KiB, MiB, GiB or TiB.
+        Whole bytes below 1 KiB, else one decimal in KiB, MiB, GiB or TiB (three digits
+        from 1e5 TiB).
     """
+    try:
+        n = float(n)
+    except OverflowError:  # a product of counts beyond a float
+        n = math.inf
+    if not math.isfinite(n):
+        return f"more than {sys.float_info.max / 2**40:.3g} TiB"
     for unit in ("B", "KiB", "MiB", "GiB", "TiB"):
         if abs(n) < 1024.0 or unit == "TiB":
+            if unit == "TiB" and abs(n) >= 1e5:
+                return f"{n:.3g} TiB"
             return f"{n:.0f} {unit}" if unit == "B" else f"{n:.1f} {unit}"
         n /= 1024.0
 
@@ -686,11 +703,17 @@ def _plan(body, axis, spin=None, epsilon=None, members=None, *, h, t_end, seed=0
     # --- starts -----------------------------------------------------------------------------
     if w0 is None and (direction is not None or not defer_starts):
         w0 = perturbed_starts(axis, spin, epsilon, members, ss, direction)
+    if starts is not None:
+        given = (f"starts of up to {np.abs(w0).max():.3g} rad/s", "smaller starts")
+    elif epsilon <= 1:
+        given = (f"spin = {spin:.3g} rad/s", "a smaller spin")
+    else:
+        given = (f"epsilon = {epsilon:.3g} (of spin = {spin:.3g} rad/s)", "a smaller epsilon")
     if w0 is not None:
-        step_angle = _step_angles(body, spec, w0, h)
+        step_angle = _step_angles(body, spec, w0, h, t_end, given)
     else:  # drawn per chunk; refuse up front if the first block of starts is hopeless
         _step_angles(body, spec, _random_starts(a, spin, epsilon, ss, 0,
-                                                min(n_members, RNG_CHUNK)), h)
+                                                min(n_members, RNG_CHUNK)), h, t_end, given)
         step_angle = None
 
     resolved = {
@@ -738,12 +761,30 @@ def _chunk_plan(plan: _Plan, lo: int, hi: int) -> _Plan:
                    chunk_members=min(plan.chunk_members, hi - lo))
 
 
-def _step_angles(body, spec, w0, h) -> np.ndarray:
-    """Each member's step angle ``h max|w|`` in rad; ValueError if all exceed the bound."""
+#: Most steps a run can take: beyond 2^53 the times t = n h of its steps are no longer
+#: distinct doubles. A step bound that asks for more means the spin is out of range.
+MAX_STEPS = 2**53
+
+
+def _step_angles(body, spec, w0, h, t_end, given) -> np.ndarray:
+    """Each member's step angle ``h max|w|`` in rad; ValueError if all exceed the bound.
+
+    ``given`` is what set the starts and what to change, ``("spin = 1e+30 rad/s", "a smaller
+    spin")``, for the message when no step could do: the spin is then out of range, and the
+    step it would need is no advice.
+    """
     angle = h * max_angular_speed(body.moments, w0)
     bound = spec.max_step_angle
     if bound is not None and angle.size and not np.any(angle <= bound):
-        smallest = float(angle.min())
+        smallest = float(np.nanmin(angle)) if not np.isnan(angle).all() else math.inf
+        if not smallest * t_end / (h * bound) <= MAX_STEPS:  # inf or nan included
+            moments = ", ".join(f"{I:.3g}" for I in body.moments)
+            raise ValueError(
+                f"{given[0]} is out of range: {spec.name} needs h max|w| <= {bound:g} rad, so "
+                f"more than 2^53 steps (the most a run can count) to t_end = {t_end:g} s; use "
+                f"{given[1]}" + ("" if np.isfinite(angle).any() else
+                                  f", or moments closer together than ({moments}) kg m^2")
+            )
         raise ValueError(
             f"h = {h:g} s is too large for {spec.name} at these spins: every member would turn "
             f"by {smallest:.3g} rad or more per step (h max|w|), above the {bound:g} rad up to "

@@ -88,7 +88,8 @@ def save(ds: xr.Dataset, path, overwrite: bool = False, compress: bool = True) -
     FileExistsError
         If ``path`` exists and ``overwrite`` is False.
     ValueError
-        If an attribute or variable cannot be stored in netCDF (nothing is written).
+        If ``path`` is a folder, or an attribute or variable cannot be stored in netCDF
+        (nothing is written).
     OSError
         If the file system refuses the write (no space, permission, a vanished folder): the
         path and the cause, and nothing left behind.
@@ -96,13 +97,16 @@ def save(ds: xr.Dataset, path, overwrite: bool = False, compress: bool = True) -
     path = Path(path)
     if not isinstance(ds, xr.Dataset):
         raise ValueError(f"save() writes an xarray.Dataset, got {type(ds).__name__}")
+    if path.is_dir():  # before the advice to overwrite, which cannot replace a folder
+        raise ValueError(
+            f"{path} is a folder, and a Dataset is saved to a file: give a file name such as "
+            f"{path / 'run.nc'} (a folder is never replaced, not even with overwrite=True)"
+        )
     if path.exists() and not overwrite:
         raise FileExistsError(
             f"{path} already exists; pass overwrite=True (stability run: --overwrite) to "
             "replace it, or choose another path"
         )
-    if path.is_dir():
-        raise ValueError(f"{path} is a directory; give a file name such as {path / 'run.nc'}")
     if not path.parent.is_dir():
         raise ValueError(f"directory {path.parent} does not exist; create it first")
     check_storable(ds)

@@ -29,6 +29,7 @@ from __future__ import annotations
 import hashlib
 import json
 import logging
+import math
 import os
 import socket
 import stat
@@ -110,16 +111,18 @@ class ChunkStore:
     def _open(self, manifest: Path, resume: bool) -> None:
         if manifest.exists():
             earlier = read_manifest(self.dir)
-            if earlier.get("fingerprint") != self.fingerprint:
+            if earlier["fingerprint"] != self.fingerprint:
                 raise StoreMismatch(
-                    f"{self.dir} holds chunks of a different run ({_difference(earlier, self)}); "
-                    "choose another folder, or remove it to start afresh"
+                    f"the settings changed since the run kept in {self.dir} was started: "
+                    f"{_difference(earlier, self)}; give the settings it had to finish it "
+                    "(--resume), or start afresh (stability run: --overwrite without --resume; "
+                    "run_ensemble: another folder, or remove this one)"
                 )
             for partial in [*self.dir.glob(".*.tmp"), *self.dir.glob(".*.part")]:
                 partial.unlink(missing_ok=True)  # what a killed run was writing
             self.finished = self.done()
             done = len(self.finished)
-            if done and not resume and earlier.get("complete"):
+            if done and not resume and earlier["complete"]:
                 raise ValueError(
                     f"{self.dir} already holds this run, complete; open it with "
                     "stability.open_store, or pass --resume (resume=True) to reuse it"
@@ -256,22 +259,123 @@ def write_chunk(ds: xr.Dataset, path, compress: bool, fingerprint: str) -> None:
 
 
 def read_manifest(directory) -> dict:
-    """The manifest of the store in ``directory``; ValueError if there is none or it is bad."""
+    """The manifest of the store in ``directory``, its fields checked.
+
+    The file is input like any other (a disk, a copy or a hand may have damaged it): every
+    field the store reads is checked here, once, so that no reader meets a list, a string or a
+    negative count where it expects a number.
+
+    Raises
+    ------
+    ValueError
+        One line naming the file: there is none, or it is not JSON, or a field is missing or of
+        the wrong type or range.
+    """
     path = Path(directory) / MANIFEST
     try:
-        return json.loads(path.read_text(encoding="utf-8"))
+        manifest = json.loads(path.read_text(encoding="utf-8"))
     except FileNotFoundError:
         raise ValueError(f"{directory} is not a run's chunk folder (no {MANIFEST})") from None
-    except (json.JSONDecodeError, UnicodeDecodeError) as exc:
-        raise ValueError(f"{path} is damaged ({exc}); remove the folder to start afresh") from None
+    except (ValueError, RecursionError) as exc:  # not JSON, not UTF-8, absurd numbers or depth
+        raise _damaged(path, f"{exc.__class__.__name__}: {exc}") from None
+    layout = manifest.get("layout") if isinstance(manifest, dict) else None
+    if isinstance(layout, int) and not isinstance(layout, bool) and layout != LAYOUT:
+        raise ValueError(f"{path} is of store layout {layout}, written by another version of "
+                         f"stability (this one reads layout {LAYOUT}); remove its folder to "
+                         "start afresh")
+    problem = _manifest_problem(manifest)
+    if problem:
+        raise _damaged(path, problem)
+    return manifest
+
+
+def _manifest_problem(manifest) -> str:
+    """What is wrong with a parsed manifest, in words; "" if nothing."""
+    if not isinstance(manifest, dict):
+        return f"it holds {_shown(manifest)}, not an object"
+    fields = {"layout": int, "fingerprint": str, "identity": dict, "members": int,
+              "chunk_members": int, "chunks": int, "unit": str, "complete": bool,
+              "attrs": (dict, type(None))}
+    for name, kind in fields.items():
+        if name not in manifest:
+            return f"no {name!r}"
+        value = manifest[name]
+        if not isinstance(value, kind) or (kind is int and isinstance(value, bool)):
+            return f"{name!r} is {_shown(value)}"
+    members, per_chunk = manifest["members"], manifest["chunk_members"]
+    if members < 0:
+        return f"'members' is {members}, below 0"
+    if per_chunk < 1:
+        return f"'chunk_members' is {per_chunk}, below 1"
+    if manifest["chunks"] != -(-members // per_chunk):
+        return (f"'chunks' is {manifest['chunks']}, but {members} members in chunks of "
+                f"{per_chunk} make {-(-members // per_chunk)}")
+    if not _displayable(manifest["unit"]):
+        return f"'unit' is {_shown(manifest['unit'])}, not a short line of text"
+    if manifest["complete"] and manifest["attrs"] is None:
+        return "complete, but no 'attrs'"
+    return ""
+
+
+def _damaged(path: Path, problem: str) -> ValueError:
+    return ValueError(f"{path} is damaged ({problem}); remove its folder to start afresh")
+
+
+#: The fields of ``progress.json`` and their types (a number: int or float).
+_PROGRESS_FIELDS = {"state": str, "chunks_done": int, "chunks": int, "members_done": int,
+                    "members": int, "members_per_second": float, "seconds_left": float,
+                    "elapsed_seconds": float, "updated": str, "host": str, "pid": int}
 
 
 def read_progress(directory) -> dict | None:
-    """``progress.json`` of a store, or None if it has none yet."""
+    """``progress.json`` of a store, or None if it has none or it cannot be read.
+
+    Only for display and for telling whether a run is alive: the fields of the right type
+    and range are returned and the others left out (callers use ``.get``), so a damaged file
+    never stops a command.
+    """
+    return _progress(directory)[0]
+
+
+def _progress(directory) -> tuple[dict | None, bool]:
+    """:func:`read_progress`, and whether the file is there but damaged (some field left out)."""
     try:
-        return json.loads((Path(directory) / PROGRESS).read_text(encoding="utf-8"))
-    except (FileNotFoundError, json.JSONDecodeError):
-        return None
+        progress = json.loads((Path(directory) / PROGRESS).read_text(encoding="utf-8"))
+    except FileNotFoundError:
+        return None, False
+    except (OSError, ValueError, RecursionError):
+        return None, True
+    if not isinstance(progress, dict):
+        return None, True
+    kept = {}
+    for name, kind in _PROGRESS_FIELDS.items():
+        value = progress.get(name)
+        if kind is str:
+            ok = _displayable(value)
+        elif kind is int:
+            ok = (isinstance(value, int) and not isinstance(value, bool)
+                  and 0 <= value < 2**53 and (name != "pid" or 0 < value < 2**31))
+        else:
+            ok = (isinstance(value, (int, float)) and not isinstance(value, bool)
+                  and math.isfinite(value) and value >= 0)
+        if ok or (name == "seconds_left" and value is None):
+            kept[name] = value
+    return kept, len(kept) < len(_PROGRESS_FIELDS)
+
+
+def _displayable(value) -> bool:
+    """A short string without control characters (safe to print on one line)."""
+    return isinstance(value, str) and len(value) <= 200 and value.isprintable()
+
+
+def _shown(value) -> str:
+    """A value of a damaged file for a message: short, on one line, with its JSON type."""
+    kind = {dict: "an object", list: "a list", str: "a string", bool: "a boolean",
+            int: "a number", float: "a number", type(None): "null"}.get(type(value), "a value")
+    if isinstance(value, (dict, list)) or value is None:
+        return kind
+    text = json.dumps(value)
+    return f"{text if len(text) <= 40 else text[:37] + '...'} ({kind})"
 
 
 def open_store(directory) -> xr.Dataset:
@@ -322,16 +426,24 @@ def file_checksum(path) -> str:
 
 
 def status_lines(directory) -> list[str]:
-    """A run's state in a few lines, from its manifest and progress file."""
+    """A run's state in a few lines, from its manifest and progress file.
+
+    ValueError (naming the file) if the manifest is missing or damaged; a damaged progress
+    file is said in place of the chunks done, and its fields that are sound are shown.
+    """
     manifest = read_manifest(directory)
-    progress = read_progress(directory) or {}
+    progress, damaged = _progress(directory)
+    progress = progress or {}
     store_chunks = manifest["chunks"]
     done = progress.get("chunks_done", 0)
-    unit = manifest.get("unit", "members")
+    unit = manifest["unit"]
     lines = [f"{directory}: {manifest['members']} {unit} in {store_chunks} chunks of "
              f"{manifest['chunk_members']}"]
-    if manifest.get("complete"):
+    if manifest["complete"]:
         lines.append("complete: every chunk is done")
+    elif damaged:
+        lines.append(f"chunks done unknown: {Path(directory) / PROGRESS} is damaged (it is "
+                     "written afresh when the run goes on)")
     else:
         state = progress.get("state", "not started")
         lines.append(f"{state}: {done} of {store_chunks} chunks done "
@@ -340,7 +452,7 @@ def status_lines(directory) -> list[str]:
     if rate:
         left = progress.get("seconds_left")
         lines.append(f"{rate:.3g} {unit}/s" + (
-            f", about {_duration(left)} left" if left and not manifest.get("complete") else ""))
+            f", about {_duration(left)} left" if left and not manifest["complete"] else ""))
     if progress.get("updated"):
         lines.append(f"last update {progress['updated']} by pid {progress.get('pid')} on "
                      f"{progress.get('host')}")
@@ -404,15 +516,40 @@ def _jsonable(value):
 
 
 def _difference(earlier: dict, store: ChunkStore) -> str:
-    """The first few keys in which the run in a store differs from this one."""
-    old, new = _flat(earlier.get("identity", {})), _flat(store.identity)
-    old.update({"members": earlier.get("members"), "chunk_members": earlier.get("chunk_members")})
+    """What differs between the run in a store and this one, the changed settings first.
+
+    Settings of one value (a spin, a step, a seed) lead, with both values; lists (such as the
+    amplitude levels that follow from the spin) are named after them, so the line says what
+    was changed rather than quoting long lists.
+    """
+    old, new = _flat(earlier["identity"]), _flat(store.identity)
+    old.update({"members": earlier["members"], "chunk_members": earlier["chunk_members"]})
     new.update({"members": store.members, "chunk_members": store.chunk_members})
-    keys = [k for k in sorted(set(old) | set(new)) if old.get(k) != new.get(k)]
+    keys = [k for k in sorted(set(old) | set(new)) if old.get(k, _ABSENT) != new.get(k, _ABSENT)]
     if not keys:
-        return "a different layout"
-    shown = [f"{k}: {old.get(k)!r} there, {new.get(k)!r} here" for k in keys[:3]]
-    return "; ".join(shown) + (f"; and {len(keys) - 3} more" if len(keys) > 3 else "")
+        return "the same settings, another fingerprint (another version of the store)"
+    scalar = [k for k in keys
+              if not isinstance(old.get(k), (list, dict)) and not isinstance(new.get(k), list)]
+    lead = (scalar or keys)[:3]
+    text = "; ".join(f"{k} {_brief(old.get(k, _ABSENT))} there, {_brief(new.get(k, _ABSENT))} "
+                     "here" for k in lead)
+    rest = [k for k in keys if k not in lead]
+    if rest:
+        named = ", ".join(rest[:3]) + (f" and {len(rest) - 3} more" if len(rest) > 3 else "")
+        text += f"; {named} differ{'s' if len(rest) == 1 else ''} too"
+    return text
+
+
+#: A setting one run has and the other has not.
+_ABSENT = object()
+
+
+def _brief(value) -> str:
+    """A setting's value for a message: on one line, at most about 40 characters."""
+    if value is _ABSENT:
+        return "(unset)"
+    text = " ".join(repr(value).split())
+    return text if len(text) <= 40 else text[:36] + " ...]" if text[0] == "[" else text[:37] + "..."
 
 
 def _flat(value, prefix="") -> dict:

@@ -197,11 +197,7 @@ def _run_on_dask(kwargs, chunks, todo, scheduler, progress, compress):
         if not isinstance(scheduler, str) or "://" not in scheduler:
             raise ValueError(f"scheduler must be 'dask' (a local cluster) or a scheduler "
                              f"address such as 'tcp://host:8786', got {scheduler!r}")
-        try:
-            client = Client(scheduler, timeout="10s")
-        except (OSError, TimeoutError) as exc:
-            raise OSError(f"cannot reach the dask scheduler at {scheduler} ({exc}); start it, "
-                          "or check the address") from None
+        client = scheduler_client(scheduler)
     tracker = _Tracker(chunks, todo, progress)
     try:
         futures = []
@@ -227,6 +223,61 @@ def _run_on_dask(kwargs, chunks, todo, scheduler, progress, compress):
             client.close()
         if cluster is not None:
             cluster.close()
+
+
+#: Seconds to reach a dask scheduler (its connection is retried that long) ...
+CONNECT_TIMEOUT = 10.0
+#: ... and at most these more for its answer to the handshake.
+_ANSWER = 2.0
+
+
+def scheduler_client(address: str, timeout: float = CONNECT_TIMEOUT):
+    """A ``distributed.Client`` of the scheduler at ``address``, within about ``timeout`` s.
+
+    ``Client(address, timeout=...)`` bounds the TCP connection but not the dask handshake that
+    follows it, so a server that accepts the connection and never answers (another service on
+    that port, a scheduler that hangs) would keep it waiting for good. The handshake is first
+    made once under a deadline, in a thread with its own event loop (the caller may be in one,
+    as a notebook is); only a scheduler that answered gets the Client.
+
+    Parameters
+    ----------
+    address : str
+        The scheduler's address, such as ``"tcp://host:8786"``.
+    timeout : float, default :data:`CONNECT_TIMEOUT`
+        Seconds to reach it; its answer to the handshake may take 2 s more.
+
+    Raises
+    ------
+    OSError
+        One line: the scheduler cannot be reached, or did not answer, within ``timeout``.
+    """
+    import asyncio
+    from concurrent.futures import ThreadPoolExecutor
+
+    from distributed import Client
+    from distributed.comm import connect
+
+    async def handshake():  # connect() retries a refused connection for ``timeout``
+        comm = await asyncio.wait_for(connect(address, timeout=timeout), timeout + _ANSWER)
+        await comm.close()
+
+    def unreachable(why):
+        return OSError(f"cannot reach the dask scheduler at {address} ({why}); start it, or "
+                       "check the address")
+
+    with ThreadPoolExecutor(max_workers=1) as pool:
+        try:
+            pool.submit(asyncio.run, handshake()).result()
+        except (asyncio.TimeoutError, TimeoutError):
+            raise unreachable("it took the connection but did not answer as a dask scheduler "
+                              f"within {timeout + _ANSWER:g} s") from None
+        except (OSError, ValueError) as exc:  # refused, no such host, a malformed address
+            raise unreachable(" ".join(str(exc).split()) or type(exc).__name__) from None
+    try:
+        return Client(address, timeout=f"{timeout}s")
+    except (OSError, TimeoutError) as exc:
+        raise unreachable(" ".join(str(exc).split())) from None
 
 
 def _chunk_dataset(plan, lo: int, hi: int, progress, threads):

@@ -88,7 +88,7 @@ CLI = {
         ["[top] central_moments must have I1 = I2"]),
     "gyroscope keeping too many states": (
         'study = "gyroscope"\n[integration]\nsamples_per_period = 100000000\n', [],
-        ["[integration] samples_per_period", "GiB", "keep fewer samples or periods"]),
+        ["[integration] samples_per_period", "GiB", "keep fewer samples, periods"]),
     "gyroscope with no precession rate": (
         'study = "gyroscope"\n[release]\nprecession = []\n', [],
         ["[release] precession must list at least one"]),

@@ -59,10 +59,10 @@ def test_stored_run_is_the_in_memory_run(in_memory, tmp_path, chunk, save, attit
 
 def test_store_refuses_another_run_and_unasked_reuse(tmp_path):
     stability.run_ensemble(**RUN, store=tmp_path / "s", chunk_members=256)
-    with pytest.raises(ValueError, match=r"chunks of a different run \(run_ensemble.h: 0.01 "
-                                         r"there, 0.02 here\)"):
+    with pytest.raises(ValueError, match=r"the settings changed since the run kept in .*s was "
+                                         r"started: run_ensemble.h 0.01 there, 0.02 here; "):
         stability.run_ensemble(**dict(RUN, h=0.02), store=tmp_path / "s", chunk_members=256)
-    with pytest.raises(ValueError, match="chunk_members: 256 there, 128 here"):
+    with pytest.raises(ValueError, match="started: chunk_members 256 there, 128 here; "):
         stability.run_ensemble(**RUN, store=tmp_path / "s", chunk_members=128)
     with pytest.raises(ValueError, match="already holds this run, complete"):
         stability.run_ensemble(**RUN, store=tmp_path / "s", chunk_members=256)

@@ -296,7 +296,8 @@ def _check_outputs(folder: Path, names, done: str) -> None:
 def _kept(work: Path):
     """``(finished chunks, manifest)`` of a work folder; None if absent or unreadable.
 
-    Nothing there is changed: the folder may be another run's.
+    Nothing there is changed (the folder may be another run's), and only the chunk files
+    there are checked (a manifest may claim any number of chunks).
     """
     from ..store import MANIFEST, ChunkStore, read_manifest
 
@@ -306,10 +307,13 @@ def _kept(work: Path):
         return 0, {}
     try:
         manifest = read_manifest(work)
-    except ValueError:
+    except (ValueError, OSError):
         return None
-    return sum(ChunkStore.verify_path(work, k, manifest.get("fingerprint"), remove=False)
-               for k in range(manifest["chunks"])), manifest
+    numbers = (path.name[len("chunk-"):-len(".nc")] for path in work.glob("chunk-*.nc"))
+    chunks = {int(k) for k in numbers if k.isdigit()}
+    done = sum(ChunkStore.verify_path(work, k, manifest["fingerprint"], remove=False)
+               for k in chunks if k < manifest["chunks"])
+    return done, manifest
 
 
 def _interrupted(out: Path, work: Path, kept) -> str:

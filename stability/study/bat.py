@@ -17,8 +17,8 @@ from pathlib import Path
 import numpy as np
 
 from .config import (
-    ConfigError, Key, Schema, Section, StudyKind, StudySummary, output_files, output_section,
-    write_outputs,
+    MEMBER_BYTES, ConfigError, Key, Schema, Section, StudyKind, StudySummary, check_memory,
+    output_files, output_section, write_outputs,
 )
 
 NAME = "bat"
@@ -105,6 +105,10 @@ def check(config: dict, source: str) -> dict:
     if not s["first"] < last:
         raise ConfigError(f"must be beyond first ({s['first']:g} m), got {last:g} m", source,
                           "strikes", "last")
+    members = 2 * len(config["hands"]["pivots"]) * s["count"]  # held and free, per pivot
+    check_memory(config, source, members * 2 * MEMBER_BYTES,  # parameters as arrays in a list
+                 [("strikes", "count")], f"{members} strikes (held and free, per pivot)",
+                 "use fewer strike points")
     return config
 
 

@@ -21,6 +21,9 @@ from __future__ import annotations
 import difflib
 import json
 import math
+import os
+import stat
+import sys
 import tomllib
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -263,6 +266,75 @@ def tossed_body_sections(rate_default: float = 10.0) -> tuple:
     )
 
 
+#: Rough bytes one member of a run that keeps no time series holds at its peak (its start and
+#: end states, parameters and summaries: about 64 numbers, copies included), for the memory
+#: checks of kinds that keep no finer account.
+MEMBER_BYTES = 512
+
+
+def check_memory(config: dict, source: str, nbytes: float, keys, what: str, fix: str) -> None:
+    """Refuse, before any work, a run that would not fit in memory: one line saying what it
+    would take, what a run may hold and the machine has, and how to fix it.
+
+    The one memory check of every study kind; each estimates its own ``nbytes`` (a rough
+    upper bound of what it holds at its peak) from its keys, so that a huge count is refused
+    at once rather than by NumPy's allocation error, perhaps after minutes of work.
+
+    Parameters
+    ----------
+    config : dict
+        The resolved configuration.
+    source : str
+        File name for the message.
+    nbytes : float
+        Bytes the run would hold.
+    keys : sequence of (section, key)
+        The settings the memory grows with; the message names the one raised most above its
+        default (the first on a tie), as the one to lower.
+    what : str
+        What takes the memory, e.g. ``"the time series of 1000000 members"``.
+    fix : str
+        How to bring it down, e.g. ``"use fewer members or a larger [integration] save_every"``.
+
+    Raises
+    ------
+    ConfigError
+        If ``nbytes`` exceeds :data:`stability.ensemble.DEFAULT_MAX_MEMORY` or the machine's
+        memory.
+    """
+    from ..ensemble import DEFAULT_MAX_MEMORY, format_bytes
+
+    machine = _machine_memory()
+    limit = min(DEFAULT_MAX_MEMORY, machine or DEFAULT_MAX_MEMORY)
+    if nbytes <= limit:
+        return
+    section, key = max(keys, key=lambda k: _growth(config, *k))
+    has = f"; this machine has {format_bytes(machine)}" if machine else ""
+    raise ConfigError(
+        f"= {_show(config[section][key])}: {what} would take about {format_bytes(nbytes)} in "
+        f"memory, above the {format_bytes(limit)} a run may hold{has}; {fix}",
+        source, section, key)
+
+
+def _growth(config: dict, section: str, key: str) -> float:
+    """How many times its default a numeric key is (1 where there is no default to compare)."""
+    from . import STUDIES
+
+    value = config[section][key]
+    default = STUDIES[config[STUDY_KEY]].schema.section(section).key(key).default
+    if not isinstance(default, (int, float)) or isinstance(default, bool) or default <= 0:
+        return 1.0
+    return value / default
+
+
+def _machine_memory() -> int | None:
+    """Bytes of physical memory of this machine; None where the system does not say."""
+    try:
+        return os.sysconf("SC_PAGE_SIZE") * os.sysconf("SC_PHYS_PAGES")
+    except (AttributeError, ValueError, OSError):
+        return None
+
+
 def output_section(name: str, figures, extra=()) -> Section:
     """The ``[output]`` section of a study: its folder ``results/<name>``, the Dataset
     ``<name>.nc``, the ``extra`` keys (more files), whether to draw ``figures`` (their stems)
@@ -363,9 +435,20 @@ def _show(value) -> str:
         return json.dumps(value)
     if isinstance(value, float):
         return repr(value)
+    if _beyond_a_float(value):  # thousands of digits would drown the message
+        return f"an integer of {math.floor(math.log10(abs(value))) + 1} digits"
     if isinstance(value, (list, tuple)):
         return "[" + ", ".join(_show(v) for v in value) + "]"
     return str(value)
+
+
+def _beyond_a_float(value) -> bool:
+    """Whether ``value`` (or an element of it) is an integer no float can hold (above about
+    1.8e308): TOML integers have no limit, and such a one cannot be a number, a count or a seed."""
+    if isinstance(value, list):
+        return any(_beyond_a_float(v) for v in value)
+    return (isinstance(value, int) and not isinstance(value, bool)
+            and abs(value) > sys.float_info.max)
 
 
 def _type_name(value) -> str:
@@ -373,25 +456,75 @@ def _type_name(value) -> str:
             dict: "table"}.get(type(value), type(value).__name__)
 
 
+#: The largest study file read (bytes): a study file is a page of settings; anything larger
+#: is a wrong path (a data file, a device) and is refused before it is read.
+MAX_STUDY_BYTES = 2**20
+
+
 def read(path) -> dict:
-    """Parse a study file; a missing file or bad TOML is a one-line :class:`ConfigError`."""
+    """Parse a study file; a missing, unreadable or oversized file or bad TOML is a one-line
+    :class:`ConfigError`.
+
+    Only a regular file of at most :data:`MAX_STUDY_BYTES` is read (``/dev/zero``, a FIFO or
+    a folder would be read for ever, wait for ever, or fail obscurely). A UTF-8 byte-order
+    mark, which Windows editors write, is skipped.
+    """
     path = Path(path)
+    source = str(path)
     try:
-        text = path.read_text(encoding="utf-8")
+        with open(path, "rb", opener=_open_without_waiting) as f:
+            info = os.fstat(f.fileno())
+            if not stat.S_ISREG(info.st_mode):
+                raise ConfigError(f"is {_file_kind(info.st_mode)}, not a study file; give the "
+                                  "path of a .toml file", source)
+            data = f.read(MAX_STUDY_BYTES + 1)  # its size may change as it is read
     except FileNotFoundError:
-        raise ConfigError("no such file", str(path)) from None
-    except (OSError, UnicodeDecodeError) as exc:
-        raise ConfigError(f"cannot read the file ({exc.__class__.__name__}: {exc})",
-                          str(path)) from None
-    return parse(text, str(path))
+        raise ConfigError("no such file", source) from None
+    except IsADirectoryError:
+        raise ConfigError("is a folder, not a study file; give the path of a .toml file",
+                          source) from None
+    except OSError as exc:
+        raise ConfigError(f"cannot read the file ({exc.strerror or exc})", source) from None
+    if len(data) > MAX_STUDY_BYTES:
+        raise ConfigError(f"is larger than the {MAX_STUDY_BYTES // 2**20} MiB a study file may "
+                          "have; give the path of a .toml study file", source)
+    try:
+        text = data.decode("utf-8-sig")
+    except UnicodeDecodeError as exc:
+        raise ConfigError(f"is not UTF-8 text (byte {exc.start}); save it as UTF-8", source
+                          ) from None
+    return parse(text, source)
+
+
+def _open_without_waiting(path, flags):
+    """``os.open`` that does not wait for a writer (a FIFO), so that the kind of file can be
+    checked before anything is read."""
+    return os.open(path, flags | getattr(os, "O_NONBLOCK", 0))
+
+
+def _file_kind(mode: int) -> str:
+    """What a file that is not a regular file is, in words."""
+    for test, words in ((stat.S_ISDIR, "a folder"), (stat.S_ISFIFO, "a FIFO (named pipe)"),
+                        (stat.S_ISCHR, "a character device"), (stat.S_ISBLK, "a block device"),
+                        (stat.S_ISSOCK, "a socket")):
+        if test(mode):
+            return words
+    return "not a regular file"
 
 
 def parse(text: str, source: str = "<study>") -> dict:
     """Parse TOML text; a syntax error becomes a one-line :class:`ConfigError`."""
     try:
-        return tomllib.loads(text)
+        return tomllib.loads(text.removeprefix("\ufeff"))
     except tomllib.TOMLDecodeError as exc:
         raise ConfigError(f"not valid TOML: {exc}", source) from None
+    except ValueError:  # tomllib's only other error: an integer too long for int()
+        raise ConfigError(_TOO_LONG, source) from None
+
+
+#: What an integer of more digits than Python converts to int is told.
+_TOO_LONG = (f"holds an integer of more than {sys.get_int_max_str_digits()} digits, beyond the "
+             "range of any number a key takes")
 
 
 def resolve(raw: dict, schema: Schema, source: str = "<study>") -> dict:
@@ -483,6 +616,9 @@ def _resolve_key(key: Key, given: dict, source: str, section: str):
         default = key.default
         return list(default) if isinstance(default, tuple) else default
     value = given[key.name]
+    if _beyond_a_float(value):
+        raise ConfigError(f"must be {key.allowed()}, got {_show(value)}, beyond the range of a "
+                          f"number (about {sys.float_info.max:.1e})", source, section, key.name)
     try:
         return key.check(value)
     except ValueError as exc:
@@ -521,6 +657,8 @@ def set_value(raw: dict, dotted: str, text: str, source: str = "--set") -> None:
         value = tomllib.loads(f"v = {text}")["v"]
     except tomllib.TOMLDecodeError:
         value = text
+    except ValueError:  # an integer too long for int()
+        raise ConfigError(_TOO_LONG, source) from None
     table = raw.setdefault(section, {})
     if not isinstance(table, dict):
         raise ConfigError(f"[{section}] is not a section", source)

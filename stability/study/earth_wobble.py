@@ -14,8 +14,8 @@ import time
 from pathlib import Path
 
 from .config import (
-    Key, Schema, Section, StudyKind, StudySummary, output_files, output_section,
-    write_outputs,
+    Key, Schema, Section, StudyKind, StudySummary, check_memory, output_files,
+    output_section, write_outputs,
 )
 
 NAME = "earth_wobble"
@@ -74,6 +74,7 @@ def check(config: dict, source: str) -> dict:
     """Moments of a real body (the triangle inequality) from the ratios given."""
     from ..body import RigidBody
     from ..earth import earth_moments
+    from ..ensemble import ensemble_memory
     from .config import ConfigError
 
     e = config["earth"]
@@ -86,6 +87,9 @@ def check(config: dict, source: str) -> dict:
         RigidBody(*moments)
     except ValueError as exc:
         raise ConfigError(str(exc), source, "earth", "polar_factor") from None
+    members = config["wobble"]["members"]
+    check_memory(config, source, ensemble_memory(members, 0), [("wobble", "members")],
+                 f"the summaries of {members} members", "use fewer members")
     return config
 
 

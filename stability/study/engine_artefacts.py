@@ -17,8 +17,8 @@ from pathlib import Path
 import numpy as np
 
 from .config import (
-    ConfigError, Key, Schema, Section, StudyKind, StudySummary, output_files, output_section,
-    tossed_body_sections, write_outputs,
+    MEMBER_BYTES, ConfigError, Key, Schema, Section, StudyKind, StudySummary, check_memory,
+    output_files, output_section, tossed_body_sections, write_outputs,
 )
 
 BODY, RATE = tossed_body_sections()
@@ -97,6 +97,12 @@ def check(config: dict, source: str) -> dict:
                               f"{rate:g} per second", source, "rules", "t_end")
     if not rules["frame_rates"]:
         raise ConfigError("must list at least one frame rate", source, "rules", "frame_rates")
+    members, n_rules = config["ensemble"]["members"], len(rules["engine"] + rules["methods"])
+    trace = rules["t_end"] * min(rules["frame_rates"]) + 1  # each rule's w2 at its largest step
+    check_memory(config, source, members * MEMBER_BYTES + n_rules * trace * 8 * 2,
+                 [("ensemble", "members"), ("rules", "t_end")],
+                 f"{members} members and {n_rules} traces of {trace:.0f} steps",
+                 "use fewer members or a shorter t_end")
     return config
 
 

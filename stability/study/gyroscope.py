@@ -19,8 +19,8 @@ from pathlib import Path
 import numpy as np
 
 from .config import (
-    ConfigError, Key, Schema, Section, StudyKind, StudySummary, output_files, output_section,
-    write_outputs,
+    ConfigError, Key, Schema, Section, StudyKind, StudySummary, check_memory, output_files,
+    output_section, write_outputs,
 )
 from .tops import check_spins, symmetric_top, top_keys, top_methods
 
@@ -110,19 +110,15 @@ def _check_memory(config: dict, source: str) -> None:
     slow member sets its group's length) of 6 numbers, held about three times over while they
     are read (the samples, their observables, the engine's buffer).
     """
-    from ..ensemble import DEFAULT_MAX_MEMORY, format_bytes
-
     integ = config["integration"]
     members = (config["spins"]["count"] * len(config["release"]["tilts"])
                * len(config["release"]["precession"]))
     samples = 2 * integ["periods"] * integ["samples_per_period"]
-    nbytes = members * samples * 6 * 8 * 3
-    if nbytes > DEFAULT_MAX_MEMORY:
-        raise ConfigError(
-            f"= {integ['samples_per_period']} with {integ['periods']:g} periods and {members} "
-            f"members would keep about {format_bytes(nbytes)} of states in memory, above "
-            f"{format_bytes(DEFAULT_MAX_MEMORY)}; keep fewer samples or periods", source,
-            "integration", "samples_per_period")
+    check_memory(config, source, members * samples * 6 * 8 * 3,
+                 [("integration", "samples_per_period"), ("integration", "periods"),
+                  ("spins", "count")],
+                 f"the states of {members} members, {integ['samples_per_period']} per period "
+                 f"over {integ['periods']:g} periods", "keep fewer samples, periods or spins")
 
 
 def outputs(config: dict) -> list[str]:

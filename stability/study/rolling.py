@@ -18,8 +18,8 @@ from pathlib import Path
 import numpy as np
 
 from .config import (
-    ConfigError, Key, Schema, Section, StudyKind, StudySummary, output_files, output_section,
-    write_outputs,
+    MEMBER_BYTES, ConfigError, Key, Schema, Section, StudyKind, StudySummary, check_memory,
+    output_files, output_section, write_outputs,
 )
 
 NAME = "rolling"
@@ -121,6 +121,17 @@ def check(config: dict, source: str) -> dict:
     if launch["mu_k"] == 0.0:
         raise ConfigError("= 0 never stops a slip; give the floor some friction", source,
                           "launch", "mu_k")
+    cells = len(inc["shapes"]) * inc["angle_count"] * inc["mu_s_count"]
+    check_memory(config, source, cells * inc["members"] * MEMBER_BYTES,
+                 [("incline", "angle_count"), ("incline", "mu_s_count"), ("incline", "members")],
+                 f"{cells} cells x {inc['members']} members", "use fewer angles, friction "
+                 "coefficients or members per cell")
+    paths = 5  # the launches kept at every sample (measure_launches' paths)
+    check_memory(config, source, launch["members"] * MEMBER_BYTES
+                 + paths * (launch["samples"] + 1) * 9 * 8 * 2,
+                 [("launch", "members"), ("launch", "samples")],
+                 f"{launch['members']} balls and {launch['samples']} states of {paths} of them",
+                 "use fewer balls or samples")
     return config
 
 

@@ -17,8 +17,8 @@ from pathlib import Path
 import numpy as np
 
 from .config import (
-    ConfigError, Key, Schema, Section, StudyKind, StudySummary, output_files, output_section,
-    write_outputs,
+    MEMBER_BYTES, ConfigError, Key, Schema, Section, StudyKind, StudySummary, check_memory,
+    output_files, output_section, write_outputs,
 )
 from .tops import check_spins, symmetric_top, top_keys, top_methods
 
@@ -85,6 +85,11 @@ def check(config: dict, source: str) -> dict:
         raise ConfigError("must list at least one distance", source, "top", "lengths")
     _tops(config, source)
     check_spins(config, source)
+    members = len(config["top"]["lengths"]) * config["spins"]["count"]
+    check_memory(config, source, members * config["ensemble"]["members"] * MEMBER_BYTES,
+                 [("ensemble", "members"), ("spins", "count")],
+                 f"{members} (length, spin) cells x {config['ensemble']['members']} members",
+                 "use fewer spins or members")
     return config
 
 

@@ -24,8 +24,8 @@ from .. import stabilitymap as smap
 from ..shapes import amplitude_levels, analytic_omega_squared, edge_series, horizons, shape_grid
 from ..threads import numba_threads
 from .config import (
-    UNSET, ConfigError, Key, Schema, Section, StudyKind, StudySummary, method_names,
-    output_files, output_section, write_outputs,
+    UNSET, ConfigError, Key, Schema, Section, StudyKind, StudySummary, check_memory,
+    method_names, output_files, output_section, write_outputs,
 )
 
 NAME = "stability_map"
@@ -156,7 +156,7 @@ def _check_memory(config: dict, source: str) -> None:
     ``members`` members, each member holding its summaries (``ensemble_memory``) and about as
     much again while it is propagated.
     """
-    from ..ensemble import DEFAULT_MAX_MEMORY, ensemble_memory, format_bytes
+    from ..ensemble import ensemble_memory
     from ..shapes import amplitude_levels
 
     n = config["grid"]["divisions"]
@@ -164,14 +164,10 @@ def _check_memory(config: dict, source: str) -> None:
     n_shapes = (n + 1) * (n + 2) // 2 - 1
     n_levels = amplitude_levels(config["spin"]["rate"], config["ensemble"]["epsilon"],
                                 config["analysis"]["levels_per_decade"]).size
-    batch = 3 * n_shapes * members * 2 * ensemble_memory(1, 0, n_levels)
-    if batch > DEFAULT_MAX_MEMORY:
-        raise ConfigError(
-            f"= {members} members x {n_shapes} shapes x 3 axes would take about "
-            f"{format_bytes(batch)} in memory at once (the ensembles of a method run together), "
-            f"above {format_bytes(DEFAULT_MAX_MEMORY)}; lower [ensemble] members or "
-            "[grid] divisions", source, "ensemble", "members",
-        )
+    check_memory(config, source, 3 * n_shapes * members * 2 * ensemble_memory(1, 0, n_levels),
+                 [("ensemble", "members"), ("grid", "divisions")],
+                 f"{members} members x {n_shapes} shapes x 3 axes (the ensembles of a method, "
+                 "run together)", "lower [ensemble] members or [grid] divisions")
 
 
 def outputs(config: dict) -> list[str]:

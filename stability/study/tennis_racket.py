@@ -31,7 +31,7 @@ from ..analytic import MOMENT_NAMES, principal_axis
 from ..attitude import FREE_BODY_SCENES, attitude_methods, carries_attitude
 from ..estimators import analyse_ensemble, analysis_headline
 from .config import (
-    UNSET, ConfigError, Key, Schema, Section, StudyKind, StudySummary, method_names,
+    UNSET, ConfigError, Key, Schema, Section, StudyKind, StudySummary, check_memory, method_names,
     output_files, output_section, preset_names, write_outputs,
 )
 
@@ -148,16 +148,15 @@ def check(config: dict, source: str) -> dict:
         if config["run"]["device"] != "cpu":
             raise ConfigError("must be 'cpu' with scene = 'free_body_attitude' (the GPU loop "
                               "carries w alone)", source, "run", "device")
-    from ..ensemble import DEFAULT_MAX_MEMORY, ensemble_memory, format_bytes
+    from ..ensemble import ensemble_memory
 
-    memory = ensemble_memory(config["ensemble"]["members"], n_steps // integ["save_every"],
-                             scene=integ["scene"])
-    if memory > DEFAULT_MAX_MEMORY:  # the analysis and figures hold the whole time series
-        raise ConfigError(
-            f"the time series of {config['ensemble']['members']} members would take "
-            f"{format_bytes(memory)} in memory, above {format_bytes(DEFAULT_MAX_MEMORY)}; use "
-            "fewer members or a larger [integration] save_every",
-            source, "ensemble", "members")
+    members = config["ensemble"]["members"]
+    check_memory(  # the analysis and figures hold the whole time series
+        config, source, ensemble_memory(members, n_steps // integ["save_every"],
+                                        scene=integ["scene"]),
+        [("ensemble", "members"), ("integration", "t_end")],
+        f"the time series of {members} members", "use fewer members, a shorter t_end or a "
+        "larger [integration] save_every")
     scheduler = config["run"]["scheduler"]
     if scheduler not in ("", "dask") and "://" not in scheduler:
         raise ConfigError(

@@ -16,8 +16,8 @@ from pathlib import Path
 import numpy as np
 
 from .config import (
-    ConfigError, Key, Schema, Section, StudyKind, StudySummary, output_files, output_section,
-    tossed_body_sections, write_outputs,
+    MEMBER_BYTES, ConfigError, Key, Schema, Section, StudyKind, StudySummary, check_memory,
+    output_files, output_section, tossed_body_sections, write_outputs,
 )
 
 BODY, RATE = tossed_body_sections()
@@ -83,6 +83,12 @@ def check(config: dict, source: str) -> dict:
         raise ConfigError(f"= {integration['save_every']} must divide steps_per_period "
                           f"({integration['steps_per_period']})", source, "integration",
                           "save_every")
+    members = config["ensemble"]["members"]
+    saved = 2 * integration["steps_per_period"] // integration["save_every"] + 1
+    check_memory(config, source, members * (MEMBER_BYTES + saved * 7 * 8 * 2),  # q and w kept
+                 [("ensemble", "members"), ("integration", "steps_per_period")],
+                 f"the attitudes of {members} members at {saved} times each",
+                 "use fewer members or steps per period, or a larger save_every")
     return config
 
 

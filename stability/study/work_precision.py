@@ -34,8 +34,8 @@ from ..progress import progress_bar
 from ..sweeps import jittered_starts, step_grid, sweep_method, sweep_scipy
 from ..threads import numba_threads
 from .config import (
-    ConfigError, Key, Schema, Section, StudyKind, StudySummary, method_names, output_files,
-    output_section, write_outputs,
+    ConfigError, Key, Schema, Section, StudyKind, StudySummary, check_memory, method_names,
+    output_files, output_section, write_outputs,
 )
 
 NAME = "work_precision"
@@ -163,30 +163,19 @@ def _check_memory(config: dict, source: str) -> None:
     error per method and step size (plus scipy's DOP853 stages on the ensemble as one system);
     the long run keeps ``samples`` states of each member for every method.
     """
-    from ..ensemble import DEFAULT_MAX_MEMORY, format_bytes
-
     sweep, long = config["sweep"], config["long"]
     n_methods = len(sweep["methods"]) or len(METHODS)
     n_steps = 1 + sweep["per_octave"] * max(0.0, math.log2(sweep["h_max"] / sweep["h_min"]))
     per_member = 8 * (3 * 16 + n_methods * (int(n_steps) + 1) * 2)
     for section in ("tennis", "stable"):
         members = config[section]["members"]
-        nbytes = members * per_member
-        if nbytes > DEFAULT_MAX_MEMORY:
-            raise ConfigError(
-                f"= {members} would take about {format_bytes(nbytes)} in memory (states and "
-                f"errors of {n_methods} methods at up to {int(n_steps)} steps each), above "
-                f"{format_bytes(DEFAULT_MAX_MEMORY)}; use fewer members", source, section,
-                "members",
-            )
-    nbytes = n_methods * long["members"] * long["samples"] * 3 * 8 * 3
-    if nbytes > DEFAULT_MAX_MEMORY:
-        raise ConfigError(
-            f"= {long['samples']} samples x {long['members']} members x {n_methods} methods "
-            f"would take about {format_bytes(nbytes)} in memory, above "
-            f"{format_bytes(DEFAULT_MAX_MEMORY)}; keep fewer samples or members", source,
-            "long", "samples",
-        )
+        check_memory(config, source, members * per_member, [(section, "members")],
+                     f"the states and errors of {members} members for {n_methods} methods at "
+                     f"up to {int(n_steps)} steps each", "use fewer members")
+    check_memory(config, source, n_methods * long["members"] * long["samples"] * 3 * 8 * 3,
+                 [("long", "samples"), ("long", "members")],
+                 f"{long['samples']} samples x {long['members']} members x {n_methods} methods",
+                 "keep fewer samples or members")
 
 
 def outputs(config: dict) -> list[str]:
