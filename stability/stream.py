@@ -1,5 +1,12 @@
 """Ensembles streamed to disk chunk by chunk: resumable, and runnable on a dask cluster.
 
+The machinery is generic over a *chunk job*: a picklable callable ``job(lo, hi, progress,
+threads) -> xarray.Dataset`` that runs members ``lo ... hi - 1`` of a run with the Numba threads
+of the process it is in. :func:`stream_chunks` runs the chunks of a
+:class:`~stability.store.ChunkStore` that are not done, here or as dask tasks, with progress,
+``progress.json`` and the Ctrl-C message. The free body's :class:`EnsembleChunks` and every
+scene's grouped runs (:mod:`stability.scene_ensemble`) are such jobs.
+
 ``run_ensemble(..., store=DIR)`` comes here. The members are cut into chunks of
 ``chunk_members``; each chunk is run exactly as :func:`stability.run_ensemble` runs its members
 (its random starts are drawn for that chunk alone, from the same seed streams) and written as
@@ -98,12 +105,8 @@ def run_streamed(kwargs: dict, store, *, resume=False, scheduler=None, threads=N
                 "software": f"stability {__version__}"}
     chunks = ChunkStore(store, identity, plan.members, chunk, resume=resume)
     try:
-        todo = chunks.missing()
-        if todo:
-            if scheduler is None:
-                _run_here(plan, chunks, todo, threads, progress, compress)
-            else:
-                _run_on_dask(kwargs, chunks, todo, scheduler, progress, compress)
+        todo = stream_chunks(EnsembleChunks(kwargs, plan), chunks, scheduler=scheduler,
+                             threads=threads, progress=progress, compress=compress)
         attrs = _whole_attrs(chunks)
         progress = read_progress(chunks.dir) or {}
         attrs["history"] = attrs.get("history", "") + "\n" + history_line(
@@ -117,7 +120,63 @@ def run_streamed(kwargs: dict, store, *, resume=False, scheduler=None, threads=N
         chunks.close()
 
 
-def _run_here(plan, chunks, todo, threads, progress, compress):
+def stream_chunks(job, chunks: ChunkStore, *, scheduler=None, threads=None, progress=None,
+                  compress=True) -> list[int]:
+    """Run the chunks of ``chunks`` that are not done with ``job``; return their indices.
+
+    Parameters
+    ----------
+    job : callable
+        ``job(lo, hi, progress, threads) -> xarray.Dataset``, members ``lo ... hi - 1``;
+        picklable when ``scheduler`` is given (each chunk is then a dask task).
+    chunks : ChunkStore
+        The store; each finished chunk is written into it at once.
+    scheduler, threads, progress, compress
+        As in :func:`run_streamed`.
+
+    Raises
+    ------
+    RunInterrupted
+        Ctrl-C or SIGTERM; the finished chunks are kept.
+    """
+    todo = chunks.missing()
+    if todo:
+        if scheduler is None:
+            _run_here(job, chunks, todo, threads, progress, compress)
+        else:
+            _run_on_dask(job, chunks, todo, scheduler, progress, compress)
+    return todo
+
+
+class EnsembleChunks:
+    """The chunk job of a free-body ensemble: :func:`stability.run_ensemble`'s members
+    ``lo ... hi - 1``, numbered from ``lo`` (their starts drawn for the chunk alone).
+
+    Parameters
+    ----------
+    kwargs : dict
+        Keyword arguments of :func:`stability.run_ensemble` for the whole run (with
+        ``chunk_members`` resolved).
+    plan : optional
+        The run's plan, when the caller has it (it is made again where the job is unpickled).
+    """
+
+    def __init__(self, kwargs: dict, plan=None):
+        self.kwargs = kwargs
+        self._plan = plan
+
+    def __getstate__(self):
+        return {"kwargs": self.kwargs, "_plan": None}
+
+    def __call__(self, lo: int, hi: int, progress, threads):
+        from .ensemble import _plan
+
+        if self._plan is None:
+            self._plan = _plan(**self.kwargs, defer_starts=True)
+        return _chunk_dataset(self._plan, lo, hi, progress, threads)
+
+
+def _run_here(job, chunks, todo, threads, progress, compress):
     """The missing chunks in this process, on all its Numba threads."""
     from .ensemble import _threads
     from .threads import numba_threads
@@ -127,7 +186,7 @@ def _run_here(plan, chunks, todo, threads, progress, compress):
         with numba_threads(_threads(threads)):
             for k in todo:
                 lo, hi = chunks.bounds(k)
-                ds = _chunk_dataset(plan, lo, hi, tracker.inner_progress, threads)
+                ds = job(lo, hi, tracker.inner_progress, threads)
                 chunks.write(k, ds, compress)
                 tracker.finished(k, hi - lo)
     except KeyboardInterrupt:  # Ctrl-C between chunks, or while compiling or writing
@@ -136,15 +195,14 @@ def _run_here(plan, chunks, todo, threads, progress, compress):
         tracker.close()
 
 
-def run_chunk(kwargs: dict, directory, k: int, lo: int, hi: int, compress: bool,
+def run_chunk(job, directory, k: int, lo: int, hi: int, compress: bool,
               fingerprint: str) -> int:
     """One chunk on a dask worker: run it with the worker's threads, write it; returns ``k``.
 
     Parameters
     ----------
-    kwargs : dict
-        Keyword arguments of :func:`stability.run_ensemble` for the whole run, as given to
-        :func:`run_streamed` (with ``chunk_members`` resolved).
+    job : callable
+        The run's chunk job (:func:`stream_chunks`).
     directory : str or path-like
         The store's folder, on a file system the worker shares.
     k : int
@@ -164,7 +222,6 @@ def run_chunk(kwargs: dict, directory, k: int, lo: int, hi: int, compress: bool,
     import numba
     from distributed import get_worker
 
-    from .ensemble import _plan
     from .store import write_chunk
     from .threads import numba_threads
 
@@ -172,14 +229,13 @@ def run_chunk(kwargs: dict, directory, k: int, lo: int, hi: int, compress: bool,
         nthreads = get_worker().state.nthreads
     except (ValueError, AttributeError):  # not on a worker (a test calling it directly)
         nthreads = numba.config.NUMBA_NUM_THREADS
-    plan = _plan(**kwargs, defer_starts=True)
     with numba_threads(max(1, min(nthreads, numba.config.NUMBA_NUM_THREADS))):
-        ds = _chunk_dataset(plan, lo, hi, False, None)
+        ds = job(lo, hi, False, None)
     write_chunk(ds, Path(directory) / chunk_name(k), compress, fingerprint)
     return k
 
 
-def _run_on_dask(kwargs, chunks, todo, scheduler, progress, compress):
+def _run_on_dask(job, chunks, todo, scheduler, progress, compress):
     """The missing chunks as tasks of a dask.distributed cluster."""
     try:
         from distributed import Client, LocalCluster, as_completed
@@ -204,7 +260,7 @@ def _run_on_dask(kwargs, chunks, todo, scheduler, progress, compress):
         for k in todo:
             lo, hi = chunks.bounds(k)
             futures.append(client.submit(
-                run_chunk, kwargs, str(chunks.dir.resolve()), k, lo, hi, compress,
+                run_chunk, job, str(chunks.dir.resolve()), k, lo, hi, compress,
                 chunks.fingerprint, key=f"stability-chunk-{k}-{chunks.fingerprint[:12]}",
                 retries=2, pure=False))
         for future in as_completed(futures):

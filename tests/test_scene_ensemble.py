@@ -1,0 +1,78 @@
+"""Grouped runs of every scene through the one stored path: cut into chunks, resumed, or run
+on a dask cluster, every member is bitwise the run in one piece."""
+
+import numpy as np
+import pytest
+
+from stability.scene_ensemble import GroupedRun, propagate_stored
+from stability.scenes import SCENES
+
+#: Every registered scene with its first method (every method's loop is checked for groups and
+#: chunks in time by tests/test_engine.py; here the question is the cut into member chunks).
+CASES = [(scene.name, next(iter(scene.methods))) for scene in SCENES.values()]
+
+
+def grouped(scene_name: str, method: str) -> GroupedRun:
+    """Three groups of unequal sizes, steps and horizons, with tracking and saved samples."""
+    scene = SCENES[scene_name]
+    spec = scene.method(method)
+    sizes = [7, 5, 4]
+    hs = [0.05, 0.02, 0.04]
+    x0 = np.concatenate([scene.example(n, seed=k)[0] for k, n in enumerate(sizes)])
+    params = np.array([spec.params(p, h) for p, h in zip(scene.example(1)[1], hs)])
+    return GroupedRun(scene_name, method, x0, params, sizes, hs, [40, 60, 25], save_every=10,
+                      axes=[[1, 0, 2]] * 3, levels=[[1e-2, 5e-2, 0.3]] * 3)
+
+
+def assert_bitwise(a, b):
+    for name in ("x_final", "saved", "status", "fail_step", "iterations", "steps_done"):
+        assert np.array_equal(getattr(a, name), getattr(b, name), equal_nan=True), name
+    assert a.extras.keys() == b.extras.keys()
+    for name, value in a.extras.items():
+        assert np.array_equal(value, b.extras[name], equal_nan=True), name
+
+
+@pytest.mark.parametrize("scene,method", CASES, ids=[f"{s}-{m}" for s, m in CASES])
+def test_a_stored_run_cut_into_chunks_is_bitwise_the_run_in_one_piece(tmp_path, scene, method):
+    run = grouped(scene, method)
+    whole = propagate_stored(run, progress=False)
+    stored = propagate_stored(run, tmp_path / "store", chunk_members=3, progress=False)
+    assert_bitwise(stored, whole)
+    assert stored.saved.shape == whole.saved.shape == (16, 6, SCENES[scene].width)
+
+
+def test_a_resumed_run_runs_only_what_is_missing_and_is_bitwise_the_same(tmp_path):
+    run = grouped("heavy_top", next(iter(SCENES["heavy_top"].methods)))
+    whole = propagate_stored(run, progress=False)
+    store = tmp_path / "store"
+    propagate_stored(run, store, chunk_members=4, progress=False)
+    kept = {p.name: p.stat().st_mtime_ns for p in store.glob("chunk-*.nc")}
+    for name in ("chunk-000001.nc", "chunk-000001.nc.sha256"):  # as a stopped run leaves it
+        (store / name).unlink()
+    with pytest.raises(ValueError, match="pass --resume"):
+        propagate_stored(run, store, chunk_members=4, progress=False)
+    again = propagate_stored(run, store, chunk_members=4, resume=True, progress=False)
+    assert_bitwise(again, whole)
+    rerun = {p.name for p in store.glob("chunk-*.nc")
+             if kept.get(p.name) != p.stat().st_mtime_ns}
+    assert rerun == {"chunk-000001.nc"}
+
+
+def test_a_changed_run_is_refused_by_its_store(tmp_path):
+    run = grouped("heavy_top", next(iter(SCENES["heavy_top"].methods)))
+    propagate_stored(run, tmp_path / "store", chunk_members=4, progress=False)
+    run.x0[0, 0] += 1e-12
+    with pytest.raises(ValueError, match="the settings changed since the run kept in"):
+        propagate_stored(run, tmp_path / "store", chunk_members=4, resume=True, progress=False)
+
+
+def test_the_chunks_run_on_a_dask_cluster_bitwise_as_here(tmp_path):
+    distributed = pytest.importorskip("distributed")
+    run = grouped("heavy_top", next(iter(SCENES["heavy_top"].methods)))
+    whole = propagate_stored(run, progress=False)
+    with distributed.LocalCluster(n_workers=2, threads_per_worker=1, processes=True,
+                                  dashboard_address=None) as cluster, \
+            distributed.Client(cluster) as client:
+        there = propagate_stored(run, tmp_path / "store", chunk_members=5, scheduler=client,
+                                 progress=False)
+    assert_bitwise(there, whole)
