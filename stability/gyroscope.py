@@ -32,8 +32,8 @@ import xarray as xr
 
 from . import conventions as cv
 from . import exact_top
-from .engine import propagate_groups
 from .periodic import extrema, level_crossings, mean_period, weighted_mean
+from .scene_ensemble import GroupedRun, propagate_stored
 from .scenes import SCENES
 from .top import (gyroscopic_nutation_amplitude, gyroscopic_nutation_frequency,
                   gyroscopic_precession_rate, tilted_starts)
@@ -72,7 +72,7 @@ def _measure_member(t, u, du, phi_rate):
 def measure_gyroscopes(top, spins, tilts, releases=(-1.0, 0.0, 0.5), *, method="lp4",
                        step_angle=0.02, periods=40, samples_per_period=64, seed=0,
                        path_tilt=None, path_spin=None, path_periods=3.0,
-                       progress=None) -> xr.Dataset:
+                       progress=None, stored=None) -> xr.Dataset:
     """Measured nutation and precession of released gyroscopes, with the exact values.
 
     Parameters
@@ -103,6 +103,10 @@ def measure_gyroscopes(top, spins, tilts, releases=(-1.0, 0.0, 0.5), *, method="
         Length of the kept paths, in nutation periods.
     progress : bool, optional
         Progress bar.
+    stored : dict, optional
+        Keyword arguments of :func:`stability.scene_ensemble.propagate_stored` (``store``,
+        ``resume``, ``scheduler`` ...): the tops run chunk by chunk into a store, resumable and
+        on dask; by default in one piece here. The result is the same, bitwise.
 
     Returns
     -------
@@ -142,9 +146,10 @@ def measure_gyroscopes(top, spins, tilts, releases=(-1.0, 0.0, 0.5), *, method="
     fastest = (2.0 * np.pi / exact["frequency"]).reshape(hs.size, n_rel).min(axis=1)
     save_every = max(1, int(np.min(fastest / hs) // samples_per_period))
     t0 = time.perf_counter()
-    run = propagate_groups(scene, spec, x0, np.array(params), sizes, hs, steps,
-                           save_every=save_every, progress=progress,
-                           label=f"gyroscopes ({method})")
+    run = propagate_stored(GroupedRun(scene.name, spec.name, x0, np.array(params), sizes, hs,
+                                      steps, save_every=save_every,
+                                      label=f"gyroscopes ({method})"),
+                           progress=progress, **(stored or {}))
     wall = time.perf_counter() - t0
     samples = np.concatenate([x0[:, None, :], run.saved], axis=1)
     u, du, phi_rate = _observables(samples, A, C)

@@ -30,7 +30,7 @@ import xarray as xr
 
 from . import conventions as cv
 from . import estimators as est
-from .engine import propagate_groups
+from .scene_ensemble import GroupedRun, propagate_stored
 from .scenes import SCENES
 from .top import critical_spin, sleeping_frequencies, sleeping_growth_rate
 from .top import tilt_members, tilted_starts
@@ -49,7 +49,8 @@ def _horizon(rate, tilt, high, t_stable):
 
 def measure_sleeping_tops(tops, spins, *, members=64, tilt=1e-9, method="lp4",
                           step_angle=0.02, t_stable=2.0, low_factor=1e3, high_fraction=1e-2,
-                          levels_per_decade=8, seed=0, progress=None) -> xr.Dataset:
+                          levels_per_decade=8, seed=0, progress=None,
+                          stored=None) -> xr.Dataset:
     """Measured and analytic growth rates of sleeping tops over tops and spins.
 
     Parameters
@@ -78,6 +79,10 @@ def measure_sleeping_tops(tops, spins, *, members=64, tilt=1e-9, method="lp4",
         Seed of the members' azimuths (member k of every ensemble has the same azimuth).
     progress : bool, optional
         Progress bar (default: for runs longer than a few seconds).
+    stored : dict, optional
+        Keyword arguments of :func:`stability.scene_ensemble.propagate_stored` (``store``,
+        ``resume``, ``scheduler`` ...): the tops run chunk by chunk into a store, resumable and
+        on dask; by default in one piece here. The result is the same, bitwise.
 
     Returns
     -------
@@ -110,10 +115,11 @@ def measure_sleeping_tops(tops, spins, *, members=64, tilt=1e-9, method="lp4",
     x0 = np.concatenate(x0)
     sizes = np.full(hs.size, members)
     t0 = time.perf_counter()
-    run = propagate_groups(scene, spec, x0, np.array(params), sizes, hs, steps,
-                           axes=np.tile([2, 0, 1], (hs.size, 1)),
-                           levels=np.tile(levels, (hs.size, 1)), progress=progress,
-                           label=f"sleeping tops ({method})")
+    run = propagate_stored(GroupedRun(scene.name, spec.name, x0, np.array(params), sizes, hs,
+                                      steps, axes=np.tile([2, 0, 1], (hs.size, 1)),
+                                      levels=np.tile(levels, (hs.size, 1)),
+                                      label=f"sleeping tops ({method})"),
+                           progress=progress, **(stored or {}))
     wall = time.perf_counter() - t0
     out = {name: np.full(hs.size, np.nan) for name in
            ("growth_rate_measured", "growth_rate_stderr", "amplification", "n_fitted",

@@ -349,6 +349,43 @@ def output_section(name: str, figures, extra=()) -> Section:
     ))
 
 
+def run_section(chunk_members: Key | None = None, extra=(),
+                title="how the members are cut into chunks, and where they run") -> Section:
+    """The ``[run]`` section of a study that resumes and scales: members per chunk (each
+    finished chunk is kept at once, so a stopped run continues with ``--resume``) and the
+    scheduler the chunks run on, then the ``extra`` keys. Check it with :func:`check_run`."""
+    if chunk_members is None:
+        chunk_members = Key("chunk_members", "int", 0,
+                            "members per chunk: each finished chunk is kept at once, so a "
+                            "stopped run continues from there (stability run --resume); 0 cuts "
+                            "the run into 8 chunks", minimum=0)
+    return Section("run", title, (
+        chunk_members,
+        Key("scheduler", "str", "",
+            "where the chunks run: '' this machine, 'dask' a local dask.distributed "
+            "cluster, or a scheduler address such as 'tcp://host:8786'"),
+        *extra,
+    ))
+
+
+def check_run(config: dict, source: str) -> None:
+    """Refuse a ``[run] scheduler`` that is neither this machine, a local cluster nor an
+    address."""
+    scheduler = config["run"]["scheduler"]
+    if scheduler not in ("", "dask") and "://" not in scheduler:
+        raise ConfigError(
+            f"must be '' (this machine), 'dask' (a local cluster) or a scheduler address such "
+            f"as 'tcp://host:8786', got {scheduler!r}", source, "run", "scheduler")
+
+
+def stored_run(config: dict, work, resume: bool, scheduler, threads) -> dict:
+    """Keyword arguments of :func:`stability.scene_ensemble.propagate_stored` for a study's
+    run: its chunks in ``work``, the scheduler given (``--scheduler``) or the file's."""
+    return {"store": work, "resume": resume,
+            "scheduler": scheduler or config["run"]["scheduler"] or None,
+            "chunk_members": config["run"]["chunk_members"] or None, "threads": threads}
+
+
 def output_files(config: dict, figures, extra=()) -> list[str]:
     """The files a run of ``config`` writes into its folder: the Dataset, the files named by the
     ``extra`` keys of ``[output]``, ``config.toml`` and the ``figures`` in every format."""

@@ -19,8 +19,8 @@ from pathlib import Path
 import numpy as np
 
 from .config import (
-    ConfigError, Key, Schema, Section, StudyKind, StudySummary, check_memory, output_files,
-    output_section, write_outputs,
+    ConfigError, Key, Schema, Section, StudyKind, StudySummary, check_memory, check_run,
+    output_files, output_section, run_section, stored_run, write_outputs,
 )
 from .tops import check_spins, symmetric_top, top_keys, top_methods
 
@@ -73,6 +73,7 @@ SCHEMA = Schema(
                 "relative error of the measured rates and amplitude against the exact motion",
                 minimum=0.0, exclusive_minimum=True),
         )),
+        run_section(),
         output_section(NAME, FIGURES),
     ),
 )
@@ -100,6 +101,7 @@ def check(config: dict, source: str) -> dict:
         raise ConfigError("must list at least one initial precession rate", source, "release",
                           "precession")
     _check_memory(config, source)
+    check_run(config, source)
     return config
 
 
@@ -127,8 +129,11 @@ def outputs(config: dict) -> list[str]:
 
 
 def run(config: dict, out_dir: Path, *, overwrite=False, threads=None, progress=None,
-        history=None) -> StudySummary:
-    """Run the grid, save the Dataset, draw the figures; the summary of run against exact."""
+        history=None, work=None, resume=False, scheduler=None) -> StudySummary:
+    """Run the grid, save the Dataset, draw the figures; the summary of run against exact.
+
+    The tops run chunk by chunk into the folder ``work`` (so that a stopped run continues with
+    ``resume``), on ``scheduler`` (default: the file's ``[run] scheduler``)."""
     from ..figures.top import gyroscope_paths_figure, gyroscope_rates_figure
     from ..gyroscope import measure_gyroscopes
     from ..threads import numba_threads
@@ -144,7 +149,8 @@ def run(config: dict, out_dir: Path, *, overwrite=False, threads=None, progress=
             step_angle=integ["step_angle"], periods=integ["periods"],
             samples_per_period=integ["samples_per_period"], seed=r["seed"],
             path_tilt=math.radians(paths["tilt"]), path_spin=paths["spin"],
-            path_periods=paths["periods"], progress=progress)
+            path_periods=paths["periods"], progress=progress,
+            stored=stored_run(config, work, resume, scheduler, threads))
     claim = config["analysis"]["claim"]
     ds, files = write_outputs(
         ds, config, out_dir, NAME,
@@ -204,4 +210,5 @@ STUDY = StudyKind(
     outputs=outputs,
     check=check,
     quick=QUICK,
+    resumable=True,
 )

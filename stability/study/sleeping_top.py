@@ -18,7 +18,7 @@ import numpy as np
 
 from .config import (
     MEMBER_BYTES, ConfigError, Key, Schema, Section, StudyKind, StudySummary, check_memory,
-    output_files, output_section, write_outputs,
+    check_run, output_files, output_section, run_section, stored_run, write_outputs,
 )
 from .tops import check_spins, symmetric_top, top_keys, top_methods
 
@@ -66,6 +66,7 @@ SCHEMA = Schema(
                 "'away from the threshold': analytic rate at least this fraction of its value "
                 "at zero spin", minimum=0.0, maximum=1.0),
         )),
+        run_section(),
         output_section(NAME, (FIGURE,)),
     ),
 )
@@ -90,6 +91,7 @@ def check(config: dict, source: str) -> dict:
                  [("ensemble", "members"), ("spins", "count")],
                  f"{members} (length, spin) cells x {config['ensemble']['members']} members",
                  "use fewer spins or members")
+    check_run(config, source)
     return config
 
 
@@ -99,8 +101,11 @@ def outputs(config: dict) -> list[str]:
 
 
 def run(config: dict, out_dir: Path, *, overwrite=False, threads=None, progress=None,
-        history=None) -> StudySummary:
-    """Run the map, save the Dataset, draw the figure; the summary of measured against analytic."""
+        history=None, work=None, resume=False, scheduler=None) -> StudySummary:
+    """Run the map, save the Dataset, draw the figure; the summary of measured against analytic.
+
+    The tops run chunk by chunk into the folder ``work`` (so that a stopped run continues with
+    ``resume``), on ``scheduler`` (default: the file's ``[run] scheduler``)."""
     from ..figures.top import sleeping_top_figure
     from ..sleeping_top import measure_sleeping_tops
     from ..threads import numba_threads
@@ -115,7 +120,7 @@ def run(config: dict, out_dir: Path, *, overwrite=False, threads=None, progress=
             tops, spins, members=ens["members"], tilt=ens["tilt"], method=integ["method"],
             step_angle=integ["step_angle"], t_stable=integ["t_stable"],
             low_factor=an["fit_above"], high_fraction=an["fit_below"], seed=ens["seed"],
-            progress=progress)
+            progress=progress, stored=stored_run(config, work, resume, scheduler, threads))
     t = config["top"]
     ds, files = write_outputs(
         ds, config, out_dir, NAME, {FIGURE: lambda ds: sleeping_top_figure(ds, an["claim"])},
@@ -165,4 +170,5 @@ STUDY = StudyKind(
     check=check,
     quick=QUICK,
     members_key=("ensemble", "members"),
+    resumable=True,
 )

@@ -31,8 +31,8 @@ from ..analytic import MOMENT_NAMES, principal_axis
 from ..attitude import FREE_BODY_SCENES, attitude_methods, carries_attitude
 from ..estimators import analyse_ensemble, analysis_headline
 from .config import (
-    UNSET, ConfigError, Key, Schema, Section, StudyKind, StudySummary, check_memory, method_names,
-    output_files, output_section, preset_names, write_outputs,
+    UNSET, ConfigError, Key, Schema, Section, StudyKind, StudySummary, check_memory, check_run,
+    method_names, output_files, output_section, preset_names, run_section, write_outputs,
 )
 
 NAME = "tennis_racket"
@@ -91,17 +91,14 @@ SCHEMA = Schema(
                 "end it before the amplitude exceeds this times rate (or its saturation)",
                 minimum=0.0, exclusive_minimum=True, maximum=1.0),
         )),
-        Section("run", "how the ensemble is cut into chunks, and where they run", (
+        run_section(
             Key("chunk_members", "int", 4096,
                 "members per chunk: each finished chunk is kept at once, so a stopped run "
                 "continues from there (stability run --resume)", minimum=1),
-            Key("scheduler", "str", "",
-                "where the chunks run: '' this machine, 'dask' a local dask.distributed "
-                "cluster, or a scheduler address such as 'tcp://host:8786'"),
-            Key("device", "str", "cpu",
-                "where the member loop runs: 'cpu', or 'gpu' (a CUDA GPU, the gpu extra)",
-                choices=("cpu", "gpu")),
-        )),
+            extra=(Key("device", "str", "cpu",
+                       "where the member loop runs: 'cpu', or 'gpu' (a CUDA GPU, the gpu extra)",
+                       choices=("cpu", "gpu")),),
+            title="how the ensemble is cut into chunks, and where they run"),
         output_section(NAME, FIGURES),
     ),
 )
@@ -157,11 +154,7 @@ def check(config: dict, source: str) -> dict:
         [("ensemble", "members"), ("integration", "t_end")],
         f"the time series of {members} members", "use fewer members, a shorter t_end or a "
         "larger [integration] save_every")
-    scheduler = config["run"]["scheduler"]
-    if scheduler not in ("", "dask") and "://" not in scheduler:
-        raise ConfigError(
-            f"must be '' (this machine), 'dask' (a local cluster) or a scheduler address such "
-            f"as 'tcp://host:8786', got {scheduler!r}", source, "run", "scheduler")
+    check_run(config, source)
     return config
 
 
