@@ -28,9 +28,9 @@ import xarray as xr
 
 from . import conventions as cv
 from .checks import positive_float, real_number
-from .engine import propagate_groups
 from .estimators import zero_crossings
 from .integrators.struck import J_ACROSS, J_ALONG, PHI, VX, VY, W, X, strike_params
+from .scene_ensemble import GroupedRun, propagate_stored
 from .scenes import SCENES
 
 INCH = 0.0254
@@ -249,7 +249,8 @@ def hand_velocity(body: StruckBody, pivot, strike, impulse):
 
 
 def measure_strikes(body: StruckBody, pivots, strikes, impulse=12.0, contact_time=7e-4,
-                    steps_per_contact=64, sting=0.1, method="rk4", progress=None) -> xr.Dataset:
+                    steps_per_contact=64, sting=0.1, method="rk4", progress=None,
+                    stored=None) -> xr.Dataset:
     """Strike ``body`` at each point of ``strikes`` for hands at each of ``pivots`` (m from the
     end held), held and free; the state at the end of the contact against the formulas.
 
@@ -277,6 +278,10 @@ def measure_strikes(body: StruckBody, pivots, strikes, impulse=12.0, contact_tim
         Name of a method that runs scene ``struck_body``.
     progress : bool or None, optional
         Progress bar; ``None`` shows one when the run is expected to take more than 2 s.
+    stored : dict, optional
+        Keyword arguments of :func:`stability.scene_ensemble.propagate_stored` (``store``,
+        ``resume``, ``scheduler`` ...): the strikes run chunk by chunk into a store, resumable
+        and on dask; by default in one piece here. The result is the same, bitwise.
 
     Returns
     -------
@@ -315,8 +320,10 @@ def measure_strikes(body: StruckBody, pivots, strikes, impulse=12.0, contact_tim
     x0[:, X] = body.centre - grid[:, 1]
     h = contact_time / steps_per_contact
     t0 = time.perf_counter()
-    run = propagate_groups(scene, spec, x0, np.array(rows), np.ones(grid.shape[0], int), h,
-                           steps_per_contact, progress=progress, label=f"strikes ({method})")
+    run = propagate_stored(GroupedRun(scene.name, spec.name, x0, np.array(rows),
+                                      np.ones(grid.shape[0], int), h, steps_per_contact,
+                                      label=f"strikes ({method})"),
+                           progress=progress, **(stored or {}))
     wall = time.perf_counter() - t0
     shape = (holds.size, pivots.size, strikes.size)
     xf = run.x_final

@@ -18,7 +18,7 @@ import numpy as np
 
 from .config import (
     MEMBER_BYTES, ConfigError, Key, Schema, Section, StudyKind, StudySummary, check_memory,
-    output_files, output_section, write_outputs,
+    check_run, output_files, output_section, run_section, stored_run, write_outputs,
 )
 
 NAME = "bat"
@@ -59,6 +59,7 @@ SCHEMA = Schema(
             Key("claim", "float", 1e-9, "held: |measured - formula| centre of percussion",
                 unit="m", minimum=0.0, exclusive_minimum=True),
         )),
+        run_section(),
         output_section(NAME, (FIGURE,)),
     ),
 )
@@ -109,12 +110,16 @@ def check(config: dict, source: str) -> dict:
     check_memory(config, source, members * 2 * MEMBER_BYTES,  # parameters as arrays in a list
                  [("strikes", "count")], f"{members} strikes (held and free, per pivot)",
                  "use fewer strike points")
+    check_run(config, source)
     return config
 
 
 def run(config: dict, out_dir: Path, *, overwrite=False, threads=None, progress=None,
-        history=None) -> StudySummary:
-    """Run the strikes, save the Dataset, draw the bat; the centre of percussion measured."""
+        history=None, work=None, resume=False, scheduler=None) -> StudySummary:
+    """Run the strikes, save the Dataset, draw the bat; the centre of percussion measured.
+
+    The strikes run chunk by chunk into the folder ``work`` (so that a stopped run continues
+    with ``resume``), on ``scheduler`` (default: the file's ``[run] scheduler``)."""
     from ..figures.impacts import bat_figure
     from ..struck import measure_strikes
     from ..threads import numba_threads
@@ -127,7 +132,8 @@ def run(config: dict, out_dir: Path, *, overwrite=False, threads=None, progress=
         ds = measure_strikes(body, config["hands"]["pivots"],
                              np.linspace(s["first"], last, s["count"]), hit["impulse"],
                              hit["contact_time"], hit["steps_per_contact"],
-                             sting=analysis["sting"], progress=progress)
+                             sting=analysis["sting"], progress=progress,
+                             stored=stored_run(config, work, resume, scheduler, threads))
     ds, files = write_outputs(ds, config, out_dir, NAME, {FIGURE: bat_figure},
                               overwrite=overwrite, history=history, threads=threads,
                               attrs={"claim": analysis["claim"]})
@@ -172,4 +178,5 @@ STUDY = StudyKind(
     outputs=outputs,
     check=check,
     quick=QUICK,
+    resumable=True,
 )
