@@ -279,13 +279,12 @@ def _cmd_run(args) -> int:
 def _cmd_status(args) -> int:
     from pathlib import Path
 
-    from .store import MANIFEST, status_lines
+    from .store import find_stores, status_lines
 
     folder = Path(args.dir)
     if not folder.is_dir():
         raise ValueError(f"{folder} is not a folder; give the output folder of a run")
-    stores = [folder] if (folder / MANIFEST).exists() else sorted(
-        p for p in folder.glob(".stability-work-*") if (p / MANIFEST).exists())
+    stores = find_stores(folder)
     if not stores:
         print(f"{folder}: no run in progress or stopped (finished runs keep no chunks)")
         return 0

@@ -17,6 +17,7 @@ from __future__ import annotations
 import hashlib
 import math
 from dataclasses import dataclass, replace
+from pathlib import Path
 
 import numpy as np
 import xarray as xr
@@ -200,6 +201,18 @@ def propagate_stored(run: GroupedRun, store=None, *, resume=False, scheduler=Non
     finally:
         chunks.close()
     return _propagation(run, parts)
+
+
+def sub_store(stored: dict | None, name: str) -> dict:
+    """``stored`` (keyword arguments of :func:`propagate_stored`) for one of several runs of a
+    study: its own store, the folder ``name`` inside the study's (nothing if there is none)."""
+    stored = dict(stored or {})
+    if stored.get("store") is not None:
+        stored["store"] = Path(stored["store"]) / name
+        if stored["store"].is_symlink():
+            raise ValueError(f"{stored['store']} is a symbolic link; a run keeps its chunks "
+                             "only in a real folder inside the output folder: remove the link")
+    return stored
 
 
 def _propagation(run: GroupedRun, parts: list) -> Propagation:

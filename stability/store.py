@@ -258,6 +258,29 @@ def write_chunk(ds: xr.Dataset, path, compress: bool, fingerprint: str) -> None:
     write_text(_checksum_path(path), f"{file_checksum(path)} {fingerprint}\n")
 
 
+def find_stores(folder) -> list[Path]:
+    """The stores in ``folder``, sorted: itself if it is one, else the stores among its
+    folders and inside its work folders (``.stability-work-*``: a study that makes several
+    runs keeps a store per run there). Links are not followed."""
+    folder = Path(folder)
+    if (folder / MANIFEST).is_file():
+        return [folder]
+    found = []
+    for sub in _real_folders(folder):
+        if (sub / MANIFEST).is_file():
+            found.append(sub)
+        elif sub.name.startswith(".stability-work-"):
+            found += [store for store in _real_folders(sub) if (store / MANIFEST).is_file()]
+    return found
+
+
+def _real_folders(folder: Path) -> list[Path]:
+    try:
+        return [p for p in sorted(folder.iterdir()) if not p.is_symlink() and p.is_dir()]
+    except OSError:
+        return []
+
+
 def read_manifest(directory) -> dict:
     """The manifest of the store in ``directory``, its fields checked.
 

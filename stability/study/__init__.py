@@ -294,26 +294,28 @@ def _check_outputs(folder: Path, names, done: str) -> None:
 
 
 def _kept(work: Path):
-    """``(finished chunks, manifest)`` of a work folder; None if absent or unreadable.
+    """``(finished chunks, manifest)`` of a work folder (summed over the stores in it, one per
+    run of the study); None if absent or unreadable.
 
     Nothing there is changed (the folder may be another run's), and only the chunk files
     there are checked (a manifest may claim any number of chunks).
     """
-    from ..store import MANIFEST, ChunkStore, read_manifest
+    from ..store import ChunkStore, find_stores, read_manifest
 
     if work.is_symlink() or not work.is_dir():
         return None
-    if not (work / MANIFEST).exists():
-        return 0, {}
-    try:
-        manifest = read_manifest(work)
-    except (ValueError, OSError):
-        return None
-    numbers = (path.name[len("chunk-"):-len(".nc")] for path in work.glob("chunk-*.nc"))
-    chunks = {int(k) for k in numbers if k.isdigit()}
-    done = sum(ChunkStore.verify_path(work, k, manifest["fingerprint"], remove=False)
-               for k in chunks if k < manifest["chunks"])
-    return done, manifest
+    done, total = 0, {"chunks": 0}
+    for store in find_stores(work):
+        try:
+            manifest = read_manifest(store)
+        except (ValueError, OSError):
+            return None
+        numbers = (path.name[len("chunk-"):-len(".nc")] for path in store.glob("chunk-*.nc"))
+        chunks = {int(k) for k in numbers if k.isdigit()}
+        done += sum(ChunkStore.verify_path(store, k, manifest["fingerprint"], remove=False)
+                    for k in chunks if k < manifest["chunks"])
+        total = {**manifest, "chunks": total["chunks"] + manifest["chunks"]}
+    return done, total
 
 
 def _interrupted(out: Path, work: Path, kept) -> str:

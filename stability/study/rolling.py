@@ -19,7 +19,7 @@ import numpy as np
 
 from .config import (
     MEMBER_BYTES, ConfigError, Key, Schema, Section, StudyKind, StudySummary, check_memory,
-    output_files, output_section, write_outputs,
+    check_run, output_files, output_section, run_section, stored_run, write_outputs,
 )
 
 NAME = "rolling"
@@ -84,6 +84,7 @@ SCHEMA = Schema(
             Key("claim", "float", 1e-12, "relative error of the switch times, places, speeds "
                 "and heat against the formulas", minimum=0.0, exclusive_minimum=True),
         )),
+        run_section(),
         output_section(NAME, FIGURES),
     ),
 )
@@ -132,17 +133,25 @@ def check(config: dict, source: str) -> dict:
                  [("launch", "members"), ("launch", "samples")],
                  f"{launch['members']} balls and {launch['samples']} states of {paths} of them",
                  "use fewer balls or samples")
+    check_run(config, source)
     return config
 
 
 def run(config: dict, out_dir: Path, *, overwrite=False, threads=None, progress=None,
-        history=None) -> StudySummary:
-    """Run both ensembles, save one Dataset, draw the map and the launches."""
+        history=None, work=None, resume=False, scheduler=None) -> StudySummary:
+    """Run both ensembles, save one Dataset, draw the map and the launches.
+
+    Each ensemble runs chunk by chunk into its own folder inside ``work`` (so that a stopped
+    run continues with ``resume``), on ``scheduler`` (default: the file's ``[run]
+    scheduler``)."""
     import xarray as xr
 
     from ..figures.impacts import rolling_launch_figure, rolling_map_figure
     from ..rolling import SHAPES, measure_incline, measure_launches
+    from ..scene_ensemble import sub_store
     from ..threads import numba_threads
+
+    stored = stored_run(config, work, resume, scheduler, threads)
 
     t_start = time.perf_counter()
     inc, launch = config["incline"], config["launch"]
@@ -153,13 +162,13 @@ def run(config: dict, out_dir: Path, *, overwrite=False, threads=None, progress=
             np.linspace(inc["mu_s_min"], inc["mu_s_max"], inc["mu_s_count"]),
             members=inc["members"], mu_ratio=inc["mu_k_ratio"], mu_scatter=inc["mu_scatter"],
             shape_scatter=inc["shape_scatter"], duration=inc["duration"], seed=inc["seed"],
-            progress=progress)
+            progress=progress, stored=sub_store(stored, "incline"))
         launches = measure_launches(
             radius=launch["radius"], mass=launch["mass"], k=SHAPES[launch["shape"]],
             mu_k=launch["mu_k"], speeds=(launch["speed_min"], launch["speed_max"]),
             spin_ratios=(launch["spin_min"], launch["spin_max"]), members=launch["members"],
             mu_scatter=launch["mu_scatter"], samples=launch["samples"], seed=launch["seed"],
-            progress=progress)
+            progress=progress, stored=sub_store(stored, "launches"))
     ds = xr.merge([incline, launches], combine_attrs="override")  # variables keep theirs
     ds.attrs = {}
     ds.attrs.update({f"incline_{k}": v for k, v in incline.attrs.items()})
@@ -226,4 +235,5 @@ STUDY = StudyKind(
     check=check,
     quick=QUICK,
     members_key=("launch", "members"),
+    resumable=True,
 )
