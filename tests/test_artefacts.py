@@ -3,7 +3,6 @@
 from pathlib import Path
 
 import numpy as np
-import xarray as xr
 
 import stability
 from stability.artefacts import measure_rule, step_for_accuracy
@@ -51,7 +50,7 @@ def test_study_engine_artefacts_quick(tmp_path):
     assert rules["exact"]["fraction_flipping"] == 1.0
     assert abs(rules["rk4"]["flip_interval_error"]) < 1e-4
     assert np.isnan(rules["no_gyroscopic"]["step_needed"])
-    with xr.open_dataset(tmp_path / "engine_artefacts.nc") as ds:
-        for name, var in {**ds.data_vars, **ds.coords}.items():
-            assert var.attrs.get("units") and var.attrs.get("long_name"), name
-        assert missing_units(artefacts_figure(ds)) == []
+    ds = stability.load(tmp_path / "engine_artefacts.nc")
+    for name, var in {**ds.data_vars, **ds.coords}.items():
+        assert var.attrs.get("units") and var.attrs.get("long_name"), name
+    assert missing_units(artefacts_figure(ds)) == []
