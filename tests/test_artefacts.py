@@ -8,6 +8,8 @@ import stability
 from stability.artefacts import measure_rule, step_for_accuracy
 from stability.ensemble import perturbed_starts
 
+from .helpers import assert_cf_compliant
+
 ROOT = Path(__file__).resolve().parents[1]
 RACKET = np.sort(stability.RigidBody.preset("tennis_racket").moments)
 STARTS = perturbed_starts(2, 10.0, 1e-4, 24, 3)
@@ -54,3 +56,4 @@ def test_study_engine_artefacts_quick(tmp_path):
     for name, var in {**ds.data_vars, **ds.coords}.items():
         assert var.attrs.get("units") and var.attrs.get("long_name"), name
     assert missing_units(artefacts_figure(ds)) == []
+    assert_cf_compliant(tmp_path / "engine_artefacts.nc")

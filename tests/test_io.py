@@ -12,6 +12,8 @@ from stability import conventions as cv
 from stability import io
 from stability.dataset import append_history, check_storable, config_toml, storable_attrs
 
+from .helpers import DIMENSION_ORDER, assert_cf_compliant
+
 BODY = stability.RigidBody(1.0, 2.0, 3.0, name="test body")
 
 
@@ -55,6 +57,17 @@ def test_time_stays_float_seconds_and_is_cf_time(series, tmp_path):
     with xr.open_dataset(path) as opened:
         seconds = (opened.time.values - np.datetime64(cv.TIME_ORIGIN)) / np.timedelta64(1, "s")
         np.testing.assert_allclose(seconds, series.time.values, rtol=0, atol=1e-9)
+
+
+@pytest.mark.parametrize("name", ["series", "summaries"])
+def test_saved_runs_follow_cf(name, request, tmp_path):
+    path = stability.save(request.getfixturevalue(name), tmp_path / "run.nc")
+    assert_cf_compliant(path, known=[DIMENSION_ORDER] if name == "series" else [])
+
+
+def test_saved_integration_with_attitude_follows_cf(tmp_path):
+    ds = stability.integrate(BODY, [0.01, 1.0, 0.02], 1.0, 0.1, "rk4", scene="free_body_attitude")
+    assert_cf_compliant(stability.save(ds, tmp_path / "run.nc"), known=[DIMENSION_ORDER])
 
 
 def test_file_is_compressed_and_chunked_along_member(series, tmp_path):

@@ -14,6 +14,8 @@ from stability.figures.style import missing_units
 from stability.shapes import EDGE_EQUAL_12, EDGE_EQUAL_23
 from stability.study import ConfigError, load_study, run_study
 
+from .helpers import assert_cf_compliant
+
 STUDY_FILE = "studies/stability_map.toml"
 
 
@@ -136,3 +138,7 @@ def test_dataset_is_labelled_and_figures_carry_units(small_map):
         (summary.out_dir / "config.toml").read_text())
     assert re.fullmatch(r"\d{4}-\d\d-\d\dT[\d:]+Z: stability run \(stability_map\)",
                         ds.attrs["history"])
+
+
+def test_dataset_follows_cf(small_map):
+    assert_cf_compliant(small_map[0].out_dir / "stability_map.nc")
