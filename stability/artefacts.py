@@ -365,8 +365,7 @@ def _dataset(rules, steps, table, needed, traces, exact_trace, trace_h, moments,
                                                          "units": cv.UNITS_DIMENSIONLESS}),
         "step": ("step", np.asarray(steps, dtype=float), {"long_name": "time step",
                                                           "units": cv.UNITS_TIME}),
-        "time": ("time", np.arange(exact_trace.size) * trace_h,
-                 {"long_name": "time", "units": cv.UNITS_TIME}),
+        "time": ("time", np.arange(exact_trace.size) * trace_h, cv.time_attrs("time")),
     }
     family = ["engine rule" if r in ENGINE_RULES else specs[r].family for r in rules]
     data["family"] = (("rule",), np.array(family, dtype=object),

@@ -1,7 +1,8 @@
 """Names, units and codes shared by every Dataset the package writes.
 
-One place for the vocabulary: dimension names, the units of each variable and the per-member
-status codes. Code elsewhere imports these constants instead of spelling the strings again.
+One place for the vocabulary: dimension names, the units of each variable, the per-member
+status codes and the CF attributes of the coordinates CF names (time, ensemble member). Code
+elsewhere imports these constants instead of spelling the strings again.
 """
 
 # Dimensions.
@@ -36,3 +37,41 @@ STATUS_STEP_TOO_LARGE = 4
 STATUS_MEANINGS = "ok non_finite diverged not_converged step_too_large"
 STATUS_FLAG_VALUES = (STATUS_OK, STATUS_NONFINITE, STATUS_DIVERGED, STATUS_NOT_CONVERGED,
                       STATUS_STEP_TOO_LARGE)
+
+# CF. Every Dataset the package writes passes the CF checker (``compliance-checker --test
+# cf:1.10``); the tests run it on every study's file.
+
+#: The ``Conventions`` global attribute.
+CONVENTIONS = "CF-1.10"
+
+#: The date CF time coordinates count from. CF time units need one ("s since <date>"); a run
+#: has no date, so its start is put at this nominal one. xarray then decodes such a coordinate
+#: to dates unless the file is opened with ``decode_times=False``, as ``stability.load`` does.
+TIME_ORIGIN = "1970-01-01 00:00:00"
+
+#: Units of the :data:`TIME` coordinate: seconds from :data:`TIME_ORIGIN`.
+UNITS_TIME_COORDINATE = f"{UNITS_TIME} since {TIME_ORIGIN}"
+
+#: CF attributes of the coordinates CF has a standard name for, besides long name and units.
+STANDARD_COORDINATES = {
+    MEMBER: {"standard_name": "realization"},
+    TIME: {"standard_name": "time", "axis": "T"},
+}
+
+
+def time_attrs(long_name: str = "time since the start") -> dict:
+    """Attributes of a Dataset's :data:`TIME` coordinate, its time axis: ``long_name``, units
+    :data:`UNITS_TIME_COORDINATE`, ``standard_name = "time"`` and ``axis = "T"``.
+
+    Other time-valued coordinates (the sample times of a few kept paths, say) stay plain ones
+    with a long name and units: as CF time axes they would break CF's recommended dimension
+    order wherever a vector's components follow them.
+    """
+    return {"long_name": long_name, "units": UNITS_TIME_COORDINATE, **STANDARD_COORDINATES[TIME]}
+
+
+def member_attrs(long_name: str = "ensemble member") -> dict:
+    """Attributes of an ensemble-member coordinate: ``long_name``, ``units = "1"`` and
+    ``standard_name = "realization"`` (whose canonical units CF gives as 1)."""
+    return {"long_name": long_name, "units": UNITS_DIMENSIONLESS,
+            **STANDARD_COORDINATES[MEMBER]}

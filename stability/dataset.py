@@ -5,9 +5,11 @@ this file alone.
 
 Ensemble Dataset (``run_ensemble``)
 -----------------------------------
-Dimensions: ``member`` (ensemble member, ``standard_name = "realization"``), ``time`` (s, plain
-float seconds since the start, never decoded to timedelta), ``axis`` (principal axes 1, 2, 3 in
-the order the body gives them) and ``level`` (perpendicular-amplitude levels, rad s-1).
+Dimensions: ``member`` (ensemble member, ``standard_name = "realization"``), ``time`` (float
+seconds since the start, a CF time coordinate: ``standard_name = "time"``, ``axis = "T"``, units
+``"s since 1970-01-01 00:00:00"``, the date a nominal origin, see
+:data:`~stability.conventions.TIME_ORIGIN`), ``axis`` (principal axes 1, 2, 3 in the order the
+body gives them) and ``level`` (perpendicular-amplitude levels, rad s-1).
 
 ============================ ================= ======== =====================================
 variable                     dims              units    meaning
@@ -68,9 +70,6 @@ from . import conventions as cv
 #: Dimension of the perpendicular-amplitude levels of ``passage_time``.
 LEVEL = "level"
 
-#: The CF version the Datasets follow.
-CONVENTIONS = "CF-1.10"
-
 #: Where the physics comes from; method references are added per Dataset.
 REFERENCES = (
     "Landau & Lifshitz, Mechanics, 3rd ed., sec. 37 (free asymmetric top, exact solution); "
@@ -106,8 +105,8 @@ VARIABLES = {
     cv.QUATERNION: ("quaternion component (0: scalar part cos(angle/2))", _ONE),
     "energy_error": ("relative kinetic-energy error at the end, (E - E0) / E0", _ONE),
     "angular_momentum_error": ("relative |L| error at the end, (|L| - |L0|) / |L0|", _ONE),
-    cv.MEMBER: ("ensemble member", None),
-    cv.TIME: ("time since the start", _S),
+    cv.MEMBER: ("ensemble member", _ONE),
+    cv.TIME: ("time since the start", cv.UNITS_TIME_COORDINATE),
     cv.AXIS: ("principal axis of the body", None),
     LEVEL: ("perpendicular angular-velocity amplitude level", _RAD_S),
 }
@@ -142,13 +141,13 @@ _COMMENTS = {
 
 
 def variable_attrs(name: str) -> dict:
-    """``long_name``, ``units`` (and comments, flags) of the variable or coordinate ``name``."""
+    """``long_name``, ``units`` (and CF standard name, comments, flags) of the variable or
+    coordinate ``name``."""
     long_name, units = VARIABLES[name]
     attrs = {"long_name": long_name}
     if units is not None:
         attrs["units"] = units
-    if name == cv.MEMBER:
-        attrs["standard_name"] = "realization"
+    attrs.update(cv.STANDARD_COORDINATES.get(name, {}))
     if name == "status":
         attrs["flag_values"] = np.array(cv.STATUS_FLAG_VALUES, dtype=np.int8)
         attrs["flag_meanings"] = cv.STATUS_MEANINGS
@@ -245,7 +244,7 @@ def provenance_attrs(title: str, body, spec, h: float, command: str) -> dict:
     """
     now = utc_now()
     attrs = {
-        "Conventions": CONVENTIONS,
+        "Conventions": cv.CONVENTIONS,
         "title": title,
         **software_attrs(),
         "history": history_line(command, now),

@@ -114,7 +114,7 @@ def integrate(
             )
         },
         coords={
-            cv.TIME: (cv.TIME, steps * h, {"long_name": "time", "units": cv.UNITS_TIME}),
+            cv.TIME: (cv.TIME, steps * h, cv.time_attrs("time")),
             cv.AXIS: (cv.AXIS, np.array(cv.AXES), {"long_name": "principal axis"}),
         },
         attrs=storable_attrs(

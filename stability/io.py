@@ -5,9 +5,10 @@ along ``member``, to a temporary file in the target's directory that is renamed 
 only when complete (``os.replace`` is atomic on one filesystem), so an interrupted write never
 leaves a broken file; it refuses to replace an existing file unless asked. ``load`` reads the
 file back into memory and returns a Dataset identical (``xarray.testing.assert_identical``) to
-the one saved. ``time`` is float seconds with the UDUNITS units "s", which xarray does not
-decode to timedelta (it would for "seconds"); ``load`` passes ``decode_timedelta=False`` all the
-same, and so should other readers.
+the one saved. Time coordinates are float numbers with CF time units counted from a nominal
+date (``"s since 1970-01-01 00:00:00"``, :data:`stability.conventions.TIME_ORIGIN`): ``load``
+passes ``decode_times=False`` (and ``decode_timedelta=False``) so that they stay numbers;
+other readers may do the same, or let xarray decode them to dates from that origin.
 """
 
 from __future__ import annotations
@@ -30,6 +31,9 @@ COMPLEVEL = 4
 
 #: Target size of one netCDF chunk in bytes (a chunk holds whole members).
 CHUNK_BYTES = 4 * 2**20
+
+#: How the package opens the files it wrote: as numbers, the way they were saved.
+READ = {"engine": "netcdf4", "decode_times": False, "decode_timedelta": False}
 
 
 @contextlib.contextmanager
@@ -147,8 +151,8 @@ def load(path) -> xr.Dataset:
     Returns
     -------
     xarray.Dataset
-        Identical to the Dataset saved; ``time`` stays float seconds (``decode_timedelta``
-        off). The file is closed on return.
+        Identical to the Dataset saved; time coordinates stay numbers (``decode_times`` and
+        ``decode_timedelta`` off). The file is closed on return.
 
     Raises
     ------
@@ -158,7 +162,7 @@ def load(path) -> xr.Dataset:
     path = Path(path)
     if not path.exists():
         raise FileNotFoundError(f"no such file: {path}")
-    with xr.open_dataset(path, engine="netcdf4", decode_timedelta=False) as ds:
+    with xr.open_dataset(path, **READ) as ds:
         return ds.load()
 
 

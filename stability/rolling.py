@@ -320,9 +320,8 @@ def measure_incline(shapes, angles, mu_s, *, members=4, mu_ratio=0.8, mu_scatter
                                                     "units": "degree"}),
             "mu_s": ("mu_s", mu_s, {"long_name": "nominal static friction coefficient",
                                     "units": cv.UNITS_DIMENSIONLESS}),
-            "replica": ("replica", np.arange(members), {
-                "long_name": "member of the cell (own mu_s, mu_k and shape)",
-                "units": cv.UNITS_DIMENSIONLESS}),
+            "replica": ("replica", np.arange(members),
+                        cv.member_attrs("member of the cell (own mu_s, mu_k and shape)")),
         },
     )
     ds.attrs.update({"mu_ratio": mu_ratio, "mu_scatter": mu_scatter,
@@ -428,10 +427,8 @@ def measure_launches(*, radius, mass, k, mu_k, speeds, spin_ratios, members, mu_
     }
     ds = xr.Dataset(
         {name: (d, v, dict(VARIABLES[name])) for name, (d, v) in data.items()},
-        coords={"member": ("member", np.arange(members), {"long_name": "member",
-                                                          "units": cv.UNITS_DIMENSIONLESS}),
-                "time": ("time", np.arange(samples + 1) * h, {"long_name": "time",
-                                                               "units": cv.UNITS_TIME})},
+        coords={"member": ("member", np.arange(members), cv.member_attrs("member")),
+                "time": ("time", np.arange(samples + 1) * h, cv.time_attrs("time"))},
     )
     ds.attrs.update({"radius": radius, "mass": mass, "shape_factor": k, "mu_k": mu_k,
                      "mu_scatter": mu_scatter, "seed": seed, "g": G, "method": spec.name,

@@ -409,6 +409,8 @@ def open_store(directory) -> xr.Dataset:
     ValueError
         If the folder is not a store, or not every chunk is done.
     """
+    from .io import READ
+
     directory = Path(directory)
     manifest = read_manifest(directory)
     if not manifest.get("complete"):
@@ -424,7 +426,7 @@ def open_store(directory) -> xr.Dataset:
         ds = xr.open_mfdataset(
             paths, combine="nested", concat_dim=cv.MEMBER, data_vars="minimal",
             coords="minimal", compat="override", join="override", combine_attrs="override",
-            engine="netcdf4", decode_timedelta=False, chunks={}, parallel=False,
+            **READ, chunks={}, parallel=False,
             drop_variables=[cv.MEMBER],
         )
     finally:

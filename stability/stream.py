@@ -358,10 +358,12 @@ def _whole_attrs(chunks: ChunkStore) -> dict:
     """The attributes of the whole run from those of its chunks."""
     import xarray as xr
 
+    from .io import READ
+
     wall = compile_time = 0.0
     first = None
     for k in range(chunks.n_chunks):
-        with xr.open_dataset(chunks.path(k), engine="netcdf4", decode_timedelta=False) as ds:
+        with xr.open_dataset(chunks.path(k), **READ) as ds:
             attrs = dict(ds.attrs)
         wall += float(attrs.get("wall_time", 0.0))
         compile_time += float(attrs.get("compile_time", 0.0))

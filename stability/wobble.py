@@ -125,7 +125,7 @@ def measure_free_wobble(body, spin, offset, *, members=16, periods=3.0, steps_pe
                 "long_name": "angle of the figure axis from the angular momentum", **arcsec}),
         },
         coords={
-            cv.MEMBER: ens[cv.MEMBER].values,
+            cv.MEMBER: (cv.MEMBER, ens[cv.MEMBER].values, cv.member_attrs()),
             CONE_TIME: (CONE_TIME, cone.time.values / DAY, {"long_name": "time", "units": "d"}),
             cv.AXIS: (cv.AXIS, list(cv.AXES), {"long_name": "principal axis",
                                                 "units": cv.UNITS_DIMENSIONLESS}),

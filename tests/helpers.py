@@ -1,8 +1,11 @@
-"""Reference solutions shared by the tests."""
+"""Reference solutions and checks shared by the tests."""
 
+import functools
 import time
+import warnings
 
 import numpy as np
+import xarray as xr
 from scipy.integrate import solve_ivp
 
 import stability
@@ -51,3 +54,100 @@ def wait_until(predicate, proc, timeout=180.0, show_stderr=False):
             proc.kill()
             raise AssertionError("timed out waiting for the state awaited")
         time.sleep(0.02)
+
+
+#: The CF checker's finding on a variable whose dimensions right of time are not space
+#: (``w`` (member, time, axis), ``q`` (member, time, quaternion_component)): CF 2.4 recommends
+#: (member, axis, time). Time series keep each member's samples of one instant together.
+DIMENSION_ORDER = "spatio-temporal dimensions are not in the recommended order"
+
+
+@functools.cache
+def _cf_suite():
+    from compliance_checker.suite import CheckSuite
+
+    with warnings.catch_warnings():  # loading every checker warns of the deprecated ioos_sos
+        warnings.simplefilter("ignore", DeprecationWarning)
+        CheckSuite.load_all_available_checkers()
+    return CheckSuite
+
+
+def cf_findings(path) -> list:
+    """What the CF checker (``compliance-checker --test cf:1.10``) finds in the netCDF file
+    ``path``: one line per finding, errors, warnings and notes alike, and per check that could
+    not run.
+
+    The checker takes differences of every coordinate variable to check that it is strictly
+    monotonic, and fails on string labels (``rule``, ``method``): where it does, the numeric
+    coordinate variables are checked here instead.
+    """
+    suite = _cf_suite()()
+    nc = suite.load_dataset(str(path))
+    try:
+        groups, failed = suite.run_all(nc, ["cf:1.10"])["cf:1.10"]
+        findings = [line for group in groups for line in _failures(group)]
+        for check, (error, _) in failed.items():
+            if check == "check_coordinate_variables_strict_monotonicity":
+                findings += _not_monotonic(nc)
+            else:
+                findings.append(f"the check {check} could not run: {error!r}")
+    finally:
+        nc.close()
+    return list(dict.fromkeys(findings))  # a finding is told once per variable it concerns
+
+
+def _failures(result, where=()):
+    """The messages of the failed leaves of a checker's result tree."""
+    where = (*where, str(result.name))
+    if result.children:
+        return [line for child in result.children for line in _failures(child, where)]
+    if result.value[0] >= result.value[1]:
+        return []
+    level = {3: "error", 2: "warning"}.get(result.weight, "note")
+    return [f"{level}: {' / '.join(where)}: {msg}" for msg in result.msgs or ["failed"]]
+
+
+def _not_monotonic(nc) -> list:
+    """Numeric coordinate variables of ``nc`` that are not strictly monotonic."""
+    bad = []
+    for name, var in nc.variables.items():
+        if var.dimensions == (name,) and var.dtype != str and var.dtype.kind in "iuf":
+            step = np.diff(var[:])
+            if not (np.all(step > 0) or np.all(step < 0)):
+                bad.append(f"error: coordinate variable {name!r} is not strictly monotonic")
+    return bad
+
+
+def assert_cf_compliant(path, known=()):
+    """Assert that the netCDF file ``path`` follows CF as netCDF users check it.
+
+    The CF checker (cf:1.10) finds nothing at any priority but the ``known`` findings, and
+    xarray opens the file (time decoded, as a CF reader does) without a warning, where
+    ``cf_xarray`` finds every standard name and every time coordinate as the time axis.
+
+    Parameters
+    ----------
+    path : path-like
+    known : sequence of str
+        Parts of findings the file is known to have, each with its reason where it is given;
+        each must still be found, so that a fixed one is struck from the list.
+    """
+    import cf_xarray  # noqa: F401 (registers ds.cf)
+
+    findings = cf_findings(path)
+    unexpected = [f for f in findings if not any(k in f for k in known)]
+    stale = [k for k in known if not any(k in f for f in findings)]
+    assert not unexpected and not stale, (
+        f"{path}: CF checker findings {unexpected}" + (f"; known but not found {stale}"
+                                                       if stale else ""))
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        with xr.open_dataset(path, engine="netcdf4") as ds:
+            names = ds.cf.standard_names
+            axes = ds.cf.axes
+            for name, var in ds.variables.items():
+                standard = var.attrs.get("standard_name")
+                if standard is not None:
+                    assert name in names.get(standard, []), (path, name, standard)
+                if standard == "time":
+                    assert name in axes.get("T", []), (path, name)

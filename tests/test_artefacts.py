@@ -3,11 +3,12 @@
 from pathlib import Path
 
 import numpy as np
-import xarray as xr
 
 import stability
 from stability.artefacts import measure_rule, step_for_accuracy
 from stability.ensemble import perturbed_starts
+
+from .helpers import assert_cf_compliant
 
 ROOT = Path(__file__).resolve().parents[1]
 RACKET = np.sort(stability.RigidBody.preset("tennis_racket").moments)
@@ -51,10 +52,11 @@ def test_study_engine_artefacts_quick(tmp_path):
     assert rules["exact"]["fraction_flipping"] == 1.0
     assert abs(rules["rk4"]["flip_interval_error"]) < 1e-4
     assert np.isnan(rules["no_gyroscopic"]["step_needed"])
-    with xr.open_dataset(tmp_path / "engine_artefacts.nc") as ds:
-        for name, var in {**ds.data_vars, **ds.coords}.items():
-            assert var.attrs.get("units") and var.attrs.get("long_name"), name
-        assert missing_units(artefacts_figure(ds)) == []
+    ds = stability.load(tmp_path / "engine_artefacts.nc")
+    for name, var in {**ds.data_vars, **ds.coords}.items():
+        assert var.attrs.get("units") and var.attrs.get("long_name"), name
+    assert missing_units(artefacts_figure(ds)) == []
+    assert_cf_compliant(tmp_path / "engine_artefacts.nc")
 
 
 def test_progress_false_silences_every_bar_of_the_study(capfd):

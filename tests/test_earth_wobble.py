@@ -13,6 +13,8 @@ from stability.figures.style import missing_units
 from stability.study import run_study
 from stability.wobble import measure_free_wobble
 
+from .helpers import assert_cf_compliant
+
 ROOT = Path(__file__).resolve().parents[1]
 SPIN = 2.0 * math.pi / SIDEREAL_DAY
 
@@ -60,3 +62,4 @@ def test_study_runs_from_its_file(tmp_path):
         for name, var in ds.data_vars.items():
             assert var.attrs.get("units") and var.attrs.get("long_name"), name
     assert (tmp_path / "earth_wobble.png").exists()
+    assert_cf_compliant(tmp_path / "earth_wobble.nc")

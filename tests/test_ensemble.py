@@ -114,8 +114,9 @@ def test_dataset_schema(reference):
     assert ds.w.dims == (cv.MEMBER, cv.TIME, cv.AXIS)
     assert ds.w.shape == (150, 401, 3)
     np.testing.assert_array_equal(ds.axis.values, [1, 2, 3])
-    assert ds.member.attrs["standard_name"] == "realization"
-    assert ds.time.dtype == np.float64 and ds.time.attrs["units"] == "s"
+    assert ds.member.attrs["standard_name"] == "realization" and ds.member.attrs["units"] == "1"
+    assert ds.time.dtype == np.float64 and ds.time.attrs["units"] == "s since 1970-01-01 00:00:00"
+    assert ds.time.attrs["standard_name"] == "time" and ds.time.attrs["axis"] == "T"
     np.testing.assert_allclose(ds.time.values, np.arange(401) * 0.1, rtol=1e-15)
     np.testing.assert_array_equal(ds.w.values[:, 0], ds.w0.values)
     for name, var in ds.variables.items():

@@ -18,6 +18,8 @@ from stability.scenes import SCENES
 from stability.scenes.lunisolar_earth import figure_axes
 from stability.study import run_study
 
+from .helpers import assert_cf_compliant
+
 ROOT = Path(__file__).resolve().parents[1]
 FULL, AVERAGED = SCENES["lunisolar_earth"], SCENES["precessing_axis"]
 
@@ -135,6 +137,14 @@ def quick(tmp_path_factory):
     summary = run_study(ROOT / "studies" / "equinoxes.toml", out, quick=True, progress=False,
                         overrides=[("output.formats", "['png']")])
     return summary, out
+
+
+def test_dataset_follows_cf(quick):
+    """All but its time, in Julian years from J2000: as a CF time coordinate ("yr since
+    2000-01-01 12:00:00") xarray could not decode it and the file would not open by default,
+    so it stays a plain coordinate where the checker asks for a CF one."""
+    assert_cf_compliant(quick[1] / "equinoxes.nc",
+                        known=["Coordinate variable 'time' should have standard_name='time'"])
 
 
 def test_study_meets_the_published_values_and_the_formula(quick):

@@ -14,6 +14,8 @@ from stability.geometric_phase import exact_angles, run_angles, wrap
 from stability.roots import bracketed_newton
 from stability.twisting import tossed_members
 
+from .helpers import assert_cf_compliant
+
 ROOT = Path(__file__).resolve().parents[1]
 
 
@@ -191,3 +193,4 @@ def test_study_twisting_racket_quick(tmp_path):
         for name, var in {**ds.data_vars, **ds.coords}.items():
             assert var.attrs.get("units") and var.attrs.get("long_name"), name
         assert missing_units(twist_figure(ds)) == [] and missing_units(flip_figure(ds)) == []
+    assert_cf_compliant(tmp_path / "twisting_racket.nc")

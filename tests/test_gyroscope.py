@@ -17,6 +17,8 @@ from stability.top import (HeavyTop, gyroscopic_nutation_amplitude,
                            gyroscopic_nutation_frequency, gyroscopic_precession_rate,
                            tilted_starts)
 
+from .helpers import assert_cf_compliant
+
 ROOT = Path(__file__).resolve().parents[1]
 STUDY = ROOT / "studies" / "gyroscope.toml"
 #: The literature's worked example (notes 5.3): a 0.1 kg disk of radius 3 cm, 4 cm from the pivot.
@@ -184,6 +186,10 @@ def test_study_meets_its_claim_with_units_everywhere(quick):
             (out / "config.toml").read_text())
         assert missing_units(gyroscope_paths_figure(ds)) == []
         assert missing_units(gyroscope_rates_figure(ds, claim=1e-6)) == []
+
+
+def test_study_dataset_follows_cf(quick):
+    assert_cf_compliant(quick[1] / "gyroscope.nc")
 
 
 def test_set_changes_the_top(tmp_path):

@@ -8,8 +8,11 @@ import pytest
 import xarray as xr
 
 import stability
+from stability import conventions as cv
 from stability import io
 from stability.dataset import append_history, check_storable, config_toml, storable_attrs
+
+from .helpers import DIMENSION_ORDER, assert_cf_compliant
 
 BODY = stability.RigidBody(1.0, 2.0, 3.0, name="test body")
 
@@ -40,27 +43,31 @@ def test_round_trip_is_identical(name, request, tmp_path):
         assert back[var].dtype == ds[var].dtype, var
 
 
-def test_time_stays_float_seconds(series, tmp_path):
+def test_time_stays_float_seconds_and_is_cf_time(series, tmp_path):
     path = stability.save(series, tmp_path / "run.nc")
     back = stability.load(path)
-    assert back.time.dtype == np.float64 and back.time.attrs["units"] == "s"
+    assert back.time.dtype == np.float64
+    assert back.time.attrs["units"] == "s since 1970-01-01 00:00:00" == cv.UNITS_TIME_COORDINATE
     np.testing.assert_array_equal(back.time.values, series.time.values)
     with netCDF4.Dataset(path) as nc:  # what other tools see
-        assert nc["time"].dtype == np.float64 and nc["time"].units == "s"
+        assert nc["time"].dtype == np.float64 and nc["time"].units == cv.UNITS_TIME_COORDINATE
+        assert nc["time"].standard_name == "time" and nc["time"].axis == "T"
         assert "_FillValue" not in nc["time"].ncattrs()
-    # xarray decodes durations from units such as "seconds" (by default before 2025.01), never
-    # from the UDUNITS "s" the package writes; the control shows the check can fail.
-    try:
-        by_units = xr.coders.CFTimedeltaCoder(decode_via_units=True)
-    except (AttributeError, TypeError):  # older xarray: decode_timedelta=True decodes via units
-        by_units = True
-    with xr.open_dataset(path, decode_timedelta=by_units) as opened:
-        assert opened.time.dtype == np.float64
-    seconds = ("time", [0.0, 1.0], {"units": "seconds"})
-    control = series[["energy_error"]].assign_coords(time=seconds)
-    control.to_netcdf(tmp_path / "control.nc")
-    with xr.open_dataset(tmp_path / "control.nc", decode_timedelta=by_units) as opened:
-        assert opened.time.dtype.kind == "m"
+    # A CF reader decodes the seconds to instants from the nominal origin.
+    with xr.open_dataset(path) as opened:
+        seconds = (opened.time.values - np.datetime64(cv.TIME_ORIGIN)) / np.timedelta64(1, "s")
+        np.testing.assert_allclose(seconds, series.time.values, rtol=0, atol=1e-9)
+
+
+@pytest.mark.parametrize("name", ["series", "summaries"])
+def test_saved_runs_follow_cf(name, request, tmp_path):
+    path = stability.save(request.getfixturevalue(name), tmp_path / "run.nc")
+    assert_cf_compliant(path, known=[DIMENSION_ORDER] if name == "series" else [])
+
+
+def test_saved_integration_with_attitude_follows_cf(tmp_path):
+    ds = stability.integrate(BODY, [0.01, 1.0, 0.02], 1.0, 0.1, "rk4", scene="free_body_attitude")
+    assert_cf_compliant(stability.save(ds, tmp_path / "run.nc"), known=[DIMENSION_ORDER])
 
 
 def test_file_is_compressed_and_chunked_along_member(series, tmp_path):

@@ -14,6 +14,8 @@ from stability.rolling import (G, SHAPES, launch_formulas, measure_incline, meas
                                slipping_spin_rate, start_states)
 from stability.scenes import SCENES
 
+from .helpers import assert_cf_compliant
+
 SCENE = SCENES["rolling_body"]
 
 
@@ -138,8 +140,7 @@ def test_a_track_must_be_described_in_order():
 
 
 def test_rolling_study_meets_its_claim_with_units_everywhere(tmp_path):
-    import xarray as xr
-
+    import stability
     from stability.figures.impacts import rolling_launch_figure, rolling_map_figure
     from stability.figures.style import missing_units
     from stability.study import run_study
@@ -154,8 +155,9 @@ def test_rolling_study_meets_its_claim_with_units_everywhere(tmp_path):
     assert v["members_failed"] == 0
     assert sorted(p.name for p in summary.files) == [
         "config.toml", "rolling.nc", "rolling_launch.png", "rolling_map.png"]
-    with xr.open_dataset(tmp_path / "rolling.nc") as ds:
-        for name, var in {**ds.data_vars, **ds.coords}.items():
-            assert var.attrs.get("units") and var.attrs.get("long_name"), name
-        assert missing_units(rolling_map_figure(ds)) == []
-        assert missing_units(rolling_launch_figure(ds)) == []
+    ds = stability.load(tmp_path / "rolling.nc")
+    for name, var in {**ds.data_vars, **ds.coords}.items():
+        assert var.attrs.get("units") and var.attrs.get("long_name"), name
+    assert missing_units(rolling_map_figure(ds)) == []
+    assert missing_units(rolling_launch_figure(ds)) == []
+    assert_cf_compliant(tmp_path / "rolling.nc")

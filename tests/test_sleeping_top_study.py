@@ -10,6 +10,8 @@ from stability.figures.style import missing_units
 from stability.figures.top import sleeping_top_figure
 from stability.study import run_study
 
+from .helpers import assert_cf_compliant
+
 ROOT = Path(__file__).resolve().parents[1]
 STUDY = ROOT / "studies" / "sleeping_top.toml"
 
@@ -41,6 +43,10 @@ def test_files_and_a_figure_with_units_on_every_axis(quick):
                                                       "sleeping_top.png"]
     with xr.open_dataset(out / "sleeping_top.nc") as ds:
         assert missing_units(sleeping_top_figure(ds, claim=1e-3)) == []
+
+
+def test_dataset_follows_cf(quick):
+    assert_cf_compliant(quick[1] / "sleeping_top.nc")
 
 
 def test_set_changes_the_top_and_moves_the_threshold(tmp_path):

@@ -14,6 +14,8 @@ from stability.figures.style import missing_units
 from stability.shapes import EDGE_EQUAL_12, EDGE_EQUAL_23
 from stability.study import ConfigError, load_study, run_study
 
+from .helpers import assert_cf_compliant
+
 STUDY_FILE = "studies/stability_map.toml"
 
 
@@ -146,3 +148,7 @@ def test_the_edges_figure_says_in_words_when_a_misfit_was_not_fitted(small_map):
     texts = [t.get_text() for ax in edges_figure(ds).axes for t in ax.texts]
     assert texts and not any("nan" in text for text in texts)
     assert any("not fitted" in text for text in texts)
+
+
+def test_dataset_follows_cf(small_map):
+    assert_cf_compliant(small_map[0].out_dir / "stability_map.nc")

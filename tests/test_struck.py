@@ -12,6 +12,8 @@ from stability.scenes import SCENES
 from stability.struck import (INCH, baseball_bat, centre_of_percussion, hand_velocity,
                               measure_strikes, reaction_impulse, tennis_racket)
 
+from .helpers import assert_cf_compliant
+
 SCENE = SCENES["struck_body"]
 BAT = baseball_bat()
 TAU = 7e-4
@@ -132,6 +134,7 @@ def test_bat_study_meets_its_claim_with_units_everywhere(tmp_path):
         for name, var in {**ds.data_vars, **ds.coords}.items():
             assert var.attrs.get("units") and var.attrs.get("long_name"), name
         assert missing_units(bat_figure(ds)) == []
+    assert_cf_compliant(tmp_path / "bat.nc")
     racket = run_study(root / "studies" / "bat.toml", tmp_path / "racket", quick=True,
                        progress=False, overrides=[("body.kind", '"tennis_racket"'),
                                                   ("hands.pivots", "[0.08]"),

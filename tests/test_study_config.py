@@ -1,5 +1,6 @@
 """Study files: schema validation, one-line errors with exit status 2, resolved configuration."""
 
+import re
 import tomllib
 from pathlib import Path
 
@@ -196,3 +197,13 @@ def test_every_kind_declares_a_complete_schema():
         kind.resolve({"study": name, **kind.quick})
         if kind.members_key is not None:
             kind.schema.section(kind.members_key[0]).key(kind.members_key[1])
+
+
+def test_every_kind_has_its_dataset_checked_against_cf():
+    """Some test passes each kind's Dataset (its file name) to ``assert_cf_compliant``, so that
+    a new kind cannot ship a file that CF readers reject."""
+    sources = "".join(path.read_text(encoding="utf-8")
+                      for path in sorted(Path(__file__).parent.glob("test_*.py")))
+    checked = set(re.findall(r'assert_cf_compliant\([^,\n]*"([^"\n]+\.nc)"', sources))
+    for name, kind in STUDIES.items():
+        assert kind.schema.section("output").key("dataset").default in checked, name

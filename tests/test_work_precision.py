@@ -12,6 +12,8 @@ from stability.drift import drift_kind
 from stability.reference import METRICS
 from stability.study import ConfigError, load_study, run_study
 
+from .helpers import assert_cf_compliant
+
 STUDY_FILE = "studies/work_precision.toml"
 
 
@@ -40,6 +42,10 @@ def test_quick_study_writes_dataset_figures_and_table(quick):
     assert "config_toml" in ds.attrs and ds.attrs["study"] == "work_precision"
     assert (out / "work_precision.md").read_text() == wp.markdown_report(ds)
     assert summary.values["wall_time"] > 0
+
+
+def test_dataset_follows_cf(quick):
+    assert_cf_compliant(quick[2] / "work_precision.nc")
 
 
 def test_every_method_ran_both_workloads_without_failures(quick):

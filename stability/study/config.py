@@ -405,9 +405,10 @@ def write_outputs(ds, config: dict, out_dir, name: str, figures: dict, *, overwr
     Parameters
     ----------
     ds : xarray.Dataset
-        The study's result; gets the title, the study kind, the configuration
-        (``config_toml``), ``attrs``, a history line, and the software versions and threads
-        where it does not record them already (a run records them where it ran).
+        The study's result; gets ``Conventions`` (the CF version every study's Dataset
+        follows), the title, the study kind, the configuration (``config_toml``), ``attrs``, a
+        history line, and the software versions and threads where it does not record them
+        already (a run records them where it ran).
     config : dict
         The resolved configuration.
     out_dir : Path
@@ -431,6 +432,7 @@ def write_outputs(ds, config: dict, out_dir, name: str, figures: dict, *, overwr
         As written.
     files : list of Path
     """
+    from .. import conventions as cv
     from ..dataset import append_history, config_toml, software_attrs
     from ..figures.style import save
     from ..io import saving
@@ -438,7 +440,8 @@ def write_outputs(ds, config: dict, out_dir, name: str, figures: dict, *, overwr
 
     with numba_threads(threads):  # what the run recorded where it ran is kept
         software = {k: v for k, v in software_attrs().items() if k not in ds.attrs}
-    ds.attrs.update({"title": config["title"], "study": name, **(attrs or {}),
+    ds.attrs.update({"Conventions": cv.CONVENTIONS, "title": config["title"], "study": name,
+                     **(attrs or {}),
                      "config_toml": config_toml(config), **software})
     if history is not False:
         ds = append_history(ds, history or f"stability run ({name})")

@@ -267,7 +267,7 @@ def compute(config: dict, progress=None, work_dir=None, resume=False):
     edge = edge_series(spin, config["edges"]["epsilon"], config["edges"]["t_end"],
                        specs[0].name, integ["h"][0])
     attrs = {
-        "Conventions": "CF-1.10", "title": config["title"], **software_attrs(),
+        "title": config["title"], **software_attrs(),
         "references": "literature notes 1.4-1.5, 2.1-2.3; course-notes ERRATA 2-3",
         "spin": spin, "spin_units": cv.UNITS_ANGULAR_VELOCITY, "epsilon": eps,
         "members": members, "seed_entropy": str(seed), "horizon": integ["horizon"],

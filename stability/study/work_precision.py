@@ -26,7 +26,7 @@ from .. import reference as ref
 from .. import workprecision as wp
 from ..analytic import principal_axis
 from ..body import RigidBody
-from ..dataset import CONVENTIONS, software_attrs
+from ..dataset import software_attrs
 from ..drift import long_horizon
 from ..ensemble import perturbed_starts
 from ..integrators import METHODS, method_spec
@@ -266,7 +266,6 @@ def measure(config: dict, progress=None):
 def _global_attrs(config, body, wall_total) -> dict:
     tennis, stable, long = config["tennis"], config["stable"], config["long"]
     return {
-        "Conventions": CONVENTIONS,
         "title": config["title"],
         **software_attrs(),
         "references": "literature notes (shared/notes/literature.md) sections 1.5, 3, 4; "
