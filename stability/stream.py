@@ -149,8 +149,8 @@ def stream_chunks(job, chunks: ChunkStore, *, scheduler=None, threads=None, prog
 
 
 class EnsembleChunks:
-    """The chunk job of a free-body ensemble: :func:`stability.run_ensemble`'s members
-    ``lo ... hi - 1``, numbered from ``lo`` (their starts drawn for the chunk alone).
+    """The chunk job of a free-body ensemble: members lo to hi - 1 of
+    :func:`stability.run_ensemble`, numbered from lo, their starts drawn for the chunk alone.
 
     Parameters
     ----------
