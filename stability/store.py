@@ -381,7 +381,7 @@ def _progress(directory) -> tuple[dict | None, bool]:
         else:
             ok = (isinstance(value, (int, float)) and not isinstance(value, bool)
                   and math.isfinite(value) and value >= 0)
-        if ok or (name == "seconds_left" and value is None):
+        if ok or (name == "seconds_left" and name in progress and value is None):
             kept[name] = value
     return kept, len(kept) < len(_PROGRESS_FIELDS)
 

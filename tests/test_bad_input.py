@@ -6,6 +6,12 @@ command-line rows run ``python -m stability`` as a real subprocess on a study fi
 the output folder. The Python rows call the public API and expect a ``ValueError`` whose message
 holds the fragment.
 
+The in-process rows (``stability.cli.main`` here, as nothing in them runs) cover what a study
+run reads besides its options: the study file itself (not a regular file, too large, not UTF-8,
+integers beyond a float's range, a byte-order mark that must parse), a run's ``manifest.json``
+and ``progress.json`` damaged in every way a reader could trip on, a count that no memory holds
+for every study kind, and a dask scheduler address that takes the connection and never answers.
+
 Cases covered elsewhere and not repeated here: study-file keys of the wrong type or range,
 unknown keys and sections, a section given as a value, a missing or bad top-level ``study``
 key, a missing file and bad ``--set``/``--members`` values (``tests/test_study_config.py``);
@@ -15,6 +21,8 @@ of the wrong shape, non-finite values, bad seeds, time-series runs above ``max_m
 (``tests/test_hard_cases.py``).
 """
 
+import contextlib
+import os
 import subprocess
 import sys
 from pathlib import Path
@@ -242,6 +250,19 @@ API = {
         lambda: stability.run_ensemble(RACKET, 2, 1e6, 1e-4, 10, h=2e-3, t_end=0.2,
                                        method="lp2"),
         "h = 0.002 s is too large for lp2"),
+    "spin beyond any step": (
+        lambda: stability.run_ensemble(RACKET, 2, 1e300, 1e-4, 10, h=2e-3, t_end=0.2),
+        "spin = 1e+300 rad/s is out of range: lp2 needs h max|w| <= 1 rad, so more than 2^53"),
+    "spin beyond any step, still finite": (
+        lambda: stability.run_ensemble(RACKET, 2, 1e30, 1e-4, 10, h=2e-3, t_end=0.2),
+        "spin = 1e+30 rad/s is out of range"),
+    "nudge beyond any step": (
+        lambda: stability.run_ensemble(RACKET, 2, 10.0, 1e300, 10, h=2e-3, t_end=0.2),
+        "epsilon = 1e+300 (of spin = 10 rad/s) is out of range"),
+    "starts beyond any step": (
+        lambda: stability.run_ensemble(RACKET, 2, starts=[[1e200, 1e200, 1.0]], h=2e-3,
+                                       t_end=0.2),
+        "starts of up to 1e+200 rad/s is out of range"),
     "hopeless step in a batch": (
         lambda: run_ensembles([dict(body=BODY, axis=2, spin=1.0, epsilon=0.1, members=3, **RUN),
                                dict(body=BODY, axis=2, spin=1e3, epsilon=0.1, members=3,
@@ -275,7 +296,293 @@ def test_python_api(case):
     message = str(info.value)
     assert fragment in message, message
     assert "\n" not in message
+    assert " inf " not in message and " nan " not in message, message
+
+
+def test_save_to_a_folder_says_what_to_do(tmp_path):
+    folder = tmp_path / "run.nc"
+    folder.mkdir()
+    ds = stability.run_ensemble(BODY, 2, 1.0, 0.1, 2, summaries_only=True, **RUN)
+    for overwrite in (False, True):
+        with pytest.raises(ValueError) as info:
+            stability.save(ds, folder, overwrite=overwrite)
+        message = str(info.value)
+        assert f"{folder} is a folder" in message and str(folder / "run.nc") in message
+        assert "never replaced, not even with overwrite=True" in message
+        assert "pass overwrite=True" not in message
+    assert list(folder.iterdir()) == []
 
 
 def test_the_table_is_large_enough():
     assert len(CLI) + len(API) >= 45
+
+
+# --- in process: the file itself, a run's work folder, memory, the scheduler -----------------
+#
+# Refused before any work, so ``stability.cli.main`` runs in this process (no interpreter to
+# start): exit status 2, one line on stderr naming the file or key, nothing on stdout.
+
+#: A whole number beyond a float's range (about 1.8e308), written as a TOML literal.
+HUGE = "1" + "0" * 400
+#: An ensemble no machine holds.
+ABSURD = "10000000000000"
+
+
+def one_line(capsys, argv) -> str:
+    """Run ``stability ARGV`` here; assert exit 2, one line on stderr, none on stdout."""
+    from stability.cli import main
+
+    status = main(argv)
+    captured = capsys.readouterr()
+    lines = captured.err.strip().splitlines()
+    assert status == 2, captured.err
+    assert len(lines) == 1 and "Traceback" not in captured.err, captured.err
+    assert captured.out == ""
+    return lines[0]
+
+
+def study_file(tmp_path, text) -> Path:
+    path = tmp_path / "study.toml"
+    path.write_bytes(text if isinstance(text, bytes) else text.encode())
+    return path
+
+
+#: name -> (study file text, or a callable(tmp_path) -> path; fragments of the line).
+FILES = {
+    "count beyond a float": ('study = "tennis_racket"\n[ensemble]\nmembers = ' + HUGE + "\n",
+                             ["study.toml: [ensemble] members must be an integer",
+                              "got an integer of 401 digits, beyond the range of a number"]),
+    "seed beyond a float": ('study = "tennis_racket"\n[ensemble]\nseed = ' + HUGE + "\n",
+                            ["[ensemble] seed must be", "beyond the range"]),
+    "horizon beyond a float": ('study = "tennis_racket"\n[integration]\nt_end = ' + HUGE + "\n",
+                               ["[integration] t_end must be a number", "beyond the range"]),
+    "step list with a number beyond a float": (
+        'study = "work_precision"\n[scipy]\nrtols = [1e-3, ' + HUGE + "]\n",
+        ["[scipy] rtols must be", "an integer of 401 digits"]),
+    "integer too long to read": ('study = "tennis_racket"\n[ensemble]\nmembers = 1'
+                                 + "0" * 5000 + "\n",
+                                 ["study.toml: holds an integer of more than"]),
+    "not UTF-8": (b'study = "tennis_racket"\ntitle = "\xff"\n', ["study.toml: is not UTF-8"]),
+    "larger than 1 MiB": (lambda tmp: study_file(tmp, "#" * (2**20 + 1)),
+                          ["study.toml: is larger than the 1 MiB a study file may have"]),
+    "a folder": (lambda tmp: tmp, ["is a folder, not a study file"]),
+    "a FIFO": (lambda tmp: (os.mkfifo(tmp / "fifo.toml"), tmp / "fifo.toml")[1],
+               ["fifo.toml: is a FIFO (named pipe), not a study file"]),
+    "a device that never ends": (lambda tmp: Path("/dev/zero"),
+                                 ["/dev/zero: is a character device, not a study file"]),
+}
+
+
+#: Cases that would never end if they were read: run in a process with a time limit and 2 GiB
+#: of address space, so that such a read fails the test instead of stopping the suite or
+#: filling the machine's memory.
+UNENDING = {"a FIFO", "a device that never ends"}
+
+
+def one_line_in_a_process(argv) -> str:
+    """:func:`one_line` in a subprocess under a time and memory limit."""
+    import resource
+
+    def limit():
+        resource.setrlimit(resource.RLIMIT_AS, (2 * 2**30, 2 * 2**30))
+
+    done = subprocess.run([sys.executable, "-m", "stability", *argv], capture_output=True,
+                          text=True, cwd=ROOT, timeout=60, preexec_fn=limit)
+    lines = done.stderr.strip().splitlines()
+    assert done.returncode == 2, done.stderr[-2000:]
+    assert len(lines) == 1 and "Traceback" not in done.stderr, done.stderr[-2000:]
+    assert done.stdout == ""
+    return lines[0]
+
+
+@pytest.mark.parametrize("case", sorted(FILES))
+def test_study_file_refused_before_it_is_read(case, tmp_path, capsys):
+    given, fragments = FILES[case]
+    path = given(tmp_path) if callable(given) else study_file(tmp_path, given)
+    if not path.exists():
+        pytest.skip(f"{path} does not exist here")
+    argv = ["run", str(path), "--dry-run"]
+    line = one_line_in_a_process(argv) if case in UNENDING else one_line(capsys, argv)
+    for fragment in fragments:
+        assert fragment in line, (fragment, line)
+
+
+def test_override_beyond_a_float_names_its_key(capsys):
+    line = one_line(capsys, ["run", str(ROOT / "studies" / "tennis_racket.toml"), "--dry-run",
+                             "--set", f"integration.h={HUGE}"])
+    assert "(--set integration.h): [integration] h must be a number" in line, line
+
+
+def test_study_file_with_a_byte_order_mark_parses(tmp_path, capsys):
+    from stability.cli import main
+
+    path = study_file(tmp_path, "\ufeffstudy = 'tennis_racket'\n[ensemble]\nmembers = 7\n"
+                      .encode("utf-8"))
+    assert main(["run", str(path), "--dry-run"]) == 0
+    assert "members = 7" in capsys.readouterr().out
+
+
+#: kind -> (arguments making its count absurd, fragments of the line).
+MEMORY = {
+    "bat": (["--set", f"strikes.count={ABSURD}"], ["[strikes] count = " + ABSURD]),
+    "earth_wobble": (["--members", ABSURD], ["(--members): [wobble] members = " + ABSURD,
+                                             "the summaries of"]),
+    "engine_artefacts": (["--set", f"ensemble.members={ABSURD}"],
+                         ["[ensemble] members = " + ABSURD]),
+    "gyroscope": (["--set", f"spins.count={ABSURD}"], ["[spins] count = " + ABSURD]),
+    "rolling": (["--members", ABSURD], ["(--members): [launch] members = " + ABSURD]),
+    "rolling samples": (["--set", f"launch.samples={ABSURD}"],
+                        ["[launch] samples = " + ABSURD]),
+    "sleeping_top": (["--members", ABSURD], ["(--members): [ensemble] members = " + ABSURD]),
+    "twisting_racket": (["--set", f"ensemble.members={ABSURD}"],
+                        ["[ensemble] members = " + ABSURD]),
+}
+
+
+@pytest.mark.parametrize("case", sorted(MEMORY))
+def test_absurd_count_is_refused_by_the_memory_check(case, tmp_path, capsys):
+    args, fragments = MEMORY[case]
+    out = tmp_path / "out"
+    kind = case.split()[0]
+    line = one_line(capsys, ["run", str(ROOT / "studies" / f"{kind}.toml"), "--quick",
+                             "--out", str(out), "--no-progress", *args])
+    for fragment in [*fragments, "TiB in memory, above the", "a run may hold; "]:
+        assert fragment in line, (fragment, line)
+    assert "this machine has" in line or not hasattr(os, "sysconf")
+    assert not out.exists()
+
+
+def work_folder(tmp_path) -> Path:
+    """The work folder a stopped tennis-racket run leaves in ``tmp_path/out``, with a real
+    manifest (written by ChunkStore) and no chunk done."""
+    from stability.store import ChunkStore
+
+    work = tmp_path / "out" / ".stability-work-tennis_racket"
+    ChunkStore(work, {"run_ensemble": {"spin": 10.0}}, members=10, chunk_members=4)
+    return work
+
+
+def damaged(**fields):
+    """A change to a real manifest: its fields replaced (None: the field removed)."""
+    def change(manifest):
+        manifest.update(fields)
+        return manifest
+    return change
+
+
+#: name -> (what manifest.json holds: bytes, or a change to the real one; fragment).
+MANIFESTS = {
+    "a list": (b"[]", "(it holds a list, not an object)"),
+    "a number": (b"3", "(it holds 3 (a number), not an object)"),
+    "null": (b"null", "(it holds null, not an object)"),
+    "not UTF-8": (b'{"layout": "\xff"}', "(UnicodeDecodeError"),
+    "chunks as a string": (damaged(chunks="x"), "('chunks' is \"x\" (a string))"),
+    "negative members": (damaged(members=-1), "('members' is -1, below 0)"),
+    "fingerprint as a number": (damaged(fingerprint=3), "('fingerprint' is 3 (a number))"),
+    "attrs as a list": (damaged(attrs=[]), "('attrs' is a list)"),
+    "chunks that do not add up": (damaged(chunks=7), "but 10 members in chunks of 4 make 3"),
+    "another layout": (damaged(layout=99), "is of store layout 99, written by another version"),
+}
+
+
+@pytest.mark.parametrize("case", sorted(MANIFESTS))
+@pytest.mark.parametrize("command", ["run --resume", "run", "status"])
+def test_damaged_manifest_is_named_in_one_line(case, command, tmp_path, capsys):
+    import json
+
+    work = work_folder(tmp_path)
+    content, fragment = MANIFESTS[case]
+    manifest = work / "manifest.json"
+    if callable(content):
+        content = json.dumps(content(json.loads(manifest.read_text()))).encode()
+    manifest.write_bytes(content)
+    tennis = str(ROOT / "studies" / "tennis_racket.toml")
+    argv = {"run --resume": ["run", tennis, "--quick", "--out", str(tmp_path / "out"),
+                             "--no-progress", "--resume"],
+            "run": ["run", tennis, "--quick", "--out", str(tmp_path / "out"), "--no-progress"],
+            "status": ["status", str(tmp_path / "out")]}[command]
+    line = one_line(capsys, argv)
+    assert f"{manifest}" in line and fragment in line, line
+    assert manifest.read_bytes() == content  # nothing touched what it could not read
+
+
+@pytest.mark.parametrize("content", [b"[]", b"null", b"\xff\xfe",
+                                     b'{"state": ["x"], "chunks_done": "x", "pid": 1e400, '
+                                     b'"members_per_second": -1, "updated": "a\\nb"}'])
+def test_damaged_progress_is_shown_and_never_trusted(content, tmp_path, capsys):
+    from stability.cli import main
+    from stability.store import ChunkStore, read_progress
+
+    work = work_folder(tmp_path)
+    (work / "progress.json").write_bytes(content)
+    assert main(["status", str(tmp_path / "out")]) == 0
+    captured = capsys.readouterr()
+    assert f"{work / 'progress.json'} is damaged" in captured.out, captured.out
+    assert captured.err == "" and "a\nb" not in captured.out
+    progress = read_progress(work)
+    assert progress is None or progress == {}
+    # a stopped run with such a file is resumed: the file does not say it is running
+    ChunkStore(work, {"run_ensemble": {"spin": 10.0}}, members=10, chunk_members=4,
+               resume=True)
+
+
+def test_scheduler_that_never_answers_is_given_up_in_seconds(tmp_path):
+    """A server that takes the TCP connection and never speaks dask (another service on the
+    port): one line within the connect timeout, not minutes of waiting. A subprocess, so that
+    a wait that never ends fails the test instead of hanging the suite."""
+    import socket
+    import threading
+    import time
+
+    server = socket.socket()
+    server.bind(("127.0.0.1", 0))
+    server.listen(8)
+    taken = []
+
+    def accept():
+        with contextlib.suppress(OSError):
+            while True:
+                taken.append(server.accept()[0])  # and never a byte back
+
+    threading.Thread(target=accept, daemon=True).start()
+    address = f"tcp://127.0.0.1:{server.getsockname()[1]}"
+    out = tmp_path / "out"
+    t0 = time.monotonic()
+    try:
+        done = subprocess.run(
+            [sys.executable, "-m", "stability", "run", str(ROOT / "studies" / "tennis_racket.toml"),
+             "--quick", "--out", str(out), "--no-progress", "--scheduler", address],
+            capture_output=True, text=True, cwd=ROOT, timeout=60)
+    finally:
+        server.close()
+        for conn in taken:
+            conn.close()
+    assert time.monotonic() - t0 < 25
+    assert taken, "the server was never reached"
+    lines = done.stderr.strip().splitlines()
+    assert done.returncode == 2 and len(lines) == 1, done.stderr
+    assert f"cannot reach the dask scheduler at {address}" in lines[0], lines[0]
+    assert "did not answer as a dask scheduler" in lines[0], lines[0]
+    assert not out.exists() or not any(out.iterdir())
+
+
+def test_changed_spin_on_resume_leads_with_the_change(tmp_path):
+    store = tmp_path / "s"
+    run = dict(body=BODY, axis=2, epsilon=0.1, members=8, h=0.1, t_end=1.0, method="rk4",
+               summaries_only=True, store=store, chunk_members=4, progress=False)
+    stability.run_ensemble(spin=1.0, **run)
+    with pytest.raises(ValueError) as info:
+        stability.run_ensemble(spin=1.5, resume=True, **run)
+    message = str(info.value)
+    assert message.startswith(f"the settings changed since the run kept in {store} was started: "
+                              "run_ensemble.spin 1.0 there, 1.5 here; "), message
+    assert "run_ensemble.levels differs too" in message and "[1e-06" not in message
+    assert "\n" not in message
+
+
+def test_spin_beyond_any_step_is_named_not_computed(tmp_path, capsys):
+    line = one_line(capsys, ["run", str(ROOT / "studies" / "tennis_racket.toml"), "--quick",
+                             "--out", str(tmp_path / "out"), "--no-progress",
+                             "--set", "spin.rate=1e300"])
+    assert "spin = 1e+300 rad/s is out of range: rk4 needs h max|w| <= 2 rad" in line, line
+    assert "inf" not in line and "nan" not in line and "h <= 0 s" not in line, line

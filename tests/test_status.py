@@ -69,3 +69,14 @@ def test_max_angular_speed_is_the_largest_speed_of_the_exact_motion(w0):
     bound = max_angular_speed(BODY.moments, [w0])[0]
     assert reached <= bound * (1 + 1e-12)
     assert reached >= bound * (1 - 1e-3)
+
+
+@pytest.mark.parametrize("moments, spin", [(1e-200, 1.0), (1e200, 1.0), (1.0, 1e200),
+                                           (1e-160, 1e160)])
+def test_max_angular_speed_is_the_same_at_any_scale(moments, spin):
+    """The motion is the same for moments scaled alike and scales with the start, so the
+    bound is too: no square of a tiny moment or a huge spin turns it into inf or nan."""
+    w0 = np.array([[0.3, 1.0, 0.9], [0.01, 1.0, 0.02]])
+    reference = max_angular_speed(BODY.moments, w0)
+    scaled = max_angular_speed(BODY.moments * moments, w0 * spin)
+    np.testing.assert_allclose(scaled, reference * spin, rtol=1e-14)

@@ -475,7 +475,7 @@ def _show(value) -> str:
         return json.dumps(value)
     if isinstance(value, float):
         return repr(value)
-    if _beyond_a_float(value):  # thousands of digits would drown the message
+    if isinstance(value, int) and _beyond_a_float(value):  # its digits would drown the line
         return f"an integer of {math.floor(math.log10(abs(value))) + 1} digits"
     if isinstance(value, (list, tuple)):
         return "[" + ", ".join(_show(v) for v in value) + "]"
