@@ -110,6 +110,12 @@ class FolderLock:
     def held(self) -> bool:
         return self._fd is not None
 
+    def __del__(self):  # a lock nobody refers to any more is given back, as at exit
+        try:
+            self.release()
+        except Exception:  # noqa: BLE001 - the interpreter may be shutting down
+            pass
+
     def __enter__(self):
         return self.acquire()
 

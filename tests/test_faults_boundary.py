@@ -247,7 +247,7 @@ def test_a_store_held_by_another_process_is_refused_naming_it(tmp_path):
         import sys, time
         sys.path.insert(0, {str(ROOT)!r})
         from stability.lock import FolderLock
-        FolderLock({str(folder)!r}, {LOCK!r}).acquire()
+        held = FolderLock({str(folder)!r}, {LOCK!r}).acquire()
         print("held", flush=True)
         time.sleep(60)
         """)], stdout=subprocess.PIPE, text=True)
@@ -288,7 +288,7 @@ def test_a_stale_lock_file_of_another_user_does_not_block_a_run(request):
             import sys, time
             sys.path.insert(0, {str(ROOT)!r})
             from stability.lock import FolderLock
-            FolderLock({str(shared)!r}).acquire()
+            held = FolderLock({str(shared)!r}).acquire()
             print("held", flush=True)
             time.sleep(60)
             """)], stdout=subprocess.PIPE, text=True)
@@ -304,7 +304,7 @@ def test_a_stale_lock_file_of_another_user_does_not_block_a_run(request):
             "lock", {str(ROOT / "stability" / "lock.py")!r})
         lock = importlib.util.module_from_spec(spec)
         spec.loader.exec_module(lock)
-        lock.FolderLock({str(shared)!r}).acquire()
+        held = lock.FolderLock({str(shared)!r}).acquire()
         print("held", flush=True)
         time.sleep(60)
         """)], stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True, cwd=shared)
