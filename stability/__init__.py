@@ -16,6 +16,11 @@ Notation, used everywhere in the package:
 
 from importlib.metadata import PackageNotFoundError, version
 
+try:  # first: the modules below record it (chunk stores, Datasets)
+    __version__ = version("stability")
+except PackageNotFoundError:  # running from a source tree that was not installed
+    __version__ = "0.1.0"
+
 from .analytic import axis_stability, growth_rate, omega_squared, oscillation_frequency
 from .body import Part, RigidBody
 from .exact import exact_omega, flip_interval, full_period
@@ -24,10 +29,6 @@ from .integrators import METHODS, MethodSpec, method_spec
 from . import accessor  # noqa: F401  (registers the ds.stability accessor)
 from .estimators import flip_statistics, measured_frequency, measured_growth_rate, measured_omega_squared, member_regimes  # noqa: E501
 
-try:
-    __version__ = version("stability")
-except PackageNotFoundError:  # running from a source tree that was not installed
-    __version__ = "0.1.0"
 
 __all__ = ["METHODS", "MethodSpec", "Part", "RigidBody", "__version__", "axis_stability",
            "exact_omega", "flip_interval", "full_period",

@@ -33,6 +33,7 @@ from .body import canonical_frame, from_canonical, to_canonical
 from .checks import positive_int, real_array
 from .engine import propagate_groups
 from .integrators import method_spec
+from .scene_ensemble import GroupedRun, propagate_stored
 from .scenes import SCENES
 
 #: Initial attitude when none is given: the body axes coincide with the space axes.
@@ -422,7 +423,7 @@ class AttitudeRuns:
 
 
 def propagate_attitudes(method, moments, m0, q0, h, n_steps, save_every=1, progress=None,
-                        label=None):
+                        label=None, stored=None):
     """Advance members each of its own body and step, with their attitudes, canonical frame.
 
     Parameters
@@ -443,6 +444,10 @@ def propagate_attitudes(method, moments, m0, q0, h, n_steps, save_every=1, progr
     progress : bool or None
     label : str, optional
         Progress bar label.
+    stored : dict, optional
+        Keyword arguments of :func:`stability.scene_ensemble.propagate_stored` (``store``,
+        ``resume``, ``scheduler`` ...): the run goes chunk by chunk into a store, resumable and
+        on dask; by default in one piece here. The result is the same, bitwise.
 
     Returns
     -------
@@ -474,7 +479,8 @@ def propagate_attitudes(method, moments, m0, q0, h, n_steps, save_every=1, progr
     x = np.concatenate([m0, q0], axis=1)
     params = np.array([spec.params(I, hh) for I, hh in zip(moments, h)])
     sizes = np.ones(x.shape[0], dtype=np.int64)
-    run = propagate_groups(SCENES["free_body_attitude"], spec, x, params, sizes, h, n_steps,
-                           save_every=save_every, progress=progress, label=label)
+    run = propagate_stored(GroupedRun("free_body_attitude", spec.name, x, params, sizes, h,
+                                      n_steps, save_every=save_every, label=label),
+                           progress=progress, **(stored or {}))
     saved = np.concatenate([x[:, None, :], run.saved], axis=1)
     return AttitudeRuns(spec, moments, h, save_every, saved, run)

@@ -70,7 +70,7 @@ def tossed_members(moments, members, spin, epsilon_range, shape_scatter, seed=0)
 
 
 def measure_twisting(moments, w0, *, method="lp8", steps_per_period=2000, save_every=4,
-                     epsilon=None, progress=None) -> xr.Dataset:
+                     epsilon=None, progress=None, stored=None) -> xr.Dataset:
     """Montgomery's angle and the twist of each member, from a run and exactly.
 
     Parameters
@@ -89,6 +89,10 @@ def measure_twisting(moments, w0, *, method="lp8", steps_per_period=2000, save_e
         The nudges, stored with the members.
     progress : bool or None, optional
         Progress bar; ``None`` shows one when the run is expected to take long.
+    stored : dict, optional
+        Keyword arguments of :func:`stability.scene_ensemble.propagate_stored` (``store``,
+        ``resume``, ``scheduler`` ...): the run goes chunk by chunk into a store, resumable and
+        on dask; by default in one piece here. The result is the same, bitwise.
 
     Returns
     -------
@@ -107,7 +111,7 @@ def measure_twisting(moments, w0, *, method="lp8", steps_per_period=2000, save_e
     runs = propagate_attitudes(method, moments, moments * w0, np.tile(IDENTITY, (n, 1)),
                                period / steps_per_period, 2 * steps_per_period,
                                save_every=save_every, progress=progress,
-                               label=f"tossed bodies ({method})")
+                               label=f"tossed bodies ({method})", stored=stored)
     run_wall = time.perf_counter() - t_start
     exact = exact_angles(motions, period)
     ran = run_angles(runs, period, exact["flip_time"])  # the same flip: nearest the exact one

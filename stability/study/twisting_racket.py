@@ -17,7 +17,8 @@ import numpy as np
 
 from .config import (
     MEMBER_BYTES, ConfigError, Key, Schema, Section, StudyKind, StudySummary, check_memory,
-    output_files, output_section, tossed_body_sections, write_outputs,
+    check_run, output_files, output_section, run_section, stored_run, tossed_body_sections,
+    write_outputs,
 )
 
 BODY, RATE = tossed_body_sections()
@@ -54,6 +55,7 @@ SCHEMA = Schema(
             Key("claim", "float", 1e-8, "both angles: |run - independent route|", unit="rad",
                 minimum=0.0, exclusive_minimum=True),
         )),
+        run_section(),
         output_section(NAME, FIGURES),
     ),
 )
@@ -89,12 +91,16 @@ def check(config: dict, source: str) -> dict:
                  [("ensemble", "members"), ("integration", "steps_per_period")],
                  f"the attitudes of {members} members at {saved} times each",
                  "use fewer members or steps per period, or a larger save_every")
+    check_run(config, source)
     return config
 
 
 def run(config: dict, out_dir: Path, *, overwrite=False, threads=None, progress=None,
-        history=None) -> StudySummary:
-    """Toss the ensemble, measure both angles both ways, save the Dataset and the figures."""
+        history=None, work=None, resume=False, scheduler=None) -> StudySummary:
+    """Toss the ensemble, measure both angles both ways, save the Dataset and the figures.
+
+    The bodies run chunk by chunk into the folder ``work`` (so that a stopped run continues
+    with ``resume``), on ``scheduler`` (default: the file's ``[run] scheduler``)."""
     from ..body import RigidBody
     from ..figures.twisting import flip_figure, twist_figure
     from ..threads import numba_threads
@@ -110,7 +116,8 @@ def run(config: dict, out_dir: Path, *, overwrite=False, threads=None, progress=
         ds = measure_twisting(moments, w0, method=integration["method"],
                               steps_per_period=integration["steps_per_period"],
                               save_every=integration["save_every"], epsilon=epsilon,
-                              progress=progress)
+                              progress=progress,
+                              stored=stored_run(config, work, resume, scheduler, threads))
     ds, files = write_outputs(ds, config, out_dir, NAME,
                               {"twist": twist_figure, "flip": flip_figure},
                               overwrite=overwrite, history=history, threads=threads,
@@ -169,4 +176,5 @@ STUDY = StudyKind(
     outputs=outputs,
     check=check,
     quick=QUICK,
+    resumable=True,
 )
