@@ -23,6 +23,7 @@ from .earth import ARCSEC, CHANDLER_PERIOD_DAYS, DAY, euler_period, oblate_euler
 from .ensemble import completed, run_ensemble
 from .estimators import measured_frequency
 from .integrate import integrate
+from .scene_ensemble import DEFAULT_CHUNKS
 
 #: Dimension of the cone member's samples.
 CONE_TIME = "cone_time"
@@ -34,7 +35,8 @@ def _angle(u, v):
 
 
 def measure_free_wobble(body, spin, offset, *, members=16, periods=3.0, steps_per_turn=20,
-                        method="lp4", seed=0, cone_samples=1000, progress=None) -> xr.Dataset:
+                        method="lp4", seed=0, cone_samples=1000, progress=None,
+                        stored=None) -> xr.Dataset:
     """Measured free-wobble period of a body spun about its largest axis, and its cones.
 
     Parameters
@@ -59,6 +61,11 @@ def measure_free_wobble(body, spin, offset, *, members=16, periods=3.0, steps_pe
         Samples of the cone member over one period (about).
     progress : bool, optional
         Progress bars of the ensemble and of the cone member's run.
+    stored : dict, optional
+        ``store``, ``resume``, ``scheduler``, ``chunk_members`` and ``threads`` of
+        :func:`stability.run_ensemble` for the ensemble: it then runs chunk by chunk into
+        that store (in :data:`~stability.scene_ensemble.DEFAULT_CHUNKS` chunks unless
+        ``chunk_members`` says otherwise), resumable and on dask, bitwise the run in one piece.
 
     Returns
     -------
@@ -70,8 +77,11 @@ def measure_free_wobble(body, spin, offset, *, members=16, periods=3.0, steps_pe
     h = 2.0 * math.pi / (spin * steps_per_turn)
     t_euler = euler_period(moments, spin)
     steps = int(math.ceil(periods * t_euler / h))
+    stored = dict(stored or {})
+    if stored.get("store") is not None and stored.get("chunk_members") is None:
+        stored["chunk_members"] = max(1, math.ceil(members / DEFAULT_CHUNKS))
     ens = run_ensemble(body, 3, spin, offset, members, h=h, t_end=steps * h, seed=seed,
-                       method=method, summaries_only=True, progress=progress)
+                       method=method, summaries_only=True, progress=progress, **stored)
     completed(ens)
     freq = measured_frequency(ens)
     period = 2.0 * math.pi / float(freq.oscillation_frequency)

@@ -14,8 +14,8 @@ import time
 from pathlib import Path
 
 from .config import (
-    Key, Schema, Section, StudyKind, StudySummary, check_memory, output_files,
-    output_section, write_outputs,
+    Key, Schema, Section, StudyKind, StudySummary, check_memory, check_run, output_files,
+    output_section, run_section, stored_run, write_outputs,
 )
 
 NAME = "earth_wobble"
@@ -58,6 +58,7 @@ SCHEMA = Schema(
                 choices=_attitude_methods),
             Key("steps_per_turn", "int", 20, "steps per sidereal day", minimum=4),
         )),
+        run_section(),
         output_section(NAME, (FIGURE,)),
     ),
 )
@@ -90,12 +91,16 @@ def check(config: dict, source: str) -> dict:
     members = config["wobble"]["members"]
     check_memory(config, source, ensemble_memory(members, 0), [("wobble", "members")],
                  f"the summaries of {members} members", "use fewer members")
+    check_run(config, source)
     return config
 
 
 def run(config: dict, out_dir: Path, *, overwrite=False, threads=None, progress=None,
-        history=None) -> StudySummary:
-    """Measure the wobble, save the Dataset, draw the cones; the period against Euler's."""
+        history=None, work=None, resume=False, scheduler=None) -> StudySummary:
+    """Measure the wobble, save the Dataset, draw the cones; the period against Euler's.
+
+    The ensemble runs chunk by chunk into the folder ``work`` (so that a stopped run continues
+    with ``resume``), on ``scheduler`` (default: the file's ``[run] scheduler``)."""
     from ..body import RigidBody
     from ..earth import ARCSEC, earth_moments
     from ..figures.earth import wobble_cones_figure
@@ -110,7 +115,8 @@ def run(config: dict, out_dir: Path, *, overwrite=False, threads=None, progress=
     with numba_threads(threads):
         ds = measure_free_wobble(body, spin, w["offset"] * ARCSEC, members=w["members"],
                                  periods=w["periods"], steps_per_turn=integ["steps_per_turn"],
-                                 method=integ["method"], seed=w["seed"], progress=progress)
+                                 method=integ["method"], seed=w["seed"], progress=progress,
+                                 stored=stored_run(config, work, resume, scheduler, threads))
     ds, files = write_outputs(ds, config, out_dir, NAME, {FIGURE: wobble_cones_figure},
                               overwrite=overwrite, history=history, threads=threads,
                               attrs={"sidereal_day": e["sidereal_day"]})
@@ -147,4 +153,5 @@ STUDY = StudyKind(
     check=check,
     quick=QUICK,
     members_key=("wobble", "members"),
+    resumable=True,
 )
