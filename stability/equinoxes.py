@@ -413,7 +413,7 @@ def nutation_frequencies(model):
 
 def measure_equinoxes(*, years=100.0, members=4, steps_per_day=4, method="lp4",
                       averaged_step_days=5.0, cycle_years=30000.0, seed=0,
-                      progress=None):
+                      progress=None, stored=None):
     """Precession and nutation of the Earth's axis, full and orbit-averaged, with the shares.
 
     Parameters
@@ -437,6 +437,11 @@ def measure_equinoxes(*, years=100.0, members=4, steps_per_day=4, method="lp4",
         (:func:`full_start`); member 0 starts at the J2000 phases whatever the seed.
     progress : bool, optional
         Progress bars.
+    stored : dict, optional
+        Keyword arguments of :func:`stability.scene_ensemble.propagate_stored` (``store``,
+        ``resume``, ``scheduler`` ...): the three runs go chunk by chunk into their own
+        folders of that store, resumable and on dask; by default in one piece here. The
+        result is the same, bitwise.
 
     Returns
     -------
@@ -449,7 +454,7 @@ def measure_equinoxes(*, years=100.0, members=4, steps_per_day=4, method="lp4",
     import xarray as xr
 
     from . import conventions as cv
-    from .engine import propagate_groups
+    from .scene_ensemble import GroupedRun, propagate_stored, sub_store
     from .scenes import SCENES
     from .scenes.lunisolar_earth import figure_axes
 
@@ -470,9 +475,11 @@ def measure_equinoxes(*, years=100.0, members=4, steps_per_day=4, method="lp4",
             h_rows.append(step)
             n_rows.append(n_steps if step == h else n_steps // 2)
     t0 = _time.perf_counter()
-    run = propagate_groups(full, spec, np.array(rows), np.array(p_rows), np.ones(len(rows)),
-                           np.array(h_rows), np.array(n_rows), save_every=steps_per_day,
-                           progress=progress, label=f"Earth under Sun and Moon ({method})")
+    run = propagate_stored(
+        GroupedRun(full.name, spec.name, np.array(rows), np.array(p_rows), np.ones(len(rows)),
+                   np.array(h_rows), np.array(n_rows), save_every=steps_per_day,
+                   label=f"Earth under Sun and Moon ({method})"),
+        progress=progress, **sub_store(stored, "full"))
     wall = _time.perf_counter() - t0
     samples = np.concatenate([np.array(rows)[:, None, :], run.saved], axis=1)
     t_full = np.arange(samples.shape[1]) * DAY
@@ -485,8 +492,10 @@ def measure_equinoxes(*, years=100.0, members=4, steps_per_day=4, method="lp4",
     pa = [avg_spec.params(averaged_parameters(*_switched(orbits[k], torque)), ha)
           for torque in TORQUES for k in range(members)]
     t1 = _time.perf_counter()
-    run_a = propagate_groups(averaged, avg_spec, xa, np.array(pa), np.ones(len(pa)), ha, na,
-                             save_every=1, progress=progress, label="orbit-averaged Earth (rk4)")
+    run_a = propagate_stored(
+        GroupedRun(averaged.name, avg_spec.name, xa, np.array(pa), np.ones(len(pa)), ha, na,
+                   save_every=1, label="orbit-averaged Earth (rk4)"),
+        progress=progress, **sub_store(stored, "averaged"))
     wall_averaged = _time.perf_counter() - t1
     samples_a = np.concatenate([xa[:, None, :], run_a.saved], axis=1)
     t_avg = np.arange(samples_a.shape[1]) * ha
@@ -518,10 +527,11 @@ def measure_equinoxes(*, years=100.0, members=4, steps_per_day=4, method="lp4",
     if cycle_years > 0:
         nc = int(round(cycle_years * 365.25 / averaged_step_days))
         every = max(1, int(round(365.25 / averaged_step_days)))
-        run_c = propagate_groups(averaged, avg_spec, xa[:1], np.array(pa[2 * members:2 * members
-                                                                         + 1]),
-                                 [1], ha, nc, save_every=every, progress=progress,
-                                 label="orbit-averaged Earth, full cycle (rk4)")
+        run_c = propagate_stored(
+            GroupedRun(averaged.name, avg_spec.name, xa[:1],
+                       np.array(pa[2 * members:2 * members + 1]), [1], ha, nc,
+                       save_every=every, label="orbit-averaged Earth, full cycle (rk4)"),
+            progress=progress, **sub_store(stored, "cycle"))
         cycle = np.concatenate([xa[:1, None, :], run_c.saved], axis=1)[0]
         t_cycle = np.arange(cycle.shape[0]) * every * ha
 

@@ -327,7 +327,6 @@ def test_output_folder_removed_while_writing_is_one_line(tmp_path):
 #: Studies that integrate in one piece: (study, label of its progress bar or the seconds to
 #: wait, arguments that make the run long enough to be stopped while it integrates).
 ONE_PIECE = {
-    "equinoxes": ("Earth under Sun and Moon", ["--set", "run.years=3000"]),
     "engine_artefacts": ("explicit_euler, h =", ["--set", "ensemble.members=400000"]),
     # No progress output on a pipe (its runs are short and timed): stopped 4 s into 110 s.
     "work_precision": (4.0, []),
@@ -347,6 +346,7 @@ RESUMED = {
     "twisting_racket": ["--set", "ensemble.members=256",
                         "--set", "integration.steps_per_period=4000"],
     "earth_wobble": ["--set", "wobble.members=1024", "--set", "integration.steps_per_turn=200"],
+    "equinoxes": ["--set", "run.years=80"],
     "gyroscope": ["--set", "integration.periods=200"],
     "sleeping_top": ["--members", "256"],
 }

@@ -351,21 +351,24 @@ def output_section(name: str, figures, extra=()) -> Section:
 
 def run_section(chunk_members: Key | None = None, extra=(),
                 title="how the members are cut into chunks, and where they run") -> Section:
-    """The ``[run]`` section of a study that resumes and scales: members per chunk (each
-    finished chunk is kept at once, so a stopped run continues with ``--resume``) and the
-    scheduler the chunks run on, then the ``extra`` keys. Check it with :func:`check_run`."""
+    """The ``[run]`` section of a study that resumes and scales (:func:`run_keys`), then the
+    ``extra`` keys. Check it with :func:`check_run`."""
+    return Section("run", title, (*run_keys(chunk_members), *extra))
+
+
+def run_keys(chunk_members: Key | None = None) -> tuple:
+    """The keys of a study that resumes and scales: members per chunk (each finished chunk is
+    kept at once, so a stopped run continues with ``--resume``) and the scheduler the chunks
+    run on; for a ``[run]`` section of a study's own (:func:`run_section`)."""
     if chunk_members is None:
         chunk_members = Key("chunk_members", "int", 0,
                             "members per chunk: each finished chunk is kept at once, so a "
                             "stopped run continues from there (stability run --resume); 0 cuts "
                             "the run into 8 chunks", minimum=0)
-    return Section("run", title, (
-        chunk_members,
-        Key("scheduler", "str", "",
-            "where the chunks run: '' this machine, 'dask' a local dask.distributed "
-            "cluster, or a scheduler address such as 'tcp://host:8786'"),
-        *extra,
-    ))
+    return (chunk_members,
+            Key("scheduler", "str", "",
+                "where the chunks run: '' this machine, 'dask' a local dask.distributed "
+                "cluster, or a scheduler address such as 'tcp://host:8786'"))
 
 
 def check_run(config: dict, source: str) -> None:

@@ -15,8 +15,8 @@ import time
 from pathlib import Path
 
 from .config import (
-    Key, Schema, Section, StudyKind, StudySummary, output_files, output_section,
-    write_outputs,
+    Key, Schema, Section, StudyKind, StudySummary, check_run, output_files, output_section,
+    run_keys, stored_run, write_outputs,
 )
 
 NAME = "equinoxes"
@@ -33,12 +33,13 @@ SCHEMA = Schema(
     top=(Key("title", "str", "Precession of the equinoxes of a rigid Earth",
              "one line describing the run (the Dataset's title)"),),
     sections=(
-        Section("run", "length and ensemble", (
+        Section("run", "length and ensemble, how it is cut into chunks and where they run", (
             Key("years", "float", 100.0, "run length (at least a century: the 18.6-year terms)",
                 unit="yr", minimum=40.0, maximum=10000.0),
             Key("members", "int", 4, "members per torque (0: J2000; others: random orbital "
                 "phases)", minimum=1, maximum=1000),
             Key("seed", "int", 0, "seed of the phases", minimum=0),
+            *run_keys(),
         )),
         Section("integration", "the two models' integrators", (
             Key("method", "str", "lp4", "a method of the full model", choices=_methods),
@@ -67,9 +68,18 @@ def outputs(config: dict) -> list[str]:
     return output_files(config, (FIGURE,))
 
 
+def check(config: dict, source: str) -> dict:
+    """A scheduler that is this machine, a local cluster or an address."""
+    check_run(config, source)
+    return config
+
+
 def run(config: dict, out_dir: Path, *, overwrite=False, threads=None, progress=None,
-        history=None) -> StudySummary:
-    """Run both models, save the Dataset, draw the figure; the summary against published values."""
+        history=None, work=None, resume=False, scheduler=None) -> StudySummary:
+    """Run both models, save the Dataset, draw the figure; the summary against published values.
+
+    The runs go chunk by chunk into folders of ``work`` (so that a stopped run continues with
+    ``resume``), on ``scheduler`` (default: the file's ``[run] scheduler``)."""
     from ..equinoxes import measure_equinoxes
     from ..figures.equinoxes import equinoxes_figure
     from ..threads import numba_threads
@@ -81,7 +91,8 @@ def run(config: dict, out_dir: Path, *, overwrite=False, threads=None, progress=
                                steps_per_day=integ["steps_per_day"], method=integ["method"],
                                averaged_step_days=integ["averaged_step"],
                                cycle_years=integ["cycle_years"], seed=r["seed"],
-                               progress=progress)
+                               progress=progress,
+                               stored=stored_run(config, work, resume, scheduler, threads))
     ds, files = write_outputs(ds, config, out_dir, NAME, {FIGURE: equinoxes_figure},
                               overwrite=overwrite, history=history, threads=threads,
                               attrs={"claim": config["analysis"]["claim"]})
@@ -147,6 +158,8 @@ STUDY = StudyKind(
     schema=SCHEMA,
     run=run,
     outputs=outputs,
+    check=check,
     quick=QUICK,
     members_key=("run", "members"),
+    resumable=True,
 )
