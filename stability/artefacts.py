@@ -24,10 +24,10 @@ from .analytic import growth_rate, omega_squared
 from .attitude import IDENTITY, spatial_angular_momentum
 from .body import RigidBody
 from .dataset import storable_attrs
-from .engine import propagate_groups
 from .estimators import exact_flip_intervals, flip_estimate, omega_squared_estimate
 from .estimators import tracked_members
 from .integrators.engine_rules import ENGINE_RULES, body_state, world_state
+from .scene_ensemble import GroupedRun, propagate_stored, sub_store
 from .scenes import SCENES
 
 #: Tracked axes in the canonical frame: spin about axis 2, across it axes 1 and 3.
@@ -60,7 +60,7 @@ def rule_scene(rule: str) -> str:
     return "free_body" if rule == "exact" else "free_body_attitude"
 
 
-def run_rule(rule, moments, w0, h, t_end, *, save_every=0, progress=None):
+def run_rule(rule, moments, w0, h, t_end, *, save_every=0, progress=None, stored=None):
     """Run the members ``w0`` (N, 3, rad/s, canonical) of the body ``moments`` (canonical) with
     ``rule`` from the identity attitude, tracking flips; returns the Propagation, the final
     body angular momenta (N, 3) and attitudes (N, 4), and the saved body angular velocities
@@ -83,6 +83,10 @@ def run_rule(rule, moments, w0, h, t_end, *, save_every=0, progress=None):
         angular velocities are returned).
     progress : bool or None, optional
         Progress bar; ``None`` shows one when the run is expected to take long.
+    stored : dict, optional
+        Keyword arguments of :func:`stability.scene_ensemble.propagate_stored` (``store``,
+        ``resume``, ``scheduler`` ...): the run goes chunk by chunk into that store, resumable
+        and on dask; by default in one piece here. The result is the same, bitwise.
 
     Returns
     -------
@@ -108,10 +112,11 @@ def run_rule(rule, moments, w0, h, t_end, *, save_every=0, progress=None):
           "free_body_attitude": lambda: np.concatenate([m0, q0], axis=1)}[scene.name]()
     n_steps = int(round(t_end / h))
     spin = float(np.median(np.abs(w0[:, 1])))
-    prop = propagate_groups(scene, spec, x0, spec.params(moments, h)[None, :], [w0.shape[0]],
-                            h, n_steps, save_every=save_every, axes=_AXES,
-                            levels=(LEVELS * spin)[None, :], progress=progress,
-                            label=f"{rule}, h = {h:.3g} s")
+    prop = propagate_stored(
+        GroupedRun(scene.name, spec.name, x0, spec.params(moments, h)[None, :], [w0.shape[0]],
+                   h, n_steps, save_every=save_every, axes=_AXES,
+                   levels=(LEVELS * spin)[None, :], label=f"{rule}, h = {h:.3g} s"),
+        progress=progress, **(stored or {}))
 
     def body(x):
         if scene.name == "engine_body":
@@ -126,7 +131,7 @@ def run_rule(rule, moments, w0, h, t_end, *, save_every=0, progress=None):
     return prop, m, q, saved_w
 
 
-def measure_rule(rule, moments, w0, h, t_end, progress=None) -> dict:
+def measure_rule(rule, moments, w0, h, t_end, progress=None, stored=None) -> dict:
     """The numbers of one rule at one step (see the module docstring); scalars.
 
     Parameters
@@ -143,6 +148,8 @@ def measure_rule(rule, moments, w0, h, t_end, progress=None) -> dict:
         Horizon in s.
     progress : bool or None, optional
         The engine's progress bar (:func:`run_rule`); ``False`` shows none.
+    stored : dict, optional
+        The run's store (:func:`run_rule`).
 
     Returns
     -------
@@ -153,7 +160,7 @@ def measure_rule(rule, moments, w0, h, t_end, progress=None) -> dict:
     """
     body = RigidBody(*moments, physical=False)
     spin = float(np.median(np.abs(w0[:, 1])))
-    prop, m, q, _ = run_rule(rule, moments, w0, h, t_end, progress=progress)
+    prop, m, q, _ = run_rule(rule, moments, w0, h, t_end, progress=progress, stored=stored)
     ok = prop.status == cv.STATUS_OK
     mem = tracked_members(prop.extras, w0, 2, spin, LEVELS * spin, prop.status)
     exact, asymptote = exact_flip_intervals(body, 2, w0)
@@ -255,7 +262,7 @@ def steps_for_accuracy(rule, moments, w0, t_end, h_max, tolerance=0.01, halvings
 
 
 def measure_artefacts(rules, moments, w0, steps, t_end, *, tolerance=0.01, search_members=64,
-                      halvings=12, trace_member=0, progress=None) -> xr.Dataset:
+                      halvings=12, trace_member=0, progress=None, stored=None) -> xr.Dataset:
     """Every rule at every step, the step each needs, and one member's spin-axis trace.
 
     Parameters
@@ -282,6 +289,11 @@ def measure_artefacts(rules, moments, w0, steps, t_end, *, tolerance=0.01, searc
     progress : bool or None, optional
         The engine's progress bars (shown for runs expected to take more than a few seconds);
         ``False`` shows none.
+    stored : dict, optional
+        Keyword arguments of :func:`stability.scene_ensemble.propagate_stored`: the run of
+        every rule at every step, and each rule's trace, goes into a folder of its own of that
+        store, resumable and on dask (the step searches, many short runs of a few members, run
+        here in one piece); by default all in one piece here. The result is the same, bitwise.
 
     Returns
     -------
@@ -292,7 +304,8 @@ def measure_artefacts(rules, moments, w0, steps, t_end, *, tolerance=0.01, searc
     table = {name: np.full((len(rules), len(steps)), np.nan) for name in _UNITS}
     for i, rule in enumerate(rules):
         for j, h in enumerate(steps):
-            for name, value in measure_rule(rule, moments, w0, h, t_end, progress).items():
+            for name, value in measure_rule(rule, moments, w0, h, t_end, progress,
+                                            sub_store(stored, f"{rule}-{j}")).items():
                 table[name][i, j] = value
     searches = [steps_for_accuracy(rule, moments, w0[:search_members], t_end, steps[0],
                                    tolerance, halvings, progress=progress) for rule in rules]
@@ -302,7 +315,8 @@ def measure_artefacts(rules, moments, w0, steps, t_end, *, tolerance=0.01, searc
     traces = []
     for rule in rules:
         saved = run_rule(rule, moments, w0[trace_member:trace_member + 1], trace_h, t_end,
-                         save_every=1, progress=progress)[3]
+                         save_every=1, progress=progress,
+                         stored=sub_store(stored, f"{rule}-trace"))[3]
         traces.append(np.concatenate([w0[trace_member:trace_member + 1, 1], saved[0, :, 1]]))
     exact = exact_flip_intervals(RigidBody(*moments, physical=False), 2, w0)[0]
     spin = float(np.median(np.abs(w0[:, 1])))

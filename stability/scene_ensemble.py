@@ -29,8 +29,11 @@ from .engine.run import Propagation
 from .store import ChunkStore
 from .stream import stream_chunks
 
-#: Chunks a stored run is cut into by default (each one is kept as soon as it is finished).
+#: Chunks a stored run is cut into by default (each one is kept as soon as it is finished) ...
 DEFAULT_CHUNKS = 8
+#: ... each of at least this many member-steps: a chunk costs a few tens of milliseconds of
+#: files and launch, so short runs (many in a study, of a few members) stay whole.
+MIN_CHUNK_WORK = 10**7
 
 #: Dimension names of the chunk files.
 COMPONENT = "component"
@@ -164,7 +167,8 @@ def propagate_stored(run: GroupedRun, store=None, *, resume=False, scheduler=Non
     scheduler : str or distributed.Client, optional
         Run the chunks on dask.distributed (needs ``store``; :func:`stability.stream.run_streamed`).
     chunk_members : int, optional
-        Members per chunk; default: the run in :data:`DEFAULT_CHUNKS` chunks.
+        Members per chunk; default: the run in :data:`DEFAULT_CHUNKS` chunks, fewer where a
+        chunk would hold less than :data:`MIN_CHUNK_WORK` member-steps.
     threads : int, optional
         Numba threads for chunks run in this process.
     progress : bool, optional
@@ -187,7 +191,9 @@ def propagate_stored(run: GroupedRun, store=None, *, resume=False, scheduler=Non
         return run.propagate(progress)
     n = run.members
     if chunk_members is None:
-        chunk_members = max(1, math.ceil(n / DEFAULT_CHUNKS))
+        work = float(np.sum(run.sizes * run.n_steps))
+        chunk_members = max(1, math.ceil(n / min(DEFAULT_CHUNKS,
+                                                 max(1, int(work // MIN_CHUNK_WORK)))))
     identity = {"grouped_run": run.identity(), "software": f"stability {__version__}"}
     chunks = ChunkStore(store, identity, n, chunk_members, resume=resume)
     try:

@@ -260,8 +260,8 @@ def write_chunk(ds: xr.Dataset, path, compress: bool, fingerprint: str) -> None:
 
 def find_stores(folder) -> list[Path]:
     """The stores in ``folder``, sorted: itself if it is one, else the stores among its
-    folders and inside its work folders (``.stability-work-*``: a study that makes several
-    runs keeps a store per run there). Links are not followed."""
+    folders and anywhere inside its work folders (``.stability-work-*``: a study that makes
+    several runs keeps a store per run there). Links are not followed."""
     folder = Path(folder)
     if (folder / MANIFEST).is_file():
         return [folder]
@@ -270,7 +270,10 @@ def find_stores(folder) -> list[Path]:
         if (sub / MANIFEST).is_file():
             found.append(sub)
         elif sub.name.startswith(".stability-work-"):
-            found += [store for store in _real_folders(sub) if (store / MANIFEST).is_file()]
+            for top, folders, files in os.walk(sub):  # os.walk follows no link
+                folders.sort()
+                if MANIFEST in files:
+                    found.append(Path(top))
     return found
 
 

@@ -364,7 +364,8 @@ def run_keys(chunk_members: Key | None = None) -> tuple:
         chunk_members = Key("chunk_members", "int", 0,
                             "members per chunk: each finished chunk is kept at once, so a "
                             "stopped run continues from there (stability run --resume); 0 cuts "
-                            "the run into 8 chunks", minimum=0)
+                            "a run into at most 8 chunks of at least 1e7 member-steps each",
+                            minimum=0)
     return (chunk_members,
             Key("scheduler", "str", "",
                 "where the chunks run: '' this machine, 'dask' a local dask.distributed "

@@ -18,7 +18,8 @@ import numpy as np
 
 from .config import (
     MEMBER_BYTES, ConfigError, Key, Schema, Section, StudyKind, StudySummary, check_memory,
-    output_files, output_section, tossed_body_sections, write_outputs,
+    check_run, output_files, output_section, run_section, stored_run, tossed_body_sections,
+    write_outputs,
 )
 
 BODY, RATE = tossed_body_sections()
@@ -59,6 +60,7 @@ SCHEMA = Schema(
             Key("halvings", "int", 12, "search down to the first step / 2^halvings",
                 minimum=0, maximum=20),
         )),
+        run_section(),
         output_section(NAME, (FIGURE,)),
     ),
 )
@@ -103,12 +105,16 @@ def check(config: dict, source: str) -> dict:
                  [("ensemble", "members"), ("rules", "t_end")],
                  f"{members} members and {n_rules} traces of {trace:.0f} steps",
                  "use fewer members or a shorter t_end")
+    check_run(config, source)
     return config
 
 
 def run(config: dict, out_dir: Path, *, overwrite=False, threads=None, progress=None,
-        history=None) -> StudySummary:
-    """Step the ensemble with every rule at every frame rate; save the Dataset and the figure."""
+        history=None, work=None, resume=False, scheduler=None) -> StudySummary:
+    """Step the ensemble with every rule at every frame rate; save the Dataset and the figure.
+
+    Every run goes chunk by chunk into a folder of its own in ``work`` (so that a stopped run
+    continues with ``resume``), on ``scheduler`` (default: the file's ``[run] scheduler``)."""
     from ..artefacts import measure_artefacts
     from ..body import RigidBody
     from ..ensemble import perturbed_starts
@@ -126,7 +132,8 @@ def run(config: dict, out_dir: Path, *, overwrite=False, threads=None, progress=
         ds = measure_artefacts(rules["engine"] + rules["methods"], moments, w0, steps,
                                rules["t_end"], tolerance=analysis["tolerance"],
                                search_members=min(analysis["search_members"], ens["members"]),
-                               halvings=analysis["halvings"], progress=progress)
+                               halvings=analysis["halvings"], progress=progress,
+                               stored=stored_run(config, work, resume, scheduler, threads))
     ds, files = write_outputs(ds, config, out_dir, NAME, {FIGURE: artefacts_figure},
                               overwrite=overwrite, history=history, threads=threads,
                               attrs={"body": body.name})
@@ -170,4 +177,5 @@ STUDY = StudyKind(
     outputs=outputs,
     check=check,
     quick=QUICK,
+    resumable=True,
 )
