@@ -19,7 +19,6 @@ from __future__ import annotations
 
 import contextlib
 import math
-import time
 
 import numpy as np
 import xarray as xr
@@ -143,12 +142,14 @@ def map_runs(specs, steps, n_shapes: int, bias_check: bool = True, bias_stride: 
 
 
 def measure_map(bodies, omega2, t_end, levels, specs, runs, *, spin, epsilon, members, seed,
-                low_factor, high_fraction, progress=None, checkpoint=None):
+                low_factor, high_fraction, progress=None, checkpoint=None, scheduler=None,
+                threads=None):
     """Run every ensemble of the map and keep its estimates.
 
     Every (shape, axis) runs ``members`` starts ``spin e_a`` nudged by ``epsilon spin`` in the
     same random perpendicular directions (:func:`stability.ensemble.perturbed_starts` with
-    ``seed``), summaries-only, for ``t_end`` rounded up to whole steps.
+    ``seed``), summaries-only, for ``t_end`` rounded up to whole steps. Each entry of ``runs``
+    is one batch (:class:`MapBatches`), the estimates of each batch independent of the others'.
 
     Parameters
     ----------
@@ -171,6 +172,11 @@ def measure_map(bodies, omega2, t_end, levels, specs, runs, *, spin, epsilon, me
     checkpoint : stability.store.ChunkStore, optional
         One chunk per entry of ``runs``: the estimates of each finished batch are kept there,
         and batches found there are not run again (``stability run --resume``).
+    scheduler : str or distributed.Client, optional
+        Run the batches as tasks of a dask.distributed cluster (needs ``checkpoint``:
+        :func:`stability.stream.stream_chunks`).
+    threads : int, optional
+        Numba threads for the batches run in this process.
 
     Returns
     -------
@@ -184,55 +190,30 @@ def measure_map(bodies, omega2, t_end, levels, specs, runs, *, spin, epsilon, me
     KeyboardInterrupt
         When Ctrl-C stopped an ensemble.
     """
-    from .ensemble import completed, perturbed_starts, run_ensembles
     from .progress import progress_bar
+    from .stream import stream_chunks
 
-    # The same random directions for every ensemble about an axis (run_ensemble draws them so).
-    starts = {a: perturbed_starts(a, spin, epsilon, members, seed) for a in cv.AXES}
-
-    n_shapes = len(bodies)
-    exact_flip = {}  # (s, a) -> exact flip intervals and asymptote of the common starts
-
-    def exact_flips(s, a, w0):
-        if omega2[s, a - 1] >= 0:
-            return None, None
-        if not np.array_equal(w0, starts[a]):
-            return est.exact_flip_intervals(bodies[s], a, w0)
-        if (s, a) not in exact_flip:
-            exact_flip[s, a] = est.exact_flip_intervals(bodies[s], a, starts[a])
-        return exact_flip[s, a]
-
-    out, half = empty_estimates(len(specs), n_shapes)
+    job = MapBatches(bodies, omega2, t_end, levels, [spec.name for spec in specs], runs,
+                     spin=spin, epsilon=epsilon, members=members, seed=seed,
+                     low_factor=low_factor, high_fraction=high_fraction)
+    if checkpoint is not None:
+        stream_chunks(job, checkpoint, scheduler=scheduler, threads=threads, progress=progress,
+                      compress=False)
+        batches = (read_batch(checkpoint.path(j), len(job.cells(j))) for j in range(len(runs)))
+    elif scheduler is not None:
+        raise ValueError("a map on a dask scheduler needs a checkpoint store for its batches")
+    else:
+        batches = (job.batch(j) for j in range(len(runs)))
+    out, half = empty_estimates(len(specs), len(bodies))
     first_exact = {}
-    total = sum(len(shapes) for _, _, shapes, _ in runs) * 3
     member_steps, loop_time = 0, 0.0
-    started = time.time()
-    # Every ensemble of one method and step in one batch: all cores busy, each ensemble bitwise
-    # what it gives alone.
-    bar = progress_bar(total, progress, "stability_map", unit="ensemble")
+    total = sum(len(shapes) for _, _, shapes, _ in runs) * 3
+    bar = progress_bar(total, progress if checkpoint is None else False, "stability_map",
+                       unit="ensemble")
     with contextlib.closing(bar):  # closed however the loop ends, Ctrl-C included
-        for j, (i, h, shapes, is_half) in enumerate(runs):
-            cells = [(s, a) for s in shapes for a in cv.AXES]
-            if checkpoint is not None and checkpoint.verify(j):  # done by an earlier, stopped run
-                batch = read_batch(checkpoint.path(j), len(cells))
-            else:
-                ensembles = run_ensembles([
-                    dict(body=bodies[s], axis=int(a), spin=spin, epsilon=epsilon, members=members,
-                         h=h, t_end=max(1, int(math.ceil(t_end[s, a - 1] / h - 1e-9))) * h,
-                         seed=seed, method=specs[i].name, summaries_only=True, levels=levels)
-                    for s, a in cells], progress=False, datasets=False)
-                completed(*ensembles)  # Ctrl-C stopped the batch: stop the map
-                estimates = batch_estimates(
-                    ensembles, [omega2[s, a - 1] for s, a in cells],
-                    [exact_flips(s, a, run.members.w0) for (s, a), run in zip(cells, ensembles)],
-                    low_factor=low_factor, high_fraction=high_fraction)
-                batch = [(run.member_steps, run.wall_time, x)
-                         for run, x in zip(ensembles, estimates)]
-                if checkpoint is not None:
-                    write_batch(checkpoint, j, batch)
-                    checkpoint.report("running", j + 1, j + 1, (j + 1) / (time.time() - started),
-                                      started)
-            for (s, a), (steps, seconds, x) in zip(cells, batch):
+        for j, batch in enumerate(batches):
+            i, h, shapes, is_half = runs[j]
+            for (s, a), (steps, seconds, x) in zip(job.cells(j), batch):
                 member_steps += steps
                 loop_time += seconds
                 store(half if is_half else out, (i, s, a - 1), x)
@@ -241,12 +222,85 @@ def measure_map(bodies, omega2, t_end, levels, specs, runs, *, spin, epsilon, me
                 elif not is_half and (s, a) in first_exact:
                     out["first_flip_time_relative_error"][i, s, a - 1] = (
                         first_flip_relative_error(x["first_flip_time"], first_exact[s, a]))
-            bar.update(len(cells))
+            bar.update(len(job.cells(j)))
     return out, half, {"member_steps": member_steps, "loop_time": loop_time}
 
 
+class MapBatches:
+    """The map's batches as a chunk job (:func:`stability.stream.stream_chunks`): chunk j is
+    batch j, every ensemble of one entry of ``runs`` run together (all cores busy, each
+    ensemble bitwise what it gives alone), kept as :func:`batch_dataset`.
+
+    Parameters are those of :func:`measure_map`, with the methods by name (a job goes to dask
+    workers by pickle).
+    """
+
+    def __init__(self, bodies, omega2, t_end, levels, methods, runs, *, spin, epsilon, members,
+                 seed, low_factor, high_fraction):
+        self.bodies, self.omega2, self.t_end, self.levels = bodies, omega2, t_end, levels
+        self.methods, self.runs = list(methods), list(runs)
+        self.spin, self.epsilon, self.members, self.seed = spin, epsilon, members, seed
+        self.low_factor, self.high_fraction = low_factor, high_fraction
+        self._exact_flip = {}  # (s, a) -> exact flip intervals of the common starts
+        self._starts = {}  # a -> the common starts about axis a
+
+    def __getstate__(self):
+        return {**self.__dict__, "_exact_flip": {}, "_starts": {}}
+
+    def cells(self, j: int) -> list:
+        """The (shape, axis) cells of batch ``j``, in order."""
+        return [(s, a) for s in self.runs[j][2] for a in cv.AXES]
+
+    def __call__(self, lo: int, hi: int, progress, threads) -> xr.Dataset:
+        return batch_dataset(self.batch(lo))
+
+    def batch(self, j: int) -> list:
+        """Per cell of batch ``j``: member-steps, loop seconds and :func:`ensemble_estimates`.
+
+        Raises KeyboardInterrupt when Ctrl-C stopped it.
+        """
+        from .ensemble import completed, run_ensembles
+
+        i, h, _, _ = self.runs[j]
+        cells = self.cells(j)
+        ensembles = run_ensembles([
+            dict(body=self.bodies[s], axis=int(a), spin=self.spin, epsilon=self.epsilon,
+                 members=self.members,
+                 h=h, t_end=max(1, int(math.ceil(self.t_end[s, a - 1] / h - 1e-9))) * h,
+                 seed=self.seed, method=self.methods[i], summaries_only=True,
+                 levels=self.levels)
+            for s, a in cells], progress=False, datasets=False)
+        completed(*ensembles)  # Ctrl-C stopped the batch: stop the map
+        estimates = batch_estimates(
+            ensembles, [self.omega2[s, a - 1] for s, a in cells],
+            [self._exact_flips(s, a, run.members.w0) for (s, a), run in zip(cells, ensembles)],
+            low_factor=self.low_factor, high_fraction=self.high_fraction)
+        return [(run.member_steps, run.wall_time, x) for run, x in zip(ensembles, estimates)]
+
+    def _exact_flips(self, s, a, w0):
+        from .ensemble import perturbed_starts
+
+        if self.omega2[s, a - 1] >= 0:
+            return None, None
+        if a not in self._starts:  # the same random directions for every ensemble about a
+            self._starts[a] = perturbed_starts(a, self.spin, self.epsilon, self.members,
+                                               self.seed)
+        starts = self._starts[a]
+        if not np.array_equal(w0, starts):
+            return est.exact_flip_intervals(self.bodies[s], a, w0)
+        if (s, a) not in self._exact_flip:
+            self._exact_flip[s, a] = est.exact_flip_intervals(self.bodies[s], a, starts)
+        return self._exact_flip[s, a]
+
+
 def write_batch(checkpoint, j: int, batch) -> None:
-    """Keep batch ``j``'s (member-steps, loop seconds, estimates) per cell as chunk ``j``.
+    """Keep batch ``j`` (:func:`batch_dataset`) as chunk ``j`` of ``checkpoint``, uncompressed,
+    with its checksum."""
+    checkpoint.write(j, batch_dataset(batch), compress=False)
+
+
+def batch_dataset(batch) -> xr.Dataset:
+    """A batch's (member-steps, loop seconds, estimates) per cell as one small Dataset.
 
     Each number is one netCDF variable over the batch's cells (per-member arrays: cells x
     members; arrays whose lengths differ between cells are kept end to end beside their
@@ -255,16 +309,10 @@ def write_batch(checkpoint, j: int, batch) -> None:
 
     Parameters
     ----------
-    checkpoint : stability.store.ChunkStore
-        The run's chunk store; the chunk is written uncompressed, with its checksum.
-    j : int
-        Index of the batch in ``runs`` (:func:`measure_map`), the chunk number.
     batch : list of (int, float, dict)
         Per cell (shape, axis) of the batch: member-steps, kernel loop time in s, and
         :func:`ensemble_estimates`.
     """
-    import xarray as xr
-
     columns: dict[str, list] = {}
     for steps, seconds, x in batch:
         for name, value in {"member_steps": steps, "loop_time": seconds, **x}.items():
@@ -280,7 +328,7 @@ def write_batch(checkpoint, j: int, batch) -> None:
         else:  # ragged: end to end, with each cell's length
             data[name] = ((f"{name}.all",), np.concatenate([v.ravel() for v in values]))
             data[f"{name}.length"] = (("cell",), np.array([v.size for v in values]))
-    checkpoint.write(j, xr.Dataset(data), compress=False)
+    return xr.Dataset(data)
 
 
 def read_batch(path, n_cells: int) -> list:

@@ -274,7 +274,7 @@ def test_sigterm_stops_a_run_started_with_ctrl_c_ignored(earlier, tmp_path, phas
     assert snapshot(out) == before and temporaries(out) == []
 
 
-def test_stopped_map_resumes_to_the_map_of_an_uninterrupted_run(tmp_path):
+def test_stopped_map_resumed_on_dask_is_the_map_of_an_uninterrupted_run(tmp_path):
     import numpy as np
     import xarray as xr
 
@@ -297,8 +297,8 @@ def test_stopped_map_resumes_to_the_map_of_an_uninterrupted_run(tmp_path):
     err = proc.communicate(timeout=120)[1].strip().splitlines()
     assert proc.returncode == 130 and "kept in" in err[-1] and "--resume" in err[-1], (err, sent)
     assert snapshot(stopped) == {} and temporaries(stopped) == []
-    resumed = subprocess.run(cmd(stopped, "--resume"), cwd=ROOT, capture_output=True,
-                             text=True, timeout=600)
+    resumed = subprocess.run(cmd(stopped, "--resume", "--scheduler", "dask"), cwd=ROOT,
+                             capture_output=True, text=True, timeout=600)
     assert resumed.returncode == 0, resumed.stderr
     with xr.open_dataset(tmp_path / "whole" / "stability_map.nc") as a, \
             xr.open_dataset(stopped / "stability_map.nc") as b:

@@ -366,10 +366,14 @@ def run_keys(chunk_members: Key | None = None) -> tuple:
                             "stopped run continues from there (stability run --resume); 0 cuts "
                             "a run into at most 8 chunks of at least 1e7 member-steps each",
                             minimum=0)
-    return (chunk_members,
-            Key("scheduler", "str", "",
-                "where the chunks run: '' this machine, 'dask' a local dask.distributed "
-                "cluster, or a scheduler address such as 'tcp://host:8786'"))
+    return chunk_members, scheduler_key()
+
+
+def scheduler_key(what: str = "the chunks") -> Key:
+    """The ``scheduler`` key of a ``[run]`` section: where ``what`` run."""
+    return Key("scheduler", "str", "",
+               f"where {what} run: '' this machine, 'dask' a local dask.distributed "
+               "cluster, or a scheduler address such as 'tcp://host:8786'")
 
 
 def check_run(config: dict, source: str) -> None:

@@ -24,8 +24,8 @@ from .. import stabilitymap as smap
 from ..shapes import amplitude_levels, analytic_omega_squared, edge_series, horizons, shape_grid
 from ..threads import numba_threads
 from .config import (
-    UNSET, ConfigError, Key, Schema, Section, StudyKind, StudySummary, check_memory,
-    method_names, output_files, output_section, write_outputs,
+    UNSET, ConfigError, Key, Schema, Section, StudyKind, StudySummary, check_memory, check_run,
+    method_names, output_files, output_section, scheduler_key, write_outputs,
 )
 
 NAME = "stability_map"
@@ -104,6 +104,8 @@ SCHEMA = Schema(
             Key("t_end", "float", 400.0, "length of the time series", unit="s",
                 minimum=0.0, exclusive_minimum=True),
         )),
+        Section("run", "where the batches of ensembles run",
+                (scheduler_key("the batches of ensembles"),)),
         output_section(NAME, FIGURES),
     ),
 )
@@ -146,6 +148,7 @@ def check(config: dict, source: str) -> dict:
             "window_high",
         )
     _check_memory(config, source)
+    check_run(config, source)
     return config
 
 
@@ -183,17 +186,16 @@ def run(config: dict, out_dir: Path, *, overwrite=False, threads=None, progress=
     """Run the map described by the resolved ``config``; write its files into ``out_dir``.
 
     Each finished batch of ensembles is kept in the folder ``work``, so that a stopped map
-    continues with ``resume`` (its batches run together on this machine: no ``scheduler``).
+    continues with ``resume``; the batches run on ``scheduler`` (default: the file's ``[run]
+    scheduler``), one task each.
     """
-    if scheduler is not None:
-        raise ValueError("the stability map runs its batches on this machine (all cores); "
-                         "drop --scheduler")
     from ..figures import stability_map as figures
 
     t_start = time.perf_counter()
     threads = config["integration"].get("threads") if threads is None else threads
     with numba_threads(threads):
-        ds, work = compute(config, progress=progress, work_dir=work, resume=resume)
+        ds, work = compute(config, progress=progress, work_dir=work, resume=resume,
+                           scheduler=scheduler or config["run"]["scheduler"] or None)
     compute_time = time.perf_counter() - t_start
     draw = (figures.map_figure, figures.scatter_figure, figures.flip_interval_figure,
             figures.edges_figure)
@@ -203,12 +205,13 @@ def run(config: dict, out_dir: Path, *, overwrite=False, threads=None, progress=
     return summarize(ds, out_dir, files, wall, compute_time, work)
 
 
-def compute(config: dict, progress=None, work_dir=None, resume=False):
+def compute(config: dict, progress=None, work_dir=None, resume=False, scheduler=None):
     """All the runs of the map; returns the Dataset and the work done (member-steps, s).
 
     With ``work_dir``, each finished batch of ensembles is kept there (a
     :class:`~stability.store.ChunkStore` of one batch per chunk) and, with ``resume``, batches
-    found there are not run again.
+    found there are not run again; with ``scheduler`` (needs ``work_dir``) the batches run as
+    tasks of that dask.distributed cluster.
 
     Returns
     -------
@@ -240,7 +243,8 @@ def compute(config: dict, progress=None, work_dir=None, resume=False):
         from .. import __version__
         from ..store import ChunkStore
 
-        identity = {"config": {k: v for k, v in config.items() if k not in ("output", "title")},
+        identity = {"config": {k: v for k, v in config.items()  # not where it runs
+                               if k not in ("output", "title", "run")},
                     "software": f"stability {__version__}"}
         identity["config"]["integration"] = {
             k: v for k, v in config["integration"].items() if k != "threads"}
@@ -250,7 +254,8 @@ def compute(config: dict, progress=None, work_dir=None, resume=False):
         out, half, work = smap.measure_map(
             bodies, omega2, t_end, levels, specs, runs, spin=spin, epsilon=eps,
             members=members, seed=seed, low_factor=ana["window_low"],
-            high_fraction=ana["window_high"], progress=progress, checkpoint=checkpoint)
+            high_fraction=ana["window_high"], progress=progress, checkpoint=checkpoint,
+            scheduler=scheduler)
     finally:
         if checkpoint is not None:
             checkpoint.close()
