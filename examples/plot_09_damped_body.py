@@ -80,9 +80,9 @@ print(f"in a flat spin at the end: {flat_spin.mean():.0%}")
 print(f"largest relative change of |H|: {np.max(np.abs(H / H[:, :1] - 1)):.1e}")
 
 # %%
-# Every body sheds energy down to that of the flat spin with its |H|, some sooner, some later
-# (the smaller the tip, the longer it stays near the minor axis). |H| changes only by RK4's
-# error, of order h^4.
+# Every body sheds energy down to that of the flat spin with its :math:`|H|`, some sooner, some
+# later (the smaller the tip, the longer it stays near the minor axis). :math:`|H|` changes only
+# by RK4's error, of order :math:`h^4`.
 fig, (top, bottom) = plt.subplots(2, 1, figsize=(7, 5), sharex=True, layout="constrained")
 top.plot(t, (E / E[:, :1])[::10].T, color="C0", lw=0.6, alpha=0.6)
 top.axhline(np.median(flat / E[:, 0]), color="k", ls="--", label="flat spin (major axis)")
