@@ -113,11 +113,10 @@ class GroupedRun:
         """What makes the run what it is, for a store's fingerprint: names and array digests."""
         arrays = {name: getattr(self, name) for name in
                   ("x0", "params", "sizes", "h", "n_steps", "axes", "levels")}
-        scene = self.scene if isinstance(self.scene, str) else self.scene.name
-        sources = {} if isinstance(self.scene, str) or not self.scene.source else {
-            "scene_source": self.scene.source}  # a user scene's edited code is another run
-        return {"scene": scene, **sources, "method": self.method,
-                "save_every": self.save_every,
+        name, source = ((self.scene, "") if isinstance(self.scene, str)
+                        else (self.scene.name, self.scene.source))
+        return {"scene": name, **({"scene_source": source} if source else {}),  # user's code
+                "method": self.method, "save_every": self.save_every,
                 "arrays": {name: None if a is None else _digest(a) for name, a in arrays.items()}}
 
     def part(self, lo: int, hi: int) -> "GroupedRun":

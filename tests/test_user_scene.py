@@ -27,12 +27,19 @@ ROOT = Path(__file__).resolve().parents[1]
 MODULE = '''
 """A harmonic oscillator, defined outside the package."""
 import numpy as np
-from stability import define_scene
+from numba import njit
+from stability import MethodSpec, define_scene
 
 
 def rhs(x, v, p):
     """x' = v, v' = -omega^2 x"""
     return v, -({factor} * p[0]) ** 2 * x
+
+
+@njit(inline="always")
+def euler_step(x, v, h, p, s):
+    """Explicit Euler: the increment h f(x)."""
+    return h * v, -h * ({factor} * p[0]) ** 2 * x, 0
 
 
 def energy(x, values):
@@ -50,7 +57,9 @@ def example(n, seed=0):
 
 
 OSCILLATOR = define_scene("user_oscillator", ["x", "v"], ["m", "m s-1"], rhs, ["omega"],
-                          invariants={{"energy": energy}}, exact=exact, example=example)
+                          invariants={{"energy": energy}}, exact=exact, example=example,
+                          methods=[MethodSpec(name="euler", title="explicit Euler", order=1,
+                                              step=euler_step)])
 '''
 
 #: A new process: imports the module from the folder argv[1], runs it, reports the cache.
@@ -123,6 +132,18 @@ def test_the_scenes_rk4_has_order_four_against_its_exact_solution(home):
     assert np.allclose(energy(run.x_final[40:], [1.3]), energy(x0, [1.3]), rtol=1e-6)
     assert scene.equations == "x' = v, v' = -omega^2 x"
     assert scene.parameters == ("omega",) and scene.units == ("m", "m s-1")
+
+
+def test_a_method_of_the_users_own_runs_with_the_scenes_parameters(home):
+    """A MethodSpec given to define_scene runs its own kernel, with the scene's parameter row
+    (its params left at the default, a body's, are the scene's)."""
+    _, scene = home
+    assert list(scene.methods) == ["rk4", "euler"]
+    spec = scene.method("euler")
+    p = spec.params({"omega": 2.0}, 0.1)
+    assert p.tolist() == [2.0]
+    run = propagate_groups(scene, spec, [[1.0, 0.5]], [p], [1], 0.1, 1, progress=False)
+    assert run.x_final.tolist() == [[1.0 + 0.1 * 0.5, 0.5 + -0.1 * (1.0 * 2.0) ** 2 * 1.0]]
 
 
 def test_a_stored_run_in_chunks_and_resumed_is_bitwise_the_run_in_one_piece(home, tmp_path):

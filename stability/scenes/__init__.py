@@ -45,7 +45,6 @@ def scene(name) -> Scene:
         ) from None
 
 
-
 # After scene(): the kernels' cache it reaches imports the engine, which looks scenes up with it.
 from .user import define_scene  # noqa: E402
 
