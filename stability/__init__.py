@@ -36,6 +36,7 @@ __all__ = ["METHODS", "MethodSpec", "Part", "RigidBody", "__version__", "axis_st
 
 from .ensemble import ensemble_memory, run_ensemble  # noqa: E402
 from .io import load, save  # noqa: E402
+from .scenes import define_scene  # noqa: E402
 
-__all__ += ["ensemble_memory", "load", "run_ensemble", "save"]
+__all__ += ["define_scene", "ensemble_memory", "load", "run_ensemble", "save"]
 __all__ += ["flip_statistics", "measured_frequency", "measured_growth_rate", "measured_omega_squared", "member_regimes"]  # noqa: E501

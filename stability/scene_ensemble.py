@@ -10,6 +10,12 @@ resumes with ``resume`` and only the missing chunks run, and the chunks run on d
 with ``scheduler``. The result is the same :class:`~stability.engine.Propagation`, bitwise,
 however the run was cut or wherever it ran: members are independent, and a chunk that holds a
 part of a group runs that part with the group's own row, step and step count.
+
+A scene of the user's own (:func:`stability.define_scene`) runs the same way. A dask worker
+finds it by reference: it imports the module that defines the scene, so that module must be
+importable there (a local cluster's workers start with this process's ``sys.path``; put the
+module's folder on remote workers' ``PYTHONPATH``), and it loads the compiled loop from the disk
+cache when the workers share it (``STABILITY_CACHE_DIR``).
 """
 
 from __future__ import annotations
@@ -26,6 +32,7 @@ from . import __version__
 from . import conventions as cv
 from .engine import propagate_groups
 from .engine.run import Propagation
+from .scenes import Scene
 from .store import ChunkStore
 from .stream import stream_chunks
 
@@ -48,8 +55,9 @@ class GroupedRun:
 
     Parameters
     ----------
-    scene : str
-        A registered scene's name.
+    scene : str or Scene
+        A registered scene's name, or a scene (one of the user's own is pickled by reference:
+        its module is imported where a chunk runs).
     method : str
         A method of the scene.
     x0 : ndarray, shape (N, n)
@@ -70,7 +78,7 @@ class GroupedRun:
         The progress bar's label.
     """
 
-    scene: str
+    scene: str | Scene
     method: str
     x0: np.ndarray
     params: np.ndarray
@@ -108,7 +116,10 @@ class GroupedRun:
         """What makes the run what it is, for a store's fingerprint: names and array digests."""
         arrays = {name: getattr(self, name) for name in
                   ("x0", "params", "sizes", "h", "n_steps", "axes", "levels")}
-        return {"scene": self.scene, "method": self.method, "save_every": self.save_every,
+        name, source = ((self.scene, "") if isinstance(self.scene, str)
+                        else (self.scene.name, self.scene.source))
+        return {"scene": name, **({"scene_source": source} if source else {}),  # user's code
+                "method": self.method, "save_every": self.save_every,
                 "arrays": {name: None if a is None else _digest(a) for name, a in arrays.items()}}
 
     def part(self, lo: int, hi: int) -> "GroupedRun":

@@ -9,6 +9,10 @@ long runs or when invariants matter.
 Attitude: classical RK4 on the joint system ``m' = m x I^-1 m``, ``q' = q (0, w) / 2``
 (``rk4_attitude_step``, the m part the same arithmetic as ``rk4_step``); order 4 for the attitude
 too; |q| is not kept exactly (it shrinks by O((h |w|)^6) per step).
+
+Any right-hand side: :func:`rk4_source` writes the same arithmetic as ``rk4_step`` for a state of
+any width and a right-hand side ``rhs(x_0, ..., x_{n-1}, p)`` (a scene of the user's own,
+:func:`stability.define_scene`).
 """
 
 from numba import njit
@@ -38,6 +42,52 @@ def rk4_step(m1, m2, m3, h, p, s):
         s * (a3 + 2.0 * (b3 + c3) + d3),
         0,
     )
+
+
+def rk4_source(width: int, rhs: str = "rhs", name: str = "rk4_step") -> str:
+    """Source of a step kernel ``name(x0, ..., x{n-1}, h, p, s)``: classical RK4 on ``x' = f(x)``.
+
+    ``f`` is the function called ``rhs`` where the text is placed,
+    ``rhs(x0, ..., x{n-1}, p) -> (dx0, ..., dx{n-1})``. The arithmetic is ``rk4_step``'s::
+
+        a = f(x), b = f(x + h a / 2), c = f(x + h b / 2), d = f(x + h c),
+        increment = h / 6 (a + 2 (b + c) + d)
+
+    Parameters
+    ----------
+    width : int
+        Numbers in the state (``n``).
+    rhs, name : str
+        Names of the right-hand side and of the kernel in the module the text goes into.
+
+    Returns
+    -------
+    str
+        An ``njit(inline="always")`` function returning the increments and 0 solver iterations.
+    """
+    xs = [f"x{i}" for i in range(width)]
+
+    def stage(out, shift):
+        args = xs if shift is None else [f"{x} + {shift[1]} * {shift[0]}{i}"
+                                         for i, x in enumerate(xs)]
+        names = ", ".join(f"{out}{i}" for i in range(width)) + ("," if width == 1 else "")
+        return f"    {names} = {rhs}({', '.join(args)}, p)"
+
+    total = ", ".join(f"w * (a{i} + 2.0 * (b{i} + c{i}) + d{i})" for i in range(width))
+    return "\n".join([
+        '@njit(inline="always")',
+        f"def {name}({', '.join(xs)}, h, p, s):",
+        f'    """One classical RK4 step of x\' = {rhs}(x, p): the increment of x and 0 solver '
+        'iterations."""',
+        stage("a", None),
+        "    hh = 0.5 * h",
+        stage("b", ("a", "hh")),
+        stage("c", ("b", "hh")),
+        stage("d", ("c", "h")),
+        "    w = h / 6.0",
+        f"    return {total}, 0",
+        "",
+    ])
 
 
 @njit(inline="always")

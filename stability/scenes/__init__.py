@@ -3,7 +3,8 @@
 ``SCENES`` maps a short lowercase name to a :class:`~stability.scenes.spec.Scene`;
 ``scene(name)`` looks one up and names the known ones when it is missing. To add a scene, write
 one module beside these (copy ``free_body.py``; the checklist is in ``spec.py``) and add it to
-``_ALL`` below.
+``_ALL`` below. A scene in a module of the user's own comes from ``define_scene`` (``user.py``)
+and is not registered: it is passed as it is.
 """
 
 from .engine_body import ENGINE_BODY
@@ -44,4 +45,7 @@ def scene(name) -> Scene:
         ) from None
 
 
-__all__ = ["SCENES", "Scene", "scene"]
+# After scene(): the kernels' cache it reaches imports the engine, which looks scenes up with it.
+from .user import define_scene  # noqa: E402
+
+__all__ = ["SCENES", "Scene", "define_scene", "scene"]

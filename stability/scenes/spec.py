@@ -19,10 +19,16 @@ for a new scene (copy ``stability/scenes/free_body.py``):
    then checks every method of it for bitwise reproducibility across groups and chunks. Write
    its order and invariant tests against its exact solution, as ``tests/test_integrators.py``
    does for the free body.
+
+A scene of the user's own, in a module outside the package, comes from
+:func:`stability.define_scene` (``stability/scenes/user.py``), which writes its RK4 kernel.
 """
 
 from __future__ import annotations
 
+import importlib
+import pickle
+import sys
 from dataclasses import dataclass, field
 from typing import Callable, Mapping
 
@@ -65,6 +71,16 @@ class Scene:
     example : callable or None, default None
         ``example(n, seed=0) -> (x0, parameters)``: ``n`` starts (n, width) and a list of
         parameter sets (each what ``spec.params`` takes), for the generic tests.
+    parameters : tuple of str, default ()
+        Names of the numbers of a parameter set, where the scene names them
+        (:func:`stability.define_scene` does).
+    module : str, default ""
+        The module that binds the scene to a name: a scene with one is pickled by reference
+        (that module is imported where it is unpickled, a dask worker say), else by value.
+    source : str, default ""
+        Digest of the sources of a scene defined outside the package, part of a stored run's
+        identity (an edit of them is a changed run); the package's version stands for those
+        of the registered scenes.
     """
 
     name: str
@@ -79,6 +95,23 @@ class Scene:
     invariants: Mapping = field(repr=False, default_factory=dict)
     exact: Callable | None = field(repr=False, default=None)
     example: Callable | None = field(repr=False, default=None)
+    parameters: tuple = ()
+    module: str = field(repr=False, default="")
+    source: str = field(repr=False, default="")
+
+    def __reduce_ex__(self, protocol):
+        """By reference, ``(module, name)``, for a scene that has a module; else by value."""
+        if not self.module:
+            return super().__reduce_ex__(protocol)
+        home = sys.modules.get(self.module)
+        names = [key for key, value in vars(home).items() if value is self] if home else []
+        if self.module == "__main__" or not names:
+            raise pickle.PicklingError(
+                f"scene {self.name!r} cannot be sent to another process: it is not bound to a "
+                f"name at the top level of an importable module ({self.module}); define it in "
+                "a module on that process's path"
+            )
+        return imported_scene, (self.module, names[0], self.name)
 
     @property
     def width(self) -> int:
@@ -101,3 +134,28 @@ class Scene:
             raise ValueError(
                 f"method {name!r} does not run scene {self.name!r}; methods that do: {known}"
             ) from None
+
+
+def imported_scene(module: str, name: str, scene: str = "") -> Scene:
+    """The scene bound to ``name`` in ``module``, imported: how a pickled scene comes back.
+
+    Parameters
+    ----------
+    module, name : str
+        Where the scene is bound.
+    scene : str, optional
+        Its own name, for the message when the module cannot be imported.
+
+    Returns
+    -------
+    Scene
+    """
+    try:
+        home = importlib.import_module(module)
+    except ImportError as exc:
+        raise ImportError(
+            f"scene {scene or name!r} is defined in module {module!r}, which this process "
+            f"cannot import ({exc}): put the module's folder on its path (PYTHONPATH), on "
+            "every dask worker too"
+        ) from None
+    return getattr(home, name)

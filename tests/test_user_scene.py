@@ -1,0 +1,317 @@
+"""Scenes from the user's own code: a module outside the package defines a harmonic oscillator
+with stability.define_scene, and it runs as a registered scene does (groups, a store in chunks,
+resume, dask workers that import the module, the disk cache across processes); each mistake in
+a definition is one line."""
+
+import importlib
+import json
+import os
+import pickle
+import subprocess
+import sys
+import textwrap
+
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from stability import define_scene
+from stability.engine import propagate_groups
+from stability.scene_ensemble import GroupedRun, propagate_stored
+from stability.store import status_lines
+
+ROOT = Path(__file__).resolve().parents[1]
+
+#: The user's module: x' = v, v' = -(f omega)^2 x, exactly solvable (f = 1 unless edited).
+MODULE = '''
+"""A harmonic oscillator, defined outside the package."""
+import numpy as np
+from numba import njit
+from stability import MethodSpec, define_scene
+
+
+def rhs(x, v, p):
+    """x' = v, v' = -omega^2 x"""
+    return v, -({factor} * p[0]) ** 2 * x
+
+
+@njit(inline="always")
+def euler_step(x, v, h, p, s):
+    """Explicit Euler: the increment h f(x)."""
+    return h * v, -h * ({factor} * p[0]) ** 2 * x, 0
+
+
+def energy(x, values):
+    return 0.5 * (x[:, 1] ** 2 + (values[0] * x[:, 0]) ** 2)
+
+
+def exact(x0, values, t):
+    w = values[0]
+    c, s = np.cos(w * t), np.sin(w * t)
+    return np.column_stack([x0[:, 0] * c + x0[:, 1] / w * s, x0[:, 1] * c - x0[:, 0] * w * s])
+
+
+def example(n, seed=0):
+    return np.random.default_rng(seed).standard_normal((n, 2)), [{{"omega": 1.0}}, [2.5]]
+
+
+OSCILLATOR = define_scene("user_oscillator", ["x", "v"], ["m", "m s-1"], rhs, ["omega"],
+                          invariants={{"energy": energy}}, exact=exact, example=example,
+                          methods=[MethodSpec(name="euler", title="explicit Euler", order=1,
+                                              step=euler_step)])
+'''
+
+#: A new process: imports the module from the folder argv[1], runs it, reports the cache.
+SCRIPT = '''
+import json, sys, time
+t0 = time.perf_counter()
+sys.path.insert(0, sys.argv[1])
+from user_oscillator import OSCILLATOR
+from stability.engine import compiled_loop, propagate_groups
+spec = OSCILLATOR.method("rk4")
+x0 = OSCILLATOR.example(5)[0]
+run = propagate_groups(OSCILLATOR, spec, x0, [spec.params([1.5])], [5], 0.05, 40,
+                       progress=False)
+seconds = time.perf_counter() - t0
+stats = compiled_loop(OSCILLATOR, spec).stats
+print(json.dumps({"x": run.x_final.tolist(), "seconds": seconds,
+                  "hits": sum(stats.cache_hits.values()),
+                  "misses": sum(stats.cache_misses.values())}))
+'''
+
+
+def write_module(folder, factor="1.0"):
+    folder.mkdir(exist_ok=True)
+    (folder / "user_oscillator.py").write_text(MODULE.format(factor=factor))
+    return folder
+
+
+@pytest.fixture(scope="module")
+def home(tmp_path_factory):
+    """The user's folder on the path and their scene imported from it."""
+    folder = write_module(tmp_path_factory.mktemp("user") / "mine")
+    sys.path.insert(0, str(folder))
+    try:
+        yield folder, importlib.import_module("user_oscillator").OSCILLATOR
+    finally:
+        sys.path.remove(str(folder))
+        sys.modules.pop("user_oscillator", None)
+
+
+def oscillator_run(scene) -> GroupedRun:
+    """Three groups of unequal sizes, steps and horizons, saving samples and tracking v."""
+    spec = scene.method("rk4")
+    sizes, hs = [7, 5, 4], [0.05, 0.02, 0.04]
+    x0 = np.concatenate([scene.example(n, seed=k)[0] for k, n in enumerate(sizes)])
+    params = [spec.params(values, h) for values, h in zip([[1.0], [2.5], {"omega": 0.7}], hs)]
+    return GroupedRun(scene, "rk4", x0, params, sizes, hs, [40, 60, 25], save_every=10,
+                      axes=[[1, 0, 1]] * 3, levels=[[0.5, 1.0]] * 3)
+
+
+def assert_bitwise(a, b):
+    for name in ("x_final", "saved", "status", "fail_step", "iterations", "steps_done"):
+        assert np.array_equal(getattr(a, name), getattr(b, name), equal_nan=True), name
+    for name, value in a.extras.items():
+        assert np.array_equal(value, b.extras[name], equal_nan=True), name
+
+
+def test_the_scenes_rk4_has_order_four_against_its_exact_solution(home):
+    """Groups at h, h/2 and h/4 to the same time: each halving divides the error by 2^4."""
+    _, scene = home
+    spec = scene.method("rk4")
+    x0 = scene.example(20, seed=3)[0]
+    hs = np.array([0.2, 0.1, 0.05])
+    run = propagate_groups(scene, spec, np.tile(x0, (3, 1)), [spec.params([1.3])] * 3,
+                           [20] * 3, hs, np.rint(4.0 / hs).astype(int), progress=False)
+    exact = scene.exact(x0, {"omega": 1.3}, 4.0)
+    errors = [np.abs(part - exact).max() for part in np.split(run.x_final, 3)]
+    assert np.log2(errors[0] / errors[1]) == pytest.approx(4.0, abs=0.15)
+    assert np.log2(errors[1] / errors[2]) == pytest.approx(4.0, abs=0.15)
+    energy = scene.invariants["energy"]
+    assert np.allclose(energy(run.x_final[40:], [1.3]), energy(x0, [1.3]), rtol=1e-6)
+    assert scene.equations == "x' = v, v' = -omega^2 x"
+    assert scene.parameters == ("omega",) and scene.units == ("m", "m s-1")
+
+
+def test_a_method_of_the_users_own_runs_with_the_scenes_parameters(home):
+    """A MethodSpec given to define_scene runs its own kernel, with the scene's parameter row
+    (its params left at the default, a body's, are the scene's)."""
+    _, scene = home
+    assert list(scene.methods) == ["rk4", "euler"]
+    spec = scene.method("euler")
+    p = spec.params({"omega": 2.0}, 0.1)
+    assert p.tolist() == [2.0]
+    run = propagate_groups(scene, spec, [[1.0, 0.5]], [p], [1], 0.1, 1, progress=False)
+    assert run.x_final.tolist() == [[1.0 + 0.1 * 0.5, 0.5 + -0.1 * (1.0 * 2.0) ** 2 * 1.0]]
+
+
+def test_a_stored_run_in_chunks_and_resumed_is_bitwise_the_run_in_one_piece(home, tmp_path):
+    _, scene = home
+    run = oscillator_run(scene)
+    whole = propagate_stored(run, progress=False)
+    store = tmp_path / "store"
+    assert_bitwise(propagate_stored(run, store, chunk_members=3, progress=False), whole)
+    for name in ("chunk-000002.nc", "chunk-000002.nc.sha256"):  # as a stopped run leaves it
+        (store / name).unlink()
+    again = propagate_stored(run, store, chunk_members=3, resume=True, progress=False)
+    assert_bitwise(again, whole)
+    assert whole.saved.shape == (16, 6, 2)
+    assert any("complete" in line for line in status_lines(store))
+
+
+def test_the_chunks_run_on_dask_workers_that_import_the_users_module(home, tmp_path):
+    """The run is pickled with its scene by reference; each worker imports the user's module
+    (its folder on their path) and loads the compiled loop from the shared disk cache."""
+    distributed = pytest.importorskip("distributed")
+    folder, scene = home
+    assert pickle.loads(pickle.dumps(scene)) is scene
+    run = oscillator_run(scene)
+    whole = propagate_stored(run, progress=False)
+    with distributed.LocalCluster(n_workers=2, threads_per_worker=1, processes=True,
+                                  dashboard_address=None) as cluster, \
+            distributed.Client(cluster) as client:
+        client.run(sys.path.insert, 0, str(folder))  # what a user's remote workers need too
+        there = propagate_stored(run, tmp_path / "store", chunk_members=6, scheduler=client,
+                                 progress=False)
+    assert_bitwise(there, whole)
+
+
+def run_in_new_process(folder, env=None):
+    """SCRIPT's report from a new process, with this checkout's package."""
+    path = os.pathsep.join(filter(None, [str(ROOT), os.environ.get("PYTHONPATH")]))
+    done = subprocess.run([sys.executable, "-c", SCRIPT, str(folder)], capture_output=True,
+                          text=True, check=True,
+                          env=dict(os.environ, PYTHONPATH=path, **(env or {})))
+    return json.loads(done.stdout.strip().splitlines()[-1])
+
+
+def test_a_new_process_loads_the_scene_from_disk_and_an_edit_compiles_again(home, tmp_path):
+    """A new process finds the loop compiled here in the disk cache; an edited copy of the
+    module (another cache: it must compile, whatever earlier runs left) compiles and runs the
+    edited right-hand side."""
+    folder, scene = home
+    spec = scene.method("rk4")
+    x0 = scene.example(5)[0]
+    here = propagate_groups(scene, spec, x0, [spec.params([1.5])], [5], 0.05, 40,
+                            progress=False)
+    loaded = run_in_new_process(folder)
+    assert (loaded["misses"], loaded["hits"]) == (0, 1)
+    assert np.array_equal(loaded["x"], here.x_final)
+
+    edited = run_in_new_process(write_module(tmp_path / "edited", factor="2.0"),
+                                {"STABILITY_CACHE_DIR": str(tmp_path / "cache")})
+    assert (edited["misses"], edited["hits"]) == (1, 0)
+    exact = scene.exact(x0, [3.0], 2.0)  # omega 1.5 doubled
+    assert np.allclose(edited["x"], exact, atol=1e-3)
+    assert not np.allclose(edited["x"], here.x_final, atol=1e-2)
+
+
+def test_a_scene_not_bound_at_the_top_of_a_module_says_so_when_pickled(home):
+    _, scene = home
+    from dataclasses import replace
+
+    inner = replace(scene, module="__main__")
+    with pytest.raises(pickle.PicklingError, match="cannot be sent to another process"):
+        pickle.dumps(inner)
+
+
+# --- mistakes: one line each -------------------------------------------------------------------
+
+MISTAKES = '''
+import fractions
+import math
+import numpy as np
+
+
+def rhs(x, v, p):
+    return v, -p[0] * x
+
+
+def rhs_two(x, p):
+    return (x,)
+
+
+def rhs_one_value(x, v, p):
+    return v
+
+
+def rhs_misspelt(x, v, p):
+    return v, -p[0] * math.sine(x)
+
+
+def rhs_second_parameter(x, v, p):
+    return v, -p[1] * x
+
+
+def rhs_numba_cannot(x, v, p):
+    return v, -p[0] * float(fractions.Fraction(1, 3)) * x
+
+
+def energy_scalar(x, values):
+    return 0.0
+
+
+def example_three(n, seed=0):
+    return np.ones((n, 2)), [[1.0, 2.0, 3.0]]
+
+
+lam = lambda x, v, p: (v, x)
+'''
+
+CASES = {
+    "capital name": (dict(name="Spring"), ValueError, "lowercase letters"),
+    "registered name": (dict(name="free_body"), ValueError, "a registered scene's name"),
+    "bad component": (dict(components=["x", "2v"]), ValueError, "identifiers.*'2v'"),
+    "component twice": (dict(components=["x", "x"]), ValueError, "x comes twice"),
+    "units missing": (dict(units=["m"]), ValueError, "1 units for 2 components"),
+    "units a string": (dict(units="m"), TypeError, "units must be a list"),
+    "rhs not a function": (dict(rhs=3.0), TypeError, "rhs must be a function"),
+    "rhs a lambda": (dict(rhs="lam"), ValueError, "top level of its module"),
+    "rhs arguments": (dict(rhs="rhs_two"), TypeError, r"takes 2 arguments.*rhs\(x, v, p\)"),
+    "rhs one value": (dict(rhs="rhs_one_value"), ValueError, "returned float.*tuple of 2"),
+    "rhs raises": (dict(rhs="rhs_misspelt"), ValueError, "rhs raised AttributeError.*sine"),
+    "rhs reads a missing parameter": (dict(rhs="rhs_second_parameter"), ValueError,
+                                      "IndexError.*p has 1 number"),
+    "example's parameters": (dict(example="example_three"), ValueError,
+                             "a parameter set has 1 number .k., got 3"),
+    "observe alone": (dict(observe="rhs"), ValueError, "observe and tracked together"),
+    "invariant shape": (dict(invariants={"energy": "energy_scalar"}), ValueError,
+                        r"invariant 'energy' returned shape \(\)"),
+    "numba cannot compile": (dict(rhs="rhs_numba_cannot"), TypeError,
+                             r"Numba cannot compile rhs rhs_numba_cannot: "
+                             r"Unknown attribute 'Fraction'.*user_mistakes.py, line \d+\)"),
+}
+
+
+@pytest.fixture(scope="module")
+def mistakes(tmp_path_factory):
+    folder = tmp_path_factory.mktemp("mistakes")
+    (folder / "user_mistakes.py").write_text(textwrap.dedent(MISTAKES))
+    sys.path.insert(0, str(folder))
+    try:
+        yield importlib.import_module("user_mistakes")
+    finally:
+        sys.path.remove(str(folder))
+        sys.modules.pop("user_mistakes", None)
+
+
+@pytest.mark.parametrize("case", CASES)
+def test_each_mistake_is_one_line_at_definition_time(mistakes, case):
+    change, kind, message = CASES[case]
+
+    def mine(value):  # names of the user module's functions stand for the functions
+        if isinstance(value, dict):
+            return {k: mine(v) for k, v in value.items()}
+        return getattr(mistakes, value) if isinstance(value, str) and hasattr(
+            mistakes, value) else value
+
+    kwargs = dict(name="spring", components=["x", "v"], units=["m", "m s-1"],
+                  rhs=mistakes.rhs, parameters=["k"])
+    kwargs.update({key: mine(value) for key, value in change.items()})
+    with pytest.raises(kind, match=message) as caught:
+        define_scene(**kwargs)
+    assert "\n" not in str(caught.value)
+    shown = caught.value.__cause__ or (None if caught.value.__suppress_context__
+                                       else caught.value.__context__)
+    assert shown is None  # no traceback of ours or Numba's before the line
