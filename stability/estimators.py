@@ -1122,8 +1122,8 @@ def flip_estimate(mem: Members, exact=None, asymptote=None) -> dict:
     -------
     dict
         Per member (ndarray, shape (N,)): ``flip_count`` (int), ``first_flip_time``,
-        ``flip_interval``, ``flip_interval_exact``, ``flip_interval_asymptote``; scalars: the ``ESTIMATE_ATTRS``
-        keys from ``first_flip_time_mean`` to ``n_with_interval``.
+        ``flip_interval``, ``flip_interval_exact``, ``flip_interval_asymptote``; scalars: the
+        ``ESTIMATE_ATTRS`` keys from ``first_flip_time_mean`` to ``n_with_interval``.
     """
     n_members = mem.a0.size
     nan = np.full(n_members, np.nan)

@@ -231,8 +231,22 @@ class MapBatches:
     batch j, every ensemble of one entry of ``runs`` run together (all cores busy, each
     ensemble bitwise what it gives alone), kept as :func:`batch_dataset`.
 
-    Parameters are those of :func:`measure_map`, with the methods by name (a job goes to dask
-    workers by pickle).
+    Parameters
+    ----------
+    bodies : list of RigidBody
+        The shapes.
+    omega2, t_end : ndarray, shape (S, 3)
+        Analytic Omega^2 (s-2) and run length (s) per (shape, axis).
+    levels : ndarray, shape (L,)
+        Amplitude levels of the passage times, rad/s.
+    methods : list of str
+        The integrators by name (a job goes to dask workers by pickle).
+    runs : list of (int, float, ndarray, bool)
+        The batches (:func:`map_runs`).
+    spin, epsilon, members, seed
+        The ensembles (rad/s, relative, count, seed of the directions).
+    low_factor, high_fraction : float
+        The growth-rate window.
     """
 
     def __init__(self, bodies, omega2, t_end, levels, methods, runs, *, spin, epsilon, members,
@@ -294,8 +308,18 @@ class MapBatches:
 
 
 def write_batch(checkpoint, j: int, batch) -> None:
-    """Keep batch ``j`` (:func:`batch_dataset`) as chunk ``j`` of ``checkpoint``, uncompressed,
-    with its checksum."""
+    """Keep batch ``j`` as chunk ``j`` of ``checkpoint``, uncompressed, with its checksum.
+
+    Parameters
+    ----------
+    checkpoint : stability.store.ChunkStore
+        The run's chunk store.
+    j : int
+        Index of the batch in ``runs`` (:func:`measure_map`), the chunk number.
+    batch : list of (int, float, dict)
+        Per cell: member-steps, kernel loop time in s, and :func:`ensemble_estimates`
+        (:func:`batch_dataset`).
+    """
     checkpoint.write(j, batch_dataset(batch), compress=False)
 
 

@@ -107,7 +107,8 @@ def check(config: dict, source: str) -> dict:
         raise ConfigError(f"must be beyond first ({s['first']:g} m), got {last:g} m", source,
                           "strikes", "last")
     members = 2 * len(config["hands"]["pivots"]) * s["count"]  # held and free, per pivot
-    check_memory(config, source, members * 2 * MEMBER_BYTES,  # parameters as arrays in a list
+    check_memory(SCHEMA, config, source,
+                 members * 2 * MEMBER_BYTES,  # parameters as arrays in a list
                  [("strikes", "count")], f"{members} strikes (held and free, per pivot)",
                  "use fewer strike points")
     check_run(config, source)

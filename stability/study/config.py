@@ -272,7 +272,8 @@ def tossed_body_sections(rate_default: float = 10.0) -> tuple:
 MEMBER_BYTES = 512
 
 
-def check_memory(config: dict, source: str, nbytes: float, keys, what: str, fix: str) -> None:
+def check_memory(schema: Schema, config: dict, source: str, nbytes: float, keys, what: str,
+                 fix: str) -> None:
     """Refuse, before any work, a run that would not fit in memory: one line saying what it
     would take, what a run may hold and the machine has, and how to fix it.
 
@@ -282,6 +283,8 @@ def check_memory(config: dict, source: str, nbytes: float, keys, what: str, fix:
 
     Parameters
     ----------
+    schema : Schema
+        The study kind's schema (the defaults the keys are compared with).
     config : dict
         The resolved configuration.
     source : str
@@ -308,7 +311,7 @@ def check_memory(config: dict, source: str, nbytes: float, keys, what: str, fix:
     limit = min(DEFAULT_MAX_MEMORY, machine or DEFAULT_MAX_MEMORY)
     if nbytes <= limit:
         return
-    section, key = max(keys, key=lambda k: _growth(config, *k))
+    section, key = max(keys, key=lambda k: _growth(schema, config, *k))
     has = f"; this machine has {format_bytes(machine)}" if machine else ""
     raise ConfigError(
         f"= {_show(config[section][key])}: {what} would take about {format_bytes(nbytes)} in "
@@ -316,12 +319,10 @@ def check_memory(config: dict, source: str, nbytes: float, keys, what: str, fix:
         source, section, key)
 
 
-def _growth(config: dict, section: str, key: str) -> float:
+def _growth(schema: Schema, config: dict, section: str, key: str) -> float:
     """How many times its default a numeric key is (1 where there is no default to compare)."""
-    from . import STUDIES
-
     value = config[section][key]
-    default = STUDIES[config[STUDY_KEY]].schema.section(section).key(key).default
+    default = schema.section(section).key(key).default
     if not isinstance(default, (int, float)) or isinstance(default, bool) or default <= 0:
         return 1.0
     return value / default

@@ -89,7 +89,7 @@ def check(config: dict, source: str) -> dict:
     except ValueError as exc:
         raise ConfigError(str(exc), source, "earth", "polar_factor") from None
     members = config["wobble"]["members"]
-    check_memory(config, source, ensemble_memory(members, 0), [("wobble", "members")],
+    check_memory(SCHEMA, config, source, ensemble_memory(members, 0), [("wobble", "members")],
                  f"the summaries of {members} members", "use fewer members")
     check_run(config, source)
     return config

@@ -101,7 +101,7 @@ def check(config: dict, source: str) -> dict:
         raise ConfigError("must list at least one frame rate", source, "rules", "frame_rates")
     members, n_rules = config["ensemble"]["members"], len(rules["engine"] + rules["methods"])
     trace = rules["t_end"] * min(rules["frame_rates"]) + 1  # each rule's w2 at its largest step
-    check_memory(config, source, members * MEMBER_BYTES + n_rules * trace * 8 * 2,
+    check_memory(SCHEMA, config, source, members * MEMBER_BYTES + n_rules * trace * 8 * 2,
                  [("ensemble", "members"), ("rules", "t_end")],
                  f"{members} members and {n_rules} traces of {trace:.0f} steps",
                  "use fewer members or a shorter t_end")

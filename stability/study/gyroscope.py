@@ -116,7 +116,7 @@ def _check_memory(config: dict, source: str) -> None:
     members = (config["spins"]["count"] * len(config["release"]["tilts"])
                * len(config["release"]["precession"]))
     samples = 2 * integ["periods"] * integ["samples_per_period"]
-    check_memory(config, source, members * samples * 6 * 8 * 3,
+    check_memory(SCHEMA, config, source, members * samples * 6 * 8 * 3,
                  [("integration", "samples_per_period"), ("integration", "periods"),
                   ("spins", "count")],
                  f"the states of {members} members, {integ['samples_per_period']} per period "

@@ -123,12 +123,12 @@ def check(config: dict, source: str) -> dict:
         raise ConfigError("= 0 never stops a slip; give the floor some friction", source,
                           "launch", "mu_k")
     cells = len(inc["shapes"]) * inc["angle_count"] * inc["mu_s_count"]
-    check_memory(config, source, cells * inc["members"] * MEMBER_BYTES,
+    check_memory(SCHEMA, config, source, cells * inc["members"] * MEMBER_BYTES,
                  [("incline", "angle_count"), ("incline", "mu_s_count"), ("incline", "members")],
                  f"{cells} cells x {inc['members']} members", "use fewer angles, friction "
                  "coefficients or members per cell")
     paths = 5  # the launches kept at every sample (measure_launches' paths)
-    check_memory(config, source, launch["members"] * MEMBER_BYTES
+    check_memory(SCHEMA, config, source, launch["members"] * MEMBER_BYTES
                  + paths * (launch["samples"] + 1) * 9 * 8 * 2,
                  [("launch", "members"), ("launch", "samples")],
                  f"{launch['members']} balls and {launch['samples']} states of {paths} of them",

@@ -87,7 +87,7 @@ def check(config: dict, source: str) -> dict:
     _tops(config, source)
     check_spins(config, source)
     members = len(config["top"]["lengths"]) * config["spins"]["count"]
-    check_memory(config, source, members * config["ensemble"]["members"] * MEMBER_BYTES,
+    check_memory(SCHEMA, config, source, members * config["ensemble"]["members"] * MEMBER_BYTES,
                  [("ensemble", "members"), ("spins", "count")],
                  f"{members} (length, spin) cells x {config['ensemble']['members']} members",
                  "use fewer spins or members")

@@ -167,7 +167,8 @@ def _check_memory(config: dict, source: str) -> None:
     n_shapes = (n + 1) * (n + 2) // 2 - 1
     n_levels = amplitude_levels(config["spin"]["rate"], config["ensemble"]["epsilon"],
                                 config["analysis"]["levels_per_decade"]).size
-    check_memory(config, source, 3 * n_shapes * members * 2 * ensemble_memory(1, 0, n_levels),
+    check_memory(SCHEMA, config, source,
+                 3 * n_shapes * members * 2 * ensemble_memory(1, 0, n_levels),
                  [("ensemble", "members"), ("grid", "divisions")],
                  f"{members} members x {n_shapes} shapes x 3 axes (the ensembles of a method, "
                  "run together)", "lower [ensemble] members or [grid] divisions")

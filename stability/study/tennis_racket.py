@@ -149,8 +149,8 @@ def check(config: dict, source: str) -> dict:
 
     members = config["ensemble"]["members"]
     check_memory(  # the analysis and figures hold the whole time series
-        config, source, ensemble_memory(members, n_steps // integ["save_every"],
-                                        scene=integ["scene"]),
+        SCHEMA, config, source,
+        ensemble_memory(members, n_steps // integ["save_every"], scene=integ["scene"]),
         [("ensemble", "members"), ("integration", "t_end")],
         f"the time series of {members} members", "use fewer members, a shorter t_end or a "
         "larger [integration] save_every")

@@ -87,7 +87,7 @@ def check(config: dict, source: str) -> dict:
                           "save_every")
     members = config["ensemble"]["members"]
     saved = 2 * integration["steps_per_period"] // integration["save_every"] + 1
-    check_memory(config, source, members * (MEMBER_BYTES + saved * 7 * 8 * 2),  # q and w kept
+    check_memory(SCHEMA, config, source, members * (MEMBER_BYTES + saved * 7 * 8 * 2),  # q and w kept
                  [("ensemble", "members"), ("integration", "steps_per_period")],
                  f"the attitudes of {members} members at {saved} times each",
                  "use fewer members or steps per period, or a larger save_every")

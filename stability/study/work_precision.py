@@ -169,10 +169,10 @@ def _check_memory(config: dict, source: str) -> None:
     per_member = 8 * (3 * 16 + n_methods * (int(n_steps) + 1) * 2)
     for section in ("tennis", "stable"):
         members = config[section]["members"]
-        check_memory(config, source, members * per_member, [(section, "members")],
+        check_memory(SCHEMA, config, source, members * per_member, [(section, "members")],
                      f"the states and errors of {members} members for {n_methods} methods at "
                      f"up to {int(n_steps)} steps each", "use fewer members")
-    check_memory(config, source, n_methods * long["members"] * long["samples"] * 3 * 8 * 3,
+    check_memory(SCHEMA, config, source, n_methods * long["members"] * long["samples"] * 3 * 8 * 3,
                  [("long", "samples"), ("long", "members")],
                  f"{long['samples']} samples x {long['members']} members x {n_methods} methods",
                  "keep fewer samples or members")
