@@ -279,14 +279,19 @@ def _cmd_run(args) -> int:
 def _cmd_status(args) -> int:
     from pathlib import Path
 
+    from .lock import holder_of
     from .store import find_stores, status_lines
 
     folder = Path(args.dir)
     if not folder.is_dir():
         raise ValueError(f"{folder} is not a folder; give the output folder of a run")
+    holder = holder_of(folder)
+    if holder is not None:
+        print(f"{folder}: in use by a run ({holder})")
     stores = find_stores(folder)
     if not stores:
-        print(f"{folder}: no run in progress or stopped (finished runs keep no chunks)")
+        if holder is None:
+            print(f"{folder}: no run in progress or stopped (finished runs keep no chunks)")
         return 0
     for store in stores:
         print("\n".join(status_lines(store)))

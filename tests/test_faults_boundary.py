@@ -204,7 +204,7 @@ def test_links_inside_a_store_are_never_written_through(tmp_path, body123):
 # --- two runs at once --------------------------------------------------------------------
 
 
-def test_a_second_run_into_a_busy_folder_is_refused_and_destroys_nothing(tmp_path):
+def test_a_second_run_into_a_busy_folder_is_refused_and_destroys_nothing(tmp_path, capsys):
     out = tmp_path / "out"
     first = start([*LONG, "--out", str(out)])
     lines = Lines(first)
@@ -218,6 +218,10 @@ def test_a_second_run_into_a_busy_folder_is_refused_and_destroys_nothing(tmp_pat
         assert "in use by another run" in err[0], err
         assert first.poll() is None and (out / WORK / "manifest.json").is_file()
     assert f"process {first.pid}" in holder_of(out)
+    assert main(["status", str(out)]) == 0  # the holder, then how far its chunks are
+    shown = capsys.readouterr().out.splitlines()
+    assert shown[0].startswith(f"{out}: in use by a run (process {first.pid} on host"), shown
+    assert shown[1].startswith(f"{out / WORK}: 8192 members in 16 chunks"), shown
     first.send_signal(signal.SIGINT)  # the first run stops cleanly, its chunks kept
     first.wait(timeout=60)
     assert first.returncode == 130, lines.wait_done()
