@@ -115,6 +115,12 @@ def test_the_site_builds_without_warnings_and_its_internal_links_resolve(tmp_pat
                     anchor not in parsed[path].ids:
                 broken.append(f"{page.relative_to(out)} -> {link} (no such anchor)")
     assert broken == []
+    # every cross-reference resolves: an unresolved one shows as its target ("python:None")
+    unresolved = [f"{page.relative_to(out)}: {m.group(0)}" for page in pages
+                  for m in re.finditer(r'<span class="pre">(?:python|numpy|xarray|numba|dask|'
+                                       r'distributed):[^<]+</span>',
+                                       page.read_text(errors="replace"))]
+    assert unresolved == []
     # the generated pages carry what the code says: every study kind and every scene
     from stability.scenes import SCENES
     from stability.study import STUDIES

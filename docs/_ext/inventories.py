@@ -29,6 +29,11 @@ OBJECTS = {
         ("bltin-boolean-values", "std:label", "library/stdtypes.html#boolean-values",
          "Boolean Values"),
         ("bltin-none", "std:label", "library/constants.html#None", "None"),
+        # numpydoc refers to None, True, False and callable in parameter types
+        ("None", "py:data", "library/constants.html#None"),
+        ("True", "py:data", "library/constants.html#True"),
+        ("False", "py:data", "library/constants.html#False"),
+        ("callable", "py:function", "library/functions.html#callable"),
     ],
     "numpy": [
         ("numpy.ndarray", "py:class", "reference/generated/numpy.ndarray.html#numpy.ndarray"),
