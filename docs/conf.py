@@ -71,6 +71,9 @@ sphinx_gallery_conf = {
     "remove_config_comments": True,
     "within_subsection_order": "FileNameSortKey",
     "matplotlib_animations": False,
+    # a cell's last expression is shown only where it has an HTML view (a Dataset), not as
+    # "<matplotlib.legend.Legend object at 0x...>"
+    "capture_repr": ("_repr_html_",),
 }
 
 import inventories  # noqa: E402

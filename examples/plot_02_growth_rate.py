@@ -22,6 +22,9 @@ print(f"Omega^2 = {stability.omega_squared(body, 2, 1.0):+.4f} s-2")
 print(f"growth rate: measured {float(measured.growth_rate):.6f}, analytic {analytic:.6f} 1/s")
 
 amplitude = np.hypot(ds.w.sel(axis=1), ds.w.sel(axis=3)).median("member")
+# %%
+# The median perpendicular amplitude against time, beside the analytic slope.
+
 fig, ax = plt.subplots(figsize=(7, 3.5), layout="constrained")
 ax.semilogy(ds.time, amplitude, label="median perpendicular amplitude")
 ax.semilogy(ds.time, 1e-6 * np.exp(analytic * ds.time), "--", label="exp(sqrt(-Omega^2) t)")

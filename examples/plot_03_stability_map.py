@@ -29,6 +29,9 @@ analytic = xr.DataArray(
      for i in range(ratios.size)], dims=measured.dims, coords=measured.coords)
 print((measured / analytic).round(3).to_pandas())
 
+# %%
+# Measured against analytic Omega^2 across the shapes.
+
 fig, ax = plt.subplots(figsize=(7, 3.5), layout="constrained")
 for axis in (1, 2, 3):
     ax.plot(ratios, analytic.sel(axis=axis), "-", label=f"axis {axis}: formula")

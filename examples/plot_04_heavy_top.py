@@ -26,6 +26,9 @@ print(f"nutation period: exact {period * 1e3:.3f} ms, gyroscopic 2 pi A / (C w3)
       f"{2 * np.pi / gyroscopic_nutation_frequency(top, spin) * 1e3:.3f} ms")
 print(f"slow precession rate m g l / (C w3): {gyroscopic_precession_rate(top, spin):.4f} rad/s")
 
+# %%
+# The tilt of the figure axis against time: nutation between two tilts.
+
 fig, ax = plt.subplots(figsize=(7, 3.5), layout="constrained")
 ax.plot(t * 1e3, tilt)
 ax.set_xlabel("time (ms)")

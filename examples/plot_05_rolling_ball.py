@@ -20,6 +20,9 @@ for name in ("t_roll", "v_final"):
     error = np.max(np.abs(ds[name].values / formula[name] - 1.0))
     print(f"{name}: worst relative error against the formula {error:.1e}")
 
+# %%
+# The final speed of each ball against its spin ratio, beside the formula.
+
 fig, ax = plt.subplots(figsize=(7, 3.5), layout="constrained")
 ax.plot(ds.spin_ratio, ds.v_final / ds.v0, ".", label="runs")
 ratio = np.linspace(-1.5, 2.5, 50)

@@ -18,6 +18,9 @@ ds = measure_twisting(moments, w0, epsilon=epsilon, steps_per_period=1000)
 print(f"twist, run against exact: {float(ds.twist_error.max()):.1e} rad")
 print(f"Montgomery's angle, run against 2 E T / |L| - S: {float(ds.montgomery_error.max()):.1e}")
 
+# %%
+# The twist over one turn of the handle against the nudge epsilon.
+
 fig, ax = plt.subplots(figsize=(7, 3.5), layout="constrained")
 ax.semilogx(ds.epsilon, ds.twist_defect, "o")
 ax.set_xlabel("nudge epsilon (1)")

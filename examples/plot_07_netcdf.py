@@ -20,6 +20,11 @@ ds = stability.run_ensemble(body, axis=2, spin=1.0, epsilon=1e-3, members=50, h=
 path = Path(tempfile.mkdtemp()) / "ensemble.nc"
 stability.save(ds, path)
 back = stability.load(path)
+
+# %%
+# What came back: the same numbers (checked below), each variable's units and long name, the
+# history and the configuration that made the run.
+
 xr.testing.assert_identical(ds.drop_attrs(deep=False), back.drop_attrs(deep=False))
 print(back.w.attrs)
 print(back.attrs["history"])

@@ -121,6 +121,14 @@ def test_the_site_builds_without_warnings_and_its_internal_links_resolve(tmp_pat
                                        r'distributed):[^<]+</span>',
                                        page.read_text(errors="replace"))]
     assert unresolved == []
+    # the gallery shows each example's code before what it printed and drew, and no object's
+    # default repr ("<matplotlib.legend.Legend object at 0x...>")
+    for page in sorted((out / "gallery").glob("plot_*.html")):
+        html = page.read_text()
+        shown = [i for i in (html.find("sphx-glr-script-out"), html.find("sphx-glr-single-img"))
+                 if i >= 0]
+        assert not shown or html.find("highlight-Python") < min(shown), page.name
+        assert not re.search(r"object at 0x[0-9a-f]+", html), page.name
     # the generated pages carry what the code says: every study kind and every scene
     from stability.scenes import SCENES
     from stability.study import STUDIES
