@@ -348,19 +348,26 @@ def _finish_publishing(out: Path, stage_name: str) -> None:
         os.close(out_fd)
 
 
+def read_plain_file(path, most: int, dir_fd: int | None = None) -> bytes:
+    """At most ``most + 1`` bytes of the regular file ``path`` (relative to ``dir_fd``), opened
+    without following a link or waiting on a FIFO; OSError for anything else. Files a run finds
+    in its folders are untrusted: one byte more than ``most`` says the file is too large."""
+    fd = os.open(path, os.O_RDONLY | os.O_NOFOLLOW | os.O_NONBLOCK | os.O_CLOEXEC,
+                 dir_fd=dir_fd)
+    try:
+        if not stat.S_ISREG(os.fstat(fd).st_mode):
+            raise OSError(errno.EINVAL, "not a plain file", str(path))
+        return os.read(fd, most + 1)
+    finally:
+        os.close(fd)
+
+
 def _read_journal(stage_fd: int) -> list[str]:
     """The names of a stage's journal, each checked to be an output's plain file name."""
     try:
-        fd = os.open(JOURNAL, os.O_RDONLY | os.O_NOFOLLOW | os.O_NONBLOCK | os.O_CLOEXEC,
-                     dir_fd=stage_fd)
+        data = read_plain_file(JOURNAL, JOURNAL_MOST, dir_fd=stage_fd)
     except OSError:
         raise UnsafeLeftover("its journal is not a plain file") from None
-    try:
-        if not stat.S_ISREG(os.fstat(fd).st_mode):
-            raise UnsafeLeftover("its journal is not a plain file")
-        data = os.read(fd, JOURNAL_MOST + 1)
-    finally:
-        os.close(fd)
     try:
         journal = json.loads(data.decode("utf-8")) if len(data) <= JOURNAL_MOST else None
     except (UnicodeDecodeError, ValueError):

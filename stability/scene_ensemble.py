@@ -202,9 +202,7 @@ def propagate_stored(run: GroupedRun, store=None, *, resume=False, scheduler=Non
         return run.propagate(progress)
     n = run.members
     if chunk_members is None:
-        work = float(np.sum(run.sizes * run.n_steps))
-        chunk_members = max(1, math.ceil(n / min(DEFAULT_CHUNKS,
-                                                 max(1, int(work // MIN_CHUNK_WORK)))))
+        chunk_members = default_chunk_members(n, float(np.sum(run.sizes * run.n_steps)))
     identity = {"grouped_run": run.identity(), "software": f"stability {__version__}"}
     chunks = ChunkStore(store, identity, n, chunk_members, resume=resume)
     try:
@@ -218,6 +216,13 @@ def propagate_stored(run: GroupedRun, store=None, *, resume=False, scheduler=Non
     finally:
         chunks.close()
     return _propagation(run, parts)
+
+
+def default_chunk_members(members: int, member_steps: float) -> int:
+    """Members per chunk of a stored run by default: at most :data:`DEFAULT_CHUNKS` chunks,
+    fewer where a chunk would hold less than :data:`MIN_CHUNK_WORK` member-steps."""
+    chunks = min(DEFAULT_CHUNKS, max(1, int(member_steps // MIN_CHUNK_WORK)))
+    return max(1, math.ceil(members / chunks))
 
 
 def sub_store(stored: dict | None, name: str) -> dict:

@@ -44,7 +44,7 @@ from xarray.indexes import RangeIndex
 from . import conventions as cv
 from .dataset import variable_attrs
 from .lock import FolderLock
-from .publish import write_text
+from .publish import read_plain_file, write_text
 
 MANIFEST = "manifest.json"
 PROGRESS = "progress.json"
@@ -187,7 +187,10 @@ class ChunkStore:
             if remove and "link" in kinds:
                 _discard(path, check, "or its checksum is a symbolic link")
             return False
-        record = _read_small(check).split()
+        try:
+            record = read_plain_file(check, 4096).decode("utf-8", "replace").split()
+        except OSError:
+            record = []
         if len(record) == 2 and record[1] == fingerprint and file_checksum(path) == record[0]:
             return True
         if remove:
@@ -501,20 +504,6 @@ def _file_kind(path: Path) -> str:
     except FileNotFoundError:
         return "missing"
     return "file" if stat.S_ISREG(mode) else "link" if stat.S_ISLNK(mode) else "other"
-
-
-def _read_small(path: Path, most: int = 4096) -> str:
-    """The first ``most`` bytes of a file as text ("" if unreadable), never through a link."""
-    try:
-        fd = os.open(path, os.O_RDONLY | os.O_NOFOLLOW | os.O_NONBLOCK | os.O_CLOEXEC)
-    except OSError:
-        return ""
-    try:
-        return os.read(fd, most).decode("utf-8", "replace")
-    except OSError:
-        return ""
-    finally:
-        os.close(fd)
 
 
 def _discard(path: Path, check: Path, why: str) -> None:

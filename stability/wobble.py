@@ -23,7 +23,7 @@ from .earth import ARCSEC, CHANDLER_PERIOD_DAYS, DAY, euler_period, oblate_euler
 from .ensemble import completed, run_ensemble
 from .estimators import measured_frequency
 from .integrate import integrate
-from .scene_ensemble import DEFAULT_CHUNKS
+from .scene_ensemble import default_chunk_members
 
 #: Dimension of the cone member's samples.
 CONE_TIME = "cone_time"
@@ -64,8 +64,8 @@ def measure_free_wobble(body, spin, offset, *, members=16, periods=3.0, steps_pe
     stored : dict, optional
         ``store``, ``resume``, ``scheduler``, ``chunk_members`` and ``threads`` of
         :func:`stability.run_ensemble` for the ensemble: it then runs chunk by chunk into
-        that store (in :data:`~stability.scene_ensemble.DEFAULT_CHUNKS` chunks unless
-        ``chunk_members`` says otherwise), resumable and on dask, bitwise the run in one piece.
+        that store (chunked as :func:`~stability.scene_ensemble.default_chunk_members` says
+        unless ``chunk_members`` does), resumable and on dask, bitwise the run in one piece.
 
     Returns
     -------
@@ -79,7 +79,7 @@ def measure_free_wobble(body, spin, offset, *, members=16, periods=3.0, steps_pe
     steps = int(math.ceil(periods * t_euler / h))
     stored = dict(stored or {})
     if stored.get("store") is not None and stored.get("chunk_members") is None:
-        stored["chunk_members"] = max(1, math.ceil(members / DEFAULT_CHUNKS))
+        stored["chunk_members"] = default_chunk_members(members, members * steps)
     ens = run_ensemble(body, 3, spin, offset, members, h=h, t_end=steps * h, seed=seed,
                        method=method, summaries_only=True, progress=progress, **stored)
     completed(ens)
