@@ -80,7 +80,7 @@ def propagate(
 
 def propagate_many(
     method, moments, m0, sizes, h, n_steps, save_every=0, progress=None, chunk_steps=None,
-    track_axes=None, levels=None, q0=None, partial=False,
+    track_axes=None, levels=None, q0=None, partial=False, propagator=propagate_groups,
 ):
     """Advance several ensembles, each of its own body, step and length, in one parallel call.
 
@@ -128,7 +128,7 @@ def propagate_many(
     if track_axes is not None:
         axes = groups.tracking_axes(track_axes)
         levels = _levels(np.zeros((n_groups, 0)) if levels is None else levels, n_groups)
-    run = propagate_groups(
+    run = propagator(
         scene, spec, x0, groups.params, sizes, hs, n_steps,
         save_every=save_every, axes=axes, levels=levels, progress=progress,
         chunk_steps=chunk_steps, partial=partial,

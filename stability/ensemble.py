@@ -604,7 +604,7 @@ def _plan(body, axis, spin=None, epsilon=None, members=None, *, h, t_end, seed=0
         from .gpu import NoGPUError, gpu_method
         from .gpu.device import cuda_module
 
-        gpu_method(spec.name)  # ValueError naming the methods the GPU has
+        gpu_method(spec.name, scene)  # ValueError naming the methods the GPU has
         try:
             cuda_module()
         except NoGPUError as exc:  # before anything runs, as a user's error
@@ -618,9 +618,9 @@ def _plan(body, axis, spin=None, epsilon=None, members=None, *, h, t_end, seed=0
     attitude = carries_attitude(scene)
     if attitude:
         attitude_spec(spec)
-    if attitude and (summaries_only or device != "cpu"):
-        raise ValueError("scene 'free_body_attitude' needs the time series on the CPU: leave "
-                         "summaries_only False and device 'cpu'")
+    if attitude and summaries_only:
+        raise ValueError("scene 'free_body_attitude' needs the time series: leave "
+                         "summaries_only False")
     if n_steps % save_every and not summaries_only:
         raise ValueError(
             f"t_end / h = {n_steps} steps is not a multiple of save_every = {save_every}; "
@@ -1019,17 +1019,11 @@ def _propagate_tracked(plans, progress, rows):
     """One call of the member loop over ``plans`` (members ``rows`` of a single plan)."""
     starts = [plan.w0 if rows is None else plan.w0[rows] for plan in plans]
     first = plans[0]
+    gpu = {}
     if first.device == "gpu":
-        from .gpu import propagate_many_gpu
+        from .gpu import propagate_groups_gpu  # numba-cuda: an optional dependency
 
-        return propagate_many_gpu(
-            first.spec.name, [plan.body.moments for plan in plans],
-            np.concatenate([w * plan.body.moments for w, plan in zip(starts, plans)]),
-            [w.shape[0] for w in starts], [plan.h for plan in plans],
-            [plan.n_steps for plan in plans], 0 if first.summaries_only else first.save_every,
-            track_axes=[plan.a for plan in plans], levels=[plan.levels for plan in plans],
-            chunk_steps=first.chunk_steps if len(plans) == 1 else None,
-        )
+        gpu = {"propagator": propagate_groups_gpu}
     return propagate_many(
         first.spec, [plan.body.moments for plan in plans],
         np.concatenate([w * plan.body.moments for w, plan in zip(starts, plans)]),
@@ -1039,6 +1033,7 @@ def _propagate_tracked(plans, progress, rows):
         track_axes=[plan.a for plan in plans], levels=[plan.levels for plan in plans],
         q0=np.tile(IDENTITY, (sum(w.shape[0] for w in starts), 1)) if first.attitude else None,
         partial=True,  # Ctrl-C: the chunks done are kept, the Dataset marked interrupted
+        **gpu,
     )
 
 

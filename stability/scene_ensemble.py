@@ -76,6 +76,10 @@ class GroupedRun:
         Tracking, as :func:`propagate_groups` takes it.
     label : str, optional
         The progress bar's label.
+    device : {"cpu", "gpu"}, default "cpu"
+        Where the member loop runs: ``"gpu"`` on a CUDA GPU
+        (:func:`stability.gpu.propagate_groups_gpu`; the results agree with the CPU's to
+        round-off, not bitwise, so the device is part of a stored run's identity).
     """
 
     scene: str | Scene
@@ -89,8 +93,11 @@ class GroupedRun:
     axes: np.ndarray | None = None
     levels: np.ndarray | None = None
     label: str | None = None
+    device: str = "cpu"
 
     def __post_init__(self):
+        if self.device not in ("cpu", "gpu"):
+            raise ValueError(f"device must be 'cpu' or 'gpu', got {self.device!r}")
         self.x0 = np.ascontiguousarray(self.x0, dtype=float)
         self.params = np.ascontiguousarray(np.atleast_2d(self.params), dtype=float)
         self.sizes = np.asarray(self.sizes, dtype=np.int64).reshape(-1)
@@ -119,6 +126,7 @@ class GroupedRun:
         name, source = ((self.scene, "") if isinstance(self.scene, str)
                         else (self.scene.name, self.scene.source))
         return {"scene": name, **({"scene_source": source} if source else {}),  # user's code
+                **({"device": self.device} if self.device != "cpu" else {}),
                 "method": self.method, "save_every": self.save_every,
                 "arrays": {name: None if a is None else _digest(a) for name, a in arrays.items()}}
 
@@ -134,11 +142,14 @@ class GroupedRun:
                        levels=pick(self.levels))
 
     def propagate(self, progress=None) -> Propagation:
-        """The run in this process (:func:`propagate_groups`)."""
-        return propagate_groups(self.scene, self.method, self.x0, self.params, self.sizes,
-                                self.h, self.n_steps, save_every=self.save_every,
-                                axes=self.axes, levels=self.levels, progress=progress,
-                                label=self.label)
+        """The run in this process (:func:`propagate_groups`, or its GPU twin)."""
+        propagator = propagate_groups
+        if self.device == "gpu":
+            from .gpu import propagate_groups_gpu as propagator  # numba-cuda: optional
+
+        return propagator(self.scene, self.method, self.x0, self.params, self.sizes, self.h,
+                          self.n_steps, save_every=self.save_every, axes=self.axes,
+                          levels=self.levels, progress=progress, label=self.label)
 
     def __call__(self, lo: int, hi: int, progress, threads) -> xr.Dataset:
         """The chunk job (:func:`stability.stream.stream_chunks`): members ``lo ... hi - 1``

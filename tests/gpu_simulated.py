@@ -42,7 +42,8 @@ def relative(a, b):
     """max over members of |a - b| / |b| (rows), or of |a - b| / scale for 1-D."""
     a, b = np.asarray(a, float), np.asarray(b, float)
     if a.ndim == 2:
-        return float(np.max(np.linalg.norm(a - b, axis=1) / np.linalg.norm(b, axis=1)))
+        scale = np.maximum(np.linalg.norm(b, axis=1), 1e-300)
+        return float(np.max(np.linalg.norm(a - b, axis=1) / scale))
     both = np.isfinite(a) & np.isfinite(b)
     return float(np.max(np.abs(a[both] - b[both]), initial=0.0))
 
@@ -119,12 +120,106 @@ def chunks_and_groups():
             "group1": same(tail, alone), "steps_done": many.steps_done.tolist()}
 
 
+#: Every scene and method: members of two groups (two parameter sets of ``scene.example``),
+#: steps of each, the step, a sample every SCENE_SAVE steps, and chunks of SCENE_CHUNK steps.
+SCENE_MEMBERS = (5, 3)
+SCENE_STEPS = (24, 16)
+SCENE_H = 0.01
+SCENE_SAVE = 4
+SCENE_CHUNK = 8
+SCENE_LEVELS = [1e-3, 1e-2, 1e-1]
+
+
+def scene_case(scene, method, propagator, **options):
+    """Run ``method`` on ``scene``'s example (two groups, tracked, saved) with ``propagator``
+    (:func:`stability.engine.propagate_groups` or its GPU twin)."""
+    x0, sets = scene.example(SCENE_MEMBERS[0], seed=3)
+    sets = (list(sets) * 2)[:2]
+    spec = scene.method(method)
+    params = np.array([spec.params(s, SCENE_H) for s in sets])
+    x = np.concatenate([x0, x0[:SCENE_MEMBERS[1]]])
+    axes = [(1, 0, 2), (2, 0, 1)]
+    return propagator(scene, spec, x, params, list(SCENE_MEMBERS), SCENE_H, list(SCENE_STEPS),
+                      save_every=SCENE_SAVE, axes=axes, levels=[SCENE_LEVELS] * 2,
+                      progress=False, **options)
+
+
+def scene_differences(gpu, cpu):
+    """Largest relative difference of states and tracked times, and what must be equal."""
+    def rel(a, b):
+        a, b = a.reshape(-1, a.shape[-1]), b.reshape(-1, b.shape[-1])
+        ok = np.all(np.isfinite(b), axis=1)
+        scale = np.maximum(np.linalg.norm(b[ok], axis=1), 1e-300)
+        return float(np.max(np.linalg.norm(a[ok] - b[ok], axis=1) / scale, initial=0.0))
+
+    times = [k for k in cpu.extras if cpu.extras[k].dtype.kind == "f"]
+    counts = [k for k in cpu.extras if cpu.extras[k].dtype.kind != "f"]
+    return {
+        "bitwise": bool(np.array_equal(gpu.x_final, cpu.x_final, equal_nan=True)
+                        and np.array_equal(gpu.saved, cpu.saved, equal_nan=True)
+                        and all(np.array_equal(gpu.extras[k], cpu.extras[k], equal_nan=True)
+                                for k in cpu.extras)),
+        "final": rel(gpu.x_final, cpu.x_final),
+        "saved": rel(gpu.saved, cpu.saved) if cpu.saved.size else 0.0,
+        "shapes": gpu.saved.shape == cpu.saved.shape,
+        "times": max((relative(gpu.extras[k], cpu.extras[k]) for k in times), default=0.0)
+        / (SCENE_H * max(SCENE_STEPS)),
+        "counts_equal": all(np.array_equal(gpu.extras[k], cpu.extras[k]) for k in counts),
+        "status_equal": bool(np.array_equal(gpu.status, cpu.status)),
+        "iterations_equal": bool(np.array_equal(gpu.iterations, cpu.iterations)),
+        "steps_done": [gpu.steps_done.tolist(), cpu.steps_done.tolist()],
+    }
+
+
+def every_scene():
+    """Every scene's every GPU method against the CPU loop, in chunked launches."""
+    from stability.engine import propagate_groups
+    from stability.gpu import gpu_methods, propagate_groups_gpu
+    from stability.scenes import SCENES
+
+    from tests.gpu_user_scene import DAMPED_BODY
+
+    out = {}
+    for scene in (*SCENES.values(), DAMPED_BODY):
+        for method in gpu_methods(scene):
+            cpu = scene_case(scene, method, propagate_groups)
+            gpu = scene_case(scene, method, propagate_groups_gpu, chunk_steps=SCENE_CHUNK)
+            out[f"{scene.name}/{method}"] = scene_differences(gpu, cpu)
+    return out
+
+
+def stored_on_gpu():
+    """A heavy-top run on the GPU streamed to a store in chunks, against the CPU in one piece."""
+    import tempfile
+
+    from stability.scene_ensemble import GroupedRun, propagate_stored
+    from stability.scenes import SCENES
+
+    scene = SCENES["heavy_top"]
+    x0, tops = scene.example(10, seed=4)
+    spec = scene.method("lp2")
+    run = GroupedRun(scene.name, "lp2", x0, [spec.params(t, 0.01) for t in tops[:2]], [6, 4],
+                     0.01, [40, 30], save_every=10, axes=[2, 0, 1], levels=[0.3, 0.5])
+    gpu = GroupedRun(**{**run.__dict__, "device": "gpu"})
+    cpu = run.propagate(progress=False)
+    with tempfile.TemporaryDirectory() as folder:
+        streamed = propagate_stored(gpu, folder + "/store", chunk_members=3, threads=1,
+                                    progress=False)
+    return {
+        "bitwise": bool(np.array_equal(streamed.x_final, cpu.x_final)
+                        and np.array_equal(streamed.saved, cpu.saved, equal_nan=True)
+                        and all(np.array_equal(streamed.extras[k], cpu.extras[k],
+                                               equal_nan=True) for k in cpu.extras)),
+        "identity_differs": gpu.identity() != run.identity(),
+    }
+
+
 def errors():
-    """The ValueError for a method without a GPU kernel."""
+    """The ValueError for a method the scene does not have."""
     from stability.gpu import propagate_gpu
 
     try:
-        propagate_gpu("midpoint", MOMENTS, starts() * MOMENTS, H, 1)
+        propagate_gpu("no_such_method", MOMENTS, starts() * MOMENTS, H, 1)
     except ValueError as error:
         return str(error)
     return None
@@ -177,6 +272,8 @@ def main():
     results["chunks_and_groups"] = chunks_and_groups()
     results["no_kernel_error"] = errors()
     results["ensemble"] = ensemble_on_gpu()
+    results["every_scene"] = every_scene()
+    results["stored"] = stored_on_gpu()
     print(json.dumps(results))
 
 

@@ -25,7 +25,7 @@ import sys
 
 import pytest
 
-from stability.gpu import GPU_METHODS, NO_GPU_MESSAGE, gpu_method
+from stability.gpu import GPU_METHODS, NO_GPU_MESSAGE, NOT_ON_GPU, gpu_method, gpu_methods
 
 ROOT = pathlib.Path(__file__).resolve().parents[1]
 SCRIPT = ROOT / "tests" / "gpu_simulated.py"
@@ -81,11 +81,33 @@ def test_chunks_and_groups_change_nothing(simulated):
 
 
 @needs_numba_cuda
-def test_method_without_kernel(simulated):
-    assert "'midpoint' has no GPU kernel" in simulated["no_kernel_error"]
-    with pytest.raises(ValueError, match="methods with one: rk4, lp2"):
-        gpu_method("dmv")
+def test_a_method_the_scene_has_not_is_named_with_those_it_has(simulated, monkeypatch):
+    assert "'no_such_method' does not run scene 'free_body'" in simulated["no_kernel_error"]
+    assert "rk4, lp2" in simulated["no_kernel_error"]
+    monkeypatch.setitem(NOT_ON_GPU, ("heavy_top", "lp4"), "a reason")
+    with pytest.raises(ValueError, match=r"'lp4' of scene 'heavy_top' has no GPU kernel "
+                                         r"\(a reason\); methods with one: rk4, lp2$"):
+        gpu_method("lp4", "heavy_top")
+    assert gpu_methods("heavy_top") == ("rk4", "lp2")
     assert set(GPU_METHODS) >= {"rk4", "lp2", "exact"}
+
+
+@needs_numba_cuda
+def test_every_scene_and_method_runs_on_the_gpu(simulated):
+    """Each registered scene's every method, and a scene of the user's own, in two groups,
+    tracked, saved and in chunks: the CPU loop's result (bitwise under the simulator, which
+    rounds as the CPU does)."""
+    from stability.scenes import SCENES
+
+    runs = simulated["every_scene"]
+    assert set(runs) == {f"{s.name}/{m}" for s in SCENES.values()
+                         for m in gpu_methods(s)} | {"gpu_damped_body/rk4"}
+    assert len(runs) > len(SCENES)
+    for case, r in runs.items():
+        assert r["shapes"] and r["status_equal"] and r["counts_equal"], case
+        assert r["iterations_equal"] and r["steps_done"][0] == r["steps_done"][1], case
+        assert max(r["final"], r["saved"], r["times"]) <= TOLERANCE, case
+        assert r["bitwise"], case
 
 
 @needs_numba_cuda
@@ -121,7 +143,25 @@ def test_gpu_device_refuses_a_method_it_has_not():
     body = stability.RigidBody(1.0, 2.0, 3.0)
     with pytest.raises(ValueError, match="device must be 'cpu' or 'gpu', got 'tpu'"):
         stability.run_ensemble(body, 2, 1.0, 0.01, 4, h=0.1, t_end=1.0, device="tpu")
-    bad = [m for m in stability.METHODS if m not in GPU_METHODS][0]
-    with pytest.raises(ValueError, match=bad):
-        stability.run_ensemble(body, 2, 1.0, 0.01, 4, h=0.1, t_end=1.0, method=bad,
-                               device="gpu")
+    NOT_ON_GPU["free_body", "midpoint"] = "a reason"
+    try:
+        with pytest.raises(ValueError, match="'midpoint' of scene 'free_body' has no GPU"):
+            stability.run_ensemble(body, 2, 1.0, 0.01, 4, h=0.1, t_end=1.0, method="midpoint",
+                                   device="gpu")
+    finally:
+        del NOT_ON_GPU["free_body", "midpoint"]
+
+
+@needs_numba_cuda
+def test_a_stored_run_on_the_gpu_in_chunks_is_the_cpu_run(simulated):
+    r = simulated["stored"]
+    assert r["bitwise"]  # under the simulator; to round-off on a GPU
+    assert r["identity_differs"]  # a store written on one device is not resumed on the other
+
+
+def test_grouped_run_refuses_an_unknown_device():
+    from stability.scene_ensemble import GroupedRun
+
+    with pytest.raises(ValueError, match="device must be 'cpu' or 'gpu', got 'tpu'"):
+        GroupedRun("free_body", "rk4", [[0.0, 1.0, 0.0]], [[1.0] * 9], [1], 0.1, 1,
+                   device="tpu")

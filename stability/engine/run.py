@@ -294,6 +294,91 @@ def propagate_groups(
     scene = registered_scene(scene)
     spec = scene.method(method)
     advance = compiled_loop(scene, spec, compensated)
+    arrays = member_arrays(scene, x0, params, sizes, h, n_steps, save_every, axes, levels)
+    a = arrays
+    saved = np.empty((a.x.shape[0], a.n_saved, scene.width))
+    compile_time = loop_ready(advance, scene.width, a.params.shape[1])
+    done = np.zeros(a.sizes.size, dtype=np.int64)
+    k_saved = np.zeros(a.sizes.size, dtype=np.int64)
+
+    def run_chunk(this):
+        block_lo, block_size, block_group = block_table(a.sizes, this > 0,
+                                                        numba.get_num_threads())
+        advance(
+            a.x, a.comp, a.params, block_lo, block_size, block_group, a.hs, this, done,
+            save_every, saved, k_saved, a.status, a.fail_step, a.iterations, a.axes, a.track,
+            a.levels, a.thresholds, a.passage,
+        )
+
+    # Groups of unequal length leave blocks of unequal work: hand blocks out one at a time.
+    chunksize = numba.set_parallel_chunksize(1 if a.sizes.size > 1 else 0)
+    try:
+        wall, interrupted = run_in_chunks(
+            run_chunk, a.sizes, a.total, done, k_saved, save_every, chunk_steps, progress,
+            label or spec.name,
+        )
+    finally:
+        numba.set_parallel_chunksize(chunksize)
+    if interrupted and not partial:
+        raise KeyboardInterrupt
+    return arrays.propagation(saved, done, k_saved, interrupted, wall, compile_time)
+
+
+@dataclass
+class MemberArrays:
+    """Everything the member loop reads and writes, on the host, in the kernels' frame.
+
+    Made by :func:`member_arrays` (which checks the shapes); the loop, on the CPU or on a GPU
+    (:mod:`stability.gpu`), updates ``x``, ``comp``, ``status``, ``fail_step``,
+    ``iterations``, ``track`` and ``passage`` in place, and :meth:`propagation` turns them into
+    the result. Members are rows: ``x`` (N, n), ``track`` (N, N_TRACK) (no rows without
+    tracking), ``passage`` (N, L); per group: ``params`` (G, n_params), ``sizes``, ``hs``,
+    ``total`` (steps), ``axes`` (G, 3), ``levels`` (G, L) and ``thresholds`` (G, L + 1).
+    """
+
+    x: np.ndarray
+    comp: np.ndarray
+    params: np.ndarray
+    sizes: np.ndarray
+    hs: np.ndarray
+    total: np.ndarray
+    axes: np.ndarray
+    track: np.ndarray
+    levels: np.ndarray
+    thresholds: np.ndarray
+    passage: np.ndarray
+    status: np.ndarray
+    fail_step: np.ndarray
+    iterations: np.ndarray
+    n_saved: int
+
+    def propagation(self, saved, done, k_saved, interrupted, wall, compile_time) -> Propagation:
+        """The result once the loop has done ``done`` steps per group and saved ``k_saved``
+        samples per group into ``saved`` (N, n_saved, n)."""
+        x, status, fail_step = self.x, self.status, self.fail_step
+        # The last check: a state that stopped being finite after the last multiple of
+        # CHECK_EVERY.
+        lost = (status == 0) & ~np.all(np.isfinite(x), axis=1)
+        status[lost] = 1
+        fail_step[lost] = np.repeat(done, self.sizes)[lost]
+        kept = int(k_saved.max()) if self.sizes.size else 0
+        saved = saved[:, :kept]
+        if self.sizes.size > 1 and kept:
+            short = np.repeat(k_saved, self.sizes)
+            saved[np.arange(kept)[None, :] >= short[:, None]] = np.nan
+        return Propagation(
+            x_final=x, saved=saved, status=status, fail_step=fail_step,
+            iterations=self.iterations, steps_done=done, interrupted=interrupted,
+            wall_time=wall, compile_time=compile_time,
+            extras={} if self.track.shape[0] == 0 else tracking_results(self.track,
+                                                                         self.passage),
+        )
+
+
+def member_arrays(scene, x0, params, sizes, h, n_steps, save_every=0, axes=None,
+                  levels=None) -> MemberArrays:
+    """Lay out groups of members of ``scene`` for the loop; arguments as
+    :func:`propagate_groups` takes them. ValueError for shapes that do not fit."""
     x = np.array(x0, dtype=float, order="C", copy=True)
     params = np.ascontiguousarray(np.atleast_2d(np.asarray(params, dtype=float)))
     sizes = np.asarray(sizes, dtype=np.int64).reshape(-1)
@@ -308,13 +393,6 @@ def propagate_groups(
         )
     if params.shape[0] != n_groups:
         raise ValueError(f"params must have one row per group ({n_groups}), got {params.shape}")
-    comp = np.zeros_like(x)
-    status = np.zeros(n_members, dtype=np.int8)
-    fail_step = np.full(n_members, -1, dtype=np.int64)
-    iterations = np.zeros(n_members, dtype=np.int64)
-    n_saved = int(total.max()) // save_every if save_every > 0 else 0
-    saved = np.empty((n_members, n_saved, scene.width))
-
     if axes is None:
         axes = np.zeros((n_groups, 3), dtype=np.int64)
         track = np.zeros((0, N_TRACK))
@@ -328,43 +406,13 @@ def propagate_groups(
         track, passage = initial_tracking(a, b, c, np.repeat(levels, sizes, axis=0))
     thresholds = np.full((n_groups, levels.shape[1] + 1), np.inf)  # inf past the last level
     thresholds[:, :-1] = level_thresholds(levels)
-
-    compile_time = loop_ready(advance, scene.width, params.shape[1])
-    done = np.zeros(n_groups, dtype=np.int64)
-    k_saved = np.zeros(n_groups, dtype=np.int64)
-
-    def run_chunk(this):
-        block_lo, block_size, block_group = block_table(sizes, this > 0, numba.get_num_threads())
-        advance(
-            x, comp, params, block_lo, block_size, block_group, hs, this, done, save_every,
-            saved, k_saved, status, fail_step, iterations, axes, track, levels, thresholds,
-            passage,
-        )
-
-    # Groups of unequal length leave blocks of unequal work: hand blocks out one at a time.
-    chunksize = numba.set_parallel_chunksize(1 if n_groups > 1 else 0)
-    try:
-        wall, interrupted = _run_in_chunks(
-            run_chunk, sizes, total, done, k_saved, save_every, chunk_steps, progress,
-            label or spec.name,
-        )
-    finally:
-        numba.set_parallel_chunksize(chunksize)
-    if interrupted and not partial:
-        raise KeyboardInterrupt
-    # The last check: a state that stopped being finite after the last multiple of CHECK_EVERY.
-    lost = (status == 0) & ~np.all(np.isfinite(x), axis=1)
-    status[lost] = 1
-    fail_step[lost] = np.repeat(done, sizes)[lost]
-    kept = int(k_saved.max()) if n_groups else 0
-    saved = saved[:, :kept]
-    if n_groups > 1 and kept:
-        short = np.repeat(k_saved, sizes)
-        saved[np.arange(kept)[None, :] >= short[:, None]] = np.nan
-    return Propagation(
-        x_final=x, saved=saved, status=status, fail_step=fail_step, iterations=iterations,
-        steps_done=done, interrupted=interrupted, wall_time=wall, compile_time=compile_time,
-        extras={} if track.shape[0] == 0 else tracking_results(track, passage),
+    return MemberArrays(
+        x=x, comp=np.zeros_like(x), params=params, sizes=sizes, hs=hs, total=total, axes=axes,
+        track=track, levels=levels, thresholds=thresholds, passage=passage,
+        status=np.zeros(n_members, dtype=np.int8),
+        fail_step=np.full(n_members, -1, dtype=np.int64),
+        iterations=np.zeros(n_members, dtype=np.int64),
+        n_saved=int(total.max(initial=0)) // save_every if save_every > 0 else 0,
     )
 
 
@@ -383,7 +431,7 @@ def _observed(scene, x, params, axes, sizes):
     return out
 
 
-def _run_in_chunks(run_chunk, sizes, total, done, k_saved, save_every, chunk_steps, progress,
+def run_in_chunks(run_chunk, sizes, total, done, k_saved, save_every, chunk_steps, progress,
                    label):
     """Call ``run_chunk(steps per group)`` until every group has done its steps.
 

@@ -1,7 +1,8 @@
 """Member-steps per second of the GPU kernels, and how far they are from the hardware's bounds.
 
-``python -m stability.gpu.bench [--members N ...] [--steps N] [--methods NAME ...]`` times the
-free-body kernels of ``rk4`` and ``lp2`` (with and without tracking) on the CUDA GPU, with
+``python -m stability.gpu.bench [--members N ...] [--steps N] [--methods NAME ...] [--scenes]``
+times the free-body kernels of ``rk4`` and ``lp2`` (with and without tracking) on the CUDA GPU,
+and with ``--scenes`` every scene's every method, with
 CUDA events around launches made after a warm-up launch, and prints member-steps/s, the
 fraction of the issue's target for RK4 on one H100 (1e11 member-steps/s) and two bounds:
 
@@ -23,6 +24,8 @@ import argparse
 import sys
 
 import numpy as np
+
+from ..engine.loop import N_TRACK
 
 #: The issue's target for RK4 on one H100 (member-steps/s).
 TARGET_RK4_H100 = 1e11
@@ -51,46 +54,47 @@ def device_bounds(cuda):
     return name, sms * clock * lanes, bandwidth
 
 
-def time_kernel(cuda, method, members, steps, tracked, repeat=3):
-    """Best member-steps/s of ``repeat`` timed launches (after one warm-up launch)."""
-    from ..engine.loop import N_TRACK
-    from ..integrators import method_spec
-    from .kernels import member_kernel
-    from .methods import THREADS_PER_BLOCK
+#: Step (s) of every timed run, and the spin axis and its perpendiculars tracked (the free
+#: body's example spins about its middle axis, body axis 1).
+STEP = 0.01
+TRACK_AXES = {"free_body": (1, 0, 2)}
 
-    spec = method_spec(method)
-    moments = np.array([1.0, 2.0, 3.0])
-    rng = np.random.default_rng(0)
-    w = np.zeros((3, members))
-    w[1] = 1.0
-    w[0], w[2] = 1e-4 * rng.standard_normal((2, members))
-    x = cuda.to_device(w * moments[:, None])
-    comp = cuda.to_device(np.zeros((3, members)))
-    params = cuda.to_device(spec.params(moments, 0.01)[None, :])
-    group = cuda.to_device(np.zeros(members, dtype=np.int32))
-    hs = cuda.to_device(np.array([0.01]))
-    n = cuda.to_device(np.array([steps], dtype=np.int64))
-    zero = cuda.to_device(np.zeros(1, dtype=np.int64))
-    axes = cuda.to_device(np.array([[1, 0, 2]], dtype=np.int64))
-    track = np.zeros((N_TRACK, members if tracked else 1))
-    if tracked:
-        track[0], track[1] = w[1], w[0]
-        track[2] = track[9] = w[0] ** 2 + w[2] ** 2
-        track[[4, 5, 7, 8]] = np.nan
-    track = cuda.to_device(track)
-    thresholds = cuda.to_device(np.full((1, 1), np.inf))
-    levels = cuda.to_device(np.zeros((1, 0)))
-    passage = cuda.to_device(np.zeros((0, members if tracked else 1)))
-    status = cuda.to_device(np.zeros(members, dtype=np.int8))
-    fail = cuda.to_device(np.full(members, -1, dtype=np.int64))
-    saved = cuda.to_device(np.zeros((1, 3, 1)))
-    kernel = member_kernel(spec, tracked)
+
+def time_kernel(cuda, method, members, steps, tracked, repeat=3, scene="free_body"):
+    """Best member-steps/s of ``repeat`` timed launches (after one warm-up launch).
+
+    The members are ``scene.example``'s starts (for the free body: near a spin about the middle
+    axis of I = 1, 2, 3) with its first parameter set, step :data:`STEP`.
+    """
+    from ..engine.run import member_arrays
+    from ..scenes import scene as registered_scene
+    from .kernels import member_kernel
+    from .methods import THREADS_PER_BLOCK, gpu_method
+
+    scene = registered_scene(scene)
+    spec = gpu_method(method, scene)
+    x0, parameter_sets = scene.example(members, seed=0)
+    params = spec.params(parameter_sets[0], STEP)[None, :]
+    axes = [TRACK_AXES.get(scene.name, (2, 0, 1))] if tracked else None
+    a = member_arrays(scene, x0, params, [members], STEP, steps, 0, axes, None)
+
+    def on_device(array):
+        return cuda.to_device(np.ascontiguousarray(array))
+
+    width = scene.width
+    args = [on_device(a.x.T), on_device(a.comp.T), on_device(a.params),
+            on_device(np.zeros(members, dtype=np.int32)), on_device(a.hs),
+            on_device(a.total), on_device(np.zeros(1, dtype=np.int64)), on_device(a.axes),
+            on_device(a.track.T if tracked else np.zeros((N_TRACK, 1))),
+            on_device(a.thresholds), on_device(a.levels),
+            on_device(a.passage.T if tracked else np.zeros((0, 1))), on_device(a.status),
+            on_device(a.fail_step), on_device(a.iterations),
+            on_device(np.zeros((1, width, 1))), 0, on_device(np.zeros(1, dtype=np.int64))]
+    kernel = member_kernel(scene, spec, tracked)
     blocks = -(-members // THREADS_PER_BLOCK)
 
     def launch():
-        kernel[blocks, THREADS_PER_BLOCK](x, comp, params, group, hs, n, zero, axes, track,
-                                          thresholds, levels, passage, status, fail, saved, 0,
-                                          zero)
+        kernel[blocks, THREADS_PER_BLOCK](*args)
 
     launch()  # warm-up: compiles and loads the kernel
     cuda.synchronize()
@@ -107,6 +111,32 @@ def time_kernel(cuda, method, members, steps, tracked, repeat=3):
     return best
 
 
+def scene_table(cuda, members, steps):
+    """Print member-steps/s (untracked and tracked) and compile seconds of every scene and
+    method with a GPU kernel."""
+    import time
+
+    from ..scenes import SCENES
+    from .methods import gpu_methods
+
+    print(f"\nevery scene, {members:.0e} members, {steps} steps (member-steps/s)")
+    print(f"{'scene':<20} {'method':<20} {'width':>5} {'compile s':>10} {'untracked':>11} "
+          f"{'tracked':>11}")
+    for scene in SCENES.values():
+        for method in gpu_methods(scene):
+            t0 = time.perf_counter()
+            try:
+                plain = time_kernel(cuda, method, members, steps, False, 2, scene)
+            except Exception as error:  # a kernel the device compiler refuses: say which
+                print(f"{scene.name:<20} {method:<20} failed: {type(error).__name__}: "
+                      f"{str(error).splitlines()[0][:200]}")
+                continue
+            compile_s = time.perf_counter() - t0
+            tracked = time_kernel(cuda, method, members, steps, True, 2, scene)
+            print(f"{scene.name:<20} {method:<20} {scene.width:>5} {compile_s:>10.2f} "
+                  f"{plain:>11.3e} {tracked:>11.3e}", flush=True)
+
+
 def main(argv=None) -> int:
     parser = argparse.ArgumentParser(prog="python -m stability.gpu.bench", description=__doc__
                                      .split("\n")[0])
@@ -114,6 +144,8 @@ def main(argv=None) -> int:
     parser.add_argument("--steps", type=int, default=1000)
     parser.add_argument("--methods", nargs="+", default=["rk4", "lp2"])
     parser.add_argument("--repeat", type=int, default=3)
+    parser.add_argument("--scenes", action="store_true",
+                        help="also time every scene and method (1e6 members, 200 steps)")
     args = parser.parse_args(argv)
     from .device import real_gpu
 
@@ -135,7 +167,9 @@ def main(argv=None) -> int:
                 rate = time_kernel(cuda, method, members, args.steps, tracked, args.repeat)
                 print(f"{method:<6} {str(tracked):<8} {members:>9.0e} {rate:>15.3e} "
                       f"{rate / TARGET_RK4_H100:>8.2f} {compute:>14.3e} {rate / compute:>9.2f} "
-                      f"{memory:>13.3e}")
+                      f"{memory:>13.3e}", flush=True)
+    if args.scenes:
+        scene_table(cuda, 10**6, 200)
     return 0
 
 

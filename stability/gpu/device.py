@@ -58,8 +58,10 @@ def cuda_module():
 
 def simulated(cuda) -> bool:
     """True when ``cuda`` is numba-cuda's simulator (kernels run as Python on the CPU)."""
-    from numba.cuda.core import config
-
+    try:
+        from numba.cuda.core import config  # numba-cuda >= 0.21 keeps its own config
+    except ImportError:
+        from numba.core import config
     return bool(config.ENABLE_CUDASIM)
 
 
