@@ -151,3 +151,11 @@ def assert_cf_compliant(path, known=()):
                     assert name in names.get(standard, []), (path, name, standard)
                 if standard == "time":
                     assert name in axes.get("T", []), (path, name)
+
+
+def assert_readable(fig):
+    """Every axis label of ``fig`` carries its unit, and no legend covers its data."""
+    from stability.figures.style import covered_data, missing_units
+
+    assert missing_units(fig) == []
+    assert covered_data(fig) == []

@@ -8,7 +8,7 @@ import stability
 from stability.artefacts import measure_rule, step_for_accuracy
 from stability.ensemble import perturbed_starts
 
-from .helpers import assert_cf_compliant
+from .helpers import assert_cf_compliant, assert_readable
 
 ROOT = Path(__file__).resolve().parents[1]
 RACKET = np.sort(stability.RigidBody.preset("tennis_racket").moments)
@@ -42,7 +42,6 @@ def test_step_needed_for_a_one_percent_flip_interval_shrinks_with_the_rule():
 
 def test_study_engine_artefacts_quick(tmp_path):
     from stability.figures.artefacts import artefacts_figure
-    from stability.figures.style import missing_units
     from stability.study import run_study
 
     summary = run_study(ROOT / "studies" / "engine_artefacts.toml", tmp_path, quick=True,
@@ -55,7 +54,7 @@ def test_study_engine_artefacts_quick(tmp_path):
     ds = stability.load(tmp_path / "engine_artefacts.nc")
     for name, var in {**ds.data_vars, **ds.coords}.items():
         assert var.attrs.get("units") and var.attrs.get("long_name"), name
-    assert missing_units(artefacts_figure(ds)) == []
+    assert_readable(artefacts_figure(ds))
     assert_cf_compliant(tmp_path / "engine_artefacts.nc")
 
 

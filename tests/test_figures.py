@@ -9,7 +9,11 @@ import stability
 from stability.analytic import intermediate_axis
 from stability.estimators import analyse_ensemble
 from stability.figures import tennis
-from stability.figures.style import label, missing_units, save
+from stability.figures.style import (
+    covered_data, label, missing_units, new_figure, place_legend, save,
+)
+
+from .helpers import assert_readable
 
 SPIN, EPSILON = 10.0, 1e-4
 
@@ -35,7 +39,7 @@ FIGURES = [tennis.flips_figure, tennis.polhode_figure, tennis.growth_figure,
 def test_figure_builds_with_units_and_a_legend(make, analysed, tmp_path):
     fig = make(*analysed)
     assert isinstance(fig, Figure)
-    assert missing_units(fig) == []
+    assert_readable(fig)
     assert fig.legends or any(ax.get_legend() is not None for ax in fig.axes)
     png, pdf = save(fig, tmp_path, "figure", ("png", "pdf"))
     assert png.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
@@ -104,3 +108,24 @@ def test_work_precision_styles_are_keyed_by_registered_families():
 
     families = {spec.family for spec in stability.METHODS.values()}
     assert set(work_precision._FAMILY_STYLE) <= families
+
+
+def test_covered_data_finds_a_legend_over_the_lines_and_place_legend_clears_it():
+    fig = new_figure()
+    ax = fig.subplots()
+    x = np.linspace(0.0, 1.0, 3)  # three vertices a line: the segments between them count too
+    for k in range(8):
+        ax.plot(x, np.full_like(x, float(k)), label=f"line {k}")
+    ax.set_xlabel("x (m)")
+    ax.set_ylabel("y (m)")
+    ax.legend(loc="center")
+    problems = covered_data(fig)
+    assert len(problems) == 1 and problems[0].startswith("axes 0: the legend covers ")
+    place_legend(ax)  # no clear place inside: beside the axes
+    assert covered_data(fig) == []
+    ax.get_legend().remove()
+    ax.plot([0.0, 1.0], [40.0, 40.0], label="apart")  # room between the lines
+    place_legend(ax)
+    assert covered_data(fig) == []
+    inside, legend = ax.get_window_extent(), ax.get_legend().get_window_extent()
+    assert inside.x0 <= legend.x0 and legend.x1 <= inside.x1  # in the room left inside

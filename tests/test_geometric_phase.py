@@ -14,7 +14,7 @@ from stability.geometric_phase import exact_angles, run_angles, wrap
 from stability.roots import bracketed_newton
 from stability.twisting import tossed_members
 
-from .helpers import assert_cf_compliant
+from .helpers import assert_cf_compliant, assert_readable
 
 ROOT = Path(__file__).resolve().parents[1]
 
@@ -180,7 +180,6 @@ def test_ensemble_attitude_bad_input(kwargs, message):
 
 
 def test_study_twisting_racket_quick(tmp_path):
-    from stability.figures.style import missing_units
     from stability.figures.twisting import flip_figure, twist_figure
     from stability.study import run_study
 
@@ -192,5 +191,6 @@ def test_study_twisting_racket_quick(tmp_path):
     with xr.open_dataset(tmp_path / "twisting_racket.nc") as ds:
         for name, var in {**ds.data_vars, **ds.coords}.items():
             assert var.attrs.get("units") and var.attrs.get("long_name"), name
-        assert missing_units(twist_figure(ds)) == [] and missing_units(flip_figure(ds)) == []
+        assert_readable(twist_figure(ds))
+        assert_readable(flip_figure(ds))
     assert_cf_compliant(tmp_path / "twisting_racket.nc")

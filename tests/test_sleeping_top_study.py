@@ -6,11 +6,10 @@ import numpy as np
 import pytest
 import xarray as xr
 
-from stability.figures.style import missing_units
 from stability.figures.top import sleeping_top_figure
 from stability.study import run_study
 
-from .helpers import assert_cf_compliant
+from .helpers import assert_cf_compliant, assert_readable
 
 ROOT = Path(__file__).resolve().parents[1]
 STUDY = ROOT / "studies" / "sleeping_top.toml"
@@ -42,7 +41,7 @@ def test_files_and_a_figure_with_units_on_every_axis(quick):
     assert sorted(p.name for p in summary.files) == ["config.toml", "sleeping_top.nc",
                                                       "sleeping_top.png"]
     with xr.open_dataset(out / "sleeping_top.nc") as ds:
-        assert missing_units(sleeping_top_figure(ds, claim=1e-3)) == []
+        assert_readable(sleeping_top_figure(ds, claim=1e-3))
 
 
 def test_dataset_follows_cf(quick):

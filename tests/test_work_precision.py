@@ -5,14 +5,13 @@ import pytest
 import xarray as xr
 
 import stability
-from stability.figures.style import missing_units
 from stability.figures.work_precision import invariant_drift_figure, work_precision_figure
 from stability import workprecision as wp
 from stability.drift import drift_kind
 from stability.reference import METRICS
 from stability.study import ConfigError, load_study, run_study
 
-from .helpers import assert_cf_compliant
+from .helpers import assert_cf_compliant, assert_readable
 
 STUDY_FILE = "studies/work_precision.toml"
 
@@ -162,7 +161,7 @@ def test_markdown_table_names_a_winner_per_accuracy(quick):
 def test_figures_label_every_axis_with_units(quick):
     _, ds, _ = quick
     for fig in (work_precision_figure(ds), invariant_drift_figure(ds)):
-        assert missing_units(fig) == []
+        assert_readable(fig)
 
 
 @pytest.mark.parametrize(

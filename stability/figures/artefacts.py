@@ -50,11 +50,15 @@ def artefacts_figure(ds):
                         fontsize=9)
     growth_ax.set_title(f"growth rate vs sqrt(-Omega^2) = {ds.attrs['growth_rate_exact']:.3f} "
                         "1/s", fontsize=9)
-    energy_ax.legend(loc="lower left", fontsize=7, ncol=2)
     trace_ax.set_xlabel(label("time", "s"))
     trace_ax.set_ylabel(label("spin-axis angular velocity w2", "rad s-1"))
     trace_ax.set_title(f"one member, engine rules at h = {float(steps[0]):.4g} s", fontsize=9)
-    trace_ax.legend(loc="lower left", fontsize=7, ncol=2)
+    # One legend for the four panels (the rules keep their colour in each), below them: inside
+    # an axes it covered the flat lines of the energy panel and the traces.
+    handles, labels = energy_ax.get_legend_handles_labels()
+    exact = trace_ax.get_lines()[-1]
+    fig.legend(handles + [exact], labels + ["exact solution"], loc="outside lower center",
+               ncols=5, fontsize=8)
     fig.suptitle(f"{ds.attrs['members']} tossed rackets, spin {ds.attrs['spin']:g} rad/s about "
                  "the middle axis: engine update rules (solid) and the package's methods "
                  "(dashed)", fontsize=10)

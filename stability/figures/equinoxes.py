@@ -11,7 +11,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from .style import AXIS_COLORS, EXACT_COLOR, label, new_figure, styled
+from .style import AXIS_COLORS, EXACT_COLOR, label, new_figure, place_legend, styled
 
 
 def _detrended(t, y):
@@ -41,7 +41,7 @@ def equinoxes_figure(ds):
     prec_ax.set_ylabel(label("precession in longitude -(phi - phi0)", "arcsec"))
     prec_ax.set_title(f"full model ({ds.attrs['method']}, {ds.attrs['steps_per_day']} steps a "
                       f"day); published {ds.attrs['published_precession']:.3f}\"/yr", fontsize=9)
-    prec_ax.legend(fontsize=8)
+    place_legend(prec_ax, fontsize=8)
     prec_ax.tick_params(labelbottom=False)
     both = ds.sel(torque="both")
     nut_ax.plot(t, -_detrended(t, both.longitude.values), color=AXIS_COLORS[0], lw=0.6,
@@ -60,7 +60,7 @@ def equinoxes_figure(ds):
     nut_ax.set_xlabel(label("time since J2000", "yr"))
     nut_ax.set_ylabel(label("nutation (line removed)", "arcsec"))
     nut_ax.set_title("18.6-year nutation; dotted: published amplitudes (IAU 1980)", fontsize=9)
-    nut_ax.legend(fontsize=7, loc="lower right")
+    place_legend(nut_ax, fontsize=7)
     if long_run:
         cycle_ax = fig.add_subplot(grid[:, 1])
         phi = np.radians(ds.cycle_longitude.values)

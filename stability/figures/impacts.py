@@ -12,7 +12,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from .style import EXACT_COLOR, label, new_figure, styled
+from .style import EXACT_COLOR, label, new_figure, place_legend, styled
 
 _PIVOT_COLORS = ("#1f77b4", "#2ca02c", "#9467bd", "#8c564b", "#e377c2")
 
@@ -42,7 +42,7 @@ def bat_figure(ds):
     body_ax.set_aspect("equal")
     body_ax.set_ylim(-3 * r.max(), 3 * r.max())
     body_ax.set_ylabel(label("half-width", "m"))
-    body_ax.legend(loc="upper left", fontsize=7.5, ncol=2)
+    place_legend(body_ax, fontsize=7.5, ncol=2)
     body_ax.set_title(f"{ds.attrs['body']}, {ds.attrs['mass']:.3g} kg, to scale: hands "
                       "(squares) and their centres of percussion (stars)")
     strikes = ds.strike.values
@@ -64,7 +64,7 @@ def bat_figure(ds):
     held_ax.set_ylabel(label("reaction at the hands / J", "1"))
     held_ax.set_title(f"held: J = {impulse:g} N s over {1e3 * ds.attrs['contact_time']:g} ms; "
                       "dashed: J (M d s / I_P - 1); zero at the centre of percussion")
-    held_ax.legend(fontsize=7.5)
+    place_legend(held_ax, fontsize=7.5)
     free_ax.axhline(0.0, color="grey", lw=0.6)
     free_ax.set_ylabel(label("hands' velocity after", "m s-1"))
     free_ax.set_xlabel(label("strike point from the end held", "m"))
@@ -97,7 +97,7 @@ def rolling_map_figure(ds):
         ax.set_title(f"{name}, I / (M R^2) = {k:.3g}\n{int(wrong.sum())} cells on the wrong "
                      "side")
         ax.set_xlabel(label("incline angle theta", "degree"))
-        ax.legend(loc="upper left", fontsize=7.5)
+        place_legend(ax, fontsize=7.5)
     axes[0].set_ylabel(label("static friction coefficient mu_s", "1"))
     fig.colorbar(mesh, ax=axes, label=label("fraction of the cell's members that slip", "1"))
     fig.suptitle("Released at rest on an incline: rolls below the line, slips above it "
@@ -123,7 +123,7 @@ def rolling_launch_figure(ds):
     path_ax.set_xlabel(label("time", "s"))
     path_ax.set_ylabel(label("v (solid) and R w (dashed)", "m s-1"))
     path_ax.set_title("slip ends where they meet (dotted: the formula's time)")
-    path_ax.legend(fontsize=7.5)
+    place_legend(path_ax, fontsize=7.5)
     k = ds.attrs["launch_shape_factor"]
     ratio = ds.spin_ratio.values
     speed_ax.plot(ratio, ds.v_final / ds.v0, ".", ms=3, label="run")
@@ -133,7 +133,7 @@ def rolling_launch_figure(ds):
     speed_ax.set_xlabel(label("launch spin R w0 / v0", "1"))
     speed_ax.set_ylabel(label("rolling speed / launch speed", "1"))
     speed_ax.set_title("final speed (5/7 v0 + 2/7 R w0 for a solid sphere)")
-    speed_ax.legend(fontsize=7.5)
+    place_legend(speed_ax, fontsize=7.5)
     e0 = 0.5 * ds.attrs["launch_mass"] * ds.v0**2 * (1.0 + k * ratio**2)
     heat_ax.plot(ratio, ds.heat / e0, ".", ms=3, label="run: work of friction")
     heat_ax.plot(line, (1.0 - line) ** 2 * k / ((1.0 + k) * (1.0 + k * line**2)),
@@ -141,7 +141,7 @@ def rolling_launch_figure(ds):
     heat_ax.set_xlabel(label("launch spin R w0 / v0", "1"))
     heat_ax.set_ylabel(label("heat / launch energy", "1"))
     heat_ax.set_title("energy lost to friction")
-    heat_ax.legend(fontsize=7.5)
+    place_legend(heat_ax, fontsize=7.5)
     fig.suptitle(f"{ds.member.size} balls launched along a level floor (R = "
                  f"{100 * ds.attrs['launch_radius']:.2f} cm, mu_k = {ds.attrs['launch_mu_k']:g}"
                  f" +- {100 * ds.attrs['launch_mu_scatter']:g}%)")

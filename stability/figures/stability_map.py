@@ -18,7 +18,7 @@ from __future__ import annotations
 import numpy as np
 
 from ..estimators import DEPARTURE_FACTOR, MIN_POINTS
-from .style import AXIS_COLORS, EXACT_COLOR, label, new_figure, styled
+from .style import AXIS_COLORS, EXACT_COLOR, label, new_figure, place_legend, styled
 
 #: Marker of each method in the scatter and sweep figures (cycled).
 _MARKERS = ("o", "s", "^", "D", "v", "P")
@@ -181,7 +181,7 @@ def scatter_figure(ds):
     left.set_ylabel(label("measured Ω² / W²", "1"))
     left.set_title("measured against analytic: −rate² (growth), +frequency² (oscillation)",
                    fontsize=9)
-    left.legend(loc="upper left")
+    place_legend(left)
     right.set_xscale("log")
     right.set_yscale("log")
     right.set_xlabel(label("|analytic Ω²| / W²", "1"))
@@ -229,7 +229,7 @@ def flip_interval_figure(ds, samples=120):
     top.set_ylabel(label("flip interval", "s"))
     top.set_title("time between flips against the perturbation (spin about axis 2, "
                   "perturbation along axis 1)", fontsize=9)
-    top.legend(fontsize=7, ncol=2)
+    place_legend(top, fontsize=7, ncol=2)
     bottom.set_yscale("log")
     bottom.set_xlabel(label("perturbation ε (relative to the spin)", "1"))
     bottom.set_ylabel(label("|measured − exact| / exact", "1"))
@@ -273,7 +273,7 @@ def edges_figure(ds):
                 transform=ax.transAxes, ha="right", va="bottom", fontsize=7)
         ax.set_xlabel(label("time", "s"))
         ax.set_ylabel(label("perpendicular components of w", "rad s-1"))
-        ax.legend(fontsize=7, loc="upper left")
+        place_legend(ax, fontsize=7)
     fig.suptitle(f"Equal moments: Ω² = 0, departure linear in t ({ds.attrs['edge_method']}, "
                  f"h = {float(ds.attrs['edge_h']):g} s, ε = {ds.attrs['edge_epsilon']:g})",
                  fontsize=9.5)

@@ -11,6 +11,7 @@ from __future__ import annotations
 import re
 from pathlib import Path
 
+import numpy as np
 from matplotlib.figure import Figure
 
 from ..publish import disk_error
@@ -164,3 +165,90 @@ def _colorbar_side(ax):
     if getattr(ax, "_colorbar", None) is None:
         return None
     return "y" if ax._colorbar.orientation == "vertical" else "x"
+
+
+#: Where :func:`place_legend` tries a legend, in order, before putting it beside the axes.
+LEGEND_PLACES = ("best", "upper right", "upper left", "lower left", "lower right",
+                 "center left", "center right", "upper center", "lower center")
+
+
+def place_legend(ax, **kwargs):
+    """A legend on ``ax`` where it covers none of the data (:func:`covered_data`).
+
+    Tries :data:`LEGEND_PLACES` inside the axes, laying the figure out for each, and puts the
+    legend beside the axes, on the right, when none is clear. ``kwargs`` go to ``ax.legend``.
+    """
+    fig = ax.get_figure(root=True)
+    for place in LEGEND_PLACES:
+        legend = ax.legend(loc=place, **kwargs)
+        if not _legend_hits(ax, _drawn(fig)):
+            return legend
+    return ax.legend(loc="upper left", bbox_to_anchor=(1.02, 1.0), borderaxespad=0.0, **kwargs)
+
+
+def covered_data(fig: Figure) -> list[str]:
+    """Legends of ``fig`` drawn over its data; empty when every legend is clear of it.
+
+    Lays the figure out (as saving does), then follows every line of every axes in display
+    coordinates, :data:`SAMPLES_PER_SEGMENT` points along each segment between its vertices
+    (so a line that crosses a legend between two markers counts), and every scatter point, and
+    names each axes whose legend box holds any of them, with how many.
+    """
+    renderer = _drawn(fig)
+    problems = []
+    for k, ax in enumerate(fig.axes):
+        hits = _legend_hits(ax, renderer)
+        if hits:
+            problems.append(f"{ax.get_title() or f'axes {k}'}: the legend covers {hits} "
+                            "points of data")
+    return problems
+
+
+#: Points per segment between a line's vertices that :func:`covered_data` looks at.
+SAMPLES_PER_SEGMENT = 24
+
+
+def _drawn(fig):
+    """Lay ``fig`` out and draw it (on an Agg canvas if it has none); its renderer."""
+    from matplotlib.backends.backend_agg import FigureCanvasAgg
+
+    if not hasattr(fig.canvas, "get_renderer"):
+        FigureCanvasAgg(fig)
+    fig.canvas.draw()
+    return fig.canvas.get_renderer()
+
+
+def _legend_hits(ax, renderer) -> int:
+    """Data points of ``ax`` (lines followed along their segments, scatter points) that its
+    legend box covers; 0 without a legend."""
+    legend = ax.get_legend()
+    if legend is None or not legend.get_visible():
+        return 0
+    box = legend.get_window_extent(renderer)
+    clip = ax.get_window_extent(renderer)
+    hits = 0
+    for line in ax.get_lines():
+        if not line.get_visible():
+            continue
+        xy = line.get_transform().transform(np.column_stack(line.get_data()).astype(float))
+        xy = xy[np.all(np.isfinite(xy), axis=1)]
+        if len(xy) > 1:
+            steps = np.linspace(0.0, 1.0, SAMPLES_PER_SEGMENT, endpoint=False)[None, :, None]
+            xy = np.concatenate([(xy[:-1, None] + steps * (xy[1:] - xy[:-1])[:, None])
+                                 .reshape(-1, 2), xy[-1:]])
+        hits += _inside(xy, box, clip)
+    for collection in ax.collections:
+        offsets = collection.get_offsets()
+        if collection.get_visible() and len(offsets):
+            xy = collection.get_offset_transform().transform(np.asarray(offsets, float))
+            hits += _inside(xy[np.all(np.isfinite(xy), axis=1)], box, clip)
+    return hits
+
+
+def _inside(xy, box, clip) -> int:
+    """Points of ``xy`` (display coordinates) inside ``box`` and within the axes ``clip``."""
+    if not len(xy):
+        return 0
+    x, y = xy[:, 0], xy[:, 1]
+    shown = (x >= clip.x0) & (x <= clip.x1) & (y >= clip.y0) & (y <= clip.y1)
+    return int(np.sum(shown & (x >= box.x0) & (x <= box.x1) & (y >= box.y0) & (y <= box.y1)))

@@ -22,7 +22,9 @@ from .. import conventions as cv
 from ..analytic import moment_name, perpendicular_axes
 from ..estimators import sign_change_times
 from ..polhodes import polhodes, separatrix_circles
-from .style import AXIS_COLORS, ENSEMBLE_COLOR, EXACT_COLOR, label, new_figure, styled
+from .style import (
+    AXIS_COLORS, ENSEMBLE_COLOR, EXACT_COLOR, label, new_figure, place_legend, styled,
+)
 
 
 def _subtitle(ds, body, axis) -> str:
@@ -252,7 +254,8 @@ def growth_figure(ds, body=None, axis=None):
     ax.set_xlabel(label("time", cv.UNITS_TIME))
     b, c = perpendicular_axes(axis)
     ax.set_ylabel(label(f"perpendicular amplitude √(w{b}² + w{c}²)", cv.UNITS_ANGULAR_VELOCITY))
-    ax.legend(loc="lower right", framealpha=0.9)
+    # Below the axes: seven entries inside it covered the band or the growth line.
+    fig.legend(loc="outside lower center", ncols=2, framealpha=0.9)
     if rate > 0:
         headline = (f"Exponential growth away from the {moment_name(body, axis)} axis, then "
                     "saturation at the flip")
@@ -324,9 +327,9 @@ def flip_interval_figure(ds, body=None, axis=None, max_points=3000):
     right.set_xlabel(label("ln(4/k′)", cv.UNITS_DIMENSIONLESS))
     right.set_ylabel(label("(interval − 2K/ν) / (2K/ν)", cv.UNITS_DIMENSIONLESS))
     right.set_title("Relative difference from the exact 2K/ν")
-    for ax, where in ((left, "upper right"), (middle, "upper left"), (right, "best")):
+    for ax in (left, middle, right):
         if n_good:
-            ax.legend(loc=where, framealpha=0.9)
+            place_legend(ax, framealpha=0.9)
         else:
             ax.text(0.5, 0.5, "no member flipped twice", transform=ax.transAxes,
                     ha="center", va="center", color="0.4")

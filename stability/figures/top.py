@@ -13,7 +13,9 @@ from __future__ import annotations
 import numpy as np
 
 from .. import conventions as cv
-from .style import AXIS_COLORS, EXACT_COLOR, label, new_figure, plain_log_ticks, styled
+from .style import (
+    AXIS_COLORS, EXACT_COLOR, label, new_figure, place_legend, plain_log_ticks, styled,
+)
 
 
 @styled
@@ -52,10 +54,10 @@ def sleeping_top_figure(ds, claim=None):
     top_ax.set_ylabel(label("growth rate of the tilt", cv.UNITS_RATE))
     top_ax.set_title(f"Sleeping top: tilt growth below the critical spin "
                      f"({ds.attrs.get('method', '')}, {ds.attrs.get('members', '')} members each)")
-    top_ax.legend(fontsize=8)
+    place_legend(top_ax, fontsize=8)
     if claim is not None:
         err_ax.axhline(claim, color=EXACT_COLOR, ls="--", lw=1, label=f"claim {claim:g}")
-        err_ax.legend(fontsize=8)
+        place_legend(err_ax, fontsize=8)
     err_ax.set_ylabel(label("|relative error|", cv.UNITS_DIMENSIONLESS))
     err_ax.set_xlabel(label("spin w3", cv.UNITS_ANGULAR_VELOCITY))
     return fig
@@ -95,7 +97,7 @@ def gyroscope_paths_figure(ds):
         ax.set_xlabel(label("precession angle phi", "degree"))
     axes[0].invert_yaxis()
     axes[0].set_ylabel(label("tilt theta of the figure axis", "degree"))
-    axes[0].legend(fontsize=8)
+    place_legend(axes[0], fontsize=8)
     fig.suptitle(f"Gyroscope released at {ds.attrs['path_tilt']:g}° with spin "
                  f"{ds.attrs['path_spin']:.0f} rad/s: paths of the figure axis "
                  f"(W = M g l / (C w3))", fontsize=10)
@@ -148,16 +150,16 @@ def gyroscope_rates_figure(ds, claim=None):
     prec_ax.set_xlabel(label("M g l / (C w3)", cv.UNITS_ANGULAR_VELOCITY))
     prec_ax.set_ylabel(label("mean precession rate", cv.UNITS_ANGULAR_VELOCITY))
     prec_ax.set_title("precession: run (markers), exact (lines)", fontsize=9)
-    prec_ax.legend(fontsize=7)
+    place_legend(prec_ax, fontsize=7)
     nut_ax.set_xlabel(label("C w3 / A", cv.UNITS_ANGULAR_VELOCITY))
     nut_ax.set_ylabel(label("nutation frequency 2 pi / T", cv.UNITS_ANGULAR_VELOCITY))
     nut_ax.set_title("nutation frequency", fontsize=9)
-    nut_ax.legend(fontsize=7)
+    place_legend(nut_ax, fontsize=7)
     amp_ax.plot([], [], ":", color="gray", label="2 |1 - k| A M g l sin(theta0) / (C w3)²")
     amp_ax.set_xlabel(label("spin w3", cv.UNITS_ANGULAR_VELOCITY))
     amp_ax.set_ylabel(label("nutation amplitude theta_max - theta_min", "degree"))
     amp_ax.set_title("nutation amplitude", fontsize=9)
-    amp_ax.legend(fontsize=7)
+    place_legend(amp_ax, fontsize=7)
     for name, quantity, color in (("precession_rate_error", "precession rate", AXIS_COLORS[0]),
                                   ("nutation_frequency_error", "nutation frequency",
                                    AXIS_COLORS[1]),
@@ -175,7 +177,7 @@ def gyroscope_rates_figure(ds, claim=None):
     err_ax.set_xlabel(label("spin w3", cv.UNITS_ANGULAR_VELOCITY))
     err_ax.set_ylabel(label("max |run - exact| / exact", cv.UNITS_DIMENSIONLESS))
     err_ax.set_title(f"run against the exact motion ({ds.attrs.get('method', '')})", fontsize=9)
-    err_ax.legend(fontsize=7)
+    place_legend(err_ax, fontsize=7)
     fig.suptitle(f"Gyroscope: {ds.attrs.get('top_name', 'top')}, M g l = {ds.attrs['mgl']:.4g} "
                  f"N m", fontsize=10)
     return fig

@@ -10,7 +10,7 @@ from __future__ import annotations
 import numpy as np
 
 from ..attitude import quaternion_to_matrix, spatial_angular_momentum
-from .style import AXIS_COLORS, label, new_figure, styled
+from .style import AXIS_COLORS, label, new_figure, place_legend, styled
 
 #: A stylised racket in its body frame (handle along axis 1, head across axis 2), metres.
 _HEAD_CENTRE, _HEAD_HALF_LENGTH, _HEAD_HALF_WIDTH = 0.17, 0.165, 0.125
@@ -46,7 +46,7 @@ def twist_figure(ds):
     mont_ax.set_xlabel(label("Montgomery's angle", "rad"))
     mont_ax.set_ylabel(label("|difference|", "rad"))
     mont_ax.set_title(f"{ds.attrs['method']}, {ds.attrs['steps_per_period']} steps per period")
-    mont_ax.legend(loc="upper right")
+    place_legend(mont_ax)
     return fig
 
 
