@@ -659,11 +659,12 @@ def headline(ds: xr.Dataset):
             s = int(np.argmin((ds.I1.values - 1 / 3) ** 2 + (ds.I2.values - 2 / 3) ** 2))
             lam = math.sqrt(-float(ds.omega_squared.values[s, 1]))
             predicted = -2.0 * LITERATURE_RATE_BIAS[method](h * spin, lam / spin)
-            rows.append((f"{tag}: rel. error at I = ({float(ds.I1[s]):.4g}, "
-                         f"{float(ds.I2[s]):.4g}, 1), axis 2 / literature bias",
-                         f"{rel[s, 1]:.1e} / {predicted:.1e}",
-                         f"+- {float(ds.omega_squared_measured_stderr[k, s, 1]) / lam**2:.0e}"
-                         " (stderr); literature notes 4.1"))
+            shape = f"I = ({float(ds.I1[s]):.4g}, {float(ds.I2[s]):.4g}, 1), axis 2"
+            stderr = float(ds.omega_squared_measured_stderr[k, s, 1]) / lam**2
+            rows.append((f"{tag}: rel. error of Omega^2 at {shape}", f"{rel[s, 1]:.1e}",
+                         f"standard error {stderr:.0e}"))
+            rows.append((f"{tag}: the same, predicted by the step's bias", f"{predicted:.1e}",
+                         "literature notes 4.1"))
         flip_rel = ds.flip_interval_relative_error.values[k]
         if np.isfinite(flip_rel).any():
             rows.append((f"{tag}: flip interval vs exact 2K/nu, median / max |rel.|",

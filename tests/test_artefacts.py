@@ -51,6 +51,11 @@ def test_study_engine_artefacts_quick(tmp_path):
     assert rules["exact"]["fraction_flipping"] == 1.0
     assert abs(rules["rk4"]["flip_interval_error"]) < 1e-4
     assert np.isnan(rules["no_gyroscopic"]["step_needed"])
+    text = summary.table()  # one column per quantity, words where there is no number
+    header = next(line for line in text.splitlines() if line.startswith("rule "))
+    assert header.split("  ")[0] == "rule" and "step for energy" in header
+    no_gyro = next(line for line in text.splitlines() if line.startswith("no_gyroscopic "))
+    assert "no flip" in no_gyro and "not reached" in no_gyro and "nan" not in text
     ds = stability.load(tmp_path / "engine_artefacts.nc")
     for name, var in {**ds.data_vars, **ds.coords}.items():
         assert var.attrs.get("units") and var.attrs.get("long_name"), name

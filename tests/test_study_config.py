@@ -207,3 +207,19 @@ def test_every_kind_has_its_dataset_checked_against_cf():
     checked = set(re.findall(r'assert_cf_compliant\([^,\n]*"([^"\n]+\.nc)"', sources))
     for name, kind in STUDIES.items():
         assert kind.schema.section("output").key("dataset").default in checked, name
+
+
+def test_summary_table_aligns_names_over_units_and_cells():
+    from stability.study.config import StudySummary, SummaryTable
+
+    table = SummaryTable("two rules", [("rule", ""), ("error", "rel."), ("step", "s")],
+                         [("a", "+1.0e-03", "0.1"), ("long_name", "no flip", "12.5")])
+    assert table.text().splitlines() == [
+        "two rules",
+        "rule          error  step",
+        "            (rel.)   (s)",
+        "a          +1.0e-03   0.1",
+        "long_name   no flip  12.5",
+    ]
+    summary = StudySummary("x", ".", rows=[("wall time", "1.0", "s")], tables=[table])
+    assert summary.table().split("\n\n") == ["wall time  1.0  s", table.text()]

@@ -810,12 +810,49 @@ class StudySummary:
     files: list = field(default_factory=list)
     rows: list = field(default_factory=list)
     values: dict = field(default_factory=dict)
+    tables: list = field(default_factory=list)
 
     def table(self) -> str:
-        """The rows as an aligned plain-text table."""
-        if not self.rows:
-            return ""
-        w0 = max(len(r[0]) for r in self.rows)
-        w1 = max(len(r[1]) for r in self.rows)
-        lines = [f"{q:<{w0}}  {v:>{w1}}  {u}".rstrip() for q, v, u in self.rows]
-        return "\n".join(lines)
+        """The rows as an aligned plain-text table, then each of ``tables``."""
+        parts = []
+        if self.rows:
+            w0 = max(len(r[0]) for r in self.rows)
+            w1 = max(len(r[1]) for r in self.rows)
+            parts.append("\n".join(f"{q:<{w0}}  {v:>{w1}}  {u}".rstrip()
+                                   for q, v, u in self.rows))
+        parts += [table.text() for table in self.tables]
+        return "\n\n".join(parts)
+
+
+@dataclass
+class SummaryTable:
+    """A table of a study's summary with one column per quantity (:attr:`StudySummary.tables`).
+
+    Attributes
+    ----------
+    title : str
+        One line above the table.
+    columns : list of (str, str)
+        ``(name, unit)`` of each column; the unit is printed under the name, in parentheses
+        (none for an empty unit).
+    rows : list of tuple of str
+        The cells, formatted; the first column is left-aligned, the others right-aligned.
+    """
+
+    title: str
+    columns: list
+    rows: list = field(default_factory=list)
+
+    def text(self) -> str:
+        """The title, a header of names over units, and the rows, in aligned columns."""
+        names = [name for name, _ in self.columns]
+        units = [f"({unit})" if unit else "" for _, unit in self.columns]
+        widths = [max(len(names[k]), len(units[k]), *(len(row[k]) for row in self.rows))
+                  for k in range(len(self.columns))]
+
+        def line(cells):
+            first = f"{cells[0]:<{widths[0]}}"
+            rest = [f"{cell:>{width}}" for cell, width in zip(cells[1:], widths[1:])]
+            return "  ".join([first, *rest]).rstrip()
+
+        return "\n".join([self.title, line(names), line(units), *map(line, self.rows)])

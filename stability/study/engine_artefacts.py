@@ -17,7 +17,8 @@ from pathlib import Path
 import numpy as np
 
 from .config import (
-    MEMBER_BYTES, ConfigError, Key, Schema, Section, StudyKind, StudySummary, check_memory,
+    MEMBER_BYTES, ConfigError, Key, Schema, Section, StudyKind, StudySummary, SummaryTable,
+    check_memory,
     check_run, output_files, output_section, run_section, stored_run, tossed_body_sections,
     write_outputs,
 )
@@ -147,9 +148,13 @@ def summarize(ds, out_dir, files, wall) -> StudySummary:
     values = {"wall_time": wall, "step": h, "rules": {}}
     rows = [(f"{ds.attrs['members']} members, h = {h:.4g} s; exact flip interval",
              f"{ds.attrs['flip_interval_exact']:.4f}", "s"),
-            ("exact growth rate sqrt(-Omega^2)", f"{ds.attrs['growth_rate_exact']:.4f}", "1/s"),
-            ("rule: flipping, flip interval, growth rate (rel. error), energy, |L| drift",
-             "step: flips / energy", "s")]
+            ("exact growth rate sqrt(-Omega^2)", f"{ds.attrs['growth_rate_exact']:.4f}", "1/s")]
+    table = SummaryTable(
+        f"each rule at h = {h:.4g} s; steps: the largest keeping the flip interval (the energy) "
+        f"within {100 * ds.attrs['tolerance']:g} %",
+        [("rule", ""), ("flipping", "%"), ("flip interval", "rel. error"),
+         ("growth rate", "rel. error"), ("energy drift", "rel."), ("|L| drift", "rel."),
+         ("step for flips", "s"), ("step for energy", "s")])
     for k, rule in enumerate(ds.rule.values):
         r = {name: float(first[name][k]) for name in (
             "fraction_flipping", "flip_interval_error", "growth_rate_error", "energy_drift",
@@ -157,16 +162,22 @@ def summarize(ds, out_dir, files, wall) -> StudySummary:
         r["step_needed"] = float(ds.step_needed[k])
         r["step_needed_energy"] = float(ds.step_needed_energy[k])
         values["rules"][str(rule)] = r
-        rows.append((f"  {rule}: {100 * r['fraction_flipping']:.0f} %, "
-                     f"{r['flip_interval_error']:+.1e}, {r['growth_rate_error']:+.1e}, "
-                     f"{r['energy_drift']:+.1e}, {r['momentum_drift']:+.1e}",
-                     f"{_step(r['step_needed'])} / {_step(r['step_needed_energy'])}", "s"))
+        table.rows.append((str(rule), f"{100 * r['fraction_flipping']:.0f}",
+                           _error(r["flip_interval_error"], "no flip"),
+                           _error(r["growth_rate_error"], "no growth"),
+                           _error(r["energy_drift"]), _error(r["momentum_drift"]),
+                           _step(r["step_needed"]), _step(r["step_needed_energy"])))
     rows.append(("wall time", f"{wall:.1f}", "s"))
-    return StudySummary(NAME, Path(out_dir), files, rows, values)
+    return StudySummary(NAME, Path(out_dir), files, rows, values, [table])
 
 
 def _step(h) -> str:
-    return "never" if np.isnan(h) else f"{h:.2e}"
+    return "not reached" if np.isnan(h) else f"{h:.2e}"
+
+
+def _error(value, why="") -> str:
+    """A relative error, signed; ``why`` in words where there is none (NaN)."""
+    return why if np.isnan(value) else f"{value:+.1e}"
 
 
 STUDY = StudyKind(
