@@ -217,7 +217,7 @@ def test_summary_table_aligns_names_over_units_and_cells():
     assert table.text().splitlines() == [
         "two rules",
         "rule          error  step",
-        "            (rel.)   (s)",
+        "             (rel.)   (s)",
         "a          +1.0e-03   0.1",
         "long_name   no flip  12.5",
     ]
