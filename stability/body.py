@@ -14,6 +14,7 @@ gives bodies people know from the tennis-racket effect (``RigidBody.presets()`` 
 
 from __future__ import annotations
 
+import html
 import math
 from collections.abc import Callable, Iterable, Mapping
 from dataclasses import dataclass, field
@@ -355,6 +356,62 @@ class RigidBody:
         extra = "" if self.physical else ", physical=False"
         label = "" if self.name == "body" else f", name={self.name!r}"
         return f"RigidBody({self.I1!r}, {self.I2!r}, {self.I3!r}{extra}{label})"
+
+    def axis_summary(self) -> list:
+        """Per body axis: its moment, its rank and its linear stability at unit spin.
+
+        Returns
+        -------
+        list of dict
+            For axes 1, 2, 3: ``axis``, ``moment`` (kg m^2), ``rank`` ("smallest",
+            "intermediate", "largest"; "equal" where two moments are equal),
+            ``omega_squared``, Omega^2 / W^2 = (Ia - Ib)(Ia - Ic) / (Ib Ic)
+            (:func:`stability.analytic.omega_squared` at W = 1 rad/s, s^-2), ``stability``
+            ("stable" for Omega^2 > 0, "unstable" < 0, "neutral" = 0) and ``departure``, what
+            a small departure from a spin W about the axis does, in words.
+        """
+        moments = [self.I1, self.I2, self.I3]
+        rows = []
+        for a in range(3):
+            ia, ib, ic = moments[a], moments[(a + 1) % 3], moments[(a + 2) % 3]
+            if ia in (ib, ic):
+                rank = "equal"
+            else:
+                rank = ("smallest", "intermediate", "largest")[sum(ia > m for m in (ib, ic))]
+            o2 = ((ia - ib) / ib) * ((ia - ic) / ic)
+            if o2 < 0.0:
+                stability, departure = "unstable", f"grows as exp({math.sqrt(-o2):.4g} W t)"
+            elif o2 > 0.0:
+                stability, departure = "stable", f"oscillates at {math.sqrt(o2):.4g} W"
+            else:
+                stability, departure = "neutral", "drifts, linearly in time"
+            rows.append({"axis": a + 1, "moment": ia, "rank": rank, "omega_squared": o2,
+                         "stability": stability, "departure": departure})
+        return rows
+
+    def describe(self) -> str:
+        """A few lines for a person: the moments, which axis is unstable, and how fast a spin
+        of W rad/s about it departs."""
+        lines = [f"{self!r}"]
+        lines += [f"  axis {r['axis']}: I = {r['moment']:.6g} kg m^2 ({r['rank']}), "
+                  f"{r['stability']}: a departure {r['departure']}"
+                  for r in self.axis_summary()]
+        lines.append("  (W: the spin in rad/s, t in s)")
+        return "\n".join(lines)
+
+    def _repr_pretty_(self, printer, cycle):
+        """IPython's text display: :meth:`describe`."""
+        printer.text(repr(self) if cycle else self.describe())
+
+    def _repr_html_(self) -> str:
+        """A notebook's display: the moments and each axis's linear stability, as a table."""
+        cells = [f"<tr><td>{r['axis']}</td><td>{r['moment']:.6g}</td><td>{r['rank']}</td>"
+                 f"<td>{r['stability']}</td><td>{r['departure']}</td></tr>"
+                 for r in self.axis_summary()]
+        name = html.escape(self.name)
+        return (f"<div><b>RigidBody</b> {name}<table><tr><th>axis</th><th>I (kg m²)</th>"
+                "<th>moment</th><th>spin about it</th><th>a departure (W: spin, rad/s)</th>"
+                f"</tr>{''.join(cells)}</table></div>")
 
 
 def canonical_frame(moments) -> tuple[np.ndarray, np.ndarray]:

@@ -48,6 +48,9 @@ from .driver import propagate_many
 from .exact_attitude import exact_attitudes
 from .integrators import method_spec
 from .threads import numba_threads
+from .timescales import (
+    DEFAULT_EPSILON, DEFAULT_MEMBERS, default_horizon, default_step, nominal_start,
+)
 
 log = logging.getLogger(__name__)
 
@@ -283,8 +286,8 @@ def run_ensemble(
     epsilon: float | None = None,
     members: int | None = None,
     *,
-    h: float,
-    t_end: float,
+    h: float | None = None,
+    t_end: float | None = None,
     seed=0,
     method: str = "lp2",
     save_every: int = 1,
@@ -322,19 +325,23 @@ def run_ensemble(
         changes of the component of w along it.
     spin : float
         Spin rate W in rad/s, > 0 (not with ``starts``).
-    epsilon : float
+    epsilon : float, default 1e-3
         Perturbation size relative to the spin, >= 0: member j starts at
         ``W e_axis + epsilon W u_j`` with ``u_j`` a unit vector perpendicular to the axis, in a
         random direction (see :func:`perturbed_starts`) or ``direction`` (not with ``starts``).
-    members : int
+    members : int, default 100
         Number of members N (with ``starts``: optional, must equal ``len(starts)``).
-    h : float
+    h : float, optional
         Step in s; for ``lp2`` about 0.01 / W to 0.05 / W, for ``rk4`` up to about 0.1 / W.
         A member whose step angle ``h max|w|`` (:func:`max_angular_speed`) exceeds the
         method's ``max_step_angle`` (``stability.METHODS[method].max_step_angle``, 0.3 to 3
         rad) is labelled ``step_too_large``; if every member would be, the run is refused.
-    t_end : float
-        Horizon in s: a whole number of steps, and of ``save_every`` steps.
+        By default the step angle is 0.02 rad (:func:`stability.timescales.default_step`),
+        and the Dataset says so in its ``h_rule`` attribute.
+    t_end : float, optional
+        Horizon in s: a whole number of steps, and of ``save_every`` steps. By default four
+        flip intervals 2K/nu of the exact motion (:func:`stability.timescales.default_horizon`;
+        the ``t_end_rule`` attribute).
     seed : int, None or numpy.random.SeedSequence, default 0
         Seed of the random directions; ``None`` draws fresh entropy. The entropy is recorded
         in the Dataset (``seed_entropy``), which is enough to repeat the run.
@@ -420,7 +427,58 @@ def run_ensemble(
     ...                             h=0.01, t_end=60.0, save_every=10)
     >>> float(ds.mean_flip_interval.median())  # doctest: +SKIP
     28.7
+    >>> ds = stability.run_ensemble(body, axis=2, spin=1.0)  # the step and horizon by default
     """
+    if starts is None:
+        epsilon = DEFAULT_EPSILON if epsilon is None else epsilon
+        members = DEFAULT_MEMBERS if members is None else members
+    h, t_end, rules = _default_timescales(body, axis, spin, epsilon, starts, h, t_end, save_every)
+    ds = _run_ensemble(
+        body, axis, spin, epsilon, members, h=h, t_end=t_end, seed=seed, method=method,
+        save_every=save_every, direction=direction, starts=starts,
+        summaries_only=summaries_only, scene=scene, levels=levels,
+        divergence_tolerance=divergence_tolerance, max_memory=max_memory, threads=threads,
+        progress=progress, chunk_members=chunk_members, chunk_steps=chunk_steps, config=config,
+        command=command, store=store, resume=resume, scheduler=scheduler, device=device,
+    )
+    ds.attrs.update(rules)
+    return ds
+
+
+_NO_SPIN = ("give spin, the spin rate in rad/s (epsilon and members have defaults), or "
+            "starts=, the initial angular velocities")
+
+
+def _default_timescales(body, axis, spin, epsilon, starts, h, t_end, save_every):
+    """``h`` and ``t_end``, each chosen from the physics where it is None
+    (:mod:`stability.timescales`), and the rules chosen, by attribute name. Arguments too wrong
+    to choose from are left for :func:`_plan` to name."""
+    if (h is not None and t_end is not None) or not isinstance(body, RigidBody):
+        return h, t_end, {}
+    a = _axis_index(axis)
+    if starts is not None:
+        w0 = vectors3("starts", starts, "rad/s")
+        if w0.ndim != 2:
+            return h, t_end, {}
+    elif spin is None:
+        raise ValueError(_NO_SPIN)
+    else:
+        spin = positive_float("spin", spin, "rad/s")
+        w0 = nominal_start(a + 1, spin, _nonnegative_float("epsilon", epsilon))[None, :]
+    rules = {}
+    if h is None:
+        h, rules["h_rule"] = default_step(float(np.max(max_angular_speed(body.moments, w0))))
+    if t_end is None:
+        t_end, rules["t_end_rule"] = default_horizon(
+            body, w0, positive_float("h", h, "s"), positive_int("save_every", save_every))
+    return h, t_end, rules
+
+
+def _run_ensemble(body, axis, spin, epsilon, members, *, h, t_end, seed, method, save_every,
+                  direction, starts, summaries_only, scene, levels, divergence_tolerance,
+                  max_memory, threads, progress, chunk_members, chunk_steps, config, command,
+                  store, resume, scheduler, device):
+    """:func:`run_ensemble` once its step and horizon are known."""
     if store is not None:
         from .stream import run_streamed
 
@@ -647,7 +705,8 @@ def _plan(body, axis, spin=None, epsilon=None, members=None, *, h, t_end, seed=0
         spin_ref = float(np.median(np.linalg.norm(w0, axis=1)))
     else:
         if spin is None or epsilon is None or members is None:
-            raise ValueError("give spin, epsilon and members (or starts=)")
+            raise ValueError(_NO_SPIN if spin is None else "give spin, epsilon and members "
+                             "(or starts=)")
         spin = positive_float("spin", spin, "rad/s")
         epsilon = _nonnegative_float("epsilon", epsilon)
         members = positive_int("members", members)

@@ -298,3 +298,26 @@ def test_unknown_preset_lists_the_known_ones(name):
 
 def test_part_is_exported():
     assert stability.Part is Part
+
+
+@pytest.mark.parametrize("moments", [(1.0, 2.0, 3.0), (3.0, 1.0, 2.5), (1.0, 1.0, 2.0),
+                                     (2.0, 2.0, 2.0)])
+def test_a_body_describes_its_axes_as_the_linear_theory_does(moments):
+    """axis_summary / describe / _repr_html_: Omega^2 at unit spin is analytic.omega_squared's,
+    the word is axis_stability's, and the unstable axis's growth rate is growth_rate's."""
+    from stability.analytic import axis_stability, growth_rate, omega_squared
+
+    body = stability.RigidBody(*moments, physical=False)
+    rows = body.axis_summary()
+    for row in rows:
+        assert row["omega_squared"] == pytest.approx(float(omega_squared(body, row["axis"], 1.0)),
+                                                     rel=1e-15, abs=0.0)
+        assert row["stability"] == str(axis_stability(body, row["axis"]))
+        if row["stability"] == "unstable":
+            assert f"exp({float(growth_rate(body, row['axis'], 1.0)):.4g} W t)" in row[
+                "departure"]
+    assert [r["rank"] for r in rows].count("intermediate") == (len(set(moments)) == 3)
+    text = body.describe()
+    assert text.splitlines()[0] == repr(body) and len(text.splitlines()) == 5
+    html = body._repr_html_()
+    assert html.count("<tr>") == 4 and "kg m²" in html

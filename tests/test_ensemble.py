@@ -10,7 +10,9 @@ import stability
 from stability import conventions as cv
 from stability import ensemble
 from stability.dataset import LEVEL, SUMMARIES, summary_bytes
-from stability.ensemble import RNG_CHUNK, ensemble_memory, perturbed_starts, run_ensemble
+from stability.ensemble import (
+    RNG_CHUNK, ensemble_memory, max_angular_speed, perturbed_starts, run_ensemble,
+)
 
 BODY = stability.RigidBody(1.0, 2.0, 3.0, name="I=(1,2,3)")
 #: Growth rate about the intermediate axis for spin W = 1: sqrt((I2-I1)(I3-I2)/(I1 I3)).
@@ -396,7 +398,10 @@ GOOD = dict(body=BODY, axis=2, spin=1.0, epsilon=1e-3, members=4, h=0.01, t_end=
         (dict(spin=None, epsilon=None, members=3, starts=[[0.0, 1.0, 0.0]]), "3 rows|1 rows"),
         (dict(spin=None, epsilon=None, starts=[0.0, 1.0, 0.0]), r"shape \(members, 3\)"),
         (dict(spin=None, epsilon=None, members=None, starts=[[0.0, 0.0, 0.0]]), "at rest"),
-        (dict(spin=None), "give spin, epsilon and members"),
+        (dict(spin=None), "give spin, the spin rate in rad/s"),
+        (dict(spin=None, h=None, t_end=None), "give spin, the spin rate in rad/s"),
+        (dict(spin=-1.0, h=None), "spin must be finite and > 0"),
+        (dict(axis=4, t_end=None), "axis must be the principal axis 1, 2 or 3"),
         (dict(levels=[1e-3, 1e-4]), "strictly ascending"),
         (dict(levels=[]), "levels must be"),
         (dict(threads=0), "threads must be >= 1"),
@@ -411,6 +416,30 @@ def test_bad_input_is_one_clear_value_error(change, message):
     kwargs = {**GOOD, **change}
     with pytest.raises(ValueError, match=message):
         run_ensemble(**kwargs)
+
+
+def test_one_line_start_chooses_step_and_horizon_from_the_physics():
+    """run_ensemble(body, axis, spin): step angle 0.02 rad, four flip intervals, 100 members
+    at epsilon 1e-3; the rules are in the Dataset, and an explicit step or horizon stays."""
+    from stability.exact import flip_interval
+    from stability.timescales import DEFAULT_FLIPS, DEFAULT_STEP_ANGLE, nominal_start
+
+    ds = run_ensemble(BODY, axis=2, spin=1.0, progress=False, summaries_only=True)
+    h, t_end = ds.attrs["h"], ds.attrs["t_end"]
+    w0 = nominal_start(2, 1.0, 1e-3)
+    assert h * float(max_angular_speed(BODY.moments, w0[None])[0]) == pytest.approx(
+        DEFAULT_STEP_ANGLE, rel=1e-12)
+    interval = flip_interval(BODY, w0)
+    assert DEFAULT_FLIPS * interval <= t_end < DEFAULT_FLIPS * interval + h
+    assert ds.sizes["member"] == 100 and ds.attrs["epsilon"] == 1e-3
+    assert "0.02 rad" in ds.attrs["h_rule"] and "4 flip intervals" in ds.attrs["t_end_rule"]
+    flips = ds.flip_count.values[ds.status.values == 0]
+    assert flips.size == 100 and 3 <= np.median(flips) <= 5  # about one a flip interval
+    stable = run_ensemble(BODY, axis=3, spin=1.0, h=0.05, progress=False, summaries_only=True)
+    assert stable.attrs["h"] == 0.05 and "h_rule" not in stable.attrs
+    assert np.all(stable.flip_count.values == 0)
+    assert stable.attrs["t_end"] == pytest.approx(
+        DEFAULT_FLIPS * flip_interval(BODY, nominal_start(3, 1.0, 1e-3)), abs=0.05)
 
 
 def test_ensembles_run_together_are_bitwise_the_ensembles_run_alone():
