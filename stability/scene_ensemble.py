@@ -28,13 +28,13 @@ from pathlib import Path
 import numpy as np
 import xarray as xr
 
-from . import __version__
 from . import conventions as cv
 from .engine import propagate_groups
 from .engine.run import Propagation
 from .scenes import Scene
 from .store import ChunkStore
 from .stream import stream_chunks
+from .version import __version__
 
 #: Chunks a stored run is cut into by default (each one is kept as soon as it is finished) ...
 DEFAULT_CHUNKS = 8
