@@ -25,7 +25,6 @@ from __future__ import annotations
 import logging
 import math
 import numbers
-import sys
 from dataclasses import dataclass, replace
 
 import numba
@@ -46,6 +45,7 @@ from .dataset import (
 from .attitude import IDENTITY, attitude_error, attitude_spec, carries_attitude
 from .driver import propagate_many
 from .exact_attitude import exact_attitudes
+from .formatting import format_bytes
 from .integrators import method_spec
 from .threads import numba_threads
 
@@ -146,34 +146,6 @@ def max_angular_speed(moments, w0) -> np.ndarray:
             inside = (ui >= 0.0) & (uj >= 0.0)
             best = np.where(inside, np.maximum(best, ui * b[i] ** 2 + uj * b[j] ** 2), best)
     return np.sqrt(best) * scale
-
-
-def format_bytes(n: float) -> str:
-    """``n`` bytes in binary units, e.g. ``"1.5 GiB"``.
-
-    Parameters
-    ----------
-    n : float
-        A number of bytes.
-
-    Returns
-    -------
-    str
-        Whole bytes below 1 KiB, else one decimal in KiB, MiB, GiB or TiB (three digits
-        from 1e5 TiB).
-    """
-    try:
-        n = float(n)
-    except OverflowError:  # a product of counts beyond a float
-        n = math.inf
-    if not math.isfinite(n):
-        return f"more than {sys.float_info.max / 2**40:.3g} TiB"
-    for unit in ("B", "KiB", "MiB", "GiB", "TiB"):
-        if abs(n) < 1024.0 or unit == "TiB":
-            if unit == "TiB" and abs(n) >= 1e5:
-                return f"{n:.3g} TiB"
-            return f"{n:.0f} {unit}" if unit == "B" else f"{n:.1f} {unit}"
-        n /= 1024.0
 
 
 def seed_sequence(seed) -> np.random.SeedSequence:

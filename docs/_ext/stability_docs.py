@@ -152,7 +152,8 @@ def work_precision_page(quick: bool) -> str:
 API_MODULES = (
     ("Bodies and linear theory", ("body", "analytic", "top")),
     ("Exact solutions", ("exact", "exact_attitude", "exact_top", "elliptic")),
-    ("Ensembles, runs and files", ("ensemble", "integrate", "attitude", "io", "stream")),
+    ("Ensembles, runs and files", ("ensemble", "integrate", "attitude", "io", "stream",
+                                   "formatting")),
     ("Measures and estimators", ("estimators", "geometric_phase", "periodic", "roots",
                                  "drift", "reference")),
     ("Scenes, integrators and the engine", ("scenes", "integrators", "engine")),
