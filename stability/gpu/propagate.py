@@ -15,7 +15,7 @@ import time
 
 import numpy as np
 
-from ..driver import CanonicalGroups, _levels
+from ..driver import CanonicalGroups, group_levels
 from ..engine.loop import N_TRACK, level_thresholds
 from ..engine.run import Propagation, deferred_interrupt, initial_tracking, tracking_results
 from ..scenes import SCENES
@@ -114,7 +114,7 @@ def propagate_many_gpu(method, moments, m0, sizes, h, n_steps, save_every=0, tra
     tracked = track_axes is not None
     if tracked:
         axes = groups.tracking_axes(track_axes)
-        levels = _levels(np.zeros((n_groups, 0)) if levels is None else levels, n_groups)
+        levels = group_levels(np.zeros((n_groups, 0)) if levels is None else levels, n_groups)
         start = np.empty((3, n_members))
         for g in range(n_groups):
             rows = slice(bounds[g], bounds[g + 1])
