@@ -412,7 +412,23 @@ def flow_increment(I1, I2, I3, w1, w2, w3, t):
 
 
 @njit(cache=True, error_model="numpy")
-def _omega_many(I1, I2, I3, w1, w2, w3, t, out):
+def omega_many(I1, I2, I3, w1, w2, w3, t, out):
+    """w at many times of one exact motion, canonical frame, written into ``out``.
+
+    The compiled loop behind :func:`exact_omega` and the exact attitude
+    (:mod:`stability.exact_attitude`): :func:`motion` once, then :func:`omega_at` per time.
+
+    Parameters
+    ----------
+    I1, I2, I3 : float
+        Principal moments, I1 <= I2 <= I3 (kg m^2).
+    w1, w2, w3 : float
+        Body angular velocity at t = 0, canonical frame (rad/s).
+    t : ndarray, shape (n,)
+        Times in s.
+    out : ndarray, shape (n, 3)
+        Receives w at each time, canonical frame (rad/s).
+    """
     q = motion(I1, I2, I3, w1, w2, w3)
     for i in range(t.shape[0]):
         out[i, 0], out[i, 1], out[i, 2] = omega_at(q, w1, w2, w3, t[i])
@@ -424,7 +440,7 @@ def _omega_many(I1, I2, I3, w1, w2, w3, t, out):
 
 @njit(cache=True, error_model="numpy")
 def _final_many(I1, I2, I3, w, t, out):
-    """w(t) of each canonical start ``w`` (N, 3) at one time t: :func:`_omega_many` per start."""
+    """w(t) of each canonical start ``w`` (N, 3) at one time t: :func:`omega_many` per start."""
     for j in range(w.shape[0]):
         q = motion(I1, I2, I3, w[j, 0], w[j, 1], w[j, 2])
         out[j, 0], out[j, 1], out[j, 2] = omega_at(q, w[j, 0], w[j, 1], w[j, 2], t)
@@ -513,7 +529,7 @@ def exact_omega(body: RigidBody, w0, t) -> np.ndarray:
     if not np.all(np.isfinite(t_arr)):
         raise ValueError("t must be finite (times in s)")
     out = np.empty((t_arr.shape[0], 3))
-    _omega_many(*moments, *w, t_arr, out)
+    omega_many(*moments, *w, t_arr, out)
     result = from_canonical(out, perm, signs)
     return result[0] if scalar else result
 
