@@ -14,13 +14,7 @@ Notation, used everywhere in the package:
   axis, < 0 (growth at rate ``sqrt(-Omega^2)``) for the intermediate one.
 """
 
-from importlib.metadata import PackageNotFoundError, version
-
-try:  # first: the modules below record it (chunk stores, Datasets)
-    __version__ = version("stability")
-except PackageNotFoundError:  # running from a source tree that was not installed
-    __version__ = "0.1.0"
-
+from .version import __version__
 from .analytic import axis_stability, growth_rate, omega_squared, oscillation_frequency
 from .body import Part, RigidBody
 from .exact import exact_omega, flip_interval, full_period

@@ -66,6 +66,8 @@ import numpy as np
 import xarray as xr
 
 from . import conventions as cv
+from .body import RigidBody
+from .version import __version__
 
 #: Dimension of the perpendicular-amplitude levels of ``passage_time``.
 LEVEL = "level"
@@ -206,8 +208,6 @@ def software_attrs() -> dict:
     """Versions of the package, Python and the numerical libraries, and Numba's threading."""
     import numba
 
-    from . import __version__
-
     return {
         "source": f"stability {__version__}",
         "stability_version": __version__,
@@ -274,8 +274,6 @@ def body_from_attrs(attrs):
     """The body named by a Dataset's attributes (``I1``, ``I2``, ``I3`` in kg m2 and
     ``body_name``, as :func:`provenance_attrs` writes them), as a mathematical body
     (``physical=False``: the moments are taken as recorded)."""
-    from .body import RigidBody
-
     return RigidBody(attrs["I1"], attrs["I2"], attrs["I3"], physical=False,
                      name=attrs.get("body_name", "body"))
 

@@ -11,7 +11,7 @@ from __future__ import annotations
 import numpy as np
 
 from .analytic import perpendicular_axes
-from .attitude import canonical_quaternion, quaternion_conjugate, quaternion_multiply
+from .quaternions import canonical_quaternion, quaternion_conjugate, quaternion_multiply
 from .body import canonical_frame, from_canonical, to_canonical
 from .checks import real_array, real_number
 from .engine import BLOCK, CHECK_EVERY, Propagation, propagate_groups, untrusted
@@ -127,7 +127,7 @@ def propagate_many(
     axes = None
     if track_axes is not None:
         axes = groups.tracking_axes(track_axes)
-        levels = _levels(np.zeros((n_groups, 0)) if levels is None else levels, n_groups)
+        levels = group_levels(np.zeros((n_groups, 0)) if levels is None else levels, n_groups)
     run = propagator(
         scene, spec, x0, groups.params, sizes, hs, n_steps,
         save_every=save_every, axes=axes, levels=levels, progress=progress,
@@ -213,7 +213,29 @@ def tracking_axes(perm, track_axis) -> np.ndarray:
     return np.array([where[track_axis], where[b - 1], where[c - 1]], dtype=np.int64)
 
 
-def _levels(levels, n_groups) -> np.ndarray:
+def group_levels(levels, n_groups) -> np.ndarray:
+    """The amplitude levels of ``n_groups`` ensembles checked, as one float array.
+
+    Shared by the CPU driver and the GPU one (:mod:`stability.gpu.propagate`), which both take
+    one row of levels per ensemble.
+
+    Parameters
+    ----------
+    levels : array_like, shape (n_groups, L)
+        Perpendicular-amplitude levels in rad/s, one row per ensemble (L may be 0).
+    n_groups : int
+        Number of ensembles.
+
+    Returns
+    -------
+    ndarray, shape (n_groups, L)
+
+    Raises
+    ------
+    ValueError
+        Unless the levels are finite, > 0 and strictly ascending along each row, with one row
+        per ensemble.
+    """
     levels = np.asarray(levels, dtype=float)
     if (levels.ndim != 2 or levels.shape[0] != n_groups or np.any(levels <= 0)
             or np.any(np.diff(levels, axis=1) <= 0) or np.any(~np.isfinite(levels))):

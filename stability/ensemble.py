@@ -25,11 +25,11 @@ from __future__ import annotations
 import logging
 import math
 import numbers
-import sys
 from dataclasses import dataclass, replace
 
 import numba
 import numpy as np
+import xarray as xr
 
 from . import conventions as cv
 from .analytic import perpendicular_axes
@@ -39,18 +39,25 @@ from .dataset import (
     add_attitude,
     config_toml,
     ensemble_dataset,
+    history_line,
     provenance_attrs,
     summary_bytes,
     threading_layer,
 )
 from .attitude import IDENTITY, attitude_error, attitude_spec, carries_attitude
 from .driver import propagate_many
+from .estimators import summary_members
 from .exact_attitude import exact_attitudes
+from .formatting import format_bytes
 from .integrators import method_spec
-from .threads import numba_threads
+from .io import READ
+from .store import ChunkStore, read_progress
+from .stream import stream_chunks
+from .threads import checked_threads, numba_threads
 from .timescales import (
     DEFAULT_EPSILON, DEFAULT_MEMBERS, default_horizon, default_step, nominal_start,
 )
+from .version import __version__
 
 log = logging.getLogger(__name__)
 
@@ -149,34 +156,6 @@ def max_angular_speed(moments, w0) -> np.ndarray:
             inside = (ui >= 0.0) & (uj >= 0.0)
             best = np.where(inside, np.maximum(best, ui * b[i] ** 2 + uj * b[j] ** 2), best)
     return np.sqrt(best) * scale
-
-
-def format_bytes(n: float) -> str:
-    """``n`` bytes in binary units, e.g. ``"1.5 GiB"``.
-
-    Parameters
-    ----------
-    n : float
-        A number of bytes.
-
-    Returns
-    -------
-    str
-        Whole bytes below 1 KiB, else one decimal in KiB, MiB, GiB or TiB (three digits
-        from 1e5 TiB).
-    """
-    try:
-        n = float(n)
-    except OverflowError:  # a product of counts beyond a float
-        n = math.inf
-    if not math.isfinite(n):
-        return f"more than {sys.float_info.max / 2**40:.3g} TiB"
-    for unit in ("B", "KiB", "MiB", "GiB", "TiB"):
-        if abs(n) < 1024.0 or unit == "TiB":
-            if unit == "TiB" and abs(n) >= 1e5:
-                return f"{n:.3g} TiB"
-            return f"{n:.0f} {unit}" if unit == "B" else f"{n:.1f} {unit}"
-        n /= 1024.0
 
 
 def seed_sequence(seed) -> np.random.SeedSequence:
@@ -480,8 +459,6 @@ def _run_ensemble(body, axis, spin, epsilon, members, *, h, t_end, seed, method,
                   store, resume, scheduler, device):
     """:func:`run_ensemble` once its step and horizon are known."""
     if store is not None:
-        from .stream import run_streamed
-
         kwargs = dict(
             body=body, axis=axis, spin=spin, epsilon=epsilon, members=members, h=h,
             t_end=t_end, seed=seed, method=method, save_every=save_every, direction=direction,
@@ -501,7 +478,7 @@ def _run_ensemble(body, axis, spin, epsilon, members, *, h, t_end, seed, method,
         chunk_members=chunk_members, chunk_steps=chunk_steps, config=config, command=command,
         device=device, scene=scene,
     )
-    with numba_threads(_threads(threads)):
+    with numba_threads(checked_threads(threads)):
         (run,) = _run([plan], progress)
         return _dataset(plan, run, threads)
 
@@ -552,7 +529,7 @@ def run_ensembles(calls, *, threads=None, progress=None, datasets=True) -> list:
                else ("alone", k))
         batches.setdefault(key, []).append(k)
     runs = [None] * len(plans)
-    with numba_threads(_threads(threads)):
+    with numba_threads(checked_threads(threads)):
         for indices in batches.values():
             for k, run in zip(indices, _run([plans[k] for k in indices], progress)):
                 runs[k] = run
@@ -602,14 +579,158 @@ def completed(*runs) -> None:
 
 def _summary(plan: _Plan, run) -> EnsembleSummary:
     """The :class:`EnsembleSummary` of one summaries-only ensemble, from its plan and run."""
-    from .estimators import summary_members
-
     spin = abs(float(plan.spin)) if plan.start_kind != "given" else None  # None: from w0
     members = summary_members(run.summaries, plan.levels, plan.a + 1, spin, w0=run.w0,
                               ok=np.asarray(run.status) == cv.STATUS_OK)
     return EnsembleSummary(members, np.asarray(run.status, dtype=np.int8),
                            np.asarray(run.summaries["energy_error"], dtype=float),
                            run.members * run.steps_done, run.wall_time, run.interrupted)
+
+
+# --- a run streamed to a store, chunk by chunk (stability.stream) -----------------------------
+
+
+def run_streamed(kwargs: dict, store, *, resume=False, scheduler=None, threads=None,
+                 progress=None, compress=True):
+    """Run the ensemble ``run_ensemble(**kwargs)`` chunk by chunk into the folder ``store``.
+
+    Returns the Dataset over the chunk files (dask arrays). See :func:`stability.run_ensemble`
+    for ``kwargs``; ``chunk_members`` there is the members per chunk file here
+    (default :data:`STREAM_CHUNK_MEMBERS`).
+
+    Parameters
+    ----------
+    kwargs : dict
+        Keyword arguments of :func:`stability.run_ensemble` (without ``threads``,
+        ``progress``, ``store``, ``resume`` and ``scheduler``).
+    store : str or path-like
+        Folder of the chunk files; created if missing.
+    resume : bool, default False
+        Finish a run of the same arguments stopped earlier: only the chunks not on disk are
+        run. Without it, a store that already has chunks done is refused.
+    scheduler : str or distributed.Client, optional
+        Run the chunks on dask.distributed: ``"dask"`` for a local cluster, a scheduler
+        address such as ``"tcp://host:8786"``, or a client. By default they run in this
+        process.
+    threads : int, optional
+        Numba threads when the chunks run in this process; default: Numba's current setting.
+        Dask workers use their own threads.
+    progress : bool, optional
+        Progress bar: over members when several chunks are run, else the chunk's own;
+        ``False`` shows none.
+    compress : bool, default True
+        zlib-compress the chunk files (:func:`stability.io.save`).
+
+    Returns
+    -------
+    xarray.Dataset
+        The whole run over the chunk files (dask arrays).
+
+    Raises
+    ------
+    stability.stream.RunInterrupted
+        If Ctrl-C or SIGTERM stopped the run; the finished chunks are kept.
+    ValueError
+        For invalid arguments, or a store with chunks done and no ``resume``.
+    OSError
+        If the dask scheduler cannot be reached, or a chunk written by a worker is not
+        readable here.
+    """
+    kwargs = dict(kwargs)
+    plan = _plan(**kwargs, defer_starts=True)
+    chunk = kwargs["chunk_members"] = plan.chunk_members
+    # What decides the members' numbers (not the caller's configuration, which may differ in
+    # keys that do not, such as the figures of a study).
+    identity = {"run_ensemble": {k: v for k, v in plan.resolved.items() if k != "threads"},
+                "software": f"stability {__version__}"}
+    chunks = ChunkStore(store, identity, plan.members, chunk, resume=resume)
+    try:
+        todo = stream_chunks(EnsembleChunks(kwargs, plan), chunks, scheduler=scheduler,
+                             threads=threads, progress=progress, compress=compress)
+        attrs = _whole_attrs(chunks)
+        progress = read_progress(chunks.dir) or {}
+        attrs["history"] = attrs.get("history", "") + "\n" + history_line(
+            f"streamed to {chunks.dir}: {chunks.n_chunks} chunks of {chunks.chunk_members} "
+            f"members ({len(todo)} run by this call), "
+            f"{progress.get('members_per_second', 0):.3g} members/s, "
+            f"{progress.get('elapsed_seconds', 0):.1f} s")
+        chunks.complete(attrs)
+        return chunks.open()
+    finally:
+        chunks.close()
+
+
+class EnsembleChunks:
+    """The chunk job of a free-body ensemble: members lo to hi - 1 of
+    :func:`stability.run_ensemble`, numbered from lo, their starts drawn for the chunk alone.
+
+    Parameters
+    ----------
+    kwargs : dict
+        Keyword arguments of :func:`stability.run_ensemble` for the whole run (with
+        ``chunk_members`` resolved).
+    plan : optional
+        The run's plan, when the caller has it (it is made again where the job is unpickled).
+    """
+
+    def __init__(self, kwargs: dict, plan=None):
+        self.kwargs = kwargs
+        self._plan = plan
+
+    def __getstate__(self):
+        return {"kwargs": self.kwargs, "_plan": None}
+
+    def __call__(self, lo: int, hi: int, progress, threads):
+        if self._plan is None:
+            self._plan = _plan(**self.kwargs, defer_starts=True)
+        return _chunk_dataset(self._plan, lo, hi, progress, threads)
+
+
+def _chunk_dataset(plan, lo: int, hi: int, progress, threads):
+    """The Dataset of members ``lo ... hi - 1`` of ``plan``, numbered from ``lo``.
+
+    Raises KeyboardInterrupt if Ctrl-C stopped the chunk (a partial chunk is never kept).
+    """
+    sub = _chunk_plan(plan, lo, hi)
+    (run,) = _run([sub], progress)
+    if run.interrupted:
+        raise KeyboardInterrupt
+    ds = _dataset(sub, run, threads)
+    member = ds[cv.MEMBER]
+    return ds.assign_coords({cv.MEMBER: (cv.MEMBER, np.arange(lo, lo + member.size),
+                                         member.attrs)})
+
+
+def _whole_attrs(chunks: ChunkStore) -> dict:
+    """The attributes of the whole run from those of its chunks."""
+    wall = compile_time = 0.0
+    first = None
+    for k in range(chunks.n_chunks):
+        with xr.open_dataset(chunks.path(k), **READ) as ds:
+            attrs = dict(ds.attrs)
+        wall += float(attrs.get("wall_time", 0.0))
+        compile_time += float(attrs.get("compile_time", 0.0))
+        if first is None:
+            first = attrs
+    n = chunks.members
+    attrs = dict(first)
+    title = attrs.get("title", "")
+    if "-member ensemble" in title:
+        attrs["title"] = f"{n}-member ensemble" + title.split("-member ensemble", 1)[1]
+    steps = float(attrs.get("steps_done", 0))
+    attrs.update({
+        "members": n,
+        "members_requested": n,
+        "wall_time": wall,
+        "compile_time": compile_time,
+        "member_steps_per_second": n * steps / wall if wall > 0 else 0.0,
+        "chunks": chunks.n_chunks,
+        "chunk_members": chunks.chunk_members,
+    })
+    return attrs
+
+
+# --- the plan ---------------------------------------------------------------------------------
 
 
 @dataclass
@@ -850,19 +971,6 @@ def _step_angles(body, spec, w0, h, t_end, given) -> np.ndarray:
             f"which {spec.name}'s results can be trusted; choose h <= {h * bound / smallest:.3g} s"
         )
     return angle
-
-
-def _threads(threads):
-    """``threads`` checked against the cores Numba started with (None: leave as it is)."""
-    if threads is None:
-        return None
-    threads = positive_int("threads", threads)
-    if threads > numba.config.NUMBA_NUM_THREADS:
-        raise ValueError(
-            f"threads must be between 1 and {numba.config.NUMBA_NUM_THREADS} "
-            f"(NUMBA_NUM_THREADS, set before numba is imported), got {threads}"
-        )
-    return threads
 
 
 def _dataset(plan: _Plan, run, threads):

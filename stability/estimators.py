@@ -61,6 +61,7 @@ import xarray as xr
 from . import conventions as cv
 from .analytic import growth_rate, omega_squared, perpendicular_axes
 from .checks import real_array
+from .dataset import body_from_attrs
 
 #: Lower edge of the growth-rate window, in units of the member's initial perpendicular
 #: amplitude a0. A start off the unstable eigenvector carries a decaying mode; at 100 a0 it is
@@ -1047,8 +1048,6 @@ def measured_omega_squared(ds: xr.Dataset, axis=None, spin=None, *, analytic=Non
 def _analytic_from_attrs(ds, mem):
     if not all(k in ds.attrs for k in ("I1", "I2", "I3")):
         return None
-    from .dataset import body_from_attrs
-
     return omega_squared(body_from_attrs(ds.attrs), mem.axis, mem.spin)
 
 
@@ -1197,8 +1196,6 @@ def flip_statistics(ds: xr.Dataset, axis=None, spin=None, *, body=None) -> xr.Da
     if body is None and isinstance(ds, xr.Dataset) and all(
         k in ds.attrs for k in ("I1", "I2", "I3")
     ):
-        from .dataset import body_from_attrs
-
         body = body_from_attrs(ds.attrs)
     exact = asymptote = None
     if body is not None and mem.w0 is not None:

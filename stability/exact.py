@@ -54,6 +54,7 @@ from numba import njit
 
 from .body import RigidBody, from_canonical, to_canonical
 from .checks import real_array, real_number, vectors3
+from .compensated import dd_add, dd_mul, two_prod, two_sum
 from .elliptic import ellipk, sncndn_k
 
 #: Kinds of motion (canonical frame).
@@ -76,71 +77,22 @@ REGIME_NAMES = {
 #: Slots of the tuple returned by :func:`motion`.
 Q_KIND, Q_RATE, Q_M, Q_M1, Q_K = 0, 1, 2, 3, 4
 
-#: Dekker's splitter 2^27 + 1 for the exact product of two doubles (Dekker 1971).
-_SPLITTER = 134217729.0
 #: Components below 2^-500 of the largest are set to zero: their squares would underflow in D.
 _FLUSH = 2.0**-500
-
-
-@njit(inline="always")
-def _two_sum(a, b):
-    """s + e = a + b exactly (Knuth, TAOCP vol. 2, 4.2.2, Theorem B)."""
-    s = a + b
-    bb = s - a
-    return s, (a - (s - bb)) + (b - bb)
-
-
-@njit(inline="always")
-def _fast_two_sum(a, b):
-    """s + e = a + b exactly, for |a| >= |b| (Dekker 1971)."""
-    s = a + b
-    return s, b - (s - a)
-
-
-@njit(inline="always")
-def _two_prod(a, b):
-    """p + e = a b exactly, by Veltkamp splitting (Dekker 1971); |a|, |b| < 2^996."""
-    p = a * b
-    t = _SPLITTER * a
-    ah = t - (t - a)
-    al = a - ah
-    t = _SPLITTER * b
-    bh = t - (t - b)
-    bl = b - bh
-    return p, ((ah * bh - p) + ah * bl + al * bh) + al * bl
-
-
-@njit(inline="always")
-def _dd_mul(ah, al, bh, bl):
-    """Double-double product (relative error ~2^-104)."""
-    p, e = _two_prod(ah, bh)
-    e += ah * bl + al * bh
-    return _fast_two_sum(p, e)
-
-
-@njit(inline="always")
-def _dd_add(ah, al, bh, bl):
-    """Double-double sum, accurate under cancellation (Shewchuk-style two-sum of both parts)."""
-    s, e = _two_sum(ah, bh)
-    t, f = _two_sum(al, bl)
-    e += t
-    s, e = _fast_two_sum(s, e)
-    e += f
-    return _fast_two_sum(s, e)
 
 
 @njit(cache=True, error_model="numpy")
 def _hyperbolic_invariant(I1, I2, I3, w1, w2, w3):
     """D2 = I1 (I1 - I2) w1^2 + I3 (I3 - I2) w3^2 in double-double, rounded once."""
-    dh, dl = _two_sum(I1, -I2)
-    ch, cl = _dd_mul(dh, dl, I1, 0.0)
-    sh, sl = _two_prod(w1, w1)
-    t1h, t1l = _dd_mul(ch, cl, sh, sl)
-    dh, dl = _two_sum(I3, -I2)
-    ch, cl = _dd_mul(dh, dl, I3, 0.0)
-    sh, sl = _two_prod(w3, w3)
-    t3h, t3l = _dd_mul(ch, cl, sh, sl)
-    h, lo = _dd_add(t1h, t1l, t3h, t3l)
+    dh, dl = two_sum(I1, -I2)
+    ch, cl = dd_mul(dh, dl, I1, 0.0)
+    sh, sl = two_prod(w1, w1)
+    t1h, t1l = dd_mul(ch, cl, sh, sl)
+    dh, dl = two_sum(I3, -I2)
+    ch, cl = dd_mul(dh, dl, I3, 0.0)
+    sh, sl = two_prod(w3, w3)
+    t3h, t3l = dd_mul(ch, cl, sh, sl)
+    h, lo = dd_add(t1h, t1l, t3h, t3l)
     return h + lo
 
 
@@ -412,7 +364,23 @@ def flow_increment(I1, I2, I3, w1, w2, w3, t):
 
 
 @njit(cache=True, error_model="numpy")
-def _omega_many(I1, I2, I3, w1, w2, w3, t, out):
+def omega_many(I1, I2, I3, w1, w2, w3, t, out):
+    """w at many times of one exact motion, canonical frame, written into ``out``.
+
+    The compiled loop behind :func:`exact_omega` and the exact attitude
+    (:mod:`stability.exact_attitude`): :func:`motion` once, then :func:`omega_at` per time.
+
+    Parameters
+    ----------
+    I1, I2, I3 : float
+        Principal moments, I1 <= I2 <= I3 (kg m^2).
+    w1, w2, w3 : float
+        Body angular velocity at t = 0, canonical frame (rad/s).
+    t : ndarray, shape (n,)
+        Times in s.
+    out : ndarray, shape (n, 3)
+        Receives w at each time, canonical frame (rad/s).
+    """
     q = motion(I1, I2, I3, w1, w2, w3)
     for i in range(t.shape[0]):
         out[i, 0], out[i, 1], out[i, 2] = omega_at(q, w1, w2, w3, t[i])
@@ -424,7 +392,7 @@ def _omega_many(I1, I2, I3, w1, w2, w3, t, out):
 
 @njit(cache=True, error_model="numpy")
 def _final_many(I1, I2, I3, w, t, out):
-    """w(t) of each canonical start ``w`` (N, 3) at one time t: :func:`_omega_many` per start."""
+    """w(t) of each canonical start ``w`` (N, 3) at one time t: :func:`omega_many` per start."""
     for j in range(w.shape[0]):
         q = motion(I1, I2, I3, w[j, 0], w[j, 1], w[j, 2])
         out[j, 0], out[j, 1], out[j, 2] = omega_at(q, w[j, 0], w[j, 1], w[j, 2], t)
@@ -513,7 +481,7 @@ def exact_omega(body: RigidBody, w0, t) -> np.ndarray:
     if not np.all(np.isfinite(t_arr)):
         raise ValueError("t must be finite (times in s)")
     out = np.empty((t_arr.shape[0], 3))
-    _omega_many(*moments, *w, t_arr, out)
+    omega_many(*moments, *w, t_arr, out)
     result = from_canonical(out, perm, signs)
     return result[0] if scalar else result
 

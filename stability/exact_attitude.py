@@ -36,11 +36,11 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .attitude import IDENTITY, canonical_quaternion, quaternion_conjugate, quaternion_multiply
+from .quaternions import IDENTITY, canonical_quaternion, quaternion_conjugate, quaternion_multiply
 from .body import RigidBody, canonical_frame, to_canonical
 from .checks import real_array, vectors3
-from .exact import MAJOR, MINOR, PRECESS1, PRECESS3, Q_K, Q_KIND, Q_RATE, STEADY, _omega_many
-from .exact import motion
+from .exact import MAJOR, MINOR, PRECESS1, PRECESS3, Q_K, Q_KIND, Q_RATE, STEADY, motion
+from .exact import omega_many
 
 #: Quaternion of P: body components (canonical) to the Euler-angle body frame (x, y, z) =
 #: (axis 2, axis 3, axis 1), a cyclic (proper) permutation.
@@ -90,7 +90,7 @@ class FreeMotion:
         """Body angular momentum m(t) (canonical), shape (n, 3), kg m^2/s."""
         t = np.ascontiguousarray(np.atleast_1d(np.asarray(t, dtype=float)))
         out = np.empty((t.size, 3))
-        _omega_many(*self.moments, *self.w0, t, out)
+        omega_many(*self.moments, *self.w0, t, out)
         return out * self.moments
 
     def phi(self, t) -> np.ndarray:
@@ -191,7 +191,7 @@ def free_motion(moments, w0) -> FreeMotion:
     while True:
         t = np.arange(n) * (half / n)
         out = np.empty((n, 3))
-        _omega_many(*I, *w, t, out)
+        omega_many(*I, *w, t, out)
         c = np.fft.rfft(precession_rate(out * I, I)) / n
         scale = abs(c[0].real)
         tail = np.abs(c[n // 4:]).max()

@@ -41,6 +41,7 @@ import threading
 import uuid
 from pathlib import Path
 
+from .formatting import format_bytes
 from .lock import process_alive
 
 #: Name prefix of stage folders.
@@ -195,8 +196,9 @@ def check_target(out_dir, names, *, overwrite: bool, expected_bytes: int | None 
         if free < expected_bytes + SPACE_MARGIN:
             raise OSError(
                 errno.ENOSPC,
-                f"not enough free space: the result needs about {_size(expected_bytes)}, "
-                f"{_size(free)} free on the file system of",
+                "not enough free space: the result needs about "
+                f"{format_bytes(expected_bytes)}, {format_bytes(free)} free on the file "
+                "system of",
                 str(parent),
             )
 
@@ -436,9 +438,3 @@ def _read_only(folder: Path) -> bool:
         return bool(os.statvfs(folder).f_flag & os.ST_RDONLY)
     except OSError:
         return False
-
-
-def _size(n: float) -> str:
-    from .ensemble import format_bytes
-
-    return format_bytes(n)

@@ -28,13 +28,13 @@ from pathlib import Path
 import numpy as np
 import xarray as xr
 
-from . import __version__
 from . import conventions as cv
 from .engine import propagate_groups
 from .engine.run import Propagation
 from .scenes import Scene
 from .store import ChunkStore
 from .stream import stream_chunks
+from .version import __version__
 
 #: Chunks a stored run is cut into by default (each one is kept as soon as it is finished) ...
 DEFAULT_CHUNKS = 8
@@ -187,7 +187,8 @@ def propagate_stored(run: GroupedRun, store=None, *, resume=False, scheduler=Non
     resume : bool, default False
         Finish a run of the same members stopped earlier (only the missing chunks run).
     scheduler : str or distributed.Client, optional
-        Run the chunks on dask.distributed (needs ``store``; :func:`stability.stream.run_streamed`).
+        Run the chunks on dask.distributed (needs ``store``;
+        :func:`stability.ensemble.run_streamed`).
     chunk_members : int, optional
         Members per chunk; default: the run in :data:`DEFAULT_CHUNKS` chunks, fewer where a
         chunk would hold less than :data:`MIN_CHUNK_WORK` member-steps.

@@ -43,6 +43,7 @@ from xarray.indexes import RangeIndex
 
 from . import conventions as cv
 from .dataset import variable_attrs
+from .io import READ, save
 from .lock import FolderLock
 from .publish import read_plain_file, write_text
 
@@ -254,8 +255,6 @@ def chunk_name(k: int) -> str:
 def write_chunk(ds: xr.Dataset, path, compress: bool, fingerprint: str) -> None:
     """Write one chunk file atomically, then its checksum beside it, bound to the store's
     ``fingerprint`` (so that the chunk counts only in the store of that run)."""
-    from .io import save
-
     path = Path(path)
     save(ds, path, overwrite=True, compress=compress)
     write_text(_checksum_path(path), f"{file_checksum(path)} {fingerprint}\n")
@@ -415,8 +414,6 @@ def open_store(directory) -> xr.Dataset:
     ValueError
         If the folder is not a store, or not every chunk is done.
     """
-    from .io import READ
-
     directory = Path(directory)
     manifest = read_manifest(directory)
     if not manifest.get("complete"):

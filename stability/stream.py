@@ -4,13 +4,16 @@ The machinery is generic over a *chunk job*: a picklable callable ``job(lo, hi, 
 threads) -> xarray.Dataset`` that runs members ``lo ... hi - 1`` of a run with the Numba threads
 of the process it is in. :func:`stream_chunks` runs the chunks of a
 :class:`~stability.store.ChunkStore` that are not done, here or as dask tasks, with progress,
-``progress.json`` and the Ctrl-C message. The free body's :class:`EnsembleChunks` and every
-scene's grouped runs (:mod:`stability.scene_ensemble`) are such jobs.
+``progress.json`` and the Ctrl-C message. The jobs are defined beside the runs they cut, above
+this module, which imports none of them: the free body's
+:class:`~stability.ensemble.EnsembleChunks`, every scene's grouped runs
+(:mod:`stability.scene_ensemble`), the stability map's batches.
 
-``run_ensemble(..., store=DIR)`` comes here. The members are cut into chunks of
-``chunk_members``; each chunk is run exactly as :func:`stability.run_ensemble` runs its members
-(its random starts are drawn for that chunk alone, from the same seed streams) and written as
-soon as it is finished into a :class:`~stability.store.ChunkStore`. Memory is one chunk's, so
+``run_ensemble(..., store=DIR)`` streams this way (:func:`stability.ensemble.run_streamed`):
+the members are cut into chunks of ``chunk_members``; each chunk is run exactly as
+:func:`stability.run_ensemble` runs its members (its random starts are drawn for that chunk
+alone, from the same seed streams) and written as soon as it is finished into a
+:class:`~stability.store.ChunkStore`. Memory is one chunk's, so
 a summaries-only run of 1e8 members needs well under 2 GB. A run stopped at any point is
 resumed with ``resume=True`` (``stability run --resume``): the chunks that are not on disk are
 run, and the Dataset is bitwise the one of an uninterrupted run (members are independent, and
@@ -32,11 +35,8 @@ import logging
 import time
 from pathlib import Path
 
-import numpy as np
-
-from . import __version__
-from .dataset import history_line
-from .store import ChunkStore, chunk_name, read_progress
+from .store import ChunkStore, chunk_name, write_chunk
+from .threads import checked_threads, numba_threads
 
 log = logging.getLogger(__name__)
 
@@ -46,78 +46,6 @@ class RunInterrupted(KeyboardInterrupt):
 
     ``str(exc)`` says what was kept and how to continue.
     """
-
-
-def run_streamed(kwargs: dict, store, *, resume=False, scheduler=None, threads=None,
-                 progress=None, compress=True):
-    """Run the ensemble ``run_ensemble(**kwargs)`` chunk by chunk into the folder ``store``.
-
-    Returns the Dataset over the chunk files (dask arrays). See :func:`stability.run_ensemble`
-    for ``kwargs``; ``chunk_members`` there is the members per chunk file here
-    (default :data:`stability.ensemble.STREAM_CHUNK_MEMBERS`).
-
-    Parameters
-    ----------
-    kwargs : dict
-        Keyword arguments of :func:`stability.run_ensemble` (without ``threads``,
-        ``progress``, ``store``, ``resume`` and ``scheduler``).
-    store : str or path-like
-        Folder of the chunk files; created if missing.
-    resume : bool, default False
-        Finish a run of the same arguments stopped earlier: only the chunks not on disk are
-        run. Without it, a store that already has chunks done is refused.
-    scheduler : str or distributed.Client, optional
-        Run the chunks on dask.distributed: ``"dask"`` for a local cluster, a scheduler
-        address such as ``"tcp://host:8786"``, or a client. By default they run in this
-        process.
-    threads : int, optional
-        Numba threads when the chunks run in this process; default: Numba's current setting.
-        Dask workers use their own threads.
-    progress : bool, optional
-        Progress bar: over members when several chunks are run, else the chunk's own;
-        ``False`` shows none.
-    compress : bool, default True
-        zlib-compress the chunk files (:func:`stability.io.save`).
-
-    Returns
-    -------
-    xarray.Dataset
-        The whole run over the chunk files (dask arrays).
-
-    Raises
-    ------
-    RunInterrupted
-        If Ctrl-C or SIGTERM stopped the run; the finished chunks are kept.
-    ValueError
-        For invalid arguments, or a store with chunks done and no ``resume``.
-    OSError
-        If the dask scheduler cannot be reached, or a chunk written by a worker is not
-        readable here.
-    """
-    from .ensemble import _plan
-
-    kwargs = dict(kwargs)
-    plan = _plan(**kwargs, defer_starts=True)
-    chunk = kwargs["chunk_members"] = plan.chunk_members
-    # What decides the members' numbers (not the caller's configuration, which may differ in
-    # keys that do not, such as the figures of a study).
-    identity = {"run_ensemble": {k: v for k, v in plan.resolved.items() if k != "threads"},
-                "software": f"stability {__version__}"}
-    chunks = ChunkStore(store, identity, plan.members, chunk, resume=resume)
-    try:
-        todo = stream_chunks(EnsembleChunks(kwargs, plan), chunks, scheduler=scheduler,
-                             threads=threads, progress=progress, compress=compress)
-        attrs = _whole_attrs(chunks)
-        progress = read_progress(chunks.dir) or {}
-        attrs["history"] = attrs.get("history", "") + "\n" + history_line(
-            f"streamed to {chunks.dir}: {chunks.n_chunks} chunks of {chunks.chunk_members} "
-            f"members ({len(todo)} run by this call), "
-            f"{progress.get('members_per_second', 0):.3g} members/s, "
-            f"{progress.get('elapsed_seconds', 0):.1f} s")
-        chunks.complete(attrs)
-        return chunks.open()
-    finally:
-        chunks.close()
 
 
 def stream_chunks(job, chunks: ChunkStore, *, scheduler=None, threads=None, progress=None,
@@ -132,7 +60,7 @@ def stream_chunks(job, chunks: ChunkStore, *, scheduler=None, threads=None, prog
     chunks : ChunkStore
         The store; each finished chunk is written into it at once.
     scheduler, threads, progress, compress
-        As in :func:`run_streamed`.
+        As in :func:`stability.ensemble.run_streamed`.
 
     Raises
     ------
@@ -148,42 +76,11 @@ def stream_chunks(job, chunks: ChunkStore, *, scheduler=None, threads=None, prog
     return todo
 
 
-class EnsembleChunks:
-    """The chunk job of a free-body ensemble: members lo to hi - 1 of
-    :func:`stability.run_ensemble`, numbered from lo, their starts drawn for the chunk alone.
-
-    Parameters
-    ----------
-    kwargs : dict
-        Keyword arguments of :func:`stability.run_ensemble` for the whole run (with
-        ``chunk_members`` resolved).
-    plan : optional
-        The run's plan, when the caller has it (it is made again where the job is unpickled).
-    """
-
-    def __init__(self, kwargs: dict, plan=None):
-        self.kwargs = kwargs
-        self._plan = plan
-
-    def __getstate__(self):
-        return {"kwargs": self.kwargs, "_plan": None}
-
-    def __call__(self, lo: int, hi: int, progress, threads):
-        from .ensemble import _plan
-
-        if self._plan is None:
-            self._plan = _plan(**self.kwargs, defer_starts=True)
-        return _chunk_dataset(self._plan, lo, hi, progress, threads)
-
-
 def _run_here(job, chunks, todo, threads, progress, compress):
     """The missing chunks in this process, on all its Numba threads."""
-    from .ensemble import _threads
-    from .threads import numba_threads
-
     tracker = _Tracker(chunks, todo, progress)
     try:
-        with numba_threads(_threads(threads)):
+        with numba_threads(checked_threads(threads)):
             for k in todo:
                 lo, hi = chunks.bounds(k)
                 ds = job(lo, hi, tracker.inner_progress, threads)
@@ -221,9 +118,6 @@ def run_chunk(job, directory, k: int, lo: int, hi: int, compress: bool,
     """
     import numba
     from distributed import get_worker
-
-    from .store import write_chunk
-    from .threads import numba_threads
 
     try:
         nthreads = get_worker().state.nthreads
@@ -334,57 +228,6 @@ def scheduler_client(address: str, timeout: float = CONNECT_TIMEOUT):
         return Client(address, timeout=f"{timeout}s")
     except (OSError, TimeoutError) as exc:
         raise unreachable(" ".join(str(exc).split())) from None
-
-
-def _chunk_dataset(plan, lo: int, hi: int, progress, threads):
-    """The Dataset of members ``lo ... hi - 1`` of ``plan``, numbered from ``lo``.
-
-    Raises KeyboardInterrupt if Ctrl-C stopped the chunk (a partial chunk is never kept).
-    """
-    from . import conventions as cv
-    from .ensemble import _chunk_plan, _dataset, _run
-
-    sub = _chunk_plan(plan, lo, hi)
-    (run,) = _run([sub], progress)
-    if run.interrupted:
-        raise KeyboardInterrupt
-    ds = _dataset(sub, run, threads)
-    member = ds[cv.MEMBER]
-    return ds.assign_coords({cv.MEMBER: (cv.MEMBER, np.arange(lo, lo + member.size),
-                                         member.attrs)})
-
-
-def _whole_attrs(chunks: ChunkStore) -> dict:
-    """The attributes of the whole run from those of its chunks."""
-    import xarray as xr
-
-    from .io import READ
-
-    wall = compile_time = 0.0
-    first = None
-    for k in range(chunks.n_chunks):
-        with xr.open_dataset(chunks.path(k), **READ) as ds:
-            attrs = dict(ds.attrs)
-        wall += float(attrs.get("wall_time", 0.0))
-        compile_time += float(attrs.get("compile_time", 0.0))
-        if first is None:
-            first = attrs
-    n = chunks.members
-    attrs = dict(first)
-    title = attrs.get("title", "")
-    if "-member ensemble" in title:
-        attrs["title"] = f"{n}-member ensemble" + title.split("-member ensemble", 1)[1]
-    steps = float(attrs.get("steps_done", 0))
-    attrs.update({
-        "members": n,
-        "members_requested": n,
-        "wall_time": wall,
-        "compile_time": compile_time,
-        "member_steps_per_second": n * steps / wall if wall > 0 else 0.0,
-        "chunks": chunks.n_chunks,
-        "chunk_members": chunks.chunk_members,
-    })
-    return attrs
 
 
 class _Tracker:

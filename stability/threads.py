@@ -11,6 +11,38 @@ import contextlib
 
 import numba
 
+from .checks import positive_int
+
+
+def checked_threads(threads):
+    """``threads`` checked against the cores Numba started with.
+
+    Parameters
+    ----------
+    threads : int or None
+        Numba threads a caller asks for; ``None`` leaves Numba's setting as it is.
+
+    Returns
+    -------
+    int or None
+        ``threads`` as an int, or None.
+
+    Raises
+    ------
+    ValueError
+        Unless ``threads`` is a whole number from 1 to ``NUMBA_NUM_THREADS`` (the cores Numba
+        was started with), or None.
+    """
+    if threads is None:
+        return None
+    threads = positive_int("threads", threads)
+    if threads > numba.config.NUMBA_NUM_THREADS:
+        raise ValueError(
+            f"threads must be between 1 and {numba.config.NUMBA_NUM_THREADS} "
+            f"(NUMBA_NUM_THREADS, set before numba is imported), got {threads}"
+        )
+    return threads
+
 
 @contextlib.contextmanager
 def numba_threads(threads):

@@ -1,9 +1,11 @@
 """Every study runs on the README's install: the package imports nothing beyond its core
 requirements, but for the optional extras, each in the modules that say in one line what to
-install when it is missing.
+install when it is missing. And the package's own modules import one another one way: no circle,
+no private name of another module.
 
 Read from the source (every import, those inside functions included), so that no code path of
-any study can reach a module that ``pip install -e .`` does not bring.
+any study can reach a module that ``pip install -e .`` does not bring, and no import made late
+inside a function hides a circle.
 """
 
 import ast
@@ -36,11 +38,18 @@ def core_requirements() -> set[str]:
     return names
 
 
-def imports():
-    """(module, imported name) for every absolute import in the package."""
+def modules():
+    """(dotted module name, path, parsed source) of every module of the package; a package is
+    its ``__init__``."""
     for path in sorted(PACKAGE.rglob("*.py")):
         module = ".".join(path.relative_to(ROOT).with_suffix("").parts).removesuffix(".__init__")
-        for node in ast.walk(ast.parse(path.read_text(encoding="utf-8"))):
+        yield module, path, ast.parse(path.read_text(encoding="utf-8"))
+
+
+def imports():
+    """(module, imported name) for every absolute import in the package."""
+    for module, _, tree in modules():
+        for node in ast.walk(tree):
             if isinstance(node, ast.Import):
                 for alias in node.names:
                     yield module, alias.name
@@ -69,3 +78,120 @@ def test_the_package_imports_only_its_core_requirements_and_guarded_extras():
 def test_the_core_requirements_hold_what_the_studies_need():
     """The work-precision study's references are SciPy's DOP853: a core requirement."""
     assert {"numba", "numpy", "xarray", "netCDF4", "matplotlib", "scipy"} <= core_requirements()
+
+
+def internal_imports():
+    """(importer, imported module, name or None, line, local name of the module or None) for
+    every import of the package's own modules, those inside functions included: relative
+    imports resolved, ``from pkg import sub`` an import of the submodule ``pkg.sub``,
+    ``from pkg import name`` an import of ``pkg`` (its ``__init__``)."""
+    parsed = list(modules())
+    known = {module for module, _, _ in parsed}
+
+    def owner(name):  # the module a dotted name lives in: "stability.a.f" -> "stability.a"
+        while name not in known and "." in name:
+            name = name.rsplit(".", 1)[0]
+        return name
+
+    for module, path, tree in parsed:
+        package = module.split(".") if path.name == "__init__.py" else module.split(".")[:-1]
+        for node in ast.walk(tree):
+            if isinstance(node, ast.Import):
+                for alias in node.names:
+                    if alias.name.split(".")[0] == "stability":
+                        yield (module, owner(alias.name), None, node.lineno,
+                               alias.asname if owner(alias.name) == alias.name else None)
+                continue
+            if not isinstance(node, ast.ImportFrom):
+                continue
+            source = node.module
+            if node.level:  # relative: from the package, up level - 1
+                base = package[:len(package) - (node.level - 1)]
+                source = ".".join(base + ([node.module] if node.module else []))
+            if source.split(".")[0] != "stability":
+                continue
+            for alias in node.names:
+                if f"{source}.{alias.name}" in known:
+                    yield (module, f"{source}.{alias.name}", None, node.lineno,
+                           alias.asname or alias.name)
+                else:
+                    yield module, owner(source), alias.name, node.lineno, None
+
+
+def circles(edges):
+    """The strongly connected components of more than one node of the graph ``edges`` (node ->
+    set of nodes), each sorted (Tarjan's algorithm, iterative)."""
+    index, low, on_stack, stack, found = {}, {}, set(), [], []
+    for start in sorted(edges):
+        if start in index:
+            continue
+        work = [(start, iter(sorted(edges[start])))]
+        index[start] = low[start] = len(index)
+        stack.append(start)
+        on_stack.add(start)
+        while work:
+            node, successors = work[-1]
+            for nxt in successors:
+                if nxt not in index:
+                    index[nxt] = low[nxt] = len(index)
+                    stack.append(nxt)
+                    on_stack.add(nxt)
+                    work.append((nxt, iter(sorted(edges.get(nxt, ())))))
+                    break
+                if nxt in on_stack:
+                    low[node] = min(low[node], index[nxt])
+            else:
+                work.pop()
+                if work:
+                    low[work[-1][0]] = min(low[work[-1][0]], low[node])
+                if low[node] == index[node]:
+                    component = []
+                    while True:
+                        member = stack.pop()
+                        on_stack.discard(member)
+                        component.append(member)
+                        if member == node:
+                            break
+                    if len(component) > 1:
+                        found.append(sorted(component))
+    return found
+
+
+def test_the_package_modules_import_each_other_without_a_circle():
+    """Imports run one way, down the layers: a module imported back by a module it imports,
+    however far round, is a circle; so is a submodule importing its own package's
+    ``__init__``, which imports it. The fix is never an import moved into a function (those
+    count): move the shared code down, or pass it in."""
+    edges = {}
+    for module, imported, *_ in internal_imports():
+        edges.setdefault(module, set())
+        edges.setdefault(imported, set())
+        if imported != module:
+            edges[module].add(imported)
+    found = circles(edges)
+    assert found == [], "\n".join(
+        f"{len(c)} modules import each other in a circle: {', '.join(c)}" for c in found)
+
+
+def _private(name) -> bool:
+    return name.startswith("_") and not name.startswith("__")
+
+
+def test_no_module_imports_another_modules_private_names():
+    """Neither ``from .x import _name`` nor ``x._name`` of a module ``x`` it imports: a helper
+    two modules share is a public function of the lower one."""
+    trees = {module: tree for module, _, tree in modules()}
+    private, bound = set(), {}
+    for module, imported, name, line, local in internal_imports():
+        if imported == module:
+            continue
+        if name is not None and _private(name):
+            private.add(f"{module}:{line} imports {imported}.{name}")
+        if local is not None:
+            bound.setdefault(module, {})[local] = imported
+    for module, names in bound.items():
+        for node in ast.walk(trees[module]):
+            if (isinstance(node, ast.Attribute) and isinstance(node.value, ast.Name)
+                    and node.value.id in names and _private(node.attr)):
+                private.add(f"{module}:{node.lineno} uses {names[node.value.id]}.{node.attr}")
+    assert sorted(private) == [], "\n".join(sorted(private))

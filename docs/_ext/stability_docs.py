@@ -150,9 +150,10 @@ def work_precision_page(quick: bool) -> str:
 
 #: Modules whose public functions and classes the API reference lists (beside the top level).
 API_MODULES = (
-    ("Bodies and linear theory", ("body", "analytic", "top")),
+    ("Bodies and linear theory", ("body", "quaternions", "analytic", "top")),
     ("Exact solutions", ("exact", "exact_attitude", "exact_top", "elliptic")),
-    ("Ensembles, runs and files", ("ensemble", "integrate", "attitude", "io", "stream")),
+    ("Ensembles, runs and files", ("ensemble", "integrate", "attitude", "io", "stream",
+                                   "formatting")),
     ("Measures and estimators", ("estimators", "geometric_phase", "periodic", "roots",
                                  "drift", "reference")),
     ("Scenes, integrators and the engine", ("scenes", "integrators", "engine")),

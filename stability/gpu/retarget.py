@@ -20,6 +20,7 @@ import types
 
 from numba.core.registry import CPUDispatcher
 
+from ..compensated import two_prod
 from .device import simulated
 
 _TWINS: dict = {}
@@ -35,9 +36,7 @@ def _overrides(cuda):
     """CPU function (py_func) -> device body, for the real GPU only."""
     if simulated(cuda):
         return {}
-    from .. import exact
-
-    return {exact._two_prod.py_func: _two_prod_fma}
+    return {two_prod.py_func: _two_prod_fma}
 
 
 def device_twin(cuda, dispatcher):

@@ -15,7 +15,7 @@ for a new scene (copy ``stability/scenes/free_body.py``):
 4. Give its invariants (NumPy functions of the state and the parameters) and its exact solution
    where one exists, and ``example(n, seed) -> (x0, parameters)``: starts and a few parameter
    sets (what ``spec.params`` takes) for the generic tests.
-5. Add the scene to ``SCENES`` in ``stability/scenes/__init__.py``; ``tests/test_engine.py``
+5. Add the scene to ``_ALL`` in ``stability/scenes/registry.py``; ``tests/test_engine.py``
    then checks every method of it for bitwise reproducibility across groups and chunks. Write
    its order and invariant tests against its exact solution, as ``tests/test_integrators.py``
    does for the free body.

@@ -31,7 +31,7 @@ from numba.core.dispatcher import Dispatcher
 from ..engine.cache import load_module
 from ..integrators.rk4 import RK4, rk4_source
 from ..integrators.spec import MethodSpec, body_params
-from . import SCENES
+from .registry import SCENES
 from .spec import Scene
 
 #: The step at which a method's ``params`` and kernels are tried at definition time.

@@ -29,8 +29,6 @@ from .config import (
     STUDY_KEY,
     UNSET,
     ConfigError,
-    _show,
-    _type_name,
     Key,
     Schema,
     Section,
@@ -40,6 +38,8 @@ from .config import (
     resolve,
     set_value,
     to_toml,
+    toml_text,
+    toml_type,
 )
 
 STUDIES: dict[str, StudyKind] = {
@@ -101,14 +101,14 @@ def load_study(path, *, overrides=(), members=None, quick=False):
     if name is None:
         raise ConfigError(
             "missing key 'study' at the top of the file; set study = one of "
-            + ", ".join(_show(k) for k in STUDIES),
+            + ", ".join(toml_text(k) for k in STUDIES),
             source,
         )
     if not isinstance(name, str) or name not in STUDIES:
-        kind = "" if isinstance(name, str) else f" (a {_type_name(name)})"
+        kind = "" if isinstance(name, str) else f" (a {toml_type(name)})"
         raise ConfigError(
-            f"study must be one of {', '.join(_show(k) for k in STUDIES)}, got {_show(name)}"
-            f"{kind}",
+            f"study must be one of {', '.join(toml_text(k) for k in STUDIES)}, "
+            f"got {toml_text(name)}{kind}",
             source,
         )
     kind = STUDIES[name]

@@ -111,7 +111,7 @@ class Key:
         choices = self.allowed_choices()
         unit = f" (in {self.unit})" if self.unit else ""
         if choices is not None:
-            listed = ", ".join(_show(c) for c in choices)
+            listed = ", ".join(toml_text(c) for c in choices)
             if set(self.kinds) & {"floats", "strs"}:
                 size = f"{self.length} " if self.length else ""
                 return f"a list of {size}values from {listed}"
@@ -314,7 +314,7 @@ def check_memory(schema: Schema, config: dict, source: str, nbytes: float, keys,
     section, key = max(keys, key=lambda k: _growth(schema, config, *k))
     has = f"; this machine has {format_bytes(machine)}" if machine else ""
     raise ConfigError(
-        f"= {_show(config[section][key])}: {what} would take about {format_bytes(nbytes)} in "
+        f"= {toml_text(config[section][key])}: {what} would take about {format_bytes(nbytes)} in "
         f"memory, above the {format_bytes(limit)} a run may hold{has}; {fix}",
         source, section, key)
 
@@ -472,11 +472,11 @@ def _describe_key(key: Key) -> str:
     elif key.default is UNSET:
         value = "<unset>"
     else:
-        value = _show(key.default)
+        value = toml_text(key.default)
     return f"{key.name} = {value}  # {key.doc}; {key.allowed()}"
 
 
-def _show(value) -> str:
+def toml_text(value) -> str:
     """A value as it would be written in TOML (strings quoted, booleans lowercase)."""
     if isinstance(value, bool):
         return "true" if value else "false"
@@ -487,7 +487,7 @@ def _show(value) -> str:
     if isinstance(value, int) and _beyond_a_float(value):  # its digits would drown the line
         return f"an integer of {math.floor(math.log10(abs(value))) + 1} digits"
     if isinstance(value, (list, tuple)):
-        return "[" + ", ".join(_show(v) for v in value) + "]"
+        return "[" + ", ".join(toml_text(v) for v in value) + "]"
     return str(value)
 
 
@@ -500,7 +500,8 @@ def _beyond_a_float(value) -> bool:
             and abs(value) > sys.float_info.max)
 
 
-def _type_name(value) -> str:
+def toml_type(value) -> str:
+    """The TOML name of a value's type (``"integer"``, ``"table"``, ...), for messages."""
     return {bool: "boolean", int: "integer", float: "number", str: "string", list: "list",
             dict: "table"}.get(type(value), type(value).__name__)
 
@@ -615,7 +616,7 @@ def resolve(raw: dict, schema: Schema, source: str = "<study>") -> dict:
             hint = _did_you_mean(name, top_names)
             if name in section_names:
                 raise ConfigError(
-                    f"[{name}] must be a section (a TOML table), got {_show(value)}", source
+                    f"[{name}] must be a section (a TOML table), got {toml_text(value)}", source
                 )
             raise ConfigError(
                 f"unknown top-level key {name!r}{hint}; allowed: "
@@ -666,13 +667,13 @@ def _resolve_key(key: Key, given: dict, source: str, section: str):
         return list(default) if isinstance(default, tuple) else default
     value = given[key.name]
     if _beyond_a_float(value):
-        raise ConfigError(f"must be {key.allowed()}, got {_show(value)}, beyond the range of a "
-                          f"number (about {sys.float_info.max:.1e})", source, section, key.name)
+        raise ConfigError(f"must be {key.allowed()}, got {toml_text(value)}, beyond the range of "
+                          f"a number (about {sys.float_info.max:.1e})", source, section, key.name)
     try:
         return key.check(value)
     except ValueError as exc:
         raise ConfigError(
-            f"must be {exc}, got {_show(value)}{_type_hint(key, value)}",
+            f"must be {exc}, got {toml_text(value)}{_type_hint(key, value)}",
             source, section, key.name,
         ) from None
 
@@ -682,7 +683,7 @@ def _type_hint(key: Key, value) -> str:
     for kind in key.kinds:
         if _convert(kind, value, None) is not _MISMATCH:
             return ""
-    return f" (a {_type_name(value)})"
+    return f" (a {toml_type(value)})"
 
 
 def _did_you_mean(name: str, options) -> str:
@@ -779,7 +780,8 @@ class StudyKind:
         raw = dict(raw)
         kind = raw.pop(STUDY_KEY, self.name)
         if kind != self.name:
-            raise ConfigError(f"study is {_show(kind)}, expected {_show(self.name)}", source)
+            raise ConfigError(f"study is {toml_text(kind)}, expected {toml_text(self.name)}",
+                              source)
         config = {STUDY_KEY: self.name}
         config.update(resolve(raw, self.schema, source))
         if self.check is not None:

@@ -241,8 +241,8 @@ def compute(config: dict, progress=None, work_dir=None, resume=False, scheduler=
     runs = smap.map_runs(specs, integ["h"], n_shapes, integ["bias_check"], integ["bias_stride"])
     checkpoint = None
     if work_dir is not None:
-        from .. import __version__
         from ..store import ChunkStore
+        from ..version import __version__
 
         identity = {"config": {k: v for k, v in config.items()  # not where it runs
                                if k not in ("output", "title", "run")},

@@ -227,7 +227,7 @@ def run(config: dict, out_dir: Path, *, overwrite=False, threads=None, progress=
 def _ensemble(config, body, axis, work, resume, scheduler, threads, progress, command):
     """The ensemble, streamed through the chunk folder ``work`` and read back into memory."""
     from .. import conventions as cv
-    from ..stream import run_streamed
+    from ..ensemble import run_streamed
 
     ens, integ = config["ensemble"], config["integration"]
     kwargs = dict(

@@ -1,0 +1,45 @@
+"""The registered scenes: ``SCENES`` by name, and :func:`scene` to look one up.
+
+A module of its own, below :mod:`stability.scenes.user`, which refuses a user's scene named as a
+registered one: the package's ``__init__`` re-exports both.
+"""
+
+from .engine_body import ENGINE_BODY
+from .free_body import FREE_BODY
+from .free_body_attitude import FREE_BODY_ATTITUDE
+from .heavy_top import HEAVY_TOP
+from .lunisolar_earth import LUNISOLAR_EARTH
+from .precessing_axis import PRECESSING_AXIS
+from .rolling_body import ROLLING_BODY
+from .struck_body import STRUCK_BODY
+from .spec import Scene
+
+_ALL = (FREE_BODY, FREE_BODY_ATTITUDE, HEAVY_TOP, LUNISOLAR_EARTH, PRECESSING_AXIS,
+        ROLLING_BODY, STRUCK_BODY, ENGINE_BODY)
+
+SCENES: dict[str, Scene] = {s.name: s for s in _ALL}
+
+
+def scene(name) -> Scene:
+    """The scene registered under ``name``; ValueError listing the known ones if none.
+
+    Parameters
+    ----------
+    name : str or Scene
+        A key of :data:`SCENES`; a Scene is returned as it is.
+
+    Returns
+    -------
+    Scene
+    """
+    if isinstance(name, Scene):
+        return name
+    try:
+        return SCENES[name]
+    except (KeyError, TypeError):
+        raise ValueError(
+            f"unknown scene {name!r}; known scenes: {', '.join(SCENES)}"
+        ) from None
+
+
+__all__ = ["SCENES", "scene"]
