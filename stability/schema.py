@@ -43,7 +43,7 @@ _FLAG_ARRAYS = ("flag_values", "flag_masks")
 class Variable:
     """One variable or coordinate of a Dataset kind.
 
-    Attributes
+    Parameters
     ----------
     dims : tuple of str
         Its dimensions, in order.
@@ -107,14 +107,14 @@ class Variable:
 class DatasetSchema:
     """The declaration of one Dataset kind: every variable and coordinate it may hold.
 
-    Attributes
+    Parameters
     ----------
     name : str
         The register key: a study kind, or ``"ensemble"``.
     title : str
         What the Dataset holds, in one line.
-    written_by : str
-        The function (dotted from ``stability``) that builds it.
+    written_by : tuple of str
+        The functions (dotted from ``stability``) that build it.
     file : str
         The file a study writes it to (empty where no study writes it alone).
     variables : Mapping of str to Variable
@@ -123,11 +123,13 @@ class DatasetSchema:
 
     name: str
     title: str
-    written_by: str
+    written_by: tuple
     file: str
     variables: Mapping = field(repr=False)
 
     def __post_init__(self):
+        if isinstance(self.written_by, str):
+            object.__setattr__(self, "written_by", (self.written_by,))
         object.__setattr__(self, "variables", MappingProxyType(dict(self.variables)))
 
     def __getitem__(self, name: str) -> Variable:
@@ -158,7 +160,7 @@ class DatasetSchema:
         return {name: self.entry(name, value, **fields.get(name, {}))
                 for name, value in values.items()}
 
-    def extend(self, name: str, title: str, written_by: str, file: str,
+    def extend(self, name: str, title: str, written_by, file: str,
                variables: Mapping, **changes) -> DatasetSchema:
         """A Dataset kind holding this one's variables (``changes``: name to a changed
         declaration) and then ``variables``."""
@@ -205,7 +207,7 @@ class DatasetSchema:
         return out
 
 
-# --- declarations ------------------------------------------------------------------------------
+# --- declarations -----------------------------------------------------------------------------
 
 _ONE = cv.UNITS_DIMENSIONLESS
 _S = cv.UNITS_TIME
@@ -264,7 +266,7 @@ def _schema(name, title, written_by, variables, file=None) -> DatasetSchema:
                          variables)
 
 
-# The free body's ensemble (stability.dataset.ensemble_dataset) ---------------------------------
+# The free body's ensemble (stability.dataset.ensemble_dataset) --------------------------------
 
 _SUMMARY_ONLY = "runs that save the time series (not summaries_only)"
 _ATTITUDE = "the scene free_body_attitude (the attitude carried)"
@@ -329,7 +331,7 @@ ENSEMBLE = _schema("ensemble", "an ensemble of free rigid bodies, per member",
                                    "(stability.exact_attitude)"),
 })
 
-# The tennis racket: the ensemble, its exact answers and amplitude quantiles ------------------
+# The tennis racket: the ensemble, its exact answers and amplitude quantiles -------------------
 
 _QUANTILE = "{quantile} over ok members of the amplitude perpendicular to axis {axis}"
 TENNIS_RACKET = ENSEMBLE.extend(
@@ -349,7 +351,7 @@ TENNIS_RACKET = ENSEMBLE.extend(
     },
     **{name: replace(ENSEMBLE[name], optional="") for name in (TIME, "w")})
 
-# Ensemble estimates (stability.estimators), shared by the stability map ----------------------
+# Ensemble estimates (stability.estimators), shared by the stability map -----------------------
 
 #: Long names and units of the ensemble estimates of :mod:`stability.estimators`, scalars there
 #: (``dims`` empty); a Dataset kind places them on its dims (:meth:`Variable.on`).
@@ -385,7 +387,7 @@ ESTIMATES = MappingProxyType({
     "n_with_interval": _var((), _ONE, "members with two or more flips"),
 })
 
-# The stability map (stability.stabilitymap.map_dataset) --------------------------------------
+# The stability map (stability.stabilitymap.map_dataset) ---------------------------------------
 
 _MSA = ("integrator", "shape", AXIS)
 _EDGE_CASE, _EDGE_TIME, _FLIP_SHAPE = "edge_case", "edge_time", "flip_shape"
@@ -511,7 +513,7 @@ ENGINE_ARTEFACTS = _schema(
         TIME: _time_axis("time"),
     })
 
-# The work-precision study (stability.workprecision) ------------------------------------------
+# The work-precision study (stability.workprecision) -------------------------------------------
 
 _WMS = ("workload", "method", "sweep")
 _WMSM = _WMS + ("metric",)
@@ -559,7 +561,7 @@ WORK_PRECISION = _schema(
                                          "against the exact solution"),
     })
 
-# The twisting racket (stability.twisting.measure_twisting) -----------------------------------
+# The twisting racket (stability.twisting.measure_twisting) ------------------------------------
 
 TWISTING_RACKET = _schema(
     "twisting_racket", "Montgomery's angle and the twist of tossed bodies, per member, from "
@@ -602,12 +604,12 @@ TWISTING_RACKET = _schema(
         QUATERNION: replace(ENSEMBLE[QUATERNION], optional=""),
     })
 
-# The Earth's free wobble (stability.wobble.measure_wobble) -----------------------------------
+# The Earth's free wobble (stability.wobble.measure_free_wobble) -------------------------------
 
 _CONE_TIME = "cone_time"
 EARTH_WOBBLE = _schema(
     "earth_wobble", "the free wobble of a rigid Earth: its period measured against Euler's, "
-    "and one member's cones", "stability.wobble.measure_wobble", {
+    "and one member's cones", "stability.wobble.measure_free_wobble", {
         "wobble_period_measured": _var((), _DAY, "period of the rotation axis about the figure "
                                        "axis (body frame), mean over members"),
         "wobble_period_stderr": _var((), _DAY, "standard error of the measured period"),
@@ -631,7 +633,7 @@ EARTH_WOBBLE = _schema(
         AXIS: _coord(AXIS, _ONE, "principal axis", kind="i"),
     })
 
-# The precession of the equinoxes (stability.equinoxes.measure_equinoxes) ---------------------
+# The precession of the equinoxes (stability.equinoxes.measure_equinoxes) ----------------------
 
 _MTM = ("model", "torque", MEMBER)
 _CYCLE = "a long run (cycle_years above 0; not in quick mode)"
@@ -670,7 +672,7 @@ EQUINOXES = _schema(
                              "run", optional=_CYCLE),
     })
 
-# The gyroscope (stability.gyroscope.measure_gyroscopes) --------------------------------------
+# The gyroscope (stability.gyroscope.measure_gyroscopes) ---------------------------------------
 
 _TSR = ("tilt", "spin", "release")
 _PATH = ("release", "path_time")
@@ -715,7 +717,7 @@ GYROSCOPE = _schema(
         "path_time": _coord("path_time", _S, "time of the kept paths"),
     })
 
-# The sleeping top (stability.sleeping_top.measure_sleeping_tops) -----------------------------
+# The sleeping top (stability.sleeping_top.measure_sleeping_tops) ------------------------------
 
 _LS = ("length", "spin")
 SLEEPING_TOP = _schema(
@@ -743,7 +745,7 @@ SLEEPING_TOP = _schema(
         "spin": _coord("spin", _RAD_S, "spin about the symmetry axis"),
     })
 
-# The struck bat (stability.struck.measure_strikes) -------------------------------------------
+# The struck bat (stability.struck.measure_strikes) --------------------------------------------
 
 _HPS = ("hold", "pivot", "strike")
 BAT = _schema(
@@ -780,14 +782,14 @@ BAT = _schema(
         "edge": _coord("edge", _ONE, "edge of the sweet zone", kind="U"),
     })
 
-# Rolling and slipping (stability.rolling.measure_inclines and measure_launches) --------------
+# Rolling and slipping (stability.rolling.measure_incline and measure_launches) ----------------
 
 _CELL = ("shape", "angle", "mu_s")
 _SAMR = _CELL + ("replica",)
 ROLLING = _schema(
     "rolling", "balls, cylinders and hoops on inclines (roll or slip, per shape, angle, "
     "friction and replica) and launched along a floor (per member), from the runs and by the "
-    "formulas", "stability.rolling.measure_inclines and stability.rolling.measure_launches", {
+    "formulas", ("stability.rolling.measure_incline", "stability.rolling.measure_launches"), {
         "slipped": _var(_SAMR, _ONE, "slipped (friction did work) in the run", kind="i"),
         "rolls_formula": _var(_SAMR, _ONE, "rolls: tan(theta) <= mu_s (1 + M R^2 / I), own mu_s "
                               "and k", kind="i"),
@@ -847,7 +849,18 @@ SCHEMAS: Mapping[str, DatasetSchema] = MappingProxyType({s.name: s for s in (
 
 
 def schema(name: str) -> DatasetSchema:
-    """The Dataset kind ``name`` (:data:`SCHEMAS`); ``KeyError`` listing the known ones."""
+    """The declaration of the Dataset kind ``name`` (:data:`SCHEMAS`).
+
+    Parameters
+    ----------
+    name : str
+        ``"ensemble"`` or a study kind.
+
+    Raises
+    ------
+    KeyError
+        Listing the known kinds.
+    """
     try:
         return SCHEMAS[name]
     except KeyError:
