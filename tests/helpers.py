@@ -151,3 +151,16 @@ def assert_cf_compliant(path, known=()):
                     assert name in names.get(standard, []), (path, name, standard)
                 if standard == "time":
                     assert name in axes.get("T", []), (path, name)
+
+
+def assert_declared(path, kind):
+    """Assert that the netCDF file ``path``, as :func:`stability.load` reads it, is what the
+    register declares for the Dataset kind ``kind`` (:data:`stability.schema.SCHEMAS`): every
+    declared variable there (but those declared optional) with its dims, units, long name,
+    type, role and flags, and no undeclared variable.
+    """
+    from stability.schema import SCHEMAS
+
+    problems = SCHEMAS[kind].problems(stability.load(path))
+    assert problems == [], f"{path} departs from the {kind} Dataset's declaration: {problems}"
+

@@ -14,7 +14,7 @@ from stability.figures.style import missing_units
 from stability.shapes import EDGE_EQUAL_12, EDGE_EQUAL_23
 from stability.study import ConfigError, load_study, run_study
 
-from .helpers import assert_cf_compliant
+from .helpers import assert_cf_compliant, assert_declared
 
 STUDY_FILE = "studies/stability_map.toml"
 
@@ -152,3 +152,7 @@ def test_the_edges_figure_says_in_words_when_a_misfit_was_not_fitted(small_map):
 
 def test_dataset_follows_cf(small_map):
     assert_cf_compliant(small_map[0].out_dir / "stability_map.nc")
+
+
+def test_dataset_is_as_the_register_declares(small_map):
+    assert_declared(small_map[0].out_dir / "stability_map.nc", "stability_map")
