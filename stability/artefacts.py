@@ -29,6 +29,7 @@ from .estimators import tracked_members
 from .integrators.engine_rules import ENGINE_RULES, body_state, world_state
 from .scene_ensemble import GroupedRun, propagate_stored, sub_store
 from .scenes import SCENES
+from .schema import ENGINE_ARTEFACTS
 
 #: Tracked axes in the canonical frame: spin about axis 2, across it axes 1 and 3.
 _AXES = np.array([[1, 0, 2]])
@@ -301,7 +302,7 @@ def measure_artefacts(rules, moments, w0, steps, t_end, *, tolerance=0.01, searc
     """
     moments = np.asarray(moments, dtype=float)
     w0 = np.atleast_2d(np.asarray(w0, dtype=float))
-    table = {name: np.full((len(rules), len(steps)), np.nan) for name in _UNITS}
+    table = {name: np.full((len(rules), len(steps)), np.nan) for name in _TABLE}
     for i, rule in enumerate(rules):
         for j, h in enumerate(steps):
             for name, value in measure_rule(rule, moments, w0, h, t_end, progress,
@@ -332,21 +333,10 @@ def _exact_trace(moments, w0, h, t_end):
     return exact_omega(RigidBody(*moments, physical=False), w0, t)[:, 1]
 
 
-_UNITS = {
-    "fraction_flipping": ("fraction of members that flip at least once", cv.UNITS_DIMENSIONLESS),
-    "flip_interval": ("median flip interval", cv.UNITS_TIME),
-    "flip_interval_error": ("mean relative error of the flip interval against the exact 2K/nu",
-                            cv.UNITS_DIMENSIONLESS),
-    "growth_rate": ("growth rate of the perpendicular amplitude", cv.UNITS_RATE),
-    "growth_rate_error": ("relative error of the growth rate against sqrt(-Omega^2)",
-                          cv.UNITS_DIMENSIONLESS),
-    "energy_drift": ("median relative energy error at the end", cv.UNITS_DIMENSIONLESS),
-    "momentum_drift": ("median relative |L| error at the end", cv.UNITS_DIMENSIONLESS),
-    "l_direction_drift": ("median angle turned by the spatial angular momentum at the end",
-                          cv.UNITS_ANGLE),
-    "cost_per_step": ("measured wall time per member-step (tracking included)", cv.UNITS_TIME),
-    "members_ok": ("members whose run stayed finite", cv.UNITS_DIMENSIONLESS),
-}
+#: What is measured per (rule, step), in the order of the Dataset.
+_TABLE = ("fraction_flipping", "flip_interval", "flip_interval_error", "growth_rate",
+          "growth_rate_error", "energy_drift", "momentum_drift", "l_direction_drift",
+          "cost_per_step", "members_ok")
 
 
 def _dataset(rules, steps, table, needed, traces, exact_trace, trace_h, moments, exact, spin,
@@ -354,39 +344,27 @@ def _dataset(rules, steps, table, needed, traces, exact_trace, trace_h, moments,
     from .integrators import METHODS
 
     specs = {**METHODS, **ENGINE_RULES}
-    dims = ("rule", "step")
-    data = {name: (dims, value, {"long_name": _UNITS[name][0], "units": _UNITS[name][1]})
-            for name, value in table.items()}
+    data = dict(table)
     evaluations = np.array([specs[r].evaluations for r in rules], dtype=float)
-    data["evaluations_per_second"] = (dims, evaluations[:, None] / np.asarray(steps)[None, :], {
-        "long_name": "right-hand-side evaluations (or sub-flows) per simulated second",
-        "units": cv.UNITS_RATE})
-    searched = ("searched at h / 2^(k/2) from the largest step; NaN: not reached down to the "
-                "search's smallest step")
-    data["step_needed"] = (("rule",), needed[0], {
-        "long_name": f"largest step with the flip interval within {tolerance:g} of the exact",
-        "units": cv.UNITS_TIME, "comment": searched})
-    data["step_needed_energy"] = (("rule",), needed[1], {
-        "long_name": f"largest step with the energy at the end within {tolerance:g} of the "
-                     "start", "units": cv.UNITS_TIME, "comment": searched})
-    data["spin_component"] = (("rule", "time"), np.array(traces), {
-        "long_name": f"member's spin-axis angular velocity w2 at h = {trace_h:g} s",
-        "units": cv.UNITS_ANGULAR_VELOCITY})
-    data["spin_component_exact"] = (("time",), exact_trace, {
-        "long_name": "the same member's exact w2", "units": cv.UNITS_ANGULAR_VELOCITY})
+    data["evaluations_per_second"] = evaluations[:, None] / np.asarray(steps)[None, :]
+    data["step_needed"] = needed[0]
+    data["step_needed_energy"] = needed[1]
+    data["spin_component"] = np.array(traces)
+    data["spin_component_exact"] = exact_trace
+    data["family"] = np.array(
+        ["engine rule" if r in ENGINE_RULES else specs[r].family for r in rules], dtype=object)
+    fields = {"step_needed": {"tolerance": tolerance},
+              "step_needed_energy": {"tolerance": tolerance},
+              "spin_component": {"h": trace_h}}
     coords = {
-        "rule": ("rule", np.array(rules, dtype=object), {"long_name": "update rule or method",
-                                                         "units": cv.UNITS_DIMENSIONLESS}),
-        "step": ("step", np.asarray(steps, dtype=float), {"long_name": "time step",
-                                                          "units": cv.UNITS_TIME}),
-        "time": ("time", np.arange(exact_trace.size) * trace_h, cv.time_attrs("time")),
+        "rule": np.array(rules, dtype=object),
+        "step": np.asarray(steps, dtype=float),
+        "time": np.arange(exact_trace.size) * trace_h,
     }
-    family = ["engine rule" if r in ENGINE_RULES else specs[r].family for r in rules]
-    data["family"] = (("rule",), np.array(family, dtype=object),
-                      {"long_name": "family of the rule", "units": cv.UNITS_DIMENSIONLESS})
     attrs = {"moments": moments, "spin": spin, "members": members, "t_end": t_end,
              "flip_interval_exact": float(np.median(exact)),
              "growth_rate_exact": float(growth_rate(RigidBody(*moments, physical=False), 2,
                                                     spin)),
              "tolerance": tolerance}
-    return xr.Dataset(data, coords=coords, attrs=storable_attrs(attrs))
+    return xr.Dataset(ENGINE_ARTEFACTS.entries(data, fields),
+                      coords=ENGINE_ARTEFACTS.entries(coords), attrs=storable_attrs(attrs))

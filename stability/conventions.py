@@ -38,6 +38,22 @@ STATUS_MEANINGS = "ok non_finite diverged not_converged step_too_large"
 STATUS_FLAG_VALUES = (STATUS_OK, STATUS_NONFINITE, STATUS_DIVERGED, STATUS_NOT_CONVERGED,
                       STATUS_STEP_TOO_LARGE)
 
+# Regime codes (int8) of a member's or an ensemble's motion (stability.estimators).
+REGIME_UNDETERMINED = 0  #: mixed members, too few points, or a departure fitting neither model
+REGIME_NEUTRAL = 1  #: no crossing and no departure within the run
+REGIME_OSCILLATION = 2  #: stable: bounded oscillation, Omega^2 > 0
+REGIME_EXPONENTIAL = 3  #: unstable: exponential growth, Omega^2 < 0
+REGIME_ALGEBRAIC = 4  #: neutral in linear theory (Omega^2 = 0): departure linear in t
+REGIME_MEANINGS = "undetermined neutral oscillation exponential_growth algebraic_drift"
+REGIME_FLAG_VALUES = (0, 1, 2, 3, 4)
+
+# Edge flags (int8 bit mask) of a shape of the triangle of shapes (stability.shapes).
+EDGE_EQUAL_12 = 1  #: I1 = I2: oblate symmetric body (the sphere has both equalities)
+EDGE_EQUAL_23 = 2  #: I2 = I3: prolate symmetric body
+EDGE_FLAT = 4  #: I1 + I2 = I3: flat body (all mass in a plane)
+EDGE_MEANINGS = "equal_I1_I2 equal_I2_I3 flat"
+EDGE_FLAG_MASKS = (EDGE_EQUAL_12, EDGE_EQUAL_23, EDGE_FLAT)
+
 # CF. Every Dataset the package writes passes the CF checker (``compliance-checker --test
 # cf:1.10``); the tests run it on every study's file.
 

@@ -1,7 +1,9 @@
 """What a Dataset written by the package contains: variables, attributes, provenance, history.
 
-One place for the schema, so a newcomer can answer "what does a saved Dataset contain?" from
-this file alone.
+Every variable's dims, units and long name are declared in :mod:`stability.schema`, the
+register of every Dataset kind (the documentation's Dataset reference is generated from it);
+this module assembles the free body's ensemble Dataset (:data:`stability.schema.ENSEMBLE`) and
+the attributes every Dataset carries.
 
 Ensemble Dataset (``run_ensemble``)
 -----------------------------------
@@ -9,33 +11,13 @@ Dimensions: ``member`` (ensemble member, ``standard_name = "realization"``), ``t
 seconds since the start, a CF time coordinate: ``standard_name = "time"``, ``axis = "T"``, units
 ``"s since 1970-01-01 00:00:00"``, the date a nominal origin, see
 :data:`~stability.conventions.TIME_ORIGIN`), ``axis`` (principal axes 1, 2, 3 in the order the
-body gives them) and ``level`` (perpendicular-amplitude levels, rad s-1).
-
-============================ ================= ======== =====================================
-variable                     dims              units    meaning
-============================ ================= ======== =====================================
-``w``                        member,time,axis  rad s-1  body angular velocity (time-series
-                                                        runs only; the start at time 0)
-``w0``                       member, axis      rad s-1  initial body angular velocity
-``status``                   member            1        int8, CF flags: ok, non_finite,
-                                                        diverged, not_converged,
-                                                        step_too_large
-``fail_time``                member            s        when the failure was detected
-``flip_count``               member            1        sign changes of the spin-axis
-                                                        component of w (flips)
-``first_flip_time``          member            s        time of the first of them
-``last_flip_time``           member            s        time of the last of them
-``mean_flip_interval``       member            s        (last - first) / (count - 1)
-``perp_crossing_count``      member            1        sign changes of w_b, b the lower of
-                                                        the two axes other than the spin axis
-``first_perp_crossing``      member            s        time of the first of them
-``last_perp_crossing``       member            s        time of the last of them
-``max_perp_amplitude``       member            rad s-1  max of sqrt(w_b^2 + w_c^2)
-``passage_time``             member, level     s        first time that amplitude reaches
-                                                        the level
-``energy_error``             member            1        (E(end) - E(0)) / E(0)
-``angular_momentum_error``   member            1        (|L|(end) - |L|(0)) / |L|(0)
-============================ ================= ======== =====================================
+body gives them) and ``level`` (perpendicular-amplitude levels, rad s-1). Per member: the start
+``w0``, the ``status`` (int8 CF flags: ok, non_finite, diverged, not_converged,
+step_too_large) and ``fail_time``, the summaries (:data:`SUMMARIES`: flips, crossings of the
+perpendicular component, the largest perpendicular amplitude, the passage times of the levels,
+the relative energy and |L| errors at the end); the time series ``w`` in runs that keep it, and
+the attitude ``q``, ``q_norm_error`` and ``attitude_error`` in the scene
+``free_body_attitude``.
 
 Events are tracked at every step, times interpolated linearly within the step; the start
 counts (a level the start reaches is passed at time 0). Times of events that did not happen
@@ -67,10 +49,8 @@ import xarray as xr
 
 from . import conventions as cv
 from .body import RigidBody
+from .schema import ENSEMBLE, LEVEL
 from .version import __version__
-
-#: Dimension of the perpendicular-amplitude levels of ``passage_time``.
-LEVEL = "level"
 
 #: Where the physics comes from; method references are added per Dataset.
 REFERENCES = (
@@ -79,40 +59,6 @@ REFERENCES = (
     "with the sign as corrected in the package notes"
 )
 
-_RAD_S = cv.UNITS_ANGULAR_VELOCITY
-_S = cv.UNITS_TIME
-_ONE = cv.UNITS_DIMENSIONLESS
-
-#: ``name: (long_name, units)`` of every variable and coordinate the package writes.
-VARIABLES = {
-    "w": ("body-frame angular velocity", _RAD_S),
-    "w0": ("initial body-frame angular velocity", _RAD_S),
-    "status": ("member status", _ONE),
-    "fail_time": ("time at which the member's failure was detected", _S),
-    "flip_count": ("number of sign changes of the spin-axis component of w (flips)", _ONE),
-    "first_flip_time": ("time of the first flip (sign change of the spin-axis component)", _S),
-    "last_flip_time": ("time of the last flip (sign change of the spin-axis component)", _S),
-    "mean_flip_interval": ("mean time between flips, (last - first) / (count - 1)", _S),
-    "perp_crossing_count": (
-        "number of sign changes of w_b, b the lower of the two axes other than the spin axis",
-        _ONE),
-    "first_perp_crossing": ("time of the first sign change of w_b", _S),
-    "last_perp_crossing": ("time of the last sign change of w_b", _S),
-    "max_perp_amplitude": ("maximum perpendicular amplitude sqrt(w_b^2 + w_c^2)", _RAD_S),
-    "passage_time": ("first time the perpendicular amplitude reaches the level", _S),
-    "q": ("attitude quaternion, body to space (scalar first)", _ONE),
-    "q_norm_error": ("norm error |q| - 1 of the carried attitude quaternion", _ONE),
-    "attitude_error": ("angle of the rotation from the exact attitude to the computed one",
-                       cv.UNITS_ANGLE),
-    cv.QUATERNION: ("quaternion component (0: scalar part cos(angle/2))", _ONE),
-    "energy_error": ("relative kinetic-energy error at the end, (E - E0) / E0", _ONE),
-    "angular_momentum_error": ("relative |L| error at the end, (|L| - |L0|) / |L0|", _ONE),
-    cv.MEMBER: ("ensemble member", _ONE),
-    cv.TIME: ("time since the start", cv.UNITS_TIME_COORDINATE),
-    cv.AXIS: ("principal axis of the body", None),
-    LEVEL: ("perpendicular angular-velocity amplitude level", _RAD_S),
-}
-
 #: Per-member summary variables, in the order they appear in the Dataset.
 SUMMARIES = (
     "flip_count", "first_flip_time", "last_flip_time", "mean_flip_interval",
@@ -120,42 +66,12 @@ SUMMARIES = (
     "max_perp_amplitude", "passage_time", "energy_error", "angular_momentum_error",
 )
 
-#: Comments attached to a few variables.
-_COMMENTS = {
-    "flip_count": "a count stored as float64 so that masked members can be NaN",
-    "perp_crossing_count": "a count stored as float64 so that masked members can be NaN",
-    "q": "R(q) maps body components to space components; q' = q (0, w) / 2; normalised on "
-         "output (the carried norm error is q_norm_error)",
-    "q_norm_error": "q is carried without renormalisation and normalised on output",
-    "attitude_error": "exact attitude: Euler angles about L from the elliptic solution and an "
-                      "exact quadrature of the precession rate (stability.exact_attitude)",
-    "first_flip_time": "NaN where no flip happened",
-    "mean_flip_interval": "NaN where fewer than two flips happened",
-    "passage_time": "NaN where the level was never reached; 0 where the start is above it",
-    "fail_time": "NaN for members whose status is ok; the end of the run for diverged members; "
-                 "0 for step_too_large (known from the start)",
-    "status": "ok: the member's numbers can be trusted; non_finite: its state overflowed; "
-              "diverged: its energy or |L| left divergence_tolerance; not_converged: an "
-              "implicit step's solver failed; step_too_large: h max|w| exceeds the method's "
-              "max_step_angle (its numbers may look sane but are not trustworthy); numbers of "
-              "members whose status is not ok are NaN (masked)",
-}
-
 
 def variable_attrs(name: str) -> dict:
-    """``long_name``, ``units`` (and CF standard name, comments, flags) of the variable or
-    coordinate ``name``."""
-    long_name, units = VARIABLES[name]
-    attrs = {"long_name": long_name}
-    if units is not None:
-        attrs["units"] = units
-    attrs.update(cv.STANDARD_COORDINATES.get(name, {}))
-    if name == "status":
-        attrs["flag_values"] = np.array(cv.STATUS_FLAG_VALUES, dtype=np.int8)
-        attrs["flag_meanings"] = cv.STATUS_MEANINGS
-    if name in _COMMENTS:
-        attrs["comment"] = _COMMENTS[name]
-    return attrs
+    """``long_name``, ``units`` (and CF standard name, comments, flags) of the ensemble's
+    variable or coordinate ``name``, as the register declares them
+    (:data:`stability.schema.ENSEMBLE`)."""
+    return ENSEMBLE.attrs(name)
 
 
 # --- provenance -------------------------------------------------------------------------------
@@ -417,31 +333,30 @@ def ensemble_dataset(w0, status, fail_time, summaries, levels, attrs, time=None,
     """
     n = w0.shape[0]
     coords = {
-        cv.MEMBER: (cv.MEMBER, np.arange(n, dtype=np.int64), variable_attrs(cv.MEMBER)),
-        cv.AXIS: (cv.AXIS, np.array(cv.AXES, dtype=np.int64), variable_attrs(cv.AXIS)),
-        LEVEL: (LEVEL, np.asarray(levels, dtype=float), variable_attrs(LEVEL)),
+        cv.MEMBER: np.arange(n, dtype=np.int64),
+        cv.AXIS: np.array(cv.AXES, dtype=np.int64),
+        LEVEL: np.asarray(levels, dtype=float),
     }
     data = {}
     if w is not None:
-        coords[cv.TIME] = (cv.TIME, np.asarray(time, dtype=float), variable_attrs(cv.TIME))
-        data["w"] = ((cv.MEMBER, cv.TIME, cv.AXIS), w, variable_attrs("w"))
-    data["w0"] = ((cv.MEMBER, cv.AXIS), w0, variable_attrs("w0"))
-    data["status"] = (cv.MEMBER, np.asarray(status, dtype=np.int8), variable_attrs("status"))
-    data["fail_time"] = (cv.MEMBER, fail_time, variable_attrs("fail_time"))
+        coords[cv.TIME] = np.asarray(time, dtype=float)
+        data["w"] = w
+    data["w0"] = w0
+    data["status"] = np.asarray(status, dtype=np.int8)
+    data["fail_time"] = fail_time
     for name in SUMMARIES:
-        dims = (cv.MEMBER, LEVEL) if name == "passage_time" else (cv.MEMBER,)
-        data[name] = (dims, np.asarray(summaries[name], dtype=float), variable_attrs(name))
-    return xr.Dataset(data, coords=coords, attrs=storable_attrs(attrs))
+        data[name] = np.asarray(summaries[name], dtype=float)
+    return xr.Dataset(ENSEMBLE.entries(data), coords=ENSEMBLE.entries(coords),
+                      attrs=storable_attrs(attrs))
 
 
 def add_attitude(ds: xr.Dataset, q, norm_error, error) -> None:
     """Add the attitude series ``q`` (member, time, 4), ``q_norm_error`` and ``attitude_error``
     (member, time) to an ensemble Dataset in place."""
-    dims = (cv.MEMBER, cv.TIME)
-    ds.coords[cv.QUATERNION] = ((cv.QUATERNION,), np.arange(4), variable_attrs(cv.QUATERNION))
-    ds["q"] = (dims + (cv.QUATERNION,), q, variable_attrs("q"))
-    ds["q_norm_error"] = (dims, norm_error, variable_attrs("q_norm_error"))
-    ds["attitude_error"] = (dims, error, variable_attrs("attitude_error"))
+    ds.coords[cv.QUATERNION] = ENSEMBLE.entry(cv.QUATERNION, np.arange(4))
+    ds["q"] = ENSEMBLE.entry("q", q)
+    ds["q_norm_error"] = ENSEMBLE.entry("q_norm_error", norm_error)
+    ds["attitude_error"] = ENSEMBLE.entry("attitude_error", error)
 
 
 def summary_bytes(n_levels: int) -> int:

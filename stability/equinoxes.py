@@ -34,6 +34,7 @@ from .earth import ARCSEC, DAY, EQUATORIAL_RADIUS, MASS, POLAR_MOMENT_FACTOR
 from .earth import DYNAMICAL_ELLIPTICITY
 from .integrators.lunisolar import N_ORBIT, O_E, O_I, O_K, O_M0, O_N, O_NODE0, O_NODEDOT
 from .integrators.lunisolar import O_W0, O_WDOT
+from .schema import EQUINOXES
 
 #: The Julian year (s) and century, the units of the rates.
 YEAR = 365.25 * DAY
@@ -447,13 +448,12 @@ def measure_equinoxes(*, years=100.0, members=4, steps_per_day=4, method="lp4",
     -------
     xarray.Dataset
         Dims (model, torque, member), the series of member 0 (time) and the long run
-        (cycle_time); see :data:`VARIABLES`.
+        (cycle_time); see :data:`stability.schema.EQUINOXES`.
     """
     import time as _time
 
     import xarray as xr
 
-    from . import conventions as cv
     from .scene_ensemble import GroupedRun, propagate_stored, sub_store
     from .scenes import SCENES
     from .scenes.lunisolar_earth import figure_axes
@@ -538,46 +538,32 @@ def measure_equinoxes(*, years=100.0, members=4, steps_per_day=4, method="lp4",
     formula = np.array([precession_formula("sun"), precession_formula("moon"), 0.0])
     formula[2] = formula[0] + formula[1]
     arcsec = 1.0 / ARCSEC
-    rate = "arcsec yr-1"
     data = {
-        "precession_rate": ((MODEL, TORQUE, MEMBER), arcsec_per_year(fits["precession_rate"])),
-        "nutation_longitude": ((MODEL, TORQUE, MEMBER), fits["nutation_longitude"] * arcsec),
-        "nutation_obliquity": ((MODEL, TORQUE, MEMBER), fits["nutation_obliquity"] * arcsec),
-        "obliquity_rate": ((MODEL, TORQUE, MEMBER), arcsec_per_year(fits["obliquity_rate"])),
-        "fit_residual": ((MODEL, TORQUE, MEMBER), fits["residual_longitude"] * arcsec),
-        "precession_rate_formula": ((TORQUE,), arcsec_per_year(formula)),
-        "step_error": ((MEMBER,), arcsec_per_year(step_error)),
-        "longitude": ((TORQUE, SERIES_TIME),
-                      (phi[[i * members for i in range(3)]] - phi[0, 0]) * arcsec),
-        "obliquity": ((TORQUE, SERIES_TIME), eps[[i * members for i in range(3)]] * arcsec),
-        "longitude_averaged": ((TORQUE, "averaged_time"),
-                               (phi_a[[i * members for i in range(3)]] - phi_a[0, 0]) * arcsec),
-        "obliquity_averaged": ((TORQUE, "averaged_time"),
-                               eps_a[[i * members for i in range(3)]] * arcsec),
+        "precession_rate": arcsec_per_year(fits["precession_rate"]),
+        "nutation_longitude": fits["nutation_longitude"] * arcsec,
+        "nutation_obliquity": fits["nutation_obliquity"] * arcsec,
+        "obliquity_rate": arcsec_per_year(fits["obliquity_rate"]),
+        "fit_residual": fits["residual_longitude"] * arcsec,
+        "precession_rate_formula": arcsec_per_year(formula),
+        "step_error": arcsec_per_year(step_error),
+        "longitude": (phi[[i * members for i in range(3)]] - phi[0, 0]) * arcsec,
+        "obliquity": eps[[i * members for i in range(3)]] * arcsec,
+        "longitude_averaged": (phi_a[[i * members for i in range(3)]] - phi_a[0, 0]) * arcsec,
+        "obliquity_averaged": eps_a[[i * members for i in range(3)]] * arcsec,
     }
     coords = {
-        MODEL: (MODEL, list(MODELS), {"long_name": "full (spin, orbits) or orbit-averaged model",
-                                      "units": cv.UNITS_DIMENSIONLESS}),
-        TORQUE: (TORQUE, list(TORQUES), {"long_name": "bodies whose torque acts",
-                                         "units": cv.UNITS_DIMENSIONLESS}),
-        MEMBER: (MEMBER, np.arange(members), cv.member_attrs("member (0: J2000 phases)")),
-        SERIES_TIME: (SERIES_TIME, t_full / YEAR, {"long_name": "time since J2000, full model",
-                                                   "units": "yr"}),
-        "averaged_time": ("averaged_time", t_avg / YEAR,
-                          {"long_name": "time since J2000, averaged model", "units": "yr"}),
+        MODEL: list(MODELS),
+        TORQUE: list(TORQUES),
+        MEMBER: np.arange(members),
+        SERIES_TIME: t_full / YEAR,
+        "averaged_time": t_avg / YEAR,
     }
     if cycle is not None:
         cphi, ceps = equinox_angles(cycle[None, :, :3])
-        data["cycle_longitude"] = ((CYCLE_TIME,), np.degrees(cphi[0] - cphi[0, 0]))
-        data["cycle_obliquity"] = ((CYCLE_TIME,), np.degrees(ceps[0]))
-        coords[CYCLE_TIME] = (CYCLE_TIME, t_cycle / YEAR,
-                              {"long_name": "time since J2000, averaged model's long run",
-                               "units": "yr"})
-    units = {"precession_rate": rate, "obliquity_rate": rate, "precession_rate_formula": rate,
-             "step_error": rate}
-    ds = xr.Dataset({name: (d, v, {**VARIABLES[name], "units": units.get(name, VARIABLES[name]
-                                                                        .get("units"))})
-                     for name, (d, v) in data.items()}, coords=coords)
+        data["cycle_longitude"] = np.degrees(cphi[0] - cphi[0, 0])
+        data["cycle_obliquity"] = np.degrees(ceps[0])
+        coords[CYCLE_TIME] = t_cycle / YEAR
+    ds = xr.Dataset(EQUINOXES.entries(data), coords=EQUINOXES.entries(coords))
     if cycle is not None:
         turn = 2.0 * np.pi / (fits["precession_rate"][1, 2, 0]) / YEAR
         ds.attrs["precession_period_years"] = float(turn)
@@ -595,27 +581,3 @@ def measure_equinoxes(*, years=100.0, members=4, steps_per_day=4, method="lp4",
     })
     return ds
 
-
-VARIABLES = {
-    "precession_rate": {"long_name": "precession of the equinox -dphi/dt, fitted"},
-    "nutation_longitude": {"long_name": "amplitude of the 18.6-year nutation in longitude",
-                           "units": "arcsec"},
-    "nutation_obliquity": {"long_name": "amplitude of the 18.6-year nutation in obliquity",
-                           "units": "arcsec"},
-    "obliquity_rate": {"long_name": "secular rate of the obliquity, fitted"},
-    "fit_residual": {"long_name": "rms residual of the longitude fit", "units": "arcsec"},
-    "precession_rate_formula": {"long_name": "averaged formula (3/2) H cos(eps) / W "
-                                "G M / (a^3 (1 - e^2)^(3/2)) f"},
-    "step_error": {"long_name": "estimated integration error of the precession rate "
-                   "(Richardson, steps halved)"},
-    "longitude": {"long_name": "longitude of the equinox phi - phi(0), member 0, full model",
-                  "units": "arcsec"},
-    "obliquity": {"long_name": "obliquity, member 0, full model", "units": "arcsec"},
-    "longitude_averaged": {"long_name": "longitude of the equinox phi - phi(0), member 0, "
-                           "averaged model", "units": "arcsec"},
-    "obliquity_averaged": {"long_name": "obliquity, member 0, averaged model",
-                           "units": "arcsec"},
-    "cycle_longitude": {"long_name": "longitude of the equinox phi - phi(0), long run",
-                        "units": "degree"},
-    "cycle_obliquity": {"long_name": "obliquity, long run", "units": "degree"},
-}

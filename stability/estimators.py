@@ -62,6 +62,17 @@ from . import conventions as cv
 from .analytic import growth_rate, omega_squared, perpendicular_axes
 from .checks import real_array
 from .dataset import body_from_attrs
+# Regime codes (int8), per member and per ensemble, declared with the other codes.
+from .conventions import (
+    REGIME_ALGEBRAIC,
+    REGIME_EXPONENTIAL,
+    REGIME_FLAG_VALUES,
+    REGIME_MEANINGS,
+    REGIME_NEUTRAL,
+    REGIME_OSCILLATION,
+    REGIME_UNDETERMINED,
+)
+from .schema import ESTIMATES, TENNIS_RACKET
 
 #: Lower edge of the growth-rate window, in units of the member's initial perpendicular
 #: amplitude a0. A start off the unstable eigenvector carries a decaying mode; at 100 a0 it is
@@ -85,14 +96,6 @@ MIN_CROSSINGS = 3
 #: Fraction of valid members that must share a regime for the ensemble to take it.
 MAJORITY = 0.5
 
-# Regime codes (int8), per member and per ensemble.
-REGIME_UNDETERMINED = 0  #: mixed members, too few points, or a departure fitting neither model
-REGIME_NEUTRAL = 1  #: no crossing and no departure within the run
-REGIME_OSCILLATION = 2  #: stable: bounded oscillation, Omega^2 > 0
-REGIME_EXPONENTIAL = 3  #: unstable: exponential growth, Omega^2 < 0
-REGIME_ALGEBRAIC = 4  #: neutral in linear theory (Omega^2 = 0): departure linear in t
-REGIME_MEANINGS = "undetermined neutral oscillation exponential_growth algebraic_drift"
-REGIME_FLAG_VALUES = (0, 1, 2, 3, 4)
 #: Sign of Omega^2 each regime stands for (NaN: no statement).
 REGIME_SIGN = {
     REGIME_UNDETERMINED: math.nan,
@@ -592,12 +595,8 @@ def _classify(mem: Members):
 
 
 def _regime_attrs(long_name):
-    return {
-        "long_name": long_name,
-        "flag_values": np.array(REGIME_FLAG_VALUES, dtype=np.int8),
-        "flag_meanings": REGIME_MEANINGS,
-        "units": cv.UNITS_DIMENSIONLESS,
-    }
+    """The regime flags' attributes (:data:`stability.schema.ESTIMATES`) under ``long_name``."""
+    return ESTIMATES["regime"].on((), long_name=long_name).attrs()
 
 
 def _mean_stderr(x):
@@ -818,52 +817,8 @@ def _ensemble_regime(regime, valid):
 
 
 #: Units and long names of the ensemble estimates (scalars of :func:`omega_squared_estimate`
-#: and :func:`flip_estimate`), for every Dataset that stores them.
-ESTIMATE_ATTRS = {
-    "regime": _regime_attrs("regime of the ensemble's motion"),
-    "omega_squared_measured": {
-        "long_name": "measured Omega^2 (-rate^2 for growth, +frequency^2 for oscillation)",
-        "units": cv.UNITS_RATE_SQUARED},
-    "omega_squared_measured_stderr": {
-        "long_name": "standard error of the measured Omega^2", "units": cv.UNITS_RATE_SQUARED},
-    "omega_squared": {"long_name": "analytic Omega^2 of linear theory",
-                      "units": cv.UNITS_RATE_SQUARED},
-    "relative_error": {"long_name": "(measured - analytic) / |analytic| Omega^2",
-                       "units": cv.UNITS_DIMENSIONLESS},
-    "sign_agrees": {"long_name": "regime sign equals the sign of the analytic Omega^2",
-                    "units": cv.UNITS_DIMENSIONLESS},
-    "growth_rate": {"long_name": "exponential growth rate", "units": cv.UNITS_RATE},
-    "growth_rate_stderr": {"long_name": "standard error of the growth rate",
-                           "units": cv.UNITS_RATE},
-    "oscillation_frequency": {"long_name": "oscillation angular frequency",
-                              "units": cv.UNITS_ANGULAR_VELOCITY},
-    "oscillation_frequency_stderr": {"long_name": "standard error of the oscillation frequency",
-                                     "units": cv.UNITS_ANGULAR_VELOCITY},
-    "drift_rate": {"long_name": "slope of the perpendicular amplitude (algebraic drift)",
-                   "units": "rad s-2"},
-    "n_fitted": {"long_name": "members that gave a rate or a frequency",
-                 "units": cv.UNITS_DIMENSIONLESS},
-    "first_flip_time_mean": {"long_name": "mean time of the first flip", "units": cv.UNITS_TIME},
-    "first_flip_time_stderr": {"long_name": "standard error of the first-flip time",
-                               "units": cv.UNITS_TIME},
-    "flip_interval_mean": {"long_name": "mean flip interval", "units": cv.UNITS_TIME},
-    "flip_interval_stderr": {"long_name": "standard error of the flip interval",
-                             "units": cv.UNITS_TIME},
-    "flip_interval_exact_mean": {"long_name": "mean exact flip interval 2K/nu",
-                                 "units": cv.UNITS_TIME},
-    "flip_interval_asymptote_mean": {
-        "long_name": "mean asymptotic flip interval (2/lambda) ln(4/k')", "units": cv.UNITS_TIME},
-    "flip_interval_relative_error": {
-        "long_name": "mean (measured - exact) / exact flip interval",
-        "units": cv.UNITS_DIMENSIONLESS},
-    "flip_interval_relative_error_stderr": {
-        "long_name": "standard error of the flip-interval relative error",
-        "units": cv.UNITS_DIMENSIONLESS},
-    "n_flips_mean": {"long_name": "mean number of flips per member",
-                     "units": cv.UNITS_DIMENSIONLESS},
-    "n_with_interval": {"long_name": "members with two or more flips",
-                        "units": cv.UNITS_DIMENSIONLESS},
-}
+#: and :func:`flip_estimate`), as the register declares them (:data:`stability.schema.ESTIMATES`).
+ESTIMATE_ATTRS = {name: var.attrs() for name, var in ESTIMATES.items()}
 
 
 def omega_squared_estimate(mem: Members, analytic=None, *, low_factor=WINDOW_LOW_FACTOR,
@@ -1273,21 +1228,12 @@ def analyse_ensemble(ds: xr.Dataset, body, axis: int, spin: float, epsilon: floa
     intercept, window = growth_line(ds[cv.TIME].values, quantiles.sel(quantile=0.5).values,
                                     fitted, low_factor * epsilon * spin, high_fraction * spin)
 
-    s, one, rad_s = cv.UNITS_TIME, cv.UNITS_DIMENSIONLESS, cv.UNITS_ANGULAR_VELOCITY
-    ds = ds.assign(
-        exact_flip_interval=(cv.MEMBER, exact, {
-            "long_name": "exact flip interval 2K(k)/nu of the member's start", "units": s}),
-        flip_interval_asymptote=(cv.MEMBER, asymptote, {
-            "long_name": "small-perturbation asymptote (2/lambda) ln(4/k') of the flip interval",
-            "units": s}),
-        complementary_modulus=(cv.MEMBER, kprime, {
-            "long_name": "complementary modulus k' of the member's Jacobi functions",
-            "units": one}),
-    )
+    ds = ds.assign(TENNIS_RACKET.entries({
+        "exact_flip_interval": exact, "flip_interval_asymptote": asymptote,
+        "complementary_modulus": kprime}))
     for q, name in ((0.1, "p10"), (0.5, "median"), (0.9, "p90")):
-        ds[f"perp_amplitude_{name}"] = (cv.TIME, quantiles.sel(quantile=q).values, {
-            "long_name": f"{name} over ok members of the amplitude perpendicular to axis {axis}",
-            "units": rad_s})
+        ds[f"perp_amplitude_{name}"] = TENNIS_RACKET.entry(
+            f"perp_amplitude_{name}", quantiles.sel(quantile=q).values, quantile=name, axis=axis)
     ds.attrs.update({
         "spin_axis_resolved": axis,
         "omega_squared": omega2,

@@ -30,11 +30,11 @@ import time
 import numpy as np
 import xarray as xr
 
-from . import conventions as cv
 from . import exact_top
 from .periodic import extrema, level_crossings, mean_period, weighted_mean
 from .scene_ensemble import GroupedRun, propagate_stored
 from .scenes import SCENES
+from .schema import GYROSCOPE
 from .top import (gyroscopic_nutation_amplitude, gyroscopic_nutation_frequency,
                   gyroscopic_precession_rate, tilted_starts)
 
@@ -111,8 +111,8 @@ def measure_gyroscopes(top, spins, tilts, releases=(-1.0, 0.0, 0.5), *, method="
     Returns
     -------
     xarray.Dataset
-        Dims (tilt, spin, release) and (release, path_time); see :data:`VARIABLES`. The tilt
-        coordinate is in degrees.
+        Dims (tilt, spin, release) and (release, path_time); see
+        :data:`stability.schema.GYROSCOPE`. The tilt coordinate is in degrees.
     """
     spins = np.asarray(spins, dtype=float)
     tilts = np.asarray(tilts, dtype=float)
@@ -180,46 +180,33 @@ def measure_gyroscopes(top, spins, tilts, releases=(-1.0, 0.0, 0.5), *, method="
 
     tilt3 = tilts[:, None, None]
     spin3 = spins[None, :, None]
-    dims = (TILT, SPIN, RELEASE)
     with np.errstate(invalid="ignore", divide="ignore"):
         errors = {key: (measured[key] - exact[key]) / exact[key] for key in exact}
     data = {
-        "precession_rate_measured": (dims, measured["precession"]),
-        "precession_rate_exact": (dims, exact["precession"]),
-        "precession_rate_error": (dims, errors["precession"]),
-        "precession_rate_gyroscopic": ((SPIN,), gyroscopic_precession_rate(top, spins)),
-        "nutation_frequency_measured": (dims, measured["frequency"]),
-        "nutation_frequency_exact": (dims, exact["frequency"]),
-        "nutation_frequency_error": (dims, errors["frequency"]),
-        "nutation_frequency_gyroscopic": ((SPIN,), gyroscopic_nutation_frequency(top, spins)),
-        "nutation_amplitude_measured": (dims, measured["amplitude"]),
-        "nutation_amplitude_exact": (dims, exact["amplitude"]),
-        "nutation_amplitude_error": (dims, errors["amplitude"]),
-        "nutation_amplitude_gyroscopic": (dims, gyroscopic_nutation_amplitude(
-            top, spin3, tilt3, releases[None, None, :]) + np.zeros(shape)),
-        "status": (dims, status.astype(np.int8)),
-        "step": ((TILT, SPIN), hs.reshape(tilts.size, spins.size)),
-        "t_end": ((TILT, SPIN), (steps * hs).reshape(tilts.size, spins.size)),
-        "path_theta": ((RELEASE, PATH_TIME), path_theta),
-        "path_phi": ((RELEASE, PATH_TIME), path_phi),
-        "path_theta_exact": ((RELEASE, PATH_TIME), path_theta_exact),
-        "path_phi_exact": ((RELEASE, PATH_TIME), path_phi_exact),
+        "precession_rate_measured": measured["precession"],
+        "precession_rate_exact": exact["precession"],
+        "precession_rate_error": errors["precession"],
+        "precession_rate_gyroscopic": gyroscopic_precession_rate(top, spins),
+        "nutation_frequency_measured": measured["frequency"],
+        "nutation_frequency_exact": exact["frequency"],
+        "nutation_frequency_error": errors["frequency"],
+        "nutation_frequency_gyroscopic": gyroscopic_nutation_frequency(top, spins),
+        "nutation_amplitude_measured": measured["amplitude"],
+        "nutation_amplitude_exact": exact["amplitude"],
+        "nutation_amplitude_error": errors["amplitude"],
+        "nutation_amplitude_gyroscopic": gyroscopic_nutation_amplitude(
+            top, spin3, tilt3, releases[None, None, :]) + np.zeros(shape),
+        "status": status.astype(np.int8),
+        "step": hs.reshape(tilts.size, spins.size),
+        "t_end": (steps * hs).reshape(tilts.size, spins.size),
+        "path_theta": path_theta,
+        "path_phi": path_phi,
+        "path_theta_exact": path_theta_exact,
+        "path_phi_exact": path_phi_exact,
     }
-    ds = xr.Dataset(
-        {name: (d, v, dict(VARIABLES[name])) for name, (d, v) in data.items()},
-        coords={
-            TILT: (TILT, np.round(np.degrees(tilts), 10), {
-                "long_name": "release tilt from the vertical",
-                                            "units": "degree"}),
-            SPIN: (SPIN, spins, {"long_name": "spin w3 about the symmetry axis",
-                                 "units": cv.UNITS_ANGULAR_VELOCITY}),
-            RELEASE: (RELEASE, releases, {
-                "long_name": "initial precession rate / (M g l / (C w3)) (0: released at rest)",
-                "units": cv.UNITS_DIMENSIONLESS}),
-            PATH_TIME: (PATH_TIME, t_path, {"long_name": "time of the kept paths",
-                                            "units": cv.UNITS_TIME}),
-        },
-    )
+    ds = xr.Dataset(GYROSCOPE.entries(data), coords=GYROSCOPE.entries({
+        TILT: np.round(np.degrees(tilts), 10), SPIN: spins, RELEASE: releases,
+        PATH_TIME: t_path}))
     ds.attrs.update({
         **top.describe(), "method": spec.name, "step_angle": step_angle, "periods": periods,
         "samples_per_period": samples_per_period, "save_every": save_every,
@@ -228,43 +215,3 @@ def measure_gyroscopes(top, spins, tilts, releases=(-1.0, 0.0, 0.5), *, method="
     })
     return ds
 
-
-_RATE = cv.UNITS_ANGULAR_VELOCITY
-VARIABLES = {
-    "precession_rate_measured": {"long_name": "mean precession rate of the figure axis, from "
-                                 "the run (weighted mean of phi')", "units": _RATE},
-    "precession_rate_exact": {"long_name": "exact mean precession rate over a nutation period",
-                              "units": _RATE},
-    "precession_rate_error": {"long_name": "(measured - exact) / exact mean precession rate",
-                              "units": cv.UNITS_DIMENSIONLESS},
-    "precession_rate_gyroscopic": {"long_name": "fast-top precession rate M g l / (C w3)",
-                                   "units": _RATE},
-    "nutation_frequency_measured": {"long_name": "nutation frequency 2 pi / T, from the run",
-                                    "units": _RATE},
-    "nutation_frequency_exact": {"long_name": "exact nutation frequency 2 pi / T",
-                                 "units": _RATE},
-    "nutation_frequency_error": {"long_name": "(measured - exact) / exact nutation frequency",
-                                 "units": cv.UNITS_DIMENSIONLESS},
-    "nutation_frequency_gyroscopic": {"long_name": "fast-top nutation frequency C w3 / A",
-                                      "units": _RATE},
-    "nutation_amplitude_measured": {"long_name": "nutation amplitude theta_max - theta_min, "
-                                    "from the run", "units": "rad"},
-    "nutation_amplitude_exact": {"long_name": "exact nutation amplitude (turning points of "
-                                 "the cubic)", "units": "rad"},
-    "nutation_amplitude_error": {"long_name": "(measured - exact) / exact nutation amplitude",
-                                 "units": cv.UNITS_DIMENSIONLESS},
-    "nutation_amplitude_gyroscopic": {"long_name": "fast-top nutation amplitude "
-                                      "2 |1 - release| A M g l sin(theta0) / (C w3)^2",
-                                      "units": "rad"},
-    "status": {"long_name": "member status", "flag_values": np.array(cv.STATUS_FLAG_VALUES,
-                                                                      dtype=np.int8),
-               "flag_meanings": cv.STATUS_MEANINGS, "units": cv.UNITS_DIMENSIONLESS},
-    "step": {"long_name": "integration step h", "units": cv.UNITS_TIME},
-    "t_end": {"long_name": "run time", "units": cv.UNITS_TIME},
-    "path_theta": {"long_name": "tilt theta of the figure axis, from the run", "units": "rad"},
-    "path_phi": {"long_name": "precession angle phi of the figure axis, from the run",
-                 "units": "rad"},
-    "path_theta_exact": {"long_name": "exact tilt theta of the figure axis", "units": "rad"},
-    "path_phi_exact": {"long_name": "exact precession angle phi of the figure axis",
-                       "units": "rad"},
-}

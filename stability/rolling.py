@@ -27,12 +27,12 @@ import time
 import numpy as np
 import xarray as xr
 
-from . import conventions as cv
 from .engine import propagate_groups
 from .integrators.rolling import (HEAT, MODE, P_K, P_MU_K, P_MU_S, P_R, P_SECTIONS, P_TRACK,
                                   SWITCHES, T_ROLL, V, W, X, X_ROLL, track_row)
 from .scene_ensemble import GroupedRun, propagate_stored
 from .scenes import SCENES
+from .schema import ROLLING
 
 #: I / (M R^2) of the shapes by name.
 SHAPES = {"sphere": 0.4, "cylinder": 0.5, "spherical_shell": 2.0 / 3.0, "hoop": 1.0}
@@ -292,38 +292,25 @@ def measure_incline(shapes, angles, mu_s, *, members=4, mu_ratio=0.8, mu_scatter
     highest = mu_cell * (1 + mu_scatter) * (1 + 1 / (k_cell * (1 - shape_scatter)))
     straddles = (lowest < tan) & (tan < highest)
     wrong = (np.round(fraction) == nominal) & ~straddles  # majority against the nominal regime
-    dims = ("shape", "angle", "mu_s", "replica")
     data = {
-        "slipped": (dims, slipped.astype(np.int8)),
-        "rolls_formula": (dims, own.astype(np.int8)),
-        "acceleration": (dims, accel),
-        "acceleration_formula": (dims, expected_a),
-        "spin_rate": (dims, alpha),
-        "spin_rate_formula": (dims, expected_alpha),
-        "member_mu_s": (dims, mus),
-        "member_k": (dims, k),
-        "slip_fraction": (dims[:3], fraction),
-        "rolls_nominal": (dims[:3], nominal.astype(np.int8)),
-        "scatter_straddles": (dims[:3], straddles.astype(np.int8)),
-        "wrong_side": (dims[:3], wrong.astype(np.int8)),
-        "boundary_mu_s": (("shape", "angle"),
-                          np.tan(angles)[None, :] / (1.0 + 1.0 / k_nominal[:, None])),
-        "incline_status": (dims, run.status.reshape(shape).astype(np.int8)),
+        "slipped": slipped.astype(np.int8),
+        "rolls_formula": own.astype(np.int8),
+        "acceleration": accel,
+        "acceleration_formula": expected_a,
+        "spin_rate": alpha,
+        "spin_rate_formula": expected_alpha,
+        "member_mu_s": mus,
+        "member_k": k,
+        "slip_fraction": fraction,
+        "rolls_nominal": nominal.astype(np.int8),
+        "scatter_straddles": straddles.astype(np.int8),
+        "wrong_side": wrong.astype(np.int8),
+        "boundary_mu_s": np.tan(angles)[None, :] / (1.0 + 1.0 / k_nominal[:, None]),
+        "incline_status": run.status.reshape(shape).astype(np.int8),
     }
-    ds = xr.Dataset(
-        {name: (d, v, dict(VARIABLES[name])) for name, (d, v) in data.items()},
-        coords={
-            "shape": ("shape", names, {"long_name": "shape", "units": cv.UNITS_DIMENSIONLESS}),
-            "shape_factor": ("shape", k_nominal, {"long_name": "nominal I / (M R^2)",
-                                                  "units": cv.UNITS_DIMENSIONLESS}),
-            "angle": ("angle", np.degrees(angles), {"long_name": "incline angle theta",
-                                                    "units": "degree"}),
-            "mu_s": ("mu_s", mu_s, {"long_name": "nominal static friction coefficient",
-                                    "units": cv.UNITS_DIMENSIONLESS}),
-            "replica": ("replica", np.arange(members),
-                        cv.member_attrs("member of the cell (own mu_s, mu_k and shape)")),
-        },
-    )
+    ds = xr.Dataset(ROLLING.entries(data), coords=ROLLING.entries({
+        "shape": names, "shape_factor": k_nominal, "angle": np.degrees(angles), "mu_s": mu_s,
+        "replica": np.arange(members)}))
     ds.attrs.update({"mu_ratio": mu_ratio, "mu_scatter": mu_scatter,
                      "shape_scatter": shape_scatter, "duration": duration, "seed": seed,
                      "radius": radius, "g": G, "method": spec.name, "wall_time": wall})
@@ -408,79 +395,26 @@ def measure_launches(*, radius, mass, k, mu_k, speeds, spin_ratios, members, mu_
                             samples, save_every=1, progress=False)
     path = np.concatenate([x0[keep, None, :], kept.saved], axis=1)
     data = {
-        "v0": (("member",), v0), "w0": (("member",), w0), "spin_ratio": (("member",), ratio),
-        "mu_k": (("member",), muk),
-        "t_roll": (("member",), xf[:, T_ROLL]),
-        "t_roll_formula": (("member",), formulas["t_roll"]),
-        "x_roll": (("member",), xf[:, X_ROLL]),
-        "x_roll_formula": (("member",), formulas["x_roll"]),
-        "v_final": (("member",), xf[:, V]),
-        "v_final_formula": (("member",), formulas["v_final"]),
-        "heat": (("member",), xf[:, HEAT]),
-        "energy_lost": (("member",), e0 - e1),
-        "energy_lost_formula": (("member",), formulas["energy_lost"]),
-        "switches": (("member",), xf[:, SWITCHES].astype(np.int64)),
-        "launch_status": (("member",), run.status.astype(np.int8)),
-        "path_v": (("path", "time"), path[:, :, V]),
-        "path_rw": (("path", "time"), radius * path[:, :, W]),
-        "path_member": (("path",), keep),
+        "v0": v0, "w0": w0, "spin_ratio": ratio, "mu_k": muk,
+        "t_roll": xf[:, T_ROLL],
+        "t_roll_formula": formulas["t_roll"],
+        "x_roll": xf[:, X_ROLL],
+        "x_roll_formula": formulas["x_roll"],
+        "v_final": xf[:, V],
+        "v_final_formula": formulas["v_final"],
+        "heat": xf[:, HEAT],
+        "energy_lost": e0 - e1,
+        "energy_lost_formula": formulas["energy_lost"],
+        "switches": xf[:, SWITCHES].astype(np.int64),
+        "launch_status": run.status.astype(np.int8),
+        "path_v": path[:, :, V],
+        "path_rw": radius * path[:, :, W],
+        "path_member": keep,
     }
-    ds = xr.Dataset(
-        {name: (d, v, dict(VARIABLES[name])) for name, (d, v) in data.items()},
-        coords={"member": ("member", np.arange(members), cv.member_attrs("member")),
-                "time": ("time", np.arange(samples + 1) * h, cv.time_attrs("time"))},
-    )
+    ds = xr.Dataset(ROLLING.entries(data), coords=ROLLING.entries({
+        "member": np.arange(members), "time": np.arange(samples + 1) * h}))
     ds.attrs.update({"radius": radius, "mass": mass, "shape_factor": k, "mu_k": mu_k,
                      "mu_scatter": mu_scatter, "seed": seed, "g": G, "method": spec.name,
                      "duration": duration, "wall_time": wall})
     return ds
 
-
-_ONE = cv.UNITS_DIMENSIONLESS
-_STATUS = {"flag_values": np.array(cv.STATUS_FLAG_VALUES, dtype=np.int8),
-           "flag_meanings": cv.STATUS_MEANINGS, "units": _ONE}
-_FLAG = {"units": _ONE}
-VARIABLES = {
-    "slipped": {"long_name": "slipped (friction did work) in the run", **_FLAG},
-    "rolls_formula": {"long_name": "rolls: tan(theta) <= mu_s (1 + M R^2 / I), own mu_s and k",
-                      **_FLAG},
-    "acceleration": {"long_name": "acceleration along the incline, 2 x(T) / T^2 from the run",
-                     "units": "m s-2"},
-    "acceleration_formula": {"long_name": "g sin(theta) / (1 + k) rolling, g (sin(theta) - "
-                             "mu_k cos(theta)) slipping", "units": "m s-2"},
-    "spin_rate": {"long_name": "angular acceleration w(T) / T from the run", "units": "rad s-2"},
-    "spin_rate_formula": {"long_name": "a / R rolling, mu_k M g R cos(theta) / I slipping",
-                          "units": "rad s-2"},
-    "member_mu_s": {"long_name": "member's static friction coefficient", **_FLAG},
-    "member_k": {"long_name": "member's I / (M R^2)", **_FLAG},
-    "slip_fraction": {"long_name": "fraction of the cell's members that slipped", **_FLAG},
-    "rolls_nominal": {"long_name": "rolls by the formula at the cell's nominal mu_s and shape",
-                      **_FLAG},
-    "scatter_straddles": {"long_name": "the cell's scatter spans the rolling boundary", **_FLAG},
-    "wrong_side": {"long_name": "cell's majority regime against the formula, scatter not "
-                   "spanning the boundary", **_FLAG},
-    "boundary_mu_s": {"long_name": "mu_s on the boundary, tan(theta) / (1 + M R^2 / I)",
-                      **_FLAG},
-    "launch_status": {**_STATUS, "long_name": "member status (launches)"},
-    "incline_status": {**_STATUS, "long_name": "member status (inclines)"},
-    "v0": {"long_name": "launch speed", "units": "m s-1"},
-    "w0": {"long_name": "launch spin (negative: backspin)", "units": cv.UNITS_ANGULAR_VELOCITY},
-    "spin_ratio": {"long_name": "R w0 / v0 (1: launched rolling)", **_FLAG},
-    "mu_k": {"long_name": "kinetic friction coefficient", **_FLAG},
-    "t_roll": {"long_name": "time pure rolling starts, from the run", "units": cv.UNITS_TIME},
-    "t_roll_formula": {"long_name": "|v0 - R w0| / (mu_k g (1 + M R^2 / I))",
-                       "units": cv.UNITS_TIME},
-    "x_roll": {"long_name": "distance to pure rolling, from the run", "units": "m"},
-    "x_roll_formula": {"long_name": "v0 t - sign(u0) mu_k g t^2 / 2 at t = t_roll",
-                       "units": "m"},
-    "v_final": {"long_name": "speed at the end, from the run", "units": "m s-1"},
-    "v_final_formula": {"long_name": "(v0 + k R w0) / (1 + k)", "units": "m s-1"},
-    "heat": {"long_name": "work done by kinetic friction, from the run", "units": "J"},
-    "energy_lost": {"long_name": "kinetic energy lost, from the run", "units": "J"},
-    "energy_lost_formula": {"long_name": "M (v0 - R w0)^2 k / (2 (1 + k))", "units": "J"},
-    "switches": {"long_name": "switches of regime in the run", **_FLAG},
-    "path_v": {"long_name": "speed of the centre v (kept members)", "units": "m s-1"},
-    "path_rw": {"long_name": "R w, the speed rolling would need (kept members)",
-                "units": "m s-1"},
-    "path_member": {"long_name": "member of each kept path", **_FLAG},
-}

@@ -21,12 +21,8 @@ import numpy as np
 
 from . import conventions as cv
 from .analytic import euler_rhs, omega_squared, perpendicular_axes
-
-# Edge flags of a shape (bit mask, CF flag_masks).
-EDGE_EQUAL_12 = 1  #: I1 = I2: oblate symmetric body (the sphere has both equalities)
-EDGE_EQUAL_23 = 2  #: I2 = I3: prolate symmetric body
-EDGE_FLAT = 4  #: I1 + I2 = I3: flat body (all mass in a plane)
-EDGE_MEANINGS = "equal_I1_I2 equal_I2_I3 flat"
+# Edge flags of a shape (bit mask, CF flag_masks), declared with the other codes.
+from .conventions import EDGE_EQUAL_12, EDGE_EQUAL_23, EDGE_FLAT
 
 #: The time-series demonstrations on the edges: name, moments (I3 = 1), spin axis.
 EDGE_CASES = (

@@ -32,6 +32,7 @@ from . import conventions as cv
 from . import estimators as est
 from .scene_ensemble import GroupedRun, propagate_stored
 from .scenes import SCENES
+from .schema import SLEEPING_TOP
 from .top import critical_spin, sleeping_frequencies, sleeping_growth_rate
 from .top import tilt_members, tilted_starts
 
@@ -87,7 +88,7 @@ def measure_sleeping_tops(tops, spins, *, members=64, tilt=1e-9, method="lp4",
     Returns
     -------
     xarray.Dataset
-        Dims (length, spin); see :data:`VARIABLES`.
+        Dims (length, spin); see :data:`stability.schema.SLEEPING_TOP`.
     """
     tops = list(tops)
     spins = np.asarray(spins, dtype=float)
@@ -144,30 +145,25 @@ def measure_sleeping_tops(tops, spins, *, members=64, tilt=1e-9, method="lp4",
     crit = np.array([critical_spin(top) for top in tops])
     slow, fast = zip(*(sleeping_frequencies(top, spins) for top in tops))
     fall = np.array([sleeping_growth_rate(top, 0.0) for top in tops])
-    dims = (LENGTH, SPIN)
     data = {
-        "growth_rate_measured": (dims, measured),
-        "growth_rate_stderr": (dims, out["growth_rate_stderr"].reshape(shape)),
-        "growth_rate_analytic": (dims, analytic),
-        "relative_error": (dims, relative),
-        "rate_fraction": (dims, analytic / fall[:, None]),
-        "tilt_amplification": (dims, out["amplification"].reshape(shape)),
-        "slow_frequency": (dims, np.stack(slow)),
-        "fast_frequency": (dims, np.stack(fast)),
-        "step": (dims, hs.reshape(shape)),
-        "t_end": (dims, (steps * hs).reshape(shape)),
-        "n_fitted": (dims, out["n_fitted"].reshape(shape).astype(np.int64)),
-        "members_failed": (dims, out["members_failed"].reshape(shape).astype(np.int64)),
-        "critical_spin": ((LENGTH,), crit),
-        "mgl": ((LENGTH,), np.array([top.mgl for top in tops])),
-        "pivot_moment_transverse": ((LENGTH,), np.array([t.pivot_moments[0] for t in tops])),
+        "growth_rate_measured": measured,
+        "growth_rate_stderr": out["growth_rate_stderr"].reshape(shape),
+        "growth_rate_analytic": analytic,
+        "relative_error": relative,
+        "rate_fraction": analytic / fall[:, None],
+        "tilt_amplification": out["amplification"].reshape(shape),
+        "slow_frequency": np.stack(slow),
+        "fast_frequency": np.stack(fast),
+        "step": hs.reshape(shape),
+        "t_end": (steps * hs).reshape(shape),
+        "n_fitted": out["n_fitted"].reshape(shape).astype(np.int64),
+        "members_failed": out["members_failed"].reshape(shape).astype(np.int64),
+        "critical_spin": crit,
+        "mgl": np.array([top.mgl for top in tops]),
+        "pivot_moment_transverse": np.array([t.pivot_moments[0] for t in tops]),
     }
-    ds = xr.Dataset(
-        {name: (d, v, dict(VARIABLES[name])) for name, (d, v) in data.items()},
-        coords={LENGTH: (LENGTH, lengths, {"long_name": "pivot to centre of mass", "units": "m"}),
-                SPIN: (SPIN, spins, {"long_name": "spin about the symmetry axis",
-                                     "units": cv.UNITS_ANGULAR_VELOCITY})},
-    )
+    ds = xr.Dataset(SLEEPING_TOP.entries(data),
+                    coords=SLEEPING_TOP.entries({LENGTH: lengths, SPIN: spins}))
     ds.attrs.update({
         "critical_spin": float(crit[0]) if crit.size == 1 else crit,
         "method": spec.name, "members": members, "initial_tilt": tilt,
@@ -177,33 +173,3 @@ def measure_sleeping_tops(tops, spins, *, members=64, tilt=1e-9, method="lp4",
     })
     return ds
 
-
-VARIABLES = {
-    "growth_rate_measured": {"long_name": "measured growth rate of the tilt (0: bounded)",
-                             "units": cv.UNITS_RATE},
-    "growth_rate_stderr": {"long_name": "standard error of the measured growth rate",
-                           "units": cv.UNITS_RATE},
-    "growth_rate_analytic": {"long_name": "sqrt(4 A M g l - C^2 w3^2) / (2 A), 0 above w_c",
-                             "units": cv.UNITS_RATE},
-    "relative_error": {"long_name": "(measured - analytic) / analytic growth rate",
-                       "units": cv.UNITS_DIMENSIONLESS},
-    "rate_fraction": {"long_name": "analytic growth rate / its value at zero spin",
-                      "units": cv.UNITS_DIMENSIONLESS},
-    "tilt_amplification": {"long_name": "largest sin(tilt) / initial sin(tilt) over members",
-                           "units": cv.UNITS_DIMENSIONLESS},
-    "slow_frequency": {"long_name": "slow precession frequency of a stable tilt",
-                       "units": cv.UNITS_ANGULAR_VELOCITY},
-    "fast_frequency": {"long_name": "fast (nutation) frequency of a stable tilt",
-                       "units": cv.UNITS_ANGULAR_VELOCITY},
-    "step": {"long_name": "integration step h", "units": cv.UNITS_TIME},
-    "t_end": {"long_name": "run time", "units": cv.UNITS_TIME},
-    "n_fitted": {"long_name": "members with a fitted growth rate",
-                 "units": cv.UNITS_DIMENSIONLESS},
-    "members_failed": {"long_name": "members whose status is not ok",
-                       "units": cv.UNITS_DIMENSIONLESS},
-    "critical_spin": {"long_name": "critical spin 2 sqrt(A M g l) / C", "units":
-                      cv.UNITS_ANGULAR_VELOCITY},
-    "mgl": {"long_name": "M g l", "units": "N m"},
-    "pivot_moment_transverse": {"long_name": "transverse moment about the pivot A",
-                                "units": cv.UNITS_MOMENT_OF_INERTIA},
-}

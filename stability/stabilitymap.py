@@ -25,7 +25,8 @@ import xarray as xr
 
 from . import conventions as cv
 from . import estimators as est
-from .shapes import EDGE_EQUAL_12, EDGE_EQUAL_23, EDGE_FLAT, EDGE_MEANINGS
+from .schema import STABILITY_MAP
+from .shapes import EDGE_EQUAL_12, EDGE_EQUAL_23, EDGE_FLAT
 
 #: Relative bias of the growth rate, lambda_h / lambda - 1, at step h for I = (1, 2, 3) and spin
 #: W = 1 (literature notes 4.1, table of discretization biases): RK4 -(h lambda)^4 / 120; the
@@ -491,114 +492,61 @@ def map_dataset(specs, steps, spin, moments, edges, omega2, t_end, levels, out, 
     attrs : dict
         Global attributes.
     """
-    M, S, A = "integrator", "shape", cv.AXIS
-    one, s2 = cv.UNITS_DIMENSIONLESS, cv.UNITS_RATE_SQUARED
     data = {
-        "omega_squared": ((S, A), omega2, {
-            "long_name": "analytic Omega^2 = (Ia - Ib)(Ia - Ic) W^2 / (Ib Ic)", "units": s2}),
-        "omega_squared_normalised": ((S, A), omega2 / spin**2, {
-            "long_name": "analytic Omega^2 / W^2", "units": one}),
-        "t_end": ((S, A), t_end, {"long_name": "run length of the ensemble",
-                                  "units": cv.UNITS_TIME}),
-        "edge": ((S,), edges, {"long_name": "triangle edges the shape lies on",
-                               "flag_masks": np.array([1, 2, 4], dtype=np.int8),
-                               "flag_meanings": EDGE_MEANINGS, "units": one}),
-        "regime": ((M, S, A), out["regime"], est.ESTIMATE_ATTRS["regime"]),
-        "sign_agrees": ((M, S, A), out["sign_agrees"], {
-            **est.ESTIMATE_ATTRS["sign_agrees"], "flag_values": np.array([0, 1], dtype=np.int8),
-            "flag_meanings": "no yes"}),
-        "status": ((M, S, A), out["status"], {
-            "long_name": "worst member status of the ensemble",
-            "flag_values": np.array(cv.STATUS_FLAG_VALUES, dtype=np.int8),
-            "flag_meanings": cv.STATUS_MEANINGS, "units": one}),
-        "members_failed": ((M, S, A), out["members_failed"], {
-            "long_name": "members whose status is not ok (left out of the estimates)",
-            "units": one}),
-        "energy_error_max": ((M, S, A), out["energy_error_max"], {
-            "long_name": "largest relative kinetic-energy error at the end over members",
-            "units": one}),
-        "first_flip_time_relative_error": ((M, S, A), out["first_flip_time_relative_error"], {
-            "long_name": "mean relative difference of the first-flip time from the exact "
-                         "flow's, member by member", "units": one}),
-        "omega_squared_measured_half_step": ((M, S, A), half["omega_squared_measured"], {
-            "long_name": "measured Omega^2 at step h / 2 (bias check)", "units": s2}),
-        "regime_half_step": ((M, S, A), half["regime"],
-                             {**est.ESTIMATE_ATTRS["regime"],
-                              "long_name": "regime at step h / 2 (bias check)"}),
-        "step_bias": ((M, S, A), bias, {
-            "long_name": "Richardson estimate of the method's relative O(h^p) bias in Omega^2 "
-                         "at step h, (X(h) - X(h/2)) / (1 - 2^-p) / |Omega^2|", "units": one}),
+        "omega_squared": omega2,
+        "omega_squared_normalised": omega2 / spin**2,
+        "t_end": t_end,
+        "edge": edges,
+        "regime": out["regime"],
+        "sign_agrees": out["sign_agrees"],
+        "status": out["status"],
+        "members_failed": out["members_failed"],
+        "energy_error_max": out["energy_error_max"],
+        "first_flip_time_relative_error": out["first_flip_time_relative_error"],
+        "omega_squared_measured_half_step": half["omega_squared_measured"],
+        "regime_half_step": half["regime"],
+        "step_bias": bias,
     }
     for name in MAP_FLOATS:
-        if name in data:
-            continue
-        data[name] = ((M, S, A), out[name], est.ESTIMATE_ATTRS.get(name))
-    F, E = "flip_shape", "epsilon"
+        if name not in data:
+            data[name] = out[name]
     data.update({
-        "sweep_flip_interval": ((M, F, E), sweep["measured"], {
-            "long_name": "measured flip interval, perturbation epsilon along axis 1",
-            "units": cv.UNITS_TIME}),
-        "sweep_flip_interval_exact": ((F, E), sweep["exact"], {
-            "long_name": "exact flip interval 2K/nu", "units": cv.UNITS_TIME}),
-        "sweep_flip_interval_asymptote": ((F, E), sweep["asymptote"], {
-            "long_name": "asymptotic flip interval (2/lambda) ln(4/k')", "units": cv.UNITS_TIME}),
-        "sweep_growth_rate": ((F,), sweep["growth_rate"], {
-            "long_name": "analytic growth rate lambda about axis 2", "units": cv.UNITS_RATE}),
-    })
-    C, T = "edge_case", "edge_time"
-    data.update({
-        "edge_w": ((C, T, A), edge["w"], {
-            "long_name": "body-frame angular velocity on an edge case",
-            "units": cv.UNITS_ANGULAR_VELOCITY}),
-        "edge_slope_predicted": ((C,), edge["slope_predicted"], {
-            "long_name": "initial rate of change of the drifting component (Euler's equations)",
-            "units": "rad s-2"}),
-        "edge_slope_measured": ((C,), edge["slope_measured"], {
-            "long_name": "least-squares slope of the drifting component", "units": "rad s-2"}),
-        "edge_distinct_change": ((C,), edge["distinct_change"], {
-            "long_name": "largest change of the component along the distinct axis",
-            "units": cv.UNITS_ANGULAR_VELOCITY}),
-        "edge_flips": ((C,), edge["flips"], {"long_name": "sign changes of the spin component",
-                                             "units": one}),
-        "edge_regime": ((C,), edge["regime"], est.ESTIMATE_ATTRS["regime"]),
-        "edge_linear_residual": ((C,), edge["linear_residual"], {
-            "long_name": "rms relative misfit of a straight line to the amplitude",
-            "units": one}),
-        "edge_exponential_residual": ((C,), edge["exponential_residual"], {
-            "long_name": "rms misfit of an exponential to the amplitude", "units": one}),
+        "sweep_flip_interval": sweep["measured"],
+        "sweep_flip_interval_exact": sweep["exact"],
+        "sweep_flip_interval_asymptote": sweep["asymptote"],
+        "sweep_growth_rate": sweep["growth_rate"],
+        "edge_w": edge["w"],
+        "edge_slope_predicted": edge["slope_predicted"],
+        "edge_slope_measured": edge["slope_measured"],
+        "edge_distinct_change": edge["distinct_change"],
+        "edge_flips": edge["flips"],
+        "edge_regime": edge["regime"],
+        "edge_linear_residual": edge["linear_residual"],
+        "edge_exponential_residual": edge["exponential_residual"],
     })
     coords = {
-        M: (M, [spec.name for spec in specs], {"long_name": "integrator"}),
-        "h": (M, np.array(steps, dtype=float),
-              {"long_name": "step", "units": cv.UNITS_TIME}),
-        "method_order": (M, np.array([spec.order for spec in specs], dtype=float),
-                         {"long_name": "order of the method (inf: exact flow)", "units": one}),
-        S: (S, np.arange(moments.shape[0]), {"long_name": "shape index"}),
-        "I1": (S, moments[:, 0], _moment_attrs(1)),
-        "I2": (S, moments[:, 1], _moment_attrs(2)),
-        "I3": (S, moments[:, 2], _moment_attrs(3)),
-        A: (A, np.array(cv.AXES), {"long_name": "principal axis of the spin"}),
-        "level": ("level", levels, {"long_name": "perpendicular amplitude level of the "
-                                                 "passage times", "units":
-                                    cv.UNITS_ANGULAR_VELOCITY}),
-        F: (F, np.arange(sweep["moments"].shape[0]), {"long_name": "flip sweep shape index"}),
-        "flip_I1": (F, sweep["moments"][:, 0], _moment_attrs(1)),
-        "flip_I2": (F, sweep["moments"][:, 1], _moment_attrs(2)),
-        E: (E, sweep["epsilons"], {"long_name": "perturbation relative to the spin",
-                                   "units": one}),
-        C: (C, edge["names"], {"long_name": "edge case"}),
-        "edge_I1": (C, edge["moments"][:, 0], _moment_attrs(1)),
-        "edge_I2": (C, edge["moments"][:, 1], _moment_attrs(2)),
-        "edge_I3": (C, edge["moments"][:, 2], _moment_attrs(3)),
-        "edge_axis": (C, edge["axis"], {"long_name": "spin axis of the edge case"}),
-        T: (T, edge["time"], {"long_name": "time since the start", "units": cv.UNITS_TIME}),
+        "integrator": [spec.name for spec in specs],
+        "h": np.array(steps, dtype=float),
+        "method_order": np.array([spec.order for spec in specs], dtype=float),
+        "shape": np.arange(moments.shape[0]),
+        "I1": moments[:, 0],
+        "I2": moments[:, 1],
+        "I3": moments[:, 2],
+        cv.AXIS: np.array(cv.AXES),
+        "level": levels,
+        "flip_shape": np.arange(sweep["moments"].shape[0]),
+        "flip_I1": sweep["moments"][:, 0],
+        "flip_I2": sweep["moments"][:, 1],
+        "epsilon": sweep["epsilons"],
+        "edge_case": edge["names"],
+        "edge_I1": edge["moments"][:, 0],
+        "edge_I2": edge["moments"][:, 1],
+        "edge_I3": edge["moments"][:, 2],
+        "edge_axis": edge["axis"],
+        "edge_time": edge["time"],
     }
-    return xr.Dataset(data, coords=coords, attrs=attrs)
-
-
-def _moment_attrs(i):
-    return {"long_name": f"principal moment I{i}, normalised so that I3 = 1",
-            "units": cv.UNITS_MOMENT_OF_INERTIA}
+    return xr.Dataset(STABILITY_MAP.entries(data), coords=STABILITY_MAP.entries(coords),
+                      attrs=attrs)
 
 
 def headline(ds: xr.Dataset):

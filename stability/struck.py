@@ -26,12 +26,12 @@ from dataclasses import dataclass, field
 import numpy as np
 import xarray as xr
 
-from . import conventions as cv
 from .checks import positive_float, real_number
 from .estimators import zero_crossings
 from .integrators.struck import J_ACROSS, J_ALONG, PHI, VX, VY, W, X, strike_params
 from .scene_ensemble import GroupedRun, propagate_stored
 from .scenes import SCENES
+from .schema import BAT
 
 INCH = 0.0254
 #: A 33-inch wooden baseball bat, stations (distance from the knob end, radius) in inches; two
@@ -354,31 +354,19 @@ def measure_strikes(body: StruckBody, pivots, strikes, impulse=12.0, contact_tim
     zone_formula = pivots[:, None] + (q - pivots)[:, None] * np.array([1.0 - sting, 1.0 + sting])
     zone_formula = np.where(zone_formula <= body.length, zone_formula, np.nan)
 
-    dims = (HOLD, PIVOT, STRIKE)
     data = {
-        **{key: (dims, value) for key, value in measured.items()},
-        "reaction_impulse_formula": ((PIVOT, STRIKE), formula_reaction),
-        "hand_velocity_formula": ((PIVOT, STRIKE), formula_hand),
-        "percussion_centre_measured": ((HOLD, PIVOT), cop),
-        "percussion_centre_formula": ((PIVOT,), q),
-        "sweet_zone_measured": ((PIVOT, "edge"), zone),
-        "sweet_zone_formula": ((PIVOT, "edge"), zone_formula),
-        "status": (dims, run.status.reshape(shape).astype(np.int8)),
-        "outline": (("station", "xy"), body.outline),
+        **measured,
+        "reaction_impulse_formula": formula_reaction,
+        "hand_velocity_formula": formula_hand,
+        "percussion_centre_measured": cop,
+        "percussion_centre_formula": q,
+        "sweet_zone_measured": zone,
+        "sweet_zone_formula": zone_formula,
+        "status": run.status.reshape(shape).astype(np.int8),
+        "outline": body.outline,
     }
-    ds = xr.Dataset(
-        {name: (dd, v, dict(VARIABLES[name])) for name, (dd, v) in data.items()},
-        coords={
-            HOLD: (HOLD, ["held", "free"], {"long_name": "hands: a hinge at the pivot, or none",
-                                            "units": cv.UNITS_DIMENSIONLESS}),
-            PIVOT: (PIVOT, pivots, {"long_name": "hands (pivot), from the end held",
-                                    "units": "m"}),
-            STRIKE: (STRIKE, strikes, {"long_name": "strike point, from the end held",
-                                       "units": "m"}),
-            "edge": ("edge", ["near", "far"], {"long_name": "edge of the sweet zone",
-                                               "units": cv.UNITS_DIMENSIONLESS}),
-        },
-    )
+    ds = xr.Dataset(BAT.entries(data), coords=BAT.entries({
+        HOLD: ["held", "free"], PIVOT: pivots, STRIKE: strikes, "edge": ["near", "far"]}))
     ds.attrs.update({
         **body.describe(), "impulse": impulse, "contact_time": contact_time, "sting": sting,
         "method": spec.name, "step": h, "steps_per_contact": steps_per_contact,
@@ -386,35 +374,3 @@ def measure_strikes(body: StruckBody, pivots, strikes, impulse=12.0, contact_tim
     })
     return ds
 
-
-_NS = "N s"
-VARIABLES = {
-    "angular_velocity": {"long_name": "angular velocity just after the contact",
-                         "units": cv.UNITS_ANGULAR_VELOCITY},
-    "cm_velocity_across": {"long_name": "velocity of the centre of mass across the body, just "
-                           "after the contact", "units": "m s-1"},
-    "hand_velocity_across": {"long_name": "velocity across the body of its point at the hands, "
-                             "just after the contact (0 when held)", "units": "m s-1"},
-    "reaction_impulse_across": {"long_name": "reaction impulse across the body at the hands "
-                                "over the contact (0 when free)", "units": _NS},
-    "reaction_impulse_along": {"long_name": "reaction impulse along the body at the hands over "
-                               "the contact (centripetal; 0 when free)", "units": _NS},
-    "reaction_impulse_formula": {"long_name": "held, instantaneous impulse: J (M d s / I_P - 1)",
-                                 "units": _NS},
-    "hand_velocity_formula": {"long_name": "free, instantaneous impulse: "
-                              "J / M - d (s - d) J / I_cm", "units": "m s-1"},
-    "percussion_centre_measured": {"long_name": "centre of percussion from the runs (zero "
-                                   "reaction held, hands at rest free), from the end held",
-                                   "units": "m"},
-    "percussion_centre_formula": {"long_name": "centre of percussion pivot + I_P / (M d), from "
-                                  "the end held", "units": "m"},
-    "sweet_zone_measured": {"long_name": "strike points where the reaction across is sting x J, "
-                            "from the runs (held)", "units": "m"},
-    "sweet_zone_formula": {"long_name": "pivot + (1 -+ sting) I_P / (M d) (NaN: beyond the tip)",
-                           "units": "m"},
-    "status": {"long_name": "member status", "flag_values": np.array(cv.STATUS_FLAG_VALUES,
-                                                                      dtype=np.int8),
-               "flag_meanings": cv.STATUS_MEANINGS, "units": cv.UNITS_DIMENSIONLESS},
-    "outline": {"long_name": "outline of the body: stations (x from the end held, half-width)",
-                "units": "m"},
-}

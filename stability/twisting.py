@@ -18,12 +18,11 @@ import xarray as xr
 
 from . import conventions as cv
 from .attitude import IDENTITY, propagate_attitudes
-from .dataset import storable_attrs, variable_attrs
+from .dataset import storable_attrs
 from .ensemble import seed_sequence
 from .exact_attitude import exact_attitudes, free_motion
 from .geometric_phase import exact_angles, run_angles, wrap
-
-_RAD, _S, _ONE = cv.UNITS_ANGLE, cv.UNITS_TIME, cv.UNITS_DIMENSIONLESS
+from .schema import TWISTING_RACKET
 
 #: Instants of the flip drawn for the first member (across its twist window).
 SNAPSHOTS = 7
@@ -121,65 +120,32 @@ def measure_twisting(moments, w0, *, method="lp8", steps_per_period=2000, save_e
     snapshot_time = flip + half * np.linspace(-1.0, 1.0, SNAPSHOTS)
     snapshot_q = exact_attitudes(moments[:1], w0[:1], snapshot_time, IDENTITY)[0]
 
-    member = (cv.MEMBER,)
     data = {
-        "moments": (member + (cv.AXIS,), moments,
-                    {"long_name": "principal moments, ascending (canonical frame)",
-                     "units": cv.UNITS_MOMENT_OF_INERTIA}),
-        "w0": (member + (cv.AXIS,), w0, {"long_name": "initial angular velocity, canonical "
-                                         "frame", "units": cv.UNITS_ANGULAR_VELOCITY}),
-        "epsilon": (member, np.full(n, np.nan) if epsilon is None else np.asarray(epsilon),
-                    {"long_name": "nudge across the middle axis relative to the spin",
-                     "units": _ONE}),
-        "status": (member, status, {"long_name": "member status of the run", "units": _ONE,
-                                    "flag_values": np.array(cv.STATUS_FLAG_VALUES, np.int8),
-                                    "flag_meanings": cv.STATUS_MEANINGS}),
-        "period": (member, period, {"long_name": "period T of the body motion, 4 K / nu",
-                                    "units": _S}),
-        "montgomery_run": (member, ran["montgomery"], {
-            "long_name": "Montgomery's angle from the run: R(T) R(0)^T about L", "units": _RAD}),
-        "montgomery_exact": (member, exact["montgomery"], {
-            "long_name": "Montgomery's angle from the exact attitude, phi(T)", "units": _RAD}),
-        "montgomery_formula": (member, exact["montgomery_formula"], {
-            "long_name": "Montgomery's angle from the formula, 2 E T / |L| - S (mod 2 pi)",
-            "units": _RAD}),
-        "dynamic_phase": (member, exact["dynamic_phase"],
-                          {"long_name": "dynamic phase 2 E T / |L|", "units": _RAD}),
-        "solid_angle": (member, exact["solid_angle"], {
-            "long_name": "oriented solid angle S enclosed by m / |m| in the body frame",
-            "units": "sr"}),
-        "montgomery_error": (member, np.abs(wrap(ran["montgomery"]
-                                                 - exact["montgomery_formula"])),
-                             {"long_name": "|run - formula| of Montgomery's angle (mod 2 pi)",
-                              "units": _RAD}),
-        "flip_time_run": (member, ran["flip_time"], {
-            "long_name": "flip (m2 = 0) nearest T, from the run", "units": _S}),
-        "flip_time_exact": (member, exact["flip_time"], {
-            "long_name": "flip (m2 = 0) nearest T, exact", "units": _S}),
-        "half_window_run": (member, ran["half_window"], {
-            "long_name": "half the window about the flip in which phi advances 2 pi, run",
-            "units": _S}),
-        "half_window_exact": (member, exact["half_window"], {
-            "long_name": "half the window about the flip in which phi advances 2 pi, exact",
-            "units": _S}),
-        "twist_run": (member, ran["twist"], {
-            "long_name": "twist: change of psi = atan2(m2, m3) over the window, run",
-            "units": _RAD}),
-        "twist_exact": (member, exact["twist"], {
-            "long_name": "twist: change of psi = atan2(m2, m3) over the window, exact",
-            "units": _RAD}),
-        "twist_error": (member, np.abs(ran["twist"] - exact["twist"]),
-                        {"long_name": "|run - exact| of the twist", "units": _RAD}),
-        "twist_defect": (member, math.pi - np.abs(exact["twist"]), {
-            "long_name": "defect of the twist from a half turn, pi - |twist|", "units": _RAD}),
-        "snapshot_time": (("snapshot",), snapshot_time, {
-            "long_name": "instants across member 0's twist window", "units": _S}),
-        "snapshot_q": (("snapshot", cv.QUATERNION), snapshot_q, {
-            "long_name": "member 0's exact attitude, body (canonical) to space", "units": _ONE}),
+        "moments": moments,
+        "w0": w0,
+        "epsilon": np.full(n, np.nan) if epsilon is None else np.asarray(epsilon),
+        "status": status,
+        "period": period,
+        "montgomery_run": ran["montgomery"],
+        "montgomery_exact": exact["montgomery"],
+        "montgomery_formula": exact["montgomery_formula"],
+        "dynamic_phase": exact["dynamic_phase"],
+        "solid_angle": exact["solid_angle"],
+        "montgomery_error": np.abs(wrap(ran["montgomery"] - exact["montgomery_formula"])),
+        "flip_time_run": ran["flip_time"],
+        "flip_time_exact": exact["flip_time"],
+        "half_window_run": ran["half_window"],
+        "half_window_exact": exact["half_window"],
+        "twist_run": ran["twist"],
+        "twist_exact": exact["twist"],
+        "twist_error": np.abs(ran["twist"] - exact["twist"]),
+        "twist_defect": math.pi - np.abs(exact["twist"]),
+        "snapshot_time": snapshot_time,
+        "snapshot_q": snapshot_q,
     }
-    coords = {name: (name, values, {"units": _ONE, **variable_attrs(name)}) for name, values in (
-        (cv.MEMBER, np.arange(n)), (cv.AXIS, np.array(cv.AXES)), (cv.QUATERNION, np.arange(4)))}
+    coords = {cv.MEMBER: np.arange(n), cv.AXIS: np.array(cv.AXES), cv.QUATERNION: np.arange(4)}
     attrs = {"method": runs.spec.name, "steps_per_period": steps_per_period,
              "save_every": save_every, "run_wall_time": run_wall,
              "space_frame": "L along space Z; body z along the smallest-moment axis (handle)"}
-    return xr.Dataset(data, coords=coords, attrs=storable_attrs(attrs))
+    return xr.Dataset(TWISTING_RACKET.entries(data), coords=TWISTING_RACKET.entries(coords),
+                      attrs=storable_attrs(attrs))

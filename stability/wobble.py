@@ -24,6 +24,7 @@ from .ensemble import completed, run_ensemble
 from .estimators import measured_frequency
 from .integrate import integrate
 from .scene_ensemble import default_chunk_members
+from .schema import EARTH_WOBBLE
 
 #: Dimension of the cone member's samples.
 CONE_TIME = "cone_time"
@@ -105,41 +106,25 @@ def measure_free_wobble(body, spin, offset, *, members=16, periods=3.0, steps_pe
     e3 = np.broadcast_to([0.0, 0.0, 1.0], w_body.shape)
     euler_days = t_euler / DAY
     oblate_days = oblate_euler_period(moments, spin) / DAY
-    axis_attrs = {"units": cv.UNITS_ANGULAR_VELOCITY}
-    arcsec = {"units": "arcsec"}
     ds = xr.Dataset(
-        {
-            "wobble_period_measured": ((), period / DAY, {
-                "long_name": "period of the rotation axis about the figure axis (body frame), "
-                             "mean over members", "units": "d"}),
-            "wobble_period_stderr": ((), stderr / DAY, {
-                "long_name": "standard error of the measured period", "units": "d"}),
-            "member_wobble_period": ((cv.MEMBER,), member_period / DAY, {
-                "long_name": "measured wobble period of each member", "units": "d"}),
-            "wobble_period_euler": ((), euler_days, {
-                "long_name": "Euler period 2 pi / (W sqrt((C - A)(C - B) / (A B)))",
-                "units": "d"}),
-            "wobble_period_oblate": ((), oblate_days, {
-                "long_name": "A / (C - A) turns, A the mean equatorial moment", "units": "d"}),
-            "relative_error": ((), (period / DAY - euler_days) / euler_days, {
-                "long_name": "(measured - Euler) / Euler period", "units": cv.UNITS_DIMENSIONLESS}),
-            "w_body": ((CONE_TIME, cv.AXIS), w_body, {
-                "long_name": "angular velocity in the body frame (cone member)", **axis_attrs}),
-            "w_space": ((CONE_TIME, cv.AXIS), w_space, {
-                "long_name": "angular velocity in space (cone member)", **axis_attrs}),
-            "body_cone_angle": ((CONE_TIME,), _angle(w_body, e3) / ARCSEC, {
-                "long_name": "angle of the rotation axis from the figure axis", **arcsec}),
-            "space_cone_angle": ((CONE_TIME,), _angle(w_space, L) / ARCSEC, {
-                "long_name": "angle of the rotation axis from the angular momentum", **arcsec}),
-            "figure_axis_angle": ((CONE_TIME,), _angle(figure_space, L) / ARCSEC, {
-                "long_name": "angle of the figure axis from the angular momentum", **arcsec}),
-        },
-        coords={
-            cv.MEMBER: (cv.MEMBER, ens[cv.MEMBER].values, cv.member_attrs()),
-            CONE_TIME: (CONE_TIME, cone.time.values / DAY, {"long_name": "time", "units": "d"}),
-            cv.AXIS: (cv.AXIS, list(cv.AXES), {"long_name": "principal axis",
-                                                "units": cv.UNITS_DIMENSIONLESS}),
-        },
+        EARTH_WOBBLE.entries({
+            "wobble_period_measured": period / DAY,
+            "wobble_period_stderr": stderr / DAY,
+            "member_wobble_period": member_period / DAY,
+            "wobble_period_euler": euler_days,
+            "wobble_period_oblate": oblate_days,
+            "relative_error": (period / DAY - euler_days) / euler_days,
+            "w_body": w_body,
+            "w_space": w_space,
+            "body_cone_angle": _angle(w_body, e3) / ARCSEC,
+            "space_cone_angle": _angle(w_space, L) / ARCSEC,
+            "figure_axis_angle": _angle(figure_space, L) / ARCSEC,
+        }),
+        coords=EARTH_WOBBLE.entries({
+            cv.MEMBER: ens[cv.MEMBER].values,
+            CONE_TIME: cone.time.values / DAY,
+            cv.AXIS: list(cv.AXES),
+        }),
         attrs={
             "moments": moments, "spin": spin, "offset_arcsec": offset / ARCSEC,
             "method": method, "h": h, "members": members, "periods": periods,

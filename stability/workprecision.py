@@ -19,10 +19,10 @@ import math
 import numpy as np
 import xarray as xr
 
-from . import conventions as cv
 from .drift import drift_kind, envelope, log_slope
 from .integrators import METHODS
 from .reference import METRICS
+from .schema import WORK_PRECISION
 
 #: Name of scipy's DOP853 in the ``method`` dimension (run as one system over all members).
 SCIPY = "dop853"
@@ -51,26 +51,9 @@ def _sweep_arrays(results, methods, n_sweep):
     return out
 
 
-_VARIABLES = {
-    "w_error": ("relative error of w at the end, |w - w_exact| / |w_exact|",
-                cv.UNITS_DIMENSIONLESS),
-    "energy_error": ("relative kinetic-energy error at the end, |E / E0 - 1|",
-                     cv.UNITS_DIMENSIONLESS),
-    "momentum_error": ("relative angular-momentum error at the end, | |L| / |L0| - 1 |",
-                       cv.UNITS_DIMENSIONLESS),
-    "attitude_error": ("attitude error at the end: angle of the rotation from the reference "
-                       "attitude (DOP853) to the method's, over the first [attitude] members",
-                       "rad"),
-    "wall_time": ("kernel wall time for the whole ensemble (compilation excluded)",
-                  cv.UNITS_TIME),
-    "member_step_time": ("wall time per member and step", cv.UNITS_TIME),
-    "steps": ("steps per member", cv.UNITS_DIMENSIONLESS),
-    "evaluations": ("right-hand-side evaluations or exact sub-flows per member",
-                    cv.UNITS_DIMENSIONLESS),
-    "iterations": ("nonlinear-solver iterations per step, mean over members",
-                   cv.UNITS_DIMENSIONLESS),
-    "failed": ("members flagged non-finite, diverged or not converged", cv.UNITS_DIMENSIONLESS),
-}
+#: Variables stacked per (workload, method, sweep[, metric]) from the sweep points.
+_SWEPT = ("w_error", "energy_error", "momentum_error", "attitude_error", "wall_time",
+          "member_step_time", "steps", "evaluations", "iterations", "failed")
 
 
 def work_precision_dataset(methods, results, floors, long_results, reference_errors,
@@ -99,17 +82,8 @@ def work_precision_dataset(methods, results, floors, long_results, reference_err
     )
     n_sweep = max((len(p) for p in results.values()), default=1)
     arrays = _sweep_arrays(results, methods, n_sweep)
-    dims = ("workload", "method", "sweep")
-    data = {}
-    for name, (long_name, units) in _VARIABLES.items():
-        values = arrays[name]
-        data[name] = (dims + (("metric",) if values.ndim == 4 else ()), values,
-                      {"long_name": long_name, "units": units})
-    data["floor"] = (
-        ("workload", "metric"), np.array([floors[w] for w in WORKLOADS]),
-        {"long_name": "conditioning floor: relative change of the exact w(T) when D2 of the "
-                      "start moves by one rounding", "units": cv.UNITS_DIMENSIONLESS},
-    )
+    data = {name: arrays[name] for name in _SWEPT}
+    data["floor"] = np.array([floors[w] for w in WORKLOADS])
     long_methods = [m for m in methods if m in long_results]
     t = next(iter(long_results.values()))[0] if long_results else np.zeros(0)
     drift_e = np.array([long_results[m][1] for m in long_methods]).reshape(len(long_methods), -1)
@@ -122,39 +96,25 @@ def work_precision_dataset(methods, results, floors, long_results, reference_err
             k = long_methods.index(m)
             full_e[j], full_l[j] = drift_e[k], drift_l[k]
             slope[j] = log_slope(t, drift_e[k])
-    data["drift_energy"] = (("method", "long_time"), full_e, {
-        "long_name": "RMS over members of the relative energy error E / E0 - 1",
-        "units": cv.UNITS_DIMENSIONLESS})
-    data["drift_momentum"] = (("method", "long_time"), full_l, {
-        "long_name": "RMS over members of the relative |L| error", "units": cv.UNITS_DIMENSIONLESS})
-    data["drift_slope"] = (("method",), slope, {
-        "long_name": "log-log slope of the energy error's running maximum over the last two "
-                     "decades of the long run (0 bounded, 1/2 round-off random walk, 1 drift)",
-        "units": cv.UNITS_DIMENSIONLESS})
+    data.update({"drift_energy": full_e, "drift_momentum": full_l, "drift_slope": slope})
     specs = {m: METHODS.get(m) for m in methods}
     coords = {
-        "workload": ("workload", list(WORKLOADS), {"long_name": "workload"}),
-        "method": ("method", methods, {"long_name": "integrator (registry name; dop853: scipy)"}),
-        "sweep": ("sweep", np.arange(n_sweep),
-                  {"long_name": "index in the step-size or tolerance sweep"}),
-        "metric": ("metric", list(METRICS), {"long_name": "statistic over members"}),
-        "long_time": ("long_time", t, {"long_name": "time in the long-horizon run",
-                                       "units": cv.UNITS_TIME}),
-        "h": (dims, arrays["h"], {"long_name": "step size", "units": cv.UNITS_TIME}),
-        "rtol": (dims, arrays["rtol"], {"long_name": "scipy relative tolerance",
-                                        "units": cv.UNITS_DIMENSIONLESS}),
-        "order": ("method", np.array([
+        "workload": list(WORKLOADS),
+        "method": methods,
+        "sweep": np.arange(n_sweep),
+        "metric": list(METRICS),
+        "long_time": t,
+        "h": arrays["h"],
+        "rtol": arrays["rtol"],
+        "order": np.array([
             (np.inf if specs[m].is_exact else float(specs[m].order)) if specs[m] else 8.0
-            for m in methods]), {"long_name": "declared order (dop853: 8, adaptive)",
-                                 "units": cv.UNITS_DIMENSIONLESS}),
+            for m in methods]),
     }
-    ds = xr.Dataset(data, coords=coords)
+    ds = xr.Dataset(WORK_PRECISION.entries(data), coords=WORK_PRECISION.entries(coords))
     ds.attrs.update(attrs)
-    ds["attitude_reference_error"] = (
-        ("workload", "metric"),
-        np.array([reference_errors.get(w, np.full(len(METRICS), np.nan)) for w in WORKLOADS]),
-        {"long_name": "relative w error of the attitude reference (DOP853, rtol = atol = 1e-13) "
-                      "against the exact solution", "units": cv.UNITS_DIMENSIONLESS})
+    ds["attitude_reference_error"] = WORK_PRECISION.entry(
+        "attitude_reference_error",
+        np.array([reference_errors.get(w, np.full(len(METRICS), np.nan)) for w in WORKLOADS]))
     return ds
 
 

@@ -8,7 +8,7 @@ import stability
 from stability.artefacts import measure_rule, step_for_accuracy
 from stability.ensemble import perturbed_starts
 
-from .helpers import assert_cf_compliant, assert_readable
+from .helpers import assert_cf_compliant, assert_declared, assert_readable
 
 ROOT = Path(__file__).resolve().parents[1]
 RACKET = np.sort(stability.RigidBody.preset("tennis_racket").moments)
@@ -61,6 +61,7 @@ def test_study_engine_artefacts_quick(tmp_path):
         assert var.attrs.get("units") and var.attrs.get("long_name"), name
     assert_readable(artefacts_figure(ds))
     assert_cf_compliant(tmp_path / "engine_artefacts.nc")
+    assert_declared(tmp_path / "engine_artefacts.nc", "engine_artefacts")
 
 
 def test_progress_false_silences_every_bar_of_the_study(capfd):

@@ -12,7 +12,7 @@ from stability.figures.earth import wobble_cones_figure
 from stability.study import run_study
 from stability.wobble import measure_free_wobble
 
-from .helpers import assert_cf_compliant, assert_readable
+from .helpers import assert_cf_compliant, assert_declared, assert_readable
 
 ROOT = Path(__file__).resolve().parents[1]
 SPIN = 2.0 * math.pi / SIDEREAL_DAY
@@ -62,3 +62,4 @@ def test_study_runs_from_its_file(tmp_path):
             assert var.attrs.get("units") and var.attrs.get("long_name"), name
     assert (tmp_path / "earth_wobble.png").exists()
     assert_cf_compliant(tmp_path / "earth_wobble.nc")
+    assert_declared(tmp_path / "earth_wobble.nc", "earth_wobble")

@@ -17,7 +17,7 @@ from stability.scenes import SCENES
 from stability.scenes.lunisolar_earth import figure_axes
 from stability.study import run_study
 
-from .helpers import assert_cf_compliant, assert_readable
+from .helpers import assert_cf_compliant, assert_declared, assert_readable
 
 ROOT = Path(__file__).resolve().parents[1]
 FULL, AVERAGED = SCENES["lunisolar_earth"], SCENES["precessing_axis"]
@@ -144,6 +144,10 @@ def test_dataset_follows_cf(quick):
     so it stays a plain coordinate where the checker asks for a CF one."""
     assert_cf_compliant(quick[1] / "equinoxes.nc",
                         known=["Coordinate variable 'time' should have standard_name='time'"])
+
+
+def test_dataset_is_as_the_register_declares(quick):
+    assert_declared(quick[1] / "equinoxes.nc", "equinoxes")
 
 
 def test_study_meets_the_published_values_and_the_formula(quick):

@@ -14,7 +14,7 @@ from stability.geometric_phase import exact_angles, run_angles, wrap
 from stability.roots import bracketed_newton
 from stability.twisting import tossed_members
 
-from .helpers import assert_cf_compliant, assert_readable
+from .helpers import assert_cf_compliant, assert_declared, assert_readable
 
 ROOT = Path(__file__).resolve().parents[1]
 
@@ -194,3 +194,4 @@ def test_study_twisting_racket_quick(tmp_path):
         assert_readable(twist_figure(ds))
         assert_readable(flip_figure(ds))
     assert_cf_compliant(tmp_path / "twisting_racket.nc")
+    assert_declared(tmp_path / "twisting_racket.nc", "twisting_racket")

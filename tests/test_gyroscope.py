@@ -16,7 +16,7 @@ from stability.top import (HeavyTop, gyroscopic_nutation_amplitude,
                            gyroscopic_nutation_frequency, gyroscopic_precession_rate,
                            tilted_starts)
 
-from .helpers import assert_cf_compliant, assert_readable
+from .helpers import assert_cf_compliant, assert_declared, assert_readable
 
 ROOT = Path(__file__).resolve().parents[1]
 STUDY = ROOT / "studies" / "gyroscope.toml"
@@ -189,6 +189,10 @@ def test_study_meets_its_claim_with_units_everywhere(quick):
 
 def test_study_dataset_follows_cf(quick):
     assert_cf_compliant(quick[1] / "gyroscope.nc")
+
+
+def test_study_dataset_is_as_the_register_declares(quick):
+    assert_declared(quick[1] / "gyroscope.nc", "gyroscope")
 
 
 def test_set_changes_the_top(tmp_path):

@@ -12,7 +12,7 @@ from stability import conventions as cv
 from stability import io
 from stability.dataset import append_history, check_storable, config_toml, storable_attrs
 
-from .helpers import DIMENSION_ORDER, assert_cf_compliant
+from .helpers import DIMENSION_ORDER, assert_cf_compliant, assert_declared
 
 BODY = stability.RigidBody(1.0, 2.0, 3.0, name="test body")
 
@@ -63,6 +63,7 @@ def test_time_stays_float_seconds_and_is_cf_time(series, tmp_path):
 def test_saved_runs_follow_cf(name, request, tmp_path):
     path = stability.save(request.getfixturevalue(name), tmp_path / "run.nc")
     assert_cf_compliant(path, known=[DIMENSION_ORDER] if name == "series" else [])
+    assert_declared(path, "ensemble")
 
 
 def test_saved_integration_with_attitude_follows_cf(tmp_path):

@@ -14,7 +14,7 @@ from stability.rolling import (G, SHAPES, launch_formulas, measure_incline, meas
                                slipping_spin_rate, start_states)
 from stability.scenes import SCENES
 
-from .helpers import assert_cf_compliant, assert_readable
+from .helpers import assert_cf_compliant, assert_declared, assert_readable
 
 SCENE = SCENES["rolling_body"]
 
@@ -160,3 +160,4 @@ def test_rolling_study_meets_its_claim_with_units_everywhere(tmp_path):
     assert_readable(rolling_map_figure(ds))
     assert_readable(rolling_launch_figure(ds))
     assert_cf_compliant(tmp_path / "rolling.nc")
+    assert_declared(tmp_path / "rolling.nc", "rolling")

@@ -9,7 +9,7 @@ import xarray as xr
 from stability.figures.top import sleeping_top_figure
 from stability.study import run_study
 
-from .helpers import assert_cf_compliant, assert_readable
+from .helpers import assert_cf_compliant, assert_declared, assert_readable
 
 ROOT = Path(__file__).resolve().parents[1]
 STUDY = ROOT / "studies" / "sleeping_top.toml"
@@ -46,6 +46,10 @@ def test_files_and_a_figure_with_units_on_every_axis(quick):
 
 def test_dataset_follows_cf(quick):
     assert_cf_compliant(quick[1] / "sleeping_top.nc")
+
+
+def test_dataset_is_as_the_register_declares(quick):
+    assert_declared(quick[1] / "sleeping_top.nc", "sleeping_top")
 
 
 def test_set_changes_the_top_and_moves_the_threshold(tmp_path):

@@ -13,7 +13,7 @@ from stability.figures import stability_map as figures
 from stability.shapes import EDGE_EQUAL_12, EDGE_EQUAL_23
 from stability.study import ConfigError, load_study, run_study
 
-from .helpers import assert_cf_compliant, assert_readable
+from .helpers import assert_cf_compliant, assert_declared, assert_readable
 
 STUDY_FILE = "studies/stability_map.toml"
 
@@ -151,3 +151,7 @@ def test_the_edges_figure_says_in_words_when_a_misfit_was_not_fitted(small_map):
 
 def test_dataset_follows_cf(small_map):
     assert_cf_compliant(small_map[0].out_dir / "stability_map.nc")
+
+
+def test_dataset_is_as_the_register_declares(small_map):
+    assert_declared(small_map[0].out_dir / "stability_map.nc", "stability_map")

@@ -12,7 +12,7 @@ from stability.scenes import SCENES
 from stability.struck import (INCH, baseball_bat, centre_of_percussion, hand_velocity,
                               measure_strikes, reaction_impulse, tennis_racket)
 
-from .helpers import assert_cf_compliant, assert_readable
+from .helpers import assert_cf_compliant, assert_declared, assert_readable
 
 SCENE = SCENES["struck_body"]
 BAT = baseball_bat()
@@ -134,6 +134,7 @@ def test_bat_study_meets_its_claim_with_units_everywhere(tmp_path):
             assert var.attrs.get("units") and var.attrs.get("long_name"), name
         assert_readable(bat_figure(ds))
     assert_cf_compliant(tmp_path / "bat.nc")
+    assert_declared(tmp_path / "bat.nc", "bat")
     racket = run_study(root / "studies" / "bat.toml", tmp_path / "racket", quick=True,
                        progress=False, overrides=[("body.kind", '"tennis_racket"'),
                                                   ("hands.pivots", "[0.08]"),

@@ -11,7 +11,7 @@ from stability.drift import drift_kind
 from stability.reference import METRICS
 from stability.study import ConfigError, load_study, run_study
 
-from .helpers import assert_cf_compliant, assert_readable
+from .helpers import assert_cf_compliant, assert_declared, assert_readable
 
 STUDY_FILE = "studies/work_precision.toml"
 
@@ -45,6 +45,10 @@ def test_quick_study_writes_dataset_figures_and_table(quick):
 
 def test_dataset_follows_cf(quick):
     assert_cf_compliant(quick[2] / "work_precision.nc")
+
+
+def test_dataset_is_as_the_register_declares(quick):
+    assert_declared(quick[2] / "work_precision.nc", "work_precision")
 
 
 def test_every_method_ran_both_workloads_without_failures(quick):

@@ -5,8 +5,8 @@ When the configuration is read this writes ``docs/generated/``:
 - ``scene_<name>.md``: each registered scene's equations, state and units, methods, invariants
   and exact solution (``stability.scenes.SCENES``);
 - ``methods.md``: the registered integrators and what they declare (``stability.METHODS``);
-- ``dataset_schema.md``: every ensemble variable's long name, units and comment
-  (``stability.dataset.VARIABLES``, what ``ensemble_dataset`` writes);
+- ``dataset_schema.md``: every Dataset kind's variables, dims, units, long names and notes
+  (``stability.schema.SCHEMAS``, the register the code that writes them reads);
 - ``studies.md``: every study kind's keys, defaults, units and allowed values (the schemas that
   validate study files);
 - ``cli.md``: the help of every ``stability`` command (the argument parser);
@@ -70,14 +70,40 @@ def methods_page() -> str:
 
 
 def dataset_page() -> str:
-    from stability.dataset import VARIABLES, variable_attrs
+    """Every Dataset kind of the register (``stability.schema.SCHEMAS``): one table each."""
+    from stability.schema import KINDS, SCHEMAS
+    from stability.study import STUDIES
 
-    rows = []
-    for name in VARIABLES:
-        attrs = variable_attrs(name)
-        rows.append((f"`{name}`", attrs["long_name"], attrs.get("units", ""),
-                     attrs.get("comment", "")))
-    return _table(("name", "long name", "units", "comment"), rows)
+    api = set(api_names())
+    out = []
+    for schema in SCHEMAS.values():
+        writers = " and ".join(f"{{py:func}}`{name}`" if name in api else f"`{name}`"
+                               for name in schema.written_by)
+        if schema.name in STUDIES:
+            where = (f"The study kind `{schema.name}` writes it to `{schema.file}` "
+                     f"(`stability run studies/{schema.name}.toml`); built by {writers}.")
+        else:
+            where = f"Built by {writers}; `stability.save` writes it."
+        rows = []
+        for name, var in schema.variables.items():
+            extra = dict(var.extra)
+            notes = ["coordinate"] if var.coordinate else []
+            if var.optional:
+                notes.append(f"only in {var.optional}")
+            notes += [f"`{key} = \"{extra[key]}\"`" for key in ("standard_name", "axis")
+                      if key in extra]
+            for key in ("flag_values", "flag_masks"):
+                if key in extra:
+                    pairs = zip(extra[key], extra["flag_meanings"].split())
+                    notes.append(f"{key}: " + ", ".join(f"{v} `{m}`" for v, m in pairs))
+            if "comment" in extra:
+                notes.append(extra["comment"])
+            rows.append((f"`{name}`", ", ".join(var.dims) or "(scalar)", var.units,
+                         KINDS[var.kind], var.long_name, "; ".join(notes)))
+        title = schema.title[0].upper() + schema.title[1:]
+        out.append(f"### `{schema.name}`\n\n{title}. {where}\n\n"
+                   + _table(("name", "dims", "units", "type", "long name", "notes"), rows))
+    return "\n".join(out)
 
 
 def _default(key) -> str:
@@ -153,7 +179,7 @@ API_MODULES = (
     ("Bodies and linear theory", ("body", "quaternions", "analytic", "top")),
     ("Exact solutions", ("exact", "exact_attitude", "exact_top", "elliptic")),
     ("Ensembles, runs and files", ("ensemble", "integrate", "attitude", "io", "stream",
-                                   "formatting")),
+                                   "formatting", "schema")),
     ("Measures and estimators", ("estimators", "geometric_phase", "periodic", "roots",
                                  "drift", "reference")),
     ("Scenes, integrators and the engine", ("scenes", "integrators", "engine")),

@@ -6,9 +6,11 @@ each kind to its :class:`~.config.StudyKind`: the schema its files are checked a
 ``stability run`` calls.
 
 To add a kind of study: write one module here with its ``SCHEMA``, ``outputs`` and ``run``
-(see :mod:`.tennis_racket`), and add one line to ``STUDIES``. A study orchestrates: its ``run``
-reads the resolved file, calls the package (references, sweeps, estimators, shape grids live
-there, once), saves the Dataset, draws the figures and summarises; figures draw the Dataset.
+(see :mod:`.tennis_racket`), add one line to ``STUDIES``, and declare the Dataset it writes
+in :data:`stability.schema.SCHEMAS` under the kind's name (the tests hold its file to it). A
+study orchestrates: its ``run`` reads the resolved file, calls the package (references, sweeps,
+estimators, shape grids live there, once), saves the Dataset, draws the figures and
+summarises; figures draw the Dataset.
 """
 
 from __future__ import annotations
