@@ -12,9 +12,14 @@ for a new scene (copy ``stability/scenes/free_body.py``):
    functions and never raise.
 3. Write ``observe(x_0, ..., x_{n-1}, p, ia, ib, ic) -> (a, b, c)``: what the loop tracks (the
    component along the spin axis and two across it), and ``tracked``, the same in NumPy.
-4. Give its invariants (NumPy functions of the state and the parameters) and its exact solution
-   where one exists, and ``example(n, seed) -> (x0, parameters)``: starts and a few parameter
-   sets (what ``spec.params`` takes) for the generic tests.
+4. Give its invariants (NumPy functions of the state and the parameters); its exact solution
+   where one exists, ``exact(x0, parameters, t) -> x`` (the states at time ``t`` in the
+   kernels' frame, or None for a parameter set or starts it does not cover); and
+   ``example(n, seed) -> (x0, parameters)``: starts and a few parameter sets (what
+   ``spec.params`` takes) for the generic tests, in units where the motion takes about a
+   second, with at least one set the exact solution covers. The order test runs them to
+   ``t = 4`` with steps ``4 / 2^k``: put anything that happens at a set time (the end of a
+   contact) on a dyadic time, where a step ends.
 5. Add the scene to ``SCENES`` in ``stability/scenes/__init__.py``; ``tests/test_engine.py``
    then checks every method of it for bitwise reproducibility across groups and chunks. Write
    its order and invariant tests against its exact solution, as ``tests/test_integrators.py``
@@ -67,7 +72,11 @@ class Scene:
         ``f(x, parameters) -> ndarray (N,)`` for each conserved quantity, states ``x`` (N, n);
         empty by default.
     exact : callable or None, default None
-        The exact solution, where one exists.
+        ``exact(x0, parameters, t) -> ndarray (N, n) or None``: the exact states at time ``t``
+        (a float) of the starts ``x0`` (N, n) at time 0, in the kernels' frame, for one
+        parameter set (what ``spec.params`` takes); None where the solution does not cover
+        that set or those starts (the heavy top's is the symmetric top's). None: no exact
+        solution.
     example : callable or None, default None
         ``example(n, seed=0) -> (x0, parameters)``: ``n`` starts (n, width) and a list of
         parameter sets (each what ``spec.params`` takes), for the generic tests.
