@@ -93,9 +93,11 @@ class MethodSpec:
     poisson : bool
         Symplectic / Poisson map of the free-body Lie-Poisson structure.
     preserves_casimir : bool
-        Keeps |L| = |m| to round-off.
+        Keeps the Casimirs of the scene's Lie-Poisson structure to round-off: |L| = |m| for the
+        free body, |g| and g . m for the heavy top (a scene's ``kept_by`` names the invariants
+        this flag stands for).
     preserves_energy : bool
-        Keeps the kinetic energy to round-off (or solver tolerance).
+        Keeps the energy to round-off (or solver tolerance).
     symmetric : bool
         Time-reversible (self-adjoint) one-step map.
     implicit : bool

@@ -81,6 +81,7 @@ FREE_BODY = Scene(
     observe=observe,
     tracked=tracked,
     invariants={"energy": energy, "angular_momentum": angular_momentum},
+    kept_by={"energy": "preserves_energy", "angular_momentum": "preserves_casimir"},
     exact=exact,
     example=example,
 )

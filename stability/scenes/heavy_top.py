@@ -99,6 +99,8 @@ HEAVY_TOP = Scene(
     tracked=tracked,
     invariants={"energy": energy, "vertical_norm": vertical_norm,
                 "vertical_momentum": vertical_momentum},
+    kept_by={"energy": "preserves_energy", "vertical_norm": "preserves_casimir",
+             "vertical_momentum": "preserves_casimir"},
     exact=exact,
     example=example,
 )

@@ -83,6 +83,7 @@ STRUCK_BODY = Scene(
     observe=observe,
     tracked=tracked,
     invariants={"angular_momentum": angular_momentum},
+    kept_by={"angular_momentum": None},  # not during the contact
     exact=exact,
     example=example,
 )
