@@ -21,10 +21,11 @@ for a new scene (copy ``stability/scenes/free_body.py``):
    second, with at least one set the exact solution covers. The order test runs them to
    ``t = 4`` with steps ``4 / 2^k``: put anything that happens at a set time (the end of a
    contact) on a dyadic time, where a step ends.
-5. Add the scene to ``SCENES`` in ``stability/scenes/__init__.py``; ``tests/test_engine.py``
-   then checks every method of it for bitwise reproducibility across groups and chunks. Write
-   its order and invariant tests against its exact solution, as ``tests/test_integrators.py``
-   does for the free body.
+5. Add the scene to ``SCENES`` in ``stability/scenes/__init__.py``. The generic tests then check
+   every method of it: ``tests/test_scenes_generic.py`` the order against the exact solution
+   and the invariants as declared, ``tests/test_engine.py`` bitwise reproducibility across
+   groups, chunks and thread counts. Tests of what is particular to the scene go in a file of
+   its own.
 
 A scene of the user's own, in a module outside the package, comes from
 :func:`stability.define_scene` (``stability/scenes/user.py``), which writes its RK4 kernel.
