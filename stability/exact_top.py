@@ -21,6 +21,9 @@ cubic with roots u1 <= u0 <= u2 in [-1, 1] and u3 >= 1, and
 nutation period is 2 K(m) / s. The precession (2) splits into (b - a)/(2 (1 - u)) +
 (b + a)/(2 (1 + u)), and each part integrates in closed form to Legendre's third integral,
 evaluated with Carlson's R_J (DLMF 19.25.14, 19.36.i): phi(t) - phi(0) needs no quadrature.
+The spin angle likewise: phi' u = a + (b - a)/(2 (1 - u)) - (b + a)/(2 (1 + u)), so
+psi(t) - psi(0) is (m3/C - a) t less phi's integral with its second term's sign turned; with
+psi the state (m, g) itself follows in the body frame (:func:`body_states`).
 
 Everything is computed about the initial point, without cancellation: with v = u - u0, the cubic
 is f = beta v^3 + c2 v^2 + c1 v + c0 with coefficients read off the state,
@@ -597,3 +600,101 @@ def figure_axis_path(t, x0, A, C, mgl):
     """
     u, sin_theta, phi = _evaluate(t, x0, A, C, mgl, True)
     return np.stack((sin_theta * np.sin(phi), -sin_theta * np.cos(phi), u), axis=-1)
+
+
+@njit(cache=True, error_model="numpy")
+def _spin_row(row):
+    """The row whose precession integral is the spin's: psi - psi(0) = (m3/C - a) t - that.
+
+    psi' = m3/C - phi' u (eq. (2)) and phi' u = a + (b - a)/(2 (1 - u)) - (b + a)/(2 (1 + u))
+    (partial fractions): the row of phi with the sign of its (b + a) term turned, jumps at the
+    downward vertical included; whole half periods and the value at t = 0 are evaluated anew.
+    A double root (u = u0) keeps its constant rate: Q u0 / S - a with S = 1 - u0^2.
+    """
+    out = row.copy()
+    out[Q_BPA] = -row[Q_BPA]
+    out[Q_JBOT] = -row[Q_JBOT]
+    if row[Q_V2] - row[Q_V1] == 0.0:
+        s = row[Q_OMU2] * row[Q_OPU1]
+        bma, bpa, u0 = row[Q_BMA], row[Q_BPA], row[Q_U0]
+        # (b - a)/(2 (1 - u0)) - (b + a)/(2 (1 + u0)); nothing turns about an upright top
+        out[Q_OMEGA] = 0.5 * (bma * row[Q_OPU1] - bpa * row[Q_OMU2]) / s if s > 0.0 else 0.0
+        return out
+    out[Q_GK] = _precession_integral(row[Q_K], 1.0, 0.0, math.sqrt(row[Q_M1]), out)
+    out[Q_G0] = _unwrapped(out, 0.0)
+    return out
+
+
+@njit(cache=True, error_model="numpy")
+def _body_path(q, x0, t, A, C, out):
+    """States (m, g) in the body frame of each member (rows ``q``, starts ``x0``) at ``t``."""
+    for j in range(q.shape[0]):
+        row = q[j]
+        a = x0[j, 2] / A
+        spin = _spin_row(row)
+        psi0 = math.atan2(x0[j, 3], x0[j, 4])
+        q0 = (x0[j, 0] * x0[j, 3] + x0[j, 1] * x0[j, 4]) / A  # b - a u0
+        v1, v2 = row[Q_V1], row[Q_V2]
+        d21 = v2 - v1
+        for i in range(t.shape[0]):
+            if d21 == 0.0:
+                dv = 0.0
+                sin_theta = math.sqrt(row[Q_OMU2] * row[Q_OPU1])
+                turned = spin[Q_OMEGA] * t[i]
+                u_rate = 0.0
+            else:
+                _, _, sn, cn, dn = _phase(row, t[i])
+                dv = v1 * cn * cn + v2 * sn * sn  # u - u0, eq. (3)
+                sin_theta = math.sqrt((row[Q_OMU2] + d21 * cn * cn)
+                                      * (row[Q_OPU1] + d21 * sn * sn))
+                turned = (_unwrapped(spin, t[i]) - spin[Q_G0]) / spin[Q_RATE]
+                u_rate = 2.0 * d21 * sn * cn * dn * row[Q_RATE]
+            psi = psi0 + (x0[j, 2] / C - a) * t[i] - turned
+            sp, cp = math.sin(psi), math.cos(psi)
+            # Across the axis w = phi' sin(theta) (sin psi, cos psi) + theta' (cos psi, -sin psi)
+            # with phi' sin^2(theta) = b - a u and theta' sin(theta) = -u'.
+            if sin_theta > 0.0:
+                along = (q0 - a * dv) / sin_theta
+                tilt = -u_rate / sin_theta
+            else:
+                along = 0.0
+                tilt = 0.0
+            out[j, i, 0] = A * (along * sp + tilt * cp)
+            out[j, i, 1] = A * (along * cp - tilt * sp)
+            out[j, i, 2] = x0[j, 2]
+            out[j, i, 3] = sin_theta * sp
+            out[j, i, 4] = sin_theta * cp
+            out[j, i, 5] = row[Q_U0] + dv
+
+
+def body_states(t, x0, A, C, mgl):
+    """Exact states (m, g) in the body frame: the heavy top scene's own state at times ``t``.
+
+    Parameters
+    ----------
+    t : float or array_like, shape (T,)
+        Times in s.
+    x0, A, C, mgl
+        As in :func:`nutation_roots` (``g`` is normalised).
+
+    Returns
+    -------
+    ndarray, shape (N, T, 6)
+        ``(m1, m2, m3, g1, g2, g3)``: with z-x-z Euler angles, g = (sin theta sin psi,
+        sin theta cos psi, cos theta) and the body angular velocity across the axis
+        w = phi' sin theta (sin psi, cos psi) + theta' (cos psi, -sin psi), m = (A w1, A w2, m3).
+        The spin angle psi - psi(0) = (m3/C - m3/A) t minus the precession integral with the
+        sign of its (b + a) term turned (psi' = m3/C - phi' u, eq. (2), in partial fractions),
+        in closed form as phi's. Across the axis the components are divided by sin theta: a
+        top passing within a small angle e of the vertical loses digits as 1/e, and at a time
+        exactly on the pole they are set to 0. The member axis is dropped for a single state,
+        the time axis for a scalar ``t``.
+    """
+    q, single = _members(x0, A, C, mgl)
+    x = np.atleast_2d(np.asarray(x0, dtype=float))
+    x = np.concatenate([x[:, :3], x[:, 3:] / np.linalg.norm(x[:, 3:], axis=1)[:, None]], axis=1)
+    times, scalar_t = _times(t)
+    out = np.empty((q.shape[0], times.shape[0], 6))
+    _body_path(q, np.ascontiguousarray(x), times, float(A), float(C), out)
+    index = (0 if single else slice(None), 0 if scalar_t else slice(None))
+    return out[index]

@@ -13,6 +13,7 @@ import pytest
 from stability.engine import BLOCK, compiled_loop, propagate_groups
 from stability.engine.loop import level_thresholds
 from stability.scenes import SCENES
+from stability.threads import numba_threads
 
 ROOT = Path(__file__).resolve().parents[1]
 
@@ -29,8 +30,10 @@ CASES = [(scene, name) for scene in SCENES.values() for name in scene.methods]
 
 @pytest.mark.parametrize("scene,name", CASES, ids=[f"{s.name}-{n}" for s, n in CASES])
 def test_groups_are_bitwise_the_runs_alone(scene, name):
-    """Ensembles grouped in one call (other bodies, steps and horizons beside them) give every
-    member bitwise what a run of its ensemble alone gives, saved samples and tracking included."""
+    """Ensembles grouped in one call (other bodies, steps and horizons beside them), in chunks
+    and on two threads, give every member bitwise what a run of its ensemble alone, in one
+    chunk on one thread, gives, saved samples and tracking included (the thread count sets
+    the blocks the members are cut into)."""
     spec = scene.method(name)
     bodies = scene.example(1)[1]
     sizes = [70, BLOCK, 5]  # a partial block, a whole one, a tiny one
@@ -40,13 +43,15 @@ def test_groups_are_bitwise_the_runs_alone(scene, name):
     params = np.array([spec.params(I, h) for I, h in zip(bodies, hs)])
     levels = np.array([[1e-2, 5e-2, 0.3]] * 3)
     axes = np.array([[1, 0, 2]] * 3)
-    together = propagate_groups(scene, spec, x0, params, sizes, hs, steps, save_every=10,
-                                axes=axes, levels=levels, chunk_steps=30, progress=False)
+    with numba_threads(2):
+        together = propagate_groups(scene, spec, x0, params, sizes, hs, steps, save_every=10,
+                                    axes=axes, levels=levels, chunk_steps=30, progress=False)
     lo = 0
     for g, n in enumerate(sizes):
-        alone = propagate_groups(scene, spec, x0[lo:lo + n], params[g:g + 1], [n], hs[g],
-                                 steps[g], save_every=10, axes=axes[g:g + 1],
-                                 levels=levels[g:g + 1], progress=False)
+        with numba_threads(1):
+            alone = propagate_groups(scene, spec, x0[lo:lo + n], params[g:g + 1], [n], hs[g],
+                                     steps[g], save_every=10, axes=axes[g:g + 1],
+                                     levels=levels[g:g + 1], progress=False)
         rows = slice(lo, lo + n)
         assert np.array_equal(together.x_final[rows], alone.x_final)
         k = steps[g] // 10

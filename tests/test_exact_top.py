@@ -19,6 +19,7 @@ import pytest
 from scipy.integrate import quad, solve_ivp
 
 from stability.exact_top import (
+    body_states,
     carlson_rj,
     cos_theta,
     figure_axis_path,
@@ -134,6 +135,16 @@ def test_motion_matches_dop853(name):
     assert np.max(np.abs(axis - figure_axis)) < 1e-8
     u1, u2, _ = nutation_roots(x0, A, C, mgl)
     assert u1 - 1e-12 <= y[5].min() and y[5].max() <= u2 + 1e-12
+    assert_body_states_match(t, x0, A, C, mgl, y)
+
+
+def assert_body_states_match(t, x0, A, C, mgl, y):
+    """body_states (m, g) against the integrated y[:6]: g to 1e-9, m to 1e-9 of its size."""
+    x = body_states(t, x0, A, C, mgl)
+    assert x.shape == t.shape + (6,) and np.max(np.abs(x[0] - x0)) < 1e-15
+    error = np.abs(x - y[:6].T)
+    assert np.max(error[:, :3]) < 1e-9 * np.max(np.abs(y[:3])), np.max(error[:, :3])
+    assert np.max(error[:, 3:]) < 1e-9, np.max(error[:, 3:])
 
 
 def test_the_tops_are_what_they_claim():
@@ -269,6 +280,17 @@ def test_free_symmetric_top():
     assert mean_precession_rate(vertical, A, C, 0.0) == pytest.approx(L / A, rel=1e-14)
 
 
+def test_body_states_of_a_steady_spin_turn_the_vertical_at_the_spin_rate():
+    """Free symmetric top with L vertical, chosen so that u0 is an exact double root (the
+    constant-rate branch): g turns in the body about e3 at psi' = m3/C - phi' u0."""
+    A, C = 1.0, 0.5
+    x0 = np.array([0.0, 0.6, 0.8, 0.0, 0.6, 0.8])  # m = |L| g, |g| = 1 exactly
+    t = np.linspace(0.0, 3.0, 31)
+    y = dop853_run(x0, A, C, 0.0, 3.0, with_phi=False).sol(t)
+    assert np.ptp(y[3]) > 0.5  # g turns in the body
+    assert_body_states_match(t, x0, A, C, 0.0, y)
+
+
 def test_sleeping_top():
     """Exactly upright, spinning: u stays 1, no NaN; the period is the limit of a tilted top."""
     _, A, C, mgl = gyroscope(0.0)
@@ -276,6 +298,7 @@ def test_sleeping_top():
     for w3, stable in ((300.0, True), (100.0, False)):  # threshold 119 rad/s
         x0 = np.array([0.0, 0.0, C * w3, 0.0, 0.0, 1.0])
         assert np.all(cos_theta(t, x0, A, C, mgl) == 1.0)
+        assert np.all(body_states(t, x0, A, C, mgl) == x0)
         axis = figure_axis_path(t, x0, A, C, mgl)
         assert np.all(axis == [0.0, 0.0, 1.0])
         assert np.all(np.isfinite(precession_angle(t, x0, A, C, mgl)))
@@ -324,6 +347,7 @@ def test_passages_near_and_through_the_vertical(name):
     assert np.max(np.abs(cos_theta(t, x0, _A, _C, _MGL) - y[5])) < 1e-9
     figure_axis = y[7:16].reshape(3, 3, -1)[:, 2, :].T
     assert np.max(np.abs(figure_axis_path(t, x0, _A, _C, _MGL) - figure_axis)) < 1e-9
+    assert_body_states_match(t, x0, _A, _C, _MGL, y)
     u1, u2, _ = nutation_roots(x0, _A, _C, _MGL)
     assert (u2 == 1.0) == (name in ("through the upward vertical", "pendulum over the top"))
     assert (u1 == -1.0) == name.startswith("pendulum")

@@ -42,14 +42,28 @@ def scene_page(scene) -> str:
     """Equations, state, methods, invariants and exact solution of one scene."""
     state = _table(("component", "units"), zip(scene.components, scene.units))
     methods = ", ".join(f"`{name}`" for name in scene.methods)
-    invariants = ", ".join(f"`{name}`" for name in scene.invariants) or "none"
+    invariants = ", ".join(f"`{name}` ({_kept(scene, name)})" for name in scene.invariants)
     exact = "yes" if scene.exact is not None else "none in closed form"
     doc = (importlib.import_module(scene.tracked.__module__).__doc__ or "").strip()
     doc = re.sub(r":(func|mod|class|meth|data|attr):`([^`]+)`", r"{py:\1}`\2`", doc)  # to MyST
     return (f"## Scene `{scene.name}`: {scene.title}\n\n"
             f"Equations: `{scene.equations}`\n\n{doc}\n\n"
             f"State ({scene.width} numbers a member, in the kernels' frame):\n\n{state}\n"
-            f"Methods: {methods}. Invariants checked: {invariants}. Exact solution: {exact}.\n")
+            f"Methods: {methods}. Invariants checked: {invariants or 'none'}. "
+            f"Exact solution: {exact}.\n")
+
+
+def _kept(scene, invariant) -> str:
+    """Which of the scene's methods keep ``invariant`` to round-off (``Scene.kept_by``)."""
+    kept = [name for name in scene.methods if scene.keeps(invariant, name)]
+    if any(scene.keeps(invariant, name) is None for name in scene.methods):
+        return "not conserved along a whole motion"
+    if not kept:
+        return "to each method's order"
+    if len(kept) == len(scene.methods):
+        return "to round-off by every method"
+    names = ", ".join(f"`{name}`" for name in kept)
+    return f"to round-off by {names}; by the others to their order"
 
 
 def methods_page() -> str:

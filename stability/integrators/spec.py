@@ -19,7 +19,8 @@ Checklist for a new method (see ``stability/integrators/__init__.py``):
 1. Write the step kernel in a module of its family, with the equation it implements tagged.
 2. Declare a ``MethodSpec`` beside it: order, what it preserves, cost, reference.
 3. Measure its ``max_step_angle`` (below) and declare it on the spec.
-4. Add it to ``METHODS``; the generic order, invariant and step-bound tests pick it up from there.
+4. Add it to ``METHODS``; the generic order, invariant and step-bound tests pick it up from there
+   (``tests/test_scenes_generic.py`` for every scene it runs).
 """
 
 from __future__ import annotations
@@ -93,9 +94,11 @@ class MethodSpec:
     poisson : bool
         Symplectic / Poisson map of the free-body Lie-Poisson structure.
     preserves_casimir : bool
-        Keeps |L| = |m| to round-off.
+        Keeps the Casimirs of the scene's Lie-Poisson structure to round-off: |L| = |m| for the
+        free body, |g| and g . m for the heavy top (a scene's ``kept_by`` names the invariants
+        this flag stands for).
     preserves_energy : bool
-        Keeps the kinetic energy to round-off (or solver tolerance).
+        Keeps the energy to round-off (or solver tolerance).
     symmetric : bool
         Time-reversible (self-adjoint) one-step map.
     implicit : bool

@@ -68,5 +68,7 @@ ENGINE_BODY = Scene(
     tracked=tracked,
     invariants={"energy": energy, "angular_momentum": angular_momentum,
                 "quaternion_norm": quaternion_norm},
+    kept_by={"energy": "preserves_energy", "angular_momentum": "preserves_casimir",
+             "quaternion_norm": True},  # every rule normalises q
     example=example,
 )

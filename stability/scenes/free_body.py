@@ -4,14 +4,16 @@ Euler's equations ``m' = m x I^-1 m`` with ``m = I w`` (``I1 w1' = (I2 - I3) w2 
 cyclic), in the canonical frame ``I1 <= I2 <= I3`` (:func:`stability.body.canonical_frame`);
 three numbers per member, no attitude (that is scene ``free_body_attitude``). Invariants: the
 kinetic energy ``E = m . I^-1 m / 2`` and ``|m| = |L|``; exact solution: Jacobi elliptic
-functions (:func:`stability.exact_omega`). Every registered method runs it.
+functions (:func:`stability.exact_omega`, here as :func:`exact`). Every registered method runs
+it.
 """
 
 import numpy as np
 from numba import njit
 
 from .. import conventions as cv
-from ..exact import exact_omega
+from ..body import RigidBody
+from ..exact import exact_omega_of_starts
 from ..integrators import METHODS
 from ..integrators.spec import P_I1, P_INV1
 from .spec import Scene
@@ -53,6 +55,14 @@ def angular_momentum(m, moments):
     return np.linalg.norm(m, axis=-1)
 
 
+def exact(m, moments, t):
+    """The exact ``m(t) = I w(t)`` (N, 3) of starts ``m`` (N, 3): the Jacobi elliptic solution
+    (:func:`stability.exact.exact_omega_of_starts`) of ``w = m / I``."""
+    moments = np.asarray(moments, dtype=float)
+    body = RigidBody(*moments, physical=False)
+    return exact_omega_of_starts(body, np.asarray(m, dtype=float) / moments, t) * moments
+
+
 def example(n, seed=0):
     """Starts near a spin about the intermediate axis, and three bodies (generic tests)."""
     rng = np.random.default_rng(seed)
@@ -71,7 +81,8 @@ FREE_BODY = Scene(
     observe=observe,
     tracked=tracked,
     invariants={"energy": energy, "angular_momentum": angular_momentum},
-    exact=exact_omega,
+    kept_by={"energy": "preserves_energy", "angular_momentum": "preserves_casimir"},
+    exact=exact,
     example=example,
 )
 

@@ -58,5 +58,9 @@ FREE_BODY_ATTITUDE = Scene(
         "angular_momentum": lambda x, moments: angular_momentum(x[:, :3], moments),
         "quaternion_norm": quaternion_norm,
     },
+    # Every method but RK4 turns q by rotations; RK4 integrates q' = q (0, w) / 2 as it is.
+    kept_by={"energy": "preserves_energy", "angular_momentum": "preserves_casimir",
+             "quaternion_norm": frozenset(n for n, s in METHODS.items()
+                                          if s.attitude and n != "rk4")},
     example=example,
 )

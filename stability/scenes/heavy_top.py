@@ -7,7 +7,8 @@ member and no attitude (the tilt of any body axis is read from g). Parameters pe
 unit vector from the pivot to the centre of mass (:class:`stability.top.HeavyTop` makes them).
 Equations, methods and references: :mod:`stability.integrators.heavy_top`. Invariants: the
 energy ``m . I^-1 m / 2 + c . g`` and the Casimirs ``|g|`` and ``g . m`` (the angular momentum
-about the vertical); exact solution for a symmetric top: :mod:`stability.exact_top`.
+about the vertical); exact solution for a symmetric top (:func:`exact`, from
+:func:`stability.exact_top.body_states`): the example's second top is one.
 
 Tracking: the spin-axis component is ``g_a`` (the cosine of the tilt of body axis a from the
 vertical: it changes sign when that axis passes the horizontal) and the amplitude across it is
@@ -21,6 +22,7 @@ import numpy as np
 from numba import njit
 
 from .. import conventions as cv
+from ..exact_top import body_states
 from ..integrators.heavy_top import METHODS, N_TOP
 from .free_body import component
 from .spec import Scene
@@ -63,8 +65,19 @@ def vertical_momentum(x, top):
     return np.sum(x[:, :3] * x[:, 3:6], axis=-1)
 
 
+def exact(x0, top, t):
+    """The exact states (N, 6) at time ``t`` of starts ``x0`` (N, 6) of a symmetric top: the
+    Lagrange top, ``I1 = I2`` with the centre of mass on axis 3 above the pivot (``c1 = c2 =
+    0 <= c3``), by :func:`stability.exact_top.body_states`; None for any other top."""
+    moments, c = _top(top)
+    if moments[0] != moments[1] or c[0] != 0.0 or c[1] != 0.0 or not c[2] >= 0.0:
+        return None
+    return body_states(float(t), x0, moments[0], moments[2], c[2])
+
+
 def example(n, seed=0):
-    """Starts and tops for generic tests: ``n`` states of a tilted, spinning asymmetric top."""
+    """Starts and tops for generic tests: ``n`` states of a tilted, spinning top; the first and
+    the last top are asymmetric, the second symmetric (the one :func:`exact` covers)."""
     rng = np.random.default_rng(seed)
     tilt = 0.3 + 0.1 * rng.random(n)
     g = np.column_stack([np.sin(tilt) * 0.6, np.sin(tilt) * 0.8, np.cos(tilt)])
@@ -86,5 +99,8 @@ HEAVY_TOP = Scene(
     tracked=tracked,
     invariants={"energy": energy, "vertical_norm": vertical_norm,
                 "vertical_momentum": vertical_momentum},
+    kept_by={"energy": "preserves_energy", "vertical_norm": "preserves_casimir",
+             "vertical_momentum": "preserves_casimir"},
+    exact=exact,
     example=example,
 )

@@ -91,6 +91,8 @@ LUNISOLAR_EARTH = Scene(
     observe=observe,
     tracked=tracked,
     invariants={"quaternion_norm": quaternion_norm, "axial_momentum": axial_momentum},
+    # q is turned by rotations; no term of the equations changes m3.
+    kept_by={"quaternion_norm": True, "axial_momentum": True},
     example=example,
 )
 

@@ -58,5 +58,6 @@ PRECESSING_AXIS = Scene(
     observe=observe,
     tracked=tracked,
     invariants={"axis_norm": axis_norm},
+    kept_by={"axis_norm": False},  # RK4 keeps |k| to its order
     example=example,
 )

@@ -78,5 +78,6 @@ ROLLING_BODY = Scene(
     observe=observe,
     tracked=tracked,
     invariants={"energy": energy},
+    kept_by={"energy": "preserves_energy"},
     example=example,
 )

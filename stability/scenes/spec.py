@@ -12,13 +12,20 @@ for a new scene (copy ``stability/scenes/free_body.py``):
    functions and never raise.
 3. Write ``observe(x_0, ..., x_{n-1}, p, ia, ib, ic) -> (a, b, c)``: what the loop tracks (the
    component along the spin axis and two across it), and ``tracked``, the same in NumPy.
-4. Give its invariants (NumPy functions of the state and the parameters) and its exact solution
-   where one exists, and ``example(n, seed) -> (x0, parameters)``: starts and a few parameter
-   sets (what ``spec.params`` takes) for the generic tests.
-5. Add the scene to ``_ALL`` in ``stability/scenes/registry.py``; ``tests/test_engine.py``
-   then checks every method of it for bitwise reproducibility across groups and chunks. Write
-   its order and invariant tests against its exact solution, as ``tests/test_integrators.py``
-   does for the free body.
+4. Give its invariants (NumPy functions of the state and the parameters) and, in
+   ``kept_by``, which methods keep each one to round-off (the others keep it to their order);
+   its exact solution where one exists, ``exact(x0, parameters, t) -> x`` (the states at time
+   ``t`` in the kernels' frame, or None for a parameter set or starts it does not cover); and
+   ``example(n, seed) -> (x0, parameters)``: starts and a few parameter sets (what
+   ``spec.params`` takes) for the generic tests, in units where the motion takes about a
+   second, with at least one set the exact solution covers. The order test runs them to
+   ``t = 4`` with steps ``4 / 2^k``: put anything that happens at a set time (the end of a
+   contact) on a dyadic time, where a step ends.
+5. Add the scene to ``_ALL`` in ``stability/scenes/registry.py``. The generic tests then check
+   every method of it: ``tests/test_scenes_generic.py`` the order against the exact solution
+   and the invariants as declared, ``tests/test_engine.py`` bitwise reproducibility across
+   groups, chunks and thread counts. Tests of what is particular to the scene go in a file of
+   its own.
 
 A scene of the user's own, in a module outside the package, comes from
 :func:`stability.define_scene` (``stability/scenes/user.py``), which writes its RK4 kernel.
@@ -66,8 +73,19 @@ class Scene:
     invariants : mapping of str to callable, optional
         ``f(x, parameters) -> ndarray (N,)`` for each conserved quantity, states ``x`` (N, n);
         empty by default.
+    kept_by : mapping of str to bool, str, frozenset or None, optional
+        Which methods keep each invariant to round-off (:meth:`keeps`): ``True`` every method,
+        a ``MethodSpec`` flag's name (``"preserves_casimir"``, ``"preserves_energy"``) the
+        methods that have it set, a set of method names those methods; the others, and every
+        method for ``False`` or an invariant not named here, keep it to their order. ``None``:
+        not conserved along a whole motion (a strike's angular momentum during the contact),
+        left to the scene's own tests.
     exact : callable or None, default None
-        The exact solution, where one exists.
+        ``exact(x0, parameters, t) -> ndarray (N, n) or None``: the exact states at time ``t``
+        (a float) of the starts ``x0`` (N, n) at time 0, in the kernels' frame, for one
+        parameter set (what ``spec.params`` takes); None where the solution does not cover
+        that set or those starts (the heavy top's is the symmetric top's). None: no exact
+        solution.
     example : callable or None, default None
         ``example(n, seed=0) -> (x0, parameters)``: ``n`` starts (n, width) and a list of
         parameter sets (each what ``spec.params`` takes), for the generic tests.
@@ -93,6 +111,7 @@ class Scene:
     tracked: Callable = field(repr=False)
     kernel: Callable = field(repr=False, default=_own_step)
     invariants: Mapping = field(repr=False, default_factory=dict)
+    kept_by: Mapping = field(repr=False, default_factory=dict)
     exact: Callable | None = field(repr=False, default=None)
     example: Callable | None = field(repr=False, default=None)
     parameters: tuple = ()
@@ -117,6 +136,32 @@ class Scene:
     def width(self) -> int:
         """Numbers per member in the state."""
         return len(self.components)
+
+    def keeps(self, invariant: str, method) -> bool | None:
+        """Whether ``method`` keeps ``invariant`` to round-off (True) or to its order (False);
+        None where the invariant is not conserved along a whole motion (see ``kept_by``).
+
+        Parameters
+        ----------
+        invariant : str
+            A key of ``invariants``.
+        method : str or MethodSpec
+            A method of this scene.
+
+        Returns
+        -------
+        bool or None
+        """
+        if invariant not in self.invariants:
+            raise ValueError(f"scene {self.name!r} has no invariant {invariant!r}; its "
+                             f"invariants: {', '.join(self.invariants) or 'none'}")
+        spec = self.method(method)
+        kept = self.kept_by.get(invariant, False)
+        if kept is None or isinstance(kept, bool):
+            return kept
+        if isinstance(kept, str):
+            return bool(getattr(spec, kept))
+        return spec.name in kept
 
     def method(self, name):
         """The spec of method ``name`` in this scene; ValueError naming the known ones if none.
