@@ -28,9 +28,9 @@ import numpy as np
 from .body import RigidBody
 from .checks import positive_float, positive_int, real_number
 
-#: Frames per second of the files by default.
-DEFAULT_FPS = 15.0
-#: Width and height of the files in pixels by default (a GIF of 60 frames stays under 1 MB).
+#: Frames per second of the files by default (a GIF plays it exactly: 5 hundredths of a second).
+DEFAULT_FPS = 20.0
+#: Width and height of the files in pixels by default (a GIF of 80 frames stays under 1 MB).
 DEFAULT_SIZE = 320
 #: The most frames one file may hold (Pillow keeps every frame in memory until the end).
 MAX_FRAMES = 1000
@@ -134,7 +134,7 @@ def _frame_times(duration, fps, speed) -> np.ndarray:
     return np.arange(n) * (speed / fps)
 
 
-def flip_frames(body=None, *, spin=5.0, epsilon=0.05, axis=None, duration=None,
+def flip_frames(body=None, *, spin=6.0, epsilon=0.05, axis=None, duration=None,
                 fps=DEFAULT_FPS, speed=1.0) -> FlipFrames:
     """The exact motion of a body spun about one axis and nudged, at the frames' times.
 
@@ -146,7 +146,7 @@ def flip_frames(body=None, *, spin=5.0, epsilon=0.05, axis=None, duration=None,
     ----------
     body : RigidBody, optional
         Default ``RigidBody.preset("tennis_racket")``.
-    spin : float, default 5.0
+    spin : float, default 6.0
         Spin about ``axis`` in rad/s, > 0.
     epsilon : float, default 0.05
         The nudge, relative to the spin, > 0 (smaller: the body waits longer between flips).
@@ -155,8 +155,9 @@ def flip_frames(body=None, *, spin=5.0, epsilon=0.05, axis=None, duration=None,
     duration : float, optional
         Seconds of motion shown; default one period of w (:func:`stability.full_period`: over
         and back), or 4 s where the motion has none.
-    fps : float, default 15
-        Frames per second of the file.
+    fps : float, default 20
+        Frames per second of the file. A GIF keeps each frame's time in hundredths of a
+        second, so it plays at exactly this rate where 100 / fps is whole (10, 20, 25, 50).
     speed : float, default 1.0
         Seconds of motion per second of playback (0.5: slow motion).
 
@@ -219,8 +220,9 @@ def top_frames(top=None, *, spin=200.0, tilt=0.5, duration=None, fps=DEFAULT_FPS
         Start tilt from the vertical in rad, in (0, pi).
     duration : float, optional
         Seconds of motion shown; default one turn of the mean precession (at most 20 s).
-    fps : float, default 15
-        Frames per second of the file.
+    fps : float, default 20
+        Frames per second of the file. A GIF keeps each frame's time in hundredths of a
+        second, so it plays at exactly this rate where 100 / fps is whole (10, 20, 25, 50).
     speed : float, default 0.25
         Seconds of motion per second of playback (the default plays it four times slower).
 
@@ -339,7 +341,7 @@ def _size(size) -> int:
     return size - size % 2  # even: what H.264 needs
 
 
-def animate_flip(body=None, *, path, spin=5.0, epsilon=0.05, axis=None, duration=None,
+def animate_flip(body=None, *, path, spin=6.0, epsilon=0.05, axis=None, duration=None,
                  fps=DEFAULT_FPS, speed=1.0, size=DEFAULT_SIZE) -> Path:
     """Write an animation of a body turning over in space (the tennis-racket effect).
 

@@ -168,8 +168,8 @@ def build_parser() -> argparse.ArgumentParser:
     animate.add_argument("--duration", type=float, metavar="S",
                          help="seconds of motion shown (default: the racket's two flips, one "
                          "turn of the top's precession)")
-    animate.add_argument("--fps", type=float, default=15.0, metavar="N",
-                         help="frames per second (default 15)")
+    animate.add_argument("--fps", type=float, default=20.0, metavar="N",
+                         help="frames per second (default 20)")
     animate.add_argument("--speed", type=float, metavar="X",
                          help="seconds of motion per second shown (default 1 for the racket, "
                          "0.25 for the top)")

@@ -43,8 +43,12 @@ def _axes3d(fig, reach, bottom=None, top=None):
     return ax
 
 
-def _scene_figure(size):
-    return Figure(figsize=(size / DPI, size / DPI), dpi=DPI)
+def _scene_figure(size, fig=None):
+    """A new square figure of ``size`` pixels, or ``fig`` (a pyplot figure, say) emptied."""
+    if fig is None:
+        return Figure(figsize=(size / DPI, size / DPI), dpi=DPI)
+    fig.clear()
+    return fig
 
 
 def _inertia_box(body, mass):
@@ -87,6 +91,8 @@ class FlipScene:
         From :func:`stability.animation.flip_frames`.
     size : int
         Width and height in pixels.
+    fig : matplotlib.figure.Figure, optional
+        Draw into this figure (``size`` is then unused); default a new one.
 
     Attributes
     ----------
@@ -96,7 +102,7 @@ class FlipScene:
         The number of frames.
     """
 
-    def __init__(self, frames, size):
+    def __init__(self, frames, size, fig=None):
         from mpl_toolkits.mplot3d.art3d import Poly3DCollection
 
         self.data, self.dpi, self.frames = frames, DPI, frames.t.size
@@ -114,7 +120,7 @@ class FlipScene:
             name = preset[0].replace("_", " ") if preset is not None else body.name
             shape = f"{name} as its box of inertia ({mass:.2g} kg)"
         self.reach = reach
-        self.figure = fig = _scene_figure(size)
+        self.figure = fig = _scene_figure(size, fig)
         self.ax = ax = _axes3d(fig, reach)
         self.title = fig.suptitle("", fontsize=7, y=0.985)
         self.heading = textwrap.fill(f"{shape} spun about axis {axis} "
@@ -173,6 +179,8 @@ class TopScene:
         From :func:`stability.animation.top_frames`.
     size : int
         Width and height in pixels.
+    fig : matplotlib.figure.Figure, optional
+        Draw into this figure (``size`` is then unused); default a new one.
 
     Attributes
     ----------
@@ -182,7 +190,7 @@ class TopScene:
         The number of frames.
     """
 
-    def __init__(self, frames, size):
+    def __init__(self, frames, size, fig=None):
         from mpl_toolkits.mplot3d.art3d import Poly3DCollection
 
         self.data, self.dpi, self.frames = frames, DPI, frames.t.size
@@ -196,7 +204,7 @@ class TopScene:
                      - self.radius * float(np.sin(frames.tilt_range[1])))
         bottom = min(-0.1 * reach, lowest - 0.05 * reach)
         top_z = 1.1 * self.tip
-        self.figure = fig = _scene_figure(size)
+        self.figure = fig = _scene_figure(size, fig)
         self.ax = ax = _axes3d(fig, reach, bottom=bottom, top=top_z)
         self.title = fig.suptitle("", fontsize=7, y=0.985)
         self.heading = textwrap.fill(
@@ -233,7 +241,7 @@ class TopScene:
                             f"(played at {self.data.speed:g}x)")
 
 
-def flip_figure(frames, k=-1, size=480):
+def flip_figure(frames, k=-1, size=480, fig=None):
     """One frame of the flip as a figure (the racket or box, its axes, L, the path so far).
 
     Parameters
@@ -244,17 +252,20 @@ def flip_figure(frames, k=-1, size=480):
         The frame; negative counts from the end.
     size : int, default 480
         Width and height in pixels (at 100 dots per inch).
+    fig : matplotlib.figure.Figure, optional
+        Draw into this figure (e.g. ``plt.figure(figsize=(5, 5))`` to show it with pyplot);
+        default a new one of ``size`` pixels.
 
     Returns
     -------
     matplotlib.figure.Figure
     """
-    scene = FlipScene(frames, size)
+    scene = FlipScene(frames, size, fig)
     scene.draw(range(scene.frames)[k])
     return scene.figure
 
 
-def top_figure(frames, k=-1, size=480):
+def top_figure(frames, k=-1, size=480, fig=None):
     """One frame of the heavy top as a figure (the disk on its axle, the tip's path so far).
 
     Parameters
@@ -265,11 +276,14 @@ def top_figure(frames, k=-1, size=480):
         The frame; negative counts from the end.
     size : int, default 480
         Width and height in pixels (at 100 dots per inch).
+    fig : matplotlib.figure.Figure, optional
+        Draw into this figure (e.g. ``plt.figure(figsize=(5, 5))`` to show it with pyplot);
+        default a new one of ``size`` pixels.
 
     Returns
     -------
     matplotlib.figure.Figure
     """
-    scene = TopScene(frames, size)
+    scene = TopScene(frames, size, fig)
     scene.draw(range(scene.frames)[k])
     return scene.figure

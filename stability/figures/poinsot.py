@@ -37,7 +37,7 @@ def _equal_aspect(ax, points):
 
 @styled
 def poinsot_figure(body, w0, t_end=None, q0=None, levels=(0.2, 0.5, 0.8, 0.95),
-                   samples=4000):
+                   samples=4000, fig=None):
     """Poinsot's construction: polhodes on the energy ellipsoid, the herpolhode on the plane.
 
     Left: Poinsot's ellipsoid ``x . I x = 1`` in the body with polhodes around the stable axes
@@ -61,6 +61,9 @@ def poinsot_figure(body, w0, t_end=None, q0=None, levels=(0.2, 0.5, 0.8, 0.95),
         Polhode energies as fractions of the way from a centre to the separatrix, in (0, 1).
     samples : int
         Points of the herpolhode.
+    fig : matplotlib.figure.Figure, optional
+        Draw into this figure (e.g. ``plt.figure(figsize=(15, 5.8))`` to show it with
+        pyplot); default a new one, 15 x 5.8 inches.
 
     Returns
     -------
@@ -80,7 +83,7 @@ def poinsot_figure(body, w0, t_end=None, q0=None, levels=(0.2, 0.5, 0.8, 0.95),
     herp = herpolhode(body, w0, t, q0)
     a, b, c = np.argsort(I, kind="stable")
 
-    fig = new_figure(15.0, 5.8)
+    fig = new_figure(15.0, 5.8) if fig is None else fig
     fig.set_layout_engine("none")  # constrained layout crowds the 3-D axes' labels together
     grid = fig.add_gridspec(1, 3, width_ratios=(1.0, 1.0, 0.8), left=0.02, right=0.97,
                             bottom=0.2, top=0.9, wspace=0.22)
