@@ -160,6 +160,7 @@ API_MODULES = (
                                      "sleeping_top", "wobble", "equinoxes", "earth",
                                      "stabilitymap", "workprecision", "sweeps", "shapes",
                                      "flipsweep", "polhodes")),
+    ("Figures and animations", ("animation", "figures.animation", "figures.poinsot")),
 )
 
 
