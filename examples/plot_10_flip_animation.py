@@ -23,7 +23,7 @@ import numpy as np
 
 import stability
 from stability.animation import flip_frames, top_frames
-from stability.figures.animation import flip_figure, top_figure
+from stability.figures.animation import frame_figure
 
 frames = flip_frames()  # the defaults of animate_flip: the racket, 6 rad/s, a nudge of 0.05
 L = np.einsum("nij,nj->ni", frames.rotation, frames.body.moments * frames.w)
@@ -40,7 +40,7 @@ with tempfile.TemporaryDirectory() as folder:
 
 half = int(np.argmin(np.abs(frames.rotation[: frames.t.size // 2, 2, 1])))
 fig = plt.figure(figsize=(4.8, 4.8), dpi=100)
-flip_figure(frames, half, fig=fig)
+frame_figure(frames, half, fig=fig)
 
 # %%
 # A heavy top (:func:`stability.animate_top`, ``stability animate top top.gif``): a disk top
@@ -48,4 +48,4 @@ flip_figure(frames, half, fig=fig)
 # is the path of its axle's tip, with a cusp at each stop.
 
 fig = plt.figure(figsize=(4.8, 4.8), dpi=100)
-top_figure(top_frames(), fig=fig)
+frame_figure(top_frames(), fig=fig)

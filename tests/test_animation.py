@@ -11,7 +11,7 @@ from stability.animation import (MAX_FRAMES, animate_flip, animate_top, flip_fra
                                  top_frames)
 from stability.cli import main
 from stability.exact_top import nutation_roots
-from stability.figures.animation import FlipScene, TopScene, flip_figure, top_figure
+from stability.figures.animation import FlipScene, TopScene, frame_figure
 from stability.figures.style import missing_units
 from stability.top import HeavyTop
 
@@ -72,7 +72,7 @@ def test_the_scene_draws_the_frames_rotations():
                 tip = np.array(line.get_data_3d())[:, 1]
                 np.testing.assert_allclose(tip, scene.length * R[:, i], atol=1e-15)
             assert f"t = {scene.data.t[k]:.2f} s" in scene.title.get_text()
-    fig = flip_figure(frames, k=2, size=200)
+    fig = frame_figure(frames, k=2, size=200)
     assert missing_units(fig) == [] and fig.get_size_inches() * fig.dpi == pytest.approx(200)
 
 
@@ -92,7 +92,7 @@ def test_the_top_nods_between_its_turning_tilts():
     scene.draw(5)
     tip = np.array(scene.axle.get_data_3d())[:, 1]
     np.testing.assert_allclose(tip, scene.tip * frames.axis[5], atol=1e-15)
-    assert missing_units(top_figure(frames, size=200)) == []
+    assert missing_units(frame_figure(frames, size=200)) == []
     u1, u2, _ = nutation_roots(
         stability.top.tilted_starts(200.0, 0.5, 1, top=top)[0], A, C, top.mgl)
     np.testing.assert_allclose(np.cos(frames.tilt_range), (u2, u1), rtol=1e-15)
@@ -135,6 +135,11 @@ def test_bad_input_to_the_top_is_one_line(kwargs, message, tmp_path):
     with pytest.raises(ValueError, match=message) as info:
         animate_top(path=tmp_path / "top.gif", **kwargs)
     assert "\n" not in str(info.value)
+
+
+def test_a_frame_figure_needs_frames():
+    with pytest.raises(ValueError, match="frames must come from stability.animation"):
+        frame_figure(np.zeros((3, 4)))
 
 
 def test_a_folder_is_not_a_file(tmp_path):

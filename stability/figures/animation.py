@@ -3,8 +3,8 @@
 :class:`FlipScene` draws a body turning over (a racket, or a box of inertia) with its axes and
 the fixed angular momentum; :class:`TopScene` a heavy top with the path of its axle's tip.
 Each builds one small figure (equal aspect, axes labelled in m) and redraws it for frame k by
-``draw(k)``, which the writer calls frame after frame. :func:`flip_figure` and
-:func:`top_figure` return one frame as a figure (the gallery shows one).
+``draw(k)``, which the writer calls frame after frame. :func:`frame_figure` returns one frame
+as a figure (the gallery shows one).
 """
 
 from __future__ import annotations
@@ -71,6 +71,17 @@ def _inertia_box(body, mass):
     return np.array(faces), np.array(normals)
 
 
+class _Scene:
+    """What both scenes share: the frames, a square figure, its 3-D axes and a title."""
+
+    def _start(self, frames, size, fig, reach, bottom=None, top=None):
+        self.data, self.dpi, self.frames = frames, DPI, frames.t.size
+        self.figure = _scene_figure(size, fig)
+        self.ax = _axes3d(self.figure, reach, bottom, top)
+        self.title = self.figure.suptitle("", fontsize=7, y=0.985)
+        return self.ax
+
+
 def _preset_of(body):
     """(name, mass in kg) of the preset ``body`` equals (the same moments), else None."""
     from ..body import PRESETS, RigidBody
@@ -82,7 +93,7 @@ def _preset_of(body):
     return None
 
 
-class FlipScene:
+class FlipScene(_Scene):
     """A body turning over in space, frame by frame (:func:`stability.animate_flip`).
 
     Parameters
@@ -105,7 +116,6 @@ class FlipScene:
     def __init__(self, frames, size, fig=None):
         from mpl_toolkits.mplot3d.art3d import Poly3DCollection
 
-        self.data, self.dpi, self.frames = frames, DPI, frames.t.size
         body, axis = frames.body, frames.axis
         preset = _preset_of(body)
         self.racket = preset is not None and preset[0] == "tennis_racket"
@@ -120,9 +130,7 @@ class FlipScene:
             name = preset[0].replace("_", " ") if preset is not None else body.name
             shape = f"{name} as its box of inertia ({mass:.2g} kg)"
         self.reach = reach
-        self.figure = fig = _scene_figure(size, fig)
-        self.ax = ax = _axes3d(fig, reach)
-        self.title = fig.suptitle("", fontsize=7, y=0.985)
+        ax = self._start(frames, size, fig, reach)
         self.heading = textwrap.fill(f"{shape} spun about axis {axis} "
                                      f"({moment_name(body, axis)} moment)", 60)
         length = 0.9 * reach
@@ -170,7 +178,7 @@ class FlipScene:
                                f" (played at {self.data.speed:g}x)"))
 
 
-class TopScene:
+class TopScene(_Scene):
     """A heavy top nutating, frame by frame (:func:`stability.animate_top`).
 
     Parameters
@@ -193,7 +201,6 @@ class TopScene:
     def __init__(self, frames, size, fig=None):
         from mpl_toolkits.mplot3d.art3d import Poly3DCollection
 
-        self.data, self.dpi, self.frames = frames, DPI, frames.t.size
         top = frames.top
         self.radius = float(np.sqrt(2.0 * top.central_moments[2] / top.mass))
         self.centre = top.length if top.length > 0.0 else self.radius
@@ -204,9 +211,7 @@ class TopScene:
                      - self.radius * float(np.sin(frames.tilt_range[1])))
         bottom = min(-0.1 * reach, lowest - 0.05 * reach)
         top_z = 1.1 * self.tip
-        self.figure = fig = _scene_figure(size, fig)
-        self.ax = ax = _axes3d(fig, reach, bottom=bottom, top=top_z)
-        self.title = fig.suptitle("", fontsize=7, y=0.985)
+        ax = self._start(frames, size, fig, reach, bottom=bottom, top=top_z)
         self.heading = textwrap.fill(
             f"{top.name}, spin {frames.spin:g} rad/s, released at a tilt of "
             f"{np.degrees(np.arccos(frames.axis[0, 2])):.0f}°", 58)
@@ -241,13 +246,14 @@ class TopScene:
                             f"(played at {self.data.speed:g}x)")
 
 
-def flip_figure(frames, k=-1, size=480, fig=None):
-    """One frame of the flip as a figure (the racket or box, its axes, L, the path so far).
+def frame_figure(frames, k=-1, size=480, fig=None):
+    """One frame of an animation as a figure: the flip (the racket or box, its axes, L, the
+    path so far) or the heavy top (the disk on its axle, the tip's path so far).
 
     Parameters
     ----------
-    frames : FlipFrames
-        From :func:`stability.animation.flip_frames`.
+    frames : FlipFrames or TopFrames
+        From :func:`stability.animation.flip_frames` or :func:`stability.animation.top_frames`.
     k : int, default -1
         The frame; negative counts from the end.
     size : int, default 480
@@ -260,30 +266,11 @@ def flip_figure(frames, k=-1, size=480, fig=None):
     -------
     matplotlib.figure.Figure
     """
-    scene = FlipScene(frames, size, fig)
-    scene.draw(range(scene.frames)[k])
-    return scene.figure
+    from ..animation import FlipFrames, TopFrames
 
-
-def top_figure(frames, k=-1, size=480, fig=None):
-    """One frame of the heavy top as a figure (the disk on its axle, the tip's path so far).
-
-    Parameters
-    ----------
-    frames : TopFrames
-        From :func:`stability.animation.top_frames`.
-    k : int, default -1
-        The frame; negative counts from the end.
-    size : int, default 480
-        Width and height in pixels (at 100 dots per inch).
-    fig : matplotlib.figure.Figure, optional
-        Draw into this figure (e.g. ``plt.figure(figsize=(5, 5))`` to show it with pyplot);
-        default a new one of ``size`` pixels.
-
-    Returns
-    -------
-    matplotlib.figure.Figure
-    """
-    scene = TopScene(frames, size, fig)
+    if not isinstance(frames, (FlipFrames, TopFrames)):
+        raise ValueError("frames must come from stability.animation.flip_frames or top_frames, "
+                         f"got {type(frames).__name__}")
+    scene = (FlipScene if isinstance(frames, FlipFrames) else TopScene)(frames, size, fig)
     scene.draw(range(scene.frames)[k])
     return scene.figure
