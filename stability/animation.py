@@ -38,7 +38,7 @@ MAX_FRAMES = 1000
 SUFFIXES = (".gif", ".mp4")
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, eq=False)
 class FlipFrames:
     """The torque-free body at the frames' times, as :func:`flip_frames` computes it.
 
@@ -79,7 +79,7 @@ class FlipFrames:
         return quaternion_to_matrix(self.q)
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, eq=False)
 class TopFrames:
     """A symmetric heavy top at the frames' times, as :func:`top_frames` computes it.
 
