@@ -28,9 +28,11 @@ __all__ = ["METHODS", "MethodSpec", "Part", "RigidBody", "__version__", "axis_st
            "exact_omega", "flip_interval", "full_period",
            "growth_rate", "integrate", "method_spec", "omega_squared", "oscillation_frequency"]
 
+from .animation import animate_flip, animate_top  # noqa: E402
 from .ensemble import ensemble_memory, run_ensemble  # noqa: E402
 from .io import load, save  # noqa: E402
 from .scenes import define_scene  # noqa: E402
 
-__all__ += ["define_scene", "ensemble_memory", "load", "run_ensemble", "save"]
+__all__ += ["animate_flip", "animate_top", "define_scene", "ensemble_memory", "load",
+            "run_ensemble", "save"]
 __all__ += ["flip_statistics", "measured_frequency", "measured_growth_rate", "measured_omega_squared", "member_regimes"]  # noqa: E501

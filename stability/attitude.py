@@ -34,8 +34,8 @@ from .checks import positive_int, real_array
 from .engine import propagate_groups
 from .integrators import method_spec
 from .quaternions import (  # the attitude's arithmetic, here where it has always been found
-    IDENTITY, attitude_error, canonical_quaternion, matrix_to_quaternion, quaternion_conjugate,
-    quaternion_multiply, quaternion_to_matrix, spatial_angular_momentum,
+    IDENTITY, attitude_error, canonical_quaternion, frame_along, matrix_to_quaternion,
+    quaternion_conjugate, quaternion_multiply, quaternion_to_matrix, spatial_angular_momentum,
 )
 from .scene_ensemble import GroupedRun, propagate_stored
 from .scenes import SCENES

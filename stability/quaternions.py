@@ -174,6 +174,43 @@ def attitude_error(q, q_ref) -> np.ndarray:
     return 2.0 * np.arctan2(np.linalg.norm(d[..., 1:], axis=-1), np.abs(d[..., 0]))
 
 
+def frame_along(n, hint=None) -> np.ndarray:
+    """A right-handed orthonormal frame whose third axis is along ``n``: columns (x, y, z).
+
+    z = n / |n|; x is the part of ``hint`` perpendicular to z, normalised (by default the space
+    axis least aligned with z, so x is never ill-defined); y = z x x. ``frame.T`` maps space
+    components into the frame, e.g. with z along the angular momentum L.
+
+    Parameters
+    ----------
+    n : array_like, shape (3,)
+        Direction of the third axis, non-zero.
+    hint : array_like, shape (3,), optional
+        Direction for the first axis; used where it is not parallel to ``n``.
+
+    Returns
+    -------
+    ndarray, shape (3, 3)
+        A rotation matrix whose columns are the unit vectors x, y, z.
+    """
+    z = real_array("n", n)
+    norm = float(np.linalg.norm(z))
+    if z.shape != (3,) or not norm > 0.0:
+        raise ValueError(f"n must be a non-zero vector of shape (3,), got {n!r}")
+    z = z / norm
+    x = None
+    if hint is not None:
+        h = real_array("hint", hint)
+        h = h - (h @ z) * z
+        if np.linalg.norm(h) > 1e-9 * max(float(np.linalg.norm(hint)), 1e-300):
+            x = h
+    if x is None:
+        e = np.eye(3)[int(np.argmin(np.abs(z)))]
+        x = e - (e @ z) * z
+    x = x / np.linalg.norm(x)
+    return np.column_stack([x, np.cross(z, x), z])
+
+
 def canonical_quaternion(moments) -> np.ndarray:
     """Unit quaternion c of the rotation C taking body components to the canonical frame.
 

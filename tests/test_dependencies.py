@@ -19,6 +19,9 @@ PACKAGE = ROOT / "stability"
 
 #: The import name of a distribution where the two differ.
 IMPORT_NAMES = {"tomli-w": "tomli_w"}
+#: Further packages a distribution installs beside its own (matplotlib's wheel brings
+#: mpl_toolkits, whose mplot3d draws the 3-D figures and animations).
+ALSO_INSTALLS = {"matplotlib": ("mpl_toolkits",)}
 
 #: Optional modules: the extra that brings each, and the one module or package that may import
 #: it (and refuses in one line, naming what to install, when it is missing).
@@ -35,6 +38,7 @@ def core_requirements() -> set[str]:
     for requirement in project["dependencies"]:
         name = re.match(r"[A-Za-z0-9_.-]+", requirement).group(0)
         names.add(IMPORT_NAMES.get(name.lower(), name))
+        names.update(ALSO_INSTALLS.get(name.lower(), ()))
     return names
 
 

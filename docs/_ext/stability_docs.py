@@ -11,7 +11,9 @@ When the configuration is read this writes ``docs/generated/``:
   validate study files);
 - ``cli.md``: the help of every ``stability`` command (the argument parser);
 - ``work_precision.md``: the work-precision study, run at build time (``--quick`` when the
-  environment variable ``STABILITY_DOCS_QUICK`` is 1), its report and figures.
+  environment variable ``STABILITY_DOCS_QUICK`` is 1), its report and figures;
+
+and it removes from ``docs/api`` the pages autosummary wrote for names no longer listed.
 """
 
 from __future__ import annotations
@@ -26,6 +28,7 @@ from pathlib import Path
 DOCS = Path(__file__).resolve().parents[1]
 ROOT = DOCS.parent
 OUT = DOCS / "generated"
+API = DOCS / "api"
 
 
 def _cell(text) -> str:
@@ -201,6 +204,7 @@ API_MODULES = (
                                      "sleeping_top", "wobble", "equinoxes", "earth",
                                      "stabilitymap", "workprecision", "sweeps", "shapes",
                                      "flipsweep", "polhodes")),
+    ("Figures and animations", ("animation", "figures.animation", "figures.poinsot")),
 )
 
 
@@ -270,8 +274,20 @@ def generate(app=None) -> None:
     (OUT / "studies.md").write_text(studies_page())
     (OUT / "cli.md").write_text(cli_page())
     (OUT / "api.rst").write_text(api_page())
+    drop_stale_api_pages()
     quick = os.environ.get("STABILITY_DOCS_QUICK") == "1"
     (OUT / "work_precision.md").write_text(work_precision_page(quick))
+
+
+def drop_stale_api_pages() -> None:
+    """autosummary writes a page per listed name into ``docs/api`` and never removes one: drop
+    the pages of names no longer listed (a function renamed or removed), whose import would
+    fail the build in a tree that built the documentation before."""
+    if API.is_dir():
+        keep = set(api_names())
+        for page in API.glob("stability.*.rst"):
+            if page.stem not in keep:
+                page.unlink()
 
 
 _LITERAL = re.compile(r"(``.*?``)")

@@ -15,7 +15,8 @@ from .style import AXIS_COLORS, label, new_figure, place_legend, styled
 #: A stylised racket in its body frame (handle along axis 1, head across axis 2), metres.
 _HEAD_CENTRE, _HEAD_HALF_LENGTH, _HEAD_HALF_WIDTH = 0.17, 0.165, 0.125
 _HANDLE = (-0.36, 0.005)
-_FRONT, _BACK = "#d62728", "#1f77b4"
+#: Colours of the strings' side facing L (front) and facing away (back).
+FRONT_COLOR, BACK_COLOR = "#d62728", "#1f77b4"
 
 
 @styled
@@ -50,8 +51,9 @@ def twist_figure(ds):
     return fig
 
 
-def _outline():
-    """Head ellipse and handle line of the stylised racket, body frame, shape (n, 3)."""
+def racket_outline():
+    """The stylised racket in its body frame, in m: the head ellipse (73, 3) (strings in the
+    1-2 plane) and the handle's centre line (2, 3) along axis 1 (also :mod:`.animation`)."""
     a = np.linspace(0.0, 2.0 * np.pi, 73)
     head = np.column_stack([_HEAD_CENTRE + _HEAD_HALF_LENGTH * np.cos(a),
                             _HEAD_HALF_WIDTH * np.sin(a), np.zeros_like(a)])
@@ -69,7 +71,7 @@ def flip_figure(ds):
     n = ds.snapshot.size
     fig = new_figure(1.9 * n, 3.0)
     axes = fig.subplots(1, n, sharey=True)
-    head, handle = _outline()
+    head, handle = racket_outline()
     space_l = spatial_angular_momentum(ds.snapshot_q.values[0],
                                        ds.moments.values[0] * ds.w0.values[0])
     z = space_l / np.linalg.norm(space_l)
@@ -81,7 +83,7 @@ def flip_figure(ds):
         R = quaternion_to_matrix(q)
         h, g = head @ R.T, handle @ R.T
         facing = (R[:, 2] @ z) > 0.0
-        ax.fill(h @ x, h @ y, color=_FRONT if facing else _BACK, alpha=0.35)
+        ax.fill(h @ x, h @ y, color=FRONT_COLOR if facing else BACK_COLOR, alpha=0.35)
         ax.plot(h @ x, h @ y, color="black", lw=1.0)
         ax.plot(g @ x, g @ y, color="#7a5a2a", lw=3.0)
         ax.set_aspect("equal")

@@ -1,0 +1,171 @@
+"""Animations of the exact motions: valid GIFs of the asked number of frames and size, L fixed in
+space in every frame drawn, the top between its turning tilts, one-line errors for bad input."""
+
+import numpy as np
+import pytest
+from matplotlib.animation import writers
+from PIL import Image
+
+import stability
+from stability.animation import (MAX_FRAMES, animate_flip, animate_top, flip_frames,
+                                 top_frames)
+from stability.cli import main
+from stability.exact_top import nutation_roots
+from stability.figures.animation import FlipScene, TopScene, frame_figure
+from stability.figures.style import missing_units
+from stability.top import HeavyTop
+
+RACKET = stability.RigidBody.preset("tennis_racket")
+
+
+def _gif(path):
+    image = Image.open(path)
+    return image.format, image.n_frames, image.size
+
+
+def test_the_flip_writes_a_gif_of_the_asked_frames_and_size(tmp_path):
+    path = animate_flip(path=tmp_path / "flip.gif", duration=0.6, fps=10, size=160)
+    assert path == tmp_path / "flip.gif"
+    assert _gif(path) == ("GIF", 6, (160, 160))
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["flip.gif"]  # no partial file left
+
+
+def test_the_top_writes_a_gif_of_the_asked_frames_and_size(tmp_path):
+    path = animate_top(path=str(tmp_path / "top.GIF"), duration=0.1, speed=0.25, fps=10,
+                       size=150)
+    assert _gif(path) == ("GIF", 4, (150, 150))  # 0.1 s of motion at 0.25x and 10 fps; even
+
+
+@pytest.mark.parametrize("body, axis", [(None, None), (RACKET, 1), (RACKET, 3),
+                                        (stability.RigidBody.preset("t_handle"), None),
+                                        (stability.RigidBody(1.0, 2.0, 2.5), 2)])
+def test_l_stays_fixed_along_z_in_every_frame(body, axis):
+    frames = flip_frames(body, spin=8.0, epsilon=0.1, axis=axis, duration=3.0, fps=10)
+    b = RACKET if body is None else body
+    assert frames.t.size == 30 and frames.axis == (axis or 2)
+    L = np.einsum("nij,nj->ni", frames.rotation, b.moments * frames.w)  # R(q(t)) I w(t)
+    norm = np.linalg.norm(b.moments * frames.w[0])
+    np.testing.assert_allclose(frames.momentum, (0.0, 0.0, norm), rtol=1e-15)
+    assert np.max(np.abs(L - frames.momentum)) < 1e-12 * norm
+    np.testing.assert_allclose(frames.w, stability.exact_omega(b, frames.w[0], frames.t),
+                               rtol=0, atol=0)
+
+
+def test_the_racket_turns_over_in_the_default_animation():
+    frames = flip_frames(fps=5)
+    spin_axis = frames.rotation[:, :, 1]  # axis 2 in space
+    assert spin_axis[0, 2] > 0.99 and spin_axis[:, 2].min() < -0.99  # up, then down
+    # one period of w (two flips), to the nearest frame: n = round(fps T), 1/fps apart
+    assert 0.0 < stability.full_period(RACKET, frames.w[0]) - frames.t[-1] <= 1.5 / 5
+
+
+def test_the_scene_draws_the_frames_rotations():
+    frames = flip_frames(duration=1.0, fps=6)
+    for make in (lambda: FlipScene(frames, 160),
+                 lambda: FlipScene(flip_frames(stability.RigidBody.preset("book"),
+                                               duration=1.0, fps=6), 160)):
+        scene = make()
+        for k in (0, 3, 5):
+            scene.draw(k)
+            R = scene.data.rotation[k]
+            for i, line in enumerate(scene.arrows):
+                tip = np.array(line.get_data_3d())[:, 1]
+                np.testing.assert_allclose(tip, scene.length * R[:, i], atol=1e-15)
+            assert f"t = {scene.data.t[k]:.2f} s" in scene.title.get_text()
+    fig = frame_figure(frames, k=2, size=200)
+    assert missing_units(fig) == [] and fig.get_size_inches() * fig.dpi == pytest.approx(200)
+
+
+def test_the_top_nods_between_its_turning_tilts():
+    top = HeavyTop.disk(mass=0.2, radius=0.03, length=0.05)
+    frames = top_frames(top, spin=200.0, tilt=0.5, duration=0.6, fps=20, speed=1.0)
+    np.testing.assert_allclose(np.linalg.norm(frames.trace, axis=1), 1.0, atol=1e-14)
+    assert np.arccos(frames.axis[0, 2]) == pytest.approx(0.5, abs=1e-14)
+    np.testing.assert_array_equal(frames.axis, frames.trace[::8])
+    A, _, C = top.pivot_moments
+    tilt = np.arccos(np.clip(frames.trace[:, 2], -1.0, 1.0))
+    low, high = frames.tilt_range
+    assert low == pytest.approx(0.5, abs=1e-12) and high > low + 0.2  # a visible nod
+    assert tilt.min() >= low - 1e-9 and tilt.max() <= high + 1e-9
+    assert tilt.max() >= high - 1e-3  # it reaches the lower turning point
+    scene = TopScene(frames, 160)
+    scene.draw(5)
+    tip = np.array(scene.axle.get_data_3d())[:, 1]
+    np.testing.assert_allclose(tip, scene.tip * frames.axis[5], atol=1e-15)
+    assert missing_units(frame_figure(frames, size=200)) == []
+    u1, u2, _ = nutation_roots(
+        stability.top.tilted_starts(200.0, 0.5, 1, top=top)[0], A, C, top.mgl)
+    np.testing.assert_allclose(np.cos(frames.tilt_range), (u2, u1), rtol=1e-15)
+
+
+@pytest.mark.parametrize("kwargs, message", [
+    ({"path": "flip.png"}, r"path must end in \.gif or \.mp4"),
+    ({"path": "flip"}, r"path must end in \.gif or \.mp4"),
+    ({"path": 3}, r"path must be a file name ending in \.gif or \.mp4"),
+    ({"path": "no/such/folder/flip.gif"}, "the folder 'no/such/folder' does not exist: create it"),
+    ({"path": "flip.gif", "fps": 0}, "fps must be finite and > 0"),
+    ({"path": "flip.gif", "fps": -5.0}, "fps must be finite and > 0"),
+    ({"path": "flip.gif", "duration": 0.0}, "duration must be finite and > 0"),
+    ({"path": "flip.gif", "duration": -1.0}, "duration must be finite and > 0"),
+    ({"path": "flip.gif", "speed": 0.0}, "speed must be finite and > 0"),
+    ({"path": "flip.gif", "duration": 0.05}, "gives 1 frame.*give a longer duration"),
+    ({"path": "flip.gif", "duration": 1e4}, f"more than {MAX_FRAMES}; shorten the duration"),
+    ({"path": "flip.gif", "size": 50}, "size must be between 120 and 2000 pixels"),
+    ({"path": "flip.gif", "axis": 4}, "axis must be 1, 2 or 3"),
+    ({"path": "flip.gif", "epsilon": 0.0}, "epsilon must be finite and > 0"),
+    ({"path": "flip.gif", "body": (1.0, 2.0, 3.0)}, "body must be a stability.RigidBody"),
+])
+def test_bad_input_to_the_flip_is_one_line_saying_what_to_do(kwargs, message, tmp_path,
+                                                              monkeypatch):
+    monkeypatch.chdir(tmp_path)
+    with pytest.raises(ValueError, match=message) as info:
+        animate_flip(**kwargs)
+    assert "\n" not in str(info.value)
+    assert list(tmp_path.iterdir()) == []
+
+
+@pytest.mark.parametrize("kwargs, message", [
+    ({"tilt": 0.0}, r"tilt must be in \(0, pi\)"),
+    ({"tilt": 4.0}, r"tilt must be in \(0, pi\)"),
+    ({"spin": -1.0}, "spin must be finite and > 0"),
+    ({"top": HeavyTop(0.1, 0.02, (1e-5, 2e-5, 2.5e-5))}, "the top must be symmetric"),
+    ({"top": RACKET}, "top must be a stability.top.HeavyTop"),
+])
+def test_bad_input_to_the_top_is_one_line(kwargs, message, tmp_path):
+    with pytest.raises(ValueError, match=message) as info:
+        animate_top(path=tmp_path / "top.gif", **kwargs)
+    assert "\n" not in str(info.value)
+
+
+def test_a_frame_figure_needs_frames():
+    with pytest.raises(ValueError, match="frames must come from stability.animation"):
+        frame_figure(np.zeros((3, 4)))
+
+
+def test_a_folder_is_not_a_file(tmp_path):
+    (tmp_path / "x.gif").mkdir()
+    with pytest.raises(ValueError, match="is a folder; give a file name ending in .gif"):
+        animate_flip(path=tmp_path / "x.gif")
+
+
+@pytest.mark.skipif(writers.is_available("ffmpeg"), reason="ffmpeg is installed here")
+def test_mp4_without_ffmpeg_says_to_install_it_or_write_a_gif(tmp_path):
+    with pytest.raises(ValueError, match=r"\.mp4 needs ffmpeg.*install ffmpeg.*or write a "
+                                         r"\.gif"):
+        animate_flip(path=tmp_path / "flip.mp4")
+
+
+@pytest.mark.skipif(not writers.is_available("ffmpeg"), reason="ffmpeg is not installed")
+def test_mp4_where_ffmpeg_exists(tmp_path):
+    path = animate_top(path=tmp_path / "top.mp4", duration=0.1, fps=10, size=161)
+    assert path.stat().st_size > 0 and b"ftyp" in path.read_bytes()[:32]
+
+
+def test_the_command_writes_the_animation_and_reports_mistakes_in_one_line(tmp_path, capsys):
+    out = tmp_path / "top.gif"
+    assert main(["animate", "top", str(out), "--duration", "0.1", "--fps", "10",
+                 "--size", "140"]) == 0
+    assert "wrote" in capsys.readouterr().out and _gif(out) == ("GIF", 4, (140, 140))
+    assert main(["animate", "racket", str(tmp_path / "flip.png")]) == 2
+    err = capsys.readouterr().err
+    assert err.count("\n") == 1 and "path must end in .gif or .mp4" in err
