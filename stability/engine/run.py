@@ -88,20 +88,30 @@ def compiled_loop(scene, spec, compensated=True):
 
 
 def loop_ready(advance, width, n_params) -> float:
-    """Compile or load ``advance`` for the standard argument types; the seconds it took."""
+    """Compile or load ``advance`` for the standard argument types; the seconds it took.
+
+    Ctrl-C (or SIGTERM, through :func:`request_stop`) during the compilation takes effect when
+    it ends, as KeyboardInterrupt: raised in the middle of Numba's and LLVM's work it can leave
+    their objects half built (a run stopped that way once ended in a segmentation fault at the
+    interpreter's exit, after its clean message). The compiled loop is cached all the same.
+    """
     t0 = time.perf_counter()
     if advance.signatures:
         return time.perf_counter() - t0
     with compiling(advance):  # one process compiles; the others then load its machine code
-        i64 = np.int64
-        one = np.zeros((1, width))
-        advance(
-            one, one.copy(), np.zeros((1, n_params)), np.zeros(1, i64), np.zeros(1, i64),
-            np.zeros(1, i64), np.zeros(1), np.zeros(1, i64), np.zeros(1, i64), 0,
-            np.zeros((1, 0, width)), np.zeros(1, i64), np.zeros(1, np.int8),
-            np.full(1, -1, i64), np.zeros(1, i64), np.zeros((1, 3), i64),
-            np.zeros((0, N_TRACK)), np.zeros((1, 0)), np.full((1, 1), np.inf), np.zeros((1, 0)),
-        )
+        with deferred_interrupt() as interrupt:
+            i64 = np.int64
+            one = np.zeros((1, width))
+            advance(
+                one, one.copy(), np.zeros((1, n_params)), np.zeros(1, i64), np.zeros(1, i64),
+                np.zeros(1, i64), np.zeros(1), np.zeros(1, i64), np.zeros(1, i64), 0,
+                np.zeros((1, 0, width)), np.zeros(1, i64), np.zeros(1, np.int8),
+                np.full(1, -1, i64), np.zeros(1, i64), np.zeros((1, 3), i64),
+                np.zeros((0, N_TRACK)), np.zeros((1, 0)), np.full((1, 1), np.inf),
+                np.zeros((1, 0)),
+            )
+    if interrupt.requested:
+        raise KeyboardInterrupt
     return time.perf_counter() - t0
 
 
