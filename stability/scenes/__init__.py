@@ -2,11 +2,12 @@
 
 ``SCENES`` maps a short lowercase name to a :class:`~stability.scenes.spec.Scene`;
 ``scene(name)`` looks one up and names the known ones when it is missing. To add a scene, write
-one module beside these (copy ``free_body.py``; the checklist is in ``spec.py``) and add it to
-``_ALL`` below. A scene in a module of the user's own comes from ``define_scene`` (``user.py``)
+one module beside these (copy ``free_body.py``; the checklist is in ``spec.py``), or the
+``scene.py`` of a family package (``stability/dissipation/``), and add it to ``_ALL`` below. A scene in a module of the user's own comes from ``define_scene`` (``user.py``)
 and is not registered: it is passed as it is.
 """
 
+from ..dissipation.scene import SPHERE_DAMPER, WHIP_DAMPER
 from .engine_body import ENGINE_BODY
 from .free_body import FREE_BODY
 from .free_body_attitude import FREE_BODY_ATTITUDE
@@ -18,7 +19,7 @@ from .struck_body import STRUCK_BODY
 from .spec import Scene
 
 _ALL = (FREE_BODY, FREE_BODY_ATTITUDE, HEAVY_TOP, LUNISOLAR_EARTH, PRECESSING_AXIS,
-        ROLLING_BODY, STRUCK_BODY, ENGINE_BODY)
+        ROLLING_BODY, STRUCK_BODY, ENGINE_BODY, SPHERE_DAMPER, WHIP_DAMPER)
 
 SCENES: dict[str, Scene] = {s.name: s for s in _ALL}
 
