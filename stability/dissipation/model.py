@@ -42,7 +42,8 @@ first order in c it is the root of (2); beyond, it drops the sphere's reaction o
 **The end state**: with |H| kept and E falling, the motion ends in the state of least energy
 at that |H|, a spin about the axis of greatest moment of the whole system (damper included,
 ``A``: :func:`~stability.dissipation.scene.sphere_moments`,
-:func:`~stability.dissipation.scene.whip_moments`), having lost ``|H|^2 / 2 (1/A_start - 1/A_max)`` (:func:`energy_lost`).
+:func:`~stability.dissipation.scene.whip_moments`), having lost
+``|H|^2 / 2 (1/A_start - 1/A_max)`` (:func:`energy_lost`).
 """
 
 from __future__ import annotations

@@ -1,8 +1,6 @@
 """The damped bodies' methods: measured orders against DOP853, |H| kept to round-off by the
 splittings, the energy falling step by step, rates measured against the linear eigenvalues."""
 
-import math
-
 import numpy as np
 import pytest
 from scipy.integrate import solve_ivp
@@ -10,7 +8,7 @@ from scipy.integrate import solve_ivp
 from stability.dissipation import model
 from stability.dissipation.explorer import SPHERE, WHIPS, Whips, run_damped
 from stability.dissipation.scene import (SPHERE_DAMPER, WHIP_DAMPER, sphere_energy,
-                                         sphere_momentum, sphere_rigid_state)
+                                         sphere_moments, sphere_momentum, sphere_rigid_state)
 from stability.engine import propagate_groups
 
 TRIAXIAL = np.array([1.0, 2.0, 3.0, 0.2, 0.1])
@@ -57,7 +55,7 @@ def transition():
     """A triaxial body through its whole turn from near the minor axis to the major one, every
     step kept, by each method of scene sphere_damper."""
     h, steps = 0.02, 40000
-    w = model.tilted_rotation(sphere_moments_of(TRIAXIAL), 1.0, [0.01], [0.3])
+    w = model.tilted_rotation(sphere_moments(TRIAXIAL), 1.0, [0.01], [0.3])
     x0 = sphere_rigid_state(TRIAXIAL, w)
     out = {}
     for method in SPHERE_DAMPER.methods:
@@ -66,10 +64,6 @@ def transition():
                                steps, save_every=1, progress=False)
         out[method] = np.concatenate([x0[:, None], run.saved], axis=1)[0]
     return out
-
-
-def sphere_moments_of(values):
-    return values[:3] + values[3]
 
 
 def test_the_splittings_keep_h_to_round_off_through_the_whole_turn(transition):
@@ -115,8 +109,9 @@ def runs():
     angles = np.radians([0.01, 1.0])
     out = {m: run_damped(SPHERE, m, [values], angles, spin=W, samples=800, progress=False)
            for m in ("lp2", "lp4", "dmv")}
-    out["whips"] = run_damped(WHIPS, "rk4", [Whips(0.4, 0.5, 0.3, 0.5).values(I, W)], angles, spin=W,
-                              step_angle=0.06, tail=25.0, samples=800, progress=False)
+    whips = Whips(0.4, 0.5, frequency_ratio=0.3, damping_ratio=0.5).values(I, W)
+    out["whips"] = run_damped(WHIPS, "rk4", [whips], angles, spin=W, step_angle=0.06, tail=25.0,
+                              samples=800, progress=False)
     return out
 
 
