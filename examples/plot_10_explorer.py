@@ -1,6 +1,6 @@
 """
 Why Explorer 1 tumbled: a damper turns a minor-axis spin over
-============================================================
+=============================================================
 
 Explorer 1 (1958) was a 2 m pencil spun at 750 rpm about its long axis, the axis of *least*
 moment of inertia. A rigid body could spin so for ever; a body that flexes cannot. Internal
