@@ -841,10 +841,156 @@ ROLLING = _schema(
     })
 
 
+EXPLORER = _schema(
+    "explorer", "an Explorer-1-like body with an energy sink spun about its minor axis: "
+    "nutation growth against the linear eigenvalue, the flat spin it ends in, the energy lost",
+    "stability.dissipation.explorer.measure_explorer", {
+        'damping': _coord(
+            'damping', '1',
+            "damping c over the energy sink's optimum c*"),
+        'angle': _coord(
+            'angle', 'degree',
+            'initial nutation angle'),
+        'whip_angle': _coord(
+            'whip_angle', 'degree',
+            "initial nutation angle of the whip antennas' members"),
+        'growth_rate_measured': _var(
+            ('damping', 'angle'), 's-1',
+            'growth rate of the nutation angle fitted in the linear regime'),
+        'growth_rate_linear': _var(
+            ('damping', 'angle'), 's-1',
+            'growth rate of the nutation by the linear eigenvalue'),
+        'growth_rate_error': _var(
+            ('damping', 'angle'), '1',
+            'measured / linear growth rate - 1'),
+        'decay_rate_measured': _var(
+            ('damping', 'angle'), 's-1',
+            'rate of |cos theta| about the major axis, fitted'),
+        'decay_rate_linear': _var(
+            ('damping', 'angle'), 's-1',
+            'rate of the departure from the major axis by the linear eigenvalue'),
+        'decay_rate_error': _var(
+            ('damping', 'angle'), '1',
+            'measured / linear decay rate - 1'),
+        'flat_time': _var(
+            ('damping', 'angle'), 's',
+            'time to the flat spin (nutation angle passing the flat-spin angle)'),
+        'flat_time_linear': _var(
+            ('damping', 'angle'), 's',
+            'time to the flat spin at the linear growth rate, tan(theta) = tan(theta0) exp(rate'
+            ' t)'),
+        'angular_momentum_drift': _var(
+            ('damping', 'angle'), '1',
+            'largest relative change of |H| over the kept states'),
+        'energy_rise': _var(
+            ('damping', 'angle'), '1',
+            'largest rise of the energy between kept states, relative to the start'),
+        'end_angle': _var(
+            ('damping', 'angle'), 'degree',
+            'nutation angle at the end'),
+        'energy_lost': _var(
+            ('damping', 'angle'), 'J',
+            'energy lost, start to end'),
+        'energy_lost_formula': _var(
+            ('damping', 'angle'), 'J',
+            '|H|^2 / 2 (1/A_min - 1/A_max)'),
+        'energy_lost_error': _var(
+            ('damping', 'angle'), '1',
+            'energy lost / formula - 1'),
+        'end_energy_error': _var(
+            ('damping', 'angle'), '1',
+            'end energy / (|H|^2 / (2 A_max)) - 1'),
+        'flat_energy_ratio': _var(
+            ('damping', 'angle'), '1',
+            "energy of the flat spin |H|^2 / (2 A_max) over the start's"),
+        'status': _status(('damping', 'angle')),
+        'theta': _var(
+            ('damping', 'angle', 'sample'), 'degree',
+            'nutation angle between the long axis and H'),
+        'energy_ratio': _var(
+            ('damping', 'angle', 'sample'), '1',
+            'energy over its start'),
+        'sample_time': _var(
+            ('damping', 'sample'), 's',
+            'time of the kept states'),
+        'c': _var(
+            'damping', 'N m s',
+            'viscous coefficient of the spherical damper'),
+        'step': _var(
+            'damping', 's',
+            'integration step h'),
+        't_end': _var(
+            'damping', 's',
+            'run time'),
+        'growth_rate_energy_sink': _var(
+            ('damping', 'angle'), 's-1',
+            'growth rate of the nutation by the energy-sink estimate'),
+        'major_axis_end': _var(
+            ('damping', 'angle'), '1',
+            'ends spinning about the major axis (1) or not (0)', kind='i',
+            flag_values=(0, 1),
+            flag_meanings='other_axis major_axis'),
+        'whip_growth_rate_measured': _var(
+            'whip_angle', 's-1',
+            'whip antennas: growth rate of the nutation angle fitted in the linear regime'),
+        'whip_growth_rate_linear': _var(
+            'whip_angle', 's-1',
+            'whip antennas: growth rate of the nutation by the linear eigenvalue'),
+        'whip_growth_rate_error': _var(
+            'whip_angle', '1',
+            'whip antennas: measured / linear growth rate - 1'),
+        'whip_flat_time': _var(
+            'whip_angle', 's',
+            'whip antennas: time to the flat spin (nutation angle passing the flat-spin angle)'),
+        'whip_flat_time_linear': _var(
+            'whip_angle', 's',
+            'whip antennas: time to the flat spin at the linear growth rate, tan(theta) = '
+            'tan(theta0) exp(rate t)'),
+        'whip_angular_momentum_drift': _var(
+            'whip_angle', '1',
+            'whip antennas: largest relative change of |H| over the kept states'),
+        'whip_energy_rise': _var(
+            'whip_angle', '1',
+            'whip antennas: largest rise of the energy between kept states, relative to the '
+            'start'),
+        'whip_end_angle': _var(
+            'whip_angle', 'degree',
+            'whip antennas: nutation angle at the end'),
+        'whip_energy_lost': _var(
+            'whip_angle', 'J',
+            'whip antennas: energy lost, start to end'),
+        'whip_energy_lost_formula': _var(
+            'whip_angle', 'J',
+            'whip antennas: |H|^2 / 2 (1/A_min - 1/A_max)'),
+        'whip_energy_lost_error': _var(
+            'whip_angle', '1',
+            'whip antennas: energy lost / formula - 1'),
+        'whip_end_energy_error': _var(
+            'whip_angle', '1',
+            'whip antennas: end energy / (|H|^2 / (2 A_max)) - 1'),
+        'whip_status': _status('whip_angle',
+                          'whip antennas: member status'),
+        'whip_major_axis_end': _var(
+            'whip_angle', '1',
+            'whip antennas: ends spinning about the major axis (1) or not (0)', kind='i',
+            flag_values=(0, 1),
+            flag_meanings='other_axis major_axis'),
+        'whip_theta': _var(
+            ('whip_angle', 'whip_sample'), 'degree',
+            'whip antennas: nutation angle between the long axis and H'),
+        'whip_sample_time': _var(
+            'whip_sample', 's',
+            'whip antennas: time of the kept states'),
+        'whip_energy_ratio': _var(
+            ('whip_angle', 'whip_sample'), '1',
+            'whip antennas: energy over its start'),
+    })
+
+
 #: Every Dataset kind, by name: the free body's ensemble and each study kind's Dataset.
 SCHEMAS: Mapping[str, DatasetSchema] = MappingProxyType({s.name: s for s in (
     ENSEMBLE, TENNIS_RACKET, TWISTING_RACKET, ENGINE_ARTEFACTS, STABILITY_MAP, WORK_PRECISION,
-    EARTH_WOBBLE, EQUINOXES, GYROSCOPE, SLEEPING_TOP, BAT, ROLLING,
+    EARTH_WOBBLE, EQUINOXES, GYROSCOPE, SLEEPING_TOP, BAT, ROLLING, EXPLORER,
 )})
 
 

@@ -429,6 +429,8 @@ MEMORY = {
                                              "the summaries of"]),
     "engine_artefacts": (["--set", f"ensemble.members={ABSURD}"],
                          ["[ensemble] members = " + ABSURD]),
+    "explorer": (["--set", f"integration.samples={ABSURD}"],
+                 ["[integration] samples = " + ABSURD]),
     "gyroscope": (["--set", f"spins.count={ABSURD}"], ["[spins] count = " + ABSURD]),
     "rolling": (["--members", ABSURD], ["(--members): [launch] members = " + ABSURD]),
     "rolling samples": (["--set", f"launch.samples={ABSURD}"],

@@ -136,7 +136,7 @@ def test_the_site_builds_without_warnings_and_its_internal_links_resolve(tmp_pat
     studies = (out / "studies.html").read_text()
     assert all(kind in studies for kind in STUDIES)
     guides = "".join((out / "guide" / f"{g}.html").read_text() for g in (
-        "free_body", "torqued", "impacts_rolling", "twisting"))
+        "free_body", "torqued", "impacts_rolling", "twisting", "dissipation"))
     assert all("Scene <code" in guides and name in guides for name in SCENES)
     api = (out / "generated" / "api.html").read_text()
     assert "run_ensemble" in api and "exact_attitude" in api

@@ -347,6 +347,7 @@ RESUMED = {
     "earth_wobble": (["--set", "wobble.members=16", "--set", "run.chunk_members=2"], False),
     "engine_artefacts": (["--set", "run.chunk_members=8"], False),
     "equinoxes": (["--set", "run.chunk_members=1"], False),
+    "explorer": (["--set", "run.chunk_members=1"], True),
     "gyroscope": (["--set", "run.chunk_members=1"], True),
     "rolling": (["--set", "run.chunk_members=25"], True),
     "sleeping_top": (["--set", "run.chunk_members=16"], False),

@@ -37,7 +37,7 @@ def test_every_study_kinds_written_file_is_held_to_its_declaration():
     """Some test passes each kind's written file to ``assert_declared`` with the kind's name,
     so that a new kind cannot ship a Dataset its declaration does not describe."""
     sources = "".join(path.read_text(encoding="utf-8")
-                      for path in sorted(Path(__file__).parent.glob("test_*.py")))
+                      for path in sorted(Path(__file__).parent.rglob("test_*.py")))
     checked = set(re.findall(r'assert_declared\([^\n]*, "(\w+)"\)', sources))
     assert set(STUDIES) - checked == set()
 

@@ -202,8 +202,8 @@ def test_every_kind_declares_a_complete_schema():
 def test_every_kind_has_its_dataset_checked_against_cf():
     """Some test passes each kind's Dataset (its file name) to ``assert_cf_compliant``, so that
     a new kind cannot ship a file that CF readers reject."""
-    sources = "".join(path.read_text(encoding="utf-8")
-                      for path in sorted(Path(__file__).parent.glob("test_*.py")))
+    sources = "".join(path.read_text(encoding="utf-8")  # family folders too (tests/<family>/)
+                      for path in sorted(Path(__file__).parent.rglob("test_*.py")))
     checked = set(re.findall(r'assert_cf_compliant\([^,\n]*"([^"\n]+\.nc)"', sources))
     for name, kind in STUDIES.items():
         assert kind.schema.section("output").key("dataset").default in checked, name

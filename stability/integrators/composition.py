@@ -10,6 +10,8 @@ with neighbouring A half-flows merged (exact, since the A flow keeps m1), so s s
 sum g^(2k-1) = 0 for the palindromic sets below (checked in the tests).
 """
 
+import numpy as np
+
 from .lie_poisson import splitting_spec
 
 # Suzuki, Phys. Lett. A 146, 319 (1990): order 4 from 5 stages, g = (p, p, 1 - 4p, p, p).
@@ -44,6 +46,35 @@ def partitioned_coefficients(gammas):
     g = tuple(float(x) for x in gammas)
     a = (0.5 * g[0],) + tuple(0.5 * (g[i] + g[i + 1]) for i in range(len(g) - 1)) + (0.5 * g[-1],)
     return a, g
+
+
+def strang_table(gammas, outer, inner) -> np.ndarray:
+    """Stage table ``(kind, weight), ...`` (flat) of Strang steps composed with weights ``gammas``.
+
+    Strang step i of weight g_i is ``outer(g_i / 2)``, the ``inner`` flows, ``outer(g_i / 2)``;
+    the outer flows of neighbouring steps merge (their weights are ``partitioned_coefficients``'
+    a), so s steps cost ``s (len(inner) + 1) + 1`` stages.
+
+    Parameters
+    ----------
+    gammas : sequence of float
+        Palindromic composition weights (sum 1); ``(1.0,)`` is the Strang step itself.
+    outer : float
+        Stage kind of the outer flow.
+    inner : sequence of (float, float)
+        ``(kind, fraction of g_i)`` of each inner flow, in order.
+
+    Returns
+    -------
+    ndarray
+        ``kind_0, weight_0, kind_1, weight_1, ...`` (weights as fractions of h).
+    """
+    a, b = partitioned_coefficients(gammas)  # a: merged outer weights, b: the steps' weights
+    table = []
+    for a_i, b_i in zip(a[:-1], b):
+        table += [(outer, a_i), *((kind, fraction * b_i) for kind, fraction in inner)]
+    table.append((outer, a[-1]))
+    return np.array(table, dtype=float).ravel()
 
 
 def composition_spec(name, title, order, gammas, reference, note="", max_step_angle=None):

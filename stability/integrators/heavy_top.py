@@ -34,14 +34,12 @@ family runs one stage kernel (``splitting_stage``).
 
 from __future__ import annotations
 
-import math
-
 import numpy as np
 from numba import njit
 
-from ..trig import sin_cosm1
-from .composition import SUZUKI4, partitioned_coefficients
+from .composition import SUZUKI4, strang_table
 from .rk4 import euler_rhs
+from .rotations import carried_rotation
 from .spec import N_BODY_PARAMS, P_A1, P_A3, P_INV1, P_INV2, P_INV3, MethodSpec, body_params
 
 # Parameter layout: the body block (moments about the pivot, stability.integrators.spec), then
@@ -121,44 +119,15 @@ def splitting_stage(m1, m2, m3, g1, g2, g3, h, p, s):
     k1 = tk * (g2 * c3 - g3 * c2)
     k2 = tk * (g3 * c1 - g1 * c3)
     k3 = tk * (g1 * c2 - g2 * c1)
-    # A or S: m and g turn about body axis 1 (A) or 3 (S) by -theta; theta = t c_k m_k.
+    # A or S: m and g turn about body axis 1 (A) or 3 (S) by -theta, theta = t c_k m_k; S
+    # also turns g about m by -t |m| / I2 (the kick is on m only).
     first = kind == AXIS1
     tr = t if kind != KICK else 0.0
     coefficient = -p[P_A3] if first else p[P_A1]  # c1 = -A3, c3 = A1
     theta = tr * coefficient * (m1 if first else m3)
-    sn, cm1 = sin_cosm1(theta)
-    # (u, v) are the components across the axis: (2, 3) about axis 1, (1, 2) about axis 3.
-    mu = m2 if first else m1
-    mv = m3 if first else m2
-    gu = g2 if first else g1
-    gv = g3 if first else g2
-    dmu = cm1 * mu + sn * mv
-    dmv = cm1 * mv - sn * mu
-    dgu = cm1 * gu + sn * gv
-    dgv = cm1 * gv - sn * gu
-    r1 = 0.0 if first else dmu
-    r2 = dmu if first else dmv
-    r3 = dmv if first else 0.0
-    q1 = g1 + (0.0 if first else dgu)
-    q2 = g2 + (dgu if first else dgv)
-    q3 = g3 + (dgv if first else 0.0)
-    n1, n2, n3 = m1 + r1, m2 + r2, m3 + r3  # m after the axis rotation (the kick is on m only)
-    # S only: g turns about m by -phi, phi = t |m| / I2 (Rodrigues, with cos - 1):
-    # g <- g + (cos phi - 1)(g - n (n . g)) + sin phi (g x n), n = m / |m|.
-    norm = math.sqrt(n1 * n1 + n2 * n2 + n3 * n3)
-    phi = (t if kind == SYMMETRIC else 0.0) * norm * p[P_INV2]
-    sp, cp = sin_cosm1(phi)
-    inv = 1.0 / norm if norm > 0.0 else 0.0
-    u1, u2, u3 = n1 * inv, n2 * inv, n3 * inv
-    along = u1 * q1 + u2 * q2 + u3 * q3
-    e1 = cp * (q1 - u1 * along) + sp * (q2 * u3 - q3 * u2)
-    e2 = cp * (q2 - u2 * along) + sp * (q3 * u1 - q1 * u3)
-    e3 = cp * (q3 - u3 * along) + sp * (q1 * u2 - q2 * u1)
-    return (
-        k1 + r1, k2 + r2, k3 + r3,
-        (q1 - g1) + e1, (q2 - g2) + e2, (q3 - g3) + e3,
-        0,
-    )
+    r1, r2, r3, e1, e2, e3 = carried_rotation(m1, m2, m3, g1, g2, g3, first, theta,
+                                              t if kind == SYMMETRIC else 0.0, p[P_INV2])
+    return k1 + r1, k2 + r2, k3 + r3, e1, e2, e3, 0
 
 
 def sequence_params(gammas):
@@ -167,12 +136,7 @@ def sequence_params(gammas):
     Strang step i of weight g_i is K(g_i/2) A(g_i/2) S(g_i) A(g_i/2) K(g_i/2); the kicks of
     neighbouring steps merge, so s steps cost 4 s + 1 stages.
     """
-    a, b = partitioned_coefficients(gammas)  # a: merged kick weights, b: the steps' weights
-    table = []
-    for a_i, b_i in zip(a[:-1], b):
-        table += [(KICK, a_i), (AXIS1, 0.5 * b_i), (SYMMETRIC, b_i), (AXIS1, 0.5 * b_i)]
-    table.append((KICK, a[-1]))
-    table = np.array(table, dtype=float).ravel()
+    table = strang_table(gammas, KICK, ((AXIS1, 0.5), (SYMMETRIC, 1.0), (AXIS1, 0.5)))
 
     def params(top, h=0.0):
         return np.concatenate([top_params(top, h), table])

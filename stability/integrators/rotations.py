@@ -114,6 +114,50 @@ def cayley_increment(m1, m2, m3, f1, f2, f3):
     return scale * (u1 + v1), scale * (u2 + v2), scale * (u3 + v3)
 
 
+@njit(inline="always", error_model="numpy")
+def carried_rotation(m1, m2, m3, g1, g2, g3, first, theta, t_casimir, inv2):
+    """Free flow of a top that carries a vector g along: the increments of m and g.
+
+    Both m and g turn about body axis 1 (``first``) or 3 by the angle ``-theta`` (the flow of
+    ``c_k m_k^2 / 2``, ``theta = t c_k m_k``); then g turns about the new m by
+    ``-phi = -t_casimir |m| inv2`` (the flow of the Casimir part ``|m|^2 / (2 I2)``, which
+    leaves m fixed; Rodrigues with cos - 1)::
+
+        g <- g + (cos phi - 1)(g - n (n . g)) + sin phi (g x n),   n = m / |m|.
+
+    The vector g is the heavy top's vertical, or a damper's angular momentum, which the free
+    rotation carries as it carries m. Increments are formed with cos - 1 (``sin_cosm1``), so
+    small angles lose nothing; zero angles give increments of exactly zero.
+    """
+    sn, cm1 = sin_cosm1(theta)
+    # (u, v) are the components across the axis: (2, 3) about axis 1, (1, 2) about axis 3.
+    mu = m2 if first else m1
+    mv = m3 if first else m2
+    gu = g2 if first else g1
+    gv = g3 if first else g2
+    dmu = cm1 * mu + sn * mv
+    dmv = cm1 * mv - sn * mu
+    dgu = cm1 * gu + sn * gv
+    dgv = cm1 * gv - sn * gu
+    r1 = 0.0 if first else dmu
+    r2 = dmu if first else dmv
+    r3 = dmv if first else 0.0
+    q1 = g1 + (0.0 if first else dgu)
+    q2 = g2 + (dgu if first else dgv)
+    q3 = g3 + (dgv if first else 0.0)
+    n1, n2, n3 = m1 + r1, m2 + r2, m3 + r3  # m after the axis rotation
+    norm = math.sqrt(n1 * n1 + n2 * n2 + n3 * n3)
+    phi = t_casimir * norm * inv2
+    sp, cp = sin_cosm1(phi)
+    inv = 1.0 / norm if norm > 0.0 else 0.0
+    u1, u2, u3 = n1 * inv, n2 * inv, n3 * inv
+    along = u1 * q1 + u2 * q2 + u3 * q3
+    e1 = cp * (q1 - u1 * along) + sp * (q2 * u3 - q3 * u2)
+    e2 = cp * (q2 - u2 * along) + sp * (q3 * u1 - q1 * u3)
+    e3 = cp * (q3 - u3 * along) + sp * (q1 * u2 - q2 * u1)
+    return r1, r2, r3, (q1 - g1) + e1, (q2 - g2) + e2, (q3 - g3) + e3
+
+
 @njit(inline="always")
 def unless_failed(d1, d2, d3, it):
     """``(d1, d2, d3, it)``, with a zero increment when the solve failed (``it <= 0``)."""

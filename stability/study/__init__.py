@@ -6,7 +6,8 @@ each kind to its :class:`~.config.StudyKind`: the schema its files are checked a
 ``stability run`` calls.
 
 To add a kind of study: write one module here with its ``SCHEMA``, ``outputs`` and ``run``
-(see :mod:`.tennis_racket`), add one line to ``STUDIES``, and declare the Dataset it writes
+(see :mod:`.tennis_racket`), or the ``studies.py`` of a family package
+(:mod:`stability.dissipation.studies`), add one line to ``STUDIES``, and declare the Dataset it writes
 in :data:`stability.schema.SCHEMAS` under the kind's name (the tests hold its file to it). A
 study orchestrates: its ``run`` reads the resolved file, calls the package (references, sweeps,
 estimators, shape grids live there, once), saves the Dataset, draws the figures and
@@ -21,6 +22,7 @@ import os
 import stat
 from pathlib import Path
 
+from ..dissipation import studies as dissipation
 from ..stream import RunInterrupted
 from . import (
     bat, earth_wobble, engine_artefacts, equinoxes, gyroscope, rolling, sleeping_top,
@@ -49,6 +51,7 @@ STUDIES: dict[str, StudyKind] = {
     "earth_wobble": earth_wobble.STUDY,
     "engine_artefacts": engine_artefacts.STUDY,
     "equinoxes": equinoxes.STUDY,
+    "explorer": dissipation.STUDY,
     "gyroscope": gyroscope.STUDY,
     "rolling": rolling.STUDY,
     "sleeping_top": sleeping_top.STUDY,

@@ -1,0 +1,189 @@
+"""Figures of the Explorer study, drawn from its Dataset alone
+(:func:`stability.dissipation.explorer.measure_explorer`).
+
+- :func:`nutation_figure`: the nutation angle against time, growing at the linear rate, then
+  the turn into the flat spin at every damping;
+- :func:`flat_time_figure`: the growth rate and the time to the flat spin against the damping,
+  measured beside the linear theory and the energy-sink estimate, the optimum marked;
+- :func:`end_state_figure`: the energy falling to that of the flat spin, and every member's
+  measured rates, |H| and energy against the theory.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from .. import conventions as cv
+from ..figures.style import (AXIS_COLORS, EXACT_COLOR, label, new_figure, place_legend,
+                             plain_log_ticks, styled)
+from .model import axisymmetric_eigenvalues, energy_sink_rate, growth_rate
+
+#: Minutes per second, for time axes.
+MINUTE = 60.0
+
+
+def _colors(n):
+    """n colours from the package's palette, then matplotlib's tab10."""
+    palette = list(AXIS_COLORS) + ["#d62728", "#9467bd", "#8c564b", "#e377c2", "#7f7f7f"]
+    return [palette[k % len(palette)] for k in range(n)]
+
+
+def _nearest_optimum(ds) -> int:
+    """Index of the damping nearest the linear optimum."""
+    c = ds.c.values
+    return int(np.argmin(np.abs(np.log(c / ds.attrs["c_linear_optimum"]))))
+
+
+@styled
+def nutation_figure(ds):
+    """The nutation angle against time: every start at the damping nearest the optimum on a log
+    scale, with ``theta0 exp(rate t)`` at the linear rate dashed; and the smallest start at
+    every damping, in degrees, turning into the flat spin.
+
+    Parameters
+    ----------
+    ds : xarray.Dataset
+        The Explorer study's Dataset.
+    """
+    fig = new_figure(7.5, 7.0)
+    log_ax, flat_ax = fig.subplots(2, 1)
+    g = _nearest_optimum(ds)
+    t = ds.sample_time.values[g] / MINUTE
+    for k, color in enumerate(_colors(ds.angle.size)):
+        theta = ds.theta.values[g, k]
+        log_ax.semilogy(t, theta, color=color, lw=1.2,
+                        label=f"theta0 = {ds.angle.values[k]:g}°")
+        rate = float(ds.growth_rate_linear.values[g, k])
+        early = t <= ds.flat_time_linear.values[g, k] / MINUTE
+        log_ax.semilogy(t[early], theta[0] * np.exp(rate * t[early] * MINUTE), ls="--",
+                        color=EXACT_COLOR, lw=0.8)
+    log_ax.plot([], [], ls="--", color=EXACT_COLOR, lw=0.8, label="theta0 exp(linear rate t)")
+    log_ax.axhline(ds.attrs["flat_angle"], color="gray", ls=":", lw=1)
+    log_ax.set_ylim(top=120.0)
+    log_ax.set_xlabel(label("time", "min"))
+    log_ax.set_ylabel(label("nutation angle theta", "degree"))
+    log_ax.set_title(f"c = {ds.damping.values[g]:g} c*: the linear growth, then the flat spin",
+                     fontsize=9)
+    place_legend(log_ax, fontsize=7)
+    for j, color in enumerate(_colors(ds.damping.size)):
+        flat_ax.plot(ds.sample_time.values[j] / MINUTE, ds.theta.values[j, 0], color=color,
+                     lw=1.2, label=f"c = {ds.damping.values[j]:g} c*")
+    if "whip_theta" in ds:
+        flat_ax.plot(ds.whip_sample_time.values / MINUTE, ds.whip_theta.values[0], ls="--",
+                     color="gray", lw=1.2,
+                     label=f"whip antennas, theta0 = {ds.whip_angle.values[0]:g}°")
+    flat_ax.axhline(90.0, color=EXACT_COLOR, ls=":", lw=1, label="flat spin (90°)")
+    flat_ax.set_xlabel(label("time", "min"))
+    flat_ax.set_ylabel(label("nutation angle theta", "degree"))
+    flat_ax.set_title(f"theta0 = {ds.angle.values[0]:g}° at every damping", fontsize=9)
+    place_legend(flat_ax, fontsize=7)
+    fig.suptitle(f"{ds.attrs['body']}, spherical damper J = {ds.attrs['J']:g} kg m²: the "
+                 "nutation grows into a flat spin", fontsize=10)
+    return fig
+
+
+@styled
+def flat_time_figure(ds):
+    """Growth rate and time to the flat spin against the damping: measured, by the linear
+    eigenvalue and by the energy-sink estimate, the optima marked.
+
+    Parameters
+    ----------
+    ds : xarray.Dataset
+        The Explorer study's Dataset.
+    """
+    fig = new_figure(7.5, 7.5)
+    rate_ax, time_ax = fig.subplots(2, 1, sharex=True)
+    I_s, I_t = ds.attrs["moments"][:2]
+    J, W = ds.attrs["J"], ds.attrs["spin"]
+    c_star = ds.attrs["c_energy_sink_optimum"]
+    dense = np.geomspace(ds.damping.values.min() / 2, ds.damping.values.max() * 2, 200)
+    linear = np.array([growth_rate(axisymmetric_eigenvalues(I_s, I_t, J, f * c_star, W))
+                       for f in dense])
+    sink = energy_sink_rate(I_s, I_t, J, dense * c_star, W)
+    rate_ax.loglog(dense, linear, color=EXACT_COLOR, lw=1.2, label="linear eigenvalue")
+    rate_ax.loglog(dense, sink, color=AXIS_COLORS[1], ls="--", lw=1.2,
+                   label="energy-sink estimate")
+    measured = ds.growth_rate_measured.values
+    for k, color in enumerate(_colors(ds.angle.size)):
+        shown = np.isfinite(measured[:, k])
+        if shown.any():
+            rate_ax.loglog(ds.damping.values[shown], measured[shown, k], "o", ms=5, mfc="none",
+                           color=color, label=f"fitted, theta0 = {ds.angle.values[k]:g}°")
+    rate_ax.set_ylabel(label("growth rate of the nutation", cv.UNITS_RATE))
+    rate_ax.set_title("growth rate about the minor axis", fontsize=9)
+    for k, color in enumerate(_colors(ds.angle.size)):
+        time_ax.loglog(ds.damping.values, ds.flat_time.values[:, k] / MINUTE, "o-", ms=4,
+                       color=color, lw=0.8, label=f"run, theta0 = {ds.angle.values[k]:g}°")
+    log_ratio = np.log(np.tan(np.radians(ds.attrs["flat_angle"]))
+                       / np.tan(np.radians(ds.angle.values[0])))
+    time_ax.loglog(dense, log_ratio / linear / MINUTE, color=EXACT_COLOR, lw=1.0,
+                   label=f"linear rate, theta0 = {ds.angle.values[0]:g}°")
+    time_ax.loglog(dense, log_ratio / sink / MINUTE, color=AXIS_COLORS[1], ls="--", lw=1.0,
+                   label=f"energy sink, theta0 = {ds.angle.values[0]:g}°")
+    optimum = ds.attrs["c_linear_optimum"] / c_star
+    for ax in (rate_ax, time_ax):
+        ax.axvline(optimum, color=EXACT_COLOR, ls=":", lw=1)
+        ax.axvline(1.0, color=AXIS_COLORS[1], ls=":", lw=1)
+    time_ax.plot([], [], color=EXACT_COLOR, ls=":", lw=1,
+                 label=f"optimum c = {ds.attrs['c_linear_optimum']:.3g} N m s (linear)")
+    time_ax.plot([], [], color=AXIS_COLORS[1], ls=":", lw=1,
+                 label=f"c* = J W I_s / I_t = {c_star:.3g} N m s")
+    time_ax.set_xlabel(label("damping c / c*", cv.UNITS_DIMENSIONLESS))
+    time_ax.set_ylabel(label(f"time to {ds.attrs['flat_angle']:g}° (flat spin)", "min"))
+    plain_log_ticks(time_ax, "x")
+    place_legend(rate_ax, fontsize=7)
+    place_legend(time_ax, fontsize=7)
+    fig.suptitle(f"{ds.attrs['body']}: the damping that turns it over fastest", fontsize=10)
+    return fig
+
+
+@styled
+def end_state_figure(ds, claim=None):
+    """The energy falling to the flat spin's, and every member against the theory: rates,
+    |H|, the energy lost and the end energy.
+
+    Parameters
+    ----------
+    ds : xarray.Dataset
+        The Explorer study's Dataset.
+    claim : float, optional
+        The relative difference claimed for the rates (a line).
+    """
+    fig = new_figure(7.5, 7.5)
+    energy_ax, error_ax = fig.subplots(2, 1)
+    for j, color in enumerate(_colors(ds.damping.size)):
+        t = ds.sample_time.values[j] / MINUTE
+        energy_ax.plot(t, ds.energy_ratio.values[j, 0], color=color, lw=1.2,
+                       label=f"c = {ds.damping.values[j]:g} c*")
+    if "whip_energy_ratio" in ds:
+        energy_ax.plot(ds.whip_sample_time.values / MINUTE, ds.whip_energy_ratio.values[0],
+                       ls="--", color="gray", lw=1.2,
+                       label=f"whip antennas, theta0 = {ds.whip_angle.values[0]:g}°")
+    flat = float(ds.flat_energy_ratio.values[0, 0])
+    energy_ax.axhline(flat, color=EXACT_COLOR, ls=":", lw=1,
+                      label="|H|²/(2 A_max) over the start's energy")
+    energy_ax.set_yscale("log")
+    energy_ax.set_xlabel(label("time", "min"))
+    energy_ax.set_ylabel(label("energy / its start", cv.UNITS_DIMENSIONLESS))
+    energy_ax.set_title(f"theta0 = {ds.angle.values[0]:g}°: the energy falls to the flat "
+                        "spin's and stays there", fontsize=9)
+    place_legend(energy_ax, fontsize=7)
+    members = np.arange(ds.damping.size * ds.angle.size)
+    rows = (("growth_rate_error", "growth rate vs linear", "o"),
+            ("decay_rate_error", "decay about the major axis vs linear", "s"),
+            ("angular_momentum_drift", "|H| largest relative change", "^"),
+            ("end_energy_error", "end energy vs |H|²/(2 A_max)", "D"))
+    for (name, text, marker), color in zip(rows, _colors(len(rows))):
+        values = np.abs(ds[name].values.reshape(-1))
+        shown = np.isfinite(values)
+        error_ax.semilogy(members[shown], np.maximum(values[shown], 1e-17), marker, ms=4,
+                          color=color, mfc="none", label=text)
+    if claim is not None:
+        error_ax.axhline(claim, color=EXACT_COLOR, ls="--", lw=1, label=f"claim {claim:g}")
+    error_ax.set_xlabel(label("member (damping-major order)", cv.UNITS_DIMENSIONLESS))
+    error_ax.set_ylabel(label("|relative difference|", cv.UNITS_DIMENSIONLESS))
+    error_ax.set_title(f"every member against the theory ({ds.attrs['method']})", fontsize=9)
+    place_legend(error_ax, fontsize=7)
+    fig.suptitle(f"{ds.attrs['body']}: |H| kept, the energy lost to the flat spin", fontsize=10)
+    return fig

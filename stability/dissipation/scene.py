@@ -1,0 +1,214 @@
+"""Two damped bodies: a rigid shell with a viscous spherical damper, and one with a spring-mass
+damper. Both keep |H| and lose energy, so both end spinning about their major axis.
+
+Scene ``sphere_damper``: the state is ``(m1, m2, m3, s1, s2, s3)``, the shell's angular
+momentum ``m = I w`` and the sphere's ``s = J w_s``, in the shell's principal frame (canonical,
+``I1 <= I2 <= I3``). Parameters per body: ``(I1, I2, I3, J, c)``, the shell's moments, the
+sphere's and the viscous coefficient (the fluid's torque on the shell is ``c (w_s - w)``).
+Equations and methods: :mod:`stability.dissipation.methods`::
+
+    m' = m x w + c (w_s - w),    s' = s x w - c (w_s - w).
+
+Scene ``whip_damper``: four flexible whip antennas, radial from the body along ``+-e2`` and
+``+-e3`` at the arm ``b``, whose tips bend along the spin axis e1: each opposite pair bends
+antisymmetrically (tips at ``+-(b e_k + z_k e1)``, so the centre of mass stays put) on a
+spring ``k`` with a dashpot ``c``, ``mu`` the mass of a pair. The state is
+``(H1, H2, H3, z2, z3, p2, p3)``: the total angular momentum, the pairs' deflections and their
+momenta ``p2 = mu (z2' - b w3)``, ``p3 = mu (z3' + b w2)``. From the kinetic energy
+``T = w . I w / 2 + sum_k mu |w x r_k + z_k' e1|^2 / 2``, ``r_k = b e_k + z_k e1``,
+Lagrange's equations in the body frame give::
+
+    H' = H x w,   z2' = p2 / mu + b w3,   z3' = p3 / mu - b w2,
+    p2' = mu (z2 (w2^2 + w3^2) - b w1 w2) - k z2 - c z2',
+    p3' = mu (z3 (w2^2 + w3^2) - b w1 w3) - k z3 - c z3',
+
+with w from the state (:func:`~stability.dissipation.methods.whip_rates`). One pair alone would
+leave a spin about the axis across both its arm and e1 undamped at linear order; two pairs damp
+every spin. Parameters per body: ``(I1, I2, I3, mu, b, k, c)``, the body's moments without the
+tips (e1 the long axis).
+
+Invariant of both: |H| (``angular_momentum``). The energy (:func:`sphere_energy`,
+:func:`whip_energy`) is not one: it falls at the rate ``c |w_s - w|^2`` (sphere) or
+``c (z2'^2 + z3'^2)`` (whips), a Lyapunov function. Tracking: the spin-axis component is
+``H_a / |H|`` (the cosine of the nutation angle between body axis a and H: it changes sign when
+that axis turns perpendicular to H) and the amplitude across it ``sqrt(H_b^2 + H_c^2) / |H|``,
+its sine, returned as ``b`` with ``c = 0``.
+"""
+
+import math
+
+import numpy as np
+from numba import njit
+
+from .. import conventions as cv
+from ..scenes.free_body import component
+from ..scenes.spec import Scene
+from .methods import (B_B, B_I1, B_I2, B_I3, B_K, B_MU, B_MU_B, P_INV1, P_INV2, P_INV3,
+                      P_INV_J, SPHERE_METHODS, WHIP_METHODS, sphere_params, whip_params,
+                      whip_rates)
+
+
+@njit(inline="always")
+def nutation_components(H1, H2, H3, ia, ib, ic):
+    """``(H_a / |H|, sqrt(H_b^2 + H_c^2) / |H|, 0)``: cosine and sine of body axis a's angle
+    from H."""
+    hb = component(H1, H2, H3, ib)
+    hc = component(H1, H2, H3, ic)
+    across = math.sqrt(hb * hb + hc * hc)
+    norm = math.sqrt(H1 * H1 + H2 * H2 + H3 * H3)
+    inv = 1.0 / norm if norm > 0.0 else 0.0
+    return component(H1, H2, H3, ia) * inv, across * inv, 0.0
+
+
+def nutation_tracked(H, axes):
+    """:func:`nutation_components` in NumPy over angular momenta ``H`` (N, 3)."""
+    norm = np.linalg.norm(H, axis=1)
+    norm = np.where(norm > 0.0, norm, np.inf)
+    across = np.hypot(H[:, axes[1]], H[:, axes[2]])
+    return H[:, axes[0]] / norm, across / norm, np.zeros(H.shape[0])
+
+
+def sphere_momentum(x):
+    """The total angular momentum ``H = m + s`` (kg m2 s-1) of states ``x`` (..., 6)."""
+    return x[..., 0:3] + x[..., 3:6]
+
+
+@njit(inline="always")
+def sphere_observe(m1, m2, m3, s1, s2, s3, p, ia, ib, ic):
+    """Cosine and sine of body axis a's angle from ``H = m + s``."""
+    return nutation_components(m1 + s1, m2 + s2, m3 + s3, ia, ib, ic)
+
+
+def sphere_tracked(x, p, axes):
+    """:func:`sphere_observe` in NumPy over states ``x`` (N, 6)."""
+    return nutation_tracked(sphere_momentum(x), axes)
+
+
+def sphere_angular_momentum(x, values):
+    """``|H| = |m + s|`` (kg m2 s-1) of states ``x`` (N, 6); constant."""
+    return np.linalg.norm(sphere_momentum(x), axis=-1)
+
+
+def sphere_energy(x, values):
+    """``E = (m . I^-1 m + |s|^2 / J) / 2`` (J) of states ``x`` (..., 6); falls at the rate
+    ``c |s / J - I^-1 m|^2``."""
+    p = sphere_params(values)
+    inverse = np.array([p[P_INV1], p[P_INV2], p[P_INV3]])
+    return 0.5 * (np.sum(x[..., 0:3] ** 2 * inverse, axis=-1)
+                  + np.sum(x[..., 3:6] ** 2, axis=-1) * p[P_INV_J])
+
+
+def sphere_rigid_state(values, w):
+    """States (N, 6) of the body turning rigidly at ``w`` (N, 3), the sphere with the shell:
+    ``m = I w``, ``s = J w``."""
+    values = np.asarray(values, dtype=float)
+    w = np.atleast_2d(np.asarray(w, dtype=float))
+    return np.hstack([w * values[:3], w * values[3]])
+
+
+def sphere_moments(values) -> np.ndarray:
+    """The whole system's principal moments ``A_k = I_k + J`` (kg m2): the shell and the
+    sphere turning with it."""
+    values = np.asarray(values, dtype=float)
+    return values[:3] + values[3]
+
+
+def sphere_example(n, seed=0):
+    """Starts near a spin about the minor axis, the sphere turning with the shell, and three
+    bodies (generic tests)."""
+    rng = np.random.default_rng(seed)
+    w = np.column_stack([np.full(n, 2.0), 1e-2 * rng.standard_normal((n, 2))])
+    sets = [np.array([1.0, 2.0, 3.0, 0.2, 0.1]), np.array([1.0, 1.5, 2.2, 0.5, 2.0]),
+            np.array([0.5, 2.0, 2.0, 0.05, 0.01])]
+    return sphere_rigid_state(sets[0], w), sets
+
+
+SPHERE_DAMPER = Scene(
+    name="sphere_damper",
+    title="rigid body with a viscous spherical damper (shell and sphere angular momenta)",
+    equations="m' = m x w + c (w_s - w), s' = s x w - c (w_s - w) (m = I w, s = J w_s)",
+    components=("m1", "m2", "m3", "s1", "s2", "s3"),
+    units=(cv.UNITS_ANGULAR_MOMENTUM,) * 6,
+    methods=SPHERE_METHODS,
+    observe=sphere_observe,
+    tracked=sphere_tracked,
+    invariants={"angular_momentum": sphere_angular_momentum},
+    example=sphere_example,
+    parameters=("I1", "I2", "I3", "J", "c"),
+)
+
+
+@njit(inline="always")
+def whip_observe(H1, H2, H3, z2, z3, p2, p3, p, ia, ib, ic):
+    """Cosine and sine of body axis a's angle from H."""
+    return nutation_components(H1, H2, H3, ia, ib, ic)
+
+
+def whip_tracked(x, p, axes):
+    """:func:`whip_observe` in NumPy over states ``x`` (N, 7)."""
+    return nutation_tracked(x[:, 0:3], axes)
+
+
+def whip_momentum(x):
+    """The total angular momentum H (kg m2 s-1) of states ``x`` (..., 7)."""
+    return x[..., 0:3]
+
+
+def whip_angular_momentum(x, values):
+    """``|H|`` (kg m2 s-1) of states ``x`` (N, 7); constant."""
+    return np.linalg.norm(whip_momentum(x), axis=-1)
+
+
+def whip_energy(x, values):
+    """``E = (H . w + p2 z2' + p3 z3' + k (z2^2 + z3^2)) / 2`` (J) of states ``x`` (..., 7);
+    falls at the rate ``c (z2'^2 + z3'^2)``."""
+    p = whip_params(values)
+    x = np.asarray(x, dtype=float)
+    H1, H2, H3, z2, z3, p2, p3 = (x[..., k] for k in range(7))
+    w1, w2, w3, dz2, dz3 = whip_rates.py_func(H1, H2, H3, z2, z3, p2, p3, p)
+    return 0.5 * (H1 * w1 + H2 * w2 + H3 * w3 + p2 * dz2 + p3 * dz3
+                  + p[B_K] * (z2 * z2 + z3 * z3))
+
+
+def whip_rigid_state(values, w):
+    """States (N, 7) of the body turning rigidly at ``w`` (N, 3), the tips at rest in it:
+    ``H = A w`` (:func:`whip_moments`), ``z = 0``, ``p2 = -mu b w3``, ``p3 = mu b w2``."""
+    p = whip_params(values)
+    w = np.atleast_2d(np.asarray(w, dtype=float))
+    mu_b = p[B_MU_B]
+    return np.column_stack([w * whip_moments(values), np.zeros((w.shape[0], 2)),
+                            -mu_b * w[:, 2], mu_b * w[:, 1]])
+
+
+def whip_moments(values) -> np.ndarray:
+    """The whole system's principal moments (kg m2), tips at rest:
+    ``(I1 + 2 mu b^2, I2 + mu b^2, I3 + mu b^2)``."""
+    p = whip_params(values)
+    extra = p[B_MU] * p[B_B] ** 2
+    return np.array([p[B_I1] + 2.0 * extra, p[B_I2] + extra, p[B_I3] + extra])
+
+
+def whip_example(n, seed=0):
+    """Starts near a spin about the long axis e1, the tips at rest, and three bodies."""
+    rng = np.random.default_rng(seed)
+    sets = [np.array([1.0, 2.0, 3.0, 0.05, 0.5, 3.0, 0.2]),
+            np.array([0.5, 2.0, 2.0, 0.02, 0.8, 1.0, 0.05]),
+            np.array([1.0, 1.5, 2.2, 0.1, 0.3, 5.0, 0.5])]
+    w = np.column_stack([np.full(n, 2.0), 1e-2 * rng.standard_normal((n, 2))])
+    return whip_rigid_state(sets[0], w), sets
+
+
+WHIP_DAMPER = Scene(
+    name="whip_damper",
+    title="rigid body with four whip antennas (two pairs of spring-mass dampers)",
+    equations="H' = H x w, z2' = p2 / mu + b w3, z3' = p3 / mu - b w2, "
+              "p_k' = mu (z_k (w2^2 + w3^2) - b w1 w_k) - k z_k - c z_k'",
+    components=("H1", "H2", "H3", "z2", "z3", "p2", "p3"),
+    units=(cv.UNITS_ANGULAR_MOMENTUM,) * 3 + ("m", "m", "kg m s-1", "kg m s-1"),
+    methods=WHIP_METHODS,
+    observe=whip_observe,
+    tracked=whip_tracked,
+    invariants={"angular_momentum": whip_angular_momentum},
+    example=whip_example,
+    parameters=("I1", "I2", "I3", "mu", "b", "k", "c"),
+)
