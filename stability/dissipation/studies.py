@@ -21,7 +21,7 @@ import numpy as np
 
 from ..study.config import (
     ConfigError, Key, Schema, Section, StudyKind, StudySummary, check_memory, check_run,
-    output_files, output_section, run_section, stored_run, write_outputs,
+    output_files, output_section, run_rows, run_section, stored_run, write_outputs,
 )
 from ..threads import numba_threads
 from .explorer import Whips, measure_explorer
@@ -283,10 +283,7 @@ def summarize(ds, out_dir, files, wall) -> StudySummary:
             ("whips: |H| largest relative change (rk4)",
              f"{values['whip_max_angular_momentum_drift']:.1e}", ""),
         ]
-    rows += [("members not ok", f"{values['members_failed']}", ""),
-             ("wall time (all) / integration",
-              f"{wall:.1f} / {values['integration_time']:.1f}", "s"),
-             ("member-steps", f"{values['member_steps']:.3g}", "")]
+    rows += run_rows(values, wall)
     return StudySummary(NAME, Path(out_dir), files, rows, values)
 
 

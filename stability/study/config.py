@@ -826,6 +826,16 @@ class StudySummary:
         return "\n\n".join(parts)
 
 
+def run_rows(values: dict, wall: float) -> list:
+    """The closing rows of a summary of stored runs: the members not ok, the wall time (all, and
+    the integration's) and the member-steps, from ``values`` (``members_failed``,
+    ``integration_time``, ``member_steps``) and ``wall`` (s)."""
+    return [("members not ok", f"{values['members_failed']}", ""),
+            ("wall time (all) / integration", f"{wall:.1f} / {values['integration_time']:.1f}",
+             "s"),
+            ("member-steps", f"{values['member_steps']:.3g}", "")]
+
+
 @dataclass
 class SummaryTable:
     """A table of a study's summary with one column per quantity (:attr:`StudySummary.tables`).

@@ -20,7 +20,7 @@ import numpy as np
 
 from .config import (
     ConfigError, Key, Schema, Section, StudyKind, StudySummary, check_memory, check_run,
-    output_files, output_section, run_section, stored_run, write_outputs,
+    output_files, output_section, run_rows, run_section, stored_run, write_outputs,
 )
 from .tops import check_spins, symmetric_top, top_keys, top_methods
 
@@ -195,10 +195,7 @@ def summarize(ds, out_dir, files, wall) -> StudySummary:
             values[f"fast_top_amplitude_offset_{label}"] = float(ratio)
             rows.append((f"  amplitude released at rest, at {spin:.0f} rad/s", f"{ratio:.1e}",
                          ""))
-    rows += [("members not ok", f"{values['members_failed']}", ""),
-             ("wall time (all) / integration",
-              f"{wall:.1f} / {values['integration_time']:.1f}", "s"),
-             ("member-steps", f"{values['member_steps']:.3g}", "")]
+    rows += run_rows(values, wall)
     return StudySummary(NAME, Path(out_dir), files, rows, values)
 
 
