@@ -25,7 +25,6 @@ import sys
 
 import numpy as np
 
-from ..engine.loop import N_TRACK
 
 #: The issue's target for RK4 on one H100 (member-steps/s).
 TARGET_RK4_H100 = 1e11
@@ -70,6 +69,7 @@ def time_kernel(cuda, method, members, steps, tracked, repeat=3, scene="free_bod
     from ..scenes import scene as registered_scene
     from .kernels import member_kernel
     from .methods import THREADS_PER_BLOCK, gpu_method
+    from .run import DeviceMembers
 
     scene = registered_scene(scene)
     spec = gpu_method(method, scene)
@@ -78,18 +78,8 @@ def time_kernel(cuda, method, members, steps, tracked, repeat=3, scene="free_bod
     axes = [TRACK_AXES.get(scene.name, (2, 0, 1))] if tracked else None
     a = member_arrays(scene, x0, params, [members], STEP, steps, 0, axes, None)
 
-    def on_device(array):
-        return cuda.to_device(np.ascontiguousarray(array))
-
-    width = scene.width
-    args = [on_device(a.x.T), on_device(a.comp.T), on_device(a.params),
-            on_device(np.zeros(members, dtype=np.int32)), on_device(a.hs),
-            on_device(a.total), on_device(np.zeros(1, dtype=np.int64)), on_device(a.axes),
-            on_device(a.track.T if tracked else np.zeros((N_TRACK, 1))),
-            on_device(a.thresholds), on_device(a.levels),
-            on_device(a.passage.T if tracked else np.zeros((0, 1))), on_device(a.status),
-            on_device(a.fail_step), on_device(a.iterations),
-            on_device(np.zeros((1, width, 1))), 0, on_device(np.zeros(1, dtype=np.int64))]
+    zero = np.zeros(1, dtype=np.int64)
+    args = DeviceMembers(cuda, a).arguments(a.total, zero, zero, 0)
     kernel = member_kernel(scene, spec, tracked)
     blocks = -(-members // THREADS_PER_BLOCK)
 

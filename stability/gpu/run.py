@@ -67,34 +67,13 @@ def propagate_groups_gpu(
     kernel = member_kernel(scene, spec, tracked)
     compile_time = _ready(cuda, kernel, width, a.params.shape[1], a.levels.shape[1])
 
-    def on_device(array):
-        return cuda.to_device(np.ascontiguousarray(array))
-
-    x_d = on_device(a.x.T)
-    comp_d = on_device(a.comp.T)
-    params_d = on_device(a.params)
-    group_d = on_device(np.repeat(np.arange(a.sizes.size, dtype=np.int32), a.sizes))
-    hs_d = on_device(a.hs)
-    axes_d = on_device(a.axes)
-    track_d = on_device(a.track.T if tracked else np.zeros((N_TRACK, 1)))
-    thresholds_d = on_device(a.thresholds)
-    levels_d = on_device(a.levels)
-    passage_d = on_device(a.passage.T if tracked else np.zeros((0, 1)))
-    status_d = on_device(a.status)
-    fail_d = on_device(a.fail_step)
-    iterations_d = on_device(a.iterations)
-    saved_d = on_device(np.full((max(a.n_saved, 1), width, n_members if a.n_saved else 1),
-                                np.nan))
+    members = DeviceMembers(cuda, a)
     blocks = max(1, -(-n_members // threads_per_block))
     done = np.zeros(a.sizes.size, dtype=np.int64)
     k_saved = np.zeros(a.sizes.size, dtype=np.int64)
 
     def run_chunk(this):
-        kernel[blocks, threads_per_block](
-            x_d, comp_d, params_d, group_d, hs_d, on_device(this), on_device(done), axes_d,
-            track_d, thresholds_d, levels_d, passage_d, status_d, fail_d, iterations_d,
-            saved_d, save_every, on_device(k_saved),
-        )
+        kernel[blocks, threads_per_block](*members.arguments(this, done, k_saved, save_every))
         cuda.synchronize()
 
     wall, interrupted = (0.0, False) if n_members == 0 else run_in_chunks(
@@ -105,18 +84,64 @@ def propagate_groups_gpu(
         done[:] = a.total
     if interrupted and not partial:
         raise KeyboardInterrupt
-    a.x[:] = x_d.copy_to_host().T
-    a.comp[:] = comp_d.copy_to_host().T
-    a.status[:] = status_d.copy_to_host()
-    a.fail_step[:] = fail_d.copy_to_host()
-    a.iterations[:] = iterations_d.copy_to_host()
-    if tracked:
-        a.track[:] = track_d.copy_to_host().T
-        a.passage[:] = passage_d.copy_to_host().T
-    saved = np.empty((n_members, a.n_saved, width))
-    if a.n_saved:
-        saved[:] = saved_d.copy_to_host().transpose(2, 0, 1)
+    saved = members.copy_back(a)
     return a.propagation(saved, done, k_saved, interrupted, wall, compile_time)
+
+
+class DeviceMembers:
+    """The arrays of :class:`~stability.engine.run.MemberArrays` on the device, laid out for
+    the kernel (:mod:`stability.gpu.kernels`): structure of arrays, members last.
+
+    Parameters
+    ----------
+    cuda : module
+        ``numba.cuda`` (a device or the simulator).
+    a : MemberArrays
+        The members, on the host.
+    """
+
+    def __init__(self, cuda, a):
+        self._cuda = cuda
+        tracked = a.track.shape[0] > 0
+        n_members, width = a.x.shape
+        put = self._put
+        self.x, self.comp, self.params = put(a.x.T), put(a.comp.T), put(a.params)
+        self.group = put(np.repeat(np.arange(a.sizes.size, dtype=np.int32), a.sizes))
+        self.hs, self.axes = put(a.hs), put(a.axes)
+        self.track = put(a.track.T if tracked else np.zeros((N_TRACK, 1)))
+        self.thresholds, self.levels = put(a.thresholds), put(a.levels)
+        self.passage = put(a.passage.T if tracked else np.zeros((0, 1)))
+        self.status, self.fail_step = put(a.status), put(a.fail_step)
+        self.iterations = put(a.iterations)
+        self.saved = put(np.full((max(a.n_saved, 1), width, n_members if a.n_saved else 1),
+                                 np.nan))
+
+    def _put(self, array):
+        return self._cuda.to_device(np.ascontiguousarray(array))
+
+    def arguments(self, steps, done, k0, save_every) -> tuple:
+        """The kernel's arguments (:data:`stability.gpu.kernels.ARGUMENTS`) for a launch of
+        ``steps`` per group after ``done`` steps and ``k0`` saved samples."""
+        return (self.x, self.comp, self.params, self.group, self.hs, self._put(steps),
+                self._put(done), self.axes, self.track, self.thresholds, self.levels,
+                self.passage, self.status, self.fail_step, self.iterations, self.saved,
+                save_every, self._put(k0))
+
+    def copy_back(self, a) -> np.ndarray:
+        """Copy the members' state, status and tracking into ``a``; the saved samples
+        (N, n_saved, n)."""
+        a.x[:] = self.x.copy_to_host().T
+        a.comp[:] = self.comp.copy_to_host().T
+        a.status[:] = self.status.copy_to_host()
+        a.fail_step[:] = self.fail_step.copy_to_host()
+        a.iterations[:] = self.iterations.copy_to_host()
+        if a.track.shape[0] > 0:
+            a.track[:] = self.track.copy_to_host().T
+            a.passage[:] = self.passage.copy_to_host().T
+        saved = np.empty((a.x.shape[0], a.n_saved, a.x.shape[1]))
+        if a.n_saved:
+            saved[:] = self.saved.copy_to_host().transpose(2, 0, 1)
+        return saved
 
 
 _READY: set = set()
