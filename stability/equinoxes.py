@@ -375,7 +375,7 @@ def arcsec_per_year(rate):
 MODEL, TORQUE, MEMBER = "model", "torque", "member"
 MODELS = ("full", "averaged")
 TORQUES = ("sun", "moon", "both")
-SERIES_TIME, CYCLE_TIME = "time", "cycle_time"
+SERIES_TIME, CYCLE_TIME = "full_time", "cycle_time"
 
 
 def _switched(orbits, torque):

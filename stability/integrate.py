@@ -15,6 +15,7 @@ from .body import RigidBody
 from .checks import positive_float, positive_int, real_array, step_count, vectors3
 from .attitude import IDENTITY, attitude_spec, carries_attitude, propagate_attitude
 from .dataset import provenance_attrs, storable_attrs
+from .schema import TRAJECTORY
 from .driver import propagate, untrusted
 from .integrators import method_spec
 
@@ -106,17 +107,8 @@ def integrate(
     if mask is not None:
         w[mask] = np.nan
     ds = xr.Dataset(
-        {
-            "w": (
-                (cv.TIME, cv.AXIS),
-                w,
-                {"long_name": "body-frame angular velocity", "units": cv.UNITS_ANGULAR_VELOCITY},
-            )
-        },
-        coords={
-            cv.TIME: (cv.TIME, steps * h, cv.time_attrs("time")),
-            cv.AXIS: (cv.AXIS, np.array(cv.AXES), {"long_name": "principal axis"}),
-        },
+        TRAJECTORY.entries({"w": w}),
+        coords=TRAJECTORY.entries({cv.TIME: steps * h, cv.AXIS: np.array(cv.AXES)}),
         attrs=storable_attrs(
             {
                 **provenance_attrs(
@@ -164,26 +156,5 @@ def _add_attitude(ds, q0, result, mask):
     if mask is not None:
         q[mask] = np.nan
         norm_error[mask] = np.nan
-    ds["q"] = (
-        (cv.TIME, cv.QUATERNION),
-        q,
-        {
-            "long_name": "attitude quaternion, body to space (scalar first)",
-            "units": cv.UNITS_DIMENSIONLESS,
-            "comment": "R(q) maps body components to space components; q' = q (0, w) / 2",
-        },
-    )
-    ds["q_norm_error"] = (
-        (cv.TIME,),
-        norm_error,
-        {
-            "long_name": "norm error |q| - 1 of the carried attitude quaternion",
-            "units": cv.UNITS_DIMENSIONLESS,
-            "comment": "q is carried without renormalisation and normalised on output",
-        },
-    )
-    ds.coords[cv.QUATERNION] = (
-        (cv.QUATERNION,),
-        np.arange(4),
-        {"long_name": "quaternion component (0: scalar part cos(angle/2))"},
-    )
+    ds.update(TRAJECTORY.entries({"q": q, "q_norm_error": norm_error}))
+    ds.coords.update(TRAJECTORY.entries({cv.QUATERNION: np.arange(4)}))

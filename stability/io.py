@@ -25,6 +25,7 @@ import xarray as xr
 from . import conventions as cv
 from .dataset import check_storable
 from .publish import disk_error
+from .schema import file_order, held_order
 
 #: zlib compression level (1 fastest ... 9 smallest); 4 is near the knee of size against time.
 COMPLEVEL = 4
@@ -114,6 +115,7 @@ def save(ds: xr.Dataset, path, overwrite: bool = False, compress: bool = True) -
     if not path.parent.is_dir():
         raise ValueError(f"directory {path.parent} does not exist; create it first")
     check_storable(ds)
+    ds = file_order(ds)
     encoding = _encoding(ds, compress)
     temporary = path.with_name(f".{path.name}.{os.getpid()}.{uuid.uuid4().hex[:8]}.tmp")
     try:
@@ -163,7 +165,7 @@ def load(path) -> xr.Dataset:
     if not path.exists():
         raise FileNotFoundError(f"no such file: {path}")
     with xr.open_dataset(path, **READ) as ds:
-        return ds.load()
+        return held_order(ds.load())
 
 
 def _write(ds: xr.Dataset, path: Path, encoding: dict) -> None:

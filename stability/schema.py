@@ -331,6 +331,19 @@ ENSEMBLE = _schema("ensemble", "an ensemble of free rigid bodies, per member",
                                    "(stability.exact_attitude)"),
 })
 
+# One trajectory (stability.integrate) ------------------------------------------------------
+
+TRAJECTORY = _schema("trajectory", "one free rigid body's motion, sample by sample",
+                     "stability.integrate", file="", variables={
+    TIME: _time_axis("time"),
+    AXIS: ENSEMBLE[AXIS],
+    "w": ENSEMBLE["w"].on((TIME, AXIS), optional=""),
+    QUATERNION: ENSEMBLE[QUATERNION],
+    "q": ENSEMBLE["q"].on((TIME, QUATERNION), optional=_ATTITUDE, extra=(
+        ("comment", "R(q) maps body components to space components; q' = q (0, w) / 2"),)),
+    "q_norm_error": ENSEMBLE["q_norm_error"].on((TIME,)),
+})
+
 # The tennis racket: the ensemble, its exact answers and amplitude quantiles -------------------
 
 _QUANTILE = "{quantile} over ok members of the amplitude perpendicular to axis {axis}"
@@ -653,9 +666,9 @@ EQUINOXES = _schema(
                                         "cos(eps) / W G M / (a^3 (1 - e^2)^(3/2)) f"),
         "step_error": _var(MEMBER, _ARCSEC_YR, "estimated integration error of the precession "
                            "rate (Richardson, steps halved)"),
-        "longitude": _var(("torque", TIME), _ARCSEC, "longitude of the equinox phi - phi(0), "
+        "longitude": _var(("torque", "full_time"), _ARCSEC, "longitude of the equinox phi - phi(0), "
                           "member 0, full model"),
-        "obliquity": _var(("torque", TIME), _ARCSEC, "obliquity, member 0, full model"),
+        "obliquity": _var(("torque", "full_time"), _ARCSEC, "obliquity, member 0, full model"),
         "longitude_averaged": _var(("torque", "averaged_time"), _ARCSEC, "longitude of the "
                                    "equinox phi - phi(0), member 0, averaged model"),
         "obliquity_averaged": _var(("torque", "averaged_time"), _ARCSEC, "obliquity, member 0, "
@@ -666,7 +679,9 @@ EQUINOXES = _schema(
         "model": _coord("model", _ONE, "full (spin, orbits) or orbit-averaged model", kind="U"),
         "torque": _coord("torque", _ONE, "bodies whose torque acts", kind="U"),
         MEMBER: _member("member (0: J2000 phases)"),
-        TIME: _coord(TIME, _YEAR, "time since J2000, full model"),
+        # Julian years, which CF's time units (s, d ... since a date) cannot hold exactly and
+        # xarray cannot decode: plain coordinates, none named "time" (CF's time axis name).
+        "full_time": _coord("full_time", _YEAR, "time since J2000, full model"),
         "averaged_time": _coord("averaged_time", _YEAR, "time since J2000, averaged model"),
         "cycle_time": _coord("cycle_time", _YEAR, "time since J2000, averaged model's long "
                              "run", optional=_CYCLE),
@@ -989,9 +1004,73 @@ EXPLORER = _schema(
 
 #: Every Dataset kind, by name: the free body's ensemble and each study kind's Dataset.
 SCHEMAS: Mapping[str, DatasetSchema] = MappingProxyType({s.name: s for s in (
-    ENSEMBLE, TENNIS_RACKET, TWISTING_RACKET, ENGINE_ARTEFACTS, STABILITY_MAP, WORK_PRECISION,
+    ENSEMBLE, TRAJECTORY, TENNIS_RACKET, TWISTING_RACKET, ENGINE_ARTEFACTS, STABILITY_MAP, WORK_PRECISION,
     EARTH_WOBBLE, EQUINOXES, GYROSCOPE, SLEEPING_TOP, BAT, ROLLING, EXPLORER,
 )})
+
+
+def _time_dims(s: DatasetSchema) -> set:
+    """The dims of ``s`` whose coordinate is a CF time axis."""
+    return {name for name, var in s.variables.items()
+            if var.coordinate and var.dims == (name,) and ("standard_name", "time") in var.extra}
+
+
+def _file_orders() -> dict:
+    """``{(name, frozenset(dims)): (held dims, file dims)}`` for each declared variable that a
+    file holds in another order than the Dataset: CF 2.4 wants the time dimension right of
+    every other, where the package keeps each member's samples of one instant together
+    (``w`` (member, time, axis) is written (member, axis, time))."""
+    orders = {}
+    for s in SCHEMAS.values():
+        time = _time_dims(s)
+        for name, var in s.variables.items():
+            file = tuple(d for d in var.dims if d not in time) + tuple(
+                d for d in var.dims if d in time)
+            if file != var.dims:
+                orders[(name, frozenset(var.dims))] = (var.dims, file)
+    return orders
+
+
+_FILE_ORDERS = _file_orders()
+
+
+def file_order(ds):
+    """``ds`` with each declared variable in the order a file holds it (:func:`held_order`
+    undoes it); a view, no copy. Variables the register does not declare keep their order.
+
+    Parameters
+    ----------
+    ds : xarray.Dataset
+    """
+    return _reorder(ds, to_file=True)
+
+
+def held_order(ds):
+    """``ds`` read from a file, with each declared variable back in the order the package
+    holds it (the inverse of :func:`file_order`); lazy arrays stay lazy.
+
+    Parameters
+    ----------
+    ds : xarray.Dataset
+    """
+    return _reorder(ds, to_file=False)
+
+
+def _reorder(ds, to_file: bool):
+    changes = {}
+    for name, var in ds.variables.items():
+        orders = _FILE_ORDERS.get((name, frozenset(var.dims)))
+        if orders is not None:
+            held, file = orders
+            want, have = (file, held) if to_file else (held, file)
+            if tuple(var.dims) == have:
+                changes[name] = want
+    if not changes:
+        return ds
+    out = ds.copy(deep=False)
+    for name, dims in changes.items():
+        out[name] = out[name].transpose(*dims)
+    return out
 
 
 def schema(name: str) -> DatasetSchema:
@@ -1013,4 +1092,5 @@ def schema(name: str) -> DatasetSchema:
         raise KeyError(f"no Dataset kind {name!r}; known: {', '.join(SCHEMAS)}") from None
 
 
-__all__ = ["DatasetSchema", "ESTIMATES", "KINDS", "LEVEL", "SCHEMAS", "Variable", "schema"]
+__all__ = ["DatasetSchema", "ESTIMATES", "KINDS", "LEVEL", "SCHEMAS", "Variable", "file_order",
+           "held_order", "schema"]

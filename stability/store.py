@@ -44,6 +44,7 @@ from xarray.indexes import RangeIndex
 from . import conventions as cv
 from .dataset import variable_attrs
 from .io import READ, save
+from .schema import held_order
 from .lock import FolderLock
 from .publish import read_plain_file, write_text
 
@@ -441,7 +442,7 @@ def open_store(directory) -> xr.Dataset:
     ds = ds.assign_coords(numbers)
     ds[cv.MEMBER].attrs.update(variable_attrs(cv.MEMBER))
     ds.attrs = dict(manifest["attrs"])
-    return ds
+    return held_order(ds)
 
 
 def file_checksum(path) -> str:

@@ -56,12 +56,6 @@ def wait_until(predicate, proc, timeout=180.0, show_stderr=False):
         time.sleep(0.02)
 
 
-#: The CF checker's finding on a variable whose dimensions right of time are not space
-#: (``w`` (member, time, axis), ``q`` (member, time, quaternion_component)): CF 2.4 recommends
-#: (member, axis, time). Time series keep each member's samples of one instant together.
-DIMENSION_ORDER = "spatio-temporal dimensions are not in the recommended order"
-
-
 @functools.cache
 def _cf_suite():
     from compliance_checker.suite import CheckSuite

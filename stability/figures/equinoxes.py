@@ -29,7 +29,7 @@ def equinoxes_figure(ds):
     grid = fig.add_gridspec(2, 2, width_ratios=(1.5, 1.0)) if long_run else fig.add_gridspec(2, 1)
     prec_ax = fig.add_subplot(grid[0, 0])
     nut_ax = fig.add_subplot(grid[1, 0], sharex=prec_ax)
-    t = ds.time.values
+    t = ds.full_time.values
     for i, torque in enumerate(ds.torque.values):
         color = AXIS_COLORS[i % len(AXIS_COLORS)]
         measured = float(ds.precession_rate.sel(model="full", torque=torque).mean())
