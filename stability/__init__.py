@@ -15,8 +15,9 @@ Notation, used everywhere in the package:
 """
 
 from .version import __version__
+from . import moved
 from .analytic import axis_stability, growth_rate, omega_squared, oscillation_frequency
-from .body import Part, RigidBody
+from .core.body import Part, RigidBody
 from .exact import exact_omega, flip_interval, full_period
 from .integrate import integrate
 from .integrators import METHODS, MethodSpec, method_spec
@@ -36,3 +37,10 @@ from .scenes import define_scene  # noqa: E402
 __all__ += ["animate_flip", "animate_top", "define_scene", "ensemble_memory", "load",
             "run_ensemble", "save"]
 __all__ += ["flip_statistics", "measured_frequency", "measured_growth_rate", "measured_omega_squared", "member_regimes"]  # noqa: E501
+
+moved.install()  # old module paths (stability.body, ...) still import, with a warning
+
+
+def __getattr__(name):
+    """``stability.<old module name>`` (:mod:`stability.moved`)."""
+    return moved.old_attribute(name)

@@ -1,7 +1,7 @@
 """Closed-form results for the torque-free rigid body: invariants and linear stability.
 
 Plain numpy functions, vectorized: ``w`` is a body-frame angular velocity of shape (..., 3) in
-rad/s, and ``body`` is a :class:`~stability.body.RigidBody` or an array of principal moments of
+rad/s, and ``body`` is a :class:`~stability.core.body.RigidBody` or an array of principal moments of
 shape (..., 3) in kg m^2 (broadcast against ``w`` or ``spin``), so one call covers an ensemble or
 a grid over inertia space. Moments may be in any order; axis labels 1, 2, 3 are the caller's.
 
@@ -26,8 +26,8 @@ from typing import NamedTuple
 
 import numpy as np
 
-from .body import RigidBody
-from .checks import real_array
+from .core.body import RigidBody
+from .util.checks import real_array
 
 __all__ = [
     "MOMENT_NAMES",

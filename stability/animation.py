@@ -25,8 +25,8 @@ from pathlib import Path
 
 import numpy as np
 
-from .body import RigidBody
-from .checks import positive_float, positive_int, real_number
+from .core.body import RigidBody
+from .util.checks import positive_float, positive_int, real_number
 
 #: Frames per second of the files by default (a GIF plays it exactly: 5 hundredths of a second).
 DEFAULT_FPS = 20.0
@@ -166,7 +166,7 @@ def flip_frames(body=None, *, spin=6.0, epsilon=0.05, axis=None, duration=None,
     FlipFrames
     """
     from .analytic import intermediate_axis
-    from .quaternions import frame_along, matrix_to_quaternion
+    from .core.quaternions import frame_along, matrix_to_quaternion
     from .exact import exact_omega, full_period
     from .exact_attitude import exact_attitude
 

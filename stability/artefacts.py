@@ -19,10 +19,10 @@ import math
 import numpy as np
 import xarray as xr
 
-from . import conventions as cv
+from .util import conventions as cv
 from .analytic import growth_rate, omega_squared
 from .attitude import IDENTITY, spatial_angular_momentum
-from .body import RigidBody
+from .core.body import RigidBody
 from .dataset import storable_attrs
 from .estimators import exact_flip_intervals, flip_estimate, omega_squared_estimate
 from .estimators import tracked_members

@@ -106,7 +106,7 @@ class BenchReport:
 def workload(members: int, seed: int = 0):
     """Body, spin axis (1-based) and starts ``w0`` (members, 3) in rad/s of the benchmark."""
     from .analytic import intermediate_axis
-    from .body import RigidBody
+    from .core.body import RigidBody
     from .ensemble import perturbed_starts
 
     body = RigidBody.preset(BODY_PRESET)
@@ -141,7 +141,7 @@ def bench(members=10_000, steps=1000, threads=None, methods=None, scipy=True, nu
     """
     import numba
 
-    from .checks import positive_int
+    from .util.checks import positive_int
     from .driver import propagate
     from .integrators import METHODS, method_spec
 
@@ -230,7 +230,7 @@ def engine_costs(repeat=3, workload=None) -> list[BenchRow]:
     """
     import numba
 
-    from .body import RigidBody
+    from .core.body import RigidBody
     from .engine import propagate_groups
     from .engine.reference import plain_rk4
     from .ensemble import perturbed_starts, run_ensemble
@@ -352,7 +352,7 @@ def _thread_counts(threads) -> list[int]:
     """``threads`` checked: whole numbers from 1 to the cores Numba started with."""
     import numba
 
-    from .checks import positive_int
+    from .util.checks import positive_int
 
     most = numba.config.NUMBA_NUM_THREADS
     threads = [positive_int("threads", t) for t in threads]
@@ -551,7 +551,7 @@ def top_work_precision(members=256, spin=TOP_SPIN, tilt=TOP_TILT, periods=TOP_PE
     """
     import numba
 
-    from .checks import positive_float, positive_int
+    from .util.checks import positive_float, positive_int
     from .engine import propagate_groups
     from .exact_top import cos_theta, nutation_period
     from .scenes import SCENES

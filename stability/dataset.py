@@ -10,7 +10,7 @@ Ensemble Dataset (``run_ensemble``)
 Dimensions: ``member`` (ensemble member, ``standard_name = "realization"``), ``time`` (float
 seconds since the start, a CF time coordinate: ``standard_name = "time"``, ``axis = "T"``, units
 ``"s since 1970-01-01 00:00:00"``, the date a nominal origin, see
-:data:`~stability.conventions.TIME_ORIGIN`), ``axis`` (principal axes 1, 2, 3 in the order the
+:data:`~stability.util.conventions.TIME_ORIGIN`), ``axis`` (principal axes 1, 2, 3 in the order the
 body gives them) and ``level`` (perpendicular-amplitude levels, rad s-1). Per member: the start
 ``w0``, the ``status`` (int8 CF flags: ok, non_finite, diverged, not_converged,
 step_too_large) and ``fail_time``, the summaries (:data:`SUMMARIES`: flips, crossings of the
@@ -47,8 +47,8 @@ from collections.abc import Mapping
 import numpy as np
 import xarray as xr
 
-from . import conventions as cv
-from .body import RigidBody
+from .util import conventions as cv
+from .core.body import RigidBody
 from .schema import ENSEMBLE, LEVEL
 from .version import __version__
 

@@ -11,9 +11,9 @@ from __future__ import annotations
 import numpy as np
 
 from .analytic import perpendicular_axes
-from .quaternions import canonical_quaternion, quaternion_conjugate, quaternion_multiply
-from .body import canonical_frame, from_canonical, to_canonical
-from .checks import real_array, real_number
+from .core.quaternions import canonical_quaternion, quaternion_conjugate, quaternion_multiply
+from .core.body import canonical_frame, from_canonical, to_canonical
+from .util.checks import real_array, real_number
 from .engine import BLOCK, CHECK_EVERY, Propagation, propagate_groups, untrusted
 from .scenes import SCENES
 

@@ -26,7 +26,7 @@ import math
 import numpy as np
 
 from .analytic import oscillation_frequency
-from .body import RigidBody
+from .core.body import RigidBody
 
 #: Published numbers (module docstring), SI units.
 MASS = 5.9722e24

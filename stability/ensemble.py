@@ -31,10 +31,12 @@ import numba
 import numpy as np
 import xarray as xr
 
-from . import conventions as cv
+from .util import conventions as cv
 from .analytic import perpendicular_axes
-from .body import RigidBody
-from .checks import positive_float, positive_int, real_array, real_number, step_count, vectors3
+from .core.body import RigidBody
+from .util.checks import (
+    positive_float, positive_int, real_array, real_number, step_count, vectors3,
+)
 from .dataset import (
     add_attitude,
     config_toml,
@@ -48,12 +50,12 @@ from .attitude import IDENTITY, attitude_error, attitude_spec, carries_attitude
 from .driver import propagate_many
 from .estimators import summary_members
 from .exact_attitude import exact_attitudes
-from .formatting import format_bytes
+from .util.formatting import format_bytes
 from .integrators import method_spec
 from .io import READ
 from .store import ChunkStore, read_progress
 from .stream import stream_chunks
-from .threads import checked_threads, numba_threads
+from .util.threads import checked_threads, numba_threads
 from .timescales import (
     DEFAULT_EPSILON, DEFAULT_MEMBERS, default_horizon, default_step, nominal_start,
 )

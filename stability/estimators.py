@@ -58,19 +58,14 @@ from dataclasses import dataclass
 import numpy as np
 import xarray as xr
 
-from . import conventions as cv
+from .util import conventions as cv
 from .analytic import growth_rate, omega_squared, perpendicular_axes
-from .checks import real_array
+from .util.checks import real_array
 from .dataset import body_from_attrs
 # Regime codes (int8), per member and per ensemble, declared with the other codes.
-from .conventions import (
-    REGIME_ALGEBRAIC,
-    REGIME_EXPONENTIAL,
-    REGIME_FLAG_VALUES,
-    REGIME_MEANINGS,
-    REGIME_NEUTRAL,
-    REGIME_OSCILLATION,
-    REGIME_UNDETERMINED,
+from .util.conventions import (
+    REGIME_ALGEBRAIC, REGIME_EXPONENTIAL, REGIME_FLAG_VALUES, REGIME_MEANINGS, REGIME_NEUTRAL,
+    REGIME_OSCILLATION, REGIME_UNDETERMINED,
 )
 from .schema import ESTIMATES, TENNIS_RACKET
 

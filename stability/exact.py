@@ -32,7 +32,7 @@ short times the increment w(t) - w(0) comes out with a relative error of a few u
 what makes the ``exact`` method as accurate after 2000 steps as one evaluation. D2, whose two
 terms cancel near the separatrix, is summed in double-double arithmetic (Dekker, Numer. Math.
 18, 224 (1971)), so k'^2 keeps full relative accuracy for the given double inputs. The elliptic
-functions are :mod:`stability.elliptic` (argument reduction that keeps k'^2 = 1e-15 at full
+functions are :mod:`stability.core.elliptic` (argument reduction that keeps k'^2 = 1e-15 at full
 accuracy).
 
 Accuracy (tests/test_exact.py): against mpmath at 40 digits near the separatrix (k'^2 <= 1e-12,
@@ -52,10 +52,10 @@ import math
 import numpy as np
 from numba import njit
 
-from .body import RigidBody, from_canonical, to_canonical
-from .checks import real_array, real_number, vectors3
-from .compensated import dd_add, dd_mul, two_prod, two_sum
-from .elliptic import ellipk, sncndn_k
+from .core.body import RigidBody, from_canonical, to_canonical
+from .util.checks import real_array, real_number, vectors3
+from .core.compensated import dd_add, dd_mul, two_prod, two_sum
+from .core.elliptic import ellipk, sncndn_k
 
 #: Kinds of motion (canonical frame).
 STEADY = 0  #: sphere, or w = 0: w constant

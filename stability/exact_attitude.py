@@ -36,9 +36,11 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .quaternions import IDENTITY, canonical_quaternion, quaternion_conjugate, quaternion_multiply
-from .body import RigidBody, canonical_frame, to_canonical
-from .checks import real_array, vectors3
+from .core.quaternions import (
+    IDENTITY, canonical_quaternion, quaternion_conjugate, quaternion_multiply,
+)
+from .core.body import RigidBody, canonical_frame, to_canonical
+from .util.checks import real_array, vectors3
 from .exact import MAJOR, MINOR, PRECESS1, PRECESS3, Q_K, Q_KIND, Q_RATE, STEADY, motion
 from .exact import omega_many
 

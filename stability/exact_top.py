@@ -72,8 +72,8 @@ import math
 import numpy as np
 from numba import njit
 
-from .checks import positive_float, real_array, real_number
-from .elliptic import carlson_rf, ellipk, sncndn_k
+from .util.checks import positive_float, real_array, real_number
+from .core.elliptic import carlson_rf, ellipk, sncndn_k
 
 #: Slots of a member's parameter row (see :func:`_setup`).
 (Q_U0, Q_V1, Q_V2, Q_Y3, Q_BETA, Q_RATE, Q_M, Q_M1, Q_K, Q_R0, Q_OMU1, Q_OMU2, Q_OPU1,

@@ -53,7 +53,7 @@ def exact_flip_curve(moments, epsilons, spin: float):
     exact, asymptote : ndarray, shape (E,)
         In s (:func:`stability.estimators.exact_flip_intervals`).
     """
-    from .body import RigidBody
+    from .core.body import RigidBody
     from .estimators import exact_flip_intervals
 
     body = RigidBody(*moments, physical=False)
@@ -91,7 +91,7 @@ def flip_sweep(moments, epsilons, spin: float, methods, steps, command=None) -> 
         When Ctrl-C stopped an ensemble.
     """
     from .analytic import growth_rate
-    from .body import RigidBody
+    from .core.body import RigidBody
     from .ensemble import completed, run_ensembles
 
     moments = np.asarray(moments, dtype=float)

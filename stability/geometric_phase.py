@@ -21,7 +21,7 @@ independent routes:
   the time window centred on a flip (m2 = 0) in which phi advances by exactly 2 pi, psi changes
   by close to, not exactly, pi. Routes: the exact motion (:func:`exact_angles`) and a run
   (:func:`run_angles`); the flip and the window are roots found to round-off
-  (:func:`stability.roots.bracketed_newton`) on each route's own solution.
+  (:func:`stability.core.roots.bracketed_newton`) on each route's own solution.
 """
 
 from __future__ import annotations
@@ -34,7 +34,7 @@ from .attitude import (quaternion_conjugate, quaternion_multiply, quaternion_to_
                        spatial_angular_momentum)
 from .exact import MAJOR, PRECESS3
 from .exact_attitude import FreeMotion, l_frame, precession_rate, spin_angle
-from .roots import bracketed_newton
+from .core.roots import bracketed_newton
 
 TWO_PI = 2.0 * math.pi
 

@@ -10,9 +10,9 @@ from __future__ import annotations
 import numpy as np
 import xarray as xr
 
-from . import conventions as cv
-from .body import RigidBody
-from .checks import positive_float, positive_int, real_array, step_count, vectors3
+from .util import conventions as cv
+from .core.body import RigidBody
+from .util.checks import positive_float, positive_int, real_array, step_count, vectors3
 from .attitude import IDENTITY, attitude_spec, carries_attitude, propagate_attitude
 from .dataset import provenance_attrs, storable_attrs
 from .schema import TRAJECTORY

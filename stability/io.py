@@ -6,7 +6,7 @@ only when complete (``os.replace`` is atomic on one filesystem), so an interrupt
 leaves a broken file; it refuses to replace an existing file unless asked. ``load`` reads the
 file back into memory and returns a Dataset identical (``xarray.testing.assert_identical``) to
 the one saved. Time coordinates are float numbers with CF time units counted from a nominal
-date (``"s since 1970-01-01 00:00:00"``, :data:`stability.conventions.TIME_ORIGIN`): ``load``
+date (``"s since 1970-01-01 00:00:00"``, :data:`stability.util.conventions.TIME_ORIGIN`): ``load``
 passes ``decode_times=False`` (and ``decode_timedelta=False``) so that they stay numbers;
 other readers may do the same, or let xarray decode them to dates from that origin.
 """
@@ -22,7 +22,7 @@ from pathlib import Path
 import numpy as np
 import xarray as xr
 
-from . import conventions as cv
+from .util import conventions as cv
 from .dataset import check_storable
 from .publish import disk_error
 from .schema import file_order, held_order

@@ -295,7 +295,7 @@ def herpolhode(body, w0, t, q0=None) -> Herpolhode:
     Herpolhode
         The points in space and in the plane, the plane's normal and distance, the radii.
     """
-    from .quaternions import IDENTITY, frame_along, quaternion_to_matrix
+    from .core.quaternions import IDENTITY, frame_along, quaternion_to_matrix
     from .exact import exact_omega
     from .exact_attitude import exact_attitude
 
@@ -318,8 +318,8 @@ def herpolhode(body, w0, t, q0=None) -> Herpolhode:
 def _start(body, w0):
     """w0 checked (shape (3,), finite, not zero), the energy (J) and |L| (kg m^2/s)."""
     from .analytic import angular_momentum_norm, kinetic_energy
-    from .body import RigidBody
-    from .checks import vectors3
+    from .core.body import RigidBody
+    from .util.checks import vectors3
 
     if not isinstance(body, RigidBody):
         raise ValueError(f"body must be a stability.RigidBody, got {type(body).__name__}")

@@ -22,7 +22,7 @@ from __future__ import annotations
 import numpy as np
 
 from .analytic import euler_system
-from .body import RigidBody
+from .core.body import RigidBody
 from .exact import exact_omega_of_starts
 
 #: Statistics over members, in the order :func:`error_statistics` returns them.

@@ -28,7 +28,7 @@ from pathlib import Path
 import numpy as np
 import xarray as xr
 
-from . import conventions as cv
+from .util import conventions as cv
 from .engine import propagate_groups
 from .engine.run import Propagation
 from .scenes import Scene

@@ -16,7 +16,7 @@ A declaration::
     #          long_name='angular velocity just after the contact', kind='f', ...)
     xr.Dataset(BAT.entries({"angular_velocity": w, ...}))  # dims and attributes from here
 
-This module imports only :mod:`stability.conventions` (and NumPy for the flag arrays), so that
+This module imports only :mod:`stability.util.conventions` (and NumPy for the flag arrays), so that
 every module may import it.
 """
 
@@ -30,7 +30,7 @@ from types import MappingProxyType
 
 import numpy as np
 
-from . import conventions as cv
+from .util import conventions as cv
 
 #: Type letters of :attr:`Variable.kind`: what the file may store.
 KINDS = {"f": "float", "i": "integer", "U": "text"}
@@ -245,18 +245,18 @@ def _coord(dims, units, long_name, *, kind="f", optional="", **extra) -> Variabl
 
 
 def _member(long_name="ensemble member", dim=MEMBER) -> Variable:
-    """An ensemble-member coordinate (:func:`stability.conventions.member_attrs`)."""
+    """An ensemble-member coordinate (:func:`stability.util.conventions.member_attrs`)."""
     return _coord(dim, _ONE, long_name, kind="i", **cv.STANDARD_COORDINATES[MEMBER])
 
 
 def _time_axis(long_name="time since the start", dim=TIME, optional="") -> Variable:
-    """A CF time axis (:func:`stability.conventions.time_attrs`)."""
+    """A CF time axis (:func:`stability.util.conventions.time_attrs`)."""
     return _coord(dim, cv.UNITS_TIME_COORDINATE, long_name, optional=optional,
                   **cv.STANDARD_COORDINATES[TIME])
 
 
 def _status(dims, long_name="member status", **extra) -> Variable:
-    """Per-member status codes, int8 CF flags (:data:`stability.conventions.STATUS_MEANINGS`)."""
+    """Per-member status codes, int8 CF flags (:data:`stability.util.conventions.STATUS_MEANINGS`)."""
     return _var(dims, _ONE, long_name, kind="i", flag_values=cv.STATUS_FLAG_VALUES,
                 flag_meanings=cv.STATUS_MEANINGS, **extra)
 

@@ -19,10 +19,10 @@ import math
 
 import numpy as np
 
-from . import conventions as cv
+from .util import conventions as cv
 from .analytic import euler_rhs, omega_squared, perpendicular_axes
 # Edge flags of a shape (bit mask, CF flag_masks), declared with the other codes.
-from .conventions import EDGE_EQUAL_12, EDGE_EQUAL_23, EDGE_FLAT
+from .util.conventions import EDGE_EQUAL_12, EDGE_EQUAL_23, EDGE_FLAT
 
 #: The time-series demonstrations on the edges: name, moments (I3 = 1), spin axis.
 EDGE_CASES = (
@@ -163,7 +163,7 @@ def edge_series(spin: float, epsilon: float, t_end: float, method: str, h: float
         ``exponential_residual`` (C,), and the ``method`` and ``h`` used.
     """
     from . import estimators as est
-    from .body import RigidBody
+    from .core.body import RigidBody
     from .ensemble import completed
     from .integrate import integrate
 

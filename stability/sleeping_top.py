@@ -28,7 +28,7 @@ import time
 import numpy as np
 import xarray as xr
 
-from . import conventions as cv
+from .util import conventions as cv
 from . import estimators as est
 from .scene_ensemble import GroupedRun, propagate_stored
 from .scenes import SCENES

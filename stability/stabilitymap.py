@@ -23,7 +23,7 @@ import math
 import numpy as np
 import xarray as xr
 
-from . import conventions as cv
+from .util import conventions as cv
 from . import estimators as est
 from .schema import STABILITY_MAP
 from .shapes import EDGE_EQUAL_12, EDGE_EQUAL_23, EDGE_FLAT
@@ -191,7 +191,7 @@ def measure_map(bodies, omega2, t_end, levels, specs, runs, *, spin, epsilon, me
     KeyboardInterrupt
         When Ctrl-C stopped an ensemble.
     """
-    from .progress import progress_bar
+    from .util.progress import progress_bar
     from .stream import stream_chunks
 
     job = MapBatches(bodies, omega2, t_end, levels, [spec.name for spec in specs], runs,

@@ -41,7 +41,7 @@ import numpy as np
 import xarray as xr
 from xarray.indexes import RangeIndex
 
-from . import conventions as cv
+from .util import conventions as cv
 from .dataset import variable_attrs
 from .io import READ, save
 from .schema import held_order

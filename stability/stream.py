@@ -36,7 +36,7 @@ import time
 from pathlib import Path
 
 from .store import ChunkStore, chunk_name, write_chunk
-from .threads import checked_threads, numba_threads
+from .util.threads import checked_threads, numba_threads
 
 log = logging.getLogger(__name__)
 

@@ -17,7 +17,7 @@ import time
 
 import numpy as np
 
-from . import conventions as cv
+from .util import conventions as cv
 from .analytic import euler_system
 from .driver import propagate
 from .reference import METRICS, error_statistics, final_errors

@@ -23,8 +23,8 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from .body import RigidBody
-from .checks import real_number
+from .core.body import RigidBody
+from .util.checks import real_number
 
 #: Standard gravity (m s-2), the default g.
 STANDARD_GRAVITY = 9.80665

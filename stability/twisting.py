@@ -16,7 +16,7 @@ import time
 import numpy as np
 import xarray as xr
 
-from . import conventions as cv
+from .util import conventions as cv
 from .attitude import IDENTITY, propagate_attitudes
 from .dataset import storable_attrs
 from .ensemble import seed_sequence

@@ -17,7 +17,7 @@ import math
 import numpy as np
 import xarray as xr
 
-from . import conventions as cv
+from .util import conventions as cv
 from .attitude import quaternion_to_matrix
 from .earth import ARCSEC, CHANDLER_PERIOD_DAYS, DAY, euler_period, oblate_euler_period
 from .ensemble import completed, run_ensemble

@@ -24,7 +24,7 @@ from stability.analytic import (
     perpendicular_axes,
     principal_axis,
 )
-from stability.body import RigidBody
+from stability.core.body import RigidBody
 
 BODY = RigidBody(1.0, 2.0, 3.0)
 

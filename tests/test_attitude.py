@@ -22,7 +22,7 @@ from stability.attitude import (
     quaternion_to_matrix,
     spatial_angular_momentum,
 )
-from stability.conventions import STATUS_NONFINITE, STATUS_NOT_CONVERGED, STATUS_OK
+from stability.util.conventions import STATUS_NONFINITE, STATUS_NOT_CONVERGED, STATUS_OK
 from stability.driver import CHECK_EVERY, propagate
 from stability.integrators import METHODS
 
@@ -229,7 +229,7 @@ def test_quaternion_helpers_round_trip():
 @pytest.mark.parametrize("moments", [(1, 2, 3), (3, 1, 2), (2, 1, 3), (3, 2, 1)])
 def test_canonical_quaternion_is_the_frame_rotation(moments):
     """R(c) is the signed permutation taking body components to the canonical (sorted) frame."""
-    from stability.body import canonical_frame, to_canonical
+    from stability.core.body import canonical_frame, to_canonical
 
     perm, signs = canonical_frame(np.array(moments, float))
     x = np.array([0.3, -1.2, 2.5])

@@ -8,7 +8,7 @@ import numba
 import numpy as np
 import pytest
 
-from stability.conventions import STATUS_NONFINITE, STATUS_OK
+from stability.util.conventions import STATUS_NONFINITE, STATUS_OK
 from stability.driver import CHECK_EVERY, propagate, untrusted
 
 MOMENTS = np.array([1.0, 2.0, 3.0])

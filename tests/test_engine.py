@@ -13,7 +13,7 @@ import pytest
 from stability.engine import BLOCK, compiled_loop, propagate_groups
 from stability.engine.loop import level_thresholds
 from stability.scenes import SCENES
-from stability.threads import numba_threads
+from stability.util.threads import numba_threads
 
 ROOT = Path(__file__).resolve().parents[1]
 

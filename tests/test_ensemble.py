@@ -7,7 +7,7 @@ import numpy as np
 import pytest
 
 import stability
-from stability import conventions as cv
+from stability.util import conventions as cv
 from stability import ensemble
 from stability.dataset import LEVEL, SUMMARIES, summary_bytes
 from stability.ensemble import (

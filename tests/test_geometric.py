@@ -9,7 +9,7 @@ import numpy as np
 import pytest
 
 import stability
-from stability.conventions import STATUS_NOT_CONVERGED, STATUS_OK
+from stability.util.conventions import STATUS_NOT_CONVERGED, STATUS_OK
 from stability.driver import propagate
 
 from .helpers import reference_omega

@@ -11,7 +11,7 @@ import stability
 from stability.attitude import (attitude_error, propagate_attitudes, quaternion_multiply)
 from stability.exact_attitude import exact_attitude, free_motion
 from stability.geometric_phase import exact_angles, run_angles, wrap
-from stability.roots import bracketed_newton
+from stability.core.roots import bracketed_newton
 from stability.twisting import tossed_members
 
 from .helpers import assert_cf_compliant, assert_declared, assert_readable

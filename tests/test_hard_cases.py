@@ -26,7 +26,7 @@ import numpy as np
 import pytest
 
 import stability
-from stability import conventions as cv
+from stability.util import conventions as cv
 from stability.analytic import invariant_differences
 from stability.driver import propagate
 from stability.exact import elliptic_frequency

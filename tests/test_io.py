@@ -8,7 +8,7 @@ import pytest
 import xarray as xr
 
 import stability
-from stability import conventions as cv
+from stability.util import conventions as cv
 from stability import io
 from stability.dataset import append_history, check_storable, config_toml, storable_attrs
 

@@ -20,7 +20,7 @@ import math
 import numpy as np
 import pytest
 
-from stability.conventions import STATUS_OK
+from stability.util.conventions import STATUS_OK
 from stability.engine import propagate_groups
 from stability.integrators.spec import MethodSpec
 from stability.scenes import SCENES

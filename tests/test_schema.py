@@ -62,12 +62,12 @@ def test_the_register_imports_nothing_of_the_package_but_the_conventions():
     inside = []
     for node in ast.walk(tree):
         if isinstance(node, ast.ImportFrom) and node.level > 0:
-            inside += [node.module] if node.module else [a.name for a in node.names]
+            inside += [".".join(filter(None, (node.module, a.name))) for a in node.names]
         elif isinstance(node, ast.ImportFrom) and (node.module or "").startswith("stability"):
             inside.append(node.module)
         elif isinstance(node, ast.Import):
             inside += [a.name for a in node.names if a.name.startswith("stability")]
-    assert inside == ["conventions"]
+    assert inside == ["util.conventions"]
 
 
 def test_the_dataset_reference_shows_every_declared_variable():

@@ -11,7 +11,7 @@ import numpy as np
 import pytest
 
 import stability
-from stability import conventions as cv
+from stability.util import conventions as cv
 from stability.ensemble import max_angular_speed, run_ensemble
 from stability.exact import exact_omega_of_starts
 

@@ -5,7 +5,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from stability.body import Part
+from stability.core.body import Part
 from stability.engine import propagate_groups
 from stability.integrators.struck import J_ACROSS, X, held_exact, strike_params
 from stability.scenes import SCENES

@@ -193,11 +193,11 @@ def work_precision_page(quick: bool) -> str:
 
 #: Modules whose public functions and classes the API reference lists (beside the top level).
 API_MODULES = (
-    ("Bodies and linear theory", ("body", "quaternions", "analytic", "top")),
-    ("Exact solutions", ("exact", "exact_attitude", "exact_top", "elliptic")),
+    ("Bodies and linear theory", ("core.body", "core.quaternions", "analytic", "top")),
+    ("Exact solutions", ("exact", "exact_attitude", "exact_top", "core.elliptic")),
     ("Ensembles, runs and files", ("ensemble", "integrate", "attitude", "io", "stream",
-                                   "formatting", "schema")),
-    ("Measures and estimators", ("estimators", "geometric_phase", "periodic", "roots",
+                                   "util.formatting", "schema")),
+    ("Measures and estimators", ("estimators", "geometric_phase", "periodic", "core.roots",
                                  "drift", "reference")),
     ("Scenes, integrators and the engine", ("scenes", "integrators", "engine")),
     ("Studies' library functions", ("twisting", "artefacts", "struck", "rolling", "gyroscope",

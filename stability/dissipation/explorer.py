@@ -29,7 +29,7 @@ from typing import Callable
 import numpy as np
 import xarray as xr
 
-from .. import conventions as cv
+from ..util import conventions as cv
 from ..scene_ensemble import GroupedRun, propagate_stored, sub_store
 from ..scenes.spec import Scene
 from .measure import (decay_window, exponential_rate, growth_window, largest_rise,

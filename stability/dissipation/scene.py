@@ -40,7 +40,7 @@ import math
 import numpy as np
 from numba import njit
 
-from .. import conventions as cv
+from ..util import conventions as cv
 from ..scenes.free_body import component
 from ..scenes.spec import Scene
 from .methods import (B_B, B_I1, B_I2, B_I3, B_K, B_MU, B_MU_B, P_INV1, P_INV2, P_INV3,

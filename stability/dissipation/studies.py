@@ -23,7 +23,7 @@ from ..study.config import (
     ConfigError, Key, Schema, Section, StudyKind, StudySummary, check_memory, check_run,
     output_files, output_section, run_rows, run_section, stored_run, write_outputs,
 )
-from ..threads import numba_threads
+from ..util.threads import numba_threads
 from .explorer import Whips, measure_explorer
 from .figures import end_state_figure, flat_time_figure, nutation_figure
 from .methods import SPHERE_METHODS

@@ -159,7 +159,7 @@ Rendered from the template in stability/engine/loop.py; do not edit (sources {{d
 import numpy as np
 from numba import njit, prange
 
-from stability.conventions import STATUS_NONFINITE, STATUS_NOT_CONVERGED, STATUS_OK
+from stability.util.conventions import STATUS_NONFINITE, STATUS_NOT_CONVERGED, STATUS_OK
 from stability.engine.loop import (
     BLOCK, N_TRACK, T_MAX_AMP2, T_NEXT_LEVEL, T_PREV_A, T_PREV_AMP2, T_PREV_B, CHECK_EVERY,
     crossed, kahan, not_finite, record_events,

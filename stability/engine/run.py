@@ -129,7 +129,7 @@ class Propagation:
         State after steps ``save_every, 2 save_every, ...`` (initial excluded; NaN past a
         group's own last sample).
     status, fail_step, iterations : ndarray, shape (N,)
-        Per-member status code (``stability.conventions``), the step count at which the failure
+        Per-member status code (``stability.util.conventions``), the step count at which the failure
         was detected (-1 if none; see :func:`untrusted`), and the nonlinear-solver iterations.
     steps_done : int or ndarray of int, shape (G,)
         Steps completed (fewer than asked if the run was interrupted); per group for groups.

@@ -16,7 +16,7 @@ from matplotlib.figure import Figure
 from matplotlib.ticker import MaxNLocator
 
 from ..analytic import moment_name
-from ..quaternions import frame_along
+from ..core.quaternions import frame_along
 from .style import AXIS_COLORS, label
 from .twisting import BACK_COLOR, FRONT_COLOR, racket_outline
 
@@ -84,7 +84,7 @@ class _Scene:
 
 def _preset_of(body):
     """(name, mass in kg) of the preset ``body`` equals (the same moments), else None."""
-    from ..body import PRESETS, RigidBody
+    from ..core.body import PRESETS, RigidBody
 
     for name in PRESETS:
         composite = RigidBody.composite(PRESETS[name].parts(), name=name)

@@ -18,7 +18,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from .. import conventions as cv
+from ..util import conventions as cv
 from ..analytic import moment_name, perpendicular_axes
 from ..estimators import sign_change_times
 from ..polhodes import polhodes, separatrix_circles

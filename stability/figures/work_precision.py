@@ -15,7 +15,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from .. import conventions as cv
+from ..util import conventions as cv
 from ..drift import envelope
 from .style import EXACT_COLOR, label, new_figure, styled
 

@@ -13,7 +13,7 @@ Why results agree with the CPU to round-off but not bitwise: NVVM contracts a * 
 multiply-adds (one rounding instead of two), the device's libm (``log``, ``sqrt`` rounding modes
 aside, ``cosh``, ``asinh`` of the exact flow) is not glibc's, and a reassociated or contracted
 expression rounds differently. The sine and cosine of the Lie-Poisson rotations are the
-package's own polynomials (:mod:`stability.trig`), so they differ only by contraction. Each
+package's own polynomials (:mod:`stability.core.trig`), so they differ only by contraction. Each
 difference is an ulp per step; over n steps they add up like the method's own round-off
 (a few 1e-15 relative for ``rk4`` and ``lp2`` over hundreds of steps, ``tests/test_gpu.py``).
 """

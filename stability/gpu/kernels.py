@@ -32,7 +32,7 @@ import math
 
 from numba import cuda
 
-from ..conventions import STATUS_NONFINITE, STATUS_NOT_CONVERGED, STATUS_OK
+from ..util.conventions import STATUS_NONFINITE, STATUS_NOT_CONVERGED, STATUS_OK
 from ..engine import loop as cpu_loop
 from .retarget import device_twin
 

@@ -20,7 +20,7 @@ import types
 
 from numba.core.registry import CPUDispatcher
 
-from ..compensated import two_prod
+from ..core.compensated import two_prod
 from .device import simulated
 
 _TWINS: dict = {}

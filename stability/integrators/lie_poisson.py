@@ -32,7 +32,7 @@ import math
 import numpy as np
 from numba import njit
 
-from ..trig import sin_cosm1
+from ..core.trig import sin_cosm1
 from .rotations import quaternion_increment
 from .spec import N_BODY_PARAMS, P_A1, P_A3, P_INV2, MethodSpec, body_params
 

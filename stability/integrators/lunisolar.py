@@ -42,7 +42,7 @@ import math
 import numpy as np
 from numba import njit
 
-from ..trig import sin_cosm1
+from ..core.trig import sin_cosm1
 from .composition import SUZUKI4, partitioned_coefficients
 from .rotations import exp_coefficients, quaternion_increment
 from .spec import MethodSpec

@@ -14,7 +14,7 @@ import math
 
 from numba import njit
 
-from ..trig import sin_cosm1
+from ..core.trig import sin_cosm1
 
 #: Below this rotation angle (rad) the exponential's coefficients use their Taylor series
 #: (next term ~ theta^4 / 120 < 1e-34), which also covers theta = 0 without a 0/0.

@@ -12,7 +12,7 @@ energy ``w . I w / 2``, ``|I w| = |L|`` and ``|q| = 1``. Conversions from and to
 import numpy as np
 from numba import njit
 
-from .. import conventions as cv
+from ..util import conventions as cv
 from ..integrators.engine_rules import ENGINE_RULES, rotate, rotate3, world_state
 from .free_body import component
 from .free_body_attitude import example as example_mq

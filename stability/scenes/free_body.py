@@ -1,7 +1,7 @@
 """The free rigid body in its principal frame: the state is the body angular momentum only.
 
 Euler's equations ``m' = m x I^-1 m`` with ``m = I w`` (``I1 w1' = (I2 - I3) w2 w3`` and
-cyclic), in the canonical frame ``I1 <= I2 <= I3`` (:func:`stability.body.canonical_frame`);
+cyclic), in the canonical frame ``I1 <= I2 <= I3`` (:func:`stability.core.body.canonical_frame`);
 three numbers per member, no attitude (that is scene ``free_body_attitude``). Invariants: the
 kinetic energy ``E = m . I^-1 m / 2`` and ``|m| = |L|``; exact solution: Jacobi elliptic
 functions (:func:`stability.exact_omega`, here as :func:`exact`). Every registered method runs
@@ -11,8 +11,8 @@ it.
 import numpy as np
 from numba import njit
 
-from .. import conventions as cv
-from ..body import RigidBody
+from ..util import conventions as cv
+from ..core.body import RigidBody
 from ..exact import exact_omega_of_starts
 from ..integrators import METHODS
 from ..integrators.spec import P_I1, P_INV1

@@ -10,7 +10,7 @@ the free body, ``|q| = 1`` and the spatial angular momentum ``R(q) m``.
 import numpy as np
 from numba import njit
 
-from .. import conventions as cv
+from ..util import conventions as cv
 from ..integrators import METHODS
 from .free_body import angular_momentum, energy, example as example_m, observe as observe_m
 from .free_body import tracked as tracked_m

@@ -21,7 +21,7 @@ import math
 import numpy as np
 from numba import njit
 
-from .. import conventions as cv
+from ..util import conventions as cv
 from ..exact_top import body_states
 from ..integrators.heavy_top import METHODS, N_TOP
 from .free_body import component

@@ -12,7 +12,7 @@ import math
 import numpy as np
 from numba import njit
 
-from .. import conventions as cv
+from ..util import conventions as cv
 from ..integrators.lunisolar import AVERAGED_METHODS
 from .free_body import component
 from .spec import Scene

@@ -12,7 +12,7 @@ switched), and the work done by kinetic friction. Parameters per group:
 import numpy as np
 from numba import njit
 
-from .. import conventions as cv
+from ..util import conventions as cv
 from ..integrators.rolling import (HEAT, MAX_SECTIONS, METHODS, P_G, P_K, P_MASS, P_R,
                                    P_SECTIONS, P_TRACK, V, W, X, track_row)
 from .spec import Scene

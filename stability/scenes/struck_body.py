@@ -13,7 +13,7 @@ Invariants: after the contact, the angular momentum about the hands (held) or ab
 import numpy as np
 from numba import njit
 
-from .. import conventions as cv
+from ..util import conventions as cv
 from ..integrators.struck import (J_ACROSS, J_ALONG, METHODS, P_HELD, P_I_CM, P_MASS, PHI, T,
                                   W, X, Y, VX, VY, held_exact)
 from .spec import Scene

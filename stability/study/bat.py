@@ -123,7 +123,7 @@ def run(config: dict, out_dir: Path, *, overwrite=False, threads=None, progress=
     with ``resume``), on ``scheduler`` (default: the file's ``[run] scheduler``)."""
     from ..figures.impacts import bat_figure
     from ..struck import measure_strikes
-    from ..threads import numba_threads
+    from ..util.threads import numba_threads
 
     t_start = time.perf_counter()
     body = _body(config)

@@ -240,7 +240,7 @@ FIGURE_FORMATS = ("png", "pdf", "svg")
 
 def preset_names() -> tuple:
     """The names of ``stability.RigidBody.presets()``, for a ``preset`` key's choices."""
-    from ..body import RigidBody
+    from ..core.body import RigidBody
 
     return tuple(RigidBody.presets())
 
@@ -441,11 +441,11 @@ def write_outputs(ds, config: dict, out_dir, name: str, figures: dict, *, overwr
         As written.
     files : list of Path
     """
-    from .. import conventions as cv
+    from ..util import conventions as cv
     from ..dataset import append_history, config_toml, software_attrs
     from ..figures.style import save
     from ..io import saving
-    from ..threads import numba_threads
+    from ..util.threads import numba_threads
 
     with numba_threads(threads):  # what the run recorded where it ran is kept
         software = {k: v for k, v in software_attrs().items() if k not in ds.attrs}

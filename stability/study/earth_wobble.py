@@ -73,7 +73,7 @@ def outputs(config: dict) -> list[str]:
 
 def check(config: dict, source: str) -> dict:
     """Moments of a real body (the triangle inequality) from the ratios given."""
-    from ..body import RigidBody
+    from ..core.body import RigidBody
     from ..earth import earth_moments
     from ..ensemble import ensemble_memory
     from .config import ConfigError
@@ -101,10 +101,10 @@ def run(config: dict, out_dir: Path, *, overwrite=False, threads=None, progress=
 
     The ensemble runs chunk by chunk into the folder ``work`` (so that a stopped run continues
     with ``resume``), on ``scheduler`` (default: the file's ``[run] scheduler``)."""
-    from ..body import RigidBody
+    from ..core.body import RigidBody
     from ..earth import ARCSEC, earth_moments
     from ..figures.earth import wobble_cones_figure
-    from ..threads import numba_threads
+    from ..util.threads import numba_threads
     from ..wobble import measure_free_wobble
 
     t_start = time.perf_counter()

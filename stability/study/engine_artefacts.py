@@ -117,10 +117,10 @@ def run(config: dict, out_dir: Path, *, overwrite=False, threads=None, progress=
     Every run goes chunk by chunk into a folder of its own in ``work`` (so that a stopped run
     continues with ``resume``), on ``scheduler`` (default: the file's ``[run] scheduler``)."""
     from ..artefacts import measure_artefacts
-    from ..body import RigidBody
+    from ..core.body import RigidBody
     from ..ensemble import perturbed_starts
     from ..figures.artefacts import artefacts_figure
-    from ..threads import numba_threads
+    from ..util.threads import numba_threads
 
     t_start = time.perf_counter()
     toss, ens, rules, analysis = (config["toss"], config["ensemble"], config["rules"],

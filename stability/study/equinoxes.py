@@ -82,7 +82,7 @@ def run(config: dict, out_dir: Path, *, overwrite=False, threads=None, progress=
     ``resume``), on ``scheduler`` (default: the file's ``[run] scheduler``)."""
     from ..equinoxes import measure_equinoxes
     from ..figures.equinoxes import equinoxes_figure
-    from ..threads import numba_threads
+    from ..util.threads import numba_threads
 
     t_start = time.perf_counter()
     r, integ = config["run"], config["integration"]

@@ -136,7 +136,7 @@ def run(config: dict, out_dir: Path, *, overwrite=False, threads=None, progress=
     ``resume``), on ``scheduler`` (default: the file's ``[run] scheduler``)."""
     from ..figures.top import gyroscope_paths_figure, gyroscope_rates_figure
     from ..gyroscope import measure_gyroscopes
-    from ..threads import numba_threads
+    from ..util.threads import numba_threads
 
     t_start = time.perf_counter()
     top = _top(config)

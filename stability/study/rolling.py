@@ -149,7 +149,7 @@ def run(config: dict, out_dir: Path, *, overwrite=False, threads=None, progress=
     from ..figures.impacts import rolling_launch_figure, rolling_map_figure
     from ..rolling import SHAPES, measure_incline, measure_launches
     from ..scene_ensemble import sub_store
-    from ..threads import numba_threads
+    from ..util.threads import numba_threads
 
     stored = stored_run(config, work, resume, scheduler, threads)
 

@@ -108,7 +108,7 @@ def run(config: dict, out_dir: Path, *, overwrite=False, threads=None, progress=
     ``resume``), on ``scheduler`` (default: the file's ``[run] scheduler``)."""
     from ..figures.top import sleeping_top_figure
     from ..sleeping_top import measure_sleeping_tops
-    from ..threads import numba_threads
+    from ..util.threads import numba_threads
 
     t_start = time.perf_counter()
     tops = _tops(config)

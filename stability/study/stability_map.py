@@ -22,7 +22,7 @@ import numpy as np
 
 from .. import stabilitymap as smap
 from ..shapes import amplitude_levels, analytic_omega_squared, edge_series, horizons, shape_grid
-from ..threads import numba_threads
+from ..util.threads import numba_threads
 from .config import (
     UNSET, ConfigError, Key, Schema, Section, StudyKind, StudySummary, check_memory, check_run,
     method_names, output_files, output_section, scheduler_key, write_outputs,
@@ -222,7 +222,7 @@ def compute(config: dict, progress=None, work_dir=None, resume=False, scheduler=
     """
     import stability
 
-    from .. import conventions as cv
+    from ..util import conventions as cv
     from .. import estimators as est
     from ..dataset import software_attrs
     from ..flipsweep import flip_sweep

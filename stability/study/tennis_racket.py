@@ -226,7 +226,7 @@ def run(config: dict, out_dir: Path, *, overwrite=False, threads=None, progress=
 
 def _ensemble(config, body, axis, work, resume, scheduler, threads, progress, command):
     """The ensemble, streamed through the chunk folder ``work`` and read back into memory."""
-    from .. import conventions as cv
+    from ..util import conventions as cv
     from ..ensemble import run_streamed
 
     ens, integ = config["ensemble"], config["integration"]
@@ -254,7 +254,7 @@ def _reporter(progress):
 
 
 def _body(config: dict):
-    from ..body import RigidBody
+    from ..core.body import RigidBody
 
     b = config["body"]
     if "moments" in b:

@@ -101,9 +101,9 @@ def run(config: dict, out_dir: Path, *, overwrite=False, threads=None, progress=
 
     The bodies run chunk by chunk into the folder ``work`` (so that a stopped run continues
     with ``resume``), on ``scheduler`` (default: the file's ``[run] scheduler``)."""
-    from ..body import RigidBody
+    from ..core.body import RigidBody
     from ..figures.twisting import flip_figure, twist_figure
-    from ..threads import numba_threads
+    from ..util.threads import numba_threads
     from ..twisting import measure_twisting, tossed_members
 
     t_start = time.perf_counter()

@@ -25,14 +25,14 @@ import numpy as np
 from .. import reference as ref
 from .. import workprecision as wp
 from ..analytic import principal_axis
-from ..body import RigidBody
+from ..core.body import RigidBody
 from ..dataset import software_attrs
 from ..drift import long_horizon
 from ..ensemble import perturbed_starts
 from ..integrators import METHODS, method_spec
-from ..progress import progress_bar
+from ..util.progress import progress_bar
 from ..sweeps import jittered_starts, step_grid, sweep_method, sweep_scipy
-from ..threads import numba_threads
+from ..util.threads import numba_threads
 from .config import (
     ConfigError, Key, Schema, Section, StudyKind, StudySummary, check_memory, method_names,
     output_files, output_section, write_outputs,

@@ -7,7 +7,7 @@ import pytest
 
 import stability
 from stability.analytic import axis_stability
-from stability.body import PRESETS, Part, RigidBody
+from stability.core.body import PRESETS, Part, RigidBody
 
 
 def _rotation(seed):

@@ -1,6 +1,6 @@
 """The progress bar of long loops: silent when asked or when stderr is not a terminal."""
 
-from stability.progress import progress_bar
+from stability.util.progress import progress_bar
 
 
 def test_a_silent_bar_accepts_every_call(capsys):

@@ -10,7 +10,7 @@ from __future__ import annotations
 import numpy as np
 
 from .body import canonical_frame
-from .checks import real_array
+from ..util.checks import real_array
 
 #: Initial attitude when none is given: the body axes coincide with the space axes.
 IDENTITY = np.array([1.0, 0.0, 0.0, 0.0])

@@ -12,7 +12,7 @@ import mpmath as mp
 import numpy as np
 import pytest
 
-from stability.elliptic import carlson_rf, ellipf, ellipk, sncndn, sncndn_many
+from stability.core.elliptic import carlson_rf, ellipf, ellipk, sncndn, sncndn_many
 
 EPS = np.finfo(float).eps
 #: Complementary parameters m1 = k'^2 from m = 0 to m = 1 - 1e-15.

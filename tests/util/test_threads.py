@@ -3,7 +3,7 @@
 import numba
 import pytest
 
-from stability.threads import numba_threads
+from stability.util.threads import numba_threads
 
 
 def test_threads_are_set_clamped_and_restored():

@@ -23,7 +23,7 @@ from typing import NamedTuple
 
 import numpy as np
 
-from .checks import positive_float, real_array, real_number
+from ..util.checks import positive_float, real_array, real_number
 
 
 @dataclass(frozen=True)

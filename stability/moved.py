@@ -1,0 +1,73 @@
+"""Old module paths of the package, kept for one release: each is its new module, with a warning.
+
+The package moved to layers for its machinery (``util``, ``core``, ...) and one package per
+problem family. Code written against an old path still runs: ``import stability.body`` (or
+``from stability.body import RigidBody``, or ``stability.body`` after ``import stability``)
+gives :mod:`stability.core.body` itself and warns once with a :class:`FutureWarning` that names
+the new path. :data:`MOVED` is the table; :func:`install` puts its finder on ``sys.meta_path``
+(``stability/__init__`` does).
+"""
+
+from __future__ import annotations
+
+import importlib
+import importlib.abc
+import importlib.util
+import sys
+import warnings
+
+#: Old dotted module path -> the module it now is.
+MOVED = {
+    "stability.conventions": "stability.util.conventions",
+    "stability.checks": "stability.util.checks",
+    "stability.threads": "stability.util.threads",
+    "stability.progress": "stability.util.progress",
+    "stability.formatting": "stability.util.formatting",
+    "stability.compensated": "stability.core.compensated",
+    "stability.trig": "stability.core.trig",
+    "stability.roots": "stability.core.roots",
+    "stability.elliptic": "stability.core.elliptic",
+    "stability.quaternions": "stability.core.quaternions",
+    "stability.body": "stability.core.body",
+}
+
+
+def moved_to(old: str) -> str:
+    """Warn that the module ``old`` moved, and return its new path."""
+    new = MOVED[old]
+    warnings.warn(f"{old} moved to {new}; the old path goes in the next release",
+                  FutureWarning, stacklevel=3)
+    return new
+
+
+class OldPathFinder(importlib.abc.MetaPathFinder, importlib.abc.Loader):
+    """Finds each old path of :data:`MOVED` and loads it as the module it now is."""
+
+    def find_spec(self, fullname, path=None, target=None):
+        if fullname not in MOVED:
+            return None
+        return importlib.util.spec_from_loader(fullname, self)
+
+    def create_module(self, spec):
+        module = importlib.import_module(moved_to(spec.name))
+        self.spec = module.__spec__  # the import system sets __spec__ to the old path's
+        return module
+
+    def exec_module(self, module):
+        """Nothing to run (the new module ran when it was imported): its own spec back."""
+        module.__spec__ = self.spec
+
+
+def old_attribute(name: str):
+    """``stability.<name>`` for an old module path (the package's ``__getattr__``);
+    AttributeError for any other name."""
+    old = f"stability.{name}"
+    if old not in MOVED:
+        raise AttributeError(f"module 'stability' has no attribute {name!r}")
+    return importlib.import_module(old)
+
+
+def install() -> None:
+    """Put the finder of old paths on ``sys.meta_path`` (once)."""
+    if not any(isinstance(f, OldPathFinder) for f in sys.meta_path):
+        sys.meta_path.append(OldPathFinder())
