@@ -23,7 +23,7 @@ from .util import conventions as cv
 from .analytic import growth_rate, omega_squared
 from .attitude import IDENTITY, spatial_angular_momentum
 from .core.body import RigidBody
-from .dataset import storable_attrs
+from .output.dataset import storable_attrs
 from .estimators import exact_flip_intervals, flip_estimate, omega_squared_estimate
 from .estimators import tracked_members
 from .integrators.engine_rules import ENGINE_RULES, body_state, world_state

@@ -314,8 +314,8 @@ def _cmd_run(args) -> int:
 def _cmd_status(args) -> int:
     from pathlib import Path
 
-    from .lock import holder_of
-    from .store import find_stores, status_lines
+    from .output.lock import holder_of
+    from .output.store import find_stores, status_lines
 
     folder = Path(args.dir)
     if not folder.is_dir():

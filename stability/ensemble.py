@@ -3,7 +3,7 @@
 Member j starts at steady spin ``W`` about a principal axis plus a perturbation of size
 ``epsilon W`` perpendicular to it, in a random direction (or a fixed one, or from starts the
 caller gives), and every member is advanced by the one parallel member loop of
-:mod:`stability.driver`. The result is an xarray Dataset (schema in :mod:`stability.dataset`):
+:mod:`stability.driver`. The result is an xarray Dataset (schema in :mod:`stability.output.dataset`):
 the time series ``w`` (unless ``summaries_only``) and per-member summaries: flips (sign changes
 of the spin-axis component), crossings of a perpendicular component, the maximum perpendicular
 amplitude and the first passage of that amplitude through given levels (all tracked at every
@@ -37,13 +37,8 @@ from .core.body import RigidBody
 from .util.checks import (
     positive_float, positive_int, real_array, real_number, step_count, vectors3,
 )
-from .dataset import (
-    add_attitude,
-    config_toml,
-    ensemble_dataset,
-    history_line,
-    provenance_attrs,
-    summary_bytes,
+from .output.dataset import (
+    add_attitude, config_toml, ensemble_dataset, history_line, provenance_attrs, summary_bytes,
     threading_layer,
 )
 from .attitude import IDENTITY, attitude_error, attitude_spec, carries_attitude
@@ -52,9 +47,9 @@ from .estimators import summary_members
 from .exact_attitude import exact_attitudes
 from .util.formatting import format_bytes
 from .integrators import method_spec
-from .io import READ
-from .store import ChunkStore, read_progress
-from .stream import stream_chunks
+from .output.io import READ
+from .output.store import ChunkStore, read_progress
+from .output.stream import stream_chunks
 from .util.threads import checked_threads, numba_threads
 from .timescales import (
     DEFAULT_EPSILON, DEFAULT_MEMBERS, default_horizon, default_step, nominal_start,
@@ -371,7 +366,7 @@ def run_ensemble(
         Stream the run to this folder, one netCDF file per chunk of ``chunk_members``
         (default 2**20) written as soon as it is done, and return the Dataset over those files
         (dask arrays): memory is one chunk's, and a stopped run can be resumed
-        (:mod:`stability.stream`).
+        (:mod:`stability.output.stream`).
     resume : bool, default False
         With ``store``: finish a run stopped earlier (only the missing chunks are run; the
         result is bitwise that of an uninterrupted run). A store of a different run is refused.
@@ -388,7 +383,7 @@ def run_ensemble(
     xarray.Dataset
         Dims ``member``, ``time``, ``axis``, ``level``; variables ``w`` (member, time, axis)
         unless ``summaries_only``, ``w0``, ``status`` and the summaries (see
-        :mod:`stability.dataset`). ``status`` is 0 (ok) only for a member whose numbers can
+        :mod:`stability.output.dataset`). ``status`` is 0 (ok) only for a member whose numbers can
         be trusted; otherwise 1 non-finite, 2 diverged (energy or |L| left
         ``divergence_tolerance``), 3 not converged (implicit solve) or 4 step too large (the
         step angle exceeds the method's ``max_step_angle``), and the member's numbers are NaN.
@@ -589,7 +584,7 @@ def _summary(plan: _Plan, run) -> EnsembleSummary:
                            run.members * run.steps_done, run.wall_time, run.interrupted)
 
 
-# --- a run streamed to a store, chunk by chunk (stability.stream) -----------------------------
+# --- a run streamed to a store, chunk by chunk (stability.output.stream) -----------------------------
 
 
 def run_streamed(kwargs: dict, store, *, resume=False, scheduler=None, threads=None,
@@ -621,7 +616,7 @@ def run_streamed(kwargs: dict, store, *, resume=False, scheduler=None, threads=N
         Progress bar: over members when several chunks are run, else the chunk's own;
         ``False`` shows none.
     compress : bool, default True
-        zlib-compress the chunk files (:func:`stability.io.save`).
+        zlib-compress the chunk files (:func:`stability.output.io.save`).
 
     Returns
     -------
@@ -630,7 +625,7 @@ def run_streamed(kwargs: dict, store, *, resume=False, scheduler=None, threads=N
 
     Raises
     ------
-    stability.stream.RunInterrupted
+    stability.output.stream.RunInterrupted
         If Ctrl-C or SIGTERM stopped the run; the finished chunks are kept.
     ValueError
         For invalid arguments, or a store with chunks done and no ``resume``.

@@ -61,7 +61,7 @@ import xarray as xr
 from .util import conventions as cv
 from .analytic import growth_rate, omega_squared, perpendicular_axes
 from .util.checks import real_array
-from .dataset import body_from_attrs
+from .output.dataset import body_from_attrs
 # Regime codes (int8), per member and per ensemble, declared with the other codes.
 from .util.conventions import (
     REGIME_ALGEBRAIC, REGIME_EXPONENTIAL, REGIME_FLAG_VALUES, REGIME_MEANINGS, REGIME_NEUTRAL,
@@ -335,7 +335,7 @@ def summary_members(summaries, levels, axis: int, spin=None, *, w0=None, a0=None
     Parameters
     ----------
     summaries : mapping of str to ndarray
-        The summaries-only variables by name (:data:`stability.dataset.SUMMARIES`): shape (N,),
+        The summaries-only variables by name (:data:`stability.output.dataset.SUMMARIES`): shape (N,),
         ``passage_time`` (N, n_levels); counts as floats, NaN for masked members.
     levels : array_like, shape (n_levels,)
         Ascending amplitude levels of ``passage_time``, rad/s.

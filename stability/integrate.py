@@ -14,7 +14,7 @@ from .util import conventions as cv
 from .core.body import RigidBody
 from .util.checks import positive_float, positive_int, real_array, step_count, vectors3
 from .attitude import IDENTITY, attitude_spec, carries_attitude, propagate_attitude
-from .dataset import provenance_attrs, storable_attrs
+from .output.dataset import provenance_attrs, storable_attrs
 from .schema import TRAJECTORY
 from .driver import propagate, untrusted
 from .integrators import method_spec

@@ -29,6 +29,13 @@ MOVED = {
     "stability.elliptic": "stability.core.elliptic",
     "stability.quaternions": "stability.core.quaternions",
     "stability.body": "stability.core.body",
+    "stability.lock": "stability.output.lock",
+    "stability.publish": "stability.output.publish",
+    "stability.io": "stability.output.io",
+    "stability.store": "stability.output.store",
+    "stability.stream": "stability.output.stream",
+    "stability.dataset": "stability.output.dataset",
+    "stability.figures.style": "stability.plotting.style",
 }
 
 

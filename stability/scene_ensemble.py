@@ -5,7 +5,7 @@ each group with its own parameter row, step and step count, and runs them with t
 loop (:func:`stability.engine.propagate_groups`). :class:`GroupedRun` holds such a run;
 :func:`propagate_stored` runs it, by default in this process exactly as before, and with a
 ``store`` folder chunk by chunk through the same machinery as the free body's streamed ensembles
-(:mod:`stability.stream`): each finished chunk of members is kept at once, a stopped run
+(:mod:`stability.output.stream`): each finished chunk of members is kept at once, a stopped run
 resumes with ``resume`` and only the missing chunks run, and the chunks run on dask.distributed
 with ``scheduler``. The result is the same :class:`~stability.engine.Propagation`, bitwise,
 however the run was cut or wherever it ran: members are independent, and a chunk that holds a
@@ -32,8 +32,8 @@ from .util import conventions as cv
 from .engine import propagate_groups
 from .engine.run import Propagation
 from .scenes import Scene
-from .store import ChunkStore
-from .stream import stream_chunks
+from .output.store import ChunkStore
+from .output.stream import stream_chunks
 from .version import __version__
 
 #: Chunks a stored run is cut into by default (each one is kept as soon as it is finished) ...
@@ -152,7 +152,7 @@ class GroupedRun:
                           levels=self.levels, progress=progress, label=self.label)
 
     def __call__(self, lo: int, hi: int, progress, threads) -> xr.Dataset:
-        """The chunk job (:func:`stability.stream.stream_chunks`): members ``lo ... hi - 1``
+        """The chunk job (:func:`stability.output.stream.stream_chunks`): members ``lo ... hi - 1``
         as a Dataset, their saved states padded to the whole run's samples."""
         part = self.part(lo, hi)
         run = part.propagate(progress)
@@ -182,7 +182,7 @@ def propagate_stored(run: GroupedRun, store=None, *, resume=False, scheduler=Non
     ----------
     run : GroupedRun
     store : path-like, optional
-        Folder of the chunk files (a :class:`~stability.store.ChunkStore`, created if
+        Folder of the chunk files (a :class:`~stability.output.store.ChunkStore`, created if
         missing). Without it the run is :func:`propagate_groups` in this process.
     resume : bool, default False
         Finish a run of the same members stopped earlier (only the missing chunks run).
@@ -205,7 +205,7 @@ def propagate_stored(run: GroupedRun, store=None, *, resume=False, scheduler=Non
 
     Raises
     ------
-    stability.stream.RunInterrupted
+    stability.output.stream.RunInterrupted
         Ctrl-C or SIGTERM stopped a stored run; its finished chunks are kept.
     """
     if store is None:

@@ -266,7 +266,7 @@ def _schema(name, title, written_by, variables, file=None) -> DatasetSchema:
                          variables)
 
 
-# The free body's ensemble (stability.dataset.ensemble_dataset) --------------------------------
+# The free body's ensemble (stability.output.dataset.ensemble_dataset) --------------------------------
 
 _SUMMARY_ONLY = "runs that save the time series (not summaries_only)"
 _ATTITUDE = "the scene free_body_attitude (the attitude carried)"

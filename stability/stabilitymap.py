@@ -170,12 +170,12 @@ def measure_map(bodies, omega2, t_end, levels, specs, runs, *, spin, epsilon, me
         The growth-rate window.
     progress : bool, optional
         Progress bar over the ensembles; by default on a terminal.
-    checkpoint : stability.store.ChunkStore, optional
+    checkpoint : stability.output.store.ChunkStore, optional
         One chunk per entry of ``runs``: the estimates of each finished batch are kept there,
         and batches found there are not run again (``stability run --resume``).
     scheduler : str or distributed.Client, optional
         Run the batches as tasks of a dask.distributed cluster (needs ``checkpoint``:
-        :func:`stability.stream.stream_chunks`).
+        :func:`stability.output.stream.stream_chunks`).
     threads : int, optional
         Numba threads for the batches run in this process.
 
@@ -192,7 +192,7 @@ def measure_map(bodies, omega2, t_end, levels, specs, runs, *, spin, epsilon, me
         When Ctrl-C stopped an ensemble.
     """
     from .util.progress import progress_bar
-    from .stream import stream_chunks
+    from .output.stream import stream_chunks
 
     job = MapBatches(bodies, omega2, t_end, levels, [spec.name for spec in specs], runs,
                      spin=spin, epsilon=epsilon, members=members, seed=seed,
@@ -228,7 +228,7 @@ def measure_map(bodies, omega2, t_end, levels, specs, runs, *, spin, epsilon, me
 
 
 class MapBatches:
-    """The map's batches as a chunk job (:func:`stability.stream.stream_chunks`): chunk j is
+    """The map's batches as a chunk job (:func:`stability.output.stream.stream_chunks`): chunk j is
     batch j, every ensemble of one entry of ``runs`` run together (all cores busy, each
     ensemble bitwise what it gives alone), kept as :func:`batch_dataset`.
 
@@ -313,7 +313,7 @@ def write_batch(checkpoint, j: int, batch) -> None:
 
     Parameters
     ----------
-    checkpoint : stability.store.ChunkStore
+    checkpoint : stability.output.store.ChunkStore
         The run's chunk store.
     j : int
         Index of the batch in ``runs`` (:func:`measure_map`), the chunk number.

@@ -149,7 +149,7 @@ def assert_cf_compliant(path, known=()):
 
 def assert_readable(fig):
     """Every axis label of ``fig`` carries its unit, and no legend covers its data."""
-    from stability.figures.style import covered_data, missing_units
+    from stability.plotting.style import covered_data, missing_units
 
     assert missing_units(fig) == []
     assert covered_data(fig) == []

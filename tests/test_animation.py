@@ -12,7 +12,7 @@ from stability.animation import (MAX_FRAMES, animate_flip, animate_top, flip_fra
 from stability.cli import main
 from stability.exact_top import nutation_roots
 from stability.figures.animation import FlipScene, TopScene, frame_figure
-from stability.figures.style import missing_units
+from stability.plotting.style import missing_units
 from stability.top import HeavyTop
 
 RACKET = stability.RigidBody.preset("tennis_racket")

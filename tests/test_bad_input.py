@@ -457,7 +457,7 @@ def test_absurd_count_is_refused_by_the_memory_check(case, tmp_path, capsys):
 def work_folder(tmp_path) -> Path:
     """The work folder a stopped tennis-racket run leaves in ``tmp_path/out``, with a real
     manifest (written by ChunkStore) and no chunk done."""
-    from stability.store import ChunkStore
+    from stability.output.store import ChunkStore
 
     work = tmp_path / "out" / ".stability-work-tennis_racket"
     ChunkStore(work, {"run_ensemble": {"spin": 10.0}}, members=10, chunk_members=4)
@@ -513,7 +513,7 @@ def test_damaged_manifest_is_named_in_one_line(case, command, tmp_path, capsys):
                                      b'"members_per_second": -1, "updated": "a\\nb"}'])
 def test_damaged_progress_is_shown_and_never_trusted(content, tmp_path, capsys):
     from stability.cli import main
-    from stability.store import ChunkStore, read_progress
+    from stability.output.store import ChunkStore, read_progress
 
     work = work_folder(tmp_path)
     (work / "progress.json").write_bytes(content)

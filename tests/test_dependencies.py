@@ -26,7 +26,7 @@ ALSO_INSTALLS = {"matplotlib": ("mpl_toolkits",)}
 #: Optional modules: the extra that brings each, and the one module or package that may import
 #: it (and refuses in one line, naming what to install, when it is missing).
 OPTIONAL = {
-    "distributed": ("distributed", "stability.stream"),
+    "distributed": ("distributed", "stability.output.stream"),
     "numba.cuda": ("gpu", "stability.gpu"),
 }
 

@@ -9,7 +9,7 @@ import pytest
 import stability
 from stability.util import conventions as cv
 from stability import ensemble
-from stability.dataset import LEVEL, SUMMARIES, summary_bytes
+from stability.output.dataset import LEVEL, SUMMARIES, summary_bytes
 from stability.ensemble import (
     RNG_CHUNK, ensemble_memory, max_angular_speed, perturbed_starts, run_ensemble,
 )

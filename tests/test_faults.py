@@ -24,8 +24,8 @@ import pytest
 import xarray as xr
 
 from stability.cli import main
-from stability.publish import JOURNAL, STAGE_PREFIX, Stage, clean_leftovers, journal_text
-from stability.store import find_stores, read_progress
+from stability.output.publish import JOURNAL, STAGE_PREFIX, Stage, clean_leftovers, journal_text
+from stability.output.store import find_stores, read_progress
 from stability.study import STUDIES
 
 from .helpers import wait_until

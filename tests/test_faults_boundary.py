@@ -26,11 +26,11 @@ import xarray as xr
 
 import stability
 from stability.cli import main
-from stability.lock import OUTPUT_LOCK, FolderBusy, FolderLock, holder_of
-from stability.publish import (
+from stability.output.lock import OUTPUT_LOCK, FolderBusy, FolderLock, holder_of
+from stability.output.publish import (
     JOURNAL, STAGE_PREFIX, Stage, check_target, clean_leftovers, journal_text,
 )
-from stability.store import LOCK, ChunkStore, read_progress
+from stability.output.store import LOCK, ChunkStore, read_progress
 
 from .helpers import wait_until
 from .test_faults import LONG, QUICK, Lines, snapshot, start, stability_cmd
@@ -116,7 +116,7 @@ def test_a_planted_journal_moves_nothing_and_is_left_untouched(victim, caplog, c
     else:
         stage = plant(out, journal_text(["a" * 64] * 40000))
     before, outside = tree(out), tree(elsewhere)
-    with caplog.at_level(logging.WARNING, logger="stability.publish"):
+    with caplog.at_level(logging.WARNING, logger="stability.output.publish"):
         assert clean_leftovers(out) == []
     assert tree(out) == before and tree(elsewhere) == outside
     lines = [r.getMessage() for r in caplog.records]
@@ -129,7 +129,7 @@ def test_a_stage_that_is_a_link_is_neither_completed_nor_removed(victim, caplog)
     (out / stage_name(out)).symlink_to(elsewhere)  # with a valid journal, of a dead process
     (out / f"{STAGE_PREFIX}not-ours").mkdir()  # a name that does not parse as a stage
     before, outside = tree(out), tree(elsewhere)
-    with caplog.at_level(logging.WARNING, logger="stability.publish"):
+    with caplog.at_level(logging.WARNING, logger="stability.output.publish"):
         assert clean_leftovers(out) == []
     assert tree(out) == before and tree(elsewhere) == outside
     assert len(caplog.records) == 2
@@ -250,7 +250,7 @@ def test_a_store_held_by_another_process_is_refused_naming_it(tmp_path):
     holder = subprocess.Popen([sys.executable, "-c", textwrap.dedent(f"""
         import sys, time
         sys.path.insert(0, {str(ROOT)!r})
-        from stability.lock import FolderLock
+        from stability.output.lock import FolderLock
         held = FolderLock({str(folder)!r}, {LOCK!r}).acquire()
         print("held", flush=True)
         time.sleep(60)
@@ -291,7 +291,7 @@ def test_a_stale_lock_file_of_another_user_does_not_block_a_run(request):
         killed = subprocess.Popen([sys.executable, "-c", textwrap.dedent(f"""
             import sys, time
             sys.path.insert(0, {str(ROOT)!r})
-            from stability.lock import FolderLock
+            from stability.output.lock import FolderLock
             held = FolderLock({str(shared)!r}).acquire()
             print("held", flush=True)
             time.sleep(60)
@@ -305,7 +305,7 @@ def test_a_stale_lock_file_of_another_user_does_not_block_a_run(request):
     other = subprocess.Popen([*UNPRIVILEGED, python, "-c", textwrap.dedent(f"""
         import importlib.util, time
         spec = importlib.util.spec_from_file_location(
-            "lock", {str(ROOT / "stability" / "lock.py")!r})
+            "lock", {str(ROOT / "stability" / "output" / "lock.py")!r})
         lock = importlib.util.module_from_spec(spec)
         spec.loader.exec_module(lock)
         held = lock.FolderLock({str(shared)!r}).acquire()
@@ -369,7 +369,7 @@ def test_a_chunk_of_another_run_is_not_taken_on_resume(tmp_path, body123, caplog
     stability.run_ensemble(**kwargs, seed=2, store=tmp_path / "other")
     for name in ("chunk-000000.nc", "chunk-000000.nc.sha256"):  # with its own valid checksum
         shutil.copy(tmp_path / "other" / name, tmp_path / "mine" / name)
-    with caplog.at_level(logging.WARNING, logger="stability.store"):
+    with caplog.at_level(logging.WARNING, logger="stability.output.store"):
         again = stability.run_ensemble(**kwargs, seed=1, store=tmp_path / "mine",
                                        resume=True).load()
     xr.testing.assert_equal(again, mine)

@@ -9,7 +9,7 @@ import stability
 from stability.analytic import intermediate_axis
 from stability.estimators import analyse_ensemble
 from stability.figures import tennis
-from stability.figures.style import (
+from stability.plotting.style import (
     covered_data, label, missing_units, new_figure, place_legend, save,
 )
 

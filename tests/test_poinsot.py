@@ -8,7 +8,7 @@ from matplotlib.figure import Figure
 import stability
 from stability.core.quaternions import frame_along, quaternion_to_matrix
 from stability.figures.poinsot import poinsot_figure
-from stability.figures.style import missing_units
+from stability.plotting.style import missing_units
 from stability.polhodes import (energy_ellipsoid_polhodes, energy_ellipsoid_separatrix,
                                 herpolhode, herpolhode_radii, poinsot_polhode)
 

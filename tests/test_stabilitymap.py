@@ -86,7 +86,7 @@ def test_a_kept_batch_reads_back_bit_for_bit(tmp_path):
     length between cells too; and a batch of many cells stays a few variables."""
     import xarray as xr
 
-    from stability.store import ChunkStore
+    from stability.output.store import ChunkStore
 
     analytic = float(stability.omega_squared(BODY, 2, SPIN))
     batch = []

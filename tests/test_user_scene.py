@@ -19,7 +19,7 @@ import pytest
 from stability import define_scene
 from stability.engine import propagate_groups
 from stability.scene_ensemble import GroupedRun, propagate_stored
-from stability.store import status_lines
+from stability.output.store import status_lines
 
 ROOT = Path(__file__).resolve().parents[1]
 

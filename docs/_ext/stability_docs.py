@@ -195,7 +195,7 @@ def work_precision_page(quick: bool) -> str:
 API_MODULES = (
     ("Bodies and linear theory", ("core.body", "core.quaternions", "analytic", "top")),
     ("Exact solutions", ("exact", "exact_attitude", "exact_top", "core.elliptic")),
-    ("Ensembles, runs and files", ("ensemble", "integrate", "attitude", "io", "stream",
+    ("Ensembles, runs and files", ("ensemble", "integrate", "attitude", "output.io", "output.stream",
                                    "util.formatting", "schema")),
     ("Measures and estimators", ("estimators", "geometric_phase", "periodic", "core.roots",
                                  "drift", "reference")),

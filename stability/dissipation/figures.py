@@ -14,8 +14,9 @@ from __future__ import annotations
 import numpy as np
 
 from ..util import conventions as cv
-from ..figures.style import (AXIS_COLORS, EXACT_COLOR, label, new_figure, place_legend,
-                             plain_log_ticks, styled)
+from ..plotting.style import (
+    AXIS_COLORS, EXACT_COLOR, label, new_figure, place_legend, plain_log_ticks, styled,
+)
 from .model import axisymmetric_eigenvalues, energy_sink_rate, growth_rate
 
 #: Minutes per second, for time axes.

@@ -7,6 +7,6 @@ Every function returns a ``matplotlib.figure.Figure`` (no ``pyplot`` state) whos
 labelled ``"quantity (unit)"``; :func:`.style.save` writes it as PNG and PDF.
 """
 
-from .style import label, missing_units, save
+from ..plotting.style import label, missing_units, save
 
 __all__ = ["label", "missing_units", "save"]

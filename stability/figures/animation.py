@@ -17,7 +17,7 @@ from matplotlib.ticker import MaxNLocator
 
 from ..analytic import moment_name
 from ..core.quaternions import frame_along
-from .style import AXIS_COLORS, label
+from ..plotting.style import AXIS_COLORS, label
 from .twisting import BACK_COLOR, FRONT_COLOR, racket_outline
 
 #: Dots per inch of the animation figures; their size is given in pixels.

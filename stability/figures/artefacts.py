@@ -9,7 +9,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from .style import EXACT_COLOR, label, new_figure, styled
+from ..plotting.style import EXACT_COLOR, label, new_figure, styled
 
 #: Zero drawn on a log axis at this value (an invariant kept exactly).
 _FLOOR = 1e-17

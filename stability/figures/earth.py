@@ -10,7 +10,7 @@ from __future__ import annotations
 import numpy as np
 
 from ..earth import ARCSEC
-from .style import EXACT_COLOR, label, new_figure, styled
+from ..plotting.style import EXACT_COLOR, label, new_figure, styled
 
 
 def _across(v, axis):

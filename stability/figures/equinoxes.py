@@ -11,7 +11,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from .style import AXIS_COLORS, EXACT_COLOR, label, new_figure, place_legend, styled
+from ..plotting.style import AXIS_COLORS, EXACT_COLOR, label, new_figure, place_legend, styled
 
 
 def _detrended(t, y):

@@ -12,7 +12,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from .style import EXACT_COLOR, label, new_figure, place_legend, styled
+from ..plotting.style import EXACT_COLOR, label, new_figure, place_legend, styled
 
 _PIVOT_COLORS = ("#1f77b4", "#2ca02c", "#9467bd", "#8c564b", "#e377c2")
 

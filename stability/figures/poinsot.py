@@ -13,7 +13,7 @@ from matplotlib.ticker import MaxNLocator
 from ..attitude import IDENTITY, quaternion_to_matrix
 from ..polhodes import (energy_ellipsoid_polhodes, energy_ellipsoid_separatrix, herpolhode,
                         poinsot_polhode)
-from .style import AXIS_COLORS, EXACT_COLOR, label, new_figure, styled
+from ..plotting.style import AXIS_COLORS, EXACT_COLOR, label, new_figure, styled
 
 #: Unit of rho = w / sqrt(2E) and of every length in the construction.
 UNIT = "kg^-1/2 m^-1"

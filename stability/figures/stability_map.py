@@ -18,7 +18,7 @@ from __future__ import annotations
 import numpy as np
 
 from ..estimators import DEPARTURE_FACTOR, MIN_POINTS
-from .style import AXIS_COLORS, EXACT_COLOR, label, new_figure, place_legend, styled
+from ..plotting.style import AXIS_COLORS, EXACT_COLOR, label, new_figure, place_legend, styled
 
 #: Marker of each method in the scatter and sweep figures (cycled).
 _MARKERS = ("o", "s", "^", "D", "v", "P")

@@ -22,7 +22,7 @@ from ..util import conventions as cv
 from ..analytic import moment_name, perpendicular_axes
 from ..estimators import sign_change_times
 from ..polhodes import polhodes, separatrix_circles
-from .style import (
+from ..plotting.style import (
     AXIS_COLORS, ENSEMBLE_COLOR, EXACT_COLOR, label, new_figure, place_legend, styled,
 )
 
@@ -36,7 +36,7 @@ def _subtitle(ds, body, axis) -> str:
 
 def _body_and_axis(ds, body, axis):
     """``body`` and ``axis``; by default those the Dataset records."""
-    from ..dataset import body_from_attrs
+    from ..output.dataset import body_from_attrs
 
     return (body_from_attrs(ds.attrs) if body is None else body,
             int(ds.attrs["axis"]) if axis is None else int(axis))

@@ -13,7 +13,7 @@ from __future__ import annotations
 import numpy as np
 
 from ..util import conventions as cv
-from .style import (
+from ..plotting.style import (
     AXIS_COLORS, EXACT_COLOR, label, new_figure, place_legend, plain_log_ticks, styled,
 )
 

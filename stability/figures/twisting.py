@@ -10,7 +10,7 @@ from __future__ import annotations
 import numpy as np
 
 from ..attitude import quaternion_to_matrix, spatial_angular_momentum
-from .style import AXIS_COLORS, label, new_figure, place_legend, styled
+from ..plotting.style import AXIS_COLORS, label, new_figure, place_legend, styled
 
 #: A stylised racket in its body frame (handle along axis 1, head across axis 2), metres.
 _HEAD_CENTRE, _HEAD_HALF_LENGTH, _HEAD_HALF_WIDTH = 0.17, 0.165, 0.125

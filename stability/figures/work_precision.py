@@ -17,7 +17,7 @@ import numpy as np
 
 from ..util import conventions as cv
 from ..drift import envelope
-from .style import EXACT_COLOR, label, new_figure, styled
+from ..plotting.style import EXACT_COLOR, label, new_figure, styled
 
 #: Line style per method family, so families read at a glance; colours cycle within a family.
 _FAMILY_STYLE = {

@@ -23,7 +23,7 @@ import stat
 from pathlib import Path
 
 from ..dissipation import studies as dissipation
-from ..stream import RunInterrupted
+from ..output.stream import RunInterrupted
 from . import (
     bat, earth_wobble, engine_artefacts, equinoxes, gyroscope, rolling, sleeping_top,
     stability_map, tennis_racket, twisting_racket, work_precision,
@@ -163,9 +163,9 @@ def run_study(
     Everything about the output folder is checked before any computation (the output names
     are plain and distinct, it can be written, nothing is replaced without ``overwrite``, the
     free space suffices where the size is known). The run holds the folder's lock
-    (:mod:`stability.lock`) from then on, so a second run into the same folder is refused
+    (:mod:`stability.output.lock`) from then on, so a second run into the same folder is refused
     while this one lives, ``overwrite`` included. The outputs are written into a hidden stage
-    and published only when all are complete (:mod:`stability.publish`), then checked to be
+    and published only when all are complete (:mod:`stability.output.publish`), then checked to be
     there: a stopped run publishes nothing and leaves an earlier result intact. What a
     resumable study has finished (the chunks of its ensemble) is kept in a work folder beside
     the outputs until the run is published; a run that fails removes that folder only if it
@@ -203,11 +203,11 @@ def run_study(
     ------
     ValueError, OSError
         Bad configuration or output folder (before computing); a failed write (after).
-    stability.stream.RunInterrupted
+    stability.output.stream.RunInterrupted
         Ctrl-C or SIGTERM; its message says what was kept and how to continue.
     """
-    from ..lock import FolderLock
-    from ..publish import check_target, clean_leftovers, remove_folder, staged
+    from ..output.lock import FolderLock
+    from ..output.publish import check_target, clean_leftovers, remove_folder, staged
 
     if isinstance(study, dict):
         kind = study_kind(study.get(STUDY_KEY))
@@ -305,7 +305,7 @@ def _kept(work: Path):
     Nothing there is changed (the folder may be another run's), and only the chunk files
     there are checked (a manifest may claim any number of chunks).
     """
-    from ..store import ChunkStore, find_stores, read_manifest
+    from ..output.store import ChunkStore, find_stores, read_manifest
 
     if work.is_symlink() or not work.is_dir():
         return None

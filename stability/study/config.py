@@ -408,7 +408,7 @@ def output_files(config: dict, figures, extra=()) -> list[str]:
 def write_outputs(ds, config: dict, out_dir, name: str, figures: dict, *, overwrite=False,
                   history=None, attrs=None, threads=None, texts=None):
     """Label ``ds`` and write what ``[output]`` asks for: the Dataset, ``config.toml`` and the
-    figures, published together (:func:`stability.io.saving`: the write runs while the figures
+    figures, published together (:func:`stability.output.io.saving`: the write runs while the figures
     draw; an interruption publishes nothing).
 
     Parameters
@@ -442,9 +442,9 @@ def write_outputs(ds, config: dict, out_dir, name: str, figures: dict, *, overwr
     files : list of Path
     """
     from ..util import conventions as cv
-    from ..dataset import append_history, config_toml, software_attrs
-    from ..figures.style import save
-    from ..io import saving
+    from ..output.dataset import append_history, config_toml, software_attrs
+    from ..plotting.style import save
+    from ..output.io import saving
     from ..util.threads import numba_threads
 
     with numba_threads(threads):  # what the run recorded where it ran is kept
@@ -718,10 +718,10 @@ def set_value(raw: dict, dotted: str, text: str, source: str = "--set") -> None:
 def to_toml(config: dict) -> str:
     """A resolved configuration as TOML text, as stored in a Dataset's ``config_toml``.
 
-    The same writer as the Dataset's (:func:`stability.dataset.config_toml`), so the copy a run
+    The same writer as the Dataset's (:func:`stability.output.dataset.config_toml`), so the copy a run
     writes next to its Dataset and the attribute inside it are the same text.
     """
-    from ..dataset import config_toml
+    from ..output.dataset import config_toml
 
     return config_toml(config)
 

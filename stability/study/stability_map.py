@@ -210,7 +210,7 @@ def compute(config: dict, progress=None, work_dir=None, resume=False, scheduler=
     """All the runs of the map; returns the Dataset and the work done (member-steps, s).
 
     With ``work_dir``, each finished batch of ensembles is kept there (a
-    :class:`~stability.store.ChunkStore` of one batch per chunk) and, with ``resume``, batches
+    :class:`~stability.output.store.ChunkStore` of one batch per chunk) and, with ``resume``, batches
     found there are not run again; with ``scheduler`` (needs ``work_dir``) the batches run as
     tasks of that dask.distributed cluster.
 
@@ -224,7 +224,7 @@ def compute(config: dict, progress=None, work_dir=None, resume=False, scheduler=
 
     from ..util import conventions as cv
     from .. import estimators as est
-    from ..dataset import software_attrs
+    from ..output.dataset import software_attrs
     from ..flipsweep import flip_sweep
     from ..integrators import method_spec
 
@@ -241,7 +241,7 @@ def compute(config: dict, progress=None, work_dir=None, resume=False, scheduler=
     runs = smap.map_runs(specs, integ["h"], n_shapes, integ["bias_check"], integ["bias_stride"])
     checkpoint = None
     if work_dir is not None:
-        from ..store import ChunkStore
+        from ..output.store import ChunkStore
         from ..version import __version__
 
         identity = {"config": {k: v for k, v in config.items()  # not where it runs

@@ -180,7 +180,7 @@ def run(config: dict, out_dir: Path, *, overwrite=False, threads=None, progress=
     """Run the study described by the resolved ``config``; write its files into ``out_dir``.
 
     The ensemble is streamed chunk by chunk into the folder ``work`` (uncompressed scratch
-    files, :mod:`stability.stream`), so that a stopped run continues with ``resume``; its
+    files, :mod:`stability.output.stream`), so that a stopped run continues with ``resume``; its
     chunks run on ``scheduler`` (default: the file's ``[run] scheduler``).
 
     Returns

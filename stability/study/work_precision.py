@@ -26,7 +26,7 @@ from .. import reference as ref
 from .. import workprecision as wp
 from ..analytic import principal_axis
 from ..core.body import RigidBody
-from ..dataset import software_attrs
+from ..output.dataset import software_attrs
 from ..drift import long_horizon
 from ..ensemble import perturbed_starts
 from ..integrators import METHODS, method_spec

@@ -14,7 +14,7 @@ from pathlib import Path
 import numpy as np
 from matplotlib.figure import Figure
 
-from ..publish import disk_error
+from ..output.publish import disk_error
 
 #: Colours of body axes 1, 2, 3 in every figure (colour-blind safe, from matplotlib's tab10).
 AXIS_COLORS = ("#1f77b4", "#ff7f0e", "#2ca02c")

@@ -22,10 +22,10 @@ from pathlib import Path
 import numpy as np
 import xarray as xr
 
-from .util import conventions as cv
+from ..util import conventions as cv
 from .dataset import check_storable
 from .publish import disk_error
-from .schema import file_order, held_order
+from ..schema import file_order, held_order
 
 #: zlib compression level (1 fastest ... 9 smallest); 4 is near the knee of size against time.
 COMPLEVEL = 4

@@ -8,7 +8,7 @@ A :class:`ChunkStore` is a folder::
     chunk-000000.nc.sha256 its checksum and the store's fingerprint, written (atomically)
                            after it
     progress.json          chunks done, members/s, time left: for ``stability status DIR``
-    .lock                  held by the process writing the store (:mod:`stability.lock`)
+    .lock                  held by the process writing the store (:mod:`stability.output.lock`)
 
 A chunk counts as done only when its file and its checksum are both there and agree, and the
 checksum names this store's fingerprint, so a run killed at any point (while compiling,
@@ -41,10 +41,10 @@ import numpy as np
 import xarray as xr
 from xarray.indexes import RangeIndex
 
-from .util import conventions as cv
+from ..util import conventions as cv
 from .dataset import variable_attrs
 from .io import READ, save
-from .schema import held_order
+from ..schema import held_order
 from .lock import FolderLock
 from .publish import read_plain_file, write_text
 
@@ -67,7 +67,7 @@ class StoreMismatch(ValueError):
 class ChunkStore:
     """The chunk files of one run in ``directory``.
 
-    The store holds its folder's lock (:class:`~stability.lock.FolderLock`) from here until
+    The store holds its folder's lock (:class:`~stability.output.lock.FolderLock`) from here until
     :meth:`close` (or the end of the process): a second process is refused, naming the first.
 
     Parameters

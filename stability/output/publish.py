@@ -41,7 +41,7 @@ import threading
 import uuid
 from pathlib import Path
 
-from .util.formatting import format_bytes
+from ..util.formatting import format_bytes
 from .lock import process_alive
 
 #: Name prefix of stage folders.

@@ -3,7 +3,7 @@
 The machinery is generic over a *chunk job*: a picklable callable ``job(lo, hi, progress,
 threads) -> xarray.Dataset`` that runs members ``lo ... hi - 1`` of a run with the Numba threads
 of the process it is in. :func:`stream_chunks` runs the chunks of a
-:class:`~stability.store.ChunkStore` that are not done, here or as dask tasks, with progress,
+:class:`~stability.output.store.ChunkStore` that are not done, here or as dask tasks, with progress,
 ``progress.json`` and the Ctrl-C message. The jobs are defined beside the runs they cut, above
 this module, which imports none of them: the free body's
 :class:`~stability.ensemble.EnsembleChunks`, every scene's grouped runs
@@ -13,7 +13,7 @@ this module, which imports none of them: the free body's
 the members are cut into chunks of ``chunk_members``; each chunk is run exactly as
 :func:`stability.run_ensemble` runs its members (its random starts are drawn for that chunk
 alone, from the same seed streams) and written as soon as it is finished into a
-:class:`~stability.store.ChunkStore`. Memory is one chunk's, so
+:class:`~stability.output.store.ChunkStore`. Memory is one chunk's, so
 a summaries-only run of 1e8 members needs well under 2 GB. A run stopped at any point is
 resumed with ``resume=True`` (``stability run --resume``): the chunks that are not on disk are
 run, and the Dataset is bitwise the one of an uninterrupted run (members are independent, and
@@ -36,7 +36,7 @@ import time
 from pathlib import Path
 
 from .store import ChunkStore, chunk_name, write_chunk
-from .util.threads import checked_threads, numba_threads
+from ..util.threads import checked_threads, numba_threads
 
 log = logging.getLogger(__name__)
 

@@ -18,11 +18,11 @@ import pytest
 import xarray as xr
 
 import stability
-from stability.store import open_store, read_progress
+from stability.output.store import open_store, read_progress
 
-from .helpers import wait_until
+from ..helpers import wait_until
 
-ROOT = Path(__file__).resolve().parents[1]
+ROOT = Path(__file__).resolve().parents[2]
 BODY = stability.RigidBody(1.0, 2.0, 3.0)
 RUN = dict(body=BODY, axis=2, spin=1.0, epsilon=1e-3, members=700, h=0.01, t_end=30.0, seed=4,
            method="rk4", summaries_only=True)

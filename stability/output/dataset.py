@@ -47,10 +47,10 @@ from collections.abc import Mapping
 import numpy as np
 import xarray as xr
 
-from .util import conventions as cv
-from .core.body import RigidBody
-from .schema import ENSEMBLE, LEVEL
-from .version import __version__
+from ..util import conventions as cv
+from ..core.body import RigidBody
+from ..schema import ENSEMBLE, LEVEL
+from ..version import __version__
 
 #: Where the physics comes from; method references are added per Dataset.
 REFERENCES = (

@@ -9,10 +9,10 @@ import xarray as xr
 
 import stability
 from stability.util import conventions as cv
-from stability import io
-from stability.dataset import append_history, check_storable, config_toml, storable_attrs
+from stability.output import io
+from stability.output.dataset import append_history, check_storable, config_toml, storable_attrs
 
-from .helpers import assert_cf_compliant, assert_declared
+from ..helpers import assert_cf_compliant, assert_declared
 
 BODY = stability.RigidBody(1.0, 2.0, 3.0, name="test body")
 
