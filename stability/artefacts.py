@@ -19,17 +19,23 @@ import math
 import numpy as np
 import xarray as xr
 
-from .util import conventions as cv
 from .analytic import growth_rate, omega_squared
 from .attitude import IDENTITY, spatial_angular_momentum
 from .core.body import RigidBody
-from .output.dataset import storable_attrs
-from .estimators import exact_flip_intervals, flip_estimate, omega_squared_estimate
-from .estimators import tracked_members
+from .estimators import (
+    exact_flip_intervals,
+    flip_estimate,
+    omega_squared_estimate,
+    tracked_members,
+)
+from .exact import exact_omega
+from .integrators import METHODS
 from .integrators.engine_rules import ENGINE_RULES, body_state, world_state
+from .output.dataset import storable_attrs
 from .scene_ensemble import GroupedRun, propagate_stored, sub_store
 from .scenes import SCENES
 from .schema import ENGINE_ARTEFACTS
+from .util import conventions as cv
 
 #: Tracked axes in the canonical frame: spin about axis 2, across it axes 1 and 3.
 _AXES = np.array([[1, 0, 2]])
@@ -327,7 +333,6 @@ def measure_artefacts(rules, moments, w0, steps, t_end, *, tolerance=0.01, searc
 
 
 def _exact_trace(moments, w0, h, t_end):
-    from .exact import exact_omega
 
     t = np.arange(int(round(t_end / h)) + 1) * h
     return exact_omega(RigidBody(*moments, physical=False), w0, t)[:, 1]
@@ -341,7 +346,6 @@ _TABLE = ("fraction_flipping", "flip_interval", "flip_interval_error", "growth_r
 
 def _dataset(rules, steps, table, needed, traces, exact_trace, trace_h, moments, exact, spin,
              tolerance, t_end, members):
-    from .integrators import METHODS
 
     specs = {**METHODS, **ENGINE_RULES}
     data = dict(table)

@@ -30,10 +30,22 @@ import math
 
 import numpy as np
 
-from .earth import ARCSEC, DAY, EQUATORIAL_RADIUS, MASS, POLAR_MOMENT_FACTOR
-from .earth import DYNAMICAL_ELLIPTICITY
-from .integrators.lunisolar import N_ORBIT, O_E, O_I, O_K, O_M0, O_N, O_NODE0, O_NODEDOT
-from .integrators.lunisolar import O_W0, O_WDOT
+from .earth import ARCSEC, DAY, DYNAMICAL_ELLIPTICITY, EQUATORIAL_RADIUS, MASS, POLAR_MOMENT_FACTOR
+from .integrators.lunisolar import (
+    N_ORBIT,
+    O_E,
+    O_I,
+    O_K,
+    O_M0,
+    O_N,
+    O_NODE0,
+    O_NODEDOT,
+    O_W0,
+    O_WDOT,
+)
+from .scene_ensemble import GroupedRun, propagate_stored, sub_store
+from .scenes import SCENES
+from .scenes.lunisolar_earth import figure_axes
 from .schema import EQUINOXES
 
 #: The Julian year (s) and century, the units of the rates.
@@ -454,9 +466,6 @@ def measure_equinoxes(*, years=100.0, members=4, steps_per_day=4, method="lp4",
 
     import xarray as xr
 
-    from .scene_ensemble import GroupedRun, propagate_stored, sub_store
-    from .scenes import SCENES
-    from .scenes.lunisolar_earth import figure_axes
 
     orbits = member_orbits(members, seed)
     full, averaged = SCENES["lunisolar_earth"], SCENES["precessing_axis"]

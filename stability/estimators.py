@@ -58,16 +58,23 @@ from dataclasses import dataclass
 import numpy as np
 import xarray as xr
 
-from .util import conventions as cv
 from .analytic import growth_rate, omega_squared, perpendicular_axes
-from .util.checks import real_array
+from .exact import flip_intervals
 from .output.dataset import body_from_attrs
+from .schema import ESTIMATES, TENNIS_RACKET
+from .util import conventions as cv
+from .util.checks import real_array
+
 # Regime codes (int8), per member and per ensemble, declared with the other codes.
 from .util.conventions import (
-    REGIME_ALGEBRAIC, REGIME_EXPONENTIAL, REGIME_FLAG_VALUES, REGIME_MEANINGS, REGIME_NEUTRAL,
-    REGIME_OSCILLATION, REGIME_UNDETERMINED,
+    REGIME_ALGEBRAIC,
+    REGIME_EXPONENTIAL,
+    REGIME_FLAG_VALUES,
+    REGIME_MEANINGS,
+    REGIME_NEUTRAL,
+    REGIME_OSCILLATION,
+    REGIME_UNDETERMINED,
 )
-from .schema import ESTIMATES, TENNIS_RACKET
 
 #: Lower edge of the growth-rate window, in units of the member's initial perpendicular
 #: amplitude a0. A start off the unstable eigenvector carries a decaying mode; at 100 a0 it is
@@ -1028,7 +1035,6 @@ def exact_flip_intervals(body, axis: int, w0):
     """
     w0 = np.atleast_2d(real_array("w0", w0, "rad/s"))
     if axis is None or _is_intermediate(body.moments, axis):
-        from .exact import flip_intervals
 
         exact, asymptote, _ = flip_intervals(body, w0)
         return exact, asymptote
@@ -1053,7 +1059,6 @@ def complementary_moduli(body, w0) -> np.ndarray:
     ndarray, shape (N,)
         k' of each start (0 on the separatrix, 1 for a symmetric body, NaN for a sphere).
     """
-    from .exact import flip_intervals
 
     return flip_intervals(body, np.atleast_2d(np.asarray(w0, dtype=float)))[2]
 

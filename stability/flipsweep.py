@@ -13,6 +13,11 @@ import math
 
 import numpy as np
 
+from .analytic import growth_rate
+from .core.body import RigidBody
+from .ensemble import completed, run_ensembles
+from .estimators import exact_flip_intervals
+
 
 def flip_sweep_starts(epsilons, spin: float) -> np.ndarray:
     """Starts ``(epsilon W, W, 0)``, one per epsilon; (E, 3) in rad/s.
@@ -53,8 +58,6 @@ def exact_flip_curve(moments, epsilons, spin: float):
     exact, asymptote : ndarray, shape (E,)
         In s (:func:`stability.estimators.exact_flip_intervals`).
     """
-    from .core.body import RigidBody
-    from .estimators import exact_flip_intervals
 
     body = RigidBody(*moments, physical=False)
     return exact_flip_intervals(body, 2, flip_sweep_starts(epsilons, spin))
@@ -90,9 +93,6 @@ def flip_sweep(moments, epsilons, spin: float, methods, steps, command=None) -> 
     KeyboardInterrupt
         When Ctrl-C stopped an ensemble.
     """
-    from .analytic import growth_rate
-    from .core.body import RigidBody
-    from .ensemble import completed, run_ensembles
 
     moments = np.asarray(moments, dtype=float)
     epsilons = np.array(epsilons, dtype=float)

@@ -30,6 +30,13 @@ from typing import NamedTuple
 
 import numpy as np
 
+from .analytic import angular_momentum_norm, invariant_differences, kinetic_energy
+from .core.body import RigidBody
+from .core.quaternions import IDENTITY, frame_along, quaternion_to_matrix
+from .exact import exact_omega, full_period
+from .exact_attitude import exact_attitude
+from .util.checks import vectors3
+
 
 def polhodes(body, levels=(0.12, 0.35, 0.6, 0.82, 0.96), samples: int = 400):
     """Polhodes around each stable axis, followed for one period with the exact solution.
@@ -53,7 +60,6 @@ def polhodes(body, levels=(0.12, 0.35, 0.6, 0.82, 0.96), samples: int = 400):
         axis of the centre and the orbits, each of shape (samples, 3), unit vectors m / |L|.
         A steady spin (equal moments) has no orbit and is left out.
     """
-    from .exact import exact_omega, full_period
 
     I = body.moments
     a, b, c = np.argsort(I, kind="stable")  # body axes (0-based) of the smallest ... largest
@@ -187,7 +193,6 @@ def poinsot_polhode(body, w0, samples: int = 400) -> np.ndarray:
     ndarray, shape (samples, 3)
         rho in kg^-1/2 m^-1, body axes: on ``x . I x = 1`` and ``|I x|^2 = L^2 / (2E)``.
     """
-    from .exact import exact_omega, full_period
 
     w0, energy, momentum = _start(body, w0)
     period = float(full_period(body, w0))
@@ -218,7 +223,6 @@ def herpolhode_radii(body, w0) -> tuple[float, float]:
     (float, float)
         r_min <= r_max in kg^-1/2 m^-1.
     """
-    from .analytic import invariant_differences
 
     w0, energy, momentum = _start(body, w0)
     I = body.moments
@@ -295,9 +299,6 @@ def herpolhode(body, w0, t, q0=None) -> Herpolhode:
     Herpolhode
         The points in space and in the plane, the plane's normal and distance, the radii.
     """
-    from .core.quaternions import IDENTITY, frame_along, quaternion_to_matrix
-    from .exact import exact_omega
-    from .exact_attitude import exact_attitude
 
     w0, energy, momentum = _start(body, w0)
     q = exact_attitude(body, w0, t, q0)
@@ -317,9 +318,6 @@ def herpolhode(body, w0, t, q0=None) -> Herpolhode:
 
 def _start(body, w0):
     """w0 checked (shape (3,), finite, not zero), the energy (J) and |L| (kg m^2/s)."""
-    from .analytic import angular_momentum_norm, kinetic_energy
-    from .core.body import RigidBody
-    from .util.checks import vectors3
 
     if not isinstance(body, RigidBody):
         raise ValueError(f"body must be a stability.RigidBody, got {type(body).__name__}")

@@ -19,8 +19,13 @@ import math
 
 import numpy as np
 
-from .util import conventions as cv
+from . import estimators as est
 from .analytic import euler_rhs, omega_squared, perpendicular_axes
+from .core.body import RigidBody
+from .ensemble import completed
+from .integrate import integrate
+from .util import conventions as cv
+
 # Edge flags of a shape (bit mask, CF flag_masks), declared with the other codes.
 from .util.conventions import EDGE_EQUAL_12, EDGE_EQUAL_23, EDGE_FLAT
 
@@ -162,10 +167,6 @@ def edge_series(spin: float, epsilon: float, t_end: float, method: str, h: float
         the distinct axis), ``flips`` (C,), ``regime``, ``linear_residual``,
         ``exponential_residual`` (C,), and the ``method`` and ``h`` used.
     """
-    from . import estimators as est
-    from .core.body import RigidBody
-    from .ensemble import completed
-    from .integrate import integrate
 
     t_end = h * math.ceil(t_end / h - 1e-9)
     save_every = max(1, int(round(t_end / h / 400)))

@@ -23,10 +23,13 @@ import math
 import numpy as np
 import xarray as xr
 
-from .util import conventions as cv
 from . import estimators as est
+from .ensemble import completed, perturbed_starts, run_ensembles
+from .output.stream import stream_chunks
 from .schema import STABILITY_MAP
 from .shapes import EDGE_EQUAL_12, EDGE_EQUAL_23, EDGE_FLAT
+from .util import conventions as cv
+from .util.progress import progress_bar
 
 #: Relative bias of the growth rate, lambda_h / lambda - 1, at step h for I = (1, 2, 3) and spin
 #: W = 1 (literature notes 4.1, table of discretization biases): RK4 -(h lambda)^4 / 120; the
@@ -191,8 +194,6 @@ def measure_map(bodies, omega2, t_end, levels, specs, runs, *, spin, epsilon, me
     KeyboardInterrupt
         When Ctrl-C stopped an ensemble.
     """
-    from .util.progress import progress_bar
-    from .output.stream import stream_chunks
 
     job = MapBatches(bodies, omega2, t_end, levels, [spec.name for spec in specs], runs,
                      spin=spin, epsilon=epsilon, members=members, seed=seed,
@@ -274,7 +275,6 @@ class MapBatches:
 
         Raises KeyboardInterrupt when Ctrl-C stopped it.
         """
-        from .ensemble import completed, run_ensembles
 
         i, h, _, _ = self.runs[j]
         cells = self.cells(j)
@@ -293,7 +293,6 @@ class MapBatches:
         return [(run.member_steps, run.wall_time, x) for run, x in zip(ensembles, estimates)]
 
     def _exact_flips(self, s, a, w0):
-        from .ensemble import perturbed_starts
 
         if self.omega2[s, a - 1] >= 0:
             return None, None

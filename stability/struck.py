@@ -26,12 +26,13 @@ from dataclasses import dataclass, field
 import numpy as np
 import xarray as xr
 
-from .util.checks import positive_float, real_number
+from .core.body import PRESETS, Part, RigidBody
 from .estimators import zero_crossings
 from .integrators.struck import J_ACROSS, J_ALONG, PHI, VX, VY, W, X, strike_params
 from .scene_ensemble import GroupedRun, propagate_stored
 from .scenes import SCENES
 from .schema import BAT
+from .util.checks import positive_float, real_number
 
 INCH = 0.0254
 #: A 33-inch wooden baseball bat, stations (distance from the knob end, radius) in inches; two
@@ -107,7 +108,6 @@ def baseball_bat(mass=0.850, profile=BAT_PROFILE, unit=INCH, name="baseball bat"
     StruckBody
         The bat, held at its knob end (x = 0); ``outline`` is the stations in m.
     """
-    from .core.body import Part, RigidBody
 
     mass = positive_float("mass of the bat", mass, "kg")
     stations = np.asarray(profile, dtype=float) * unit
@@ -129,7 +129,6 @@ def baseball_bat(mass=0.850, profile=BAT_PROFILE, unit=INCH, name="baseball bat"
 def tennis_racket():
     """The package's tennis-racket preset (``RigidBody.preset("tennis_racket")``), struck on
     its strings: the rotation is about the axis across the head in the string plane."""
-    from .core.body import PRESETS, RigidBody
 
     racket = RigidBody.composite(PRESETS["tennis_racket"].parts(), name="tennis racket")
     x = np.linspace(0.0, 0.69, 139)

@@ -17,10 +17,11 @@ import time
 
 import numpy as np
 
-from .util import conventions as cv
 from .analytic import euler_system
+from .attitude import IDENTITY, attitude_error, propagate_attitude
 from .driver import propagate
 from .reference import METRICS, error_statistics, final_errors
+from .util import conventions as cv
 
 #: Kernel runs shorter than MIN_TIMING seconds are repeated up to REPEATS times and the fastest
 #: time is kept (:func:`timed_propagate`).
@@ -190,7 +191,6 @@ def attitude_errors(spec, body, w0, q_ref, h, n_steps) -> np.ndarray:
     ndarray, shape (N,)
         Rotation angles, rad.
     """
-    from .attitude import IDENTITY, attitude_error, propagate_attitude
 
     if not spec.attitude:
         return np.full(len(w0), np.nan)

@@ -16,6 +16,7 @@ from matplotlib.figure import Figure
 from matplotlib.ticker import MaxNLocator
 
 from ..analytic import moment_name
+from ..core.body import PRESETS, RigidBody
 from ..core.quaternions import frame_along
 from ..plotting.style import AXIS_COLORS, label
 from .twisting import BACK_COLOR, FRONT_COLOR, racket_outline
@@ -84,7 +85,6 @@ class _Scene:
 
 def _preset_of(body):
     """(name, mass in kg) of the preset ``body`` equals (the same moments), else None."""
-    from ..core.body import PRESETS, RigidBody
 
     for name in PRESETS:
         composite = RigidBody.composite(PRESETS[name].parts(), name=name)

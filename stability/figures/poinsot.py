@@ -10,10 +10,16 @@ from __future__ import annotations
 import numpy as np
 from matplotlib.ticker import MaxNLocator
 
+from ..analytic import angular_momentum_norm, kinetic_energy
 from ..attitude import IDENTITY, quaternion_to_matrix
-from ..polhodes import (energy_ellipsoid_polhodes, energy_ellipsoid_separatrix, herpolhode,
-                        poinsot_polhode)
+from ..exact import full_period
 from ..plotting.style import AXIS_COLORS, EXACT_COLOR, label, new_figure, styled
+from ..polhodes import (
+    energy_ellipsoid_polhodes,
+    energy_ellipsoid_separatrix,
+    herpolhode,
+    poinsot_polhode,
+)
 
 #: Unit of rho = w / sqrt(2E) and of every length in the construction.
 UNIT = "kg^-1/2 m^-1"
@@ -69,8 +75,6 @@ def poinsot_figure(body, w0, t_end=None, q0=None, levels=(0.2, 0.5, 0.8, 0.95),
     -------
     matplotlib.figure.Figure
     """
-    from ..analytic import angular_momentum_norm, kinetic_energy
-    from ..exact import full_period
 
     own = poinsot_polhode(body, w0, 600)  # checks body and w0
     w0 = np.asarray(w0, dtype=float)

@@ -17,8 +17,12 @@ from __future__ import annotations
 
 import numpy as np
 
+from .. import estimators as est
+from ..analytic import perpendicular_axes
 from ..estimators import DEPARTURE_FACTOR, MIN_POINTS
+from ..flipsweep import exact_flip_curve
 from ..plotting.style import AXIS_COLORS, EXACT_COLOR, label, new_figure, place_legend, styled
+from ..shapes import analytic_omega_squared, shape_grid
 
 #: Marker of each method in the scatter and sweep figures (cycled).
 _MARKERS = ("o", "s", "^", "D", "v", "P")
@@ -47,8 +51,6 @@ def map_figure(ds, method=None):
     import matplotlib.tri as mtri
     from matplotlib.colors import TwoSlopeNorm
 
-    from .. import estimators as est
-    from ..shapes import analytic_omega_squared, shape_grid
 
     spin = float(ds.attrs["spin"])
     I1, I2 = ds.I1.values, ds.I2.values
@@ -145,7 +147,6 @@ def scatter_figure(ds):
     |analytic| (log-log) with the accuracy bar and the |Omega^2| floor below which it does not
     apply; the ensembles with Omega^2 = 0 (no rate fitted) are counted in the legend.
     """
-    from .. import estimators as est
 
     spin = float(ds.attrs["spin"])
     tol = float(ds.attrs["tolerance"])
@@ -199,7 +200,6 @@ def flip_interval_figure(ds, samples=120):
     spinning about axis 2; lines: the exact 2K/nu, dashed: the asymptote (2/lambda) ln(4/k'),
     a straight line in ln(1/epsilon); markers: each method. Bottom: |measured - exact| / exact.
     """
-    from ..flipsweep import exact_flip_curve
 
     spin = float(ds.attrs["spin"])
     eps = ds.epsilon.values
@@ -245,8 +245,6 @@ def edges_figure(ds):
     straight line predicted by Euler's equations at the start (dashed): algebraic departure,
     no exponential growth, no flip.
     """
-    from .. import estimators as est
-    from ..analytic import perpendicular_axes
 
     t = ds.edge_time.values
     cases = ds.sizes["edge_case"]

@@ -18,13 +18,21 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..util import conventions as cv
 from ..analytic import moment_name, perpendicular_axes
 from ..estimators import sign_change_times
-from ..polhodes import polhodes, separatrix_circles
+from ..exact import exact_omega
+from ..output.dataset import body_from_attrs
 from ..plotting.style import (
-    AXIS_COLORS, ENSEMBLE_COLOR, EXACT_COLOR, label, new_figure, place_legend, styled,
+    AXIS_COLORS,
+    ENSEMBLE_COLOR,
+    EXACT_COLOR,
+    label,
+    new_figure,
+    place_legend,
+    styled,
 )
+from ..polhodes import polhodes, separatrix_circles
+from ..util import conventions as cv
 
 
 def _subtitle(ds, body, axis) -> str:
@@ -36,7 +44,6 @@ def _subtitle(ds, body, axis) -> str:
 
 def _body_and_axis(ds, body, axis):
     """``body`` and ``axis``; by default those the Dataset records."""
-    from ..output.dataset import body_from_attrs
 
     return (body_from_attrs(ds.attrs) if body is None else body,
             int(ds.attrs["axis"]) if axis is None else int(axis))
@@ -69,7 +76,6 @@ def flips_figure(ds, body=None, axis=None, member=None, samples=2000):
     samples : int
         Points of the exact curve.
     """
-    from ..exact import exact_omega
 
     body, axis = _body_and_axis(ds, body, axis)
     j = typical_member(ds) if member is None else int(member)

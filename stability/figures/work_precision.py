@@ -15,9 +15,10 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..util import conventions as cv
 from ..drift import envelope
+from ..integrators import METHODS
 from ..plotting.style import EXACT_COLOR, label, new_figure, styled
+from ..util import conventions as cv
 
 #: Line style per method family, so families read at a glance; colours cycle within a family.
 _FAMILY_STYLE = {
@@ -33,7 +34,6 @@ def _method_styles(ds):
     """(color, linestyle, marker) per method name, stable across figures."""
     import matplotlib as mpl
 
-    from ..integrators import METHODS
 
     colors = mpl.colormaps["tab20"].colors
     styles = {}

@@ -16,9 +16,24 @@ from pathlib import Path
 
 import numpy as np
 
+from ..figures.impacts import bat_figure
+from ..struck import baseball_bat, check_pivot, measure_strikes, tennis_racket
+from ..util.threads import numba_threads
 from .config import (
-    MEMBER_BYTES, ConfigError, Key, Schema, Section, StudyKind, StudySummary, check_memory,
-    check_run, output_files, output_section, run_section, stored_run, write_outputs,
+    MEMBER_BYTES,
+    ConfigError,
+    Key,
+    Schema,
+    Section,
+    StudyKind,
+    StudySummary,
+    check_memory,
+    check_run,
+    output_files,
+    output_section,
+    run_section,
+    stored_run,
+    write_outputs,
 )
 
 NAME = "bat"
@@ -73,7 +88,6 @@ def outputs(config: dict) -> list[str]:
 
 
 def _body(config):
-    from ..struck import baseball_bat, tennis_racket
 
     b = config["body"]
     return baseball_bat(b["mass"]) if b["kind"] == "baseball_bat" else tennis_racket()
@@ -87,7 +101,6 @@ def _last_strike(config, body) -> float:
 
 def check(config: dict, source: str) -> dict:
     """Pivots on the body and off its centre of mass; strike points on the body."""
-    from ..struck import check_pivot
 
     body = _body(config)
     if not config["hands"]["pivots"]:
@@ -121,9 +134,6 @@ def run(config: dict, out_dir: Path, *, overwrite=False, threads=None, progress=
 
     The strikes run chunk by chunk into the folder ``work`` (so that a stopped run continues
     with ``resume``), on ``scheduler`` (default: the file's ``[run] scheduler``)."""
-    from ..figures.impacts import bat_figure
-    from ..struck import measure_strikes
-    from ..util.threads import numba_threads
 
     t_start = time.perf_counter()
     body = _body(config)

@@ -29,6 +29,15 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any, Callable
 
+from ..core.body import RigidBody
+from ..ensemble import DEFAULT_MAX_MEMORY, format_bytes
+from ..integrators import METHODS
+from ..output.dataset import append_history, config_toml, software_attrs
+from ..output.io import saving
+from ..plotting.style import save
+from ..util import conventions as cv
+from ..util.threads import numba_threads
+
 #: Default of a key that has no default: the file must set it.
 REQUIRED = object()
 #: Default of a key that may be left unset (it is then absent from the resolved configuration).
@@ -240,7 +249,6 @@ FIGURE_FORMATS = ("png", "pdf", "svg")
 
 def preset_names() -> tuple:
     """The names of ``stability.RigidBody.presets()``, for a ``preset`` key's choices."""
-    from ..core.body import RigidBody
 
     return tuple(RigidBody.presets())
 
@@ -248,7 +256,6 @@ def preset_names() -> tuple:
 def method_names() -> tuple:
     """The names of the registered integrators (``stability methods``), for a method key's
     choices."""
-    from ..integrators import METHODS
 
     return tuple(METHODS)
 
@@ -305,7 +312,6 @@ def check_memory(schema: Schema, config: dict, source: str, nbytes: float, keys,
         If ``nbytes`` exceeds :data:`stability.ensemble.DEFAULT_MAX_MEMORY` or the machine's
         memory.
     """
-    from ..ensemble import DEFAULT_MAX_MEMORY, format_bytes
 
     machine = _machine_memory()
     limit = min(DEFAULT_MAX_MEMORY, machine or DEFAULT_MAX_MEMORY)
@@ -441,11 +447,6 @@ def write_outputs(ds, config: dict, out_dir, name: str, figures: dict, *, overwr
         As written.
     files : list of Path
     """
-    from ..util import conventions as cv
-    from ..output.dataset import append_history, config_toml, software_attrs
-    from ..plotting.style import save
-    from ..output.io import saving
-    from ..util.threads import numba_threads
 
     with numba_threads(threads):  # what the run recorded where it ran is kept
         software = {k: v for k, v in software_attrs().items() if k not in ds.attrs}
@@ -721,7 +722,6 @@ def to_toml(config: dict) -> str:
     The same writer as the Dataset's (:func:`stability.output.dataset.config_toml`), so the copy a run
     writes next to its Dataset and the attribute inside it are the same text.
     """
-    from ..output.dataset import config_toml
 
     return config_toml(config)
 

@@ -13,9 +13,27 @@ import math
 import time
 from pathlib import Path
 
+from ..attitude import attitude_methods
+from ..core.body import RigidBody
+from ..earth import ARCSEC, earth_moments
+from ..ensemble import ensemble_memory
+from ..figures.earth import wobble_cones_figure
+from ..util.threads import numba_threads
+from ..wobble import measure_free_wobble
 from .config import (
-    Key, Schema, Section, StudyKind, StudySummary, check_memory, check_run, output_files,
-    output_section, run_section, stored_run, write_outputs,
+    ConfigError,
+    Key,
+    Schema,
+    Section,
+    StudyKind,
+    StudySummary,
+    check_memory,
+    check_run,
+    output_files,
+    output_section,
+    run_section,
+    stored_run,
+    write_outputs,
 )
 
 NAME = "earth_wobble"
@@ -23,7 +41,6 @@ FIGURE = "earth_wobble"
 
 
 def _attitude_methods() -> tuple:
-    from ..attitude import attitude_methods
 
     return attitude_methods()
 
@@ -73,10 +90,6 @@ def outputs(config: dict) -> list[str]:
 
 def check(config: dict, source: str) -> dict:
     """Moments of a real body (the triangle inequality) from the ratios given."""
-    from ..core.body import RigidBody
-    from ..earth import earth_moments
-    from ..ensemble import ensemble_memory
-    from .config import ConfigError
 
     e = config["earth"]
     moments = earth_moments(e["mass"], e["radius"], e["polar_factor"], e["ellipticity"],
@@ -101,11 +114,6 @@ def run(config: dict, out_dir: Path, *, overwrite=False, threads=None, progress=
 
     The ensemble runs chunk by chunk into the folder ``work`` (so that a stopped run continues
     with ``resume``), on ``scheduler`` (default: the file's ``[run] scheduler``)."""
-    from ..core.body import RigidBody
-    from ..earth import ARCSEC, earth_moments
-    from ..figures.earth import wobble_cones_figure
-    from ..util.threads import numba_threads
-    from ..wobble import measure_free_wobble
 
     t_start = time.perf_counter()
     e, w, integ = config["earth"], config["wobble"], config["integration"]

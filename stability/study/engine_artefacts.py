@@ -16,10 +16,29 @@ from pathlib import Path
 
 import numpy as np
 
+from ..artefacts import measure_artefacts
+from ..attitude import attitude_methods
+from ..core.body import RigidBody
+from ..ensemble import perturbed_starts
+from ..figures.artefacts import artefacts_figure
+from ..integrators.engine_rules import ENGINE_RULES
+from ..util.threads import numba_threads
 from .config import (
-    MEMBER_BYTES, ConfigError, Key, Schema, Section, StudyKind, StudySummary, SummaryTable,
+    MEMBER_BYTES,
+    ConfigError,
+    Key,
+    Schema,
+    Section,
+    StudyKind,
+    StudySummary,
+    SummaryTable,
     check_memory,
-    check_run, output_files, output_section, run_section, stored_run, tossed_body_sections,
+    check_run,
+    output_files,
+    output_section,
+    run_section,
+    stored_run,
+    tossed_body_sections,
     write_outputs,
 )
 
@@ -77,8 +96,6 @@ def outputs(config: dict) -> list[str]:
 
 def check(config: dict, source: str) -> dict:
     """Known rules and methods, and a horizon that is a whole number of steps."""
-    from ..attitude import attitude_methods
-    from ..integrators.engine_rules import ENGINE_RULES
 
     rules = config["rules"]
     for rule in rules["engine"]:
@@ -116,11 +133,6 @@ def run(config: dict, out_dir: Path, *, overwrite=False, threads=None, progress=
 
     Every run goes chunk by chunk into a folder of its own in ``work`` (so that a stopped run
     continues with ``resume``), on ``scheduler`` (default: the file's ``[run] scheduler``)."""
-    from ..artefacts import measure_artefacts
-    from ..core.body import RigidBody
-    from ..ensemble import perturbed_starts
-    from ..figures.artefacts import artefacts_figure
-    from ..util.threads import numba_threads
 
     t_start = time.perf_counter()
     toss, ens, rules, analysis = (config["toss"], config["ensemble"], config["rules"],

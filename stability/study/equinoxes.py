@@ -14,9 +14,22 @@ import math
 import time
 from pathlib import Path
 
+from ..equinoxes import measure_equinoxes
+from ..figures.equinoxes import equinoxes_figure
+from ..integrators.lunisolar import METHODS
+from ..util.threads import numba_threads
 from .config import (
-    Key, Schema, Section, StudyKind, StudySummary, check_run, output_files, output_section,
-    run_keys, stored_run, write_outputs,
+    Key,
+    Schema,
+    Section,
+    StudyKind,
+    StudySummary,
+    check_run,
+    output_files,
+    output_section,
+    run_keys,
+    stored_run,
+    write_outputs,
 )
 
 NAME = "equinoxes"
@@ -24,7 +37,6 @@ FIGURE = "equinoxes"
 
 
 def _methods() -> tuple:
-    from ..integrators.lunisolar import METHODS
 
     return tuple(METHODS)
 
@@ -80,9 +92,6 @@ def run(config: dict, out_dir: Path, *, overwrite=False, threads=None, progress=
 
     The runs go chunk by chunk into folders of ``work`` (so that a stopped run continues with
     ``resume``), on ``scheduler`` (default: the file's ``[run] scheduler``)."""
-    from ..equinoxes import measure_equinoxes
-    from ..figures.equinoxes import equinoxes_figure
-    from ..util.threads import numba_threads
 
     t_start = time.perf_counter()
     r, integ = config["run"], config["integration"]

@@ -17,9 +17,25 @@ from pathlib import Path
 
 import numpy as np
 
+from ..figures.impacts import rolling_launch_figure, rolling_map_figure
+from ..rolling import SHAPES, measure_incline, measure_launches
+from ..scene_ensemble import sub_store
+from ..util.threads import numba_threads
 from .config import (
-    MEMBER_BYTES, ConfigError, Key, Schema, Section, StudyKind, StudySummary, check_memory,
-    check_run, output_files, output_section, run_section, stored_run, write_outputs,
+    MEMBER_BYTES,
+    ConfigError,
+    Key,
+    Schema,
+    Section,
+    StudyKind,
+    StudySummary,
+    check_memory,
+    check_run,
+    output_files,
+    output_section,
+    run_section,
+    stored_run,
+    write_outputs,
 )
 
 NAME = "rolling"
@@ -27,7 +43,6 @@ FIGURES = ("rolling_map", "rolling_launch")
 
 
 def _shapes():
-    from ..rolling import SHAPES
 
     return tuple(SHAPES)
 
@@ -146,10 +161,6 @@ def run(config: dict, out_dir: Path, *, overwrite=False, threads=None, progress=
     scheduler``)."""
     import xarray as xr
 
-    from ..figures.impacts import rolling_launch_figure, rolling_map_figure
-    from ..rolling import SHAPES, measure_incline, measure_launches
-    from ..scene_ensemble import sub_store
-    from ..util.threads import numba_threads
 
     stored = stored_run(config, work, resume, scheduler, threads)
 

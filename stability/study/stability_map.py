@@ -20,12 +20,33 @@ from pathlib import Path
 
 import numpy as np
 
+from .. import estimators as est
 from .. import stabilitymap as smap
+from ..ensemble import ensemble_memory
+from ..figures import stability_map as figures
+from ..flipsweep import flip_sweep
+from ..integrators import method_spec
+from ..output.dataset import software_attrs
+from ..output.store import ChunkStore
 from ..shapes import amplitude_levels, analytic_omega_squared, edge_series, horizons, shape_grid
+from ..util import conventions as cv
 from ..util.threads import numba_threads
+from ..version import __version__
 from .config import (
-    UNSET, ConfigError, Key, Schema, Section, StudyKind, StudySummary, check_memory, check_run,
-    method_names, output_files, output_section, scheduler_key, write_outputs,
+    UNSET,
+    ConfigError,
+    Key,
+    Schema,
+    Section,
+    StudyKind,
+    StudySummary,
+    check_memory,
+    check_run,
+    method_names,
+    output_files,
+    output_section,
+    scheduler_key,
+    write_outputs,
 )
 
 NAME = "stability_map"
@@ -159,8 +180,6 @@ def _check_memory(config: dict, source: str) -> None:
     ``members`` members, each member holding its summaries (``ensemble_memory``) and about as
     much again while it is propagated.
     """
-    from ..ensemble import ensemble_memory
-    from ..shapes import amplitude_levels
 
     n = config["grid"]["divisions"]
     members = config["ensemble"]["members"]
@@ -190,7 +209,6 @@ def run(config: dict, out_dir: Path, *, overwrite=False, threads=None, progress=
     continues with ``resume``; the batches run on ``scheduler`` (default: the file's ``[run]
     scheduler``), one task each.
     """
-    from ..figures import stability_map as figures
 
     t_start = time.perf_counter()
     threads = config["integration"].get("threads") if threads is None else threads
@@ -222,11 +240,6 @@ def compute(config: dict, progress=None, work_dir=None, resume=False, scheduler=
     """
     import stability
 
-    from ..util import conventions as cv
-    from .. import estimators as est
-    from ..output.dataset import software_attrs
-    from ..flipsweep import flip_sweep
-    from ..integrators import method_spec
 
     spin = config["spin"]["rate"]
     ens, integ, ana = config["ensemble"], config["integration"], config["analysis"]
@@ -241,8 +254,6 @@ def compute(config: dict, progress=None, work_dir=None, resume=False, scheduler=
     runs = smap.map_runs(specs, integ["h"], n_shapes, integ["bias_check"], integ["bias_stride"])
     checkpoint = None
     if work_dir is not None:
-        from ..output.store import ChunkStore
-        from ..version import __version__
 
         identity = {"config": {k: v for k, v in config.items()  # not where it runs
                                if k not in ("output", "title", "run")},

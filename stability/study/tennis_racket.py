@@ -29,10 +29,27 @@ import numpy as np
 
 from ..analytic import MOMENT_NAMES, principal_axis
 from ..attitude import FREE_BODY_SCENES, attitude_methods, carries_attitude
+from ..core.body import RigidBody
+from ..ensemble import ensemble_memory, run_streamed
 from ..estimators import analyse_ensemble, analysis_headline
+from ..figures import tennis
+from ..util import conventions as cv
 from .config import (
-    UNSET, ConfigError, Key, Schema, Section, StudyKind, StudySummary, check_memory, check_run,
-    method_names, output_files, output_section, preset_names, run_section, write_outputs,
+    UNSET,
+    ConfigError,
+    Key,
+    Schema,
+    Section,
+    StudyKind,
+    StudySummary,
+    check_memory,
+    check_run,
+    method_names,
+    output_files,
+    output_section,
+    preset_names,
+    run_section,
+    write_outputs,
 )
 
 NAME = "tennis_racket"
@@ -145,7 +162,6 @@ def check(config: dict, source: str) -> dict:
         if config["run"]["device"] != "cpu":
             raise ConfigError("must be 'cpu' with scene = 'free_body_attitude' (the GPU loop "
                               "carries w alone)", source, "run", "device")
-    from ..ensemble import ensemble_memory
 
     members = config["ensemble"]["members"]
     check_memory(  # the analysis and figures hold the whole time series
@@ -160,7 +176,6 @@ def check(config: dict, source: str) -> dict:
 
 def expected_bytes(config: dict) -> int:
     """Disk space of a run at most: the chunks of its ensemble and the Dataset (uncompressed)."""
-    from ..ensemble import ensemble_memory
 
     integ = config["integration"]
     saved = round(integ["t_end"] / integ["h"]) // integ["save_every"]
@@ -192,7 +207,6 @@ def run(config: dict, out_dir: Path, *, overwrite=False, threads=None, progress=
     import stability
     from stability.ensemble import format_bytes
 
-    from ..figures import tennis
 
     say = _reporter(progress)
     t_start = time.perf_counter()
@@ -226,8 +240,6 @@ def run(config: dict, out_dir: Path, *, overwrite=False, threads=None, progress=
 
 def _ensemble(config, body, axis, work, resume, scheduler, threads, progress, command):
     """The ensemble, streamed through the chunk folder ``work`` and read back into memory."""
-    from ..util import conventions as cv
-    from ..ensemble import run_streamed
 
     ens, integ = config["ensemble"], config["integration"]
     kwargs = dict(
@@ -254,7 +266,6 @@ def _reporter(progress):
 
 
 def _body(config: dict):
-    from ..core.body import RigidBody
 
     b = config["body"]
     if "moments" in b:

@@ -15,9 +15,27 @@ from pathlib import Path
 
 import numpy as np
 
+from ..attitude import attitude_methods
+from ..core.body import RigidBody
+from ..figures.twisting import flip_figure, twist_figure
+from ..geometric_phase import wrap
+from ..twisting import measure_twisting, tossed_members
+from ..util.threads import numba_threads
 from .config import (
-    MEMBER_BYTES, ConfigError, Key, Schema, Section, StudyKind, StudySummary, check_memory,
-    check_run, output_files, output_section, run_section, stored_run, tossed_body_sections,
+    MEMBER_BYTES,
+    ConfigError,
+    Key,
+    Schema,
+    Section,
+    StudyKind,
+    StudySummary,
+    check_memory,
+    check_run,
+    output_files,
+    output_section,
+    run_section,
+    stored_run,
+    tossed_body_sections,
     write_outputs,
 )
 
@@ -70,7 +88,6 @@ def outputs(config: dict) -> list[str]:
 
 def check(config: dict, source: str) -> dict:
     """A nudge range in order; an attitude method; whole saved intervals per period."""
-    from ..attitude import attitude_methods
 
     toss = config["toss"]
     if not toss["epsilon_min"] <= toss["epsilon_max"]:
@@ -101,10 +118,6 @@ def run(config: dict, out_dir: Path, *, overwrite=False, threads=None, progress=
 
     The bodies run chunk by chunk into the folder ``work`` (so that a stopped run continues
     with ``resume``), on ``scheduler`` (default: the file's ``[run] scheduler``)."""
-    from ..core.body import RigidBody
-    from ..figures.twisting import flip_figure, twist_figure
-    from ..util.threads import numba_threads
-    from ..twisting import measure_twisting, tossed_members
 
     t_start = time.perf_counter()
     toss, ens, integration = config["toss"], config["ensemble"], config["integration"]
@@ -127,7 +140,6 @@ def run(config: dict, out_dir: Path, *, overwrite=False, threads=None, progress=
 
 def summarize(ds, out_dir, files, wall) -> StudySummary:
     """Both angles' agreement, and the twist of the body itself."""
-    from ..geometric_phase import wrap
 
     ok = ds.status.values == 0
     same = np.isclose(ds.moments.values[:, 0], ds.moments.values[0, 0], rtol=1e-12)

@@ -26,16 +26,26 @@ from .. import reference as ref
 from .. import workprecision as wp
 from ..analytic import principal_axis
 from ..core.body import RigidBody
-from ..output.dataset import software_attrs
 from ..drift import long_horizon
 from ..ensemble import perturbed_starts
+from ..figures import work_precision as figures
 from ..integrators import METHODS, method_spec
-from ..util.progress import progress_bar
+from ..output.dataset import software_attrs
 from ..sweeps import jittered_starts, step_grid, sweep_method, sweep_scipy
+from ..util.progress import progress_bar
 from ..util.threads import numba_threads
 from .config import (
-    ConfigError, Key, Schema, Section, StudyKind, StudySummary, check_memory, method_names,
-    output_files, output_section, write_outputs,
+    ConfigError,
+    Key,
+    Schema,
+    Section,
+    StudyKind,
+    StudySummary,
+    check_memory,
+    method_names,
+    output_files,
+    output_section,
+    write_outputs,
 )
 
 NAME = "work_precision"
@@ -201,7 +211,6 @@ def run(config: dict, out_dir: Path, *, overwrite=False, threads=None, progress=
         Rows: the fastest method per accuracy target on the tennis workload, the conditioning
         floor, the long-horizon behaviour per method, and the run time.
     """
-    from ..figures import work_precision as figures
 
     with numba_threads(threads):
         ds, wall = measure(config, progress=progress)
