@@ -448,7 +448,7 @@ x0 = np.concatenate([scene.example(24, seed=k)[0] for k in range(2)])
 tops = scene.example(1)[1][:2]
 kwargs = dict(sizes=[24, 24], h=[0.01, 0.02], n_steps=[40000, 20000], axes=[2, 0, 1],
               levels=[0.1, 0.5], tracked_units="1", chunk_members=4, progress=False)
-if len(sys.argv) > 1:
+if __name__ == "__main__":
     stability.run_scene("heavy_top", "lp2", x0, tops, store=sys.argv[1], **kwargs)
 '''
 
@@ -468,8 +468,8 @@ def test_a_scene_run_killed_then_resumed_is_bitwise_an_uninterrupted_run(tmp_pat
     done, total = chunks_done(tmp_path)
     assert 2 <= done < total, "the run ended first"
     kept = {p.name: p.stat().st_mtime_ns for p in store.glob("chunk-*.nc")}
-    setup = {}
-    exec(SCENE_RUN, setup)  # the same members, here
+    setup = {"__name__": "members"}
+    exec(SCENE_RUN, setup)  # the same members, here (not run)
     import stability
 
     args = ("heavy_top", "lp2", setup["x0"], setup["tops"])
