@@ -688,7 +688,7 @@ class EnsembleChunks:
             device=plan.device, chunk_steps=plan.chunk_steps, starts=self.starts)
 
     def starts(self, lo: int, hi: int) -> np.ndarray:
-        """The start rule: the initial states (canonical m, and q) of members ``lo ... hi - 1``."""
+        """The start rule: the initial states (canonical m, and q) of members lo to hi - 1."""
         sub = _chunk_plan(self.plan, lo, hi)
         self._drawn[lo, hi] = sub  # for the measurement of the same chunk: drawn once
         groups = self._groups(hi - lo)
@@ -699,7 +699,7 @@ class EnsembleChunks:
         return x0
 
     def __call__(self, part, run, lo: int, hi: int, threads):
-        """The measurement: the Dataset of members ``lo ... hi - 1`` from their propagation."""
+        """The measurement: the Dataset of members lo to hi - 1 from their propagation."""
         sub = self._drawn.pop((lo, hi), None) or _chunk_plan(self.plan, lo, hi)
         n = hi - lo
         groups = self._groups(n)
