@@ -33,9 +33,10 @@ from .animation import animate_flip, animate_top  # noqa: E402
 from .ensemble import ensemble_memory, run_ensemble  # noqa: E402
 from .output.io import load, save  # noqa: E402
 from .scenes import define_scene  # noqa: E402
+from .scene_run import run_scene  # noqa: E402
 
 __all__ += ["animate_flip", "animate_top", "define_scene", "ensemble_memory", "load",
-            "run_ensemble", "save"]
+            "run_ensemble", "run_scene", "save"]
 __all__ += ["flip_statistics", "measured_frequency", "measured_growth_rate", "measured_omega_squared", "member_regimes"]  # noqa: E501
 
 moved.install()  # old module paths (stability.body, ...) still import, with a warning

@@ -29,31 +29,44 @@ from dataclasses import dataclass, replace
 
 import numba
 import numpy as np
-import xarray as xr
 
-from .util import conventions as cv
 from .analytic import perpendicular_axes
-from .core.body import RigidBody
-from .util.checks import (
-    positive_float, positive_int, real_array, real_number, step_count, vectors3,
-)
-from .output.dataset import (
-    add_attitude, config_toml, ensemble_dataset, history_line, provenance_attrs, summary_bytes,
-    threading_layer,
-)
 from .attitude import IDENTITY, attitude_error, attitude_spec, carries_attitude
-from .driver import propagate_many
+from .core.body import RigidBody
+from .driver import CanonicalGroups, group_levels, propagate_many
 from .estimators import summary_members
 from .exact_attitude import exact_attitudes
-from .util.formatting import format_bytes
 from .integrators import method_spec
-from .output.io import READ
-from .output.store import ChunkStore, read_progress
-from .output.stream import stream_chunks
-from .util.threads import checked_threads, numba_threads
-from .timescales import (
-    DEFAULT_EPSILON, DEFAULT_MEMBERS, default_horizon, default_step, nominal_start,
+from .memory import DEFAULT_MAX_MEMORY
+from .output.dataset import (
+    add_attitude,
+    config_toml,
+    ensemble_dataset,
+    history_line,
+    provenance_attrs,
+    summary_bytes,
+    threading_layer,
 )
+from .output.store import ChunkStore, read_progress
+from .scene_ensemble import GroupedRun, propagate_stored, summed_attrs
+from .timescales import (
+    DEFAULT_EPSILON,
+    DEFAULT_MEMBERS,
+    default_horizon,
+    default_step,
+    nominal_start,
+)
+from .util import conventions as cv
+from .util.checks import (
+    positive_float,
+    positive_int,
+    real_array,
+    real_number,
+    step_count,
+    vectors3,
+)
+from .util.formatting import format_bytes
+from .util.threads import checked_threads, numba_threads
 from .version import __version__
 
 log = logging.getLogger(__name__)
@@ -67,9 +80,6 @@ STREAM_CHUNK_MEMBERS = 2**20
 
 #: Default relative energy / |L| error at the end above which a member is "diverged".
 DEFAULT_DIVERGENCE_TOLERANCE = 1e-2
-
-#: Default limit (bytes) on the Dataset of a run (time series, or summaries only).
-DEFAULT_MAX_MEMORY = 4 * 2**30
 
 #: Runs whose stored data exceed this many bytes are announced with a logging warning.
 LARGE_RUN_BYTES = 2**30
@@ -635,31 +645,23 @@ def run_streamed(kwargs: dict, store, *, resume=False, scheduler=None, threads=N
     """
     kwargs = dict(kwargs)
     plan = _plan(**kwargs, defer_starts=True)
-    chunk = kwargs["chunk_members"] = plan.chunk_members
-    # What decides the members' numbers (not the caller's configuration, which may differ in
-    # keys that do not, such as the figures of a study).
-    identity = {"run_ensemble": {k: v for k, v in plan.resolved.items() if k != "threads"},
-                "software": f"stability {__version__}"}
-    chunks = ChunkStore(store, identity, plan.members, chunk, resume=resume)
-    try:
-        todo = stream_chunks(EnsembleChunks(kwargs, plan), chunks, scheduler=scheduler,
-                             threads=threads, progress=progress, compress=compress)
-        attrs = _whole_attrs(chunks)
-        progress = read_progress(chunks.dir) or {}
-        attrs["history"] = attrs.get("history", "") + "\n" + history_line(
-            f"streamed to {chunks.dir}: {chunks.n_chunks} chunks of {chunks.chunk_members} "
-            f"members ({len(todo)} run by this call), "
-            f"{progress.get('members_per_second', 0):.3g} members/s, "
-            f"{progress.get('elapsed_seconds', 0):.1f} s")
-        chunks.complete(attrs)
-        return chunks.open()
-    finally:
-        chunks.close()
+    kwargs["chunk_members"] = plan.chunk_members
+    ensemble = EnsembleChunks(kwargs, plan)
+    return propagate_stored(ensemble.grouped_run(), store, measure=ensemble, resume=resume,
+                            scheduler=scheduler, chunk_members=plan.chunk_members,
+                            threads=threads, progress=progress, compress=compress)
 
 
 class EnsembleChunks:
-    """The chunk job of a free-body ensemble: members lo to hi - 1 of
-    :func:`stability.run_ensemble`, numbered from lo, their starts drawn for the chunk alone.
+    """A free-body ensemble as a stored grouped run (:mod:`stability.scene_ensemble`): its
+    start rule and its measurement.
+
+    :meth:`grouped_run` is the run, one group, whose starts come from :meth:`starts`: members
+    ``lo ... hi - 1`` of :func:`stability.run_ensemble` drawn for those members alone, in each
+    body's canonical frame. Called as a measurement, the object turns a chunk's propagation
+    into the Dataset ``run_ensemble`` gives those members, numbered from ``lo``
+    (:func:`_finish` and :func:`_dataset`). :meth:`identity` and :meth:`whole_attrs` are the
+    store's fingerprint and the whole Dataset's attributes.
 
     Parameters
     ----------
@@ -673,44 +675,82 @@ class EnsembleChunks:
     def __init__(self, kwargs: dict, plan=None):
         self.kwargs = kwargs
         self._plan = plan
+        self._drawn = {}
 
     def __getstate__(self):
-        return {"kwargs": self.kwargs, "_plan": None}
+        return {"kwargs": self.kwargs, "_plan": None, "_drawn": {}}
 
-    def __call__(self, lo: int, hi: int, progress, threads):
+    @property
+    def plan(self) -> _Plan:
         if self._plan is None:
             self._plan = _plan(**self.kwargs, defer_starts=True)
-        return _chunk_dataset(self._plan, lo, hi, progress, threads)
+        return self._plan
 
+    def grouped_run(self):
+        """The ensemble as a :class:`~stability.scene_ensemble.GroupedRun`: the arguments
+        :func:`stability.driver.propagate_many` gives the member loop for it."""
+        plan = self.plan
+        groups = self._groups(plan.members)
+        return GroupedRun(
+            "free_body_attitude" if plan.attitude else "free_body", plan.spec.name, None,
+            groups.params, [plan.members], plan.h, plan.n_steps,
+            save_every=0 if plan.summaries_only else plan.save_every,
+            axes=groups.tracking_axes([plan.a]), levels=group_levels([plan.levels], 1),
+            device=plan.device, chunk_steps=plan.chunk_steps, starts=self.starts)
 
-def _chunk_dataset(plan, lo: int, hi: int, progress, threads):
-    """The Dataset of members ``lo ... hi - 1`` of ``plan``, numbered from ``lo``.
+    def starts(self, lo: int, hi: int) -> np.ndarray:
+        """The start rule: the initial states (canonical m, and q) of members lo to hi - 1."""
+        sub = _chunk_plan(self.plan, lo, hi)
+        self._drawn[lo, hi] = sub  # for the measurement of the same chunk: drawn once
+        groups = self._groups(hi - lo)
+        x0 = groups.to_canonical(sub.w0 * sub.body.moments)
+        if sub.attitude:
+            x0 = np.concatenate([x0, groups.attitudes(np.tile(IDENTITY, (hi - lo, 1)),
+                                                      to_canonical=True)], axis=1)
+        return x0
 
-    Raises KeyboardInterrupt if Ctrl-C stopped the chunk (a partial chunk is never kept).
-    """
-    sub = _chunk_plan(plan, lo, hi)
-    (run,) = _run([sub], progress)
-    if run.interrupted:
-        raise KeyboardInterrupt
-    ds = _dataset(sub, run, threads)
-    member = ds[cv.MEMBER]
-    return ds.assign_coords({cv.MEMBER: (cv.MEMBER, np.arange(lo, lo + member.size),
-                                         member.attrs)})
+    def __call__(self, part, run, lo: int, hi: int, threads):
+        """The measurement: the Dataset of members lo to hi - 1 from their propagation."""
+        sub = self._drawn.pop((lo, hi), None) or _chunk_plan(self.plan, lo, hi)
+        n = hi - lo
+        groups = self._groups(n)
+        run.x_final = groups.from_canonical_state(run.x_final)
+        run.saved = groups.from_canonical_state(run.saved)
+        measured = _finish(sub, [_Part(run, slice(0, n), slice(0, n), int(run.steps_done[0]))],
+                           n, sub.n_steps, False)
+        ds = _dataset(sub, measured, threads)
+        member = ds[cv.MEMBER]
+        return ds.assign_coords({cv.MEMBER: (cv.MEMBER, np.arange(lo, lo + member.size),
+                                             member.attrs)})
+
+    def identity(self, run) -> dict:
+        """What decides the members' numbers, for the store's fingerprint (not the caller's
+        configuration, which may differ in keys that do not, such as the figures of a study)."""
+        return {"run_ensemble": {k: v for k, v in self.plan.resolved.items() if k != "threads"},
+                "software": f"stability {__version__}"}
+
+    def whole_attrs(self, chunks: ChunkStore, todo) -> dict:
+        """The whole Dataset's attributes, with a ``history`` line for this call."""
+        attrs = _whole_attrs(chunks)
+        progress = read_progress(chunks.dir) or {}
+        attrs["history"] = attrs.get("history", "") + "\n" + history_line(
+            f"streamed to {chunks.dir}: {chunks.n_chunks} chunks of {chunks.chunk_members} "
+            f"members ({len(todo)} run by this call), "
+            f"{progress.get('members_per_second', 0):.3g} members/s, "
+            f"{progress.get('elapsed_seconds', 0):.1f} s")
+        return attrs
+
+    def _groups(self, members: int) -> CanonicalGroups:
+        plan = self.plan
+        return CanonicalGroups(plan.spec, plan.body.moments[None, :], np.array([members]),
+                               np.array([plan.h]))
 
 
 def _whole_attrs(chunks: ChunkStore) -> dict:
     """The attributes of the whole run from those of its chunks."""
-    wall = compile_time = 0.0
-    first = None
-    for k in range(chunks.n_chunks):
-        with xr.open_dataset(chunks.path(k), **READ) as ds:
-            attrs = dict(ds.attrs)
-        wall += float(attrs.get("wall_time", 0.0))
-        compile_time += float(attrs.get("compile_time", 0.0))
-        if first is None:
-            first = attrs
+    attrs = summed_attrs(chunks)
+    wall = attrs["wall_time"]
     n = chunks.members
-    attrs = dict(first)
     title = attrs.get("title", "")
     if "-member ensemble" in title:
         attrs["title"] = f"{n}-member ensemble" + title.split("-member ensemble", 1)[1]
@@ -718,8 +758,6 @@ def _whole_attrs(chunks: ChunkStore) -> dict:
     attrs.update({
         "members": n,
         "members_requested": n,
-        "wall_time": wall,
-        "compile_time": compile_time,
         "member_steps_per_second": n * steps / wall if wall > 0 else 0.0,
         "chunks": chunks.n_chunks,
         "chunk_members": chunks.chunk_members,

@@ -16,6 +16,17 @@ finds it by reference: it imports the module that defines the scene, so that mod
 importable there (a local cluster's workers start with this process's ``sys.path``; put the
 module's folder on remote workers' ``PYTHONPATH``), and it loads the compiled loop from the disk
 cache when the workers share it (``STABILITY_CACHE_DIR``).
+
+A stored run is cut into chunks, and each chunk is one job (:class:`ChunkJob`): its members
+propagated, then *measured*. Without a measurement the chunk is the raw
+:class:`~stability.engine.Propagation` and :func:`propagate_stored` gives the whole run's back
+(what the studies measure afterwards); with one (``measure=``, a picklable
+``measure(part, propagation, lo, hi, threads) -> xarray.Dataset``) each chunk is kept as the
+measurement's Dataset of its members and the result is the Dataset over the chunk files: the
+free body's :func:`stability.run_ensemble` with ``store=`` is that path, with its own start rule
+and measurement, and so is :func:`stability.run_scene`, every scene's Dataset. The starts are
+the run's ``x0``, or a rule that makes any members' starts alone (``starts=``: the free body
+draws each chunk's from its seed, so that memory is one chunk's).
 """
 
 from __future__ import annotations
@@ -28,12 +39,15 @@ from pathlib import Path
 import numpy as np
 import xarray as xr
 
-from .util import conventions as cv
 from .engine import propagate_groups
 from .engine.run import Propagation
-from .scenes import Scene
+from .output.io import READ
 from .output.store import ChunkStore
 from .output.stream import stream_chunks
+from .scenes import Scene
+from .scenes import scene as registered_scene
+from .util import conventions as cv
+from .util.threads import checked_threads, numba_threads
 from .version import __version__
 
 #: Chunks a stored run is cut into by default (each one is kept as soon as it is finished) ...
@@ -60,8 +74,8 @@ class GroupedRun:
         its module is imported where a chunk runs).
     method : str
         A method of the scene.
-    x0 : ndarray, shape (N, n)
-        Initial states, group after group.
+    x0 : ndarray, shape (N, n), or None
+        Initial states, group after group; None with ``starts``.
     params : ndarray, shape (G, p)
         Each group's parameter row.
     sizes : ndarray of int, shape (G,)
@@ -80,6 +94,13 @@ class GroupedRun:
         Where the member loop runs: ``"gpu"`` on a CUDA GPU
         (:func:`stability.gpu.propagate_groups_gpu`; the results agree with the CPU's to
         round-off, not bitwise, so the device is part of a stored run's identity).
+    chunk_steps : int, optional
+        Steps per call of the loop (:func:`propagate_groups`); never changes the result.
+    starts : callable, optional
+        The start rule, instead of ``x0``: ``starts(lo, hi)`` gives the initial states of
+        members ``lo ... hi - 1`` alone (the same whichever members are asked with them);
+        picklable where the chunks run on dask, and with ``identity()`` (a dict) for a store's
+        fingerprint unless a measurement gives the run's identity.
     """
 
     scene: str | Scene
@@ -94,11 +115,16 @@ class GroupedRun:
     levels: np.ndarray | None = None
     label: str | None = None
     device: str = "cpu"
+    chunk_steps: int | None = None
+    starts: object = None
 
     def __post_init__(self):
         if self.device not in ("cpu", "gpu"):
             raise ValueError(f"device must be 'cpu' or 'gpu', got {self.device!r}")
-        self.x0 = np.ascontiguousarray(self.x0, dtype=float)
+        if (self.x0 is None) == (self.starts is None):
+            raise ValueError("give the starts as x0 or as a rule, starts=, not both")
+        if self.x0 is not None:
+            self.x0 = np.ascontiguousarray(self.x0, dtype=float)
         self.params = np.ascontiguousarray(np.atleast_2d(self.params), dtype=float)
         self.sizes = np.asarray(self.sizes, dtype=np.int64).reshape(-1)
         groups = self.sizes.size
@@ -115,6 +141,11 @@ class GroupedRun:
         return int(self.sizes.sum())
 
     @property
+    def width(self) -> int:
+        """Numbers per member in the scene's state."""
+        return registered_scene(self.scene).width
+
+    @property
     def n_saved(self) -> int:
         """Samples kept per member in the whole run (NaN past a group's own last one)."""
         return int(self.n_steps.max()) // self.save_every if self.save_every > 0 else 0
@@ -125,7 +156,14 @@ class GroupedRun:
                   ("x0", "params", "sizes", "h", "n_steps", "axes", "levels")}
         name, source = ((self.scene, "") if isinstance(self.scene, str)
                         else (self.scene.name, self.scene.source))
+        if self.starts is not None:
+            rule = getattr(self.starts, "identity", None)
+            if rule is None:
+                raise ValueError("a run whose starts come from a rule needs the rule's "
+                                 "identity() for its store's fingerprint")
+            arrays.pop("x0")
         return {"scene": name, **({"scene_source": source} if source else {}),  # user's code
+                **({"starts": rule()} if self.starts is not None else {}),
                 **({"device": self.device} if self.device != "cpu" else {}),
                 "method": self.method, "save_every": self.save_every,
                 "arrays": {name: None if a is None else _digest(a) for name, a in arrays.items()}}
@@ -137,25 +175,70 @@ class GroupedRun:
         sizes = np.clip(np.minimum(ends, hi) - np.maximum(starts, lo), 0, None)
         keep = sizes > 0
         pick = (lambda a: None if a is None else a[keep])
-        return replace(self, x0=self.x0[lo:hi], params=self.params[keep], sizes=sizes[keep],
+        x0 = self.x0[lo:hi] if self.starts is None else self.starts(lo, hi)
+        return replace(self, x0=x0, params=self.params[keep], sizes=sizes[keep],
                        h=self.h[keep], n_steps=self.n_steps[keep], axes=pick(self.axes),
-                       levels=pick(self.levels))
+                       levels=pick(self.levels), starts=None)
 
     def propagate(self, progress=None) -> Propagation:
         """The run in this process (:func:`propagate_groups`, or its GPU twin)."""
+        if self.starts is not None:
+            return self.part(0, self.members).propagate(progress)
         propagator = propagate_groups
         if self.device == "gpu":
             from .gpu import propagate_groups_gpu as propagator  # numba-cuda: optional
 
         return propagator(self.scene, self.method, self.x0, self.params, self.sizes, self.h,
                           self.n_steps, save_every=self.save_every, axes=self.axes,
-                          levels=self.levels, progress=progress, label=self.label)
+                          levels=self.levels, progress=progress, chunk_steps=self.chunk_steps,
+                          label=self.label)
+
+
+@dataclass(eq=False)
+class ChunkJob:
+    """The chunk job of a stored run (:func:`stability.output.stream.stream_chunks`): members
+    ``lo ... hi - 1`` of ``run`` propagated (:meth:`GroupedRun.part`), then measured.
+
+    Parameters
+    ----------
+    run : GroupedRun
+        The whole run.
+    measure : callable, optional
+        ``measure(part, propagation, lo, hi, threads) -> xarray.Dataset``: the chunk's Dataset
+        from its part of the run (a :class:`GroupedRun`) and that part's
+        :class:`~stability.engine.Propagation`, members numbered from ``lo``; ``threads`` is
+        what the chunk was asked to run with. Default: :class:`RawChunk`, the propagation as
+        it is.
+    """
+
+    run: GroupedRun
+    measure: object = None
+
+    def __post_init__(self):
+        if self.measure is None:
+            self.measure = RawChunk(self.run.n_saved)
 
     def __call__(self, lo: int, hi: int, progress, threads) -> xr.Dataset:
-        """The chunk job (:func:`stability.output.stream.stream_chunks`): members ``lo ... hi - 1``
-        as a Dataset, their saved states padded to the whole run's samples."""
-        part = self.part(lo, hi)
-        run = part.propagate(progress)
+        part = self.run.part(lo, hi)
+        return self.measure(part, part.propagate(progress), lo, hi, threads)
+
+
+@dataclass(frozen=True)
+class RawChunk:
+    """The measurement that keeps a chunk raw: its members' :class:`Propagation` as a Dataset,
+    which :func:`propagate_stored` reads back into the whole run's.
+
+    Parameters
+    ----------
+    n_saved : int
+        Samples per member of the whole run (:attr:`GroupedRun.n_saved`): a chunk's saved
+        states are padded with NaN to them, whichever groups it holds.
+    """
+
+    n_saved: int
+
+    def __call__(self, part: GroupedRun, run: Propagation, lo: int, hi: int,
+                 threads=None) -> xr.Dataset:
         data = {
             "x_final": ((cv.MEMBER, COMPONENT), run.x_final),
             "status": ((cv.MEMBER,), run.status),
@@ -164,7 +247,7 @@ class GroupedRun:
             "steps_done": ((cv.MEMBER,), np.repeat(run.steps_done, part.sizes)),
         }
         if self.n_saved:  # no variable of a dimension of length 0 (netCDF's unlimited one)
-            saved = np.full((hi - lo, self.n_saved, self.x0.shape[1]), np.nan)
+            saved = np.full((hi - lo, self.n_saved, part.width), np.nan)
             saved[:, :run.saved.shape[1]] = run.saved
             data["saved"] = ((cv.MEMBER, SAMPLE, COMPONENT), saved)
         for name, value in run.extras.items():
@@ -174,8 +257,9 @@ class GroupedRun:
                           attrs={"wall_time": run.wall_time, "compile_time": run.compile_time})
 
 
-def propagate_stored(run: GroupedRun, store=None, *, resume=False, scheduler=None,
-                     chunk_members=None, threads=None, progress=None) -> Propagation:
+def propagate_stored(run: GroupedRun, store=None, *, measure=None, resume=False,
+                     scheduler=None, chunk_members=None, threads=None, progress=None,
+                     compress=None):
     """Run ``run``: in this process, or chunk by chunk into the folder ``store``.
 
     Parameters
@@ -184,6 +268,13 @@ def propagate_stored(run: GroupedRun, store=None, *, resume=False, scheduler=Non
     store : path-like, optional
         Folder of the chunk files (a :class:`~stability.output.store.ChunkStore`, created if
         missing). Without it the run is :func:`propagate_groups` in this process.
+    measure : callable, optional
+        The measurement each chunk is kept as (:class:`ChunkJob`); the result is then the
+        measured Dataset. It may also have ``identity(run) -> dict``, what makes the run what it
+        is for the store's fingerprint (default: the run's :meth:`GroupedRun.identity` and the
+        measurement's class), and ``whole_attrs(chunks, todo) -> dict``, the attributes of the
+        whole Dataset from the store and the chunks this call ran (default
+        :func:`summed_attrs`).
     resume : bool, default False
         Finish a run of the same members stopped earlier (only the missing chunks run).
     scheduler : str or distributed.Client, optional
@@ -193,33 +284,52 @@ def propagate_stored(run: GroupedRun, store=None, *, resume=False, scheduler=Non
         Members per chunk; default: the run in :data:`DEFAULT_CHUNKS` chunks, fewer where a
         chunk would hold less than :data:`MIN_CHUNK_WORK` member-steps.
     threads : int, optional
-        Numba threads for chunks run in this process.
+        Numba threads for chunks run in this process (and for a measured run without a store).
     progress : bool, optional
         Progress bar.
+    compress : bool, optional
+        zlib-compress the chunk files; default: only a measured run's (a raw run's are read
+        back at once).
 
     Returns
     -------
-    Propagation
-        As :func:`propagate_groups` returns it; ``wall_time`` and ``compile_time`` are the
-        sums over the chunks run.
+    Propagation or xarray.Dataset
+        Without ``measure``, the :class:`Propagation` :func:`propagate_groups` returns;
+        ``wall_time`` and ``compile_time`` are the sums over the chunks run. With it, the
+        measurement's Dataset of the whole run: over the chunk files (dask arrays) with a
+        store, in memory without.
 
     Raises
     ------
     stability.output.stream.RunInterrupted
         Ctrl-C or SIGTERM stopped a stored run; its finished chunks are kept.
     """
+    n = run.members
     if store is None:
         if scheduler is not None:
             raise ValueError("a run on a dask scheduler needs a store folder for its chunks")
-        return run.propagate(progress)
-    n = run.members
+        if measure is None:
+            return run.propagate(progress)
+        with numba_threads(checked_threads(threads)):
+            return ChunkJob(run, measure)(0, n, progress, threads)
     if chunk_members is None:
         chunk_members = default_chunk_members(n, float(np.sum(run.sizes * run.n_steps)))
-    identity = {"grouped_run": run.identity(), "software": f"stability {__version__}"}
+    if measure is not None and hasattr(measure, "identity"):
+        identity = measure.identity(run)
+    else:
+        identity = {"grouped_run": run.identity(),
+                    **({"measurement": type(measure).__qualname__} if measure is not None
+                       else {}),
+                    "software": f"stability {__version__}"}
     chunks = ChunkStore(store, identity, n, chunk_members, resume=resume)
     try:
-        stream_chunks(run, chunks, scheduler=scheduler, threads=threads, progress=progress,
-                      compress=False)
+        todo = stream_chunks(ChunkJob(run, measure), chunks, scheduler=scheduler,
+                             threads=threads, progress=progress,
+                             compress=measure is not None if compress is None else compress)
+        if measure is not None:
+            whole = getattr(measure, "whole_attrs", None)
+            chunks.complete(whole(chunks, todo) if whole is not None else summed_attrs(chunks))
+            return chunks.open()
         parts = []
         for k in range(chunks.n_chunks):
             with xr.open_dataset(chunks.path(k), engine="netcdf4") as ds:
@@ -228,6 +338,21 @@ def propagate_stored(run: GroupedRun, store=None, *, resume=False, scheduler=Non
     finally:
         chunks.close()
     return _propagation(run, parts)
+
+
+def summed_attrs(chunks: ChunkStore) -> dict:
+    """The attributes of a whole stored run from its chunks': the first chunk's, with
+    ``wall_time`` and ``compile_time`` summed over every chunk."""
+    wall = compile_time = 0.0
+    first = None
+    for k in range(chunks.n_chunks):
+        with xr.open_dataset(chunks.path(k), **READ) as ds:
+            attrs = dict(ds.attrs)
+        wall += float(attrs.get("wall_time", 0.0))
+        compile_time += float(attrs.get("compile_time", 0.0))
+        if first is None:
+            first = attrs
+    return {**first, "wall_time": wall, "compile_time": compile_time}
 
 
 def default_chunk_members(members: int, member_steps: float) -> int:
@@ -258,7 +383,7 @@ def _propagation(run: GroupedRun, parts: list) -> Propagation:
     extras = {name[len("extra_"):]: ds[name].values for name in ds.data_vars
               if name.startswith("extra_")}
     saved = (ds.saved.values if "saved" in ds
-             else np.empty((run.members, 0, run.x0.shape[1])))
+             else np.empty((run.members, 0, run.width)))
     return Propagation(
         x_final=ds.x_final.values, saved=saved, status=ds.status.values,
         fail_step=ds.fail_step.values, iterations=ds.iterations.values,

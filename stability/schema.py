@@ -1,11 +1,13 @@
 """The register of every Dataset the package writes: each variable's dims, units and long name.
 
 One declaration per Dataset kind (:class:`DatasetSchema`, in :data:`SCHEMAS`): the free body's
-ensemble (:func:`stability.run_ensemble`) and the Dataset of every study kind
-(``stability run``, keyed by the kind's name). Each names every variable and coordinate it may
-hold (:class:`Variable`): its dims, units (UDUNITS spelling), long name, type, whether it is a
-coordinate, when it may be absent, and its further CF attributes (standard names, flags,
-comments). The code that builds a Dataset takes the dims and the attributes from here
+ensemble (:func:`stability.run_ensemble`), the Dataset of every study kind
+(``stability run``, keyed by the kind's name) and that of a run of any scene
+(:func:`stability.run_scene`, ``"scene_run"``: a :class:`SceneSchema`, a template whose
+variables are named from the scene, :meth:`SceneSchema.of` one scene's declaration). Each
+names every variable and coordinate it may hold (:class:`Variable`): its dims, units (UDUNITS
+spelling), long name, type, whether it is a coordinate, when it may be absent, and its
+further CF attributes (standard names, flags, comments). The code that builds a Dataset takes the dims and the attributes from here
 (:meth:`DatasetSchema.entries`), the documentation's Dataset reference is generated from here,
 and the tests hold every study's written file to its declaration (:meth:`DatasetSchema.problems`).
 
@@ -1002,10 +1004,215 @@ EXPLORER = _schema(
     })
 
 
-#: Every Dataset kind, by name: the free body's ensemble and each study kind's Dataset.
+# A run of any scene (stability.run_scene): its variables are named from the scene ------------
+
+#: Separator of the units (which hold spaces) in a scene Dataset's ``scene_units`` and
+#: ``scene_parameter_units`` attributes; names are separated by spaces.
+UNITS_SEPARATOR = ", "
+#: Names in the scene template that stand for each state component, parameter or invariant.
+COMPONENT, PARAMETER, INVARIANT = "<component>", "<parameter>", "<invariant>"
+#: Units of what a template variable holds, where its scene says them.
+_OWN = "(its own)"
+_TRACKED_UNITS = "(the tracked quantity's)"
+
+
+@dataclass(frozen=True)
+class SceneSchema(DatasetSchema):
+    """The Dataset kind of a run of any scene, whose variables are named from the scene.
+
+    :attr:`variables` is the template: a name holding ``<component>``, ``<parameter>`` or
+    ``<invariant>`` stands for one variable per state component, named parameter or
+    invariant of the scene, with its units (``(its own)``: the component's or parameter's;
+    ``(the tracked quantity's)``: those of what the scene's ``observe`` tracks). :meth:`of`
+    makes the declaration of one scene's Dataset; :meth:`problems` checks a Dataset against
+    the declaration of the scene its attributes name (``scene``, ``scene_components``,
+    ``scene_units``, ``scene_parameters``, ``scene_parameter_units``, ``scene_invariants``,
+    ``tracked_units``).
+
+    Parameters
+    ----------
+    name, title, written_by, file, variables
+        As :class:`DatasetSchema`.
+    note : str, default ""
+        How the template is read, for the documentation.
+    """
+
+    note: str = ""
+
+    def of(self, scene: str, components, units, parameters=(), parameter_units=(),
+           invariants=(), tracked_units: str = _ONE) -> DatasetSchema:
+        """The declaration of the Dataset of a run of one scene.
+
+        Parameters
+        ----------
+        scene : str
+            The scene's name.
+        components, units : sequence of str
+            The state's components and their units.
+        parameters : sequence of str, optional
+            The names of a parameter set's numbers, where the scene names them (one variable
+            each); else the sets are one variable ``parameters`` (group, parameter).
+        parameter_units : sequence of str, optional
+            Their units, where the scene gives them (else ``"1"``).
+        invariants : sequence of str, optional
+            The scene's invariants (one drift variable each).
+        tracked_units : str, default "1"
+            Units of the tracked quantity's amplitude and levels.
+
+        Returns
+        -------
+        DatasetSchema
+
+        Raises
+        ------
+        ValueError
+            If two variables would have one name (a component named as a parameter, say).
+        """
+        components, units = tuple(components), tuple(units)
+        parameter_units = tuple(parameter_units) or (_ONE,) * len(parameters)
+        if len(units) != len(components) or len(parameter_units) != len(parameters):
+            raise ValueError(f"scene {scene!r}: one unit per component and per parameter")
+        out = {}
+
+        def put(name, var):
+            if name in out:
+                raise ValueError(f"scene {scene!r}: {name!r} would name two variables of its "
+                                 "Dataset (a component, a parameter, an invariant's drift or "
+                                 "one of the run's own); rename it in the scene")
+            out[name] = var
+
+        for name, var in self.variables.items():
+            if COMPONENT in name:
+                for component, unit in zip(components, units):
+                    put(name.replace(COMPONENT, component), replace(
+                        var, units=unit, long_name=var.long_name.replace(COMPONENT, component)))
+            elif PARAMETER in name:
+                for parameter, unit in zip(parameters, parameter_units):
+                    put(name.replace(PARAMETER, parameter), replace(
+                        var, units=unit, long_name=var.long_name.replace(PARAMETER, parameter),
+                        optional=""))
+            elif INVARIANT in name:
+                for invariant in invariants:
+                    put(name.replace(INVARIANT, invariant), replace(
+                        var, long_name=var.long_name.replace(INVARIANT, invariant),
+                        optional=""))
+            elif name == "parameters":
+                if not parameters:
+                    put(name, replace(var, optional=""))
+            else:
+                put(name, replace(var, units=tracked_units) if var.units == _TRACKED_UNITS
+                    else var)
+        return DatasetSchema(f"{self.name}:{scene}", f"{self.title}: scene {scene}",
+                             self.written_by, self.file, out)
+
+    def problems(self, ds) -> list[str]:
+        """How ``ds`` departs from the declaration of the scene its attributes name (see the
+        class), one line each; empty if it does not."""
+        attrs = ds.attrs
+        missing = [key for key in ("scene", "scene_components", "scene_units") if key not in attrs]
+        if missing:
+            return [f"attribute {key}: missing (it names the scene the Dataset is declared by)"
+                    for key in missing]
+        words = (lambda key: tuple(str(attrs.get(key, "")).split()))
+        units = (lambda key: tuple(u for u in str(attrs.get(key, "")).split(UNITS_SEPARATOR)
+                                   if u))
+        try:
+            declared = self.of(str(attrs["scene"]), words("scene_components"),
+                               units("scene_units"), words("scene_parameters"),
+                               units("scene_parameter_units"), words("scene_invariants"),
+                               str(attrs.get("tracked_units", _ONE)))
+        except ValueError as exc:
+            return [f"attributes: {exc}"]
+        return declared.problems(ds)
+
+
+_SERIES = "runs that keep the time series (save_every > 0)"
+_TRACKING = "runs that track (axes given)"
+_PARAMETERS_NAMED = "scenes that name their parameters"
+_GROUP = "group"
+_TRACK = "track"
+_COMPONENT_VALUE = ("the state as the scene's kernels hold it; members whose status is not ok "
+                    "keep what the loop left")
+
+SCENE_RUN = SceneSchema(
+    "scene_run", "a run of any scene's members in groups, per member and per group",
+    "stability.run_scene", "", {
+        MEMBER: _member(),
+        _GROUP: _coord(_GROUP, _ONE, "group of members (one parameter set, step and step "
+                       "count)", kind="i"),
+        TIME: _time_axis(optional=_SERIES),
+        LEVEL: _coord(LEVEL, _ONE, "number of the tracked amplitude level", kind="i",
+                      optional=_TRACKING),
+        COMPONENT: _var((MEMBER, TIME), _OWN, f"{COMPONENT} (state component) at each saved "
+                        "time", optional=_SERIES, comment=_COMPONENT_VALUE + "; NaN past the "
+                        "end of a shorter group"),
+        f"{COMPONENT}_start": _var(MEMBER, _OWN, f"{COMPONENT} (state component) at the "
+                                   "start"),
+        f"{COMPONENT}_final": _var(MEMBER, _OWN, f"{COMPONENT} (state component) at the end "
+                                   "of the run", comment=_COMPONENT_VALUE),
+        "member_group": _var(MEMBER, _ONE, "group of the member", kind="i"),
+        "status": _status(MEMBER, comment=(
+            "ok: the member's numbers can be trusted; non_finite: its state overflowed; "
+            "not_converged: an implicit step's solver failed; derived numbers (drifts, "
+            "tracked events) of members whose status is not ok are NaN")),
+        "fail_time": _var(MEMBER, _S, "time at which the member's failure was detected",
+                          comment="NaN for members whose status is ok"),
+        "iterations": _var(MEMBER, _ONE, "nonlinear-solver iterations over the run (0 for "
+                           "explicit methods)", kind="i"),
+        f"{INVARIANT}_drift": _var(MEMBER, _ONE, f"relative drift of the invariant {INVARIANT} "
+                                   "over the run, (I(end) - I(0)) / |I(0)|",
+                                   optional="scenes that declare invariants",
+                                   comment="NaN where the invariant is 0 at the start"),
+        "axis_crossings": _var(MEMBER, _ONE, "sign changes of the tracked spin-axis quantity",
+                               kind="i", optional=_TRACKING),
+        "first_axis_crossing": _var(MEMBER, _S, "time of the first sign change of the tracked "
+                                    "spin-axis quantity", optional=_TRACKING,
+                                    comment="NaN where none happened"),
+        "last_axis_crossing": _var(MEMBER, _S, "time of the last sign change of the tracked "
+                                   "spin-axis quantity", optional=_TRACKING),
+        "perp_crossings": _var(MEMBER, _ONE, "sign changes of the first tracked quantity "
+                               "across the spin axis", kind="i", optional=_TRACKING),
+        "first_perp_crossing": _var(MEMBER, _S, "time of the first sign change of the first "
+                                    "tracked quantity across the spin axis",
+                                    optional=_TRACKING),
+        "last_perp_crossing": _var(MEMBER, _S, "time of the last sign change of the first "
+                                   "tracked quantity across the spin axis", optional=_TRACKING),
+        "max_perp_amplitude": _var(MEMBER, _TRACKED_UNITS, "largest amplitude across the spin "
+                                   "axis, sqrt(b^2 + c^2) of the tracked quantities",
+                                   optional=_TRACKING),
+        "passage_time": _var((MEMBER, LEVEL), _S, "first time the amplitude across the spin "
+                             "axis reaches the level", optional=_TRACKING,
+                             comment="NaN where the level was never reached; 0 where the "
+                                     "start is above it"),
+        "members": _var(_GROUP, _ONE, "members of the group", kind="i"),
+        "h": _var(_GROUP, _S, "integration step h"),
+        "n_steps": _var(_GROUP, _ONE, "steps of the run", kind="i"),
+        PARAMETER: _var(_GROUP, _OWN, f"parameter {PARAMETER} of the group",
+                        optional=_PARAMETERS_NAMED),
+        "parameters": _var((_GROUP, "parameter"), _ONE, "the group's parameter set, as the "
+                           "scene's methods take it", optional="scenes that do not name their "
+                           "parameters", comment="in the scene's own units"),
+        "tracked_components": _var((_GROUP, _TRACK), _ONE, "state components the tracking "
+                                   "reads (spin axis, then the two across it), numbered from 0",
+                                   kind="i", optional=_TRACKING),
+        "levels": _var((_GROUP, LEVEL), _TRACKED_UNITS, "amplitude levels of the passage times",
+                       optional=_TRACKING),
+    }, note=(
+        "Its variables are named from the scene: a name holding `<component>` stands for one "
+        "variable per state component (its units the component's), `<parameter>` one per "
+        "named parameter, `<invariant>` one per invariant the scene declares; the amplitude "
+        "and levels are in the units of what the scene tracks (`tracked_units`). The global "
+        "attributes `scene_components`, `scene_units`, `scene_parameters`, "
+        "`scene_parameter_units` and `scene_invariants` record what the scene declared, and "
+        "`stability.schema.SCENE_RUN.of(...)` gives one scene's declaration"))
+
+
+#: Every Dataset kind, by name: the free body's ensemble, each study kind's Dataset and a run of
+#: any scene's.
 SCHEMAS: Mapping[str, DatasetSchema] = MappingProxyType({s.name: s for s in (
-    ENSEMBLE, TRAJECTORY, TENNIS_RACKET, TWISTING_RACKET, ENGINE_ARTEFACTS, STABILITY_MAP, WORK_PRECISION,
-    EARTH_WOBBLE, EQUINOXES, GYROSCOPE, SLEEPING_TOP, BAT, ROLLING, EXPLORER,
+    ENSEMBLE, TRAJECTORY, TENNIS_RACKET, TWISTING_RACKET, ENGINE_ARTEFACTS, STABILITY_MAP,
+    WORK_PRECISION, EARTH_WOBBLE, EQUINOXES, GYROSCOPE, SLEEPING_TOP, BAT, ROLLING, EXPLORER,
+    SCENE_RUN,
 )})
 
 
@@ -1092,5 +1299,5 @@ def schema(name: str) -> DatasetSchema:
         raise KeyError(f"no Dataset kind {name!r}; known: {', '.join(SCHEMAS)}") from None
 
 
-__all__ = ["DatasetSchema", "ESTIMATES", "KINDS", "LEVEL", "SCHEMAS", "Variable", "file_order",
-           "held_order", "schema"]
+__all__ = ["DatasetSchema", "ESTIMATES", "KINDS", "LEVEL", "SCENE_RUN", "SCHEMAS", "SceneSchema",
+           "Variable", "file_order", "held_order", "schema"]

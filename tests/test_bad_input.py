@@ -39,6 +39,10 @@ ROOT = Path(__file__).resolve().parents[1]
 BODY = stability.RigidBody(1.0, 2.0, 3.0)
 RACKET = stability.RigidBody.preset("tennis_racket")
 RUN = dict(h=0.1, t_end=1.0)
+#: A heavy top and three starts of it, for the runs of a scene (stability.run_scene).
+TOP = np.array([1.0, 1.2, 0.5, 0.0, 0.0, 1.5])
+TOP_STARTS = np.tile([0.0, 0.0, 4.0, 0.3, 0.0, 0.95], (3, 1))
+SCENE_RUN = dict(h=0.01, n_steps=10)
 
 # --- the command line -------------------------------------------------------------------------
 
@@ -285,6 +289,39 @@ API = {
                                 "R must be real numbers, got booleans"),
     "complex signal": (lambda: estimators.zero_crossings([0.0, 1.0, 2.0], [1j, -1j, 1j]),
                        "x must be real numbers"),
+    # a run of any scene (stability.run_scene), refused before any work
+    "starts of the wrong width (scene)": (
+        lambda: stability.run_scene("heavy_top", "lp2", np.ones((3, 5)), TOP, **SCENE_RUN),
+        "x0 must have shape (members, 6) for scene 'heavy_top', one column per component "
+        "(m1, m2, m3, g1, g2, g3), got shape (3, 5)"),
+    "unknown method (scene)": (
+        lambda: stability.run_scene("heavy_top", "lp8", TOP_STARTS, TOP, **SCENE_RUN),
+        "method 'lp8' does not run scene 'heavy_top'; methods that do: rk4, lp2, lp4"),
+    "unknown scene": (lambda: stability.run_scene("heavy_tops", "lp2", TOP_STARTS, TOP,
+                                                  **SCENE_RUN), "unknown scene 'heavy_tops'"),
+    "negative members (scene)": (
+        lambda: stability.run_scene("heavy_top", "lp2", TOP_STARTS, [TOP, TOP], sizes=[4, -1],
+                                    **SCENE_RUN),
+        "sizes must be whole numbers of members >= 0, got [4, -1]"),
+    "members that do not add up (scene)": (
+        lambda: stability.run_scene("heavy_top", "lp2", TOP_STARTS, [TOP, TOP], sizes=[1, 1],
+                                    **SCENE_RUN), "sizes add up to 2 members but x0 has 3 rows"),
+    "parameter set the scene refuses": (
+        lambda: stability.run_scene("heavy_top", "lp2", TOP_STARTS, np.ones(3), **SCENE_RUN),
+        "parameter set 0 of scene 'heavy_top' (lp2): a top is described by 6 numbers"),
+    "time series over two steps (scene)": (
+        lambda: stability.run_scene("heavy_top", "lp2", TOP_STARTS, [TOP, TOP], sizes=[2, 1],
+                                    h=[0.01, 0.02], n_steps=10, save_every=2),
+        "needs one step for every group"),
+    "tracking in unknown units (scene)": (
+        lambda: stability.run_scene("heavy_top", "lp2", TOP_STARTS, TOP, axes=[2, 0, 1],
+                                    **SCENE_RUN),
+        "say in tracked_units= the units of what scene 'heavy_top' tracks"),
+    "run beyond memory (scene)": (
+        lambda: stability.run_scene("heavy_top", "lp2", TOP_STARTS, TOP, h=0.01,
+                                    n_steps=10**12, save_every=1),
+        "a run of 3 members of scene 'heavy_top' keeping 1000000000001 states of 6 numbers "
+        "each would take about"),
 }
 
 

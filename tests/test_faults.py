@@ -432,3 +432,54 @@ def test_one_piece_study_stopped_while_integrating_keeps_the_earlier_result(tmp_
                               "interrupted; nothing was published"), err
     assert "Traceback" not in "\n".join(err)
     assert snapshot(out) == before and temporaries(out) == []
+
+
+#: A stored run of a registered scene through the one generic path (stability.run_scene): 48
+#: heavy tops in 12 chunks of 4, each of some tens of milliseconds, tracked. A new process runs
+#: it into the store sys.argv[1].
+SCENE_RUN = '''
+import sys
+import numpy as np
+import stability
+from stability.scenes import SCENES
+
+scene = SCENES["heavy_top"]
+x0 = np.concatenate([scene.example(24, seed=k)[0] for k in range(2)])
+tops = scene.example(1)[1][:2]
+kwargs = dict(sizes=[24, 24], h=[0.01, 0.02], n_steps=[40000, 20000], axes=[2, 0, 1],
+              levels=[0.1, 0.5], tracked_units="1", chunk_members=4, progress=False)
+if __name__ == "__main__":
+    stability.run_scene("heavy_top", "lp2", x0, tops, store=sys.argv[1], **kwargs)
+'''
+
+
+def test_a_scene_run_killed_then_resumed_is_bitwise_an_uninterrupted_run(tmp_path):
+    """kill -9 after two of its chunks, then resume=True here: the Dataset of a registered
+    scene's stored run is bitwise the one of a run that was never stopped, made in memory."""
+    store = tmp_path / "store"
+    env = {**os.environ, "PYTHONPATH": os.pathsep.join(
+        filter(None, [str(ROOT), os.environ.get("PYTHONPATH")]))}
+    proc = subprocess.Popen([sys.executable, "-c", SCENE_RUN, str(store)], cwd=ROOT, env=env,
+                            stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, text=True)
+    wait_until(lambda: (read_progress(store) or {}).get("chunks_done", 0) >= 2, proc,
+               show_stderr=True)
+    proc.kill()
+    proc.wait(timeout=60)
+    done, total = chunks_done(tmp_path)
+    assert 2 <= done < total, "the run ended first"
+    kept = {p.name: p.stat().st_mtime_ns for p in store.glob("chunk-*.nc")}
+    setup = {"__name__": "members"}
+    exec(SCENE_RUN, setup)  # the same members, here (not run)
+    import stability
+
+    args = ("heavy_top", "lp2", setup["x0"], setup["tops"])
+    with pytest.raises(ValueError, match="resume"):
+        stability.run_scene(*args, store=store, **setup["kwargs"])
+    resumed = stability.run_scene(*args, store=store, resume=True, **setup["kwargs"])
+    assert all(store.joinpath(name).stat().st_mtime_ns == t for name, t in kept.items())
+    whole = stability.run_scene(*args, **{**setup["kwargs"], "chunk_members": None})
+    assert set(whole.variables) == set(resumed.variables)
+    for name in whole.variables:
+        assert np.array_equal(whole[name].values, resumed[name].values,
+                              equal_nan=whole[name].dtype.kind == "f"), name
+    assert temporaries(store) == []

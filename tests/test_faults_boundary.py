@@ -204,13 +204,19 @@ def test_links_inside_a_store_are_never_written_through(tmp_path, body123):
 # --- two runs at once --------------------------------------------------------------------
 
 
+#: A run still integrating after three more processes have started and been refused on a
+#: loaded machine: LONG's chunks, ten times the steps (it is stopped with Ctrl-C, never waited
+#: for).
+BUSY = [*LONG, "--set", "integration.t_end=400", "--set", "integration.save_every=10000"]
+
+
 def test_a_second_run_into_a_busy_folder_is_refused_and_destroys_nothing(tmp_path, capsys):
     out = tmp_path / "out"
-    first = start([*LONG, "--out", str(out)])
+    first = start([*BUSY, "--out", str(out)])
     lines = Lines(first)
     wait_until(lambda: (read_progress(out / WORK) or {}).get("chunks_done", 0) >= 1, first)
     for options in ([], ["--overwrite"], ["--overwrite", "--resume"]):
-        done = subprocess.run(stability_cmd(*LONG, "--out", str(out), *options), cwd=ROOT,
+        done = subprocess.run(stability_cmd(*BUSY, "--out", str(out), *options), cwd=ROOT,
                               capture_output=True, text=True, timeout=300)
         assert done.returncode == 2, (options, done.stderr)
         err = done.stderr.strip().splitlines()

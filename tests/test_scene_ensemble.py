@@ -1,11 +1,15 @@
 """Grouped runs of every scene through the one stored path: cut into chunks, resumed, or run
-on a dask cluster, every member is bitwise the run in one piece."""
+on a dask cluster, every member is bitwise the run in one piece, raw or measured into the
+scene's Dataset (stability.run_scene)."""
 
 import numpy as np
 import pytest
 
+import stability
 from stability.scene_ensemble import GroupedRun, propagate_stored
 from stability.scenes import SCENES
+
+from .helpers import assert_declared
 
 #: Every registered scene with its first method (every method's loop is checked for groups and
 #: chunks in time by tests/test_engine.py; here the question is the cut into member chunks).
@@ -76,3 +80,29 @@ def test_the_chunks_run_on_a_dask_cluster_bitwise_as_here(tmp_path):
         there = propagate_stored(run, tmp_path / "store", chunk_members=5, scheduler=client,
                                  progress=False)
     assert_bitwise(there, whole)
+
+
+def test_a_scenes_dataset_made_on_a_dask_cluster_is_bitwise_the_one_made_here(tmp_path):
+    """run_scene on a registered scene: the Dataset's final states are the loop's, and its
+    chunks measured by dask workers join into the Dataset made here, bitwise."""
+    distributed = pytest.importorskip("distributed")
+    scene = SCENES["heavy_top"]
+    sizes = [7, 5, 4]
+    x0 = np.concatenate([scene.example(n, seed=k)[0] for k, n in enumerate(sizes)])
+    tops = scene.example(1)[1]
+    kwargs = dict(sizes=sizes, h=[0.05, 0.02, 0.04], n_steps=[40, 60, 25], axes=[1, 0, 2],
+                  levels=[1e-2, 5e-2, 0.3], tracked_units="1", progress=False)
+    here = stability.run_scene("heavy_top", "lp2", x0, tops, **kwargs)
+    raw = propagate_stored(grouped("heavy_top", "lp2"), progress=False)
+    assert np.array_equal(np.column_stack([here[f"{c}_final"] for c in scene.components]),
+                          raw.x_final)
+    assert np.array_equal(here.passage_time, raw.extras["passage_time"], equal_nan=True)
+    assert list(here.data_vars).count("energy_drift") == 1 and "time" not in here.dims
+    with distributed.LocalCluster(n_workers=2, threads_per_worker=1, processes=True,
+                                  dashboard_address=None) as cluster, \
+            distributed.Client(cluster) as client:
+        there = stability.run_scene("heavy_top", "lp2", x0, tops, store=tmp_path / "store",
+                                    chunk_members=5, scheduler=client, **kwargs)
+    for name in here.variables:
+        assert np.array_equal(there[name].values, here[name].values, equal_nan=True), name
+    assert_declared(stability.save(there, tmp_path / "top.nc"), "scene_run")

@@ -149,3 +149,31 @@ def test_the_check_fails_on_a_file_that_departs_from_its_declaration(ensemble_fi
     path = stability.save(change(stability.load(ensemble_file)), tmp_path / "changed.nc")
     with pytest.raises(AssertionError, match=re.escape(found)):
         assert_declared(path, "ensemble")
+
+
+def test_a_scene_runs_declaration_is_the_scenes_and_the_check_reads_which_scene_it_is():
+    """The scene template (``scene_run``) declares a run of heavy tops with the heavy top's
+    components, units and invariants; the check reads the scene from the Dataset's attributes,
+    so other units, a missing component or a scene it does not name are found; two variables
+    of one name are refused when the declaration is made."""
+    from stability.scenes import SCENES
+    from stability.schema import SCENE_RUN
+
+    scene = SCENES["heavy_top"]
+    ds = stability.run_scene("heavy_top", "lp2", scene.example(4)[0], scene.example(1)[1][0],
+                             h=0.01, n_steps=20, save_every=5, progress=False)
+    declared = SCENE_RUN.of(scene.name, scene.components, scene.units,
+                            invariants=scene.invariants)
+    assert declared["g3"].dims == ("member", "time") and declared["g3"].units == "1"
+    assert declared["m1_final"].units == "kg m2 s-1" and "vertical_norm_drift" in declared
+    assert SCENE_RUN.problems(ds) == declared.problems(ds) == []
+    changed = ds.copy()
+    changed["m1"].attrs["units"] = "rad s-1"
+    assert SCENE_RUN.problems(changed) == ["m1: units 'rad s-1', declared 'kg m2 s-1'"]
+    assert SCENE_RUN.problems(ds.drop_vars("g2_final")) == ["g2_final: missing"]
+    unnamed = ds.copy()
+    del unnamed.attrs["scene_units"]
+    assert SCENE_RUN.problems(unnamed) == ["attribute scene_units: missing (it names the scene "
+                                           "the Dataset is declared by)"]
+    with pytest.raises(ValueError, match="'h' would name two variables"):
+        SCENE_RUN.of("clock", ["h"], ["s"])

@@ -16,10 +16,13 @@ from pathlib import Path
 import numpy as np
 import pytest
 
+import stability
 from stability import define_scene
 from stability.engine import propagate_groups
 from stability.scene_ensemble import GroupedRun, propagate_stored
 from stability.output.store import status_lines
+
+from .helpers import assert_cf_compliant, assert_declared
 
 ROOT = Path(__file__).resolve().parents[1]
 
@@ -57,6 +60,7 @@ def example(n, seed=0):
 
 
 OSCILLATOR = define_scene("user_oscillator", ["x", "v"], ["m", "m s-1"], rhs, ["omega"],
+                          parameter_units=["rad s-1"],
                           invariants={{"energy": energy}}, exact=exact, example=example,
                           methods=[MethodSpec(name="euler", title="explicit Euler", order=1,
                                               step=euler_step)])
@@ -175,6 +179,42 @@ def test_the_chunks_run_on_dask_workers_that_import_the_users_module(home, tmp_p
         there = propagate_stored(run, tmp_path / "store", chunk_members=6, scheduler=client,
                                  progress=False)
     assert_bitwise(there, whole)
+
+
+def test_a_run_of_the_users_scene_is_a_dataset_named_and_labelled_from_it(home, tmp_path):
+    """run_scene gives one variable per component, in the scene's units, the parameters by
+    name, each member's status and drift; in one piece or stored in chunks, bitwise alike; the
+    file written is as the register declares it for this scene, and CF-compliant."""
+    _, scene = home
+    spec = scene.method("rk4")
+    x0 = scene.example(9, seed=2)[0]
+    sets, steps = [[1.0], {"omega": 2.5}], [40, 60]
+    kwargs = dict(sizes=[5, 4], h=0.05, n_steps=steps, save_every=10, axes=[0, 1, 1],
+                  levels=[0.5, 1.0], progress=False)
+    ds = stability.run_scene(scene, "rk4", x0, sets, **kwargs)
+    for name, unit in zip(scene.components, scene.units):
+        assert ds[name].dims == ("member", "time") and ds[name].attrs["units"] == unit
+        assert ds[f"{name}_start"].attrs["units"] == ds[f"{name}_final"].attrs["units"] == unit
+    assert ds.omega.attrs["units"] == "rad s-1" and ds.omega.values.tolist() == [1.0, 2.5]
+    assert ds.time.attrs["units"].startswith("s since") and ds.time.values[-1] == 3.0
+    assert ds.status.attrs["flag_meanings"].split()[0] == "ok" and (ds.status == 0).all()
+    assert ds.max_perp_amplitude.attrs["units"] == "m s-1" and ds.passage_time.shape == (9, 2)
+    assert float(np.abs(ds.energy_drift).max()) < 1e-5
+    # the numbers are the loop's: the same groups through propagate_stored
+    rows = [spec.params(values, 0.05) for values in sets]
+    raw = propagate_stored(GroupedRun(scene, "rk4", x0, rows, [5, 4], 0.05, steps,
+                                      save_every=10), progress=False)
+    assert np.array_equal(np.column_stack([ds.x_final, ds.v_final]), raw.x_final)
+    assert np.array_equal(ds.x.values[:, 1:], raw.saved[:, :, 0], equal_nan=True)
+    assert np.isnan(ds.x.values[:5, -2:]).all()  # past the end of the shorter group
+    stored = stability.run_scene(scene, "rk4", x0, sets, store=tmp_path / "store",
+                                 chunk_members=2, **kwargs)
+    assert set(stored.variables) == set(ds.variables)
+    for name in ds.variables:
+        assert np.array_equal(stored[name].values, ds[name].values, equal_nan=True), name
+    path = stability.save(stored, tmp_path / "oscillator.nc")
+    assert_declared(path, "scene_run")
+    assert_cf_compliant(path)
 
 
 def run_in_new_process(folder, env=None):

@@ -101,6 +101,8 @@ def dataset_page() -> str:
                      f"(`stability run studies/{schema.name}.toml`); built by {writers}.")
         else:
             where = f"Built by {writers}; `stability.save` writes it."
+        if getattr(schema, "note", ""):  # a template, its variables named from a scene
+            where += f" {schema.note}."
         rows = []
         for name, var in schema.variables.items():
             extra = dict(var.extra)

@@ -158,29 +158,48 @@ def provenance_attrs(title: str, body, spec, h: float, command: str) -> dict:
         ``date_created``, the body (``body``, ``body_name``, ``I1``, ``I2``, ``I3``), the method
         (``method``, ``method_title``, ``method_order``, ``method_reference``) and ``h``.
     """
-    now = utc_now()
-    attrs = {
-        "Conventions": cv.CONVENTIONS,
-        "title": title,
-        **software_attrs(),
-        "history": history_line(command, now),
-        "references": f"{REFERENCES}; method: {spec.reference}" if spec.reference else REFERENCES,
-        "date_created": now,
+    attrs = header_attrs(title, command,
+                         f"{REFERENCES}; method: {spec.reference}" if spec.reference
+                         else REFERENCES)
+    attrs.update({
         "body": repr(body),
         "body_name": body.name,
         "I1": body.I1,
         "I2": body.I2,
         "I3": body.I3,
         "moments_units": cv.UNITS_MOMENT_OF_INERTIA,
+        **method_attrs(spec),
+        "h": float(h),
+    })
+    return attrs
+
+
+def header_attrs(title: str, command: str, references: str = "") -> dict:
+    """The first global attributes of a Dataset of the package: ``Conventions``, ``title``,
+    the software (:func:`software_attrs`), ``history`` (``command`` its first line),
+    ``references`` (where given) and ``date_created``."""
+    now = utc_now()
+    return {
+        "Conventions": cv.CONVENTIONS,
+        "title": title,
+        **software_attrs(),
+        "history": history_line(command, now),
+        **({"references": references} if references else {}),
+        "date_created": now,
+    }
+
+
+def method_attrs(spec) -> dict:
+    """The method of a run as global attributes: ``method``, ``method_title``,
+    ``method_order``, ``method_reference`` and, where it has one, ``method_max_step_angle``."""
+    return {
         "method": spec.name,
         "method_title": spec.title,
         "method_order": "exact" if spec.is_exact else int(spec.order),
         "method_reference": spec.reference,
         **({"method_max_step_angle": float(spec.max_step_angle)}
            if spec.max_step_angle is not None else {}),
-        "h": float(h),
     }
-    return attrs
 
 
 # --- configuration as TOML --------------------------------------------------------------------

@@ -4,10 +4,9 @@ The machinery is generic over a *chunk job*: a picklable callable ``job(lo, hi, 
 threads) -> xarray.Dataset`` that runs members ``lo ... hi - 1`` of a run with the Numba threads
 of the process it is in. :func:`stream_chunks` runs the chunks of a
 :class:`~stability.output.store.ChunkStore` that are not done, here or as dask tasks, with progress,
-``progress.json`` and the Ctrl-C message. The jobs are defined beside the runs they cut, above
-this module, which imports none of them: the free body's
-:class:`~stability.ensemble.EnsembleChunks`, every scene's grouped runs
-(:mod:`stability.scene_ensemble`), the stability map's batches.
+``progress.json`` and the Ctrl-C message. The jobs are defined above this module, which imports
+none of them: every scene's grouped runs, raw or measured, the free body's ensembles among them
+(:class:`~stability.scene_ensemble.ChunkJob`), and the stability map's batches.
 
 ``run_ensemble(..., store=DIR)`` streams this way (:func:`stability.ensemble.run_streamed`):
 the members are cut into chunks of ``chunk_members``; each chunk is run exactly as

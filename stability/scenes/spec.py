@@ -92,6 +92,9 @@ class Scene:
     parameters : tuple of str, default ()
         Names of the numbers of a parameter set, where the scene names them
         (:func:`stability.define_scene` does).
+    parameter_units : tuple of str, default ()
+        UDUNITS unit of each of ``parameters``, where the scene gives them (a run's Dataset
+        labels the parameters with them; ``"1"`` where they are not given).
     module : str, default ""
         The module that binds the scene to a name: a scene with one is pickled by reference
         (that module is imported where it is unpickled, a dask worker say), else by value.
@@ -115,6 +118,7 @@ class Scene:
     exact: Callable | None = field(repr=False, default=None)
     example: Callable | None = field(repr=False, default=None)
     parameters: tuple = ()
+    parameter_units: tuple = ()
     module: str = field(repr=False, default="")
     source: str = field(repr=False, default="")
 

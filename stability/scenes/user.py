@@ -149,9 +149,9 @@ def tracked_components(x, p, axes):
     return tuple(x[:, min(int(axes[k]), last)] for k in range(3))
 
 
-def define_scene(name, components, units, rhs, parameters=(), *, params=None, title=None,
-                 equations=None, methods=(), observe=None, tracked=None, invariants=None,
-                 exact=None, example=None) -> Scene:
+def define_scene(name, components, units, rhs, parameters=(), *, parameter_units=None,
+                 params=None, title=None, equations=None, methods=(), observe=None,
+                 tracked=None, invariants=None, exact=None, example=None) -> Scene:
     """A scene from the user's own right-hand side ``x' = rhs(x, p)``, run as registered ones.
 
     Call it at the top level of a module of yours and bind the result to a name there
@@ -179,6 +179,9 @@ def define_scene(name, components, units, rhs, parameters=(), *, params=None, ti
     parameters : sequence of str, default ()
         Names of the numbers of a parameter set. A method's ``params(values, h)`` takes a set
         as a mapping by name or a sequence in this order.
+    parameter_units : sequence of str, optional
+        UDUNITS unit of each parameter, for the Dataset of a run (:func:`stability.run_scene`);
+        without them the parameters are labelled ``"1"``.
     params : callable, optional
         ``params(values, h) -> row``: the kernels' row from the set's numbers (float array in
         the order of ``parameters``) and the step; by default the row is the numbers.
@@ -222,6 +225,8 @@ def define_scene(name, components, units, rhs, parameters=(), *, params=None, ti
     width = len(components)
     units = _units(name, units, components)
     parameters = _names(name, "parameters", parameters, empty=True)
+    parameter_units = (() if parameter_units is None else
+                       _units(name, parameter_units, parameters, "parameter"))
     if params is not None and not callable(params):
         raise TypeError(f"scene {name!r}: params must be a function params(values, h), "
                         f"got {type(params).__name__}")
@@ -276,6 +281,7 @@ def define_scene(name, components, units, rhs, parameters=(), *, params=None, ti
         exact=None if exact is None else OnValues(row, exact),
         example=example,
         parameters=parameters,
+        parameter_units=parameter_units,
         module=caller,
         source=kernels.SOURCES,
     )
@@ -308,13 +314,14 @@ def _names(scene, what, names, empty):
     return tuple(names)
 
 
-def _units(scene, units, components):
+def _units(scene, units, components, what="component"):
+    key = "units" if what == "component" else f"{what}_units"
     if isinstance(units, str) or not isinstance(units, (list, tuple)):
-        raise TypeError(f"scene {scene!r}: units must be a list of strings, one per component, "
+        raise TypeError(f"scene {scene!r}: {key} must be a list of strings, one per {what}, "
                         f"got {units!r}")
     if len(units) != len(components):
-        raise ValueError(f"scene {scene!r}: {len(units)} units for {len(components)} components "
-                         f"({', '.join(components)}); give one unit per component")
+        raise ValueError(f"scene {scene!r}: {len(units)} units for {len(components)} {what}s "
+                         f"({', '.join(components)}); give one unit per {what}")
     bad = [u for u in units if not isinstance(u, str) or not u.strip()]
     if bad:
         raise TypeError(f"scene {scene!r}: a unit must be a UDUNITS string such as 'rad s-1' "

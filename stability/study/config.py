@@ -32,6 +32,7 @@ from typing import Any, Callable
 from ..core.body import RigidBody
 from ..ensemble import DEFAULT_MAX_MEMORY, format_bytes
 from ..integrators import METHODS
+from ..memory import memory_problem
 from ..output.dataset import append_history, config_toml, software_attrs
 from ..output.io import saving
 from ..plotting.style import save
@@ -309,20 +310,15 @@ def check_memory(schema: Schema, config: dict, source: str, nbytes: float, keys,
     Raises
     ------
     ConfigError
-        If ``nbytes`` exceeds :data:`stability.ensemble.DEFAULT_MAX_MEMORY` or the machine's
+        If ``nbytes`` exceeds :data:`stability.memory.DEFAULT_MAX_MEMORY` or the machine's
         memory.
     """
 
-    machine = _machine_memory()
-    limit = min(DEFAULT_MAX_MEMORY, machine or DEFAULT_MAX_MEMORY)
-    if nbytes <= limit:
+    problem = memory_problem(nbytes, what, fix)
+    if problem is None:
         return
     section, key = max(keys, key=lambda k: _growth(schema, config, *k))
-    has = f"; this machine has {format_bytes(machine)}" if machine else ""
-    raise ConfigError(
-        f"= {toml_text(config[section][key])}: {what} would take about {format_bytes(nbytes)} in "
-        f"memory, above the {format_bytes(limit)} a run may hold{has}; {fix}",
-        source, section, key)
+    raise ConfigError(f"= {toml_text(config[section][key])}: {problem}", source, section, key)
 
 
 def _growth(schema: Schema, config: dict, section: str, key: str) -> float:
@@ -332,14 +328,6 @@ def _growth(schema: Schema, config: dict, section: str, key: str) -> float:
     if not isinstance(default, (int, float)) or isinstance(default, bool) or default <= 0:
         return 1.0
     return value / default
-
-
-def _machine_memory() -> int | None:
-    """Bytes of physical memory of this machine; None where the system does not say."""
-    try:
-        return os.sysconf("SC_PAGE_SIZE") * os.sysconf("SC_PHYS_PAGES")
-    except (AttributeError, ValueError, OSError):
-        return None
 
 
 def output_section(name: str, figures, extra=()) -> Section:
