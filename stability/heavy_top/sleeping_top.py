@@ -8,7 +8,7 @@ member loop (scene ``heavy_top``, groups with their own top, step and horizon), 
 slope of ``ln(level)`` against passage time over the linear phase (:mod:`stability.estimators`),
 from ``low_factor`` times the start (the decaying mode has died away) up to ``high_fraction`` in
 ``sin(tilt)`` (the nonlinear terms are ~high_fraction^2); it is set beside the analytic
-``sqrt(4 A M g l - C^2 w3^2) / (2 A)`` (:mod:`stability.top`). Above the critical spin the tilt
+``sqrt(4 A M g l - C^2 w3^2) / (2 A)`` (:mod:`stability.heavy_top.model`). Above the critical spin the tilt
 stays bounded: no member reaches the window and the measured rate is 0, with the largest tilt
 amplification reported.
 
@@ -28,13 +28,13 @@ import time
 import numpy as np
 import xarray as xr
 
-from .util import conventions as cv
-from . import estimators as est
-from .scene_ensemble import GroupedRun, propagate_stored
-from .scenes import SCENES
-from .schema import SLEEPING_TOP
-from .top import critical_spin, sleeping_frequencies, sleeping_growth_rate
-from .top import tilt_members, tilted_starts
+from ..util import conventions as cv
+from .. import estimators as est
+from ..scene_ensemble import GroupedRun, propagate_stored
+from ..scenes import SCENES
+from ..schema import SLEEPING_TOP
+from .model import critical_spin, sleeping_frequencies, sleeping_growth_rate
+from .model import tilt_members, tilted_starts
 
 #: Dimension names.
 SPIN = "spin"

@@ -14,9 +14,9 @@ times a period, and three numbers are read from the samples (:mod:`stability.per
   ``phi' = (w1 g1 + w2 g2) / (g1^2 + g2^2)`` (the vertical component of w less its part along
   the figure axis, over sin^2(theta)).
 
-Each is set beside the exact value for the member's own start (:mod:`stability.exact_top`) and
+Each is set beside the exact value for the member's own start (:mod:`stability.heavy_top.exact`) and
 beside the fast-top (gyroscopic) approximations ``M g l / (C w3)``, ``C w3 / A`` and
-``2 |1 - release| A M g l sin(theta0) / (C w3)^2`` (:mod:`stability.top`), which the exact values
+``2 |1 - release| A M g l sin(theta0) / (C w3)^2`` (:mod:`stability.heavy_top.model`), which the exact values
 approach as w3 grows. For the figure, one (tilt, spin) cell's paths of the figure axis (theta and
 phi, phi the trapezoidal integral of phi') are kept over a few nutation periods, with the exact
 paths at the same times.
@@ -30,13 +30,15 @@ import time
 import numpy as np
 import xarray as xr
 
-from . import exact_top
-from .periodic import extrema, level_crossings, mean_period, weighted_mean
-from .scene_ensemble import GroupedRun, propagate_stored
-from .scenes import SCENES
-from .schema import GYROSCOPE
-from .top import (gyroscopic_nutation_amplitude, gyroscopic_nutation_frequency,
-                  gyroscopic_precession_rate, tilted_starts)
+from . import exact as exact_top
+from ..periodic import extrema, level_crossings, mean_period, weighted_mean
+from ..scene_ensemble import GroupedRun, propagate_stored
+from ..scenes import SCENES
+from ..schema import GYROSCOPE
+from .model import (
+    gyroscopic_nutation_amplitude, gyroscopic_nutation_frequency, gyroscopic_precession_rate,
+    tilted_starts,
+)
 
 #: Dimension names.
 TILT = "tilt"
