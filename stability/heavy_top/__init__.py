@@ -10,7 +10,8 @@ The family's modules, each importing only downward:
 - :mod:`.model`: :class:`~.model.HeavyTop` (a top from what one measures), the linear theory of
   the sleeping top, the fast-top (gyroscopic) formulas, tilted starts;
 - :mod:`.exact`: the exact motion of the symmetric (Lagrange) top, in elliptic functions;
-- :mod:`.gyroscope` and :mod:`.sleeping_top`: what the studies measure from ensemble runs;
+- :mod:`.measure`: what the studies measure from ensemble runs (the sleeping top's tilt growth,
+  released gyroscopes' precession and nutation);
 - :mod:`.studies`: the study kinds ``gyroscope`` and ``sleeping_top``;
 - :mod:`.figures`: their figures, drawn from the Datasets.
 

@@ -7,13 +7,12 @@ import pytest
 from scipy.integrate import solve_ivp
 
 from stability.engine import propagate_groups
+from stability.heavy_top.measure import measure_sleeping_tops
 from stability.heavy_top.methods import METHODS
-from stability.scenes import SCENES
-from stability.heavy_top.sleeping_top import measure_sleeping_tops
 from stability.heavy_top.model import (
-    HeavyTop, critical_spin, sleeping_frequencies, sleeping_growth_rate,
+    HeavyTop, critical_spin, sleeping_frequencies, sleeping_growth_rate, tilted_starts,
 )
-from stability.heavy_top.model import tilted_starts
+from stability.scenes import SCENES
 
 SCENE = SCENES["heavy_top"]
 #: An asymmetric top with its centre of mass off every principal axis: nothing cancels.

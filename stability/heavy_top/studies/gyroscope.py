@@ -2,9 +2,9 @@
 
 A symmetric top (its mass, moments, pivot distance and gravity are keys of the study file) is
 released at each tilt of a list with each spin of a grid, at rest or with a given initial
-precession rate; :func:`stability.heavy_top.gyroscope.measure_gyroscopes` measures from each run the mean
-precession rate, the nutation frequency and the nutation amplitude and sets them beside the
-exact values and the fast-top formulas ``M g l / (C w3)``, ``C w3 / A`` and
+precession rate; :func:`stability.heavy_top.measure.measure_gyroscopes` measures from each run
+the mean precession rate, the nutation frequency and the nutation amplitude and sets them beside
+the exact values and the fast-top formulas ``M g l / (C w3)``, ``C w3 / A`` and
 ``2 A M g l sin(theta0) / (C w3)^2``. Outputs: the Dataset, two figures
 (:func:`stability.heavy_top.figures.gyroscope_paths_figure`,
 :func:`~stability.heavy_top.figures.gyroscope_rates_figure`) and the study's configuration.
@@ -135,7 +135,7 @@ def run(config: dict, out_dir: Path, *, overwrite=False, threads=None, progress=
     The tops run chunk by chunk into the folder ``work`` (so that a stopped run continues with
     ``resume``), on ``scheduler`` (default: the file's ``[run] scheduler``)."""
     from ..figures import gyroscope_paths_figure, gyroscope_rates_figure
-    from ..gyroscope import measure_gyroscopes
+    from ..measure import measure_gyroscopes
     from ...util.threads import numba_threads
 
     t_start = time.perf_counter()
