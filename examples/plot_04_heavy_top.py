@@ -3,7 +3,7 @@ A heavy top's nutation
 ======================
 
 A spinning disk top released at rest at a tilt of 60 degrees nods between two tilts while it
-precesses: the nutation. Its exact tilt (elliptic functions, ``stability.exact_top``) beside
+precesses: the nutation. Its exact tilt (elliptic functions, ``stability.heavy_top.exact``) beside
 the gyroscopic approximations: the slow precession rate m g l / (C w3) and the nutation
 frequency C w3 / A.
 """
@@ -11,8 +11,8 @@ frequency C w3 / A.
 import matplotlib.pyplot as plt
 import numpy as np
 
-from stability.exact_top import cos_theta, nutation_period
-from stability.top import (HeavyTop, gyroscopic_nutation_frequency,
+from stability.heavy_top.exact import cos_theta, nutation_period
+from stability.heavy_top.model import (HeavyTop, gyroscopic_nutation_frequency,
                            gyroscopic_precession_rate, tilted_starts)
 
 top = HeavyTop.disk(mass=0.1, radius=0.03, length=0.04)

@@ -7,7 +7,7 @@ Every frame comes from an exact solution, not from an integrator:
   e_k))``, started with its angular momentum along space Z, so that L = R(t) I w(t) stays on
   the Z axis in every frame (Landau & Lifshitz, *Mechanics*, section 37);
 - the heavy top (:func:`animate_top`): its figure axis from the exact symmetric-top solution
-  (:func:`stability.exact_top.figure_axis_path`; Goldstein, *Classical Mechanics*, 3rd ed.,
+  (:func:`stability.heavy_top.exact.figure_axis_path`; Goldstein, *Classical Mechanics*, 3rd ed.,
   section 5.7) for a top released at a tilt with no transverse angular velocity.
 
 The file type is the path's suffix: ``.gif`` (matplotlib's PillowWriter; Pillow comes with
@@ -99,7 +99,7 @@ class TopFrames:
         Times of ``trace`` in s, from 0 to ``t[-1]``.
     tilt_range : ndarray, shape (2,)
         The least and greatest tilt from the vertical in rad (the turning points u2, u1 of
-        :func:`stability.exact_top.nutation_roots`).
+        :func:`stability.heavy_top.exact.nutation_roots`).
     fps : float
         Frames per second of the file.
     speed : float
@@ -197,7 +197,7 @@ def flip_frames(body=None, *, spin=6.0, epsilon=0.05, axis=None, duration=None,
 
 
 def _default_top():
-    from .top import HeavyTop
+    from .heavy_top.model import HeavyTop
 
     return HeavyTop.disk(mass=0.2, radius=0.03, length=0.05, name="disk top")
 
@@ -207,8 +207,8 @@ def top_frames(top=None, *, spin=200.0, tilt=0.5, duration=None, fps=DEFAULT_FPS
     """The exact figure axis of a symmetric heavy top released at a tilt, at the frames' times.
 
     The top starts at ``tilt`` from the vertical, spinning at ``spin`` about its axis, with no
-    transverse angular velocity (:func:`stability.top.tilted_starts`), so its axis dips and
-    precesses in cusps (Goldstein section 5.7, fig. 5.9 c).
+    transverse angular velocity (:func:`stability.heavy_top.model.tilted_starts`), so its axis
+    dips and precesses in cusps (Goldstein section 5.7, fig. 5.9 c).
 
     Parameters
     ----------
@@ -230,12 +230,13 @@ def top_frames(top=None, *, spin=200.0, tilt=0.5, duration=None, fps=DEFAULT_FPS
     -------
     TopFrames
     """
-    from .exact_top import figure_axis_path, mean_precession_rate, nutation_roots
-    from .top import HeavyTop, tilted_starts
+    from .heavy_top.exact import figure_axis_path, mean_precession_rate, nutation_roots
+    from .heavy_top.model import HeavyTop, tilted_starts
 
     top = _default_top() if top is None else top
     if not isinstance(top, HeavyTop):
-        raise ValueError(f"top must be a stability.top.HeavyTop, got {type(top).__name__}")
+        raise ValueError("top must be a stability.heavy_top.model.HeavyTop, "
+                         f"got {type(top).__name__}")
     if not top.symmetric:
         raise ValueError("the top must be symmetric (equal moments about axes 1 and 2): the "
                          "exact solution drawn is the Lagrange top's")

@@ -29,7 +29,7 @@ The heavy top (``--scene heavy_top``; :func:`top_work_precision`): a 0.1 kg disk
 300 rad/s at random azimuths, run for 5.25 nutation periods. Every method of scene ``heavy_top``
 runs at a ladder of steps h = step_angle / spin (:data:`STEP_ANGLES`); per (method, h): the loop's
 wall time, member-steps/s and the largest error over members of cos(theta) = g3 at the end
-against the exact solution (:func:`stability.exact_top.cos_theta`), which makes the table a
+against the exact solution (:func:`stability.heavy_top.exact.cos_theta`), which makes the table a
 work-precision diagram; per method, the measured order (:func:`measured_order`). Steps at which a
 method is unstable are reported as such.
 
@@ -473,8 +473,8 @@ class TopRow:
     rate : float
         Member-steps per second (NaN if a member failed).
     error : float
-        Max over members of |g3(T) - cos(theta(T))|, against :func:`stability.exact_top.cos_theta`
-        (NaN if a member failed).
+        Max over members of |g3(T) - cos(theta(T))|, against
+        :func:`stability.heavy_top.exact.cos_theta` (NaN if a member failed).
     failed : int
         Members whose state stopped being finite (the method is unstable at this step).
     """
@@ -508,7 +508,7 @@ class TopReport:
 def top_workload(members: int, spin=TOP_SPIN, tilt=TOP_TILT, seed=0):
     """The disk top :data:`TOP_DISK` and ``members`` starts (members, 6) released at rest at
     ``tilt`` (rad) with spin ``spin`` (rad/s), at random azimuths."""
-    from .top import HeavyTop, tilted_starts
+    from .heavy_top.model import HeavyTop, tilted_starts
 
     top = HeavyTop.disk(**TOP_DISK)
     return top, tilted_starts(spin, tilt, members, top=top, seed=seed)
@@ -520,10 +520,10 @@ def top_work_precision(members=256, spin=TOP_SPIN, tilt=TOP_TILT, periods=TOP_PE
     """Wall time and error against the exact motion of each heavy-top method over a ladder of h.
 
     The workload is :func:`top_workload` run for ``periods`` exact nutation periods
-    (:func:`stability.exact_top.nutation_period`). Each method runs once for one step to compile
-    it or load it from the disk cache (reported apart), then ``repeat`` times at each step; the
-    shortest loop time is kept. The error is that of the tilt's cosine g3 at the end against
-    :func:`stability.exact_top.cos_theta`, the largest over members.
+    (:func:`stability.heavy_top.exact.nutation_period`). Each method runs once for one step to
+    compile it or load it from the disk cache (reported apart), then ``repeat`` times at each step;
+    the shortest loop time is kept. The error is that of the tilt's cosine g3 at the end against
+    :func:`stability.heavy_top.exact.cos_theta`, the largest over members.
 
     Parameters
     ----------
@@ -553,7 +553,7 @@ def top_work_precision(members=256, spin=TOP_SPIN, tilt=TOP_TILT, periods=TOP_PE
 
     from .util.checks import positive_float, positive_int
     from .engine import propagate_groups
-    from .exact_top import cos_theta, nutation_period
+    from .heavy_top.exact import cos_theta, nutation_period
     from .scenes import SCENES
 
     members = positive_int("members", members)
@@ -645,7 +645,8 @@ def format_top_report(report: TopReport) -> str:
     lines += [_aligned(table), "", _aligned(orders), ""]
     lines += [
         "error: max over members of |g3(T) - cos(theta(T))| against the exact motion "
-        f"(stability.exact_top); wall: the best of {report.repeat} runs, compilation excluded;",
+        f"(stability.heavy_top.exact); wall: the best of {report.repeat} runs, "
+        "compilation excluded;",
         "measured order: slope of log error against log h over the errors between "
         f"{ORDER_WINDOW[0]:g} and {ORDER_WINDOW[1]:g}.",
     ]

@@ -36,6 +36,16 @@ MOVED = {
     "stability.stream": "stability.output.stream",
     "stability.dataset": "stability.output.dataset",
     "stability.figures.style": "stability.plotting.style",
+    "stability.scenes.heavy_top": "stability.heavy_top.scene",
+    "stability.integrators.heavy_top": "stability.heavy_top.methods",
+    "stability.top": "stability.heavy_top.model",
+    "stability.exact_top": "stability.heavy_top.exact",
+    "stability.gyroscope": "stability.heavy_top.measure",
+    "stability.sleeping_top": "stability.heavy_top.measure",
+    "stability.study.tops": "stability.heavy_top.studies.common",
+    "stability.study.gyroscope": "stability.heavy_top.studies.gyroscope",
+    "stability.study.sleeping_top": "stability.heavy_top.studies.sleeping_top",
+    "stability.figures.top": "stability.heavy_top.figures",
 }
 
 

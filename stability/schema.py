@@ -689,14 +689,14 @@ EQUINOXES = _schema(
                              "run", optional=_CYCLE),
     })
 
-# The gyroscope (stability.gyroscope.measure_gyroscopes) ---------------------------------------
+# The gyroscope (stability.heavy_top.measure.measure_gyroscopes) ----------------------------------
 
 _TSR = ("tilt", "spin", "release")
 _PATH = ("release", "path_time")
 GYROSCOPE = _schema(
     "gyroscope", "the heavy symmetric top's precession and nutation measured against the "
     "exact motion and the fast-top formulas, per tilt, spin and release",
-    "stability.gyroscope.measure_gyroscopes", {
+    "stability.heavy_top.measure.measure_gyroscopes", {
         "precession_rate_measured": _var(_TSR, _RAD_S, "mean precession rate of the figure "
                                          "axis, from the run (weighted mean of phi')"),
         "precession_rate_exact": _var(_TSR, _RAD_S, "exact mean precession rate over a "
@@ -734,12 +734,12 @@ GYROSCOPE = _schema(
         "path_time": _coord("path_time", _S, "time of the kept paths"),
     })
 
-# The sleeping top (stability.sleeping_top.measure_sleeping_tops) ------------------------------
+# The sleeping top (stability.heavy_top.measure.measure_sleeping_tops) ----------------------------
 
 _LS = ("length", "spin")
 SLEEPING_TOP = _schema(
     "sleeping_top", "the growth rate of a sleeping top's tilt measured against linear theory, "
-    "per length and spin", "stability.sleeping_top.measure_sleeping_tops", {
+    "per length and spin", "stability.heavy_top.measure.measure_sleeping_tops", {
         "growth_rate_measured": _var(_LS, _RATE, "measured growth rate of the tilt (0: "
                                      "bounded)"),
         "growth_rate_stderr": _var(_LS, _RATE, "standard error of the measured growth rate"),

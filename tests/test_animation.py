@@ -10,10 +10,10 @@ import stability
 from stability.animation import (MAX_FRAMES, animate_flip, animate_top, flip_frames,
                                  top_frames)
 from stability.cli import main
-from stability.exact_top import nutation_roots
+from stability.heavy_top.exact import nutation_roots
 from stability.figures.animation import FlipScene, TopScene, frame_figure
 from stability.plotting.style import missing_units
-from stability.top import HeavyTop
+from stability.heavy_top.model import HeavyTop
 
 RACKET = stability.RigidBody.preset("tennis_racket")
 
@@ -94,7 +94,7 @@ def test_the_top_nods_between_its_turning_tilts():
     np.testing.assert_allclose(tip, scene.tip * frames.axis[5], atol=1e-15)
     assert missing_units(frame_figure(frames, size=200)) == []
     u1, u2, _ = nutation_roots(
-        stability.top.tilted_starts(200.0, 0.5, 1, top=top)[0], A, C, top.mgl)
+        stability.heavy_top.model.tilted_starts(200.0, 0.5, 1, top=top)[0], A, C, top.mgl)
     np.testing.assert_allclose(np.cos(frames.tilt_range), (u2, u1), rtol=1e-15)
 
 
@@ -129,7 +129,7 @@ def test_bad_input_to_the_flip_is_one_line_saying_what_to_do(kwargs, message, tm
     ({"tilt": 4.0}, r"tilt must be in \(0, pi\)"),
     ({"spin": -1.0}, "spin must be finite and > 0"),
     ({"top": HeavyTop(0.1, 0.02, (1e-5, 2e-5, 2.5e-5))}, "the top must be symmetric"),
-    ({"top": RACKET}, "top must be a stability.top.HeavyTop"),
+    ({"top": RACKET}, "top must be a stability.heavy_top.model.HeavyTop"),
 ])
 def test_bad_input_to_the_top_is_one_line(kwargs, message, tmp_path):
     with pytest.raises(ValueError, match=message) as info:

@@ -195,15 +195,16 @@ def work_precision_page(quick: bool) -> str:
 
 #: Modules whose public functions and classes the API reference lists (beside the top level).
 API_MODULES = (
-    ("Bodies and linear theory", ("core.body", "core.quaternions", "analytic", "top")),
-    ("Exact solutions", ("exact", "exact_attitude", "exact_top", "core.elliptic")),
+    ("Bodies and linear theory", ("core.body", "core.quaternions", "analytic",
+                                  "heavy_top.model")),
+    ("Exact solutions", ("exact", "exact_attitude", "heavy_top.exact", "core.elliptic")),
     ("Ensembles, runs and files", ("ensemble", "integrate", "attitude", "output.io", "output.stream",
                                    "util.formatting", "schema")),
     ("Measures and estimators", ("estimators", "geometric_phase", "periodic", "core.roots",
                                  "drift", "reference")),
     ("Scenes, integrators and the engine", ("scenes", "integrators", "engine")),
-    ("Studies' library functions", ("twisting", "artefacts", "struck", "rolling", "gyroscope",
-                                     "sleeping_top", "wobble", "equinoxes", "earth",
+    ("Studies' library functions", ("twisting", "artefacts", "struck", "rolling",
+                                     "heavy_top.measure", "wobble", "equinoxes", "earth",
                                      "stabilitymap", "workprecision", "sweeps", "shapes",
                                      "flipsweep", "polhodes")),
     ("Figures and animations", ("animation", "figures.animation", "figures.poinsot")),

@@ -12,7 +12,7 @@ Full model (scene ``lunisolar_earth``): an oblate rigid Earth (A = B < C) with s
 gravity-gradient (MacCullagh) torque of a point mass in the body direction s is
 ``3 G M_j / r^3  s x I s = 3 G M_j / r^3 (C - A) s3 (s2, -s1, 0)`` [Goldstein, *Classical
 Mechanics*, 3rd ed., section 5.8; Murray & Dermott, *Solar System Dynamics*, 5.2]. The splitting
-(as :mod:`stability.integrators.heavy_top`, with the time a coordinate) is exact in each part:
+(as :mod:`stability.heavy_top.methods`, with the time a coordinate) is exact in each part:
 
 - ``K`` (kick): attitude and time frozen, ``m <- m + tau sum_j torque_j``;
 - ``D`` (drift): the free symmetric top for ``tau`` and ``t <- t + tau``: ``|m|^2 / (2A)`` turns

@@ -8,7 +8,7 @@ from ..dissipation.scene import SPHERE_DAMPER, WHIP_DAMPER
 from .engine_body import ENGINE_BODY
 from .free_body import FREE_BODY
 from .free_body_attitude import FREE_BODY_ATTITUDE
-from .heavy_top import HEAVY_TOP
+from ..heavy_top.scene import HEAVY_TOP
 from .lunisolar_earth import LUNISOLAR_EARTH
 from .precessing_axis import PRECESSING_AXIS
 from .rolling_body import ROLLING_BODY

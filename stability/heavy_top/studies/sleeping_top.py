@@ -4,8 +4,9 @@ A symmetric top (its mass, its moments about the centre of mass and the pivot di
 keys of the study file) is spun upright at each spin of a grid across the threshold
 ``w_c = 2 sqrt(A M g l) / C``; an ensemble of tops tilted by a tiny angle at random azimuths
 runs at each (l, spin), and the measured growth rate of the tilt is set beside the analytic
-``sqrt(4 A M g l - C^2 w3^2) / (2 A)`` (:mod:`stability.sleeping_top`). Outputs: the Dataset, one
-figure (:func:`stability.figures.top.sleeping_top_figure`) and the study's configuration.
+``sqrt(4 A M g l - C^2 w3^2) / (2 A)`` (:mod:`stability.heavy_top.measure`). Outputs: the
+Dataset, one figure (:func:`stability.heavy_top.figures.sleeping_top_figure`) and the study's
+configuration.
 """
 
 from __future__ import annotations
@@ -16,11 +17,11 @@ from pathlib import Path
 
 import numpy as np
 
-from .config import (
+from ...study.config import (
     MEMBER_BYTES, ConfigError, Key, Schema, Section, StudyKind, StudySummary, check_memory,
     check_run, output_files, output_section, run_section, stored_run, write_outputs,
 )
-from .tops import check_spins, symmetric_top, top_keys, top_methods
+from .common import check_spins, symmetric_top, top_keys, top_methods
 
 NAME = "sleeping_top"
 FIGURE = "sleeping_top"
@@ -106,9 +107,9 @@ def run(config: dict, out_dir: Path, *, overwrite=False, threads=None, progress=
 
     The tops run chunk by chunk into the folder ``work`` (so that a stopped run continues with
     ``resume``), on ``scheduler`` (default: the file's ``[run] scheduler``)."""
-    from ..figures.top import sleeping_top_figure
-    from ..sleeping_top import measure_sleeping_tops
-    from ..util.threads import numba_threads
+    from ..figures import sleeping_top_figure
+    from ..measure import measure_sleeping_tops
+    from ...util.threads import numba_threads
 
     t_start = time.perf_counter()
     tops = _tops(config)

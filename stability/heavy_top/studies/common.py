@@ -2,12 +2,12 @@
 
 from __future__ import annotations
 
-from .config import ConfigError, Key
+from ...study.config import ConfigError, Key
 
 
 def top_methods() -> tuple:
     """Names of the heavy top's methods (the ``method`` key's choices)."""
-    from ..integrators.heavy_top import METHODS
+    from ..methods import METHODS
 
     return tuple(METHODS)
 
@@ -28,9 +28,9 @@ def top_keys(length: Key) -> tuple:
 
 
 def symmetric_top(config: dict, length: float, source: str = "<config>", name: str = "top"):
-    """The :class:`~stability.top.HeavyTop` of ``[top]`` at ``length``; a ConfigError for a top
-    that is not symmetric or not physical."""
-    from ..top import HeavyTop
+    """The :class:`~stability.heavy_top.model.HeavyTop` of ``[top]`` at ``length``; a ConfigError
+    for a top that is not symmetric or not physical."""
+    from ..model import HeavyTop
 
     t = config["top"]
     I1, I2, _ = t["central_moments"]

@@ -1,11 +1,12 @@
 """Figures of the heavy top's studies.
 
-:func:`sleeping_top_figure` draws the Dataset of :func:`stability.sleeping_top.measure_sleeping_tops`:
-the measured growth rate of a sleeping top's tilt against its spin, over the analytic curve,
-with each top's critical spin marked, and the relative error of the measurement below.
-:func:`gyroscope_paths_figure` and :func:`gyroscope_rates_figure` draw the Dataset of
-:func:`stability.gyroscope.measure_gyroscopes`: the looping, cusped and wavy paths of the figure
-axis, and the precession and nutation against their fast-top values and the exact ones.
+:func:`sleeping_top_figure` draws the Dataset of
+:func:`stability.heavy_top.measure.measure_sleeping_tops`: the measured growth rate of a sleeping
+top's tilt against its spin, over the analytic curve, with each top's critical spin marked, and
+the relative error of the measurement below. :func:`gyroscope_paths_figure` and
+:func:`gyroscope_rates_figure` draw the Dataset of
+:func:`stability.heavy_top.measure.measure_gyroscopes`: the looping, cusped and wavy paths of the
+figure axis, and the precession and nutation against their fast-top values and the exact ones.
 """
 
 from __future__ import annotations
@@ -29,7 +30,7 @@ def sleeping_top_figure(ds, claim=None):
     claim : float, optional
         Relative error the study claims (a horizontal line in the lower panel).
     """
-    from ..top import HeavyTop, sleeping_growth_rate
+    from .model import HeavyTop, sleeping_growth_rate
 
     fig = new_figure(7.0, 6.0)
     top_ax, err_ax = fig.subplots(2, 1, sharex=True, height_ratios=(2, 1))
@@ -81,8 +82,8 @@ def gyroscope_paths_figure(ds):
     Parameters
     ----------
     ds : xarray.Dataset
-        The gyroscope Dataset (:func:`stability.gyroscope.measure_gyroscopes`): one panel per
-        release, the run's path as a line, the exact path dashed over it.
+        The gyroscope Dataset (:func:`stability.heavy_top.measure.measure_gyroscopes`): one
+        panel per release, the run's path as a line, the exact path dashed over it.
     """
     releases = ds.release.values
     fig = new_figure(3.2 * releases.size + 0.6, 3.8)

@@ -37,10 +37,12 @@ from __future__ import annotations
 import numpy as np
 from numba import njit
 
-from .composition import SUZUKI4, strang_table
-from .rk4 import euler_rhs
-from .rotations import carried_rotation
-from .spec import N_BODY_PARAMS, P_A1, P_A3, P_INV1, P_INV2, P_INV3, MethodSpec, body_params
+from ..integrators.composition import SUZUKI4, strang_table
+from ..integrators.rk4 import euler_rhs
+from ..integrators.rotations import carried_rotation
+from ..integrators.spec import (
+    N_BODY_PARAMS, P_A1, P_A3, P_INV1, P_INV2, P_INV3, MethodSpec, body_params,
+)
 
 # Parameter layout: the body block (moments about the pivot, stability.integrators.spec), then
 # c = M g l chi in the body frame (N m), then the stage table of the splittings.

@@ -7,11 +7,12 @@ import pytest
 from scipy.integrate import solve_ivp
 
 from stability.engine import propagate_groups
-from stability.integrators.heavy_top import METHODS
+from stability.heavy_top.measure import measure_sleeping_tops
+from stability.heavy_top.methods import METHODS
+from stability.heavy_top.model import (
+    HeavyTop, critical_spin, sleeping_frequencies, sleeping_growth_rate, tilted_starts,
+)
 from stability.scenes import SCENES
-from stability.sleeping_top import measure_sleeping_tops
-from stability.top import HeavyTop, critical_spin, sleeping_frequencies, sleeping_growth_rate
-from stability.top import tilted_starts
 
 SCENE = SCENES["heavy_top"]
 #: An asymmetric top with its centre of mass off every principal axis: nothing cancels.
@@ -164,8 +165,8 @@ def test_linear_theory_is_refused_for_an_asymmetric_top():
 @pytest.mark.parametrize("name", list(METHODS))
 def test_symmetric_top_tilt_converges_to_the_exact_solution_at_the_declared_order(name):
     """cos(theta) = g3 of a released gyroscope against the exact Jacobi-sn solution
-    (stability.exact_top) over several nutation periods: the error's slope is the order."""
-    from stability.exact_top import cos_theta, nutation_period
+    (stability.heavy_top.exact) over several nutation periods: the error's slope is the order."""
+    from stability.heavy_top.exact import cos_theta, nutation_period
 
     top = HeavyTop.disk(0.1, 0.03, 0.04, gravity=9.81)
     A, _, C = top.pivot_moments

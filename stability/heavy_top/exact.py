@@ -57,7 +57,7 @@ b -+ a = (b - a u0) -+ a (1 -+ u0) itself, a relative error eps |b - a u0| / |b 
 the effect of rounding the state. A start exactly upright or hanging (g = +-e3) has no
 azimuth: phi(0) = 0 then names the direction in which the axis leaves the pole.
 
-Accuracy (tests/test_exact_top.py): against DOP853 at rtol = 1e-12 on the 6-dim equations it
+Accuracy (tests/heavy_top/test_exact.py): against DOP853 at rtol = 1e-12 on the 6-dim equations it
 shows DOP853's own error (cos(theta) <= 3e-12, phi <= 3e-10 over 5-10 nutation periods, the
 figure axis <= 3e-12 against the integrated attitude); against mpmath at 40-50 digits, the
 roots, the period and the mean precession rate to a few 1e-16 relative and phi(t) to a few
@@ -72,8 +72,8 @@ import math
 import numpy as np
 from numba import njit
 
-from .util.checks import positive_float, real_array, real_number
-from .core.elliptic import carlson_rf, ellipk, sncndn_k
+from ..util.checks import positive_float, real_array, real_number
+from ..core.elliptic import carlson_rf, ellipk, sncndn_k
 
 #: Slots of a member's parameter row (see :func:`_setup`).
 (Q_U0, Q_V1, Q_V2, Q_Y3, Q_BETA, Q_RATE, Q_M, Q_M1, Q_K, Q_R0, Q_OMU1, Q_OMU2, Q_OPU1,

@@ -4,11 +4,12 @@ The state is ``(m1, m2, m3, g1, g2, g3)``: m the angular momentum about the pivo
 upward vertical, both in the principal frame of the moments about the pivot; six numbers per
 member and no attitude (the tilt of any body axis is read from g). Parameters per top:
 ``(I1, I2, I3, c1, c2, c3)``, the moments about the pivot and ``c = M g l chi`` with chi the
-unit vector from the pivot to the centre of mass (:class:`stability.top.HeavyTop` makes them).
-Equations, methods and references: :mod:`stability.integrators.heavy_top`. Invariants: the
+unit vector from the pivot to the centre of mass (:class:`stability.heavy_top.model.HeavyTop`
+makes them).
+Equations, methods and references: :mod:`stability.heavy_top.methods`. Invariants: the
 energy ``m . I^-1 m / 2 + c . g`` and the Casimirs ``|g|`` and ``g . m`` (the angular momentum
 about the vertical); exact solution for a symmetric top (:func:`exact`, from
-:func:`stability.exact_top.body_states`): the example's second top is one.
+:func:`stability.heavy_top.exact.body_states`): the example's second top is one.
 
 Tracking: the spin-axis component is ``g_a`` (the cosine of the tilt of body axis a from the
 vertical: it changes sign when that axis passes the horizontal) and the amplitude across it is
@@ -22,10 +23,10 @@ import numpy as np
 from numba import njit
 
 from ..util import conventions as cv
-from ..exact_top import body_states
-from ..integrators.heavy_top import METHODS, N_TOP
-from .free_body import component
-from .spec import Scene
+from .exact import body_states
+from .methods import METHODS, N_TOP
+from ..scenes.free_body import component
+from ..scenes.spec import Scene
 
 
 @njit(inline="always")
@@ -68,7 +69,7 @@ def vertical_momentum(x, top):
 def exact(x0, top, t):
     """The exact states (N, 6) at time ``t`` of starts ``x0`` (N, 6) of a symmetric top: the
     Lagrange top, ``I1 = I2`` with the centre of mass on axis 3 above the pivot (``c1 = c2 =
-    0 <= c3``), by :func:`stability.exact_top.body_states`; None for any other top."""
+    0 <= c3``), by :func:`stability.heavy_top.exact.body_states`; None for any other top."""
     moments, c = _top(top)
     if moments[0] != moments[1] or c[0] != 0.0 or c[1] != 0.0 or not c[2] >= 0.0:
         return None

@@ -1,4 +1,4 @@
-"""The exact heavy symmetric top (stability.exact_top) against references independent of it.
+"""The exact heavy symmetric top (stability.heavy_top.exact) against references independent of it.
 
 - scipy's DOP853 at rtol = 1e-12, atol = 1e-14 on the 6-dim equations m' = m x w + g x c,
   g' = g x w written out here, with phi' = (Lz - m3 u)/(A sin^2 theta) and the attitude
@@ -18,15 +18,9 @@ import numpy as np
 import pytest
 from scipy.integrate import quad, solve_ivp
 
-from stability.exact_top import (
-    body_states,
-    carlson_rj,
-    cos_theta,
-    figure_axis_path,
-    mean_precession_rate,
-    nutation_period,
-    nutation_roots,
-    precession_angle,
+from stability.heavy_top.exact import (
+    body_states, carlson_rj, cos_theta, figure_axis_path, mean_precession_rate, nutation_period,
+    nutation_roots, precession_angle,
 )
 
 G = 9.81

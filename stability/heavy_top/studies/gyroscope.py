@@ -2,12 +2,12 @@
 
 A symmetric top (its mass, moments, pivot distance and gravity are keys of the study file) is
 released at each tilt of a list with each spin of a grid, at rest or with a given initial
-precession rate; :func:`stability.gyroscope.measure_gyroscopes` measures from each run the mean
-precession rate, the nutation frequency and the nutation amplitude and sets them beside the
-exact values and the fast-top formulas ``M g l / (C w3)``, ``C w3 / A`` and
+precession rate; :func:`stability.heavy_top.measure.measure_gyroscopes` measures from each run
+the mean precession rate, the nutation frequency and the nutation amplitude and sets them beside
+the exact values and the fast-top formulas ``M g l / (C w3)``, ``C w3 / A`` and
 ``2 A M g l sin(theta0) / (C w3)^2``. Outputs: the Dataset, two figures
-(:func:`stability.figures.top.gyroscope_paths_figure`,
-:func:`~stability.figures.top.gyroscope_rates_figure`) and the study's configuration.
+(:func:`stability.heavy_top.figures.gyroscope_paths_figure`,
+:func:`~stability.heavy_top.figures.gyroscope_rates_figure`) and the study's configuration.
 """
 
 from __future__ import annotations
@@ -18,11 +18,11 @@ from pathlib import Path
 
 import numpy as np
 
-from .config import (
+from ...study.config import (
     ConfigError, Key, Schema, Section, StudyKind, StudySummary, check_memory, check_run,
     output_files, output_section, run_rows, run_section, stored_run, write_outputs,
 )
-from .tops import check_spins, symmetric_top, top_keys, top_methods
+from .common import check_spins, symmetric_top, top_keys, top_methods
 
 NAME = "gyroscope"
 #: Figure stems: the paths of the figure axis, the rates against spin.
@@ -134,9 +134,9 @@ def run(config: dict, out_dir: Path, *, overwrite=False, threads=None, progress=
 
     The tops run chunk by chunk into the folder ``work`` (so that a stopped run continues with
     ``resume``), on ``scheduler`` (default: the file's ``[run] scheduler``)."""
-    from ..figures.top import gyroscope_paths_figure, gyroscope_rates_figure
-    from ..gyroscope import measure_gyroscopes
-    from ..util.threads import numba_threads
+    from ..figures import gyroscope_paths_figure, gyroscope_rates_figure
+    from ..measure import measure_gyroscopes
+    from ...util.threads import numba_threads
 
     t_start = time.perf_counter()
     top = _top(config)

@@ -6,12 +6,12 @@ import numpy as np
 import pytest
 import xarray as xr
 
-from stability.figures.top import sleeping_top_figure
+from stability.heavy_top.figures import sleeping_top_figure
 from stability.study import run_study
 
-from .helpers import assert_cf_compliant, assert_declared, assert_readable
+from ..helpers import assert_cf_compliant, assert_declared, assert_readable
 
-ROOT = Path(__file__).resolve().parents[1]
+ROOT = Path(__file__).resolve().parents[2]
 STUDY = ROOT / "studies" / "sleeping_top.toml"
 
 

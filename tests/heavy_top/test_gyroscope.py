@@ -7,18 +7,19 @@ import numpy as np
 import pytest
 import xarray as xr
 
-from stability import exact_top
-from stability.figures.top import gyroscope_paths_figure, gyroscope_rates_figure
-from stability.gyroscope import measure_gyroscopes
+from stability.heavy_top import exact as exact_top
+from stability.heavy_top.figures import gyroscope_paths_figure, gyroscope_rates_figure
+from stability.heavy_top.measure import measure_gyroscopes
 from stability.periodic import extrema, level_crossings, mean_period, weighted_mean
 from stability.study import run_study
-from stability.top import (HeavyTop, gyroscopic_nutation_amplitude,
-                           gyroscopic_nutation_frequency, gyroscopic_precession_rate,
-                           tilted_starts)
+from stability.heavy_top.model import (
+    HeavyTop, gyroscopic_nutation_amplitude, gyroscopic_nutation_frequency,
+    gyroscopic_precession_rate, tilted_starts,
+)
 
-from .helpers import assert_cf_compliant, assert_declared, assert_readable
+from ..helpers import assert_cf_compliant, assert_declared, assert_readable
 
-ROOT = Path(__file__).resolve().parents[1]
+ROOT = Path(__file__).resolve().parents[2]
 STUDY = ROOT / "studies" / "gyroscope.toml"
 #: The literature's worked example (notes 5.3): a 0.1 kg disk of radius 3 cm, 4 cm from the pivot.
 DISK = HeavyTop.disk(0.1, 0.03, 0.04)

@@ -23,8 +23,8 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from .core.body import RigidBody
-from .util.checks import real_number
+from ..core.body import RigidBody
+from ..util.checks import real_number
 
 #: Standard gravity (m s-2), the default g.
 STANDARD_GRAVITY = 9.80665
@@ -363,6 +363,6 @@ def tilt_members(extras, x0, status, levels):
     -------
     Members
     """
-    from .estimators import tracked_members
+    from ..estimators import tracked_members
 
     return tracked_members(extras, x0[:, 3:6], 3, 1.0, levels, status=status)

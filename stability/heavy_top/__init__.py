@@ -1,0 +1,29 @@
+"""The heavy top: a rigid body on a fixed pivot in uniform gravity, from the sleeping top to the
+gyroscope.
+
+The family's modules, each importing only downward:
+
+- :mod:`.methods`: the step kernels and their MethodSpecs (RK4 and the Lie-Poisson splittings,
+  exact in each part, which keep the Casimirs |g| and g . m to round-off);
+- :mod:`.scene`: the scene ``heavy_top`` (the state (m, g), what the loop tracks, the
+  invariants, the exact solution of a symmetric top);
+- :mod:`.model`: :class:`~.model.HeavyTop` (a top from what one measures), the linear theory of
+  the sleeping top, the fast-top (gyroscopic) formulas, tilted starts;
+- :mod:`.exact`: the exact motion of the symmetric (Lagrange) top, in elliptic functions;
+- :mod:`.measure`: what the studies measure from ensemble runs (the sleeping top's tilt growth,
+  released gyroscopes' precession and nutation);
+- :mod:`.studies`: the study kinds ``gyroscope`` and ``sleeping_top``;
+- :mod:`.figures`: their figures, drawn from the Datasets.
+
+It builds on the shared layers: :mod:`stability.core` (the rigid body, elliptic functions),
+:mod:`stability.util` (conventions, input checks, threads), :mod:`stability.integrators` (the
+composition coefficients, rotations, the Euler right-hand side, MethodSpec),
+:mod:`stability.scenes` (the scene contract), the scene-generic ensembles
+(:mod:`stability.scene_ensemble`), the estimators and periodic-signal measures
+(:mod:`stability.estimators`, :mod:`stability.periodic`), the Dataset register
+(:mod:`stability.schema`), :mod:`stability.study` (the study framework) and
+:mod:`stability.plotting`.
+
+This package's ``__init__`` imports nothing, so that the scene registry
+(:mod:`stability.scenes`) can import :mod:`.scene` without the rest.
+"""

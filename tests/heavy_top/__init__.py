@@ -1,0 +1,1 @@
+"""Tests of the heavy top (stability.heavy_top)."""
