@@ -19,8 +19,9 @@ each member's kept states (:mod:`.measure`):
   measured verdict (decays or grows) even near the boundary, where the rate is too slow to fit;
 - |H|'s largest relative change and the energy's largest rise between kept states.
 
-Per cell: the verdicts of the eigenvalues, of the energy-sink criterion (:func:`~.gyrostat.
-energy_sink_rate`) and of the measurement, and the nutation frequencies each body sees.
+Per cell: the verdicts of the eigenvalues, of the energy-sink criterion
+(:func:`~.gyrostat.energy_sink_rate`) and of the measurement (each "undetermined" on a
+boundary, or where the members disagree), and the nutation frequencies each body sees.
 """
 
 from __future__ import annotations
@@ -54,6 +55,8 @@ MIN_SAMPLES = 64
 GROWTH_MARGIN = 0.5
 #: Most e-folds a growing nutation's start is lowered by (its growth over the settling).
 MAX_HEADROOM = 9.0
+#: A growth rate within this of 0, relative to the nutation's eigenvalue, is a boundary's 0.
+NEUTRAL = 1e-10
 #: Verdict flags: the nutation grows, decays, or too few samples to say.
 GROWS, DECAYS, UNDETERMINED = 0, 1, 2
 
@@ -187,12 +190,14 @@ def measure_dual_spin(body, ratios, speeds, angles, *, placements=PLACEMENTS, st
     group_values, x0, starts = [], [], np.empty((G, K))
     growth_efolds = math.log(fit_top / angles.min()) + GROWTH_MARGIN
     hs, steps = np.empty(G), np.empty(G, dtype=np.int64)
-    theory = {key: np.empty(G) for key in ("linear", "fast", "sink", "first", "settle")}
+    theory = {key: np.empty(G) for key in ("linear", "fast", "sink", "first", "settle",
+                                           "scale")}
     for g, (placement, ratio, speed) in enumerate(cells):
         values = body.values(placement, ratio, speed)
         lam = axisymmetric_eigenvalues(values, w_p, speed)
         sigma = lam[0].real
         theory["linear"][g], theory["fast"][g] = sigma, lam[2].real
+        theory["scale"][g] = abs(lam[0])
         theory["sink"][g] = energy_sink_rate(values, w_p, speed)
         theory["first"][g] = first_order_rate(values, w_p, speed)
         settle = SETTLE_EFOLDS / (sigma - lam[2].real)
@@ -234,10 +239,13 @@ def measure_dual_spin(body, ratios, speeds, angles, *, placements=PLACEMENTS, st
     lam_r = lam_p - speeds[None, :]
     linear = theory["linear"].reshape(shape)
     sink = theory["sink"].reshape(shape)
+    neutral = NEUTRAL * theory["scale"].reshape(shape)  # on a boundary, to round-off
+    with np.errstate(divide="ignore", invalid="ignore"):
+        rate_error = measured["rate"] / theory["linear"][:, None] - 1.0
+        sink_error = sink / linear - 1.0
     data = {
         "rate_measured": measured["rate"].reshape(member_shape),
-        "rate_error": (measured["rate"] / theory["linear"][:, None] - 1.0).reshape(
-            member_shape),
+        "rate_error": rate_error.reshape(member_shape),
         "trend_measured": measured["trend"].reshape(member_shape),
         "angular_momentum_drift": measured["drift"].reshape(member_shape),
         "energy_rise": measured["rise"].reshape(member_shape),
@@ -247,9 +255,9 @@ def measure_dual_spin(body, ratios, speeds, angles, *, placements=PLACEMENTS, st
         "rate_linear": linear,
         "rate_energy_sink": sink,
         "rate_first_order": theory["first"].reshape(shape),
-        "rate_sink_error": sink / linear - 1.0,
-        "verdict_linear": np.where(linear < 0.0, DECAYS, GROWS).astype(np.int8),
-        "verdict_energy_sink": np.where(sink < 0.0, DECAYS, GROWS).astype(np.int8),
+        "rate_sink_error": sink_error,
+        "verdict_linear": _sign_verdict(linear, neutral),
+        "verdict_energy_sink": _sign_verdict(sink, neutral),
         "verdict_measured": _verdict(measured["trend"]).reshape(shape),
         "c_platform": np.array([v[5] for v in group_values]).reshape(shape),
         "c_rotor": np.array([v[7] for v in group_values]).reshape(shape),
@@ -303,6 +311,15 @@ def _window(t, theta, settle, top):
     keep = np.zeros(theta.size, dtype=bool)
     keep[:end] = (t[:end] >= settle) & (theta[:end] >= FLOOR)
     return keep
+
+
+def _sign_verdict(rate, neutral) -> np.ndarray:
+    """DECAYS where ``rate < -neutral``, GROWS where ``rate > neutral``, UNDETERMINED between
+    (a cell on a boundary)."""
+    out = np.full(np.shape(rate), UNDETERMINED, dtype=np.int8)
+    out[rate < -neutral] = DECAYS
+    out[rate > neutral] = GROWS
+    return out
 
 
 def _verdict(trend) -> np.ndarray:

@@ -14,8 +14,8 @@ A viscous spherical damper sits on the platform (a sphere of moment ``Jp`` in a 
 ``cp u_p`` on the platform, ``u_p = w_p - w`` with ``w_p = p / Jp`` the sphere's rate) and one in
 the rotor (``Jq``, ``cq``; ``u_q = q / Jq - w_r`` against the rotor's rate ``w_r = w + Omega
 e3``). Each body's momentum changes by the torques on it: in the platform's frame (rotating at
-w) Euler's equations of the gyrostat (Hughes, *Spacecraft Attitude Dynamics* (1986), 7.1; Likins,
-J. Spacecraft Rockets 4, 1638 (1967)) and the spheres' read::
+w) Euler's equations of the gyrostat (Hughes, *Spacecraft Attitude Dynamics* (1986), ch. 7;
+Likins, J. Spacecraft Rockets 4(12), 1638 (1967)) and the spheres' read::
 
     m' = m x w + cp u_p + cq u_q,    p' = p x w - cp u_p,    q' = q x w - cq u_q,
     h_r' = cq u_q3,                                                                    (2)
@@ -65,7 +65,7 @@ rate of one damper changes sign exactly there, whatever the damping (checked on 
 Jacobian by complex-step differentiation, :func:`jacobian`).
 
 **The energy sink** (Iorillo, *Nutation damping dynamics of axisymmetric rotor stabilized
-satellites*, ASME Winter Meeting (1965); Likins 1967; Hughes 1986, 8.3 and 8.4). Treat the
+satellites*, ASME Winter Annual Meeting (1965); Likins 1967; Hughes 1986, ch. 8). Treat the
 nutation as the rigid gyrostat's (angle theta between e3 and H, the transverse rate ``w_t =
 h theta / A_t`` turning at ``lambda_i`` in body i) and each damper as forced by it. The sphere
 in body i lags by ``|u_i| = |lambda_i| w_t / sqrt((h / A_t)^2 + (c_i / J_i)^2)`` and dissipates
@@ -90,7 +90,7 @@ spinner (``Jr > A_t``). With the spheres' dissipation the growth rate is::
 nutation (its frequency and shape), which is of order ``c / c*``: for weak damping,
 ``c << c*`` (the damper slow to drain energy against the nutation), (7) is the eigenvalue to
 O(c^2) (relative differences of 1e-4 at ``c = 0.03 c*``), and with one damper its sign is exact
-at any damping (above). It fails (tens of per cent in the rate) when the damping is strong,
+at any damping (above). It fails (5 to 25 per cent in the rate) when the damping is strong,
 ``c >~ c*``, and it can get the *sign* wrong near its own boundary when two dampers of different
 strength pull against each other (``lambda_p > 0 > lambda_r``): there the two terms of (7)
 nearly cancel, and the O(c^2) terms it drops decide. Nor does it hold for a platform far from
