@@ -200,7 +200,7 @@ def measure_dual_spin(body, ratios, speeds, angles, *, placements=PLACEMENTS, st
         theory["scale"][g] = abs(lam[0])
         theory["sink"][g] = energy_sink_rate(values, w_p, speed)
         theory["first"][g] = first_order_rate(values, w_p, speed)
-        settle = SETTLE_EFOLDS / (sigma - lam[2].real)
+        settle = min(SETTLE_EFOLDS / (sigma - lam[2].real), max_time)
         theory["settle"][g] = settle
         span = growth_efolds if sigma > 0.0 else efolds
         run_time = settle + min(span / abs(sigma) if sigma != 0.0 else math.inf, max_time)
