@@ -39,7 +39,7 @@ __all__ += ["animate_flip", "animate_top", "define_scene", "ensemble_memory", "l
             "run_ensemble", "run_scene", "save"]
 __all__ += ["flip_statistics", "measured_frequency", "measured_growth_rate", "measured_omega_squared", "member_regimes"]  # noqa: E501
 
-moved.install()  # old module paths (stability.body, ...) still import, with a warning
+moved.install()  # a moved module's old path still imports, with a warning
 
 
 def __getattr__(name):

@@ -1004,6 +1004,67 @@ EXPLORER = _schema(
     })
 
 
+_DS_CELL = ("placement", "ratio", "speed")
+_DS_MEMBER = ("placement", "ratio", "speed", "start")
+_DS_VERDICT = dict(kind="i", flag_values=(0, 1, 2), flag_meanings="grows decays undetermined")
+
+DUAL_SPIN = _schema(
+    "dual_spin", "a gyrostat (dual-spin body) with a damper on its platform, in its rotor or "
+    "both, over the inertia ratio and the rotor's speed: the nutation measured against its "
+    "eigenvalue and the energy-sink criterion",
+    "stability.dissipation.dual_spin.measure_dual_spin", {
+        "placement": _coord("placement", _ONE, "where the dampers are: on the platform, in the "
+                            "rotor, or one on each", kind="U"),
+        "ratio": _coord("ratio", _ONE, "inertia ratio A3 / A_t (spin-axis moment over "
+                        "transverse moment, rotor included)"),
+        "speed": _coord("speed", _RAD_S, "the rotor's spin relative to the platform"),
+        "start": _coord("start", _DEGREE, "nominal initial nutation angle"),
+        "rate_measured": _var(_DS_MEMBER, _RATE, "growth rate of the nutation angle fitted in "
+                              "the linear regime"),
+        "rate_error": _var(_DS_MEMBER, _ONE, "measured / linear growth rate - 1"),
+        "trend_measured": _var(_DS_MEMBER, _RATE, "slope of ln(nutation angle) over the linear "
+                               "regime, however short"),
+        "angular_momentum_drift": _var(_DS_MEMBER, _ONE, "largest relative change of |H| over "
+                                       "the kept states"),
+        "energy_rise": _var(_DS_MEMBER, _ONE, "largest rise of the energy between kept states, "
+                            "relative to the start"),
+        "end_angle": _var(_DS_MEMBER, _DEGREE, "nutation angle at the end"),
+        "status": _status(_DS_MEMBER),
+        "start_angle": _var(_DS_MEMBER, _DEGREE, "initial nutation angle (the nominal one, "
+                            "lowered by the linear growth over the settling where it grows)"),
+        "rate_linear": _var(_DS_CELL, _RATE, "growth rate of the nutation by the linear "
+                            "eigenvalue"),
+        "rate_energy_sink": _var(_DS_CELL, _RATE, "growth rate of the nutation by the "
+                                 "energy-sink estimate"),
+        "rate_first_order": _var(_DS_CELL, _RATE, "growth rate at first order in the damping, "
+                                 "-(cp lambda_p + cq lambda_r) / h"),
+        "rate_sink_error": _var(_DS_CELL, _ONE, "energy-sink / linear growth rate - 1"),
+        "verdict_linear": _var(_DS_CELL, _ONE, "the nutation by the linear eigenvalue",
+                               **_DS_VERDICT),
+        "verdict_energy_sink": _var(_DS_CELL, _ONE, "the nutation by the energy-sink "
+                                    "criterion D_p / lambda_p + D_r / lambda_r > 0",
+                                    **_DS_VERDICT),
+        "verdict_measured": _var(_DS_CELL, _ONE, "the nutation as measured (the sign of every "
+                                 "member's trend)", **_DS_VERDICT),
+        "c_platform": _var(_DS_CELL, "N m s", "viscous coefficient of the platform's damper "
+                           "(0: none)"),
+        "c_rotor": _var(_DS_CELL, "N m s", "viscous coefficient of the rotor's damper "
+                        "(0: none)"),
+        "settle_time": _var(_DS_CELL, _S, "time left to the dampers' faster modes before the "
+                            "fit"),
+        "step": _var(_DS_CELL, _S, "integration step h"),
+        "t_end": _var(_DS_CELL, _S, "run time"),
+        "axial_momentum": _var(("ratio", "speed"), cv.UNITS_ANGULAR_MOMENTUM,
+                               "axial momentum of platform and rotor h = A3 w_p + Jr Omega"),
+        "nutation_frequency_platform": _var(("ratio", "speed"), _RAD_S,
+                                            "nutation frequency seen by the platform, "
+                                            "lambda_p = h / A_t - w_p"),
+        "nutation_frequency_rotor": _var(("ratio", "speed"), _RAD_S,
+                                         "nutation frequency seen by the rotor, "
+                                         "lambda_r = lambda_p - Omega"),
+    })
+
+
 # A run of any scene (stability.run_scene): its variables are named from the scene ------------
 
 #: Separator of the units (which hold spaces) in a scene Dataset's ``scene_units`` and
@@ -1212,7 +1273,7 @@ SCENE_RUN = SceneSchema(
 SCHEMAS: Mapping[str, DatasetSchema] = MappingProxyType({s.name: s for s in (
     ENSEMBLE, TRAJECTORY, TENNIS_RACKET, TWISTING_RACKET, ENGINE_ARTEFACTS, STABILITY_MAP,
     WORK_PRECISION, EARTH_WOBBLE, EQUINOXES, GYROSCOPE, SLEEPING_TOP, BAT, ROLLING, EXPLORER,
-    SCENE_RUN,
+    DUAL_SPIN, SCENE_RUN,
 )})
 
 

@@ -462,6 +462,8 @@ def test_study_file_with_a_byte_order_mark_parses(tmp_path, capsys):
 #: kind -> (arguments making its count absurd, fragments of the line).
 MEMORY = {
     "bat": (["--set", f"strikes.count={ABSURD}"], ["[strikes] count = " + ABSURD]),
+    "dual_spin": (["--set", f"integration.samples={ABSURD}"],
+                  ["[integration] samples = " + ABSURD]),
     "earth_wobble": (["--members", ABSURD], ["(--members): [wobble] members = " + ABSURD,
                                              "the summaries of"]),
     "engine_artefacts": (["--set", f"ensemble.members={ABSURD}"],

@@ -2,18 +2,24 @@
 
 A truly rigid body spins stably about its largest and its smallest axis; one that flexes
 (antennas, fuel, a damper) spins stably only about the largest: at fixed |H| that spin has the
-least energy (the major-axis rule). The family's modules, each importing only downward:
+least energy (the major-axis rule), unless the damper sits on a part that does not spin with
+the rest (dual-spin stabilisation). The family's modules, each importing only downward:
 
 - :mod:`.methods`: the step kernels and their MethodSpecs (RK4; splittings of the damper's exact
   relaxation and the exact free flow, which keep |H| to round-off);
-- :mod:`.scene`: the scenes ``sphere_damper`` (a viscous spherical damper) and ``whip_damper``
-  (four whip antennas: spring-mass dampers on booms);
+- :mod:`.scene`: the scenes ``sphere_damper`` (a viscous spherical damper), ``whip_damper``
+  (four whip antennas: spring-mass dampers on booms) and ``gyrostat`` (a dual-spin body: a
+  platform and a rotor on a free bearing, a spherical damper on each);
 - :mod:`.model`: steady spins, their linear theory (eigenvalues in closed form and from the
   Jacobian), the energy-sink estimate, the energy a flat spin sheds, the Explorer 1 preset;
+- :mod:`.gyrostat`: the gyrostat's steady spins, their linear theory and Likins' energy-sink
+  criterion;
 - :mod:`.measure`: what the studies read from a run (nutation angle, fitted rates, times to a
   flat spin, the end state);
-- :mod:`.explorer`: the Explorer-like ensembles and their Dataset;
-- :mod:`.studies`: the study kind ``explorer``; :mod:`.figures`: its figures.
+- :mod:`.explorer`: the Explorer-like ensembles and their Dataset; :mod:`.dual_spin`: the
+  dual-spin maps and theirs;
+- :mod:`.studies`: the study kinds ``explorer`` and ``dual_spin``; :mod:`.figures`: their
+  figures.
 
 This package's ``__init__`` imports nothing, so that the scene registry
 (:mod:`stability.scenes`) can import :mod:`.scene` without the rest.

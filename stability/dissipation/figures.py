@@ -1,5 +1,6 @@
-"""Figures of the Explorer study, drawn from its Dataset alone
-(:func:`stability.dissipation.explorer.measure_explorer`).
+"""Figures of the dissipation studies, each drawn from its Dataset alone.
+
+The Explorer study (:func:`stability.dissipation.explorer.measure_explorer`):
 
 - :func:`nutation_figure`: the nutation angle against time, growing at the linear rate, then
   the turn into the flat spin at every damping;
@@ -7,6 +8,14 @@
   measured beside the linear theory and the energy-sink estimate, the optimum marked;
 - :func:`end_state_figure`: the energy falling to that of the flat spin, and every member's
   measured rates, |H| and energy against the theory.
+
+The dual-spin study (:func:`stability.dissipation.dual_spin.measure_dual_spin`):
+
+- :func:`dual_spin_map_figure`: for each placement of the dampers, the map of the linear growth
+  rate over the inertia ratio and the rotor's speed, the eigenvalues' and the energy-sink
+  criterion's boundaries, and every cell's measured verdict, the disagreements marked;
+- :func:`dual_spin_rate_figure`: every member's fitted rate, and every cell's energy-sink
+  estimate, against the linear eigenvalue.
 """
 
 from __future__ import annotations
@@ -17,6 +26,7 @@ from ..util import conventions as cv
 from ..plotting.style import (
     AXIS_COLORS, EXACT_COLOR, label, new_figure, place_legend, plain_log_ticks, styled,
 )
+from .dual_spin import DECAYS, GROWS, body_of, linear_map
 from .model import axisymmetric_eigenvalues, energy_sink_rate, growth_rate
 
 #: Minutes per second, for time axes.
@@ -187,4 +197,134 @@ def end_state_figure(ds, claim=None):
     error_ax.set_title(f"every member against the theory ({ds.attrs['method']})", fontsize=9)
     place_legend(error_ax, fontsize=7)
     fig.suptitle(f"{ds.attrs['body']}: |H| kept, the energy lost to the flat spin", fontsize=10)
+    return fig
+
+
+#: Points per side of the dense grid on which the maps' boundaries are drawn.
+BOUNDARY_GRID = 81
+#: Colours of the placements in the rate figure.
+PLACEMENT_COLORS = {"platform": AXIS_COLORS[0], "rotor": AXIS_COLORS[1], "both": AXIS_COLORS[2]}
+#: Titles of the map's panels.
+PLACEMENT_TITLES = {"platform": "damper on the platform", "rotor": "damper in the rotor",
+                    "both": "one damper on each"}
+
+
+@styled
+def dual_spin_map_figure(ds):
+    """For each placement of the dampers: the linear growth rate over the inertia ratio and the
+    rotor's relative speed (colour), the boundary where the eigenvalues change sign (solid) and
+    where the energy-sink criterion does (dashed), both on a dense grid, and at every cell the
+    measured verdict, ringed where the criterion and marked where the measurement disagree with
+    the eigenvalues.
+
+    Parameters
+    ----------
+    ds : xarray.Dataset
+        The dual-spin study's Dataset.
+    """
+    from matplotlib.colors import TwoSlopeNorm
+    from matplotlib.lines import Line2D
+
+    placements = [str(p) for p in ds.placement.values]
+    fig = new_figure(7.5, 3.4 if len(placements) > 1 else 4.0)
+    axes = np.atleast_1d(fig.subplots(1, len(placements), sharey=True, squeeze=False)[0])
+    ratios, speeds = ds.ratio.values, ds.speed.values
+    body = body_of(ds)
+    dense_r = np.linspace(ratios.min(), ratios.max(), BOUNDARY_GRID)
+    dense_s = np.linspace(speeds.min(), speeds.max(), BOUNDARY_GRID)
+    top = float(np.nanmax(np.abs(ds.rate_linear.values))) or 1.0
+    norm = TwoSlopeNorm(vmin=-top, vcenter=0.0, vmax=top)
+    mesh = None
+    for ax, placement in zip(axes, placements):
+        d = ds.sel(placement=placement)
+        mesh = ax.pcolormesh(ratios, speeds, d.rate_linear.values.T, shading="nearest",
+                             cmap="RdBu_r", norm=norm)
+        linear, sink = linear_map(body, placement, dense_r, dense_s)
+        ax.contour(dense_r, dense_s, linear.T, levels=[0.0], colors=EXACT_COLOR,
+                   linewidths=1.4)
+        ax.contour(dense_r, dense_s, sink.T, levels=[0.0], colors="#ffbf00",
+                   linewidths=1.4, linestyles="--")
+        R, S = np.meshgrid(ratios, speeds, indexing="ij")
+        verdict = d.verdict_measured.values
+        for flag, marker in ((DECAYS, "o"), (GROWS, "^")):
+            shown = verdict == flag
+            ax.scatter(R[shown], S[shown], marker=marker, s=14, facecolors="white",
+                       edgecolors=EXACT_COLOR, linewidths=0.6, zorder=3)
+        sink_off = d.verdict_energy_sink.values != d.verdict_linear.values
+        ax.scatter(R[sink_off], S[sink_off], marker="s", s=70, facecolors="none",
+                   edgecolors="#ffbf00", linewidths=1.5, zorder=4)
+        measured_off = (verdict != d.verdict_linear.values)
+        ax.scatter(R[measured_off], S[measured_off], marker="x", s=50, color="#d62728",
+                   linewidths=1.5, zorder=5)
+        ax.axvline(1.0, color="gray", ls=":", lw=0.8)
+        ax.set_title(PLACEMENT_TITLES.get(placement, placement), fontsize=9)
+        ax.set_xlabel(label("A3 / A_t", cv.UNITS_DIMENSIONLESS))
+    axes[0].set_ylabel(label("rotor speed relative to the platform", cv.UNITS_ANGULAR_VELOCITY))
+    bar = fig.colorbar(mesh, ax=list(axes), shrink=0.9)
+    bar.set_label(label("linear growth rate", cv.UNITS_RATE))
+    handles = [
+        Line2D([], [], color=EXACT_COLOR, lw=1.4, label="eigenvalues' boundary"),
+        Line2D([], [], color="#ffbf00", lw=1.4, ls="--", label="energy-sink criterion"),
+        Line2D([], [], ls="", marker="o", mfc="white", mec=EXACT_COLOR, label="measured: decays"),
+        Line2D([], [], ls="", marker="^", mfc="white", mec=EXACT_COLOR, label="measured: grows"),
+        Line2D([], [], ls="", marker="s", mfc="none", mec="#ffbf00", mew=1.5,
+               label="criterion ≠ eigenvalues"),
+        Line2D([], [], ls="", marker="x", color="#d62728", mew=1.5,
+               label="measured ≠ eigenvalues"),
+    ]
+    fig.legend(handles=handles, loc="outside lower center", ncols=3, fontsize=7.5)
+    fig.suptitle(f"dual spin, platform at {ds.attrs['platform_spin']:g} rad/s: dampers at "
+                 f"{ds.attrs['platform_damping']:g} c* (platform), "
+                 f"{ds.attrs['rotor_damping']:g} c* (rotor)", fontsize=10)
+    return fig
+
+
+@styled
+def dual_spin_rate_figure(ds, claim=None):
+    """Every member's fitted growth rate, and every cell's energy-sink estimate, against the
+    linear eigenvalue; and their relative differences from it.
+
+    Parameters
+    ----------
+    ds : xarray.Dataset
+        The dual-spin study's Dataset.
+    claim : float, optional
+        The relative difference claimed for the fitted rates (a line).
+    """
+    fig = new_figure(7.5, 7.0)
+    rate_ax, error_ax = fig.subplots(2, 1)
+    linear_all = ds.rate_linear.values
+    lo, hi = float(np.nanmin(linear_all)), float(np.nanmax(linear_all))
+    rate_ax.plot([lo, hi], [lo, hi], color=EXACT_COLOR, lw=0.8, label="= linear eigenvalue")
+    for placement in ds.placement.values:
+        d = ds.sel(placement=placement)
+        color = PLACEMENT_COLORS.get(str(placement), "gray")
+        linear = np.broadcast_to(d.rate_linear.values[..., None], d.rate_measured.shape)
+        measured = d.rate_measured.values
+        shown = np.isfinite(measured)
+        rate_ax.plot(linear[shown], measured[shown], "o", ms=4, mfc="none", color=color,
+                     label=f"fitted, {PLACEMENT_TITLES.get(str(placement), placement)}")
+        rate_ax.plot(d.rate_linear.values.ravel(), d.rate_energy_sink.values.ravel(), "x",
+                     ms=4, color=color, alpha=0.6, label=f"energy sink, on {placement}")
+        error = np.abs(d.rate_error.values)
+        shown = np.isfinite(error)
+        error_ax.semilogy(linear[shown], np.maximum(error[shown], 1e-9), "o", ms=4, mfc="none",
+                          color=color, label=f"fitted, on {placement}")
+        sink = np.abs(d.rate_sink_error.values.ravel())
+        shown = np.isfinite(sink)
+        error_ax.semilogy(d.rate_linear.values.ravel()[shown], np.maximum(sink[shown], 1e-9),
+                          "x", ms=4, color=color, alpha=0.6, label=f"energy sink, on {placement}")
+    if claim is not None:
+        error_ax.axhline(claim, color=EXACT_COLOR, ls="--", lw=1, label=f"claim {claim:g}")
+    rate_ax.axhline(0.0, color="gray", lw=0.5)
+    rate_ax.set_xlabel(label("growth rate by the linear eigenvalue", cv.UNITS_RATE))
+    rate_ax.set_ylabel(label("fitted / energy-sink growth rate", cv.UNITS_RATE))
+    rate_ax.set_title("growth (> 0) and decay (< 0) of the nutation", fontsize=9)
+    error_ax.set_xlabel(label("growth rate by the linear eigenvalue", cv.UNITS_RATE))
+    error_ax.set_ylabel(label("|relative difference from it|", cv.UNITS_DIMENSIONLESS))
+    error_ax.set_title("fitted rates (floored at 1e-9) and the energy sink's error", fontsize=9)
+    place_legend(rate_ax, fontsize=7)
+    place_legend(error_ax, fontsize=7)
+    fig.suptitle("dual spin: the nutation's rate measured against the linear theory",
+                 fontsize=10)
     return fig

@@ -1,5 +1,5 @@
-"""Step kernels of the two damped bodies: RK4 for both, and for the spherical damper splittings
-that keep |H| to round-off.
+"""Step kernels of the damped bodies: RK4 for all three, and for the spherical damper
+splittings that keep |H| to round-off.
 
 **The body with a spherical damper** (scene ``sphere_damper``). A rigid shell of principal
 moments I = diag(I1, I2, I3) holds at its centre a sphere of moment J in a viscous fluid, whose
@@ -35,6 +35,21 @@ round-off), on any body. ``lp2`` does the same where A S A is exact (an axisymme
 **The body with whip antennas** (scene ``whip_damper``): two pairs of tip masses on springs
 with dashpots, bending along the spin axis (:mod:`stability.dissipation.scene`); RK4 only (|H|
 drifts as RK4's error does).
+
+**The gyrostat** (scene ``gyrostat``, a dual-spin body): a platform and an axisymmetric rotor on
+a frictionless bearing along the platform's principal axis e3, with a spherical damper on the
+platform and one in the rotor (either may be absent, c = 0). The state, in the platform's
+principal frame: ``m`` the angular momentum of platform and rotor, ``h_r`` the rotor's axial
+angular momentum, ``p`` and ``q`` those of the platform's and the rotor's damper spheres::
+
+    w = (m1 / A1, m2 / A2, (m3 - h_r) / (A3 - Jr)),   w_r = (w1, w2, h_r / Jr),
+    u_p = p / Jp - w,   u_q = q / Jq - w_r,
+    m' = m x w + cp u_p + cq u_q,   h_r' = cq u_q3,
+    p' = p x w - cp u_p,            q' = q x w - cq u_q,                               (2)
+
+(A1, A2, A3 the whole body's principal moments, the rotor's included; derivation in
+:mod:`stability.dissipation.gyrostat`). The total ``H = m + p + q`` obeys ``H' = H x w``: |H|
+is kept; the energy falls at ``cp |u_p|^2 + cq |u_q|^2``. RK4 only.
 
 The RK4 kernels are the package's one RK4 text (:func:`stability.integrators.rk4.rk4_source`,
 as :func:`stability.define_scene` writes it) applied to each right-hand side.
@@ -242,10 +257,65 @@ def whip_rhs(H1, H2, H3, z2, z3, p2, p3, p):
             mu * (z3 * across - b * w1 * w3) - k * z3 - c * dz3)
 
 
-# --- RK4 of both right-hand sides: the package's one RK4 text ----------------------------------
+# --- the gyrostat ----------------------------------------------------------------------------
+
+#: Parameter layout of the gyrostat: 1/A1, 1/A2, 1/(A3 - Jr) (the platform's inverse moments,
+#: the rotor's transverse moment included, its axial one not), 1/Jr, then 1/Jp, cp (the platform's
+#: damper) and 1/Jq, cq (the rotor's); then the eight numbers as given.
+G_INV_A1, G_INV_A2, G_INV_A3, G_INV_JR, G_INV_JP, G_CP, G_INV_JQ, G_CQ = range(8)
+G_VALUES = 8  #: A1, A2, A3, Jr, Jp, cp, Jq, cq at G_VALUES + k
+#: Numbers that describe a gyrostat: A1, A2, A3, Jr, Jp, cp, Jq, cq.
+N_GYROSTAT = 8
+
+
+def gyrostat_params(values, h: float = 0.0) -> np.ndarray:
+    """Kernel row of a gyrostat ``(A1, A2, A3, Jr, Jp, cp, Jq, cq)`` (kg m2 and N m s): the
+    whole body's principal moments (the rotor's included), the rotor's axial moment, and the
+    moment and viscous coefficient of the platform's damper and of the rotor's (c = 0: no
+    damper); the same for every step ``h``.
+
+    Raises
+    ------
+    ValueError
+        Not eight numbers, not all finite, a moment not positive, ``A3 <= Jr`` (the platform
+        itself has no axial moment left), or a coefficient negative.
+    """
+    values = np.asarray(values, dtype=float).reshape(-1)
+    if values.size != N_GYROSTAT:
+        raise ValueError(f"a gyrostat is {N_GYROSTAT} numbers (A1, A2, A3, Jr, Jp, cp, Jq, cq), "
+                         f"got {values.size}")
+    A1, A2, A3, Jr, Jp, cp, Jq, cq = values
+    if not (np.all(np.isfinite(values)) and min(A1, A2, A3, Jr, Jp, Jq) > 0
+            and cp >= 0 and cq >= 0):
+        raise ValueError(f"the moments A1, A2, A3, Jr, Jp, Jq must be positive and cp, cq >= 0, "
+                         f"all finite; got {values.tolist()}")
+    if not A3 > Jr:
+        raise ValueError(f"A3 (the whole body's axial moment, {A3!r}) must exceed the rotor's "
+                         f"Jr ({Jr!r}): the platform's own axial moment is A3 - Jr")
+    return np.concatenate([[1.0 / A1, 1.0 / A2, 1.0 / (A3 - Jr), 1.0 / Jr, 1.0 / Jp, cp,
+                            1.0 / Jq, cq], values])
+
+
+@njit(inline="always")
+def gyrostat_rhs(m1, m2, m3, hr, p1, p2, p3, q1, q2, q3, p):
+    """Equations (2): ``m' = m x w + cp u_p + cq u_q``, ``h_r' = cq u_q3``,
+    ``p' = p x w - cp u_p``, ``q' = q x w - cq u_q``."""
+    w1, w2, w3 = m1 * p[G_INV_A1], m2 * p[G_INV_A2], (m3 - hr) * p[G_INV_A3]
+    cp, cq, inv_p, inv_q = p[G_CP], p[G_CQ], p[G_INV_JP], p[G_INV_JQ]
+    a1, a2, a3 = cp * (p1 * inv_p - w1), cp * (p2 * inv_p - w2), cp * (p3 * inv_p - w3)
+    b1, b2 = cq * (q1 * inv_q - w1), cq * (q2 * inv_q - w2)
+    b3 = cq * (q3 * inv_q - hr * p[G_INV_JR])
+    return (m2 * w3 - m3 * w2 + a1 + b1, m3 * w1 - m1 * w3 + a2 + b2,
+            m1 * w2 - m2 * w1 + a3 + b3, b3,
+            p2 * w3 - p3 * w2 - a1, p3 * w1 - p1 * w3 - a2, p1 * w2 - p2 * w1 - a3,
+            q2 * w3 - q3 * w2 - b1, q3 * w1 - q1 * w3 - b2, q1 * w2 - q2 * w1 - b3)
+
+
+# --- RK4 of the right-hand sides: the package's one RK4 text ----------------------------------
 
 exec(rk4_source(6, "sphere_rhs", "sphere_rk4_step"))  # noqa: S102 (a fixed text of ours)
 exec(rk4_source(7, "whip_rhs", "whip_rk4_step"))  # noqa: S102
+exec(rk4_source(10, "gyrostat_rhs", "gyrostat_rk4_step"))  # noqa: S102
 
 _RK4 = dict(title="classical Runge-Kutta", order=4, family="Runge-Kutta", evaluations=4,
             reference="Kutta (1901); Hairer, Norsett & Wanner, Solving ODEs I, Table II.1.2")
@@ -284,3 +354,10 @@ WHIP_RK4 = MethodSpec(name="rk4", step=whip_rk4_step, params=whip_params,  # noq
                       note="|H| and the energy balance to RK4's error", **_RK4)
 #: The methods of scene ``whip_damper``, by name.
 WHIP_METHODS = {WHIP_RK4.name: WHIP_RK4}
+
+GYROSTAT_RK4 = MethodSpec(name="rk4", step=gyrostat_rk4_step,  # noqa: F821 (made above)
+                          params=gyrostat_params,
+                          note="|H| and the energy balance to RK4's error; a stiff damper "
+                               "(h c (1/J + 1/A) > 2.8) blows it up", **_RK4)
+#: The methods of scene ``gyrostat``, by name.
+GYROSTAT_METHODS = {GYROSTAT_RK4.name: GYROSTAT_RK4}

@@ -1,5 +1,6 @@
-"""Two damped bodies: a rigid shell with a viscous spherical damper, and one with a spring-mass
-damper. Both keep |H| and lose energy, so both end spinning about their major axis.
+"""Three damped bodies: a rigid shell with a viscous spherical damper, one with a spring-mass
+damper, and a gyrostat (a dual-spin body) with a spherical damper on its platform, in its rotor
+or both. All keep |H| and lose energy; the first two end spinning about their major axis.
 
 Scene ``sphere_damper``: the state is ``(m1, m2, m3, s1, s2, s3)``, the shell's angular
 momentum ``m = I w`` and the sphere's ``s = J w_s``, in the shell's principal frame (canonical,
@@ -27,9 +28,24 @@ leave a spin about the axis across both its arm and e1 undamped at linear order;
 every spin. Parameters per body: ``(I1, I2, I3, mu, b, k, c)``, the body's moments without the
 tips (e1 the long axis).
 
-Invariant of both: |H| (``angular_momentum``). The energy (:func:`sphere_energy`,
+Scene ``gyrostat``: a platform and an axisymmetric rotor on a frictionless bearing along the
+platform's principal axis e3, with a viscous spherical damper on the platform (``Jp``, ``cp``)
+and one in the rotor (``Jq``, ``cq``); ``c = 0``: that damper is absent (its sphere at rest,
+zero momentum, stays so). The state is ``(m1, m2, m3, hr, p1, p2, p3, q1, q2, q3)`` in the
+platform's principal frame: the angular momentum of platform and rotor ``m = A w + Jr Omega
+e3`` (``A = diag(A1, A2, A3)`` the whole body's moments, the rotor's included; ``Omega`` the
+rotor's spin relative to the platform), the rotor's axial momentum ``hr = Jr (w3 + Omega)`` and
+the spheres' momenta. Parameters ``(A1, A2, A3, Jr, Jp, cp, Jq, cq)``. Equations (2) of
+:mod:`stability.dissipation.methods`, derived in :mod:`stability.dissipation.gyrostat`::
+
+    m' = m x w + cp u_p + cq u_q,  hr' = cq u_q3,  p' = p x w - cp u_p,  q' = q x w - cq u_q,
+    w = (m1 / A1, m2 / A2, (m3 - hr) / (A3 - Jr)),  u_p = p / Jp - w,
+    u_q = q / Jq - (w1, w2, hr / Jr).
+
+Invariant of all three: |H| (``angular_momentum``; ``H = m + p + q`` for the gyrostat). The energy (:func:`sphere_energy`,
 :func:`whip_energy`) is not one: it falls at the rate ``c |w_s - w|^2`` (sphere) or
-``c (z2'^2 + z3'^2)`` (whips), a Lyapunov function. Tracking: the spin-axis component is
+``c (z2'^2 + z3'^2)`` (whips), ``cp |u_p|^2 + cq |u_q|^2`` (gyrostat,
+:func:`gyrostat_energy`), a Lyapunov function. Tracking: the spin-axis component is
 ``H_a / |H|`` (the cosine of the nutation angle between body axis a and H: it changes sign when
 that axis turns perpendicular to H) and the amplitude across it ``sqrt(H_b^2 + H_c^2) / |H|``,
 its sine, returned as ``b`` with ``c = 0``.
@@ -43,9 +59,9 @@ from numba import njit
 from ..util import conventions as cv
 from ..scenes.free_body import component
 from ..scenes.spec import Scene
-from .methods import (B_B, B_I1, B_I2, B_I3, B_K, B_MU, B_MU_B, P_INV1, P_INV2, P_INV3,
-                      P_INV_J, SPHERE_METHODS, WHIP_METHODS, sphere_params, whip_params,
-                      whip_rates)
+from .methods import (B_B, B_I1, B_I2, B_I3, B_K, B_MU, B_MU_B, GYROSTAT_METHODS, P_INV1,
+                      P_INV2, P_INV3, P_INV_J, SPHERE_METHODS, WHIP_METHODS, sphere_params,
+                      whip_params, whip_rates)
 
 
 @njit(inline="always")
@@ -211,4 +227,85 @@ WHIP_DAMPER = Scene(
     invariants={"angular_momentum": whip_angular_momentum},
     example=whip_example,
     parameters=("I1", "I2", "I3", "mu", "b", "k", "c"),
+)
+
+
+@njit(inline="always")
+def gyrostat_observe(m1, m2, m3, hr, p1, p2, p3, q1, q2, q3, p, ia, ib, ic):
+    """Cosine and sine of platform axis a's angle from ``H = m + p + q``."""
+    return nutation_components(m1 + p1 + q1, m2 + p2 + q2, m3 + p3 + q3, ia, ib, ic)
+
+
+def gyrostat_momentum(x):
+    """The total angular momentum ``H = m + p + q`` (kg m2 s-1) of states ``x`` (..., 10)."""
+    x = np.asarray(x, dtype=float)
+    return x[..., 0:3] + x[..., 4:7] + x[..., 7:10]
+
+
+def gyrostat_tracked(x, p, axes):
+    """:func:`gyrostat_observe` in NumPy over states ``x`` (N, 10)."""
+    return nutation_tracked(gyrostat_momentum(x), axes)
+
+
+def gyrostat_angular_momentum(x, values):
+    """``|H| = |m + p + q|`` (kg m2 s-1) of states ``x`` (N, 10); constant."""
+    return np.linalg.norm(gyrostat_momentum(x), axis=-1)
+
+
+def gyrostat_energy(x, values):
+    """``E = (m1^2 / A1 + m2^2 / A2 + (m3 - hr)^2 / (A3 - Jr) + hr^2 / Jr + |p|^2 / Jp
+    + |q|^2 / Jq) / 2`` (J) of states ``x`` (..., 10): the platform's (with the rotor's
+    transverse motion), the rotor's spin, the spheres'; falls at the rate
+    ``cp |u_p|^2 + cq |u_q|^2``."""
+    A1, A2, A3, Jr, Jp, _, Jq, _ = np.asarray(values, dtype=float)
+    x = np.asarray(x, dtype=float)
+    m1, m2, m3, hr = (x[..., k] for k in range(4))
+    return 0.5 * (m1 * m1 / A1 + m2 * m2 / A2 + (m3 - hr) ** 2 / (A3 - Jr) + hr * hr / Jr
+                  + np.sum(x[..., 4:7] ** 2, axis=-1) / Jp
+                  + np.sum(x[..., 7:10] ** 2, axis=-1) / Jq)
+
+
+def gyrostat_rigid_state(values, w, relative_spin):
+    """States (N, 10) of a gyrostat whose platform turns at ``w`` (N, 3) and whose rotor spins
+    at ``relative_spin`` (rad s-1, (N,) or one number) relative to it, each damper's sphere
+    turning with its body: ``m = A w + Jr Omega e3``, ``hr = Jr (w3 + Omega)``, ``p = Jp w``,
+    ``q = Jq (w1, w2, w3 + Omega)``; an absent damper's sphere (c = 0) at rest."""
+    A1, A2, A3, Jr, Jp, cp, Jq, cq = np.asarray(values, dtype=float)
+    w = np.atleast_2d(np.asarray(w, dtype=float))
+    omega = np.broadcast_to(np.asarray(relative_spin, dtype=float), (w.shape[0],))
+    rotor = w.copy()
+    rotor[:, 2] += omega
+    return np.column_stack([w * [A1, A2, A3] + np.outer(Jr * omega, [0.0, 0.0, 1.0]),
+                            Jr * rotor[:, 2], (Jp if cp > 0 else 0.0) * w,
+                            (Jq if cq > 0 else 0.0) * rotor])
+
+
+def gyrostat_example(n, seed=0):
+    """Starts near a spin of the platform about the rotor's axis (1 rad s-1), the rotor at
+    2 rad s-1 relative to it, both spheres turning with their bodies; and three gyrostats: a
+    minor-axis one with both dampers, a triaxial one with the platform's only, a major-axis one
+    with the rotor's only (generic tests)."""
+    rng = np.random.default_rng(seed)
+    sets = [np.array([1.0, 1.0, 0.6, 0.25, 0.05, 0.02, 0.04, 0.03]),
+            np.array([1.0, 1.3, 0.8, 0.3, 0.05, 0.04, 0.05, 0.0]),
+            np.array([1.0, 1.0, 1.4, 0.3, 0.05, 0.0, 0.05, 0.05])]
+    w = np.column_stack([1e-2 * rng.standard_normal((n, 2)), np.full(n, 1.0)])
+    return gyrostat_rigid_state(sets[0], w, 2.0), sets
+
+
+GYROSTAT = Scene(
+    name="gyrostat",
+    title="gyrostat (dual-spin body): platform, rotor on a free bearing, a spherical damper on "
+          "each",
+    equations="m' = m x w + cp u_p + cq u_q, hr' = cq u_q3, p' = p x w - cp u_p, "
+              "q' = q x w - cq u_q (w = (m1/A1, m2/A2, (m3 - hr)/(A3 - Jr)), "
+              "u_p = p/Jp - w, u_q = q/Jq - (w1, w2, hr/Jr))",
+    components=("m1", "m2", "m3", "hr", "p1", "p2", "p3", "q1", "q2", "q3"),
+    units=(cv.UNITS_ANGULAR_MOMENTUM,) * 10,
+    methods=GYROSTAT_METHODS,
+    observe=gyrostat_observe,
+    tracked=gyrostat_tracked,
+    invariants={"angular_momentum": gyrostat_angular_momentum},
+    example=gyrostat_example,
+    parameters=("A1", "A2", "A3", "Jr", "Jp", "cp", "Jq", "cq"),
 )

@@ -4,7 +4,7 @@ A module of its own, below :mod:`stability.scenes.user`, which refuses a user's 
 registered one: the package's ``__init__`` re-exports both.
 """
 
-from ..dissipation.scene import SPHERE_DAMPER, WHIP_DAMPER
+from ..dissipation.scene import GYROSTAT, SPHERE_DAMPER, WHIP_DAMPER
 from .engine_body import ENGINE_BODY
 from .free_body import FREE_BODY
 from .free_body_attitude import FREE_BODY_ATTITUDE
@@ -16,7 +16,7 @@ from .struck_body import STRUCK_BODY
 from .spec import Scene
 
 _ALL = (FREE_BODY, FREE_BODY_ATTITUDE, HEAVY_TOP, LUNISOLAR_EARTH, PRECESSING_AXIS,
-        ROLLING_BODY, STRUCK_BODY, ENGINE_BODY, SPHERE_DAMPER, WHIP_DAMPER)
+        ROLLING_BODY, STRUCK_BODY, ENGINE_BODY, SPHERE_DAMPER, WHIP_DAMPER, GYROSTAT)
 
 SCENES: dict[str, Scene] = {s.name: s for s in _ALL}
 

@@ -49,6 +49,7 @@ from .config import (
 
 STUDIES: dict[str, StudyKind] = {
     "bat": bat.STUDY,
+    "dual_spin": dissipation.DUAL_SPIN_STUDY,
     "earth_wobble": earth_wobble.STUDY,
     "engine_artefacts": engine_artefacts.STUDY,
     "equinoxes": equinoxes.STUDY,
