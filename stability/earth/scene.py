@@ -3,8 +3,8 @@
 The state is ``(m1, m2, m3, q0, q1, q2, q3, t)``: the body angular momentum, the body-to-space
 unit quaternion (scalar first; space is the ecliptic frame of the epoch) and the time, which the
 prescribed orbits of the Sun and the Moon depend on. Parameters: ``(A, C)`` and the two orbits'
-elements (:func:`stability.equinoxes.earth_parameters`). Equations, methods and references:
-:mod:`stability.integrators.lunisolar`. Invariants: ``|q| = 1`` and ``m3`` (the torque of
+elements (:func:`stability.earth.equinoxes.earth_parameters`). Equations, methods and references:
+:mod:`stability.earth.methods`. Invariants: ``|q| = 1`` and ``m3`` (the torque of
 either body on an oblate Earth has no component along its figure axis).
 
 Tracking: the figure axis ``k = R(q) e3`` in space, its component ``k_a`` along space axis a and
@@ -17,9 +17,9 @@ import numpy as np
 from numba import njit
 
 from ..util import conventions as cv
-from ..integrators.lunisolar import METHODS
-from .free_body import component
-from .spec import Scene
+from .methods import METHODS
+from ..scenes.free_body import component
+from ..scenes.spec import Scene
 
 
 @njit(inline="always")

@@ -1,6 +1,6 @@
 """Figure of the precession of the equinoxes: the precession, the nutation and a full turn.
 
-:func:`equinoxes_figure` draws the Dataset of :func:`stability.equinoxes.measure_equinoxes`:
+:func:`equinoxes_figure` draws the Dataset of :func:`stability.earth.equinoxes.measure_equinoxes`:
 the longitude of the equinox over the run for the Sun alone, the Moon alone and both (full model,
 member 0) beside the averaged formula; the nutation left after the fitted line, full and
 orbit-averaged models, with the published amplitudes; and the pole's circle about the ecliptic

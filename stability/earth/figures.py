@@ -1,4 +1,4 @@
-"""Figures of the Earth's free wobble (:mod:`stability.wobble`).
+"""Figures of the Earth's free wobble (:mod:`stability.earth.wobble`).
 
 :func:`wobble_cones_figure`: the rotation axis seen from the body (it circles the figure axis
 once per wobble period, the body cone) and from space (it circles the fixed angular momentum
@@ -9,7 +9,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..earth import ARCSEC
+from .model import ARCSEC
 from ..plotting.style import EXACT_COLOR, label, new_figure, styled
 
 

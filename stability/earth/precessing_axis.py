@@ -3,7 +3,7 @@
 The state is ``(k1, k2, k3, t)``: the unit figure axis in the ecliptic frame of the epoch and the
 time (the Moon's ring turns with its node). The spin is averaged into the angular momentum
 ``C W k`` and each orbit into its ring; what is left is the slow precession and the 18.6-year
-nutation (:mod:`stability.integrators.lunisolar`, the averaged model). Parameters:
+nutation (:mod:`stability.earth.methods`, the averaged model). Parameters:
 ``(H / W, Sun's orbit, Moon's orbit)``. Invariant: ``|k| = 1``.
 """
 
@@ -13,9 +13,9 @@ import numpy as np
 from numba import njit
 
 from ..util import conventions as cv
-from ..integrators.lunisolar import AVERAGED_METHODS
-from .free_body import component
-from .spec import Scene
+from .methods import AVERAGED_METHODS
+from ..scenes.free_body import component
+from ..scenes.spec import Scene
 
 
 @njit(inline="always")
