@@ -49,12 +49,12 @@ MOVED = {
     "stability.wobble": "stability.earth.wobble",
     "stability.equinoxes": "stability.earth.equinoxes",
     "stability.scenes.lunisolar_earth": "stability.earth.scene",
-    "stability.scenes.precessing_axis": "stability.earth.precessing_axis",
+    "stability.scenes.precessing_axis": "stability.earth.scene",
     "stability.integrators.lunisolar": "stability.earth.methods",
     "stability.study.earth_wobble": "stability.earth.studies.earth_wobble",
     "stability.study.equinoxes": "stability.earth.studies.equinoxes",
     "stability.figures.earth": "stability.earth.figures",
-    "stability.figures.equinoxes": "stability.earth.figures_equinoxes",
+    "stability.figures.equinoxes": "stability.earth.figures",
 }
 
 #: Old modules whose path is now their family's package, -> the module their names went to.

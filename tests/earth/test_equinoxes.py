@@ -11,7 +11,7 @@ from scipy.spatial.transform import Rotation
 
 from stability.earth import equinoxes as eq
 from stability.engine import propagate_groups
-from stability.earth.figures_equinoxes import equinoxes_figure
+from stability.earth.figures import equinoxes_figure
 from stability.earth.methods import perturber
 from stability.scenes import SCENES
 from stability.earth.scene import figure_axes
@@ -168,7 +168,7 @@ def test_study_meets_the_published_values_and_the_formula(quick):
 
 
 def test_quick_mode_says_it_ran_no_full_turn_and_draws_no_empty_panel(quick):
-    from stability.earth.figures_equinoxes import equinoxes_figure
+    from stability.earth.figures import equinoxes_figure
 
     summary, out = quick
     assert "nan" not in summary.table() and "cycle_years = 0" in summary.table()

@@ -5,8 +5,7 @@ prescribed orbits: scene ``lunisolar_earth``) for a century or more with the Sun
 alone and both, an ensemble of orbital phases each, and the orbit-averaged model (scene
 ``precessing_axis``) beside it and over a full turn of the axis; the measured precession rate and
 nutation amplitudes are set beside the averaged formula and the published values. Outputs: the
-Dataset, one figure (:func:`stability.earth.figures_equinoxes.equinoxes_figure`) and the
-configuration.
+Dataset, one figure (:func:`stability.earth.figures.equinoxes_figure`) and the configuration.
 """
 
 from __future__ import annotations
@@ -16,7 +15,7 @@ import time
 from pathlib import Path
 
 from ..equinoxes import measure_equinoxes
-from ..figures_equinoxes import equinoxes_figure
+from ..figures import equinoxes_figure
 from ..methods import METHODS
 from ...util.threads import numba_threads
 from ...study.config import (
