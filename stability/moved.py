@@ -46,6 +46,23 @@ MOVED = {
     "stability.study.gyroscope": "stability.heavy_top.studies.gyroscope",
     "stability.study.sleeping_top": "stability.heavy_top.studies.sleeping_top",
     "stability.figures.top": "stability.heavy_top.figures",
+    "stability.wobble": "stability.earth.wobble",
+    "stability.equinoxes": "stability.earth.equinoxes",
+    "stability.scenes.lunisolar_earth": "stability.earth.scene",
+    "stability.scenes.precessing_axis": "stability.earth.scene",
+    "stability.integrators.lunisolar": "stability.earth.methods",
+    "stability.study.earth_wobble": "stability.earth.studies.earth_wobble",
+    "stability.study.equinoxes": "stability.earth.studies.equinoxes",
+    "stability.figures.earth": "stability.earth.figures",
+    "stability.figures.equinoxes": "stability.earth.figures",
+}
+
+#: Old modules whose path is now their family's package, -> the module their names went to.
+#: The path still imports (it is the package), so the finder cannot serve it; the package's
+#: ``__getattr__`` gives the old names instead (:func:`old_name`): ``from stability.earth
+#: import earth_moments`` is :func:`stability.earth.model.earth_moments`, with a warning.
+MOVED_INTO = {
+    "stability.earth": "stability.earth.model",
 }
 
 
@@ -82,6 +99,20 @@ def old_attribute(name: str):
     if old not in MOVED:
         raise AttributeError(f"module 'stability' has no attribute {name!r}")
     return importlib.import_module(old)
+
+
+def old_name(package: str, name: str):
+    """``package.<name>`` for a name of the module that ``package`` was (the package's
+    ``__getattr__``; :data:`MOVED_INTO`), imported from where it went, with a warning;
+    AttributeError for any other name."""
+    new = MOVED_INTO[package]
+    if not name.startswith("_"):
+        module = importlib.import_module(new)
+        if hasattr(module, name):
+            warnings.warn(f"{package}.{name} moved to {new}.{name}; the old path goes in the "
+                          "next release", FutureWarning, stacklevel=3)
+            return getattr(module, name)
+    raise AttributeError(f"module {package!r} has no attribute {name!r}")
 
 
 def install() -> None:

@@ -619,12 +619,12 @@ TWISTING_RACKET = _schema(
         QUATERNION: replace(ENSEMBLE[QUATERNION], optional=""),
     })
 
-# The Earth's free wobble (stability.wobble.measure_free_wobble) -------------------------------
+# The Earth's free wobble (stability.earth.wobble.measure_free_wobble) -------------------------
 
 _CONE_TIME = "cone_time"
 EARTH_WOBBLE = _schema(
     "earth_wobble", "the free wobble of a rigid Earth: its period measured against Euler's, "
-    "and one member's cones", "stability.wobble.measure_free_wobble", {
+    "and one member's cones", "stability.earth.wobble.measure_free_wobble", {
         "wobble_period_measured": _var((), _DAY, "period of the rotation axis about the figure "
                                        "axis (body frame), mean over members"),
         "wobble_period_stderr": _var((), _DAY, "standard error of the measured period"),
@@ -648,14 +648,14 @@ EARTH_WOBBLE = _schema(
         AXIS: _coord(AXIS, _ONE, "principal axis", kind="i"),
     })
 
-# The precession of the equinoxes (stability.equinoxes.measure_equinoxes) ----------------------
+# The precession of the equinoxes (stability.earth.equinoxes.measure_equinoxes) ----------------
 
 _MTM = ("model", "torque", MEMBER)
 _CYCLE = "a long run (cycle_years above 0; not in quick mode)"
 EQUINOXES = _schema(
     "equinoxes", "the precession and nutation of the Earth's axis under the Sun and the "
     "Moon, full and orbit-averaged, per torque and member",
-    "stability.equinoxes.measure_equinoxes", {
+    "stability.earth.equinoxes.measure_equinoxes", {
         "precession_rate": _var(_MTM, _ARCSEC_YR, "precession of the equinox -dphi/dt, "
                                 "fitted"),
         "nutation_longitude": _var(_MTM, _ARCSEC, "amplitude of the 18.6-year nutation in "

@@ -7,7 +7,7 @@ import sys
 import pytest
 
 import stability
-from stability.moved import MOVED
+from stability.moved import MOVED, MOVED_INTO
 
 
 @pytest.mark.parametrize("old", sorted(MOVED))
@@ -38,3 +38,18 @@ def test_old_paths_work_in_a_fresh_process_as_users_wrote_them():
 def test_a_name_that_never_was_a_module_is_an_attribute_error():
     with pytest.raises(AttributeError, match="has no attribute 'no_such_module'"):
         stability.no_such_module  # noqa: B018
+
+
+@pytest.mark.parametrize("package", sorted(MOVED_INTO))
+def test_a_module_that_became_its_package_still_gives_its_names(package):
+    """``from stability.earth import earth_moments`` (the module stability.earth is now the
+    family's package): the name of the module it went to, with a warning; a name it never had
+    is an AttributeError."""
+    new = importlib.import_module(MOVED_INTO[package])
+    old = importlib.import_module(package)
+    name = next(n for n, v in vars(new).items()
+                if not n.startswith("_") and getattr(v, "__module__", None) == new.__name__)
+    with pytest.warns(FutureWarning, match=f"{package}.{name} moved to {new.__name__}.{name}"):
+        assert getattr(old, name) is getattr(new, name)
+    with pytest.raises(AttributeError, match="has no attribute 'no_such_name'"):
+        old.no_such_name  # noqa: B018

@@ -204,9 +204,9 @@ API_MODULES = (
                                  "drift", "reference")),
     ("Scenes, integrators and the engine", ("scenes", "integrators", "engine")),
     ("Studies' library functions", ("twisting", "artefacts", "struck", "rolling",
-                                     "heavy_top.measure", "wobble", "equinoxes", "earth",
-                                     "stabilitymap", "workprecision", "sweeps", "shapes",
-                                     "flipsweep", "polhodes")),
+                                     "heavy_top.measure", "earth.wobble", "earth.equinoxes",
+                                     "earth.model", "stabilitymap", "workprecision", "sweeps",
+                                     "shapes", "flipsweep", "polhodes")),
     ("Figures and animations", ("animation", "figures.animation", "figures.poinsot")),
 )
 

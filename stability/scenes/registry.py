@@ -9,8 +9,7 @@ from .engine_body import ENGINE_BODY
 from .free_body import FREE_BODY
 from .free_body_attitude import FREE_BODY_ATTITUDE
 from ..heavy_top.scene import HEAVY_TOP
-from .lunisolar_earth import LUNISOLAR_EARTH
-from .precessing_axis import PRECESSING_AXIS
+from ..earth.scene import LUNISOLAR_EARTH, PRECESSING_AXIS
 from .rolling_body import ROLLING_BODY
 from .struck_body import STRUCK_BODY
 from .spec import Scene

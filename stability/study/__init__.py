@@ -25,9 +25,9 @@ from pathlib import Path
 from ..dissipation import studies as dissipation
 from ..output.stream import RunInterrupted
 from . import (
-    bat, earth_wobble, engine_artefacts, equinoxes, rolling, stability_map, tennis_racket,
-    twisting_racket, work_precision,
+    bat, engine_artefacts, rolling, stability_map, tennis_racket, twisting_racket, work_precision,
 )
+from ..earth.studies import earth_wobble, equinoxes
 from ..heavy_top.studies import gyroscope, sleeping_top
 from .config import (
     REQUIRED,

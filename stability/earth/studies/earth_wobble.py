@@ -1,10 +1,10 @@
 """The Earth's free wobble study: a rigid Earth's rotation axis circles its figure axis.
 
 The Earth is built from published ratios (keys of the study file, sources in
-:mod:`stability.earth`), spun once a sidereal day with its rotation axis ``offset`` arcseconds
-from the figure axis; :func:`stability.wobble.measure_free_wobble` measures the period of the
-free (Euler) wobble and draws its cones. The Dataset's attributes carry the note that the
-observed Chandler period (about 433 d) is longer because the Earth is not rigid.
+:mod:`stability.earth.model`), spun once a sidereal day with its rotation axis ``offset``
+arcseconds from the figure axis; :func:`stability.earth.wobble.measure_free_wobble` measures the
+period of the free (Euler) wobble and draws its cones. The Dataset's attributes carry the note that
+the observed Chandler period (about 433 d) is longer because the Earth is not rigid.
 """
 
 from __future__ import annotations
@@ -13,27 +13,16 @@ import math
 import time
 from pathlib import Path
 
-from ..attitude import attitude_methods
-from ..core.body import RigidBody
-from ..earth import ARCSEC, earth_moments
-from ..ensemble import ensemble_memory
-from ..figures.earth import wobble_cones_figure
-from ..util.threads import numba_threads
+from ...attitude import attitude_methods
+from ...core.body import RigidBody
+from ..model import ARCSEC, earth_moments
+from ...ensemble import ensemble_memory
+from ..figures import wobble_cones_figure
+from ...util.threads import numba_threads
 from ..wobble import measure_free_wobble
-from .config import (
-    ConfigError,
-    Key,
-    Schema,
-    Section,
-    StudyKind,
-    StudySummary,
-    check_memory,
-    check_run,
-    output_files,
-    output_section,
-    run_section,
-    stored_run,
-    write_outputs,
+from ...study.config import (
+    ConfigError, Key, Schema, Section, StudyKind, StudySummary, check_memory, check_run,
+    output_files, output_section, run_section, stored_run, write_outputs,
 )
 
 NAME = "earth_wobble"

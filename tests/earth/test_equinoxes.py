@@ -9,17 +9,17 @@ import xarray as xr
 from scipy.integrate import solve_ivp
 from scipy.spatial.transform import Rotation
 
-from stability import equinoxes as eq
+from stability.earth import equinoxes as eq
 from stability.engine import propagate_groups
-from stability.figures.equinoxes import equinoxes_figure
-from stability.integrators.lunisolar import perturber
+from stability.earth.figures import equinoxes_figure
+from stability.earth.methods import perturber
 from stability.scenes import SCENES
-from stability.scenes.lunisolar_earth import figure_axes
+from stability.earth.scene import figure_axes
 from stability.study import run_study
 
-from .helpers import assert_cf_compliant, assert_declared, assert_readable
+from ..helpers import assert_cf_compliant, assert_declared, assert_readable
 
-ROOT = Path(__file__).resolve().parents[1]
+ROOT = Path(__file__).resolve().parents[2]
 FULL, AVERAGED = SCENES["lunisolar_earth"], SCENES["precessing_axis"]
 
 
@@ -168,7 +168,7 @@ def test_study_meets_the_published_values_and_the_formula(quick):
 
 
 def test_quick_mode_says_it_ran_no_full_turn_and_draws_no_empty_panel(quick):
-    from stability.figures.equinoxes import equinoxes_figure
+    from stability.earth.figures import equinoxes_figure
 
     summary, out = quick
     assert "nan" not in summary.table() and "cycle_years = 0" in summary.table()

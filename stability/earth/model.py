@@ -25,8 +25,8 @@ import math
 
 import numpy as np
 
-from .analytic import oscillation_frequency
-from .core.body import RigidBody
+from ..analytic import oscillation_frequency
+from ..core.body import RigidBody
 
 #: Published numbers (module docstring), SI units.
 MASS = 5.9722e24

@@ -1,11 +1,11 @@
 """The equinoxes study: the precession and nutation of a rigid Earth's axis under Sun and Moon.
 
-:func:`stability.equinoxes.measure_equinoxes` runs the full model (spin, attitude and the two
+:func:`stability.earth.equinoxes.measure_equinoxes` runs the full model (spin, attitude and the two
 prescribed orbits: scene ``lunisolar_earth``) for a century or more with the Sun alone, the Moon
 alone and both, an ensemble of orbital phases each, and the orbit-averaged model (scene
 ``precessing_axis``) beside it and over a full turn of the axis; the measured precession rate and
 nutation amplitudes are set beside the averaged formula and the published values. Outputs: the
-Dataset, one figure (:func:`stability.figures.equinoxes.equinoxes_figure`) and the configuration.
+Dataset, one figure (:func:`stability.earth.figures.equinoxes_figure`) and the configuration.
 """
 
 from __future__ import annotations
@@ -15,21 +15,12 @@ import time
 from pathlib import Path
 
 from ..equinoxes import measure_equinoxes
-from ..figures.equinoxes import equinoxes_figure
-from ..integrators.lunisolar import METHODS
-from ..util.threads import numba_threads
-from .config import (
-    Key,
-    Schema,
-    Section,
-    StudyKind,
-    StudySummary,
-    check_run,
-    output_files,
-    output_section,
-    run_keys,
-    stored_run,
-    write_outputs,
+from ..figures import equinoxes_figure
+from ..methods import METHODS
+from ...util.threads import numba_threads
+from ...study.config import (
+    Key, Schema, Section, StudyKind, StudySummary, check_run, output_files, output_section,
+    run_keys, stored_run, write_outputs,
 )
 
 NAME = "equinoxes"

@@ -4,7 +4,7 @@
 ``offset`` away from the figure axis in random directions (:func:`stability.run_ensemble`,
 summaries only) and measures the period of the rotation axis's circling of the figure axis in
 the body frame from the zero crossings of ``w1`` (:func:`stability.measured_frequency`); it sets
-it beside Euler's period (:func:`stability.earth.euler_period`). One member is also run with
+it beside Euler's period (:func:`stability.earth.model.euler_period`). One member is also run with
 its attitude (:func:`stability.integrate`) over one period, so that the rotation axis can be
 drawn in the body frame (the body cone about the figure axis) and in space (the space cone
 about the fixed angular momentum).
@@ -17,14 +17,14 @@ import math
 import numpy as np
 import xarray as xr
 
-from .util import conventions as cv
-from .attitude import quaternion_to_matrix
-from .earth import ARCSEC, CHANDLER_PERIOD_DAYS, DAY, euler_period, oblate_euler_period
-from .ensemble import completed, run_ensemble
-from .estimators import measured_frequency
-from .integrate import integrate
-from .scene_ensemble import default_chunk_members
-from .schema import EARTH_WOBBLE
+from ..util import conventions as cv
+from ..attitude import quaternion_to_matrix
+from .model import ARCSEC, CHANDLER_PERIOD_DAYS, DAY, euler_period, oblate_euler_period
+from ..ensemble import completed, run_ensemble
+from ..estimators import measured_frequency
+from ..integrate import integrate
+from ..scene_ensemble import default_chunk_members
+from ..schema import EARTH_WOBBLE
 
 #: Dimension of the cone member's samples.
 CONE_TIME = "cone_time"

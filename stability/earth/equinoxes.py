@@ -1,6 +1,6 @@
 """The precession of the equinoxes: a rigid, oblate Earth under the Sun's and the Moon's torques.
 
-The Earth (the moments of :mod:`stability.earth`, made oblate: A = B their mean) spins at the
+The Earth (the moments of :mod:`stability.earth.model`, made oblate: A = B their mean) spins at the
 IERS nominal rate W with its figure axis at the obliquity eps0 of J2000 from the ecliptic pole.
 The Sun (its apparent orbit) and the Moon move on Kepler ellipses with the mean elements of
 J2000 [Simon et al., A&A 282, 663 (1994); Meeus, *Astronomical Algorithms*, 2nd ed., ch. 22 and
@@ -18,7 +18,7 @@ They are set beside the averaged (gyroscopic) formula
     p_j = (3/2) H cos(eps0) / W  G M_j / (a_j^3 (1 - e_j^2)^(3/2))  f_j,
     f_sun = 1,  f_moon = 1 - (3/2) sin^2(i_moon)
 
-(:func:`precession_formula`; derived in :mod:`stability.integrators.lunisolar`; e.g. Lambeck,
+(:func:`precession_formula`; derived in :mod:`stability.earth.methods`; e.g. Lambeck,
 *The Earth's Variable Rotation* (1980), ch. 2) and the published values: the lunisolar precession
 50.385"/yr of IAU 2006 [Capitaine, Wallace & Chapront, A&A 412, 567 (2003)], and the IAU 1980
 nutation's 18.6-year terms 17.1996" and 9.2025" [Seidelmann, Celest. Mech. 27, 79 (1982)].
@@ -30,23 +30,12 @@ import math
 
 import numpy as np
 
-from .earth import ARCSEC, DAY, DYNAMICAL_ELLIPTICITY, EQUATORIAL_RADIUS, MASS, POLAR_MOMENT_FACTOR
-from .integrators.lunisolar import (
-    N_ORBIT,
-    O_E,
-    O_I,
-    O_K,
-    O_M0,
-    O_N,
-    O_NODE0,
-    O_NODEDOT,
-    O_W0,
-    O_WDOT,
-)
-from .scene_ensemble import GroupedRun, propagate_stored, sub_store
-from .scenes import SCENES
-from .scenes.lunisolar_earth import figure_axes
-from .schema import EQUINOXES
+from .model import ARCSEC, DAY, DYNAMICAL_ELLIPTICITY, EQUATORIAL_RADIUS, MASS, POLAR_MOMENT_FACTOR
+from .methods import N_ORBIT, O_E, O_I, O_K, O_M0, O_N, O_NODE0, O_NODEDOT, O_W0, O_WDOT
+from ..scene_ensemble import GroupedRun, propagate_stored, sub_store
+from ..scenes import SCENES
+from .scene import figure_axes
+from ..schema import EQUINOXES
 
 #: The Julian year (s) and century, the units of the rates.
 YEAR = 365.25 * DAY
@@ -107,7 +96,7 @@ def orbit_elements(body, *, mean_anomaly=None, node=None, strength=1.0) -> np.nd
     -------
     ndarray, shape (9,)
         ``(G M / a^3, e, n, M0, w0, w', i, node0, node')`` (indices ``O_K`` ... ``O_NODEDOT`` of
-        :mod:`stability.integrators.lunisolar`): ``G M / a^3`` in s-2, the eccentricity, the
+        :mod:`stability.earth.methods`): ``G M / a^3`` in s-2, the eccentricity, the
         mean motion of the mean anomaly, the mean anomaly and argument of perigee at the epoch
         and the perigee's rate, the inclination, the node at the epoch and its rate; angles in
         rad, rates in rad s-1.
@@ -147,13 +136,13 @@ def oblate_earth_moments(mass=MASS, radius=EQUATORIAL_RADIUS, polar_factor=POLAR
 
     Parameters
     ----------
-    mass : float, default :data:`~stability.earth.MASS`
+    mass : float, default :data:`~stability.earth.model.MASS`
         M, kg.
-    radius : float, default :data:`~stability.earth.EQUATORIAL_RADIUS`
+    radius : float, default :data:`~stability.earth.model.EQUATORIAL_RADIUS`
         Equatorial radius a, m.
-    polar_factor : float, default :data:`~stability.earth.POLAR_MOMENT_FACTOR`
+    polar_factor : float, default :data:`~stability.earth.model.POLAR_MOMENT_FACTOR`
         ``C / (M a^2)``.
-    ellipticity : float, default :data:`~stability.earth.DYNAMICAL_ELLIPTICITY`
+    ellipticity : float, default :data:`~stability.earth.model.DYNAMICAL_ELLIPTICITY`
         Dynamical ellipticity ``H = (C - A) / C``.
 
     Returns
@@ -191,7 +180,7 @@ def averaged_parameters(sun, moon, *, ellipticity=DYNAMICAL_ELLIPTICITY,
     ----------
     sun, moon : array_like, shape (9,)
         Elements of the Sun and the Moon (:func:`orbit_elements`).
-    ellipticity : float, default :data:`~stability.earth.DYNAMICAL_ELLIPTICITY`
+    ellipticity : float, default :data:`~stability.earth.model.DYNAMICAL_ELLIPTICITY`
         Dynamical ellipticity H.
     spin : float, default :data:`NOMINAL_SPIN`
         The Earth's spin W, rad s-1.
@@ -212,7 +201,7 @@ def precession_formula(body, *, ellipticity=DYNAMICAL_ELLIPTICITY, spin=NOMINAL_
     ----------
     body : {"sun", "moon"}
         The perturber; its J2000 elements (:func:`orbit_elements`) are used.
-    ellipticity : float, default :data:`~stability.earth.DYNAMICAL_ELLIPTICITY`
+    ellipticity : float, default :data:`~stability.earth.model.DYNAMICAL_ELLIPTICITY`
         Dynamical ellipticity H.
     spin : float, default :data:`NOMINAL_SPIN`
         The Earth's spin W, rad s-1.

@@ -6,15 +6,17 @@ from pathlib import Path
 import pytest
 import xarray as xr
 
-from stability.earth import (ARCSEC, DYNAMICAL_ELLIPTICITY, SIDEREAL_DAY, earth, earth_moments,
-                             euler_period, oblate_euler_period)
-from stability.figures.earth import wobble_cones_figure
+from stability.earth.model import (
+    ARCSEC, DYNAMICAL_ELLIPTICITY, SIDEREAL_DAY, earth, earth_moments, euler_period,
+    oblate_euler_period,
+)
+from stability.earth.figures import wobble_cones_figure
 from stability.study import run_study
-from stability.wobble import measure_free_wobble
+from stability.earth.wobble import measure_free_wobble
 
-from .helpers import assert_cf_compliant, assert_declared, assert_readable
+from ..helpers import assert_cf_compliant, assert_declared, assert_readable
 
-ROOT = Path(__file__).resolve().parents[1]
+ROOT = Path(__file__).resolve().parents[2]
 SPIN = 2.0 * math.pi / SIDEREAL_DAY
 
 

@@ -43,9 +43,9 @@ import numpy as np
 from numba import njit
 
 from ..core.trig import sin_cosm1
-from .composition import SUZUKI4, partitioned_coefficients
-from .rotations import exp_coefficients, quaternion_increment
-from .spec import MethodSpec
+from ..integrators.composition import SUZUKI4, partitioned_coefficients
+from ..integrators.rotations import exp_coefficients, quaternion_increment
+from ..integrators.spec import MethodSpec
 
 #: A perturber's elements, in this order, from its offset in the parameter array.
 (O_K, O_E, O_N, O_M0, O_W0, O_WDOT, O_I, O_NODE0, O_NODEDOT) = range(9)
@@ -149,7 +149,7 @@ def splitting_stage(m1, m2, m3, q0, q1, q2, q3, t, h, p, s):
 def sequence_params(gammas):
     """``params(earth, h)`` of the Strang step K D K composed with weights ``gammas``.
 
-    ``earth`` is the array of :func:`stability.equinoxes.earth_parameters` (A, C and the two
+    ``earth`` is the array of :func:`stability.earth.equinoxes.earth_parameters` (A, C and the two
     orbits); neighbouring kicks merge, so s Strang steps cost s drifts and s + 1 kicks.
     """
     a, b = partitioned_coefficients(gammas)

@@ -1,0 +1,38 @@
+"""The Earth as a rigid body: its free (Euler) wobble, and the precession and nutation of its
+axis under the Sun's and the Moon's torques (the precession of the equinoxes).
+
+The family's modules, each importing only downward:
+
+- :mod:`.methods`: the step kernels and their MethodSpecs (the Lie-Poisson splittings of the
+  torqued Earth, exact in each part, and RK4 of the orbit-averaged axis);
+- :mod:`.scene`: the scenes ``lunisolar_earth`` (angular momentum, attitude and time under the
+  Sun and the Moon on their Kepler orbits) and ``precessing_axis`` (the orbit-averaged figure
+  axis);
+- :mod:`.model`: the Earth from published moments, its spin, Euler's wobble period;
+- :mod:`.wobble`: the free wobble measured (an ensemble for the period, one member's cones);
+- :mod:`.equinoxes`: the Sun's and the Moon's orbits, the averaged precession formula, and the
+  precession and nutation measured from runs of both scenes;
+- :mod:`.studies`: the study kinds ``earth_wobble`` and ``equinoxes``;
+- :mod:`.figures`: their figures, drawn from the Datasets.
+
+It builds on the free body, as the design allows a family to build on another: the wobble is a
+free rigid body's, run by its ensembles (:mod:`stability.ensemble`, :mod:`stability.integrate`,
+:mod:`stability.attitude`) and measured by its estimators (:mod:`stability.estimators`), with
+Euler's period from :mod:`stability.analytic`. Besides, it uses the shared layers:
+:mod:`stability.core` (the rigid body, vectorizable trigonometry), :mod:`stability.util`
+(conventions, threads), :mod:`stability.integrators` (the composition coefficients, rotations,
+MethodSpec), :mod:`stability.scenes` (the scene contract), the scene-generic ensembles
+(:mod:`stability.scene_ensemble`), the Dataset register (:mod:`stability.schema`),
+:mod:`stability.study` (the study framework) and :mod:`stability.plotting`.
+
+This package's ``__init__`` imports nothing of the family, so that the scene registry
+(:mod:`stability.scenes`) can import :mod:`.scene` without the rest. ``stability.earth`` was the
+module that is now :mod:`.model`: its names (``stability.earth.earth_moments``, ...) still
+import from here, with a warning, for one release (:data:`stability.moved.MOVED_INTO`).
+"""
+
+from ..moved import old_name
+
+
+def __getattr__(name):
+    return old_name(__name__, name)
