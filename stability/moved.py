@@ -6,6 +6,10 @@ problem family. Code written against an old path still runs: ``import stability.
 gives :mod:`stability.core.body` itself and warns once with a :class:`FutureWarning` that names
 the new path. :data:`MOVED` is the table; :func:`install` puts its finder on ``sys.meta_path``
 (``stability/__init__`` does).
+
+A module whose path became a family's package (``stability.struck`` is now the struck bat's
+package, its functions in ``stability.struck.model``) keeps serving its old names instead:
+:data:`OLD_NAMES` is that table, and :func:`old_names` the package's ``__getattr__``.
 """
 
 from __future__ import annotations
@@ -46,6 +50,19 @@ MOVED = {
     "stability.study.gyroscope": "stability.heavy_top.studies.gyroscope",
     "stability.study.sleeping_top": "stability.heavy_top.studies.sleeping_top",
     "stability.figures.top": "stability.heavy_top.figures",
+    "stability.scenes.struck_body": "stability.struck.scene",
+    "stability.integrators.struck": "stability.struck.methods",
+    "stability.study.bat": "stability.struck.studies.bat",
+}
+
+#: Old module path that is now a package (or a module that kept only its old names) -> each
+#: public name the old module held -> the module that holds it now.
+OLD_NAMES = {
+    "stability.struck": dict.fromkeys((
+        "INCH", "BAT_PROFILE", "HOLD", "PIVOT", "STRIKE", "StruckBody", "baseball_bat",
+        "tennis_racket", "BODIES", "check_pivot", "centre_of_percussion", "reaction_impulse",
+        "hand_velocity", "measure_strikes"), "stability.struck.model"),
+    "stability.figures.impacts": {"bat_figure": "stability.struck.figures"},
 }
 
 
@@ -82,6 +99,22 @@ def old_attribute(name: str):
     if old not in MOVED:
         raise AttributeError(f"module 'stability' has no attribute {name!r}")
     return importlib.import_module(old)
+
+
+def old_names(old: str):
+    """The ``__getattr__`` of the module at the old path ``old`` (a key of :data:`OLD_NAMES`):
+    each old name from the module that now holds it, imported on first use, with a warning;
+    AttributeError for any other name (so that ``from old import submodule`` still imports)."""
+    where = OLD_NAMES[old]
+
+    def __getattr__(name):
+        if name not in where:
+            raise AttributeError(f"module {old!r} has no attribute {name!r}")
+        warnings.warn(f"{old}.{name} moved to {where[name]}.{name}; the old path goes in the "
+                      "next release", FutureWarning, stacklevel=2)
+        return getattr(importlib.import_module(where[name]), name)
+
+    return __getattr__
 
 
 def install() -> None:

@@ -762,12 +762,12 @@ SLEEPING_TOP = _schema(
         "spin": _coord("spin", _RAD_S, "spin about the symmetry axis"),
     })
 
-# The struck bat (stability.struck.measure_strikes) --------------------------------------------
+# The struck bat (stability.struck.model.measure_strikes) --------------------------------------
 
 _HPS = ("hold", "pivot", "strike")
 BAT = _schema(
     "bat", "the centre of percussion of a struck bat or racket, held at the hands or free, "
-    "from the runs and by the formulas", "stability.struck.measure_strikes", {
+    "from the runs and by the formulas", "stability.struck.model.measure_strikes", {
         "angular_velocity": _var(_HPS, _RAD_S, "angular velocity just after the contact"),
         "cm_velocity_across": _var(_HPS, _M_S, "velocity of the centre of mass across the "
                                    "body, just after the contact"),

@@ -7,7 +7,7 @@ import sys
 import pytest
 
 import stability
-from stability.moved import MOVED
+from stability.moved import MOVED, OLD_NAMES
 
 
 @pytest.mark.parametrize("old", sorted(MOVED))
@@ -33,6 +33,31 @@ def test_old_paths_work_in_a_fresh_process_as_users_wrote_them():
     assert run.returncode == 0, run.stderr
     for old in ("stability.body", "stability.conventions", "stability.elliptic"):
         assert f"FutureWarning: {old} moved to {MOVED[old]}" in run.stderr
+
+
+@pytest.mark.parametrize("old, name", sorted((old, name) for old in OLD_NAMES
+                                             for name in OLD_NAMES[old]))
+def test_an_old_modules_name_is_its_new_modules_and_warns(old, name):
+    """A module whose path is now a family's package (``stability.struck``) still serves the
+    names it held, each from the module that holds it now."""
+    new = importlib.import_module(OLD_NAMES[old][name])
+    module = importlib.import_module(old)
+    with pytest.warns(FutureWarning, match=f"{old}.{name} moved to {OLD_NAMES[old][name]}"):
+        value = getattr(module, name)
+    assert value is getattr(new, name)
+    with pytest.raises(AttributeError, match="has no attribute 'no_such_name'"):
+        module.no_such_name  # noqa: B018
+
+
+def test_old_names_work_in_a_fresh_process_as_users_wrote_them():
+    code = ("import warnings; warnings.simplefilter('always')\n"
+            "from stability.struck import baseball_bat\n"
+            "import stability.struck.model as model\n"
+            "assert baseball_bat is model.baseball_bat\n")
+    run = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True)
+    assert run.returncode == 0, run.stderr
+    assert ("FutureWarning: stability.struck.baseball_bat moved to "
+            "stability.struck.model.baseball_bat") in run.stderr
 
 
 def test_a_name_that_never_was_a_module_is_an_attribute_error():

@@ -12,7 +12,7 @@ from ..heavy_top.scene import HEAVY_TOP
 from .lunisolar_earth import LUNISOLAR_EARTH
 from .precessing_axis import PRECESSING_AXIS
 from .rolling_body import ROLLING_BODY
-from .struck_body import STRUCK_BODY
+from ..struck.scene import STRUCK_BODY
 from .spec import Scene
 
 _ALL = (FREE_BODY, FREE_BODY_ATTITUDE, HEAVY_TOP, LUNISOLAR_EARTH, PRECESSING_AXIS,

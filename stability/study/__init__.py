@@ -24,8 +24,9 @@ from pathlib import Path
 
 from ..dissipation import studies as dissipation
 from ..output.stream import RunInterrupted
+from ..struck.studies import bat
 from . import (
-    bat, earth_wobble, engine_artefacts, equinoxes, rolling, stability_map, tennis_racket,
+    earth_wobble, engine_artefacts, equinoxes, rolling, stability_map, tennis_racket,
     twisting_racket, work_precision,
 )
 from ..heavy_top.studies import gyroscope, sleeping_top
