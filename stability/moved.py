@@ -53,6 +53,9 @@ MOVED = {
     "stability.scenes.struck_body": "stability.struck.scene",
     "stability.integrators.struck": "stability.struck.methods",
     "stability.study.bat": "stability.struck.studies.bat",
+    "stability.scenes.rolling_body": "stability.rolling.scene",
+    "stability.integrators.rolling": "stability.rolling.methods",
+    "stability.study.rolling": "stability.rolling.studies.rolling",
 }
 
 #: Old module path that is now a package (or a module that kept only its old names) -> each
@@ -62,7 +65,13 @@ OLD_NAMES = {
         "INCH", "BAT_PROFILE", "HOLD", "PIVOT", "STRIKE", "StruckBody", "baseball_bat",
         "tennis_racket", "BODIES", "check_pivot", "centre_of_percussion", "reaction_impulse",
         "hand_velocity", "measure_strikes"), "stability.struck.model"),
-    "stability.figures.impacts": {"bat_figure": "stability.struck.figures"},
+    "stability.rolling": dict.fromkeys((
+        "SHAPES", "G", "rolls", "rolling_acceleration", "slipping_acceleration",
+        "slipping_spin_rate", "launch_formulas", "start_states", "measure_incline",
+        "measure_launches"), "stability.rolling.model"),
+    "stability.figures.impacts": {"bat_figure": "stability.struck.figures",
+                                  "rolling_map_figure": "stability.rolling.figures",
+                                  "rolling_launch_figure": "stability.rolling.figures"},
 }
 
 

@@ -799,14 +799,15 @@ BAT = _schema(
         "edge": _coord("edge", _ONE, "edge of the sweet zone", kind="U"),
     })
 
-# Rolling and slipping (stability.rolling.measure_incline and measure_launches) ----------------
+# Rolling and slipping (stability.rolling.model.measure_incline and measure_launches) ----------
 
 _CELL = ("shape", "angle", "mu_s")
 _SAMR = _CELL + ("replica",)
 ROLLING = _schema(
     "rolling", "balls, cylinders and hoops on inclines (roll or slip, per shape, angle, "
     "friction and replica) and launched along a floor (per member), from the runs and by the "
-    "formulas", ("stability.rolling.measure_incline", "stability.rolling.measure_launches"), {
+    "formulas", ("stability.rolling.model.measure_incline",
+                 "stability.rolling.model.measure_launches"), {
         "slipped": _var(_SAMR, _ONE, "slipped (friction did work) in the run", kind="i"),
         "rolls_formula": _var(_SAMR, _ONE, "rolls: tan(theta) <= mu_s (1 + M R^2 / I), own mu_s "
                               "and k", kind="i"),

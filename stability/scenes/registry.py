@@ -11,7 +11,7 @@ from .free_body_attitude import FREE_BODY_ATTITUDE
 from ..heavy_top.scene import HEAVY_TOP
 from .lunisolar_earth import LUNISOLAR_EARTH
 from .precessing_axis import PRECESSING_AXIS
-from .rolling_body import ROLLING_BODY
+from ..rolling.scene import ROLLING_BODY
 from ..struck.scene import STRUCK_BODY
 from .spec import Scene
 
