@@ -56,6 +56,11 @@ MOVED = {
     "stability.scenes.rolling_body": "stability.rolling.scene",
     "stability.integrators.rolling": "stability.rolling.methods",
     "stability.study.rolling": "stability.rolling.studies.rolling",
+    "stability.artefacts": "stability.engine_body.measure",
+    "stability.scenes.engine_body": "stability.engine_body.scene",
+    "stability.integrators.engine_rules": "stability.engine_body.methods",
+    "stability.study.engine_artefacts": "stability.engine_body.studies.engine_artefacts",
+    "stability.figures.artefacts": "stability.engine_body.figures",
 }
 
 #: Old module path that is now a package (or a module that kept only its old names) -> each

@@ -490,14 +490,14 @@ STABILITY_MAP = _schema(
         _EDGE_TIME: _coord(_EDGE_TIME, _S, "time since the start"),
     })
 
-# The engine's artefacts (stability.artefacts) -------------------------------------------------
+# The engine's artefacts (stability.engine_body.measure) ---------------------------------------
 
 _RULE_STEP = ("rule", "step")
 _SEARCHED = ("searched at h / 2^(k/2) from the largest step; NaN: not reached down to the "
              "search's smallest step")
 ENGINE_ARTEFACTS = _schema(
     "engine_artefacts", "what each update rule or method does to the tennis racket's flips, "
-    "growth and invariants, per step", "stability.artefacts.measure_artefacts", {
+    "growth and invariants, per step", "stability.engine_body.measure.measure_artefacts", {
         "fraction_flipping": _var(_RULE_STEP, _ONE, "fraction of members that flip at least "
                                   "once"),
         "flip_interval": _var(_RULE_STEP, _S, "median flip interval"),

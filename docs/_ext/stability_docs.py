@@ -203,7 +203,7 @@ API_MODULES = (
     ("Measures and estimators", ("estimators", "geometric_phase", "periodic", "core.roots",
                                  "drift", "reference")),
     ("Scenes, integrators and the engine", ("scenes", "integrators", "engine")),
-    ("Studies' library functions", ("twisting", "artefacts", "struck.model", "rolling.model",
+    ("Studies' library functions", ("twisting", "engine_body.measure", "struck.model", "rolling.model",
                                      "heavy_top.measure", "wobble", "equinoxes", "earth",
                                      "stabilitymap", "workprecision", "sweeps", "shapes",
                                      "flipsweep", "polhodes")),

@@ -5,7 +5,7 @@ registered one: the package's ``__init__`` re-exports both.
 """
 
 from ..dissipation.scene import SPHERE_DAMPER, WHIP_DAMPER
-from .engine_body import ENGINE_BODY
+from ..engine_body.scene import ENGINE_BODY
 from .free_body import FREE_BODY
 from .free_body_attitude import FREE_BODY_ATTITUDE
 from ..heavy_top.scene import HEAVY_TOP

@@ -26,9 +26,9 @@ from ..dissipation import studies as dissipation
 from ..output.stream import RunInterrupted
 from ..struck.studies import bat
 from . import (
-    earth_wobble, engine_artefacts, equinoxes, stability_map, tennis_racket, twisting_racket,
-    work_precision,
+    earth_wobble, equinoxes, stability_map, tennis_racket, twisting_racket, work_precision,
 )
+from ..engine_body.studies import engine_artefacts
 from ..rolling.studies import rolling
 from ..heavy_top.studies import gyroscope, sleeping_top
 from .config import (
