@@ -23,14 +23,14 @@ import stat
 from pathlib import Path
 
 from ..dissipation import studies as dissipation
+from ..engine_body.studies import engine_artefacts
+from ..heavy_top.studies import gyroscope, sleeping_top
 from ..output.stream import RunInterrupted
+from ..rolling.studies import rolling
 from ..struck.studies import bat
 from . import (
     earth_wobble, equinoxes, stability_map, tennis_racket, twisting_racket, work_precision,
 )
-from ..engine_body.studies import engine_artefacts
-from ..rolling.studies import rolling
-from ..heavy_top.studies import gyroscope, sleeping_top
 from .config import (
     REQUIRED,
     STUDY_KEY,
