@@ -117,8 +117,9 @@ def old_attribute(name: str):
 
 def old_names(old: str):
     """The ``__getattr__`` of the module at the old path ``old`` (a key of :data:`OLD_NAMES`):
-    each old name from the module that now holds it, imported on first use, with a warning;
-    AttributeError for any other name (so that ``from old import submodule`` still imports)."""
+    each old name from the module that now holds it, imported on first use, with a warning,
+    then kept in ``old`` (``from old import name`` asks twice: it warns once); AttributeError for
+    any other name (so that ``from old import submodule`` still imports)."""
     where = OLD_NAMES[old]
 
     def __getattr__(name):
@@ -126,7 +127,9 @@ def old_names(old: str):
             raise AttributeError(f"module {old!r} has no attribute {name!r}")
         warnings.warn(f"{old}.{name} moved to {where[name]}.{name}; the old path goes in the "
                       "next release", FutureWarning, stacklevel=2)
-        return getattr(importlib.import_module(where[name]), name)
+        value = getattr(importlib.import_module(where[name]), name)
+        setattr(sys.modules[old], name, value)
+        return value
 
     return __getattr__
 
