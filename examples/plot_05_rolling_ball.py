@@ -11,7 +11,7 @@ step) against the formulas.
 import matplotlib.pyplot as plt
 import numpy as np
 
-from stability.rolling import launch_formulas, measure_launches
+from stability.rolling.model import launch_formulas, measure_launches
 
 ds = measure_launches(radius=0.0286, mass=0.17, k=0.4, mu_k=0.2, speeds=(0.5, 4.0),
                       spin_ratios=(-1.5, 2.5), members=200, progress=False)

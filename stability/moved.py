@@ -6,6 +6,10 @@ problem family. Code written against an old path still runs: ``import stability.
 gives :mod:`stability.core.body` itself and warns once with a :class:`FutureWarning` that names
 the new path. :data:`MOVED` is the table; :func:`install` puts its finder on ``sys.meta_path``
 (``stability/__init__`` does).
+
+A module whose path became a family's package (``stability.struck`` is now the struck bat's
+package, its functions in ``stability.struck.model``) keeps serving its old names instead:
+:data:`OLD_NAMES` is that table, and :func:`old_names` the package's ``__getattr__``.
 """
 
 from __future__ import annotations
@@ -55,14 +59,38 @@ MOVED = {
     "stability.study.equinoxes": "stability.earth.studies.equinoxes",
     "stability.figures.earth": "stability.earth.figures",
     "stability.figures.equinoxes": "stability.earth.figures",
+    "stability.scenes.struck_body": "stability.struck.scene",
+    "stability.integrators.struck": "stability.struck.methods",
+    "stability.study.bat": "stability.struck.studies.bat",
+    "stability.scenes.rolling_body": "stability.rolling.scene",
+    "stability.integrators.rolling": "stability.rolling.methods",
+    "stability.study.rolling": "stability.rolling.studies.rolling",
+    "stability.artefacts": "stability.engine_body.measure",
+    "stability.scenes.engine_body": "stability.engine_body.scene",
+    "stability.integrators.engine_rules": "stability.engine_body.methods",
+    "stability.study.engine_artefacts": "stability.engine_body.studies.engine_artefacts",
+    "stability.figures.artefacts": "stability.engine_body.figures",
 }
 
-#: Old modules whose path is now their family's package, -> the module their names went to.
-#: The path still imports (it is the package), so the finder cannot serve it; the package's
-#: ``__getattr__`` gives the old names instead (:func:`old_name`): ``from stability.earth
-#: import earth_moments`` is :func:`stability.earth.model.earth_moments`, with a warning.
-MOVED_INTO = {
-    "stability.earth": "stability.earth.model",
+#: Old module path that is now a package (or a module that kept only its old names) -> each
+#: public name the old module held -> the module that holds it now.
+OLD_NAMES = {
+    "stability.earth": dict.fromkeys((
+        "earth_moments", "earth", "euler_period", "oblate_euler_period", "MASS",
+        "EQUATORIAL_RADIUS", "POLAR_MOMENT_FACTOR", "DYNAMICAL_ELLIPTICITY",
+        "EQUATORIAL_ASYMMETRY", "SIDEREAL_DAY", "CHANDLER_PERIOD_DAYS", "DAY", "ARCSEC"),
+        "stability.earth.model"),
+    "stability.struck": dict.fromkeys((
+        "INCH", "BAT_PROFILE", "HOLD", "PIVOT", "STRIKE", "StruckBody", "baseball_bat",
+        "tennis_racket", "BODIES", "check_pivot", "centre_of_percussion", "reaction_impulse",
+        "hand_velocity", "measure_strikes"), "stability.struck.model"),
+    "stability.rolling": dict.fromkeys((
+        "SHAPES", "G", "rolls", "rolling_acceleration", "slipping_acceleration",
+        "slipping_spin_rate", "launch_formulas", "start_states", "measure_incline",
+        "measure_launches"), "stability.rolling.model"),
+    "stability.figures.impacts": {"bat_figure": "stability.struck.figures",
+                                  "rolling_map_figure": "stability.rolling.figures",
+                                  "rolling_launch_figure": "stability.rolling.figures"},
 }
 
 
@@ -101,18 +129,23 @@ def old_attribute(name: str):
     return importlib.import_module(old)
 
 
-def old_name(package: str, name: str):
-    """``package.<name>`` for a name of the module that ``package`` was (the package's
-    ``__getattr__``; :data:`MOVED_INTO`), imported from where it went, with a warning;
-    AttributeError for any other name."""
-    new = MOVED_INTO[package]
-    if not name.startswith("_"):
-        module = importlib.import_module(new)
-        if hasattr(module, name):
-            warnings.warn(f"{package}.{name} moved to {new}.{name}; the old path goes in the "
-                          "next release", FutureWarning, stacklevel=3)
-            return getattr(module, name)
-    raise AttributeError(f"module {package!r} has no attribute {name!r}")
+def old_names(old: str):
+    """The ``__getattr__`` of the module at the old path ``old`` (a key of :data:`OLD_NAMES`):
+    each old name from the module that now holds it, imported on first use, with a warning,
+    then kept in ``old`` (``from old import name`` asks twice: it warns once); AttributeError for
+    any other name (so that ``from old import submodule`` still imports)."""
+    where = OLD_NAMES[old]
+
+    def __getattr__(name):
+        if name not in where:
+            raise AttributeError(f"module {old!r} has no attribute {name!r}")
+        warnings.warn(f"{old}.{name} moved to {where[name]}.{name}; the old path goes in the "
+                      "next release", FutureWarning, stacklevel=2)
+        value = getattr(importlib.import_module(where[name]), name)
+        setattr(sys.modules[old], name, value)
+        return value
+
+    return __getattr__
 
 
 def install() -> None:

@@ -490,14 +490,14 @@ STABILITY_MAP = _schema(
         _EDGE_TIME: _coord(_EDGE_TIME, _S, "time since the start"),
     })
 
-# The engine's artefacts (stability.artefacts) -------------------------------------------------
+# The engine's artefacts (stability.engine_body.measure) ---------------------------------------
 
 _RULE_STEP = ("rule", "step")
 _SEARCHED = ("searched at h / 2^(k/2) from the largest step; NaN: not reached down to the "
              "search's smallest step")
 ENGINE_ARTEFACTS = _schema(
     "engine_artefacts", "what each update rule or method does to the tennis racket's flips, "
-    "growth and invariants, per step", "stability.artefacts.measure_artefacts", {
+    "growth and invariants, per step", "stability.engine_body.measure.measure_artefacts", {
         "fraction_flipping": _var(_RULE_STEP, _ONE, "fraction of members that flip at least "
                                   "once"),
         "flip_interval": _var(_RULE_STEP, _S, "median flip interval"),
@@ -762,12 +762,12 @@ SLEEPING_TOP = _schema(
         "spin": _coord("spin", _RAD_S, "spin about the symmetry axis"),
     })
 
-# The struck bat (stability.struck.measure_strikes) --------------------------------------------
+# The struck bat (stability.struck.model.measure_strikes) --------------------------------------
 
 _HPS = ("hold", "pivot", "strike")
 BAT = _schema(
     "bat", "the centre of percussion of a struck bat or racket, held at the hands or free, "
-    "from the runs and by the formulas", "stability.struck.measure_strikes", {
+    "from the runs and by the formulas", "stability.struck.model.measure_strikes", {
         "angular_velocity": _var(_HPS, _RAD_S, "angular velocity just after the contact"),
         "cm_velocity_across": _var(_HPS, _M_S, "velocity of the centre of mass across the "
                                    "body, just after the contact"),
@@ -799,14 +799,15 @@ BAT = _schema(
         "edge": _coord("edge", _ONE, "edge of the sweet zone", kind="U"),
     })
 
-# Rolling and slipping (stability.rolling.measure_incline and measure_launches) ----------------
+# Rolling and slipping (stability.rolling.model.measure_incline and measure_launches) ----------
 
 _CELL = ("shape", "angle", "mu_s")
 _SAMR = _CELL + ("replica",)
 ROLLING = _schema(
     "rolling", "balls, cylinders and hoops on inclines (roll or slip, per shape, angle, "
     "friction and replica) and launched along a floor (per member), from the runs and by the "
-    "formulas", ("stability.rolling.measure_incline", "stability.rolling.measure_launches"), {
+    "formulas", ("stability.rolling.model.measure_incline",
+                 "stability.rolling.model.measure_launches"), {
         "slipped": _var(_SAMR, _ONE, "slipped (friction did work) in the run", kind="i"),
         "rolls_formula": _var(_SAMR, _ONE, "rolls: tan(theta) <= mu_s (1 + M R^2 / I), own mu_s "
                               "and k", kind="i"),

@@ -203,10 +203,11 @@ API_MODULES = (
     ("Measures and estimators", ("estimators", "geometric_phase", "periodic", "core.roots",
                                  "drift", "reference")),
     ("Scenes, integrators and the engine", ("scenes", "integrators", "engine")),
-    ("Studies' library functions", ("twisting", "artefacts", "struck", "rolling",
-                                     "heavy_top.measure", "earth.wobble", "earth.equinoxes",
-                                     "earth.model", "stabilitymap", "workprecision", "sweeps",
-                                     "shapes", "flipsweep", "polhodes")),
+    ("Studies' library functions", ("twisting", "engine_body.measure", "struck.model",
+                                     "rolling.model", "heavy_top.measure", "earth.wobble",
+                                     "earth.equinoxes", "earth.model", "stabilitymap",
+                                     "workprecision", "sweeps", "shapes", "flipsweep",
+                                     "polhodes")),
     ("Figures and animations", ("animation", "figures.animation", "figures.poinsot")),
 )
 

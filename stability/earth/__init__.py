@@ -28,11 +28,9 @@ MethodSpec), :mod:`stability.scenes` (the scene contract), the scene-generic ens
 This package's ``__init__`` imports nothing of the family, so that the scene registry
 (:mod:`stability.scenes`) can import :mod:`.scene` without the rest. ``stability.earth`` was the
 module that is now :mod:`.model`: its names (``stability.earth.earth_moments``, ...) still
-import from here, with a warning, for one release (:data:`stability.moved.MOVED_INTO`).
+import from here, with a warning, for one release (:func:`stability.moved.old_names`).
 """
 
-from ..moved import old_name
+from ..moved import old_names
 
-
-def __getattr__(name):
-    return old_name(__name__, name)
+__getattr__ = old_names(__name__)

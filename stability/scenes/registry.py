@@ -5,13 +5,13 @@ registered one: the package's ``__init__`` re-exports both.
 """
 
 from ..dissipation.scene import GYROSTAT, SPHERE_DAMPER, WHIP_DAMPER
-from .engine_body import ENGINE_BODY
+from ..earth.scene import LUNISOLAR_EARTH, PRECESSING_AXIS
+from ..engine_body.scene import ENGINE_BODY
+from ..heavy_top.scene import HEAVY_TOP
+from ..rolling.scene import ROLLING_BODY
+from ..struck.scene import STRUCK_BODY
 from .free_body import FREE_BODY
 from .free_body_attitude import FREE_BODY_ATTITUDE
-from ..heavy_top.scene import HEAVY_TOP
-from ..earth.scene import LUNISOLAR_EARTH, PRECESSING_AXIS
-from .rolling_body import ROLLING_BODY
-from .struck_body import STRUCK_BODY
 from .spec import Scene
 
 _ALL = (FREE_BODY, FREE_BODY_ATTITUDE, HEAVY_TOP, LUNISOLAR_EARTH, PRECESSING_AXIS,

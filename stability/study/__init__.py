@@ -23,12 +23,13 @@ import stat
 from pathlib import Path
 
 from ..dissipation import studies as dissipation
-from ..output.stream import RunInterrupted
-from . import (
-    bat, engine_artefacts, rolling, stability_map, tennis_racket, twisting_racket, work_precision,
-)
 from ..earth.studies import earth_wobble, equinoxes
+from ..engine_body.studies import engine_artefacts
 from ..heavy_top.studies import gyroscope, sleeping_top
+from ..output.stream import RunInterrupted
+from ..rolling.studies import rolling
+from ..struck.studies import bat
+from . import stability_map, tennis_racket, twisting_racket, work_precision
 from .config import (
     REQUIRED,
     STUDY_KEY,

@@ -7,14 +7,16 @@ import numpy as np
 import pytest
 
 from stability.engine import propagate_groups
-from stability.integrators.rolling import (HEAT, MODE, SWITCHES, T_ROLL, V, W, X, X_ROLL,
-                                           track_row)
-from stability.rolling import (G, SHAPES, launch_formulas, measure_incline, measure_launches,
-                               rolling_acceleration, rolls, slipping_acceleration,
-                               slipping_spin_rate, start_states)
+from stability.rolling.methods import (
+    HEAT, MODE, SWITCHES, T_ROLL, V, W, X, X_ROLL, track_row,
+)
+from stability.rolling.model import (
+    G, SHAPES, launch_formulas, measure_incline, measure_launches, rolling_acceleration, rolls,
+    slipping_acceleration, slipping_spin_rate, start_states,
+)
 from stability.scenes import SCENES
 
-from .helpers import assert_cf_compliant, assert_declared, assert_readable
+from ..helpers import assert_cf_compliant, assert_declared, assert_readable
 
 SCENE = SCENES["rolling_body"]
 
@@ -141,10 +143,10 @@ def test_a_track_must_be_described_in_order():
 
 def test_rolling_study_meets_its_claim_with_units_everywhere(tmp_path):
     import stability
-    from stability.figures.impacts import rolling_launch_figure, rolling_map_figure
+    from stability.rolling.figures import rolling_launch_figure, rolling_map_figure
     from stability.study import run_study
 
-    root = Path(__file__).resolve().parents[1]
+    root = Path(__file__).resolve().parents[2]
     summary = run_study(root / "studies" / "rolling.toml", tmp_path, quick=True,
                         progress=False, overrides=[("output.formats", "['png']")])
     v = summary.values

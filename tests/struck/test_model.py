@@ -7,12 +7,14 @@ import pytest
 
 from stability.core.body import Part
 from stability.engine import propagate_groups
-from stability.integrators.struck import J_ACROSS, X, held_exact, strike_params
 from stability.scenes import SCENES
-from stability.struck import (INCH, baseball_bat, centre_of_percussion, hand_velocity,
-                              measure_strikes, reaction_impulse, tennis_racket)
+from stability.struck.methods import J_ACROSS, X, held_exact, strike_params
+from stability.struck.model import (
+    INCH, baseball_bat, centre_of_percussion, hand_velocity, measure_strikes, reaction_impulse,
+    tennis_racket,
+)
 
-from .helpers import assert_cf_compliant, assert_declared, assert_readable
+from ..helpers import assert_cf_compliant, assert_declared, assert_readable
 
 SCENE = SCENES["struck_body"]
 BAT = baseball_bat()
@@ -119,10 +121,10 @@ def test_bad_strikes_are_refused():
 def test_bat_study_meets_its_claim_with_units_everywhere(tmp_path):
     import xarray as xr
 
-    from stability.figures.impacts import bat_figure
+    from stability.struck.figures import bat_figure
     from stability.study import run_study
 
-    root = Path(__file__).resolve().parents[1]
+    root = Path(__file__).resolve().parents[2]
     summary = run_study(root / "studies" / "bat.toml", tmp_path, quick=True, progress=False,
                         overrides=[("output.formats", "['png']")])
     v = summary.values

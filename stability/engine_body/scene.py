@@ -3,21 +3,21 @@
 The state is ``(omega_w1, omega_w2, omega_w3, q0, q1, q2, q3)``: the angular velocity in the
 space frame and the body-to-space quaternion q (scalar first), in the canonical body frame
 (``I1 <= I2 <= I3``); parameters :func:`~stability.integrators.spec.body_params`. The methods
-are the engines' update rules (:mod:`stability.integrators.engine_rules`), not the package's
+are the engines' update rules (:mod:`stability.engine_body.methods`), not the package's
 integrators. The loop tracks the body angular velocity ``w = R(q)^T omega_w``. Invariants: the
 energy ``w . I w / 2``, ``|I w| = |L|`` and ``|q| = 1``. Conversions from and to the body-frame
-``(m, q)``: :func:`~stability.integrators.engine_rules.world_state` and ``body_state``.
+``(m, q)``: :func:`~stability.engine_body.methods.world_state` and ``body_state``.
 """
 
 import numpy as np
 from numba import njit
 
 from ..util import conventions as cv
-from ..integrators.engine_rules import ENGINE_RULES, rotate, rotate3, world_state
-from .free_body import component
-from .free_body_attitude import example as example_mq
-from .free_body_attitude import quaternion_norm
-from .spec import Scene
+from ..scenes.free_body import component
+from ..scenes.free_body_attitude import example as example_mq
+from ..scenes.free_body_attitude import quaternion_norm
+from ..scenes.spec import Scene
+from .methods import ENGINE_RULES, rotate, rotate3, world_state
 
 
 @njit(inline="always")

@@ -26,13 +26,13 @@ from dataclasses import dataclass, field
 import numpy as np
 import xarray as xr
 
-from .core.body import PRESETS, Part, RigidBody
-from .estimators import zero_crossings
-from .integrators.struck import J_ACROSS, J_ALONG, PHI, VX, VY, W, X, strike_params
-from .scene_ensemble import GroupedRun, propagate_stored
-from .scenes import SCENES
-from .schema import BAT
-from .util.checks import positive_float, real_number
+from ..core.body import PRESETS, Part, RigidBody
+from ..estimators import zero_crossings
+from .methods import J_ACROSS, J_ALONG, PHI, VX, VY, W, X, strike_params
+from ..scene_ensemble import GroupedRun, propagate_stored
+from ..scenes import SCENES
+from ..schema import BAT
+from ..util.checks import positive_float, real_number
 
 INCH = 0.0254
 #: A 33-inch wooden baseball bat, stations (distance from the knob end, radius) in inches; two

@@ -32,9 +32,10 @@ import math
 import numpy as np
 from numba import njit
 
-from .rotations import rotate_increment, solve3
-from .spec import P_A1, P_A2, P_A3, P_I1, P_I2, P_I3, P_INV1, P_INV2, P_INV3, MethodSpec
-from .spec import body_params
+from ..integrators.rotations import rotate_increment, solve3
+from ..integrators.spec import (
+    P_A1, P_A2, P_A3, P_I1, P_I2, P_I3, P_INV1, P_INV2, P_INV3, MethodSpec, body_params,
+)
 
 
 @njit(inline="always")

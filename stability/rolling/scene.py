@@ -5,17 +5,18 @@ track, the speed of the centre, the spin (positive rolling forward), the time, t
 rolling, +1 or -1 slipping with the contact point moving forward or back), the switches of
 regime so far, the time and place the body last started to roll (the start's own if it has not
 switched), and the work done by kinetic friction. Parameters per group:
-:func:`stability.integrators.rolling.track_row`. Equations, events and the exact step:
-:mod:`stability.integrators.rolling`. Invariant: the energy with the friction's work added back.
+:func:`stability.rolling.methods.track_row`. Equations, events and the exact step:
+:mod:`stability.rolling.methods`. Invariant: the energy with the friction's work added back.
 """
 
 import numpy as np
 from numba import njit
 
 from ..util import conventions as cv
-from ..integrators.rolling import (HEAT, MAX_SECTIONS, METHODS, P_G, P_K, P_MASS, P_R,
-                                   P_SECTIONS, P_TRACK, V, W, X, track_row)
-from .spec import Scene
+from .methods import (
+    HEAT, MAX_SECTIONS, METHODS, P_G, P_K, P_MASS, P_R, P_SECTIONS, P_TRACK, V, W, X, track_row,
+)
+from ..scenes.spec import Scene
 
 
 @njit(inline="always")

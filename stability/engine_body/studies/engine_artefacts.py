@@ -1,11 +1,11 @@
 """The engine-artefacts study: the tennis-racket ensemble stepped with physics engines' update rules.
 
-The ensemble of :mod:`.tennis_racket` (a racket tossed about its middle axis, nudged by epsilon
-of the spin) is run with each engine rule (explicit, semi-implicit and implicit Euler, |L| or
-energy rescaled, no gyroscopic term) and, beside them, with the package's integrators, at the
-frame rates engines use; :func:`stability.artefacts.measure_artefacts` measures what each does
-to the flip and the invariants and the step each needs for the flip interval within a
-tolerance. Outputs: the Dataset, the figure (:mod:`stability.figures.artefacts`) and the
+The ensemble of :mod:`stability.study.tennis_racket` (a racket tossed about its middle axis,
+nudged by epsilon of the spin) is run with each engine rule (explicit, semi-implicit and
+implicit Euler, |L| or energy rescaled, no gyroscopic term) and, beside them, with the package's
+integrators, at the frame rates engines use;
+:func:`stability.engine_body.measure.measure_artefacts` measures what each does to the flip and
+the invariants and the step each needs for the flip interval within a tolerance. Outputs: the Dataset, the figure (:mod:`stability.engine_body.figures`) and the
 study's configuration.
 """
 
@@ -16,31 +16,18 @@ from pathlib import Path
 
 import numpy as np
 
-from ..artefacts import measure_artefacts
-from ..attitude import attitude_methods
-from ..core.body import RigidBody
-from ..ensemble import perturbed_starts
-from ..figures.artefacts import artefacts_figure
-from ..integrators.engine_rules import ENGINE_RULES
-from ..util.threads import numba_threads
-from .config import (
-    MEMBER_BYTES,
-    ConfigError,
-    Key,
-    Schema,
-    Section,
-    StudyKind,
-    StudySummary,
-    SummaryTable,
-    check_memory,
-    check_run,
-    output_files,
-    output_section,
-    run_section,
-    stored_run,
-    tossed_body_sections,
-    write_outputs,
+from ...attitude import attitude_methods
+from ...core.body import RigidBody
+from ...ensemble import perturbed_starts
+from ...study.config import (
+    MEMBER_BYTES, ConfigError, Key, Schema, Section, StudyKind, StudySummary, SummaryTable,
+    check_memory, check_run, output_files, output_section, run_section, stored_run,
+    tossed_body_sections, write_outputs,
 )
+from ...util.threads import numba_threads
+from ..figures import artefacts_figure
+from ..measure import measure_artefacts
+from ..methods import ENGINE_RULES
 
 BODY, RATE = tossed_body_sections()
 
@@ -64,7 +51,7 @@ SCHEMA = Schema(
         Section("rules", "what steps the ensemble", (
             Key("engine", "strs", ["explicit_euler", "semi_implicit_euler", "implicit_euler",
                                    "rescaled_momentum", "rescaled_energy", "no_gyroscopic"],
-                "engine update rules (stability.integrators.engine_rules.ENGINE_RULES)"),
+                "engine update rules (stability.engine_body.methods.ENGINE_RULES)"),
             Key("methods", "strs", ["rk4", "lp2", "dmv", "midpoint", "exact"],
                 "the package's methods beside them (attitude methods, or exact)"),
             Key("frame_rates", "floats", [60.0, 120.0, 240.0], "steps per second engines use "

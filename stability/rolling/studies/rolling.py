@@ -1,13 +1,13 @@
 """The rolling study: rolling or slipping down inclines, and balls launched along a floor.
 
-Two ensembles on scene ``rolling_body`` (:mod:`stability.rolling`): bodies released at rest on
-inclines over a grid of (theta, mu_s), each member with its own scattered mu_s, mu_k and
+Two ensembles on scene ``rolling_body`` (:mod:`stability.rolling.model`): bodies released at
+rest on inclines over a grid of (theta, mu_s), each member with its own scattered mu_s, mu_k and
 shape, whose measured regime (did friction do work?) is set against
 ``tan(theta) <= mu_s (1 + M R^2 / I)``; and balls launched along a level floor with scattered
 speeds and spins, whose time, place and speed of the start of pure rolling and heat are set
 against the formulas. Outputs: one Dataset, two figures
-(:func:`stability.figures.impacts.rolling_map_figure`,
-:func:`~stability.figures.impacts.rolling_launch_figure`) and the study's configuration.
+(:func:`stability.rolling.figures.rolling_map_figure`,
+:func:`~stability.rolling.figures.rolling_launch_figure`) and the study's configuration.
 """
 
 from __future__ import annotations
@@ -17,26 +17,14 @@ from pathlib import Path
 
 import numpy as np
 
-from ..figures.impacts import rolling_launch_figure, rolling_map_figure
-from ..rolling import SHAPES, measure_incline, measure_launches
-from ..scene_ensemble import sub_store
-from ..util.threads import numba_threads
-from .config import (
-    MEMBER_BYTES,
-    ConfigError,
-    Key,
-    Schema,
-    Section,
-    StudyKind,
-    StudySummary,
-    check_memory,
-    check_run,
-    output_files,
-    output_section,
-    run_section,
-    stored_run,
-    write_outputs,
+from ...scene_ensemble import sub_store
+from ...study.config import (
+    MEMBER_BYTES, ConfigError, Key, Schema, Section, StudyKind, StudySummary, check_memory,
+    check_run, output_files, output_section, run_section, stored_run, write_outputs,
 )
+from ...util.threads import numba_threads
+from ..figures import rolling_launch_figure, rolling_map_figure
+from ..model import SHAPES, measure_incline, measure_launches
 
 NAME = "rolling"
 FIGURES = ("rolling_map", "rolling_launch")

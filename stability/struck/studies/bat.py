@@ -2,11 +2,11 @@
 
 A baseball bat (tapered, from cylinders and cones) or the tennis-racket preset is struck across
 its axis at a grid of points, with the hands at each of a list of pivots, held (a hinge) and
-free; :func:`stability.struck.measure_strikes` integrates each strike through its contact
+free; :func:`stability.struck.model.measure_strikes` integrates each strike through its contact
 (scene ``struck_body``) and finds the centre of percussion (zero reaction at the held hands,
 the free body's hands at rest) and the sweet zone (reaction below ``sting`` J) from the runs,
 beside ``q = I_P / (M d)``. Outputs: the Dataset, the figure
-(:func:`stability.figures.impacts.bat_figure`) and the study's configuration.
+(:func:`stability.struck.figures.bat_figure`) and the study's configuration.
 """
 
 from __future__ import annotations
@@ -16,25 +16,13 @@ from pathlib import Path
 
 import numpy as np
 
-from ..figures.impacts import bat_figure
-from ..struck import baseball_bat, check_pivot, measure_strikes, tennis_racket
-from ..util.threads import numba_threads
-from .config import (
-    MEMBER_BYTES,
-    ConfigError,
-    Key,
-    Schema,
-    Section,
-    StudyKind,
-    StudySummary,
-    check_memory,
-    check_run,
-    output_files,
-    output_section,
-    run_section,
-    stored_run,
-    write_outputs,
+from ...study.config import (
+    MEMBER_BYTES, ConfigError, Key, Schema, Section, StudyKind, StudySummary, check_memory,
+    check_run, output_files, output_section, run_section, stored_run, write_outputs,
 )
+from ...util.threads import numba_threads
+from ..figures import bat_figure
+from ..model import baseball_bat, check_pivot, measure_strikes, tennis_racket
 
 NAME = "bat"
 FIGURE = "bat"

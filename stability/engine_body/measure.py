@@ -1,7 +1,7 @@
 """What physics engines' update rules do to the tennis-racket flip, measured against the exact motion.
 
 An ensemble tossed about the middle axis is run with each engine rule (scene ``engine_body``,
-:mod:`stability.integrators.engine_rules`) and, beside them, with the package's integrators
+:mod:`stability.engine_body.methods`) and, beside them, with the package's integrators
 carrying the attitude (scene ``free_body_attitude``), at the time steps engines use. Per rule and
 step (:func:`measure_rule`): the fraction of members that flip, the flip interval and the growth
 rate against the exact ones (:func:`stability.estimators.flip_estimate`,
@@ -19,23 +19,20 @@ import math
 import numpy as np
 import xarray as xr
 
-from .analytic import growth_rate, omega_squared
-from .attitude import IDENTITY, spatial_angular_momentum
-from .core.body import RigidBody
-from .estimators import (
-    exact_flip_intervals,
-    flip_estimate,
-    omega_squared_estimate,
-    tracked_members,
+from ..analytic import growth_rate, omega_squared
+from ..attitude import IDENTITY, spatial_angular_momentum
+from ..core.body import RigidBody
+from ..estimators import (
+    exact_flip_intervals, flip_estimate, omega_squared_estimate, tracked_members,
 )
-from .exact import exact_omega
-from .integrators import METHODS
-from .integrators.engine_rules import ENGINE_RULES, body_state, world_state
-from .output.dataset import storable_attrs
-from .scene_ensemble import GroupedRun, propagate_stored, sub_store
-from .scenes import SCENES
-from .schema import ENGINE_ARTEFACTS
-from .util import conventions as cv
+from ..exact import exact_omega
+from ..integrators import METHODS
+from ..output.dataset import storable_attrs
+from ..scene_ensemble import GroupedRun, propagate_stored, sub_store
+from ..scenes import SCENES
+from ..schema import ENGINE_ARTEFACTS
+from ..util import conventions as cv
+from .methods import ENGINE_RULES, body_state, world_state
 
 #: Tracked axes in the canonical frame: spin about axis 2, across it axes 1 and 3.
 _AXES = np.array([[1, 0, 2]])

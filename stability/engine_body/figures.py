@@ -1,4 +1,5 @@
-"""Figure of the engine artefacts (:mod:`stability.artefacts`): what each update rule does to the flip.
+"""Figure of the engine artefacts (:mod:`stability.engine_body.measure`): what each update rule
+does to the flip.
 
 :func:`artefacts_figure`: the flip interval's error, the energy drift and the growth rate's error
 against the time step for every rule, and one member's spin-axis angular velocity at the

@@ -37,7 +37,7 @@ import math
 import numpy as np
 from numba import njit
 
-from .spec import MethodSpec
+from ..integrators.spec import MethodSpec
 
 # Parameter layout: one row per group.
 P_G, P_K, P_R, P_MU_S, P_MU_K, P_MASS, P_SECTIONS = 0, 1, 2, 3, 4, 5, 6
@@ -59,7 +59,7 @@ def rolling_params(row, h: float = 0.0) -> np.ndarray:
     row = np.asarray(row, dtype=float).reshape(-1)
     if row.size != N_ROLLING_PARAMS:
         raise ValueError(f"a rolling body and its track are {N_ROLLING_PARAMS} numbers "
-                         f"(stability.integrators.rolling.track_row), got {row.size}")
+                         f"(stability.rolling.methods.track_row), got {row.size}")
     return row.copy()
 
 

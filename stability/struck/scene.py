@@ -4,9 +4,9 @@ The state is ``(x, y, phi, vx, vy, w, j_along, j_across, t)``: the centre of mas
 the body's axis, the velocity of the centre, the angular velocity, the reaction impulse at the
 hands along and across the body, and the time; the hands (the pivot) start at the origin with
 the body along +x. Parameters per group: a strike ``(M, d, I_cm, s, J, tau, held)``
-(:func:`stability.integrators.struck.strike_params`). Equations: :mod:`stability.integrators.struck`.
+(:func:`stability.struck.methods.strike_params`). Equations: :mod:`stability.struck.methods`.
 Invariants: after the contact, the angular momentum about the hands (held) or about the centre
-(free); exact solution, held, from rest: :func:`stability.integrators.struck.held_exact`
+(free); exact solution, held, from rest: :func:`stability.struck.methods.held_exact`
 (:func:`exact` here).
 """
 
@@ -14,9 +14,10 @@ import numpy as np
 from numba import njit
 
 from ..util import conventions as cv
-from ..integrators.struck import (J_ACROSS, J_ALONG, METHODS, P_HELD, P_I_CM, P_MASS, PHI, T,
-                                  W, X, Y, VX, VY, held_exact)
-from .spec import Scene
+from .methods import (
+    J_ACROSS, J_ALONG, METHODS, P_HELD, P_I_CM, P_MASS, PHI, T, W, X, Y, VX, VY, held_exact,
+)
+from ..scenes.spec import Scene
 
 
 @njit(inline="always")

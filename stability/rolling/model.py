@@ -1,7 +1,7 @@
 """Rolling with and without slipping: the formulas, and ensembles run on scene ``rolling_body``.
 
 A round body with I = k M R^2 (k: :data:`SHAPES`) under Coulomb friction (mu_s >= mu_k); the
-equations and the exact event-located step are in :mod:`stability.integrators.rolling`.
+equations and the exact event-located step are in :mod:`stability.rolling.methods`.
 
 On an incline of angle theta, released at rest [course notes, corrected: ERRATA.md section 4]:
 
@@ -27,12 +27,14 @@ import time
 import numpy as np
 import xarray as xr
 
-from .engine import propagate_groups
-from .integrators.rolling import (HEAT, MODE, P_K, P_MU_K, P_MU_S, P_R, P_SECTIONS, P_TRACK,
-                                  SWITCHES, T_ROLL, V, W, X, X_ROLL, track_row)
-from .scene_ensemble import GroupedRun, propagate_stored
-from .scenes import SCENES
-from .schema import ROLLING
+from ..engine import propagate_groups
+from .methods import (
+    HEAT, MODE, P_K, P_MU_K, P_MU_S, P_R, P_SECTIONS, P_TRACK, SWITCHES, T_ROLL, V, W, X, X_ROLL,
+    track_row,
+)
+from ..scene_ensemble import GroupedRun, propagate_stored
+from ..scenes import SCENES
+from ..schema import ROLLING
 
 #: I / (M R^2) of the shapes by name.
 SHAPES = {"sphere": 0.4, "cylinder": 0.5, "spherical_shell": 2.0 / 3.0, "hoop": 1.0}
@@ -175,7 +177,7 @@ def start_states(v0, w0, rows, x0=0.0) -> np.ndarray:
     w0 : float or array_like, shape (N,)
         Spin in rad s-1.
     rows : array_like, shape (N, n_params)
-        Group parameters, one row per body (:func:`stability.integrators.rolling.track_row`);
+        Group parameters, one row per body (:func:`stability.rolling.methods.track_row`);
         a single row is taken as shape (1, n_params).
     x0 : float or array_like, shape (N,), default 0.0
         Position along the track in m.

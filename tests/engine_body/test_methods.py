@@ -8,7 +8,7 @@ from stability import RigidBody
 from stability.engine import propagate_groups
 from stability.exact import exact_omega
 from stability.integrators import METHODS
-from stability.integrators.engine_rules import ENGINE_RULES, body_state, world_state
+from stability.engine_body.methods import ENGINE_RULES, body_state, world_state
 from stability.integrators.spec import body_params
 from stability.scenes import SCENES
 

@@ -29,7 +29,7 @@ import math
 import numpy as np
 from numba import njit
 
-from .spec import MethodSpec
+from ..integrators.spec import MethodSpec
 
 # Parameter layout.
 P_MASS, P_D, P_I_CM, P_S, P_J, P_TAU, P_HELD = 0, 1, 2, 3, 4, 5, 6

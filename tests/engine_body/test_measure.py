@@ -5,12 +5,12 @@ from pathlib import Path
 import numpy as np
 
 import stability
-from stability.artefacts import measure_rule, step_for_accuracy
+from stability.engine_body.measure import measure_rule, step_for_accuracy
 from stability.ensemble import perturbed_starts
 
-from .helpers import assert_cf_compliant, assert_declared, assert_readable
+from ..helpers import assert_cf_compliant, assert_declared, assert_readable
 
-ROOT = Path(__file__).resolve().parents[1]
+ROOT = Path(__file__).resolve().parents[2]
 RACKET = np.sort(stability.RigidBody.preset("tennis_racket").moments)
 STARTS = perturbed_starts(2, 10.0, 1e-4, 24, 3)
 
@@ -41,7 +41,7 @@ def test_step_needed_for_a_one_percent_flip_interval_shrinks_with_the_rule():
 
 
 def test_study_engine_artefacts_quick(tmp_path):
-    from stability.figures.artefacts import artefacts_figure
+    from stability.engine_body.figures import artefacts_figure
     from stability.study import run_study
 
     summary = run_study(ROOT / "studies" / "engine_artefacts.toml", tmp_path, quick=True,
@@ -66,7 +66,7 @@ def test_study_engine_artefacts_quick(tmp_path):
 
 def test_progress_false_silences_every_bar_of_the_study(capfd):
     """``--no-progress`` reaches every run the study makes (they showed their bars)."""
-    from stability.artefacts import measure_artefacts
+    from stability.engine_body.measure import measure_artefacts
 
     args = (["rk4", "semi_implicit_euler"], RACKET, STARTS[:4], [1 / 60], 1.0)
     measure_artefacts(*args, halvings=1, search_members=4, progress=True)

@@ -1,0 +1,29 @@
+"""Physics engines' update rules: what the steps that game and robotics engines take do to a
+rigid body's rotation (the tennis-racket flip), measured against the exact motion.
+
+The family's modules, each importing only downward:
+
+- :mod:`.methods`: the engines' update rules (explicit, semi-implicit and implicit Euler, |L| or
+  the energy rescaled, no gyroscopic term; each spec names the engines and threads it stands
+  for), the family's registry :data:`~.methods.ENGINE_RULES`;
+- :mod:`.scene`: the scene ``engine_body`` (the state as engines hold it: the space angular
+  velocity and the body-to-space quaternion);
+- :mod:`.measure`: the artefacts measured per rule and step (flips, the flip interval, the
+  growth rate, the drift of the invariants, the cost), and the step each rule needs;
+- :mod:`.studies`: the study kind ``engine_artefacts``;
+- :mod:`.figures`: its figure, drawn from the Dataset.
+
+It builds on the free body, whose flip it measures and whose scenes it shares the state with
+(:mod:`stability.scenes.free_body`, :mod:`stability.scenes.free_body_attitude`, the exact
+solution :mod:`stability.exact`, the linear theory :mod:`stability.analytic`, the attitude
+methods :mod:`stability.attitude`, :mod:`stability.ensemble`'s starts), and on the shared
+layers: :mod:`stability.core`, :mod:`stability.util`, :mod:`stability.integrators` (MethodSpec,
+rotations, the registry of the package's methods), :mod:`stability.scenes` (the scene contract),
+the scene-generic ensembles (:mod:`stability.scene_ensemble`), the estimators
+(:mod:`stability.estimators`), :mod:`stability.output`, the Dataset register
+(:mod:`stability.schema`), :mod:`stability.study` (the study framework) and
+:mod:`stability.plotting`.
+
+This package's ``__init__`` imports nothing, so that the scene registry (:mod:`stability.scenes`)
+can import :mod:`.scene` without the rest.
+"""

@@ -1,0 +1,30 @@
+"""Rolling and slipping: round bodies under Coulomb friction, released on inclines or launched
+along a level floor.
+
+The family's modules, each importing only downward:
+
+- :mod:`.methods`: the equations of a body that rolls or slips, the events where it switches,
+  the exact event-located step, and its MethodSpec;
+- :mod:`.scene`: the scene ``rolling_body`` (the state, what the loop tracks, the energy with
+  the friction's work added back);
+- :mod:`.model`: the formulas (roll or slip on an incline, accelerations, a launched body's
+  slip time, final speed and heat, the shapes' I / (M R^2)) and the ensembles run and measured
+  (:func:`~.model.measure_incline`, :func:`~.model.measure_launches`);
+- :mod:`.studies`: the study kind ``rolling``;
+- :mod:`.figures`: its figures, drawn from the Dataset.
+
+It builds on the shared layers: :mod:`stability.util` (conventions, threads),
+:mod:`stability.integrators` (MethodSpec), :mod:`stability.scenes` (the scene contract),
+:mod:`stability.engine` (the member loop), the scene-generic ensembles
+(:mod:`stability.scene_ensemble`), the Dataset register (:mod:`stability.schema`),
+:mod:`stability.study` (the study framework) and :mod:`stability.plotting`.
+
+``stability.rolling`` was the module now :mod:`.model`: its names still come from here, for one
+release, with a ``FutureWarning`` (:func:`stability.moved.old_names`). Otherwise this package's
+``__init__`` imports nothing, so that the scene registry (:mod:`stability.scenes`) can import
+:mod:`.scene` without the rest.
+"""
+
+from ..moved import old_names
+
+__getattr__ = old_names(__name__)

@@ -1,0 +1,31 @@
+"""The struck bat: a bat or racket struck across its axis, held at the hands or free, and its
+centre of percussion.
+
+The family's modules, each importing only downward:
+
+- :mod:`.methods`: the planar strike's equations, a half-sine contact force, its RK4 step, the
+  held body's exact motion, and their MethodSpecs;
+- :mod:`.scene`: the scene ``struck_body`` (the state, what the loop tracks, the invariants
+  after the contact, the held body's exact solution);
+- :mod:`.model`: :class:`~.model.StruckBody` and its presets (a tapered wooden baseball bat, the
+  tennis racket), the formulas (centre of percussion, reaction at the hands, the free hands'
+  velocity), and the strikes run and measured (:func:`~.model.measure_strikes`);
+- :mod:`.studies`: the study kind ``bat``;
+- :mod:`.figures`: its figure, drawn from the Dataset.
+
+It builds on the shared layers: :mod:`stability.core` (the rigid body and its presets),
+:mod:`stability.util` (conventions, input checks, threads), :mod:`stability.integrators`
+(MethodSpec), :mod:`stability.scenes` (the scene contract), the scene-generic ensembles
+(:mod:`stability.scene_ensemble`), the estimators (:mod:`stability.estimators`), the Dataset
+register (:mod:`stability.schema`), :mod:`stability.study` (the study framework) and
+:mod:`stability.plotting`.
+
+``stability.struck`` was the module now :mod:`.model`: its names still come from here, for one
+release, with a ``FutureWarning`` (:func:`stability.moved.old_names`). Otherwise this package's
+``__init__`` imports nothing, so that the scene registry (:mod:`stability.scenes`) can import
+:mod:`.scene` without the rest.
+"""
+
+from ..moved import old_names
+
+__getattr__ = old_names(__name__)

@@ -1,0 +1,1 @@
+"""Tests of physics engines' update rules (stability.engine_body)."""

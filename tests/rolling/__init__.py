@@ -1,0 +1,1 @@
+"""Tests of rolling and slipping (stability.rolling)."""

@@ -1,0 +1,1 @@
+"""Tests of the struck bat (stability.struck)."""
