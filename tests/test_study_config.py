@@ -1,6 +1,8 @@
 """Study files: schema validation, one-line errors with exit status 2, resolved configuration."""
 
 import re
+import subprocess
+import sys
 import tomllib
 from pathlib import Path
 
@@ -223,3 +225,17 @@ def test_summary_table_aligns_names_over_units_and_cells():
     ]
     summary = StudySummary("x", ".", rows=[("wall time", "1.0", "s")], tables=[table])
     assert summary.table().split("\n\n") == ["wall time  1.0  s", table.text()]
+
+
+def test_a_kind_imported_first_in_a_fresh_process_is_complete_in_the_registry():
+    """A kind's module imports the framework, which registers every kind: imported first, the
+    kind is still whole when the registry reads it (``import stability.dissipation.studies``)."""
+    homes = sorted({kind.run.__module__ for kind in STUDIES.values()})
+    code = ("import importlib, sys\n"
+            "importlib.import_module(sys.argv[1])\n"
+            "from stability.study import STUDIES\n"
+            "assert all(kind.schema is not None for kind in STUDIES.values())\n")
+    for home in homes:
+        run = subprocess.run([sys.executable, "-c", code, home], capture_output=True,
+                             text=True, timeout=120)
+        assert run.returncode == 0, (home, run.stderr[-2000:])

@@ -20,6 +20,7 @@ import contextlib
 import errno
 import os
 import stat
+from collections.abc import Mapping
 from pathlib import Path
 
 from ..dissipation import studies as dissipation
@@ -48,21 +49,48 @@ from .config import (
     toml_type,
 )
 
-STUDIES: dict[str, StudyKind] = {
-    "bat": bat.STUDY,
-    "dual_spin": dissipation.DUAL_SPIN_STUDY,
-    "earth_wobble": earth_wobble.STUDY,
-    "engine_artefacts": engine_artefacts.STUDY,
-    "equinoxes": equinoxes.STUDY,
-    "explorer": dissipation.STUDY,
-    "gyroscope": gyroscope.STUDY,
-    "rolling": rolling.STUDY,
-    "sleeping_top": sleeping_top.STUDY,
-    "stability_map": stability_map.STUDY,
-    "tennis_racket": tennis_racket.STUDY,
-    "twisting_racket": twisting_racket.STUDY,
-    "work_precision": work_precision.STUDY,
-}
+class StudyKinds(Mapping):
+    """The registered study kinds by name, each read from its module when it is asked for.
+
+    A kind's module imports the study framework (this package) before it defines its
+    ``STUDY``; read while this package loads, the table would find a kind whose module was
+    imported first (``import stability.dissipation.studies`` in a fresh process) half-made.
+
+    Parameters
+    ----------
+    where : mapping of str to (module, str)
+        Each kind's name -> its module and the name of its :class:`~.config.StudyKind` there.
+    """
+
+    def __init__(self, where):
+        self._where = dict(where)
+
+    def __getitem__(self, name) -> StudyKind:
+        module, attribute = self._where[name]
+        return getattr(module, attribute)
+
+    def __iter__(self):
+        return iter(self._where)
+
+    def __len__(self) -> int:
+        return len(self._where)
+
+
+STUDIES: Mapping[str, StudyKind] = StudyKinds({
+    "bat": (bat, "STUDY"),
+    "dual_spin": (dissipation, "DUAL_SPIN_STUDY"),
+    "earth_wobble": (earth_wobble, "STUDY"),
+    "engine_artefacts": (engine_artefacts, "STUDY"),
+    "equinoxes": (equinoxes, "STUDY"),
+    "explorer": (dissipation, "STUDY"),
+    "gyroscope": (gyroscope, "STUDY"),
+    "rolling": (rolling, "STUDY"),
+    "sleeping_top": (sleeping_top, "STUDY"),
+    "stability_map": (stability_map, "STUDY"),
+    "tennis_racket": (tennis_racket, "STUDY"),
+    "twisting_racket": (twisting_racket, "STUDY"),
+    "work_precision": (work_precision, "STUDY"),
+})
 
 
 def study_kind(name) -> StudyKind:
