@@ -166,3 +166,16 @@ def assert_declared(path, kind):
     problems = SCHEMAS[kind].problems(stability.load(path))
     assert problems == [], f"{path} departs from the {kind} Dataset's declaration: {problems}"
 
+
+def one_line(capsys, argv) -> str:
+    """Run ``stability ARGV`` here; assert exit 2, one line on stderr, none on stdout, and
+    return that line."""
+    from stability.cli import main
+
+    status = main(argv)
+    captured = capsys.readouterr()
+    lines = captured.err.strip().splitlines()
+    assert status == 2, captured.err
+    assert len(lines) == 1 and "Traceback" not in captured.err, captured.err
+    assert captured.out == ""
+    return lines[0]

@@ -35,6 +35,8 @@ from stability import analytic, attitude, driver, estimators, exact
 from stability.core.body import Part
 from stability.ensemble import perturbed_starts, run_ensembles
 
+from .helpers import one_line
+
 ROOT = Path(__file__).resolve().parents[1]
 BODY = stability.RigidBody(1.0, 2.0, 3.0)
 RACKET = stability.RigidBody.preset("tennis_racket")
@@ -365,17 +367,6 @@ HUGE = "1" + "0" * 400
 ABSURD = "10000000000000"
 
 
-def one_line(capsys, argv) -> str:
-    """Run ``stability ARGV`` here; assert exit 2, one line on stderr, none on stdout."""
-    from stability.cli import main
-
-    status = main(argv)
-    captured = capsys.readouterr()
-    lines = captured.err.strip().splitlines()
-    assert status == 2, captured.err
-    assert len(lines) == 1 and "Traceback" not in captured.err, captured.err
-    assert captured.out == ""
-    return lines[0]
 
 
 def study_file(tmp_path, text) -> Path:

@@ -8,11 +8,10 @@ import numpy as np
 import pytest
 import xarray as xr
 
-from stability.cli import main
 from stability.dissipation.figures import dual_spin_map_figure, dual_spin_rate_figure
 from stability.study import run_study
 
-from ..helpers import assert_cf_compliant, assert_declared, assert_readable
+from ..helpers import assert_cf_compliant, assert_declared, assert_readable, one_line
 
 ROOT = Path(__file__).resolve().parents[2]
 STUDY = ROOT / "studies" / "dual_spin.toml"
@@ -88,13 +87,6 @@ def test_figures_carry_units_and_clear_legends(quick):
         assert_readable(figure)
 
 
-def one_line(capsys, argv) -> str:
-    """Run ``stability ARGV`` here: exit 2 and one line on stderr."""
-    status = main(argv)
-    captured = capsys.readouterr()
-    lines = captured.err.strip().splitlines()
-    assert status == 2 and len(lines) == 1 and "Traceback" not in captured.err, captured.err
-    return lines[0]
 
 
 @pytest.mark.parametrize("text, fragment", [
