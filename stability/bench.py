@@ -45,6 +45,20 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from .analytic import euler_system, intermediate_axis
+from .core.body import RigidBody
+from .driver import propagate
+from .engine import propagate_groups
+from .engine.reference import plain_rk4
+from .ensemble import perturbed_starts, run_ensemble
+from .exact import exact_omega_of_starts
+from .heavy_top.exact import cos_theta, nutation_period
+from .heavy_top.model import HeavyTop, tilted_starts
+from .integrators import METHODS, method_spec
+from .integrators.spec import body_params
+from .scenes import SCENES
+from .util.checks import positive_float, positive_int
+
 #: The workload: body preset, spin (rad/s), perturbation, step (s).
 BODY_PRESET = "tennis_racket"
 SPIN = 10.0
@@ -105,9 +119,6 @@ class BenchReport:
 
 def workload(members: int, seed: int = 0):
     """Body, spin axis (1-based) and starts ``w0`` (members, 3) in rad/s of the benchmark."""
-    from .analytic import intermediate_axis
-    from .core.body import RigidBody
-    from .ensemble import perturbed_starts
 
     body = RigidBody.preset(BODY_PRESET)
     axis = int(intermediate_axis(body))
@@ -141,9 +152,6 @@ def bench(members=10_000, steps=1000, threads=None, methods=None, scipy=True, nu
     """
     import numba
 
-    from .util.checks import positive_int
-    from .driver import propagate
-    from .integrators import METHODS, method_spec
 
     members = positive_int("members", members)
     steps = positive_int("steps", steps)
@@ -230,12 +238,6 @@ def engine_costs(repeat=3, workload=None) -> list[BenchRow]:
     """
     import numba
 
-    from .core.body import RigidBody
-    from .engine import propagate_groups
-    from .engine.reference import plain_rk4
-    from .ensemble import perturbed_starts, run_ensemble
-    from .integrators.spec import body_params
-    from .scenes import SCENES
 
     w = dict(W1, **(workload or {}))
     moments = np.array(w["moments"], dtype=float)
@@ -325,7 +327,6 @@ def numpy_rk4(moments, m0, h, steps):
 
 def _time_scipy(solve_ivp, moments, w0, t_end, steps, reference) -> BenchRow:
     """DOP853 on the 3N-dimensional system, the right-hand side vectorized over members."""
-    from .analytic import euler_system
 
     members = w0.shape[0]
     rhs = euler_system(moments, members)
@@ -343,7 +344,6 @@ def _time_scipy(solve_ivp, moments, w0, t_end, steps, reference) -> BenchRow:
 
 def _exact(body, w0, t_end):
     """Exact w at ``t_end`` for every start (rows of ``w0``)."""
-    from .exact import exact_omega_of_starts
 
     return exact_omega_of_starts(body, w0, t_end)
 
@@ -352,7 +352,6 @@ def _thread_counts(threads) -> list[int]:
     """``threads`` checked: whole numbers from 1 to the cores Numba started with."""
     import numba
 
-    from .util.checks import positive_int
 
     most = numba.config.NUMBA_NUM_THREADS
     threads = [positive_int("threads", t) for t in threads]
@@ -508,7 +507,6 @@ class TopReport:
 def top_workload(members: int, spin=TOP_SPIN, tilt=TOP_TILT, seed=0):
     """The disk top :data:`TOP_DISK` and ``members`` starts (members, 6) released at rest at
     ``tilt`` (rad) with spin ``spin`` (rad/s), at random azimuths."""
-    from .heavy_top.model import HeavyTop, tilted_starts
 
     top = HeavyTop.disk(**TOP_DISK)
     return top, tilted_starts(spin, tilt, members, top=top, seed=seed)
@@ -551,10 +549,6 @@ def top_work_precision(members=256, spin=TOP_SPIN, tilt=TOP_TILT, periods=TOP_PE
     """
     import numba
 
-    from .util.checks import positive_float, positive_int
-    from .engine import propagate_groups
-    from .heavy_top.exact import cos_theta, nutation_period
-    from .scenes import SCENES
 
     members = positive_int("members", members)
     repeat = positive_int("repeat", repeat)
@@ -617,7 +611,6 @@ def measured_order(h, error, window=ORDER_WINDOW) -> tuple[float, int]:
 
 def format_top_report(report: TopReport) -> str:
     """The heavy-top measurements as a table per (method, step), then the measured orders."""
-    from .scenes import SCENES
 
     top = report.top
     lines = [

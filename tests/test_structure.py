@@ -41,7 +41,7 @@ LONG_MODULES = {
 #: Imports of the package's own modules inside functions, allowed at most: for the command
 #: line's start-up time (matplotlib, the studies), the optional GPU path, and the modules not
 #: yet moved to their family. The goal of the layout is 20; the count may only fall.
-MAX_LOCAL_IMPORTS = 72
+MAX_LOCAL_IMPORTS = 43
 
 #: Modules without a test module of their name, and the tests that exercise them.
 COVERED_ELSEWHERE = {

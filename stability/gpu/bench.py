@@ -25,6 +25,13 @@ import sys
 
 import numpy as np
 
+from ..engine.run import member_arrays
+from ..scenes import SCENES
+from ..scenes import scene as registered_scene
+from .device import real_gpu
+from .kernels import member_kernel
+from .methods import THREADS_PER_BLOCK, gpu_method, gpu_methods
+from .run import DeviceMembers
 
 #: The issue's target for RK4 on one H100 (member-steps/s).
 TARGET_RK4_H100 = 1e11
@@ -65,11 +72,6 @@ def time_kernel(cuda, method, members, steps, tracked, repeat=3, scene="free_bod
     The members are ``scene.example``'s starts (for the free body: near a spin about the middle
     axis of I = 1, 2, 3) with its first parameter set, step :data:`STEP`.
     """
-    from ..engine.run import member_arrays
-    from ..scenes import scene as registered_scene
-    from .kernels import member_kernel
-    from .methods import THREADS_PER_BLOCK, gpu_method
-    from .run import DeviceMembers
 
     scene = registered_scene(scene)
     spec = gpu_method(method, scene)
@@ -106,8 +108,6 @@ def scene_table(cuda, members, steps):
     method with a GPU kernel."""
     import time
 
-    from ..scenes import SCENES
-    from .methods import gpu_methods
 
     print(f"\nevery scene, {members:.0e} members, {steps} steps (member-steps/s)")
     print(f"{'scene':<20} {'method':<20} {'width':>5} {'compile s':>10} {'untracked':>11} "
@@ -137,7 +137,6 @@ def main(argv=None) -> int:
     parser.add_argument("--scenes", action="store_true",
                         help="also time every scene and method (1e6 members, 200 steps)")
     args = parser.parse_args(argv)
-    from .device import real_gpu
 
     if not real_gpu():
         print("no CUDA GPU: skipped")
