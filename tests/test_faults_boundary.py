@@ -205,9 +205,10 @@ def test_links_inside_a_store_are_never_written_through(tmp_path, body123):
 
 
 #: A run still integrating after three more processes have started and been refused on a
-#: loaded machine: LONG's chunks, ten times the steps (it is stopped with Ctrl-C, never waited
-#: for).
-BUSY = [*LONG, "--set", "integration.t_end=400", "--set", "integration.save_every=10000"]
+#: loaded machine: LONG's members, a hundred times the steps, in 128 short chunks (it is stopped
+#: with Ctrl-C after its first chunks, never waited for).
+BUSY = [*LONG, "--set", "integration.t_end=4000", "--set", "integration.save_every=100000",
+        "--set", "run.chunk_members=64"]
 
 
 def test_a_second_run_into_a_busy_folder_is_refused_and_destroys_nothing(tmp_path, capsys):
@@ -227,7 +228,7 @@ def test_a_second_run_into_a_busy_folder_is_refused_and_destroys_nothing(tmp_pat
     assert main(["status", str(out)]) == 0  # the holder, then how far its chunks are
     shown = capsys.readouterr().out.splitlines()
     assert shown[0].startswith(f"{out}: in use by a run (process {first.pid} on host"), shown
-    assert shown[1].startswith(f"{out / WORK}: 8192 members in 16 chunks"), shown
+    assert shown[1].startswith(f"{out / WORK}: 8192 members in 128 chunks"), shown
     first.send_signal(signal.SIGINT)  # the first run stops cleanly, its chunks kept
     first.wait(timeout=60)
     assert first.returncode == 130, lines.wait_done()
