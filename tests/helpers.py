@@ -3,6 +3,7 @@
 import functools
 import time
 import warnings
+from pathlib import Path
 
 import numpy as np
 import xarray as xr
@@ -179,3 +180,16 @@ def one_line(capsys, argv) -> str:
     assert len(lines) == 1 and "Traceback" not in captured.err, captured.err
     assert captured.out == ""
     return lines[0]
+
+
+def quick_study(tmp_path_factory, kind: str, **options):
+    """Run ``studies/<kind>.toml`` in quick mode into a fresh folder, PNG figures only, no
+    progress bar (``options``: further ``run_study`` arguments); ``(summary, folder)``."""
+    from stability.study import run_study
+
+    out = tmp_path_factory.mktemp(kind)
+    summary = run_study(Path(__file__).resolve().parents[1] / "studies" / f"{kind}.toml", out,
+                        quick=True, progress=False, overrides=[("output.formats", "['png']")],
+                        **options)
+    return summary, out
+

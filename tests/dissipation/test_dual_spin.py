@@ -2,27 +2,19 @@
 input."""
 
 import tomllib
-from pathlib import Path
 
 import numpy as np
 import pytest
 import xarray as xr
 
 from stability.dissipation.figures import dual_spin_map_figure, dual_spin_rate_figure
-from stability.study import run_study
 
-from ..helpers import assert_cf_compliant, assert_declared, assert_readable, one_line
-
-ROOT = Path(__file__).resolve().parents[2]
-STUDY = ROOT / "studies" / "dual_spin.toml"
+from ..helpers import assert_cf_compliant, assert_declared, assert_readable, one_line, quick_study
 
 
 @pytest.fixture(scope="module")
 def quick(tmp_path_factory):
-    out = tmp_path_factory.mktemp("dual_spin")
-    summary = run_study(STUDY, out, quick=True, progress=False,
-                        overrides=[("output.formats", "['png']")])
-    return summary, out
+    return quick_study(tmp_path_factory, "dual_spin")
 
 
 def test_study_meets_its_claims(quick):

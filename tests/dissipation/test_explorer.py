@@ -1,27 +1,19 @@
 """The Explorer study: quick run, its Dataset (CF, units), figures, summary and bad input."""
 
 import tomllib
-from pathlib import Path
 
 import numpy as np
 import pytest
 import xarray as xr
 
 from stability.dissipation.figures import end_state_figure, flat_time_figure, nutation_figure
-from stability.study import run_study
 
-from ..helpers import assert_cf_compliant, assert_declared, assert_readable, one_line
-
-ROOT = Path(__file__).resolve().parents[2]
-STUDY = ROOT / "studies" / "explorer.toml"
+from ..helpers import assert_cf_compliant, assert_declared, assert_readable, one_line, quick_study
 
 
 @pytest.fixture(scope="module")
 def quick(tmp_path_factory):
-    out = tmp_path_factory.mktemp("explorer")
-    summary = run_study(STUDY, out, quick=True, progress=False,
-                        overrides=[("output.formats", "['png']")])
-    return summary, out
+    return quick_study(tmp_path_factory, "explorer")
 
 
 def test_study_meets_its_claims(quick):

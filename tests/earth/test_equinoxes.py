@@ -15,9 +15,8 @@ from stability.earth.figures import equinoxes_figure
 from stability.earth.methods import perturber
 from stability.scenes import SCENES
 from stability.earth.scene import figure_axes
-from stability.study import run_study
 
-from ..helpers import assert_cf_compliant, assert_declared, assert_readable
+from ..helpers import assert_cf_compliant, assert_declared, assert_readable, quick_study
 
 ROOT = Path(__file__).resolve().parents[2]
 FULL, AVERAGED = SCENES["lunisolar_earth"], SCENES["precessing_axis"]
@@ -132,10 +131,7 @@ def test_fit_recovers_a_line_and_its_nutation():
 
 @pytest.fixture(scope="module")
 def quick(tmp_path_factory):
-    out = tmp_path_factory.mktemp("equinoxes")
-    summary = run_study(ROOT / "studies" / "equinoxes.toml", out, quick=True, progress=False,
-                        overrides=[("output.formats", "['png']")])
-    return summary, out
+    return quick_study(tmp_path_factory, "equinoxes")
 
 
 def test_dataset_follows_cf(quick):

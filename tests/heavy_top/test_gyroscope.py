@@ -17,7 +17,7 @@ from stability.heavy_top.model import (
     gyroscopic_precession_rate, tilted_starts,
 )
 
-from ..helpers import assert_cf_compliant, assert_declared, assert_readable
+from ..helpers import assert_cf_compliant, assert_declared, assert_readable, quick_study
 
 ROOT = Path(__file__).resolve().parents[2]
 STUDY = ROOT / "studies" / "gyroscope.toml"
@@ -162,10 +162,7 @@ def test_paths_loop_cusp_and_wave(grid):
 
 @pytest.fixture(scope="module")
 def quick(tmp_path_factory):
-    out = tmp_path_factory.mktemp("gyroscope")
-    summary = run_study(STUDY, out, quick=True, progress=False, threads=1,
-                        overrides=[("output.formats", "['png']")])
-    return summary, out
+    return quick_study(tmp_path_factory, "gyroscope", threads=1)
 
 
 def test_study_meets_its_claim_with_units_everywhere(quick):

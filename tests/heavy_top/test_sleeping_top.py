@@ -9,7 +9,7 @@ import xarray as xr
 from stability.heavy_top.figures import sleeping_top_figure
 from stability.study import run_study
 
-from ..helpers import assert_cf_compliant, assert_declared, assert_readable
+from ..helpers import assert_cf_compliant, assert_declared, assert_readable, quick_study
 
 ROOT = Path(__file__).resolve().parents[2]
 STUDY = ROOT / "studies" / "sleeping_top.toml"
@@ -17,10 +17,7 @@ STUDY = ROOT / "studies" / "sleeping_top.toml"
 
 @pytest.fixture(scope="module")
 def quick(tmp_path_factory):
-    out = tmp_path_factory.mktemp("sleeping_top")
-    summary = run_study(STUDY, out, quick=True, progress=False,
-                        overrides=[("output.formats", "['png']")])
-    return summary, out
+    return quick_study(tmp_path_factory, "sleeping_top")
 
 
 def test_measured_rates_meet_the_claim_and_every_cell_is_on_its_side(quick):
