@@ -3,7 +3,7 @@
 Each (scene, method) loop is rendered (:func:`stability.engine.loop.render`) into a module file
 in the cache directory and imported from there; its ``advance`` is given Numba's disk cache
 (:class:`LoopCache`), which keeps the machine code in ``__pycache__`` beside it, so the next
-process loads it instead of compiling (about 0.1 s instead of 5 to 20 s).
+process loads it instead of compiling (about 0.1 s instead of 3 to 10 s).
 
 Numba checks only the file that defines a cached function, not the kernels it inlines from
 other modules. So the file's *name* carries a digest of everything the loop is made of: the
@@ -165,7 +165,9 @@ def load_module(stem: str, source: str, roots, code=()) -> ModuleType:
     The text ``{digest}`` in ``source`` is replaced by the digest (a label in the docstring).
     Where the file cannot be written or read there, it goes to the first of
     :func:`private_dirs` that takes it (one warning a process). Every ``@njit`` function the
-    module defines gets the disk cache :class:`LoopCache`.
+    module defines gets the disk cache :class:`LoopCache`, but its helpers (names starting with
+    ``_``): they are compiled into the functions that call them, whose machine code on disk
+    holds theirs, so a process that loads those never compiles or loads a helper.
     """
     key = digest(source, roots, code)[:20]
     name = f"{MODULE_PREFIX}__{stem}__{key}"
@@ -186,7 +188,8 @@ def load_module(stem: str, source: str, roots, code=()) -> ModuleType:
         del sys.modules[name]
         raise
     for value in vars(module).values():
-        if isinstance(value, Dispatcher) and value.py_func.__module__ == name:
+        if (isinstance(value, Dispatcher) and value.py_func.__module__ == name
+                and not value.py_func.__name__.startswith("_")):
             value._cache = LoopCache(value.py_func)  # what njit(cache=True) would set
     return module
 
