@@ -1,10 +1,10 @@
 """Bad input, one table: every mistake answered by one clear line, nothing computed or written.
 
 Each row is a mistake a user can make and a fragment of the line that must answer it. The
-command-line rows run ``python -m stability`` as a real subprocess on a study file written to
-``tmp_path``: exit status 2, one line on stderr (no traceback), nothing on stdout and no file in
-the output folder. The Python rows call the public API and expect a ``ValueError`` whose message
-holds the fragment.
+command-line rows run the command (``stability.cli.main``, and for one of them ``python -m
+stability`` in a new process) on a study file written to ``tmp_path``: exit status 2, one line
+on stderr (no traceback), nothing on stdout and no file in the output folder. The Python rows
+call the public API and expect a ``ValueError`` whose message holds the fragment.
 
 The in-process rows (``stability.cli.main`` here, as nothing in them runs) cover what a study
 run reads besides its options: the study file itself (not a regular file, too large, not UTF-8,
@@ -163,25 +163,44 @@ CLI = {
 }
 
 
-@pytest.mark.parametrize("case", sorted(CLI))
-def test_command_line(case, tmp_path):
-    text, args, fragments = CLI[case]
-    out = tmp_path / "out"
+def command_line_case(case, tmp_path):
+    """The study file of a row of CLI, written to ``tmp_path``, and the command's arguments."""
+    text, args, _ = CLI[case]
     path = tmp_path / "study.toml"
     path.write_text(text)
-    done = subprocess.run(
-        [sys.executable, "-m", "stability", "run", str(path), "--out", str(out),
-         "--no-progress", *args],
-        capture_output=True, text=True, cwd=tmp_path, timeout=120,
-    )
-    lines = done.stderr.strip().splitlines()
-    assert done.returncode == 2, done.stderr
-    assert len(lines) == 1 and "Traceback" not in done.stderr, done.stderr
-    assert done.stdout == ""
-    for fragment in fragments:
-        assert fragment in lines[0], (fragment, lines[0])
+    return ["run", str(path), "--out", str(tmp_path / "out"), "--no-progress", *args]
+
+
+def assert_nothing_written(tmp_path):
+    out = tmp_path / "out"
     assert not out.exists() or not any(out.iterdir())
     assert sorted(p.name for p in tmp_path.iterdir()) in (["study.toml"], ["out", "study.toml"])
+
+
+@pytest.mark.parametrize("case", sorted(CLI))
+def test_command_line(case, tmp_path, capsys, monkeypatch):
+    """Each row through ``stability.cli.main`` here (the command without the interpreter's
+    start-up, which took a second of every row); the command in a new process is the next
+    test, on one row."""
+    monkeypatch.chdir(tmp_path)  # nothing written in the working folder either
+    line = one_line(capsys, command_line_case(case, tmp_path))
+    for fragment in CLI[case][2]:
+        assert fragment in line, (fragment, line)
+    assert_nothing_written(tmp_path)
+
+
+def test_command_line_in_a_new_process_says_the_same_line(tmp_path, capsys):
+    """``python -m stability`` in a new process: exit status 2, on stderr the one line
+    :func:`stability.cli.main` gives here (no warning or traceback beside it), nothing on
+    stdout, nothing written. One row: every row takes the same path from the command line to
+    its refusal."""
+    argv = command_line_case("seed as a date", tmp_path)
+    done = subprocess.run([sys.executable, "-m", "stability", *argv], capture_output=True,
+                          text=True, cwd=tmp_path, timeout=120)
+    assert done.returncode == 2, done.stderr
+    assert done.stderr.strip().splitlines() == [one_line(capsys, argv)], done.stderr
+    assert done.stdout == ""
+    assert_nothing_written(tmp_path)
 
 
 # --- the Python API ---------------------------------------------------------------------------
