@@ -1,6 +1,10 @@
 """Reference solutions and checks shared by the tests."""
 
+import contextlib
+import fcntl
 import functools
+import os
+import shutil
 import time
 import warnings
 from pathlib import Path
@@ -193,3 +197,26 @@ def quick_study(tmp_path_factory, kind: str, **options):
                         **options)
     return summary, out
 
+
+def once_per_run(tmp_path_factory, name: str, make) -> Path:
+    """The folder ``make(folder)`` filled, made once in a run of the suite, by the first
+    pytest-xdist worker that asks; the others wait for it and share it.
+
+    A module-scoped fixture is made by every worker that runs a test of its module, and
+    pytest-xdist splits a module between workers as it goes: an expensive one whose result
+    the tests only read (a simulation's numbers, a finished study folder they copy, caches
+    they copy) is made here instead. Where ``make`` fails, the next worker tries it again.
+    """
+    root = tmp_path_factory.getbasetemp()
+    if os.environ.get("PYTEST_XDIST_WORKER"):
+        root = root.parent  # the run's folder, above each worker's own
+    folder = root / f"once-{name}"
+    with open(root / f"once-{name}.lock", "w") as lock:
+        fcntl.flock(lock, fcntl.LOCK_EX)
+        if not (folder / ".made").exists():
+            with contextlib.suppress(FileNotFoundError):
+                shutil.rmtree(folder)  # what a failed make left
+            folder.mkdir()
+            make(folder)
+            (folder / ".made").touch()
+    return folder

@@ -28,7 +28,7 @@ from stability.output.publish import JOURNAL, STAGE_PREFIX, Stage, clean_leftove
 from stability.output.store import find_stores, read_progress
 from stability.study import STUDIES
 
-from .helpers import wait_until
+from .helpers import once_per_run, wait_until
 
 ROOT = Path(__file__).resolve().parents[1]
 TENNIS = ROOT / "studies" / "tennis_racket.toml"
@@ -83,14 +83,17 @@ def temporaries(folder: Path) -> list:
     return sorted(str(p.relative_to(folder)) for p in found)
 
 
-@pytest.fixture(scope="module")
-def earlier(tmp_path_factory):
-    """A finished quick result, the one every interrupted run is started over."""
-    out = tmp_path_factory.mktemp("earlier") / "out"
-    done = subprocess.run(stability_cmd(*QUICK, "--out", str(out)), cwd=ROOT,
+def _earlier(folder):
+    done = subprocess.run(stability_cmd(*QUICK, "--out", str(folder / "out")), cwd=ROOT,
                           capture_output=True, text=True, timeout=300)
     assert done.returncode == 0, done.stderr
-    return out
+
+
+@pytest.fixture(scope="module")
+def earlier(tmp_path_factory):
+    """A finished quick result, the one every interrupted run is started over (copied by
+    each): made once in a run of the suite."""
+    return once_per_run(tmp_path_factory, "faults_earlier", _earlier) / "out"
 
 
 PHASES = {

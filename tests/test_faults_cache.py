@@ -23,7 +23,7 @@ import pytest
 
 WAIT_NOTICE_S = 3.0  # stability.engine.cache.WAIT_NOTICE_S
 
-from .helpers import wait_until
+from .helpers import once_per_run, wait_until
 from .test_engine import KERNEL, SCRIPT
 from .test_faults import Lines
 
@@ -79,16 +79,21 @@ def work(tmp_path_factory):
     return folder
 
 
+UMASKS = (0o022, 0o002)
+
+
 @pytest.fixture(scope="module")
 def made(work, tmp_path_factory):
-    """Caches made by a cold run each, under umask 022 and 002 (both at once), by umask."""
-    caches = {umask: tmp_path_factory.mktemp(f"umask{umask:03o}") / "cache"
-              for umask in (0o022, 0o002)}
-    procs = [start(work, cache, umask=umask) for umask, cache in caches.items()]
-    for proc in procs:
-        result, err = finish(proc)
-        assert (result["misses"], result["hits"], err) == (1, 0, [])
-    return caches
+    """Caches made by a cold run each, under umask 022 and 002 (both at once), by umask: made
+    once in a run of the suite (the cases copy them or read their modes)."""
+    def make(folder):
+        procs = [start(work, folder / f"umask{umask:03o}", umask=umask) for umask in UMASKS]
+        for proc in procs:
+            result, err = finish(proc)
+            assert (result["misses"], result["hits"], err) == (1, 0, [])
+
+    folder = once_per_run(tmp_path_factory, "faults_cache_made", make)
+    return {umask: folder / f"umask{umask:03o}" for umask in UMASKS}
 
 
 @pytest.fixture(scope="module")

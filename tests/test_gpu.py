@@ -27,6 +27,8 @@ import pytest
 
 from stability.gpu import GPU_METHODS, NO_GPU_MESSAGE, NOT_ON_GPU, gpu_method, gpu_methods
 
+from .helpers import once_per_run
+
 ROOT = pathlib.Path(__file__).resolve().parents[1]
 SCRIPT = ROOT / "tests" / "gpu_simulated.py"
 TOLERANCE = 1e-12
@@ -48,8 +50,11 @@ def _run(simulator, *args):
 
 
 @pytest.fixture(scope="module")
-def simulated():
-    return _run(True)
+def simulated(tmp_path_factory):
+    """The simulator's results (about 25 CPU s), made once in a run of the suite."""
+    folder = once_per_run(tmp_path_factory, "gpu_simulated", lambda folder: (
+        folder / "results.json").write_text(json.dumps(_run(True))))
+    return json.loads((folder / "results.json").read_text())
 
 
 @needs_numba_cuda
