@@ -22,8 +22,9 @@ AXIS = 0
 SPIN = 3.0
 EPSILON = 0.1
 MEMBERS = 16
-H = 0.02
-STEPS = 400
+H = 0.04
+STEPS = 200
+SAVE = 50
 LEVELS = [0.05, 0.5, 1.5]
 
 
@@ -54,9 +55,9 @@ def compare(method):
 
     m0 = starts() * MOMENTS
     t0 = time.perf_counter()
-    gpu = propagate_gpu(method, MOMENTS, m0, H, STEPS, AXIS, levels=LEVELS, save_every=100)
+    gpu = propagate_gpu(method, MOMENTS, m0, H, STEPS, AXIS, levels=LEVELS, save_every=SAVE)
     seconds = time.perf_counter() - t0
-    cpu = propagate(method, MOMENTS, m0, H, STEPS, save_every=100, progress=False,
+    cpu = propagate(method, MOMENTS, m0, H, STEPS, save_every=SAVE, progress=False,
                     track_axis=AXIS, levels=LEVELS)
     g, c = gpu.extras, cpu.extras
     out = {

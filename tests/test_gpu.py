@@ -82,7 +82,7 @@ def test_exact_kernel_against_elliptic_solution(simulated):
 def test_chunks_and_groups_change_nothing(simulated):
     r = simulated["chunks_and_groups"]
     assert r["chunked"] and r["group0"] and r["group1"]
-    assert r["steps_done"] == [400, 100]
+    assert r["steps_done"] == [200, 100]
 
 
 @needs_numba_cuda
