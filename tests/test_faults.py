@@ -331,8 +331,9 @@ def test_output_folder_removed_while_writing_is_one_line(tmp_path):
 #: Studies that integrate in one piece: (study, label of its progress bar or the seconds to
 #: wait, arguments that make the run long enough to be stopped while it integrates).
 ONE_PIECE = {
-    # No progress output on a pipe (its runs are short and timed): stopped 4 s into 110 s.
-    "work_precision": (4.0, []),
+    # No progress output on a pipe (its runs are short and timed): stopped 4 s into 110 s
+    # (more on one thread, which is all it needs to be stopped while it integrates).
+    "work_precision": (4.0, ["--threads", "1"]),
 }
 
 

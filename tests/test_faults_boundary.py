@@ -206,9 +206,10 @@ def test_links_inside_a_store_are_never_written_through(tmp_path, body123):
 
 #: A run still integrating after three more processes have started and been refused on a
 #: loaded machine: LONG's members, a hundred times the steps, in 128 short chunks (it is stopped
-#: with Ctrl-C after its first chunks, never waited for).
+#: with Ctrl-C after its first chunks, never waited for), on one thread: it only has to be
+#: busy, and on all cores it took them from the runs it waits for and from the other tests.
 BUSY = [*LONG, "--set", "integration.t_end=4000", "--set", "integration.save_every=100000",
-        "--set", "run.chunk_members=64"]
+        "--set", "run.chunk_members=64", "--threads", "1"]
 
 
 def test_a_second_run_into_a_busy_folder_is_refused_and_destroys_nothing(tmp_path, capsys):
