@@ -577,10 +577,19 @@ def test_damaged_progress_is_shown_and_never_trusted(content, tmp_path, capsys):
                resume=True)
 
 
+#: ``python -m stability`` with the connect timeout of stability.output.stream.scheduler_client
+#: at 1 s instead of 10 (plus the 2 s its answer may take): the wait is the same code, shorter.
+QUICK_CONNECT = ("import sys; from stability.output import stream; "
+                 "stream.scheduler_client.__defaults__ = (1.0,); "
+                 "from stability.cli import console; sys.argv[0] = 'stability'; "
+                 "raise SystemExit(console())")
+
+
 def test_scheduler_that_never_answers_is_given_up_in_seconds(tmp_path):
     """A server that takes the TCP connection and never speaks dask (another service on the
     port): one line within the connect timeout, not minutes of waiting. A subprocess, so that
-    a wait that never ends fails the test instead of hanging the suite."""
+    a wait that never ends fails the test instead of hanging the suite; its connect timeout
+    is 1 s (:data:`QUICK_CONNECT`), so that the test does not wait 12 s for the line."""
     import socket
     import threading
     import time
@@ -601,14 +610,16 @@ def test_scheduler_that_never_answers_is_given_up_in_seconds(tmp_path):
     t0 = time.monotonic()
     try:
         done = subprocess.run(
-            [sys.executable, "-m", "stability", "run", str(ROOT / "studies" / "tennis_racket.toml"),
-             "--quick", "--out", str(out), "--no-progress", "--scheduler", address],
+            [sys.executable, "-c", QUICK_CONNECT, "run",
+             str(ROOT / "studies" / "tennis_racket.toml"), "--quick", "--out", str(out),
+             "--no-progress", "--scheduler", address],
             capture_output=True, text=True, cwd=ROOT, timeout=60)
     finally:
         server.close()
         for conn in taken:
             conn.close()
     assert time.monotonic() - t0 < 25
+    assert "within 3 s" in done.stderr  # the shortened timeout was the one that ran out
     assert taken, "the server was never reached"
     lines = done.stderr.strip().splitlines()
     assert done.returncode == 2 and len(lines) == 1, done.stderr
