@@ -16,10 +16,10 @@ Notation, used everywhere in the package:
 
 from .version import __version__
 from . import moved
-from .analytic import axis_stability, growth_rate, omega_squared, oscillation_frequency
+from .free_body.model import axis_stability, growth_rate, omega_squared, oscillation_frequency
 from .core.body import Part, RigidBody
-from .exact import exact_omega, flip_interval, full_period
-from .integrate import integrate
+from .free_body.exact import exact_omega, flip_interval, full_period
+from .free_body.integrate import integrate
 from .integrators import METHODS, MethodSpec, method_spec
 from . import accessor  # noqa: F401  (registers the ds.stability accessor)
 from .estimators import flip_statistics, measured_frequency, measured_growth_rate, measured_omega_squared, member_regimes  # noqa: E501
@@ -30,7 +30,7 @@ __all__ = ["METHODS", "MethodSpec", "Part", "RigidBody", "__version__", "axis_st
            "growth_rate", "integrate", "method_spec", "omega_squared", "oscillation_frequency"]
 
 from .animation import animate_flip, animate_top  # noqa: E402
-from .ensemble import ensemble_memory, run_ensemble  # noqa: E402
+from .free_body.ensemble import ensemble_memory, run_ensemble  # noqa: E402
 from .output.io import load, save  # noqa: E402
 from .scenes import define_scene  # noqa: E402
 from .scene_run import run_scene  # noqa: E402

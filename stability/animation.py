@@ -3,7 +3,7 @@
 Every frame comes from an exact solution, not from an integrator:
 
 - the flip (:func:`animate_flip`): the body turned by its exact attitude R(q(t))
-  (:func:`stability.exact_attitude.exact_attitude`) from ``w0 = spin (e_axis + epsilon (e_j +
+  (:func:`stability.free_body.exact_attitude.exact_attitude`) from ``w0 = spin (e_axis + epsilon (e_j +
   e_k))``, started with its angular momentum along space Z, so that L = R(t) I w(t) stays on
   the Z axis in every frame (Landau & Lifshitz, *Mechanics*, section 37);
 - the heavy top (:func:`animate_top`): its figure axis from the exact symmetric-top solution
@@ -74,7 +74,7 @@ class FlipFrames:
     @property
     def rotation(self) -> np.ndarray:
         """R(q(t)), body-to-space matrices, shape (n, 3, 3)."""
-        from .attitude import quaternion_to_matrix
+        from .free_body.attitude import quaternion_to_matrix
 
         return quaternion_to_matrix(self.q)
 
@@ -165,10 +165,10 @@ def flip_frames(body=None, *, spin=6.0, epsilon=0.05, axis=None, duration=None,
     -------
     FlipFrames
     """
-    from .analytic import intermediate_axis
+    from .free_body.model import intermediate_axis
     from .core.quaternions import frame_along, matrix_to_quaternion
-    from .exact import exact_omega, full_period
-    from .exact_attitude import exact_attitude
+    from .free_body.exact import exact_omega, full_period
+    from .free_body.exact_attitude import exact_attitude
 
     body = RigidBody.preset("tennis_racket") if body is None else body
     if not isinstance(body, RigidBody):

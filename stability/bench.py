@@ -6,7 +6,7 @@ tennis-racket preset spun at 10 rad/s about its intermediate axis, each of ``mem
 nudged by 1e-4 of the spin in a random perpendicular direction, ``steps`` steps of h = 2 ms (the
 default tennis-racket study's step). Timed on it, in one run:
 
-- every registered method through the parallel member loop (:func:`stability.driver.propagate`,
+- every registered method through the parallel member loop (:func:`stability.free_body.propagate.propagate`,
   nothing saved), with 1 and 2 threads (compile time excluded and reported apart);
 - SciPy's ``solve_ivp`` with DOP853 on the whole ensemble as one system of 3N equations (a
   vectorized right-hand side over the members), at a tolerance that gives an error comparable
@@ -45,13 +45,13 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from .analytic import euler_system, intermediate_axis
+from .free_body.model import euler_system, intermediate_axis
 from .core.body import RigidBody
-from .driver import propagate
+from .free_body.propagate import propagate
 from .engine import propagate_groups
 from .engine.reference import plain_rk4
-from .ensemble import perturbed_starts, run_ensemble
-from .exact import exact_omega_of_starts
+from .free_body.ensemble import perturbed_starts, run_ensemble
+from .free_body.exact import exact_omega_of_starts
 from .heavy_top.exact import cos_theta, nutation_period
 from .heavy_top.model import HeavyTop, tilted_starts
 from .integrators import METHODS, method_spec

@@ -58,8 +58,8 @@ from dataclasses import dataclass
 import numpy as np
 import xarray as xr
 
-from .analytic import growth_rate, omega_squared, perpendicular_axes
-from .exact import flip_intervals
+from .free_body.model import growth_rate, omega_squared, perpendicular_axes
+from .free_body.exact import flip_intervals
 from .output.dataset import body_from_attrs
 from .schema import ESTIMATES, TENNIS_RACKET
 from .util import conventions as cv
@@ -1022,15 +1022,15 @@ def exact_flip_intervals(body, axis: int, w0):
     body : RigidBody
     axis : int or None
         Spin axis, 1-based; None: every start, whatever its axis (for a start near a stable
-        axis, the limits :func:`stability.exact.flip_interval` gives).
+        axis, the limits :func:`stability.free_body.exact.flip_interval` gives).
     w0 : array_like, shape (N, 3)
         Starts, body frame, rad/s.
 
     Returns
     -------
     exact, asymptote : ndarray, shape (N,)
-        In s (:func:`stability.exact.flip_interval` and
-        :func:`stability.exact.flip_interval_asymptote`;
+        In s (:func:`stability.free_body.exact.flip_interval` and
+        :func:`stability.free_body.exact.flip_interval_asymptote`;
         literature notes 1.5, Abramowitz-Stegun 17.3.26).
     """
     w0 = np.atleast_2d(real_array("w0", w0, "rad/s"))
@@ -1044,7 +1044,7 @@ def exact_flip_intervals(body, axis: int, w0):
 def complementary_moduli(body, w0) -> np.ndarray:
     """The complementary modulus k' of each start's Jacobi functions; (N,), dimensionless.
 
-    ``k'^2 = 1 - k^2`` (:func:`stability.exact.elliptic_parameters`): proportional to the
+    ``k'^2 = 1 - k^2`` (:func:`stability.free_body.exact.elliptic_parameters`): proportional to the
     perturbation near the separatrix, where the flip interval goes as (2/lambda) ln(4/k').
 
     Parameters

@@ -279,7 +279,7 @@ def propagate_stored(run: GroupedRun, store=None, *, measure=None, resume=False,
         Finish a run of the same members stopped earlier (only the missing chunks run).
     scheduler : str or distributed.Client, optional
         Run the chunks on dask.distributed (needs ``store``;
-        :func:`stability.ensemble.run_streamed`).
+        :func:`stability.free_body.ensemble.run_streamed`).
     chunk_members : int, optional
         Members per chunk; default: the run in :data:`DEFAULT_CHUNKS` chunks, fewer where a
         chunk would hold less than :data:`MIN_CHUNK_WORK` member-steps.

@@ -330,10 +330,10 @@ ENSEMBLE = _schema("ensemble", "an ensemble of free rigid bodies, per member",
                            "attitude to the computed one", optional=_ATTITUDE,
                            comment="exact attitude: Euler angles about L from the elliptic "
                                    "solution and an exact quadrature of the precession rate "
-                                   "(stability.exact_attitude)"),
+                                   "(stability.free_body.exact_attitude)"),
 })
 
-# One trajectory (stability.integrate) ------------------------------------------------------
+# One trajectory (stability.integrate) ----------------------------------------------------------------
 
 TRAJECTORY = _schema("trajectory", "one free rigid body's motion, sample by sample",
                      "stability.integrate", file="", variables={
@@ -402,7 +402,7 @@ ESTIMATES = MappingProxyType({
     "n_with_interval": _var((), _ONE, "members with two or more flips"),
 })
 
-# The stability map (stability.stabilitymap.map_dataset) ---------------------------------------
+# The stability map (stability.free_body.stability_map.measure.map_dataset) ---------------------------------------
 
 _MSA = ("integrator", "shape", AXIS)
 _EDGE_CASE, _EDGE_TIME, _FLIP_SHAPE = "edge_case", "edge_time", "flip_shape"
@@ -416,7 +416,7 @@ def _moment(dim, i) -> Variable:
 STABILITY_MAP = _schema(
     "stability_map", "Omega^2 measured against linear theory over the triangle of shapes, "
     "per integrator, shape and spin axis; the flip-interval sweep and the edge cases",
-    "stability.stabilitymap.map_dataset", {
+    "stability.free_body.stability_map.measure.map_dataset", {
         "omega_squared": _var(("shape", AXIS), _S2,
                               "analytic Omega^2 = (Ia - Ib)(Ia - Ic) W^2 / (Ib Ic)"),
         "omega_squared_normalised": _var(("shape", AXIS), _ONE, "analytic Omega^2 / W^2"),
@@ -528,14 +528,14 @@ ENGINE_ARTEFACTS = _schema(
         TIME: _time_axis("time"),
     })
 
-# The work-precision study (stability.workprecision) -------------------------------------------
+# The work-precision study (stability.free_body.work_precision.measure) -------------------------------------------
 
 _WMS = ("workload", "method", "sweep")
 _WMSM = _WMS + ("metric",)
 WORK_PRECISION = _schema(
     "work_precision", "speed against error of every integrator, per workload, method and "
     "step; the long-horizon drift of the invariants",
-    "stability.workprecision.work_precision_dataset", {
+    "stability.free_body.work_precision.measure.work_precision_dataset", {
         "w_error": _var(_WMSM, _ONE, "relative error of w at the end, |w - w_exact| / "
                         "|w_exact|"),
         "energy_error": _var(_WMSM, _ONE, "relative kinetic-energy error at the end, |E / E0 - "
@@ -576,11 +576,11 @@ WORK_PRECISION = _schema(
                                          "against the exact solution"),
     })
 
-# The twisting racket (stability.twisting.measure_twisting) ------------------------------------
+# The twisting racket (stability.free_body.twisting_racket.measure.measure_twisting) ------------------------------------
 
 TWISTING_RACKET = _schema(
     "twisting_racket", "Montgomery's angle and the twist of tossed bodies, per member, from "
-    "the run and from the exact motion", "stability.twisting.measure_twisting", {
+    "the run and from the exact motion", "stability.free_body.twisting_racket.measure.measure_twisting", {
         "moments": _var((MEMBER, AXIS), _KGM2, "principal moments, ascending (canonical "
                         "frame)"),
         "w0": _var((MEMBER, AXIS), _RAD_S, "initial angular velocity, canonical frame"),

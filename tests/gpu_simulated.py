@@ -12,8 +12,8 @@ import time
 import numpy as np
 
 import stability
-from stability.driver import propagate
-from stability.exact import exact_omega_of_starts
+from stability.free_body.propagate import propagate
+from stability.free_body.exact import exact_omega_of_starts
 from stability.gpu import GPU_METHODS
 
 #: A body in non-canonical axis order (body axis 0 is the intermediate one), spun about it.
@@ -83,7 +83,7 @@ def compare(method):
 
 
 def exact_against_elliptic():
-    """GPU ``exact`` (1 step of T, and 50 steps of T/50) against stability.exact at T."""
+    """GPU ``exact`` (1 step of T, and 50 steps of T/50) against stability.free_body.exact at T."""
     from stability.gpu import propagate_gpu
 
     w0 = starts()

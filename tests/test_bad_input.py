@@ -17,7 +17,7 @@ unknown keys and sections, a section given as a value, a missing or bad top-leve
 key, a missing file and bad ``--set``/``--members`` values (``tests/test_study_config.py``);
 unknown subcommands and ``--threads`` out of range (``tests/test_cli.py``); bad bodies, starts
 of the wrong shape, non-finite values, bad seeds, time-series runs above ``max_memory``
-(``tests/core/test_body.py``, ``tests/test_ensemble.py``); hopeless steps at the level of the loop
+(``tests/core/test_body.py``, ``tests/free_body/test_ensemble.py``); hopeless steps at the level of the loop
 (``tests/test_hard_cases.py``).
 """
 
@@ -31,9 +31,10 @@ import numpy as np
 import pytest
 
 import stability
-from stability import analytic, attitude, driver, estimators, exact
+from stability.free_body import model as analytic, attitude, propagate as driver, exact
+from stability import estimators
 from stability.core.body import Part
-from stability.ensemble import perturbed_starts, run_ensembles
+from stability.free_body.ensemble import perturbed_starts, run_ensembles
 
 from .helpers import one_line
 

@@ -195,20 +195,25 @@ def work_precision_page(quick: bool) -> str:
 
 #: Modules whose public functions and classes the API reference lists (beside the top level).
 API_MODULES = (
-    ("Bodies and linear theory", ("core.body", "core.quaternions", "analytic",
+    ("Bodies and linear theory", ("core.body", "core.quaternions", "free_body.model",
                                   "heavy_top.model")),
-    ("Exact solutions", ("exact", "exact_attitude", "heavy_top.exact", "core.elliptic")),
-    ("Ensembles, runs and files", ("ensemble", "integrate", "attitude", "output.io", "output.stream",
+    ("Exact solutions", ("free_body.exact", "free_body.exact_attitude", "heavy_top.exact",
+                         "core.elliptic")),
+    ("Ensembles, runs and files", ("free_body.ensemble", "free_body.integrate",
+                                   "free_body.attitude", "output.io", "output.stream",
                                    "util.formatting", "schema")),
-    ("Measures and estimators", ("estimators", "geometric_phase", "periodic", "core.roots",
-                                 "drift", "reference")),
+    ("Measures and estimators", ("estimators", "free_body.twisting_racket.geometric_phase",
+                                 "periodic", "core.roots", "drift", "free_body.reference")),
     ("Scenes, integrators and the engine", ("scenes", "integrators", "engine")),
-    ("Studies' library functions", ("twisting", "engine_body.measure", "struck.model",
-                                     "rolling.model", "heavy_top.measure", "earth.wobble",
-                                     "earth.equinoxes", "earth.model", "stabilitymap",
-                                     "workprecision", "sweeps", "shapes", "flipsweep",
-                                     "polhodes")),
-    ("Figures and animations", ("animation", "figures.animation", "figures.poinsot")),
+    ("Studies' library functions", ("free_body.twisting_racket.measure", "engine_body.measure",
+                                     "struck.model", "rolling.model", "heavy_top.measure",
+                                     "earth.wobble", "earth.equinoxes", "earth.model",
+                                     "free_body.stability_map.measure",
+                                     "free_body.work_precision.measure",
+                                     "free_body.work_precision.sweeps",
+                                     "free_body.stability_map.shapes",
+                                     "free_body.tennis_racket.flipsweep", "free_body.polhodes")),
+    ("Figures and animations", ("animation", "figures.animation", "free_body.figures")),
 )
 
 

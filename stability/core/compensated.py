@@ -2,7 +2,7 @@
 double-double numbers built on them.
 
 Compiled helpers (``@njit``, inlined) of the exact solution's cancellation-free invariants
-(:mod:`stability.exact`); the GPU replaces :func:`two_prod` by one fused multiply-add
+(:mod:`stability.free_body.exact`); the GPU replaces :func:`two_prod` by one fused multiply-add
 (:mod:`stability.gpu.retarget`).
 """
 

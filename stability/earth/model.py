@@ -25,7 +25,7 @@ import math
 
 import numpy as np
 
-from ..analytic import oscillation_frequency
+from ..free_body.model import oscillation_frequency
 from ..core.body import RigidBody
 
 #: Published numbers (module docstring), SI units.
@@ -81,7 +81,7 @@ def earth(**kwargs) -> RigidBody:
 def euler_period(moments, spin) -> float:
     """Period (s) of the free wobble about the figure axis: ``2 pi / (W sqrt((C - A)(C - B)
     / (A B)))`` [Landau & Lifshitz, *Mechanics*, section 36], the small-offset limit: 2 pi
-    over :func:`stability.analytic.oscillation_frequency` about axis 3.
+    over :func:`stability.free_body.model.oscillation_frequency` about axis 3.
 
     Parameters
     ----------

@@ -27,7 +27,7 @@ from numba import njit
 
 from ..util import conventions as cv
 from .methods import AVERAGED_METHODS, METHODS
-from ..scenes.free_body import component
+from ..free_body.scene import component
 from ..scenes.spec import Scene
 
 

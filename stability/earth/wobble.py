@@ -18,11 +18,11 @@ import numpy as np
 import xarray as xr
 
 from ..util import conventions as cv
-from ..attitude import quaternion_to_matrix
+from ..free_body.attitude import quaternion_to_matrix
 from .model import ARCSEC, CHANDLER_PERIOD_DAYS, DAY, euler_period, oblate_euler_period
-from ..ensemble import completed, run_ensemble
+from ..free_body.ensemble import completed, run_ensemble
 from ..estimators import measured_frequency
-from ..integrate import integrate
+from ..free_body.integrate import integrate
 from ..scene_ensemble import default_chunk_members
 from ..schema import EARTH_WOBBLE
 

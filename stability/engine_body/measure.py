@@ -19,13 +19,13 @@ import math
 import numpy as np
 import xarray as xr
 
-from ..analytic import growth_rate, omega_squared
-from ..attitude import IDENTITY, spatial_angular_momentum
+from ..free_body.model import growth_rate, omega_squared
+from ..free_body.attitude import IDENTITY, spatial_angular_momentum
 from ..core.body import RigidBody
 from ..estimators import (
     exact_flip_intervals, flip_estimate, omega_squared_estimate, tracked_members,
 )
-from ..exact import exact_omega
+from ..free_body.exact import exact_omega
 from ..integrators import METHODS
 from ..output.dataset import storable_attrs
 from ..scene_ensemble import GroupedRun, propagate_stored, sub_store

@@ -13,9 +13,9 @@ import numpy as np
 from numba import njit
 
 from ..util import conventions as cv
-from ..scenes.free_body import component
-from ..scenes.free_body_attitude import example as example_mq
-from ..scenes.free_body_attitude import quaternion_norm
+from ..free_body.scene import component
+from ..free_body.scene_attitude import example as example_mq
+from ..free_body.scene_attitude import quaternion_norm
 from ..scenes.spec import Scene
 from .methods import ENGINE_RULES, rotate, rotate3, world_state
 

@@ -15,11 +15,11 @@ import numpy as np
 from matplotlib.figure import Figure
 from matplotlib.ticker import MaxNLocator
 
-from ..analytic import moment_name
+from ..free_body.model import moment_name
 from ..core.body import PRESETS, RigidBody
 from ..core.quaternions import frame_along
 from ..plotting.style import AXIS_COLORS, label
-from .twisting import BACK_COLOR, FRONT_COLOR, racket_outline
+from ..free_body.twisting_racket.figures import BACK_COLOR, FRONT_COLOR, racket_outline
 
 #: Dots per inch of the animation figures; their size is given in pixels.
 DPI = 100

@@ -3,7 +3,7 @@
 One member per thread, its state in registers, members coalesced (structure of arrays,
 ``(n, N)``): :func:`propagate_groups_gpu` is :func:`stability.engine.propagate_groups` on the
 GPU, for any scene and method (:func:`gpu_methods`), the user's own scenes included;
-:func:`propagate_gpu` is :func:`stability.driver.propagate` on the GPU, with the same tracking
+:func:`propagate_gpu` is :func:`stability.free_body.propagate.propagate` on the GPU, with the same tracking
 of flips, crossings, amplitudes and levels. The kernels run the CPU's own step kernels, compiled
 for the device (:mod:`stability.gpu.retarget`), inside a twin of the CPU member loop rendered
 for the scene's width (:mod:`stability.gpu.kernels`). Needs the ``gpu`` extra (``numba-cuda``) and a CUDA GPU, or

@@ -1,8 +1,8 @@
 """The free body on the GPU: ``propagate_gpu`` and ``propagate_many_gpu``.
 
-The GPU twins of :func:`stability.driver.propagate` and :func:`~stability.driver.propagate_many`:
+The GPU twins of :func:`stability.free_body.propagate.propagate` and :func:`~stability.free_body.propagate.propagate_many`:
 the same arguments, the same frame conversions, tracking set-up and final checks (they are
-:func:`~stability.driver.propagate_many` with :func:`stability.gpu.run.propagate_groups_gpu` as
+:func:`~stability.free_body.propagate.propagate_many` with :func:`stability.gpu.run.propagate_groups_gpu` as
 its propagator), and a :class:`stability.engine.Propagation` with arrays of the same shapes.
 """
 
@@ -12,7 +12,7 @@ import functools
 
 import numpy as np
 
-from ..driver import propagate_many
+from ..free_body.propagate import propagate_many
 from .methods import THREADS_PER_BLOCK, gpu_method
 from .run import propagate_groups_gpu
 
@@ -35,7 +35,7 @@ def propagate_gpu(method, moments, m0, h, n_steps, axis=None, *, levels=None, sa
         Number of steps.
     axis : int, optional
         Body axis (0-based) of the spin: turns tracking on, as ``track_axis`` of
-        :func:`stability.driver.propagate` (the same ``extras``).
+        :func:`stability.free_body.propagate.propagate` (the same ``extras``).
     levels : array_like, optional
         Ascending perpendicular-amplitude levels (rad/s) for ``passage_time``.
     save_every : int, default 0
@@ -77,7 +77,7 @@ def propagate_many_gpu(method, moments, m0, sizes, h, n_steps, save_every=0, tra
                        progress=None, q0=None, partial=False):
     """Several ensembles (groups), each of its own body, step and length, in one launch.
 
-    The arguments are those of :func:`stability.driver.propagate_many` (``moments`` (G, 3),
+    The arguments are those of :func:`stability.free_body.propagate.propagate_many` (``moments`` (G, 3),
     ``m0`` (N, 3) with group 0's members first, ``sizes`` (G,), ``h`` and ``n_steps`` (G,) or
     scalars, ``track_axes`` (G,), ``levels`` (G, L), ``q0`` (N, 4) to carry the attitude),
     plus ``chunk_steps`` and ``threads_per_block`` of :func:`propagate_gpu`. Returns a

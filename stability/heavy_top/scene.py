@@ -25,7 +25,7 @@ from numba import njit
 from ..util import conventions as cv
 from .exact import body_states
 from .methods import METHODS, N_TOP
-from ..scenes.free_body import component
+from ..free_body.scene import component
 from ..scenes.spec import Scene
 
 

@@ -10,8 +10,8 @@ from ..engine_body.scene import ENGINE_BODY
 from ..heavy_top.scene import HEAVY_TOP
 from ..rolling.scene import ROLLING_BODY
 from ..struck.scene import STRUCK_BODY
-from .free_body import FREE_BODY
-from .free_body_attitude import FREE_BODY_ATTITUDE
+from ..free_body.scene import FREE_BODY
+from ..free_body.scene_attitude import FREE_BODY_ATTITUDE
 from .spec import Scene
 
 _ALL = (FREE_BODY, FREE_BODY_ATTITUDE, HEAVY_TOP, LUNISOLAR_EARTH, PRECESSING_AXIS,

@@ -1,7 +1,7 @@
 """What a scene is: the state it integrates, its kernels, invariants and exact solution.
 
 A scene is one physical problem run by the one member loop (:mod:`stability.engine`). Checklist
-for a new scene (copy ``stability/scenes/free_body.py``):
+for a new scene (copy ``stability/free_body/scene.py``):
 
 1. Name the state's numbers and their units (``components``, ``units``), in the frame the
    kernels use.

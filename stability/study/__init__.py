@@ -30,7 +30,10 @@ from ..heavy_top.studies import gyroscope, sleeping_top
 from ..output.stream import RunInterrupted
 from ..rolling.studies import rolling
 from ..struck.studies import bat
-from . import stability_map, tennis_racket, twisting_racket, work_precision
+from ..free_body.stability_map import study as stability_map
+from ..free_body.tennis_racket import study as tennis_racket
+from ..free_body.twisting_racket import study as twisting_racket
+from ..free_body.work_precision import study as work_precision
 from .config import (
     REQUIRED,
     STUDY_KEY,

@@ -30,7 +30,7 @@ from pathlib import Path
 from typing import Any, Callable
 
 from ..core.body import RigidBody
-from ..ensemble import DEFAULT_MAX_MEMORY, format_bytes
+from ..free_body.ensemble import DEFAULT_MAX_MEMORY, format_bytes
 from ..integrators import METHODS
 from ..memory import memory_problem
 from ..output.dataset import append_history, config_toml, software_attrs

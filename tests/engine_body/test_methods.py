@@ -6,7 +6,7 @@ import pytest
 
 from stability import RigidBody
 from stability.engine import propagate_groups
-from stability.exact import exact_omega
+from stability.free_body.exact import exact_omega
 from stability.integrators import METHODS
 from stability.engine_body.methods import ENGINE_RULES, body_state, world_state
 from stability.integrators.spec import body_params
