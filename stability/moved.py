@@ -20,7 +20,9 @@ import importlib.util
 import sys
 import warnings
 
-#: Old dotted module path -> the module it now is.
+#: Old dotted module path -> the module it now is. (``stability.integrate``, which became
+#: ``stability.free_body.integrate``, is not here: that path is the function
+#: ``stability.integrate``, which a module imported there would replace.)
 MOVED = {
     "stability.conventions": "stability.util.conventions",
     "stability.checks": "stability.util.checks",
@@ -77,7 +79,6 @@ MOVED = {
     "stability.exact_attitude": "stability.free_body.exact_attitude",
     "stability.attitude": "stability.free_body.attitude",
     "stability.driver": "stability.free_body.propagate",
-    "stability.integrate": "stability.free_body.integrate",
     "stability.ensemble": "stability.free_body.ensemble",
     "stability.timescales": "stability.free_body.timescales",
     "stability.reference": "stability.free_body.reference",
