@@ -21,8 +21,10 @@ from .core.body import Part, RigidBody
 from .free_body.exact import exact_omega, flip_interval, full_period
 from .free_body.integrate import integrate
 from .integrators import METHODS, MethodSpec, method_spec
-from . import accessor  # noqa: F401  (registers the ds.stability accessor)
-from .estimators import flip_statistics, measured_frequency, measured_growth_rate, measured_omega_squared, member_regimes  # noqa: E501
+from .free_body import accessor  # noqa: F401  (registers the ds.stability accessor)
+from .analysis.estimates import measured_frequency, measured_growth_rate
+from .analysis.regimes import member_regimes
+from .free_body.measure import flip_statistics, measured_omega_squared
 
 
 __all__ = ["METHODS", "MethodSpec", "Part", "RigidBody", "__version__", "axis_stability",

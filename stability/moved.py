@@ -9,7 +9,9 @@ the new path. :data:`MOVED` is the table; :func:`install` puts its finder on ``s
 
 A module whose path became a family's package (``stability.struck`` is now the struck bat's
 package, its functions in ``stability.struck.model``) keeps serving its old names instead:
-:data:`OLD_NAMES` is that table, and :func:`old_names` the package's ``__getattr__``.
+:data:`OLD_NAMES` is that table, and :func:`old_names` the package's ``__getattr__``. So does a
+module split in several (``stability.estimators``): its old path imports as a module that holds
+no code, only that ``__getattr__``.
 """
 
 from __future__ import annotations
@@ -18,6 +20,7 @@ import importlib
 import importlib.abc
 import importlib.util
 import sys
+import types
 import warnings
 
 #: Old dotted module path -> the module it now is. (``stability.integrate``, which became
@@ -72,6 +75,7 @@ MOVED = {
     "stability.integrators.engine_rules": "stability.engine_body.methods",
     "stability.study.engine_artefacts": "stability.engine_body.studies.engine_artefacts",
     "stability.figures.artefacts": "stability.engine_body.figures",
+    "stability.accessor": "stability.free_body.accessor",
     "stability.scenes.free_body": "stability.free_body.scene",
     "stability.scenes.free_body_attitude": "stability.free_body.scene_attitude",
     "stability.analytic": "stability.free_body.model",
@@ -117,6 +121,30 @@ OLD_NAMES = {
         "SHAPES", "G", "rolls", "rolling_acceleration", "slipping_acceleration",
         "slipping_spin_rate", "launch_formulas", "start_states", "measure_incline",
         "measure_launches"), "stability.rolling.model"),
+    "stability.estimators": {
+        **dict.fromkeys(("DEPARTURE_FACTOR", "MIN_CROSSINGS", "MIN_POINTS", "WINDOW_ATTRS",
+                         "WINDOW_HIGH_FRACTION", "WINDOW_LOW_FACTOR", "member_regimes"),
+                        "stability.analysis.regimes"),
+        **dict.fromkeys(("ESTIMATE_ATTRS", "flip_estimate", "measured_frequency",
+                         "measured_growth_rate",
+                         "omega_squared_estimate", "omega_squared_estimates"),
+                        "stability.analysis.estimates"),
+        **dict.fromkeys(("Members", "members", "perpendicular_amplitude", "sign_change_times",
+                         "summary_members",
+                         "tracked_members", "zero_crossings"),
+                        "stability.analysis.members"),
+        **dict.fromkeys(("REGIME_ALGEBRAIC", "REGIME_EXPONENTIAL", "REGIME_MEANINGS",
+                         "REGIME_NEUTRAL",
+                         "REGIME_OSCILLATION", "REGIME_UNDETERMINED", "perpendicular_axes"),
+                        "stability.util.conventions"),
+        **dict.fromkeys(("analyse_ensemble", "analysis_headline"),
+                        "stability.free_body.tennis_racket.analysis"),
+        **dict.fromkeys(("complementary_moduli", "exact_flip_intervals", "flip_statistics",
+                         "measured_omega_squared"),
+                        "stability.free_body.measure"),
+        **dict.fromkeys(("growth_line", "richardson_bias"),
+                        "stability.analysis.fits"),
+    },
     "stability.figures.impacts": {"bat_figure": "stability.struck.figures",
                                   "rolling_map_figure": "stability.rolling.figures",
                                   "rolling_launch_figure": "stability.rolling.figures"},
@@ -135,11 +163,16 @@ class OldPathFinder(importlib.abc.MetaPathFinder, importlib.abc.Loader):
     """Finds each old path of :data:`MOVED` and loads it as the module it now is."""
 
     def find_spec(self, fullname, path=None, target=None):
-        if fullname not in MOVED:
+        if fullname not in MOVED and fullname not in OLD_NAMES:
             return None
         return importlib.util.spec_from_loader(fullname, self)
 
     def create_module(self, spec):
+        if spec.name not in MOVED:  # a module split in several: its names, each where it went
+            module = types.ModuleType(spec.name, f"Old path of the names in {spec.name}.")
+            module.__getattr__ = old_names(spec.name)
+            self.spec = spec
+            return module
         module = importlib.import_module(moved_to(spec.name))
         self.spec = module.__spec__  # the import system sets __spec__ to the old path's
         return module
@@ -153,7 +186,7 @@ def old_attribute(name: str):
     """``stability.<name>`` for an old module path (the package's ``__getattr__``);
     AttributeError for any other name."""
     old = f"stability.{name}"
-    if old not in MOVED:
+    if old not in MOVED and old not in OLD_NAMES:
         raise AttributeError(f"module 'stability' has no attribute {name!r}")
     return importlib.import_module(old)
 

@@ -351,7 +351,7 @@ TRAJECTORY = _schema("trajectory", "one free rigid body's motion, sample by samp
 _QUANTILE = "{quantile} over ok members of the amplitude perpendicular to axis {axis}"
 TENNIS_RACKET = ENSEMBLE.extend(
     "tennis_racket", "the tennis-racket ensemble with its exact flip intervals and the "
-    "quantiles of its perpendicular amplitude", "stability.estimators.analyse_ensemble",
+    "quantiles of its perpendicular amplitude", "stability.free_body.tennis_racket.analysis.analyse_ensemble",
     "tennis_racket.nc", {
         "exact_flip_interval": _var(MEMBER, _S,
                                     "exact flip interval 2K(k)/nu of the member's start"),
@@ -366,9 +366,9 @@ TENNIS_RACKET = ENSEMBLE.extend(
     },
     **{name: replace(ENSEMBLE[name], optional="") for name in (TIME, "w")})
 
-# Ensemble estimates (stability.estimators), shared by the stability map -----------------------
+# Ensemble estimates (stability.analysis), shared by the stability map -------------------------
 
-#: Long names and units of the ensemble estimates of :mod:`stability.estimators`, scalars there
+#: Long names and units of the ensemble estimates of :mod:`stability.analysis`, scalars there
 #: (``dims`` empty); a Dataset kind places them on its dims (:meth:`Variable.on`).
 ESTIMATES = MappingProxyType({
     "regime": _var((), _ONE, "regime of the ensemble's motion", kind="i",

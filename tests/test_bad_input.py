@@ -32,7 +32,7 @@ import pytest
 
 import stability
 from stability.free_body import model as analytic, attitude, propagate as driver, exact
-from stability import estimators
+from stability.analysis.members import zero_crossings
 from stability.core.body import Part
 from stability.free_body.ensemble import perturbed_starts, run_ensembles
 
@@ -290,7 +290,7 @@ API = {
                            "a must be real numbers"),
     "boolean rotation matrix": (lambda: attitude.matrix_to_quaternion(np.eye(3, dtype=bool)),
                                 "R must be real numbers, got booleans"),
-    "complex signal": (lambda: estimators.zero_crossings([0.0, 1.0, 2.0], [1j, -1j, 1j]),
+    "complex signal": (lambda: zero_crossings([0.0, 1.0, 2.0], [1j, -1j, 1j]),
                        "x must be real numbers"),
     # a run of any scene (stability.run_scene), refused before any work
     "starts of the wrong width (scene)": (

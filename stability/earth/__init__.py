@@ -17,7 +17,7 @@ The family's modules, each importing only downward:
 
 It builds on the free body, as the design allows a family to build on another: the wobble is a
 free rigid body's, run by its ensembles (:mod:`stability.free_body.ensemble`, :mod:`stability.free_body.integrate`,
-:mod:`stability.free_body.attitude`) and measured by its estimators (:mod:`stability.estimators`), with
+:mod:`stability.free_body.attitude`) and measured by its estimators (:mod:`stability.analysis`), with
 Euler's period from :mod:`stability.free_body.model`. Besides, it uses the shared layers:
 :mod:`stability.core` (the rigid body, vectorizable trigonometry), :mod:`stability.util`
 (conventions, threads), :mod:`stability.integrators` (the composition coefficients, rotations,

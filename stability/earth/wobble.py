@@ -21,7 +21,7 @@ from ..util import conventions as cv
 from ..free_body.attitude import quaternion_to_matrix
 from .model import ARCSEC, CHANDLER_PERIOD_DAYS, DAY, euler_period, oblate_euler_period
 from ..free_body.ensemble import completed, run_ensemble
-from ..estimators import measured_frequency
+from ..analysis.estimates import measured_frequency
 from ..free_body.integrate import integrate
 from ..scene_ensemble import default_chunk_members
 from ..schema import EARTH_WOBBLE

@@ -20,7 +20,7 @@ methods :mod:`stability.free_body.attitude`, :mod:`stability.free_body.ensemble`
 layers: :mod:`stability.core`, :mod:`stability.util`, :mod:`stability.integrators` (MethodSpec,
 rotations, the registry of the package's methods), :mod:`stability.scenes` (the scene contract),
 the scene-generic ensembles (:mod:`stability.scene_ensemble`), the estimators
-(:mod:`stability.estimators`), :mod:`stability.output`, the Dataset register
+(:mod:`stability.analysis`), :mod:`stability.output`, the Dataset register
 (:mod:`stability.schema`), :mod:`stability.study` (the study framework) and
 :mod:`stability.plotting`.
 

@@ -4,8 +4,8 @@ An ensemble tossed about the middle axis is run with each engine rule (scene ``e
 :mod:`stability.engine_body.methods`) and, beside them, with the package's integrators
 carrying the attitude (scene ``free_body_attitude``), at the time steps engines use. Per rule and
 step (:func:`measure_rule`): the fraction of members that flip, the flip interval and the growth
-rate against the exact ones (:func:`stability.estimators.flip_estimate`,
-:func:`stability.estimators.omega_squared_estimate`), the drift of the energy, of |L| and of the
+rate against the exact ones (:func:`stability.analysis.estimates.flip_estimate`,
+:func:`stability.analysis.estimates.omega_squared_estimate`), the drift of the energy, of |L| and of the
 direction of the spatial angular momentum, and the measured cost per step;
 :func:`step_for_accuracy` finds the step each rule needs for a flip interval within a tolerance
 (:func:`steps_for_accuracy`: for several quantities in one search).
@@ -22,9 +22,9 @@ import xarray as xr
 from ..free_body.model import growth_rate, omega_squared
 from ..free_body.attitude import IDENTITY, spatial_angular_momentum
 from ..core.body import RigidBody
-from ..estimators import (
-    exact_flip_intervals, flip_estimate, omega_squared_estimate, tracked_members,
-)
+from ..analysis.estimates import flip_estimate, omega_squared_estimate
+from ..analysis.members import tracked_members
+from ..free_body.measure import exact_flip_intervals
 from ..free_body.exact import exact_omega
 from ..integrators import METHODS
 from ..output.dataset import storable_attrs

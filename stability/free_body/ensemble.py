@@ -34,7 +34,7 @@ from .model import perpendicular_axes
 from .attitude import IDENTITY, attitude_error, attitude_spec, carries_attitude
 from ..core.body import RigidBody
 from .propagate import CanonicalGroups, group_levels, propagate_many
-from ..estimators import summary_members
+from ..analysis.members import summary_members
 from .exact_attitude import exact_attitudes
 from ..integrators import method_spec
 from ..memory import DEFAULT_MAX_MEMORY
@@ -543,7 +543,7 @@ class EnsembleSummary:
 
     Parameters
     ----------
-    members : stability.estimators.Members
+    members : stability.analysis.members.Members
         What the estimators take, as ``estimators.members`` gives it from the Dataset.
     status : ndarray of int8, shape (N,)
     energy_error : ndarray, shape (N,)

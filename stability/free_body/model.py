@@ -28,6 +28,7 @@ import numpy as np
 
 from ..core.body import RigidBody
 from ..util.checks import real_array
+from ..util.conventions import perpendicular_axes
 
 __all__ = [
     "MOMENT_NAMES",
@@ -412,23 +413,6 @@ def moment_name(body, axis: int) -> str:
     """
     rank = int(np.argsort(np.argsort(_moments(body), kind="stable"))[axis - 1])
     return MOMENT_NAMES[rank]
-
-
-def perpendicular_axes(axis: int) -> tuple[int, int]:
-    """The two principal axes (1-based, ascending) perpendicular to ``axis``.
-
-    Parameters
-    ----------
-    axis : int
-        An axis label, 1, 2 or 3.
-
-    Returns
-    -------
-    tuple of int
-        The other two labels, ascending.
-    """
-    b, c = (a for a in (1, 2, 3) if a != axis)
-    return b, c
 
 
 # -------------------------------------------------------------------------------- validation

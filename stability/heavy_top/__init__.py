@@ -20,7 +20,7 @@ It builds on the shared layers: :mod:`stability.core` (the rigid body, elliptic 
 composition coefficients, rotations, the Euler right-hand side, MethodSpec),
 :mod:`stability.scenes` (the scene contract), the scene-generic ensembles
 (:mod:`stability.scene_ensemble`), the estimators and periodic-signal measures
-(:mod:`stability.estimators`, :mod:`stability.periodic`), the Dataset register
+(:mod:`stability.analysis`, :mod:`stability.periodic`), the Dataset register
 (:mod:`stability.schema`), :mod:`stability.study` (the study framework) and
 :mod:`stability.plotting`.
 

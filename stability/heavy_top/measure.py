@@ -8,7 +8,7 @@ but for a tilt ``tilt`` at random azimuths, spinning at w3 about the symmetry ax
 transverse angular velocity. All ensembles run in one call of the member loop (scene
 ``heavy_top``, groups with their own top, step and horizon), tracking ``sin(tilt)`` and its first
 passages of a ladder of levels. The growth rate of each member is the slope of ``ln(level)``
-against passage time over the linear phase (:mod:`stability.estimators`), from ``low_factor``
+against passage time over the linear phase (:mod:`stability.analysis`), from ``low_factor``
 times the start (the decaying mode has died away) up to ``high_fraction`` in ``sin(tilt)`` (the
 nonlinear terms are ~high_fraction^2); it is set beside the analytic
 ``sqrt(4 A M g l - C^2 w3^2) / (2 A)`` (:mod:`stability.heavy_top.model`). Above the critical
@@ -53,7 +53,7 @@ import time
 import numpy as np
 import xarray as xr
 
-from .. import estimators as est
+from ..analysis.estimates import measured_growth_rate
 from ..periodic import extrema, level_crossings, mean_period, weighted_mean
 from ..scene_ensemble import GroupedRun, propagate_stored
 from ..scenes import SCENES
@@ -162,7 +162,7 @@ def measure_sleeping_tops(tops, spins, *, members=64, tilt=1e-9, method="lp4",
         rows = slice(g * members, (g + 1) * members)
         extras = {key: value[rows] for key, value in run.extras.items()}
         mem = tilt_members(extras, x0[rows], run.status[rows], levels)
-        fit = est.measured_growth_rate(mem, low_factor=low_factor, high_fraction=high_fraction)
+        fit = measured_growth_rate(mem, low_factor=low_factor, high_fraction=high_fraction)
         n = int(fit["n_fitted"])
         out["n_fitted"][g] = n
         out["members_failed"][g] = int(np.sum(run.status[rows] != cv.STATUS_OK))

@@ -339,7 +339,7 @@ def tilted_starts(spin, tilt, members, *, top: HeavyTop, seed=0, tilt_rate=0.0,
 
 
 def tilt_members(extras, x0, status, levels):
-    """The estimators' :class:`~stability.estimators.Members` of tracked top runs.
+    """The estimators' :class:`~stability.analysis.members.Members` of tracked top runs.
 
     The tracked amplitude is ``sin(tilt)`` of body axis 3 (scene ``heavy_top``), so the
     estimators fit its growth exactly as they fit the perpendicular angular velocity of a
@@ -350,7 +350,7 @@ def tilt_members(extras, x0, status, levels):
     ----------
     extras : dict
         ``Propagation.extras`` of these runs' rows, as
-        :func:`stability.estimators.tracked_members` takes them (crossings,
+        :func:`stability.analysis.members.tracked_members` takes them (crossings,
         ``max_perp_amplitude`` (N,), ``passage_time`` (N, n_levels)).
     x0 : ndarray, shape (N, 6)
         Starts ``(m1, m2, m3, g1, g2, g3)`` (:func:`tilted_starts`).
@@ -363,6 +363,6 @@ def tilt_members(extras, x0, status, levels):
     -------
     Members
     """
-    from ..estimators import tracked_members
+    from ..analysis.members import tracked_members
 
     return tracked_members(extras, x0[:, 3:6], 3, 1.0, levels, status=status)

@@ -16,7 +16,7 @@ The family's modules, each importing only downward:
 It builds on the shared layers: :mod:`stability.core` (the rigid body and its presets),
 :mod:`stability.util` (conventions, input checks, threads), :mod:`stability.integrators`
 (MethodSpec), :mod:`stability.scenes` (the scene contract), the scene-generic ensembles
-(:mod:`stability.scene_ensemble`), the estimators (:mod:`stability.estimators`), the Dataset
+(:mod:`stability.scene_ensemble`), the estimators (:mod:`stability.analysis`), the Dataset
 register (:mod:`stability.schema`), :mod:`stability.study` (the study framework) and
 :mod:`stability.plotting`.
 

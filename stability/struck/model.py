@@ -27,7 +27,7 @@ import numpy as np
 import xarray as xr
 
 from ..core.body import PRESETS, Part, RigidBody
-from ..estimators import zero_crossings
+from ..analysis.members import zero_crossings
 from .methods import J_ACROSS, J_ALONG, PHI, VX, VY, W, X, strike_params
 from ..scene_ensemble import GroupedRun, propagate_stored
 from ..scenes import SCENES

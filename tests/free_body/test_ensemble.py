@@ -474,7 +474,7 @@ def test_summaries_without_datasets_are_what_the_estimators_read_from_the_datase
     starts, and the map's estimates of both are the same numbers."""
     import dataclasses
 
-    from stability import estimators as est
+    from stability.analysis.members import members
     from stability.free_body.ensemble import EnsembleSummary, run_ensembles
     from stability.free_body.stability_map.measure import ensemble_estimates
 
@@ -492,7 +492,7 @@ def test_summaries_without_datasets_are_what_the_estimators_read_from_the_datase
         assert summary.member_steps == ds.attrs["members"] * ds.attrs["steps_done"]
         np.testing.assert_array_equal(summary.status, ds.status.values)
         np.testing.assert_array_equal(summary.energy_error, ds.energy_error.values)
-        mem = est.members(ds)
+        mem = members(ds)
         for field in dataclasses.fields(mem):
             a, b = getattr(mem, field.name), getattr(summary.members, field.name)
             if isinstance(a, np.ndarray):

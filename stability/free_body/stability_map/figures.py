@@ -17,9 +17,9 @@ from __future__ import annotations
 
 import numpy as np
 
-from ... import estimators as est
+from ...util.conventions import REGIME_ALGEBRAIC, REGIME_MEANINGS, REGIME_NEUTRAL
 from ..model import perpendicular_axes
-from ...estimators import DEPARTURE_FACTOR, MIN_POINTS
+from ...analysis.regimes import DEPARTURE_FACTOR, MIN_POINTS
 from ..tennis_racket.flipsweep import exact_flip_curve
 from ...plotting.style import AXIS_COLORS, EXACT_COLOR, label, new_figure, place_legend, styled
 from .shapes import analytic_omega_squared, shape_grid
@@ -91,8 +91,8 @@ def map_figure(ds, method=None):
         ax.scatter(I1[ok], I2[ok], c=shown[ok, k], cmap="RdBu_r", norm=norm, s=7,
                    edgecolors="0.2", linewidths=0.15, zorder=3,
                    label="measured (same colour scale)")
-        drift = np.any(regime[:, :, k] == est.REGIME_ALGEBRAIC, axis=0)
-        still = np.any(regime[:, :, k] == est.REGIME_NEUTRAL, axis=0)
+        drift = np.any(regime[:, :, k] == REGIME_ALGEBRAIC, axis=0)
+        still = np.any(regime[:, :, k] == REGIME_NEUTRAL, axis=0)
         ax.scatter(I1[drift], I2[drift], marker="o", s=16, facecolors="none",
                    edgecolors="k", linewidths=0.7, zorder=4, label="algebraic drift (Ω² = 0)")
         ax.scatter(I1[still], I2[still], marker="s", s=22, facecolors="none",
@@ -172,8 +172,8 @@ def scatter_figure(ds):
                           label=f"{method}, {'growth (open)' if grows else 'oscillation'}")
     zero = analytic == 0
     reg = ds.regime.values[:, zero]
-    n_alg = int(np.sum(reg == est.REGIME_ALGEBRAIC))
-    n_neu = int(np.sum(reg == est.REGIME_NEUTRAL))
+    n_alg = int(np.sum(reg == REGIME_ALGEBRAIC))
+    n_neu = int(np.sum(reg == REGIME_NEUTRAL))
     right.axhline(tol, color="k", ls="--", lw=0.8, label=f"bar {tol:g}")
     right.axvline(floor, color="0.5", ls=":", lw=0.8, label=f"|Ω²|/W² = {floor:g}")
     right.plot([], [], " ", label=f"Ω² = 0 (all methods): no rate fitted;\n{n_alg} algebraic "
@@ -250,7 +250,7 @@ def edges_figure(ds):
     cases = ds.sizes["edge_case"]
     fig = new_figure(4.0 * cases, 3.8)
     axes = np.atleast_1d(fig.subplots(1, cases))
-    meanings = est.REGIME_MEANINGS.split()
+    meanings = REGIME_MEANINGS.split()
     for c, ax in enumerate(axes):
         a = int(ds.edge_axis.values[c])
         w = ds.edge_w.values[c]

@@ -3,10 +3,10 @@
 For every shape of the triangle (:mod:`stability.free_body.stability_map.shapes`) and each of its three axes, an
 ensemble of ``members`` starts at steady spin ``W`` about the axis plus a perturbation
 ``epsilon W`` in a random perpendicular direction, runs summaries-only, and is classified and
-measured by :mod:`stability.estimators` (:func:`ensemble_estimates`: regime; growth rate on the
+measured by :mod:`stability.analysis` (:func:`ensemble_estimates`: regime; growth rate on the
 linear phase or frequency from zero crossings; Omega^2 = -rate^2 or +frequency^2; flips against
 the exact 2K/nu and the asymptote (2/lambda) ln(4/k')). Each finite-order method also runs at
-``h / 2`` on some shapes: :func:`stability.estimators.richardson_bias` gives its own O(h^p) bias
+``h / 2`` on some shapes: :func:`stability.analysis.fits.richardson_bias` gives its own O(h^p) bias
 in Omega^2, reported beside the measured error, not hidden.
 
 The Dataset (:func:`map_dataset`) has dims integrator, shape, axis (an integrator is a registry
@@ -23,12 +23,15 @@ import math
 import numpy as np
 import xarray as xr
 
-from ... import estimators as est
+from ...analysis.estimates import flip_estimate, omega_squared_estimates
+from ...analysis.members import members as gather_members
 from ..ensemble import completed, perturbed_starts, run_ensembles
 from ...output.stream import stream_chunks
 from ...schema import STABILITY_MAP
 from .shapes import EDGE_EQUAL_12, EDGE_EQUAL_23, EDGE_FLAT
 from ...util import conventions as cv
+from ...util.conventions import REGIME_ALGEBRAIC, REGIME_NEUTRAL
+from ..measure import exact_flip_intervals
 from ...util.progress import progress_bar
 
 #: Relative bias of the growth rate, lambda_h / lambda - 1, at step h for I = (1, 2, 3) and spin
@@ -66,13 +69,13 @@ def ensemble_estimates(run, analytic: float, exact=None, asymptote=None, *,
     exact, asymptote : ndarray, shape (N,), optional
         Each member's exact flip interval and its asymptote (unstable axes).
     low_factor, high_fraction : float
-        The growth-rate window (:func:`stability.estimators.measured_growth_rate`).
+        The growth-rate window (:func:`stability.analysis.estimates.measured_growth_rate`).
 
     Returns
     -------
     dict
-        The keys of :func:`stability.estimators.omega_squared_estimate` and
-        :func:`stability.estimators.flip_estimate`, and ``members_failed``, ``status`` (the
+        The keys of :func:`stability.analysis.estimates.omega_squared_estimate` and
+        :func:`stability.analysis.estimates.flip_estimate`, and ``members_failed``, ``status`` (the
         worst member status) and ``energy_error_max``.
     """
     return batch_estimates([run], [analytic], [(exact, asymptote)], low_factor=low_factor,
@@ -100,15 +103,15 @@ def batch_estimates(runs, analytic, flips, *, low_factor, high_fraction) -> list
     gathered = []
     for run in runs:
         if isinstance(run, xr.Dataset):
-            gathered.append((est.members(run), run.variables["status"].values,
+            gathered.append((gather_members(run), run.variables["status"].values,
                              run.variables["energy_error"].values))
         else:
             gathered.append((run.members, run.status, run.energy_error))
-    omega = est.omega_squared_estimates([mem for mem, _, _ in gathered], analytic,
+    omega = omega_squared_estimates([mem for mem, _, _ in gathered], analytic,
                                         low_factor=low_factor, high_fraction=high_fraction)
     out = []
     for (mem, status, energy), e, (exact, asymptote) in zip(gathered, omega, flips):
-        f = est.flip_estimate(mem, exact, asymptote)
+        f = flip_estimate(mem, exact, asymptote)
         out.append({**f, **e, "members_failed": int(np.sum(status != cv.STATUS_OK)),
                     "status": int(np.max(status)), "energy_error_max": _nanmax_abs(energy)})
     return out
@@ -117,7 +120,7 @@ def batch_estimates(runs, analytic, flips, *, low_factor, high_fraction) -> list
 def map_runs(specs, steps, n_shapes: int, bias_check: bool = True, bias_stride: int = 1):
     """The batches a map runs (:func:`measure_map`'s ``runs``): each method at its step over
     every shape and, with ``bias_check``, each finite-order method again at half its step over
-    every ``bias_stride``-th shape (its O(h^p) bias, :func:`stability.estimators.richardson_bias`).
+    every ``bias_stride``-th shape (its O(h^p) bias, :func:`stability.analysis.fits.richardson_bias`).
     Exact flows come first: their first-flip times are the reference of the others.
 
     Parameters
@@ -301,9 +304,9 @@ class MapBatches:
                                                self.seed)
         starts = self._starts[a]
         if not np.array_equal(w0, starts):
-            return est.exact_flip_intervals(self.bodies[s], a, w0)
+            return exact_flip_intervals(self.bodies[s], a, w0)
         if (s, a) not in self._exact_flip:
-            self._exact_flip[s, a] = est.exact_flip_intervals(self.bodies[s], a, starts)
+            self._exact_flip[s, a] = exact_flip_intervals(self.bodies[s], a, starts)
         return self._exact_flip[s, a]
 
 
@@ -485,7 +488,7 @@ def map_dataset(specs, steps, spin, moments, edges, omega2, t_end, levels, out, 
     out, half : dict
         The estimates at h and h / 2 (:func:`empty_estimates`, :func:`store`).
     bias : ndarray, shape (M, S, 3)
-        Relative Richardson bias of Omega^2 (:func:`stability.estimators.richardson_bias`).
+        Relative Richardson bias of Omega^2 (:func:`stability.analysis.fits.richardson_bias`).
     sweep, edge : dict
         :func:`stability.free_body.tennis_racket.flipsweep.flip_sweep` and :func:`stability.free_body.stability_map.shapes.edge_series`.
     attrs : dict
@@ -635,13 +638,13 @@ def headline(ds: xr.Dataset):
                         ("I2 = I3 edge", (edge & EDGE_EQUAL_23) > 0)):
         not_sphere = edge != (EDGE_EQUAL_12 | EDGE_EQUAL_23)
         sel = (mask & not_sphere)[:, None] & zero
-        alg = int(np.sum(reg[:, sel] == est.REGIME_ALGEBRAIC))
+        alg = int(np.sum(reg[:, sel] == REGIME_ALGEBRAIC))
         flips = float(np.nanmax(ds.n_flips_mean.values[:, sel])) if sel.any() else 0.0
         rows.append((f"{label}, equal-moment axes (Omega^2 = 0): algebraic drift",
                      f"{alg} / {reg[:, sel].size}", f"flips per member at most {flips:g}"))
     sphere = edge == (EDGE_EQUAL_12 | EDGE_EQUAL_23)
     if sphere.any():
-        neutral = int(np.sum(reg[:, sphere, :] == est.REGIME_NEUTRAL))
+        neutral = int(np.sum(reg[:, sphere, :] == REGIME_NEUTRAL))
         rows.append(("sphere: no departure (neutral)", f"{neutral} / {reg[:, sphere, :].size}", ""))
     flat = (edge & EDGE_FLAT) > 0
     flat_rel = ds.relative_error.values[:, flat, :][:, bar_set[flat]]

@@ -19,7 +19,9 @@ import math
 
 import numpy as np
 
-from ... import estimators as est
+from ...analysis.members import zero_crossings
+
+from ...analysis.regimes import member_regimes
 from ..model import euler_rhs, omega_squared, perpendicular_axes
 from ...core.body import RigidBody
 from ..ensemble import completed
@@ -189,7 +191,7 @@ def edge_series(spin: float, epsilon: float, t_end: float, method: str, h: float
         e = [b for b in others if b != c][0]  # the drifting one
         rhs = euler_rhs(np.asarray(I), w0)
         slope = np.polyfit(t, w[:, e - 1], 1)[0]
-        reg = est.member_regimes(ds, axis=a, spin=spin)
+        reg = member_regimes(ds, axis=a, spin=spin)
         names.append(name)
         moments.append(I)
         axis.append(a)
@@ -197,7 +199,7 @@ def edge_series(spin: float, epsilon: float, t_end: float, method: str, h: float
         predicted.append(rhs[e - 1])
         measured.append(slope)
         distinct.append(float(np.max(np.abs(w[:, c - 1] - w0[c - 1]))))
-        flips.append(int(est.zero_crossings(t, w[None, :, a - 1])[0][0]))
+        flips.append(int(zero_crossings(t, w[None, :, a - 1])[0][0]))
         regime.append(int(reg.regime.values[0]))
         lin.append(float(reg.linear_residual.values[0]))
         expo.append(float(reg.exponential_residual.values[0]))

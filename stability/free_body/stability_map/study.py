@@ -20,7 +20,7 @@ from pathlib import Path
 
 import numpy as np
 
-from ... import estimators as est
+from ...analysis.fits import richardson_bias
 from . import measure as smap
 from ..ensemble import ensemble_memory
 from . import figures as figures
@@ -262,7 +262,7 @@ def compute(config: dict, progress=None, work_dir=None, resume=False, scheduler=
 
     p = np.array([spec.order if not spec.is_exact else np.inf for spec in specs])
     with np.errstate(invalid="ignore", divide="ignore"):
-        bias = est.richardson_bias(out["omega_squared_measured"],
+        bias = richardson_bias(out["omega_squared_measured"],
                                    half["omega_squared_measured"],
                                    p[:, None, None]) / np.abs(omega2)[None]
     pairs = config["flips"]["shapes"]

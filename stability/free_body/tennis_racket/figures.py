@@ -19,7 +19,7 @@ from __future__ import annotations
 import numpy as np
 
 from ..model import moment_name, perpendicular_axes
-from ...estimators import sign_change_times
+from ...analysis.members import sign_change_times
 from ..exact import exact_omega
 from ...output.dataset import body_from_attrs
 from ...plotting.style import (

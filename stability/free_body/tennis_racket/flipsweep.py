@@ -16,7 +16,7 @@ import numpy as np
 from ..model import growth_rate
 from ...core.body import RigidBody
 from ..ensemble import completed, run_ensembles
-from ...estimators import exact_flip_intervals
+from ...free_body.measure import exact_flip_intervals
 
 
 def flip_sweep_starts(epsilons, spin: float) -> np.ndarray:
@@ -56,7 +56,7 @@ def exact_flip_curve(moments, epsilons, spin: float):
     Returns
     -------
     exact, asymptote : ndarray, shape (E,)
-        In s (:func:`stability.estimators.exact_flip_intervals`).
+        In s (:func:`stability.free_body.measure.exact_flip_intervals`).
     """
 
     body = RigidBody(*moments, physical=False)

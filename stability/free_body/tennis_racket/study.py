@@ -31,7 +31,7 @@ from ..model import MOMENT_NAMES, principal_axis
 from ..attitude import FREE_BODY_SCENES, attitude_methods, carries_attitude
 from ...core.body import RigidBody
 from ..ensemble import ensemble_memory, run_streamed
-from ...estimators import analyse_ensemble, analysis_headline
+from ...free_body.tennis_racket.analysis import analyse_ensemble, analysis_headline
 from . import figures as tennis
 from ...util import conventions as cv
 from ...study.config import (
@@ -269,7 +269,7 @@ def spin_axis(body, axis) -> int:
 
 def summarize(ds, out_dir, files, wall, t_ensemble) -> StudySummary:
     """The summary table of a finished run: the analysis
-    (:func:`stability.estimators.analysis_headline`), then its cost."""
+    (:func:`stability.free_body.tennis_racket.analysis.analysis_headline`), then its cost."""
     rows, values = analysis_headline(ds)
     n, steps, loop = values["members"], int(ds.attrs["steps_done"]), float(ds.attrs["wall_time"])
     values.update({

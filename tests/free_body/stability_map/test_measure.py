@@ -7,7 +7,8 @@ import pytest
 
 import stability
 from stability.free_body.stability_map import measure as smap
-from stability.estimators import REGIME_EXPONENTIAL, exact_flip_intervals
+from stability.free_body.measure import exact_flip_intervals
+from stability.util.conventions import REGIME_EXPONENTIAL
 from stability.free_body.stability_map.shapes import amplitude_levels
 
 BODY = stability.RigidBody(1.0, 2.0, 3.0)
@@ -38,9 +39,10 @@ def test_estimates_of_many_ensembles_are_bitwise_those_of_each_alone(monkeypatch
     alone): every estimate of every ensemble is bitwise ensemble_estimates' of it alone, over
     stable and unstable axes, two level grids, member counts that cut the stacks, a
     time-series ensemble and a failed member."""
-    from stability import estimators
+    from stability.analysis import estimates
+    from stability.analysis.members import members as gather_members
 
-    monkeypatch.setattr(estimators, "_STACK_ROWS", 40)  # stacks of two or three ensembles
+    monkeypatch.setattr(estimates, "_STACK_ROWS", 40)  # stacks of two or three ensembles
     runs, analytic, flips = [], [], []
     for k, (axis, members, per_decade) in enumerate(
             [(2, 16, 8), (1, 16, 8), (3, 9, 8), (2, 20, 4), (1, 16, 4), (2, 16, 8)]):
@@ -60,7 +62,7 @@ def test_estimates_of_many_ensembles_are_bitwise_those_of_each_alone(monkeypatch
     kw = dict(low_factor=30.0, high_fraction=0.03)
     together = smap.batch_estimates(runs, analytic, flips, **kw)
     # By level grid, at most 40 members a stack, the time series alone.
-    assert estimators._stacks([estimators.members(r) for r in runs]) == [[0, 1], [2, 5],
+    assert estimates._stacks([gather_members(r) for r in runs]) == [[0, 1], [2, 5],
                                                                           [3, 4], [6]]
     for run, a, (exact, asymptote), x in zip(runs, analytic, flips, together):
         alone = smap.ensemble_estimates(run, a, exact, asymptote, **kw)

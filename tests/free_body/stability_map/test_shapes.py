@@ -4,7 +4,7 @@ import numpy as np
 import pytest
 
 import stability
-from stability.estimators import REGIME_ALGEBRAIC, REGIME_NEUTRAL
+from stability.util.conventions import REGIME_ALGEBRAIC, REGIME_NEUTRAL
 from stability.free_body.stability_map.shapes import (
     EDGE_CASES, EDGE_EQUAL_12, EDGE_EQUAL_23, EDGE_FLAT, amplitude_levels, analytic_omega_squared,
     edge_series, horizons, shape_grid,

@@ -7,7 +7,7 @@ from matplotlib.figure import Figure
 
 import stability
 from stability.free_body.model import intermediate_axis
-from stability.estimators import analyse_ensemble
+from stability.free_body.tennis_racket.analysis import analyse_ensemble
 from stability.free_body.tennis_racket import figures as tennis
 from stability.plotting.style import (
     covered_data, label, missing_units, new_figure, place_legend, save,
