@@ -207,5 +207,8 @@ def test_the_site_builds_without_warnings_and_its_internal_links_resolve(tmp_pat
     guides = "".join((out / "guide" / f"{g}.html").read_text() for g in (
         "free_body", "torqued", "impacts_rolling", "twisting", "dissipation"))
     assert all("Scene <code" in guides and name in guides for name in SCENES)
+    # each scene's equations are mathematics there (MathJax typesets them), not code
+    assert all(scene.latex for scene in SCENES.values())
+    assert guides.count('<div class="math') >= len(SCENES)
     api = (out / "generated" / "api.html").read_text()
     assert "run_ensemble" in api and "exact_attitude" in api
