@@ -4,7 +4,7 @@ The flip, animated
 
 A tennis racket spun at 6 rad/s about its intermediate axis and nudged by 5 % of the spin turns
 over and back while its angular momentum L stays fixed in space. The animation is the exact
-motion (:func:`stability.exact_attitude.exact_attitude`), written by
+motion (:func:`stability.free_body.exact_attitude.exact_attitude`), written by
 :func:`stability.animate_flip` as a GIF (or an MP4 where ffmpeg is installed), the same as the
 command ``stability animate racket flip.gif``:
 

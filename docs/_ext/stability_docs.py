@@ -23,6 +23,7 @@ import math
 import os
 import re
 import shutil
+import textwrap
 from pathlib import Path
 
 DOCS = Path(__file__).resolve().parents[1]
@@ -49,11 +50,31 @@ def scene_page(scene) -> str:
     exact = "yes" if scene.exact is not None else "none in closed form"
     doc = (importlib.import_module(scene.tracked.__module__).__doc__ or "").strip()
     doc = re.sub(r":(func|mod|class|meth|data|attr):`([^`]+)`", r"{py:\1}`\2`", doc)  # to MyST
+    doc = _math_to_myst(doc)
+    equations = (f"Equations:\n\n$$\n{scene.latex.strip()}\n$$" if scene.latex
+                 else f"Equations: `{scene.equations}`")
     return (f"## Scene `{scene.name}`: {scene.title}\n\n"
-            f"Equations: `{scene.equations}`\n\n{doc}\n\n"
+            f"{equations}\n\n{doc}\n\n"
             f"State ({scene.width} numbers a member, in the kernels' frame):\n\n{state}\n"
             f"Methods: {methods}. Invariants checked: {invariants or 'none'}. "
             f"Exact solution: {exact}.\n")
+
+
+def _math_to_myst(doc: str) -> str:
+    """A docstring's mathematics in MyST: ``:math:`x``` roles and ``.. math::`` blocks."""
+    doc = re.sub(r":math:`([^`]+)`", r"{math}`\1`", doc)
+    lines, out, i = doc.split("\n"), [], 0
+    while i < len(lines):
+        if lines[i].strip() != ".. math::":
+            out.append(lines[i])
+            i += 1
+            continue
+        i, block = i + 1, []
+        while i < len(lines) and (not lines[i].strip() or lines[i].startswith(" ")):
+            block.append(lines[i])
+            i += 1
+        out += ["```{math}", textwrap.dedent("\n".join(block)).strip(), "```", ""]
+    return "\n".join(out)
 
 
 def _kept(scene, invariant) -> str:

@@ -1,9 +1,10 @@
-"""The free rigid body in its principal frame: the state is the body angular momentum only.
+r"""The free rigid body in its principal frame: the state is the body angular momentum only.
 
-Euler's equations ``m' = m x I^-1 m`` with ``m = I w`` (``I1 w1' = (I2 - I3) w2 w3`` and
-cyclic), in the canonical frame ``I1 <= I2 <= I3`` (:func:`stability.core.body.canonical_frame`);
-three numbers per member, no attitude (that is scene ``free_body_attitude``). Invariants: the
-kinetic energy ``E = m . I^-1 m / 2`` and ``|m| = |L|``; exact solution: Jacobi elliptic
+Euler's equations :math:`\dot m = m \times I^{-1} m` with :math:`m = I w`
+(:math:`I_1 \dot w_1 = (I_2 - I_3)\, w_2 w_3` and cyclic), in the canonical frame
+:math:`I_1 \le I_2 \le I_3` (:func:`stability.core.body.canonical_frame`); three numbers per
+member, no attitude (that is scene ``free_body_attitude``). Invariants: the kinetic energy
+:math:`E = m \cdot I^{-1} m / 2` and :math:`|m| = |L|`; exact solution: Jacobi elliptic
 functions (:func:`stability.exact_omega`, here as :func:`exact`). Every registered method runs
 it.
 """
@@ -75,6 +76,8 @@ FREE_BODY = Scene(
     name="free_body",
     title="free rigid body (angular velocity only)",
     equations="I1 w1' = (I2 - I3) w2 w3 and cyclic (m' = m x I^-1 m)",
+    latex=(r"I_1 \dot w_1 = (I_2 - I_3)\, w_2 w_3 \text{ and cyclic}, \qquad"
+           r" \dot m = m \times I^{-1} m"),
     components=("m1", "m2", "m3"),
     units=(cv.UNITS_ANGULAR_MOMENTUM,) * 3,
     methods=METHODS,

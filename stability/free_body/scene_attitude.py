@@ -1,10 +1,11 @@
-"""The free rigid body with its attitude: body angular momentum and a unit quaternion.
+r"""The free rigid body with its attitude: body angular momentum and a unit quaternion.
 
-The state is ``(m1, m2, m3, q0, q1, q2, q3)``: ``m' = m x I^-1 m`` and ``q' = q (0, w) / 2``
-with q the body-to-space rotation, scalar first (:mod:`stability.free_body.attitude`), canonical frame as
-for ``free_body``. Each method advances q by its own rule (``MethodSpec.attitude_step``); the
-methods that have none (the exact elliptic flow) do not run this scene. Invariants: those of
-the free body, ``|q| = 1`` and the spatial angular momentum ``R(q) m``.
+The state is ``(m1, m2, m3, q0, q1, q2, q3)``: :math:`\dot m = m \times I^{-1} m` and
+:math:`\dot q = \tfrac12\, q\, (0, w)` with :math:`q` the body-to-space rotation, scalar first
+(:mod:`stability.free_body.attitude`), canonical frame as for ``free_body``. Each method advances
+:math:`q` by its own rule (``MethodSpec.attitude_step``); the methods that have none (the exact
+elliptic flow) do not run this scene. Invariants: those of the free body, :math:`|q| = 1` and
+the spatial angular momentum :math:`R(q)\, m`.
 """
 
 import numpy as np
@@ -12,9 +13,9 @@ from numba import njit
 
 from ..util import conventions as cv
 from ..integrators import METHODS
-from .scene import angular_momentum, energy, example as example_m, observe as observe_m
-from .scene import tracked as tracked_m
-from ..scenes.spec import Scene
+from .free_body import angular_momentum, energy, example as example_m, observe as observe_m
+from .free_body import tracked as tracked_m
+from .spec import Scene
 
 
 @njit(inline="always")
@@ -47,6 +48,7 @@ FREE_BODY_ATTITUDE = Scene(
     name="free_body_attitude",
     title="free rigid body with attitude",
     equations="m' = m x I^-1 m, q' = q (0, I^-1 m) / 2",
+    latex=r"\dot m = m \times I^{-1} m, \qquad \dot q = \tfrac12\, q\, (0, I^{-1} m)",
     components=("m1", "m2", "m3", "q0", "q1", "q2", "q3"),
     units=(cv.UNITS_ANGULAR_MOMENTUM,) * 3 + (cv.UNITS_DIMENSIONLESS,) * 4,
     methods={name: spec for name, spec in METHODS.items() if spec.attitude},

@@ -72,6 +72,9 @@ ROLLING_BODY = Scene(
     title="round body rolling or slipping along straight sections (Coulomb friction)",
     equations="rolling: v' = g sin(theta) / (1 + k); slipping: v' = g (sin(theta) - s mu_k "
               "cos(theta)), w' = s mu_k g cos(theta) / (k R)",
+    latex=(r"\text{rolling: } \dot v = \frac{g \sin\theta}{1 + k}; \qquad"
+           r" \text{slipping: } \dot v = g\, (\sin\theta - s\, \mu_k \cos\theta), \quad"
+           r" \dot w = \frac{s\, \mu_k\, g \cos\theta}{k R}"),
     components=("x", "v", "w", "t", "mode", "switches", "t_roll", "x_roll", "heat"),
     units=("m", "m s-1", cv.UNITS_ANGULAR_VELOCITY, cv.UNITS_TIME, cv.UNITS_DIMENSIONLESS,
            cv.UNITS_DIMENSIONLESS, cv.UNITS_TIME, "m", cv.UNITS_ENERGY),

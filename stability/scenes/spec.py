@@ -57,7 +57,7 @@ class Scene:
     title : str
         Human name.
     equations : str
-        The equations integrated, in one line.
+        The equations integrated, in one line of plain text (a run's Dataset records it).
     components : tuple of str
         Names of the state's numbers, in kernel order.
     units : tuple of str
@@ -102,6 +102,9 @@ class Scene:
         Digest of the sources of a scene defined outside the package, part of a stored run's
         identity (an edit of them is a changed run); the package's version stands for those
         of the registered scenes.
+    latex : str, default ""
+        The same equations in LaTeX, shown as mathematics on the scene's documentation page
+        (``equations`` is shown as code where this is empty).
     """
 
     name: str
@@ -121,6 +124,7 @@ class Scene:
     parameter_units: tuple = ()
     module: str = field(repr=False, default="")
     source: str = field(repr=False, default="")
+    latex: str = field(repr=False, default="")
 
     def __reduce_ex__(self, protocol):
         """By reference, ``(module, name)``, for a scene that has a module; else by value."""

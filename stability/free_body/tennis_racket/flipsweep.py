@@ -16,7 +16,7 @@ import numpy as np
 from ..model import growth_rate
 from ...core.body import RigidBody
 from ..ensemble import completed, run_ensembles
-from ...free_body.measure import exact_flip_intervals
+from ..measure import exact_flip_intervals
 
 
 def flip_sweep_starts(epsilons, spin: float) -> np.ndarray:

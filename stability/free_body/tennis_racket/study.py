@@ -31,7 +31,7 @@ from ..model import MOMENT_NAMES, principal_axis
 from ..attitude import FREE_BODY_SCENES, attitude_methods, carries_attitude
 from ...core.body import RigidBody
 from ..ensemble import ensemble_memory, run_streamed
-from ...free_body.tennis_racket.analysis import analyse_ensemble, analysis_headline
+from .analysis import analyse_ensemble, analysis_headline
 from . import figures as tennis
 from ...util import conventions as cv
 from ...study.config import (
