@@ -23,7 +23,7 @@ import math
 import numpy as np
 import xarray as xr
 
-from ..schema import ESTIMATES
+from ..ensemble.schema import ESTIMATES
 from ..util import conventions as cv
 
 # Regime codes (int8), per member and per ensemble, declared with the other codes.
@@ -147,7 +147,7 @@ def classify(mem: Members):
 
 
 def regime_attrs(long_name):
-    """The regime flags' attributes (:data:`stability.schema.ESTIMATES`) under ``long_name``."""
+    """The regime flags' attributes (:data:`stability.ensemble.schema.ESTIMATES`) under ``long_name``."""
     return ESTIMATES["regime"].on((), long_name=long_name).attrs()
 
 

@@ -22,5 +22,5 @@ the rest (dual-spin stabilisation). The family's modules, each importing only do
   figures.
 
 This package's ``__init__`` imports nothing, so that the scene registry
-(:mod:`stability.scenes`) can import :mod:`.scene` without the rest.
+(:mod:`stability.registry`) can import :mod:`.scene` without the rest.
 """

@@ -33,8 +33,8 @@ from dataclasses import dataclass
 import numpy as np
 import xarray as xr
 
-from ..schema import DUAL_SPIN
-from ..scene_ensemble import GroupedRun, propagate_stored
+from ..ensemble.schema import DUAL_SPIN
+from ..ensemble.chunks import GroupedRun, propagate_stored
 from .gyrostat import (axial_momentum, axisymmetric_eigenvalues, energy_sink_optimum,
                        energy_sink_rate, first_order_rate, tilted_spin)
 from .measure import (MIN_FIT_SAMPLES, exponential_rate, largest_rise, nutation_angle,
@@ -167,14 +167,14 @@ def measure_dual_spin(body, ratios, speeds, angles, *, placements=PLACEMENTS, st
         Seed of the members' azimuths (irrelevant to an axisymmetric platform's physics).
     progress : bool, optional
     stored : dict, optional
-        Keyword arguments of :func:`~stability.scene_ensemble.propagate_stored` (a store,
+        Keyword arguments of :func:`~stability.ensemble.chunks.propagate_stored` (a store,
         resume, a scheduler).
 
     Returns
     -------
     xarray.Dataset
         Dims (placement, ratio, speed) and (placement, ratio, speed, start); declared in
-        :data:`stability.schema.DUAL_SPIN`.
+        :data:`stability.ensemble.schema.DUAL_SPIN`.
     """
     ratios = np.asarray(ratios, dtype=float)
     speeds = np.asarray(speeds, dtype=float)

@@ -21,12 +21,12 @@ free rigid body's, run by its ensembles (:mod:`stability.free_body.ensemble`, :m
 Euler's period from :mod:`stability.free_body.model`. Besides, it uses the shared layers:
 :mod:`stability.core` (the rigid body, vectorizable trigonometry), :mod:`stability.util`
 (conventions, threads), :mod:`stability.integrators` (the composition coefficients, rotations,
-MethodSpec), :mod:`stability.scenes` (the scene contract), the scene-generic ensembles
-(:mod:`stability.scene_ensemble`), the Dataset register (:mod:`stability.schema`),
+MethodSpec), :mod:`stability.engine.scene` (the scene contract), the scene-generic ensembles
+(:mod:`stability.ensemble.chunks`), the Dataset register (:mod:`stability.ensemble.schema`),
 :mod:`stability.study` (the study framework) and :mod:`stability.plotting`.
 
 This package's ``__init__`` imports nothing of the family, so that the scene registry
-(:mod:`stability.scenes`) can import :mod:`.scene` without the rest. ``stability.earth`` was the
+(:mod:`stability.registry`) can import :mod:`.scene` without the rest. ``stability.earth`` was the
 module that is now :mod:`.model`: its names (``stability.earth.earth_moments``, ...) still
 import from here, with a warning, for one release (:func:`stability.moved.old_names`).
 """

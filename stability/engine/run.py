@@ -24,7 +24,7 @@ from dataclasses import dataclass, field
 import numba
 import numpy as np
 
-from ..scenes import scene as registered_scene
+from ..registry import scene as registered_scene
 from .cache import compiling, load_module
 from .loop import BLOCK, CHECK_EVERY, N_TRACK, T_FIRST_A, T_FIRST_B, T_LAST_A, T_LAST_B
 from .loop import T_MAX_AMP2, T_NEXT_LEVEL, T_PREV_A, T_PREV_AMP2, T_PREV_B, T_COUNT_A
@@ -48,7 +48,7 @@ def compiled_loop(scene, spec, compensated=True):
     Parameters
     ----------
     scene : Scene
-        A registered scene (``stability.scenes.SCENES``).
+        A registered scene (``stability.registry.SCENES``).
     spec : MethodSpec
         A method of the scene.
     compensated : bool, default True
@@ -258,7 +258,7 @@ def propagate_groups(
     Parameters
     ----------
     scene : str or Scene
-        A name from ``stability.scenes.SCENES`` (or a Scene).
+        A name from ``stability.registry.SCENES`` (or a Scene).
     method : str or MethodSpec
         A method of the scene.
     x0 : array_like, shape (N, n)
@@ -339,7 +339,7 @@ class MemberArrays:
     """Everything the member loop reads and writes, on the host, in the kernels' frame.
 
     Made by :func:`member_arrays` (which checks the shapes); the loop, on the CPU or on a GPU
-    (:mod:`stability.gpu`), updates ``x``, ``comp``, ``status``, ``fail_step``,
+    (:mod:`stability.engine.gpu`), updates ``x``, ``comp``, ``status``, ``fail_step``,
     ``iterations``, ``track`` and ``passage`` in place, and :meth:`propagation` turns them into
     the result. Members are rows: ``x`` (N, n), ``track`` (N, N_TRACK) (no rows without
     tracking), ``passage`` (N, L); per group: ``params`` (G, n_params), ``sizes``, ``hs``,

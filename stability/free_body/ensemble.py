@@ -37,13 +37,13 @@ from .propagate import CanonicalGroups, group_levels, propagate_many
 from ..analysis.members import summary_members
 from .exact_attitude import exact_attitudes
 from ..integrators import method_spec
-from ..memory import DEFAULT_MAX_MEMORY
+from ..ensemble.memory import DEFAULT_MAX_MEMORY
 from ..output.dataset import (
     add_attitude, config_toml, ensemble_dataset, history_line, provenance_attrs, summary_bytes,
     threading_layer,
 )
 from ..output.store import ChunkStore, read_progress
-from ..scene_ensemble import GroupedRun, propagate_stored, summed_attrs
+from ..ensemble.chunks import GroupedRun, propagate_stored, summed_attrs
 from .timescales import (
     DEFAULT_EPSILON,
     DEFAULT_MEMBERS,
@@ -374,8 +374,8 @@ def run_ensemble(
         With ``store``: run the chunks on dask.distributed, ``"dask"`` for a local cluster, a
         scheduler address such as ``"tcp://host:8786"``, or a client.
     device : {"cpu", "gpu"}, default "cpu"
-        ``"gpu"``: run the member loop on a CUDA GPU (:mod:`stability.gpu`; methods
-        ``stability.gpu.GPU_METHODS``). Same members, agreeing with the CPU run to about 1e-12
+        ``"gpu"``: run the member loop on a CUDA GPU (:mod:`stability.engine.gpu`; methods
+        ``stability.engine.gpu.GPU_METHODS``). Same members, agreeing with the CPU run to about 1e-12
         relative, not bitwise (fused multiply-adds, the device's libm).
 
     Returns
@@ -643,7 +643,7 @@ def run_streamed(kwargs: dict, store, *, resume=False, scheduler=None, threads=N
 
 
 class EnsembleChunks:
-    """A free-body ensemble as a stored grouped run (:mod:`stability.scene_ensemble`): its
+    """A free-body ensemble as a stored grouped run (:mod:`stability.ensemble.chunks`): its
     start rule and its measurement.
 
     :meth:`grouped_run` is the run, one group, whose starts come from :meth:`starts`: members
@@ -677,7 +677,7 @@ class EnsembleChunks:
         return self._plan
 
     def grouped_run(self):
-        """The ensemble as a :class:`~stability.scene_ensemble.GroupedRun`: the arguments
+        """The ensemble as a :class:`~stability.ensemble.chunks.GroupedRun`: the arguments
         :func:`stability.free_body.propagate.propagate_many` gives the member loop for it."""
         plan = self.plan
         groups = self._groups(plan.members)
@@ -805,8 +805,8 @@ def _plan(body, axis, spin=None, epsilon=None, members=None, *, h, t_end, seed=0
     if device not in ("cpu", "gpu"):
         raise ValueError(f"device must be 'cpu' or 'gpu', got {device!r}")
     if device == "gpu":
-        from ..gpu import NoGPUError, gpu_method
-        from ..gpu.device import cuda_module
+        from ..engine.gpu import NoGPUError, gpu_method
+        from ..engine.gpu.device import cuda_module
 
         gpu_method(spec.name, scene)  # ValueError naming the methods the GPU has
         try:
@@ -1213,7 +1213,7 @@ def _propagate_tracked(plans, progress, rows):
     first = plans[0]
     gpu = {}
     if first.device == "gpu":
-        from ..gpu import propagate_groups_gpu  # numba-cuda: an optional dependency
+        from ..engine.gpu import propagate_groups_gpu  # numba-cuda: an optional dependency
 
         gpu = {"propagator": propagate_groups_gpu}
     return propagate_many(

@@ -13,9 +13,9 @@ from numba import njit
 
 from ..util import conventions as cv
 from ..integrators import METHODS
-from .free_body import angular_momentum, energy, example as example_m, observe as observe_m
-from .free_body import tracked as tracked_m
-from .spec import Scene
+from ..engine.scene import Scene
+from .scene import angular_momentum, energy, example as example_m, observe as observe_m
+from .scene import tracked as tracked_m
 
 
 @njit(inline="always")

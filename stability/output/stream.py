@@ -6,7 +6,7 @@ of the process it is in. :func:`stream_chunks` runs the chunks of a
 :class:`~stability.output.store.ChunkStore` that are not done, here or as dask tasks, with progress,
 ``progress.json`` and the Ctrl-C message. The jobs are defined above this module, which imports
 none of them: every scene's grouped runs, raw or measured, the free body's ensembles among them
-(:class:`~stability.scene_ensemble.ChunkJob`), and the stability map's batches.
+(:class:`~stability.ensemble.chunks.ChunkJob`), and the stability map's batches.
 
 ``run_ensemble(..., store=DIR)`` streams this way (:func:`stability.free_body.ensemble.run_streamed`):
 the members are cut into chunks of ``chunk_members``; each chunk is run exactly as

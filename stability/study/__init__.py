@@ -8,7 +8,7 @@ each kind to its :class:`~.config.StudyKind`: the schema its files are checked a
 To add a kind of study: write one module here with its ``SCHEMA``, ``outputs`` and ``run``
 (see :mod:`.tennis_racket`), or the ``studies.py`` of a family package
 (:mod:`stability.dissipation.studies`), add one line to ``STUDIES``, and declare the Dataset it writes
-in :data:`stability.schema.SCHEMAS` under the kind's name (the tests hold its file to it). A
+in :data:`stability.ensemble.schema.SCHEMAS` under the kind's name (the tests hold its file to it). A
 study orchestrates: its ``run`` reads the resolved file, calls the package (references, sweeps,
 estimators, shape grids live there, once), saves the Dataset, draws the figures and
 summarises; figures draw the Dataset.

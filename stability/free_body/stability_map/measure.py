@@ -27,7 +27,7 @@ from ...analysis.estimates import flip_estimate, omega_squared_estimates
 from ...analysis.members import members as gather_members
 from ..ensemble import completed, perturbed_starts, run_ensembles
 from ...output.stream import stream_chunks
-from ...schema import STABILITY_MAP
+from ...ensemble.schema import STABILITY_MAP
 from .shapes import EDGE_EQUAL_12, EDGE_EQUAL_23, EDGE_FLAT
 from ...util import conventions as cv
 from ...util.conventions import REGIME_ALGEBRAIC, REGIME_NEUTRAL

@@ -15,7 +15,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from ...drift import envelope
+from .drift import envelope
 from ...integrators import METHODS
 from ...plotting.style import EXACT_COLOR, label, new_figure, styled
 from ...util import conventions as cv

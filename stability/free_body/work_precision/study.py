@@ -7,7 +7,7 @@ member nudged by ``epsilon`` in a random perpendicular direction, over a few fli
 ill-conditioned workload) and **stable** (spin about the largest or smallest axis). Each is
 scored against the exact solution and the conditioning floor (:mod:`stability.free_body.reference`),
 timed (:mod:`stability.free_body.work_precision.sweeps`), and every method also runs a **long horizon** of ``>= 1e6``
-steps to see what happens to the energy and |L| (:mod:`stability.drift`).
+steps to see what happens to the energy and |L| (:mod:`stability.free_body.work_precision.drift`).
 
 Outputs: the Dataset (:mod:`stability.free_body.work_precision.measure`), two figures
 (:mod:`stability.free_body.work_precision.figures`) and ``work_precision.md``, the tables of the fastest
@@ -26,7 +26,7 @@ from .. import reference as ref
 from . import measure as wp
 from ..model import principal_axis
 from ...core.body import RigidBody
-from ...drift import long_horizon
+from .drift import long_horizon
 from ..ensemble import perturbed_starts
 from . import figures as figures
 from ...integrators import METHODS, method_spec

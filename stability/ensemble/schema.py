@@ -32,7 +32,7 @@ from types import MappingProxyType
 
 import numpy as np
 
-from .util import conventions as cv
+from ..util import conventions as cv
 
 #: Type letters of :attr:`Variable.kind`: what the file may store.
 KINDS = {"f": "float", "i": "integer", "U": "text"}
@@ -1266,7 +1266,7 @@ SCENE_RUN = SceneSchema(
         "and levels are in the units of what the scene tracks (`tracked_units`). The global "
         "attributes `scene_components`, `scene_units`, `scene_parameters`, "
         "`scene_parameter_units` and `scene_invariants` record what the scene declared, and "
-        "`stability.schema.SCENE_RUN.of(...)` gives one scene's declaration"))
+        "`stability.ensemble.schema.SCENE_RUN.of(...)` gives one scene's declaration"))
 
 
 #: Every Dataset kind, by name: the free body's ensemble, each study kind's Dataset and a run of
