@@ -146,6 +146,18 @@ OLD_NAMES = {
         ), "stability.free_body.ensemble"),
     "stability.engine.gpu": dict.fromkeys(("propagate_gpu", "propagate_many_gpu"),
                                           "stability.free_body.propagate_gpu"),
+    "stability.animation": {
+        **dict.fromkeys(("FlipFrames", "flip_frames", "animate_flip"),
+                        "stability.free_body.animation"),
+        **dict.fromkeys(("TopFrames", "top_frames", "animate_top"),
+                        "stability.heavy_top.animation"),
+        **dict.fromkeys(("DEFAULT_FPS", "DEFAULT_SIZE", "MAX_FRAMES", "SUFFIXES", "output_path",
+                         "write_animation"), "stability.plotting.animation"),
+    },
+    "stability.figures.animation": {"FlipScene": "stability.free_body.animation",
+                                    "TopScene": "stability.heavy_top.animation",
+                                    "DPI": "stability.plotting.animation",
+                                    "frame_figure": "stability.plotting.animation"},
     "stability.scenes": {"SCENES": "stability.registry", "scene": "stability.registry",
                          "Scene": "stability.engine.scene",
                          "define_scene": "stability.engine.user_scene"},
@@ -180,7 +192,8 @@ OLD_NAMES = {
 
 
 #: The keys of :data:`OLD_NAMES` whose module is gone: each imports as a module of old names.
-SPLIT = ("stability.estimators", "stability.scenes")
+SPLIT = ("stability.estimators", "stability.scenes", "stability.animation",
+         "stability.figures.animation")
 
 
 def moved_to(old: str) -> str:

@@ -240,7 +240,8 @@ API_MODULES = (
                                      "free_body.work_precision.sweeps",
                                      "free_body.stability_map.shapes",
                                      "free_body.tennis_racket.flipsweep", "free_body.polhodes")),
-    ("Figures and animations", ("animation", "figures.animation", "free_body.figures")),
+    ("Figures and animations", ("plotting.animation", "free_body.animation",
+                                "heavy_top.animation", "free_body.figures")),
 )
 
 

@@ -268,7 +268,8 @@ def _one_line(exc: BaseException, command: str) -> str:
 
 
 def _cmd_animate(args) -> int:
-    from ..animation import animate_flip, animate_top
+    from ..free_body.animation import animate_flip
+    from ..heavy_top.animation import animate_top
 
     make = animate_flip if args.what == "racket" else animate_top
     options = {"duration": args.duration, "fps": args.fps, "size": args.size}

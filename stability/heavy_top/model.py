@@ -25,6 +25,7 @@ import numpy as np
 
 from ..core.body import RigidBody
 from ..util.checks import real_number
+from ..analysis.members import tracked_members
 
 #: Standard gravity (m s-2), the default g.
 STANDARD_GRAVITY = 9.80665
@@ -363,6 +364,5 @@ def tilt_members(extras, x0, status, levels):
     -------
     Members
     """
-    from ..analysis.members import tracked_members
 
     return tracked_members(extras, x0[:, 3:6], 3, 1.0, levels, status=status)

@@ -51,6 +51,10 @@ from .config import (
     toml_text,
     toml_type,
 )
+from ..output.lock import FolderLock
+from ..output.publish import check_target, clean_leftovers, remove_folder, staged
+from ..output.store import ChunkStore, find_stores, read_manifest
+
 
 class StudyKinds(Mapping):
     """The registered study kinds by name, each read from its module when it is asked for.
@@ -240,8 +244,6 @@ def run_study(
     stability.output.stream.RunInterrupted
         Ctrl-C or SIGTERM; its message says what was kept and how to continue.
     """
-    from ..output.lock import FolderLock
-    from ..output.publish import check_target, clean_leftovers, remove_folder, staged
 
     if isinstance(study, dict):
         kind = study_kind(study.get(STUDY_KEY))
@@ -339,7 +341,6 @@ def _kept(work: Path):
     Nothing there is changed (the folder may be another run's), and only the chunk files
     there are checked (a manifest may claim any number of chunks).
     """
-    from ..output.store import ChunkStore, find_stores, read_manifest
 
     if work.is_symlink() or not work.is_dir():
         return None

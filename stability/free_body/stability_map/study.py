@@ -21,6 +21,7 @@ from pathlib import Path
 import numpy as np
 
 from ...analysis.fits import richardson_bias
+from ...core.body import RigidBody
 from . import measure as smap
 from ..ensemble import ensemble_memory
 from . import figures as figures
@@ -226,15 +227,12 @@ def compute(config: dict, progress=None, work_dir=None, resume=False, scheduler=
     work : dict
         ``member_steps`` and ``loop_time`` (s, in compiled code) summed over the map's runs.
     """
-    import stability
-
-
     spin = config["spin"]["rate"]
     ens, integ, ana = config["ensemble"], config["integration"], config["analysis"]
     members, eps, seed = ens["members"], ens["epsilon"], ens["seed"]
     moments, edges = shape_grid(config["grid"]["divisions"])
     n_shapes = moments.shape[0]
-    bodies = [stability.RigidBody(*I, name=f"shape {s}") for s, I in enumerate(moments)]
+    bodies = [RigidBody(*I, name=f"shape {s}") for s, I in enumerate(moments)]
     omega2 = analytic_omega_squared(moments, spin)
     t_end = horizons(omega2, integ["horizon"], integ["t_max"], integ["t_neutral"])
     levels = amplitude_levels(spin, eps, ana["levels_per_decade"])
