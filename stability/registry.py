@@ -1,25 +1,48 @@
-"""The families' scenes, in one table: ``SCENES`` by name, and :func:`scene` to look one up.
+"""The problem families, in one list: :data:`FAMILIES`. Each family's package declares its
+scenes and study kinds (its ``SCENES`` and ``STUDIES``); here they become :data:`SCENES` by name
+and :data:`STUDY_KINDS`, which :mod:`stability.study` reads.
 
-To add a family's scene: import it here and add it to ``_ALL``; the generic tests, the docs'
-scene pages and ``stability methods`` pick it up from this table. A scene in a module of the
-user's own comes from :func:`stability.define_scene` (:mod:`stability.engine.user_scene`, which
-refuses a name registered here) and is passed as it is.
+To add a family: copy a family's folder (the smallest is ``stability/dissipation/``), declare
+its scenes and study kinds in its ``__init__.py``, and add its name to :data:`FAMILIES`. The
+generic tests, the docs' scene pages and Dataset reference, ``stability methods`` and
+``stability studies`` pick it up from here. A scene in a module of the user's own comes from
+:func:`stability.define_scene` (:mod:`stability.engine.user_scene`, which refuses a name
+registered here) and is passed as it is.
 """
 
-from .dissipation.scene import GYROSTAT, SPHERE_DAMPER, WHIP_DAMPER
-from .earth.scene import LUNISOLAR_EARTH, PRECESSING_AXIS
-from .engine_body.scene import ENGINE_BODY
-from .heavy_top.scene import HEAVY_TOP
-from .rolling.scene import ROLLING_BODY
-from .struck.scene import STRUCK_BODY
-from .free_body.scene import FREE_BODY
-from .free_body.scene_attitude import FREE_BODY_ATTITUDE
+import importlib
+
 from .engine.scene import Scene
 
-_ALL = (FREE_BODY, FREE_BODY_ATTITUDE, HEAVY_TOP, LUNISOLAR_EARTH, PRECESSING_AXIS,
-        ROLLING_BODY, STRUCK_BODY, ENGINE_BODY, SPHERE_DAMPER, WHIP_DAMPER, GYROSTAT)
+#: The families, each a package ``stability.<name>``, in the order their scenes are listed.
+FAMILIES = ("free_body", "heavy_top", "earth", "rolling", "struck", "engine_body", "dissipation")
 
-SCENES: dict[str, Scene] = {s.name: s for s in _ALL}
+
+def declared(family: str, kind: str) -> dict:
+    """What ``family``'s package declares under ``kind`` (``"SCENES"`` or ``"STUDIES"``), as
+    {name or position: (module path, attribute)}."""
+    package = f"stability.{family}"
+    table = getattr(importlib.import_module(package), kind)
+    items = table.items() if isinstance(table, dict) else enumerate(table)
+    out = {}
+    for key, where in items:
+        module, attribute = where.split(":")
+        out[key] = (f"{package}.{module}", attribute)
+    return out
+
+
+def _load(where):
+    module, attribute = where
+    return getattr(importlib.import_module(module), attribute)
+
+
+SCENES: dict[str, Scene] = {
+    s.name: s for s in (_load(where) for family in FAMILIES
+                        for where in declared(family, "SCENES").values())}
+
+#: Each study kind's name -> (module, attribute) of its StudyKind, imported when first used.
+STUDY_KINDS: dict[str, tuple] = dict(sorted(
+    (name, where) for family in FAMILIES for name, where in declared(family, "STUDIES").items()))
 
 
 def scene(name) -> Scene:
@@ -44,4 +67,4 @@ def scene(name) -> Scene:
         ) from None
 
 
-__all__ = ["SCENES", "scene"]
+__all__ = ["FAMILIES", "SCENES", "STUDY_KINDS", "declared", "scene"]

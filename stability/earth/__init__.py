@@ -34,3 +34,8 @@ import from here, with a warning, for one release (:func:`stability.moved.old_na
 from ..moved import old_names
 
 __getattr__ = old_names(__name__)
+
+#: What the family registers (:mod:`stability.registry`): its scenes and its study kinds, each as
+#: ``"module:name"`` inside this package, imported when first asked for.
+SCENES = ("scene:LUNISOLAR_EARTH", "scene:PRECESSING_AXIS")
+STUDIES = {"earth_wobble": "studies.earth_wobble:STUDY", "equinoxes": "studies.equinoxes:STUDY"}

@@ -27,3 +27,8 @@ the scene-generic ensembles (:mod:`stability.ensemble.chunks`), the estimators
 This package's ``__init__`` imports nothing, so that the scene registry (:mod:`stability.registry`)
 can import :mod:`.scene` without the rest.
 """
+
+#: What the family registers (:mod:`stability.registry`): its scenes and its study kinds, each as
+#: ``"module:name"`` inside this package, imported when first asked for.
+SCENES = ("scene:ENGINE_BODY",)
+STUDIES = {"engine_artefacts": "studies.engine_artefacts:STUDY"}

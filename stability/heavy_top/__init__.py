@@ -27,3 +27,8 @@ composition coefficients, rotations, the Euler right-hand side, MethodSpec),
 This package's ``__init__`` imports nothing, so that the scene registry
 (:mod:`stability.registry`) can import :mod:`.scene` without the rest.
 """
+
+#: What the family registers (:mod:`stability.registry`): its scenes and its study kinds, each as
+#: ``"module:name"`` inside this package, imported when first asked for.
+SCENES = ("scene:HEAVY_TOP",)
+STUDIES = {"gyroscope": "studies.gyroscope:STUDY", "sleeping_top": "studies.sleeping_top:STUDY"}

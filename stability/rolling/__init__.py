@@ -28,3 +28,8 @@ release, with a ``FutureWarning`` (:func:`stability.moved.old_names`). Otherwise
 from ..moved import old_names
 
 __getattr__ = old_names(__name__)
+
+#: What the family registers (:mod:`stability.registry`): its scenes and its study kinds, each as
+#: ``"module:name"`` inside this package, imported when first asked for.
+SCENES = ("scene:ROLLING_BODY",)
+STUDIES = {"rolling": "studies.rolling:STUDY"}

@@ -18,22 +18,14 @@ from __future__ import annotations
 
 import contextlib
 import errno
+import importlib
 import os
 import stat
 from collections.abc import Mapping
 from pathlib import Path
 
-from ..dissipation import studies as dissipation
-from ..earth.studies import earth_wobble, equinoxes
-from ..engine_body.studies import engine_artefacts
-from ..heavy_top.studies import gyroscope, sleeping_top
 from ..output.stream import RunInterrupted
-from ..rolling.studies import rolling
-from ..struck.studies import bat
-from ..free_body.stability_map import study as stability_map
-from ..free_body.tennis_racket import study as tennis_racket
-from ..free_body.twisting_racket import study as twisting_racket
-from ..free_body.work_precision import study as work_precision
+from ..registry import STUDY_KINDS
 from .config import (
     REQUIRED,
     STUDY_KEY,
@@ -57,7 +49,7 @@ from ..output.store import ChunkStore, find_stores, read_manifest
 
 
 class StudyKinds(Mapping):
-    """The registered study kinds by name, each read from its module when it is asked for.
+    """The registered study kinds by name, each imported from its family when it is asked for.
 
     A kind's module imports the study framework (this package) before it defines its
     ``STUDY``; read while this package loads, the table would find a kind whose module was
@@ -65,8 +57,9 @@ class StudyKinds(Mapping):
 
     Parameters
     ----------
-    where : mapping of str to (module, str)
-        Each kind's name -> its module and the name of its :class:`~.config.StudyKind` there.
+    where : mapping of str to (str, str)
+        Each kind's name -> its module's path and the name of its
+        :class:`~.config.StudyKind` there (:data:`stability.registry.STUDY_KINDS`).
     """
 
     def __init__(self, where):
@@ -74,7 +67,7 @@ class StudyKinds(Mapping):
 
     def __getitem__(self, name) -> StudyKind:
         module, attribute = self._where[name]
-        return getattr(module, attribute)
+        return getattr(importlib.import_module(module), attribute)
 
     def __iter__(self):
         return iter(self._where)
@@ -83,21 +76,7 @@ class StudyKinds(Mapping):
         return len(self._where)
 
 
-STUDIES: Mapping[str, StudyKind] = StudyKinds({
-    "bat": (bat, "STUDY"),
-    "dual_spin": (dissipation, "DUAL_SPIN_STUDY"),
-    "earth_wobble": (earth_wobble, "STUDY"),
-    "engine_artefacts": (engine_artefacts, "STUDY"),
-    "equinoxes": (equinoxes, "STUDY"),
-    "explorer": (dissipation, "STUDY"),
-    "gyroscope": (gyroscope, "STUDY"),
-    "rolling": (rolling, "STUDY"),
-    "sleeping_top": (sleeping_top, "STUDY"),
-    "stability_map": (stability_map, "STUDY"),
-    "tennis_racket": (tennis_racket, "STUDY"),
-    "twisting_racket": (twisting_racket, "STUDY"),
-    "work_precision": (work_precision, "STUDY"),
-})
+STUDIES: Mapping[str, StudyKind] = StudyKinds(STUDY_KINDS)
 
 
 def study_kind(name) -> StudyKind:
