@@ -158,8 +158,8 @@ def assert_readable(fig):
 
 def assert_declared(path, kind):
     """Assert that the netCDF file ``path``, as :func:`stability.load` reads it, is what the
-    register declares for the Dataset kind ``kind`` (:data:`stability.ensemble.schema.SCHEMAS`): every
-    declared variable there (but those declared optional) with its dims, units, long name,
+    register declares for the Dataset kind ``kind`` (:data:`stability.ensemble.schema.SCHEMAS`):
+    every declared variable there (but those declared optional) with its dims, units, long name,
     type, role and flags, and no undeclared variable.
     """
     from stability.ensemble.schema import SCHEMAS

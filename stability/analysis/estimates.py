@@ -159,7 +159,8 @@ def estimate_dataset(mem, name, long_name, units, per_member, mean, stderr, n, w
 
 
 #: Units and long names of the ensemble estimates (scalars of :func:`omega_squared_estimate`
-#: and :func:`flip_estimate`), as the register declares them (:data:`stability.ensemble.schema.ESTIMATES`).
+#: and :func:`flip_estimate`), as the register declares them
+#: (:data:`stability.ensemble.schema.ESTIMATES`).
 ESTIMATE_ATTRS = {name: var.attrs() for name, var in ESTIMATES.items()}
 
 

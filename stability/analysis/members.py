@@ -264,8 +264,8 @@ def summary_members(summaries, levels, axis: int, spin=None, *, w0=None, a0=None
     Parameters
     ----------
     summaries : mapping of str to ndarray
-        The summaries-only variables by name (:data:`stability.output.dataset.SUMMARIES`): shape (N,),
-        ``passage_time`` (N, n_levels); counts as floats, NaN for masked members.
+        The summaries-only variables by name (:data:`stability.output.dataset.SUMMARIES`): shape
+        (N,), ``passage_time`` (N, n_levels); counts as floats, NaN for masked members.
     levels : array_like, shape (n_levels,)
         Ascending amplitude levels of ``passage_time``, rad/s.
     axis : int

@@ -1,16 +1,16 @@
 """Dual-spin maps: a gyrostat's nutation, measured, against its eigenvalues and the energy sink.
 
 A gyrostat (:mod:`.gyrostat`) with an axisymmetric platform of transverse moment ``A_t`` and a
-rotor of axial moment ``Jr`` spins with its platform at ``w_p`` about the rotor's axis. Over a
-map of the inertia ratio ``A3 / A_t`` (the whole body's spin-axis moment over its transverse
-one: below 1 a minor-axis spinner, above 1 a major-axis one) and the rotor's spin ``Omega``
-relative to the platform, for each placement of the damper (on the platform, in the rotor, or
-both), one group of members starts turning rigidly with H tilted by each initial nutation angle
-of a list (where the nutation grows, lowered by its growth over the settling). Each damper's
-viscous coefficient is a multiple of its energy-sink optimum ``c* = J h / A_t`` in that cell,
-so that "weak" and "strong" mean the same everywhere on the map. Each group runs until its nutation has grown past the fitted range or decayed by ``efolds`` e-folds
-at the linear rate (at most ``max_time``), keeping at least :data:`MIN_SAMPLES` states; from
-each member's kept states (:mod:`.measure`):
+rotor of axial moment ``Jr`` spins with its platform at ``w_p`` about the rotor's axis. Over a map
+of the inertia ratio ``A3 / A_t`` (the whole body's spin-axis moment over its transverse one: below
+1 a minor-axis spinner, above 1 a major-axis one) and the rotor's spin ``Omega`` relative to the
+platform, for each placement of the damper (on the platform, in the rotor, or both), one group of
+members starts turning rigidly with H tilted by each initial nutation angle of a list (where the
+nutation grows, lowered by its growth over the settling). Each damper's viscous coefficient is a
+multiple of its energy-sink optimum ``c* = J h / A_t`` in that cell, so that "weak" and "strong"
+mean the same everywhere on the map. Each group runs until its nutation has grown past the fitted
+range or decayed by ``efolds`` e-folds at the linear rate (at most ``max_time``), keeping at least
+:data:`MIN_SAMPLES` states; from each member's kept states (:mod:`.measure`):
 
 - the nutation angle theta between e3 and H; its rate fitted in the linear regime (after the
   dampers' own faster modes have died away, while ``floor <= theta <= fit_top``) beside the

@@ -15,8 +15,9 @@ The family's modules, each importing only downward:
 - :mod:`.studies`: the study kinds ``earth_wobble`` and ``equinoxes``;
 - :mod:`.figures`: their figures, drawn from the Datasets.
 
-It builds on the free body, as the design allows a family to build on another: the wobble is a
-free rigid body's, run by its ensembles (:mod:`stability.free_body.ensemble`, :mod:`stability.free_body.integrate`,
+It builds on the free body, as the design allows a family to build on another: the wobble is a free
+rigid body's, run by its ensembles (:mod:`stability.free_body.ensemble`,
+:mod:`stability.free_body.integrate`,
 :mod:`stability.free_body.attitude`) and measured by its estimators (:mod:`stability.analysis`), with
 Euler's period from :mod:`stability.free_body.model`. Besides, it uses the shared layers:
 :mod:`stability.core` (the rigid body, vectorizable trigonometry), :mod:`stability.util`

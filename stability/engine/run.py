@@ -1,11 +1,12 @@
 """Running the member loop: groups of members, chunks in time, Ctrl-C, progress.
 
 :func:`propagate_groups` is the one Python driver of :mod:`stability.engine.loop` for every
-scene: it loads (or compiles, once per process and then from the disk cache) the loop of a
-scene and a method, lays the members out in blocks, and calls the loop in chunks of steps, so a
-progress bar can advance and Ctrl-C can end the run cleanly after the chunk in flight (the state
-then matches the steps done). It works in the kernels' frame; the scenes' own layers convert
-(``stability.free_body.propagate`` for the free body, ``stability.free_body.attitude`` for the body with attitude).
+scene: it loads (or compiles, once per process and then from the disk cache) the loop of a scene
+and a method, lays the members out in blocks, and calls the loop in chunks of steps, so a progress
+bar can advance and Ctrl-C can end the run cleanly after the chunk in flight (the state then
+matches the steps done). It works in the kernels' frame; the scenes' own layers convert
+(``stability.free_body.propagate`` for the free body, ``stability.free_body.attitude`` for the body
+with attitude).
 
 Reproducibility: each member's arithmetic depends on nothing but its own state, its group's
 parameters and step, so results are bitwise the same for any number of threads, any chunking in

@@ -1,8 +1,8 @@
 """One trajectory, any registered method: ``integrate(body, w0, t_end, h, method)``.
 
 On scene ``free_body_attitude`` the body-to-space attitude quaternion comes too
-(``stability.free_body.attitude``); on ``free_body`` the run goes through the 3-number member loop of
-``stability.free_body.propagate`` unchanged.
+(``stability.free_body.attitude``); on ``free_body`` the run goes through the 3-number member loop
+of ``stability.free_body.propagate`` unchanged.
 """
 
 from __future__ import annotations

@@ -216,8 +216,8 @@ def tracking_axes(perm, track_axis) -> np.ndarray:
 def group_levels(levels, n_groups) -> np.ndarray:
     """The amplitude levels of ``n_groups`` ensembles checked, as one float array.
 
-    Shared by the CPU driver and the GPU one (:mod:`stability.free_body.propagate_gpu`), which both take
-    one row of levels per ensemble.
+    Shared by the CPU driver and the GPU one (:mod:`stability.free_body.propagate_gpu`), which both
+    take one row of levels per ensemble.
 
     Parameters
     ----------

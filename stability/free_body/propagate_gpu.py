@@ -1,7 +1,8 @@
 """The free body on the GPU: ``propagate_gpu`` and ``propagate_many_gpu``.
 
-The GPU twins of :func:`stability.free_body.propagate.propagate` and :func:`~stability.free_body.propagate.propagate_many`:
-the same arguments, the same frame conversions, tracking set-up and final checks (they are
+The GPU twins of :func:`stability.free_body.propagate.propagate` and
+:func:`~stability.free_body.propagate.propagate_many`: the same arguments, the same frame
+conversions, tracking set-up and final checks (they are
 :func:`~stability.free_body.propagate.propagate_many` with :func:`stability.engine.gpu.run.propagate_groups_gpu` as
 its propagator), and a :class:`stability.engine.Propagation` with arrays of the same shapes.
 """
@@ -77,10 +78,10 @@ def propagate_many_gpu(method, moments, m0, sizes, h, n_steps, save_every=0, tra
                        progress=None, q0=None, partial=False):
     """Several ensembles (groups), each of its own body, step and length, in one launch.
 
-    The arguments are those of :func:`stability.free_body.propagate.propagate_many` (``moments`` (G, 3),
-    ``m0`` (N, 3) with group 0's members first, ``sizes`` (G,), ``h`` and ``n_steps`` (G,) or
-    scalars, ``track_axes`` (G,), ``levels`` (G, L), ``q0`` (N, 4) to carry the attitude),
-    plus ``chunk_steps`` and ``threads_per_block`` of :func:`propagate_gpu`. Returns a
+    The arguments are those of :func:`stability.free_body.propagate.propagate_many` (``moments``
+    (G, 3), ``m0`` (N, 3) with group 0's members first, ``sizes`` (G,), ``h`` and ``n_steps`` (G,)
+    or scalars, ``track_axes`` (G,), ``levels`` (G, L), ``q0`` (N, 4) to carry the attitude), plus
+    ``chunk_steps`` and ``threads_per_block`` of :func:`propagate_gpu`. Returns a
     body-frame :class:`~stability.engine.Propagation` with ``steps_done`` per group.
     """
     gpu_method(method, "free_body" if q0 is None else "free_body_attitude")

@@ -1,8 +1,8 @@
 """What a Dataset written by the package contains: variables, attributes, provenance, history.
 
 Every variable's dims, units and long name are declared in :mod:`stability.ensemble.schema`, the
-register of every Dataset kind (the documentation's Dataset reference is generated from it);
-this module assembles the free body's ensemble Dataset (:data:`stability.ensemble.schema.ENSEMBLE`) and
+register of every Dataset kind (the documentation's Dataset reference is generated from it); this
+module assembles the free body's ensemble Dataset (:data:`stability.ensemble.schema.ENSEMBLE`) and
 the attributes every Dataset carries.
 
 Ensemble Dataset (``run_ensemble``)

@@ -8,8 +8,9 @@ of the process it is in. :func:`stream_chunks` runs the chunks of a
 none of them: every scene's grouped runs, raw or measured, the free body's ensembles among them
 (:class:`~stability.ensemble.chunks.ChunkJob`), and the stability map's batches.
 
-``run_ensemble(..., store=DIR)`` streams this way (:func:`stability.free_body.ensemble.run_streamed`):
-the members are cut into chunks of ``chunk_members``; each chunk is run exactly as
+``run_ensemble(..., store=DIR)`` streams this way
+(:func:`stability.free_body.ensemble.run_streamed`): the members are cut into chunks of
+``chunk_members``; each chunk is run exactly as
 :func:`stability.run_ensemble` runs its members (its random starts are drawn for that chunk
 alone, from the same seed streams) and written as soon as it is finished into a
 :class:`~stability.output.store.ChunkStore`. Memory is one chunk's, so

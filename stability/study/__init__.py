@@ -5,12 +5,12 @@ each kind to its :class:`~.config.StudyKind`: the schema its files are checked a
 ``run`` function that does the work by calling the package. ``run_study`` is what
 ``stability run`` calls.
 
-To add a kind of study: write one module here with its ``SCHEMA``, ``outputs`` and ``run``
-(see :mod:`.tennis_racket`), or the ``studies.py`` of a family package
-(:mod:`stability.dissipation.studies`), add one line to ``STUDIES``, and declare the Dataset it writes
-in :data:`stability.ensemble.schema.SCHEMAS` under the kind's name (the tests hold its file to it). A
-study orchestrates: its ``run`` reads the resolved file, calls the package (references, sweeps,
-estimators, shape grids live there, once), saves the Dataset, draws the figures and
+To add a kind of study: write one module here with its ``SCHEMA``, ``outputs`` and ``run`` (see
+:mod:`.tennis_racket`), or the ``studies.py`` of a family package
+(:mod:`stability.dissipation.studies`), add one line to ``STUDIES``, and declare the Dataset it
+writes in :data:`stability.ensemble.schema.SCHEMAS` under the kind's name (the tests hold its file
+to it). A study orchestrates: its ``run`` reads the resolved file, calls the package (references,
+sweeps, estimators, shape grids live there, once), saves the Dataset, draws the figures and
 summarises; figures draw the Dataset.
 """
 

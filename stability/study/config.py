@@ -402,8 +402,8 @@ def output_files(config: dict, figures, extra=()) -> list[str]:
 def write_outputs(ds, config: dict, out_dir, name: str, figures: dict, *, overwrite=False,
                   history=None, attrs=None, threads=None, texts=None):
     """Label ``ds`` and write what ``[output]`` asks for: the Dataset, ``config.toml`` and the
-    figures, published together (:func:`stability.output.io.saving`: the write runs while the figures
-    draw; an interruption publishes nothing).
+    figures, published together (:func:`stability.output.io.saving`: the write runs while the
+    figures draw; an interruption publishes nothing).
 
     Parameters
     ----------
@@ -707,8 +707,8 @@ def set_value(raw: dict, dotted: str, text: str, source: str = "--set") -> None:
 def to_toml(config: dict) -> str:
     """A resolved configuration as TOML text, as stored in a Dataset's ``config_toml``.
 
-    The same writer as the Dataset's (:func:`stability.output.dataset.config_toml`), so the copy a run
-    writes next to its Dataset and the attribute inside it are the same text.
+    The same writer as the Dataset's (:func:`stability.output.dataset.config_toml`), so the copy a
+    run writes next to its Dataset and the attribute inside it are the same text.
     """
 
     return config_toml(config)

@@ -5,10 +5,11 @@ One member per thread, its state in registers, members coalesced (structure of a
 GPU, for any scene and method (:func:`gpu_methods`), the user's own scenes included;
 the free body's :func:`~stability.free_body.propagate_gpu.propagate_gpu` is
 :func:`stability.free_body.propagate.propagate` on the GPU, with the same tracking of flips,
-crossings, amplitudes and levels. The kernels run the CPU's own step kernels, compiled
-for the device (:mod:`stability.engine.gpu.retarget`), inside a twin of the CPU member loop rendered
-for the scene's width (:mod:`stability.engine.gpu.kernels`). Needs the ``gpu`` extra
-(``numba-cuda``) and a CUDA GPU, or ``NUMBA_ENABLE_CUDASIM=1`` to run the kernels as Python on the CPU (slow: tests only).
+crossings, amplitudes and levels. The kernels run the CPU's own step kernels, compiled for the
+device (:mod:`stability.engine.gpu.retarget`), inside a twin of the CPU member loop rendered for
+the scene's width (:mod:`stability.engine.gpu.kernels`). Needs the ``gpu`` extra (``numba-cuda``)
+and a CUDA GPU, or ``NUMBA_ENABLE_CUDASIM=1`` to run the kernels as Python on the CPU (slow: tests
+only).
 
 Why results agree with the CPU to round-off but not bitwise: NVVM contracts a * b + c into fused
 multiply-adds (one rounding instead of two), the device's libm (``log``, ``sqrt`` rounding modes

@@ -1,10 +1,10 @@
 """Member-steps per second of the GPU kernels, and how far they are from the hardware's bounds.
 
-``python -m stability.engine.gpu.bench [--members N ...] [--steps N] [--methods NAME ...] [--scenes]``
-times the free-body kernels of ``rk4`` and ``lp2`` (with and without tracking) on the CUDA GPU,
-and with ``--scenes`` every scene's every method, with
-CUDA events around launches made after a warm-up launch, and prints member-steps/s, the
-fraction of the issue's target for RK4 on one H100 (1e11 member-steps/s) and two bounds:
+``python -m stability.engine.gpu.bench [--members N ...] [--steps N] [--methods NAME ...]
+[--scenes]`` times the free-body kernels of ``rk4`` and ``lp2`` (with and without tracking) on the
+CUDA GPU, and with ``--scenes`` every scene's every method, with CUDA events around launches made
+after a warm-up launch, and prints member-steps/s, the fraction of the issue's target for RK4 on
+one H100 (1e11 member-steps/s) and two bounds:
 
 - compute: the device's FP64 instruction rate (SMs x clock x FP64 lanes per SM) over the FP64
   instructions one step issues (a fused multiply-add counts once), counted in the PTX of the

@@ -4,9 +4,9 @@ The GPU twin of :func:`stability.engine.propagate_groups`: the same arguments, t
 shapes and tracking set-up (:func:`stability.engine.run.member_arrays`), the same chunks in time
 with their progress bar and Ctrl-C (:func:`stability.engine.run.run_in_chunks`), and a
 :class:`~stability.engine.Propagation` with arrays of the same shapes, in the kernels' frame. The
-host copies the members in (structure of arrays, members last), launches one thread per member
-in blocks of :data:`~stability.engine.gpu.methods.THREADS_PER_BLOCK` once per chunk (the state stays on
-the device between chunks, and chunking never changes a result), and copies the results out.
+host copies the members in (structure of arrays, members last), launches one thread per member in
+blocks of :data:`~stability.engine.gpu.methods.THREADS_PER_BLOCK` once per chunk (the state stays
+on the device between chunks, and chunking never changes a result), and copies the results out.
 """
 
 from __future__ import annotations

@@ -1,11 +1,13 @@
 """The stability map: measured against analytic Omega^2 for every shape of body and every axis.
 
-Every shape of the triangle of allowed moments (:mod:`stability.free_body.stability_map.shapes`) spins about each of its
-three axes: an ensemble per (shape, axis, method) runs summaries-only for ``horizon / |Omega|``
-and is measured against linear theory (:mod:`stability.free_body.stability_map.measure`); the finite-order methods
-run again at ``h / 2`` on every ``bias_stride``-th shape for their own O(h^p) bias. Also: the
-flip interval against epsilon for a few shapes (:mod:`stability.free_body.tennis_racket.flipsweep`) and time series on
-the equal-moment edges and the sphere (:func:`stability.free_body.stability_map.shapes.edge_series`).
+Every shape of the triangle of allowed moments (:mod:`stability.free_body.stability_map.shapes`)
+spins about each of its three axes: an ensemble per (shape, axis, method) runs summaries-only for
+``horizon / |Omega|`` and is measured against linear theory
+(:mod:`stability.free_body.stability_map.measure`); the finite-order methods run again at ``h / 2``
+on every ``bias_stride``-th shape for their own O(h^p) bias. Also: the flip interval against
+epsilon for a few shapes (:mod:`stability.free_body.tennis_racket.flipsweep`) and time series on
+the equal-moment edges and the sphere
+(:func:`stability.free_body.stability_map.shapes.edge_series`).
 
 Outputs: the Dataset, the resolved configuration and four figures
 (:mod:`stability.free_body.stability_map.figures`).

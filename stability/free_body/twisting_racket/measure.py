@@ -1,11 +1,11 @@
 """The twisting racket: an ensemble of tossed bodies, Montgomery's angle and the twist per member.
 
 :func:`tossed_members` draws the ensemble: a spin W about the middle axis nudged by epsilon W
-across it (epsilon log-uniform, random direction), the body's own moments or shapes scattered
-about them. :func:`measure_twisting` runs every member with its attitude over two periods of
-its body motion (scene ``free_body_attitude``, each member its own step T / n so that the run
-lands on t = T), and measures both angles of :mod:`stability.free_body.twisting_racket.geometric_phase` from the run and
-from the exact motion, into one Dataset.
+across it (epsilon log-uniform, random direction), the body's own moments or shapes scattered about
+them. :func:`measure_twisting` runs every member with its attitude over two periods of its body
+motion (scene ``free_body_attitude``, each member its own step T / n so that the run lands on t =
+T), and measures both angles of :mod:`stability.free_body.twisting_racket.geometric_phase` from the
+run and from the exact motion, into one Dataset.
 """
 
 from __future__ import annotations

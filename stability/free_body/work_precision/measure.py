@@ -1,12 +1,13 @@
 """The work-precision Dataset: built from timed sweeps, read as "which method is fastest".
 
-The Dataset (dims ``workload``, ``method``, ``sweep``, ``metric``, and ``long_time`` for the
-long horizon) holds, per (workload, method, sweep point), the step h or tolerance, the kernel
-time for the whole ensemble and per member-step, the work, the failed members and the (max,
-p99, median) over members of the final errors of w, the energy, |L| and the attitude
+The Dataset (dims ``workload``, ``method``, ``sweep``, ``metric``, and ``long_time`` for the long
+horizon) holds, per (workload, method, sweep point), the step h or tolerance, the kernel time for
+the whole ensemble and per member-step, the work, the failed members and the (max, p99, median)
+over members of the final errors of w, the energy, |L| and the attitude
 (:mod:`stability.free_body.work_precision.sweeps`); per workload the conditioning floor
-(:func:`stability.free_body.reference.conditioning_floor`) and the attitude reference's own error; per
-method the long-horizon energy and |L| errors and their log-log slope (:mod:`stability.free_body.work_precision.drift`).
+(:func:`stability.free_body.reference.conditioning_floor`) and the attitude reference's own error;
+per method the long-horizon energy and |L| errors and their log-log slope
+(:mod:`stability.free_body.work_precision.drift`).
 
 Reading it: :func:`time_to_reach` (the kernel time at which a method brings an error statistic
 under a target), :func:`fastest`, and the Markdown tables of :func:`markdown_report`.
@@ -65,12 +66,14 @@ def work_precision_dataset(methods, results, floors, long_results, reference_err
     methods : list of str
         Registry names of the methods that ran, in order; ``SCIPY`` is appended if it ran.
     results : dict
-        ``(workload, method) -> list of sweep points`` (:func:`stability.free_body.work_precision.sweeps.sweep_method`,
+        ``(workload, method) -> list of sweep points``
+        (:func:`stability.free_body.work_precision.sweeps.sweep_method`,
         :func:`stability.free_body.work_precision.sweeps.sweep_scipy`).
     floors : dict
         ``workload -> (max, p99, median)`` of the conditioning floor.
     long_results : dict
-        ``method -> (t, energy, momentum, wall)`` (:func:`stability.free_body.work_precision.drift.long_horizon`).
+        ``method -> (t, energy, momentum, wall)``
+        (:func:`stability.free_body.work_precision.drift.long_horizon`).
     reference_errors : dict
         ``workload -> (max, p99, median)`` of the attitude reference's w error; a workload
         without an attitude run is NaN.
