@@ -19,8 +19,20 @@ FAMILIES = ("free_body", "heavy_top", "earth", "rolling", "struck", "engine_body
 
 
 def declared(family: str, kind: str) -> dict:
-    """What ``family``'s package declares under ``kind`` (``"SCENES"`` or ``"STUDIES"``), as
-    {name or position: (module path, attribute)}."""
+    """What a family's package declares it registers.
+
+    Parameters
+    ----------
+    family : str
+        A name of :data:`FAMILIES`.
+    kind : str
+        ``"SCENES"`` or ``"STUDIES"``.
+
+    Returns
+    -------
+    dict
+        Each study kind's name (or each scene's position) -> (module path, attribute name).
+    """
     package = f"stability.{family}"
     table = getattr(importlib.import_module(package), kind)
     items = table.items() if isinstance(table, dict) else enumerate(table)

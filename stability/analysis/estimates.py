@@ -350,3 +350,8 @@ FLIP_MEMBER_NAMES = {
     "flip_interval_exact": ("exact flip interval 2K/nu of the member's start", cv.UNITS_TIME),
     "flip_interval_asymptote": ("asymptotic flip interval (2/lambda) ln(4/k')", cv.UNITS_TIME),
 }
+
+
+#: The module's public API (the rest serves the package's other modules).
+__all__ = ["ESTIMATE_ATTRS", "flip_estimate", "measured_frequency", "measured_growth_rate",
+           "omega_squared_estimate", "omega_squared_estimates"]

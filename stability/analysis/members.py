@@ -395,3 +395,8 @@ def sign_change_times(t, x) -> np.ndarray:
     """
     s = np.flatnonzero(np.signbit(x[1:]) != np.signbit(x[:-1]))
     return t[s] - x[s] * (t[s + 1] - t[s]) / (x[s + 1] - x[s])
+
+
+#: The module's public API (the rest serves the package's other modules).
+__all__ = ["Members", "members", "perpendicular_amplitude", "sign_change_times", "summary_members",
+           "tracked_members", "zero_crossings"]

@@ -158,3 +158,8 @@ def ensemble_regime(regime, valid):
     counts = np.bincount(r.astype(np.int64), minlength=len(REGIME_FLAG_VALUES))
     best = int(np.argmax(counts))
     return best if counts[best] > MAJORITY * r.size else REGIME_UNDETERMINED
+
+
+#: The module's public API (the rest serves the package's other modules).
+__all__ = ["DEPARTURE_FACTOR", "MIN_CROSSINGS", "MIN_POINTS", "WINDOW_ATTRS",
+           "WINDOW_HIGH_FRACTION", "WINDOW_LOW_FACTOR", "member_regimes"]

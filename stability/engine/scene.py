@@ -212,3 +212,6 @@ def imported_scene(module: str, name: str, scene: str = "") -> Scene:
             "every dask worker too"
         ) from None
     return getattr(home, name)
+
+
+__all__ = ["Scene", "imported_scene"]

@@ -497,3 +497,6 @@ def _reason(exc) -> str:
     where = (re.findall(r"at (\S+\.py) \((\d+)\)", text)
              or re.findall(r'File "([^"]+)", line (\d+)', text))
     return reason + (f" ({where[0][0]}, line {where[0][1]})" if where else "")
+
+
+__all__ = ["ParameterRow", "define_scene"]

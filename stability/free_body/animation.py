@@ -285,3 +285,7 @@ def animate_flip(body=None, *, path, spin=6.0, epsilon=0.05, axis=None, duration
     frames = flip_frames(body, spin=spin, epsilon=epsilon, axis=axis, duration=duration,
                          fps=fps, speed=speed)
     return write_animation(FlipScene(frames, size), path, frames.fps)
+
+
+#: The module's public API (the rest serves the package's other modules).
+__all__ = ["FlipFrames", "FlipScene", "animate_flip", "flip_frames"]

@@ -228,3 +228,7 @@ def animate_top(top=None, *, path, spin=200.0, tilt=0.5, duration=None, fps=DEFA
     size = check_size(size)
     frames = top_frames(top, spin=spin, tilt=tilt, duration=duration, fps=fps, speed=speed)
     return write_animation(TopScene(frames, size), path, frames.fps)
+
+
+#: The module's public API (the rest serves the package's other modules).
+__all__ = ["TopFrames", "TopScene", "animate_top", "top_frames"]

@@ -199,3 +199,8 @@ def frame_figure(frames, k=-1, size=480, fig=None):
     scene = frames.scene(size, fig)
     scene.draw(range(scene.frames)[k])
     return scene.figure
+
+
+#: The module's public API (the rest serves the package's other modules).
+__all__ = ["DEFAULT_FPS", "DEFAULT_SIZE", "MAX_FRAMES", "SUFFIXES", "frame_figure", "output_path",
+           "write_animation"]

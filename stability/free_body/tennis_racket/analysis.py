@@ -145,3 +145,7 @@ def analysis_headline(ds: xr.Dataset):
         rows.append(("max attitude error, angle to the exact attitude",
                      f"{values['max_attitude_error']:.1e}", "rad"))
     return rows, values
+
+
+#: The module's public API (the rest serves the package's other modules).
+__all__ = ["analyse_ensemble", "analysis_headline"]
