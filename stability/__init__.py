@@ -31,11 +31,12 @@ __all__ = ["METHODS", "MethodSpec", "Part", "RigidBody", "__version__", "axis_st
            "exact_omega", "flip_interval", "full_period",
            "growth_rate", "integrate", "method_spec", "omega_squared", "oscillation_frequency"]
 
-from .animation import animate_flip, animate_top  # noqa: E402
+from .free_body.animation import animate_flip  # noqa: E402
+from .heavy_top.animation import animate_top  # noqa: E402
 from .free_body.ensemble import ensemble_memory, run_ensemble  # noqa: E402
 from .output.io import load, save  # noqa: E402
-from .scenes import define_scene  # noqa: E402
-from .scene_run import run_scene  # noqa: E402
+from .engine.user_scene import define_scene  # noqa: E402
+from .ensemble.run import run_scene  # noqa: E402
 
 __all__ += ["animate_flip", "animate_top", "define_scene", "ensemble_memory", "load",
             "run_ensemble", "run_scene", "save"]

@@ -76,6 +76,24 @@ MOVED = {
     "stability.study.engine_artefacts": "stability.engine_body.studies.engine_artefacts",
     "stability.figures.artefacts": "stability.engine_body.figures",
     "stability.accessor": "stability.free_body.accessor",
+    "stability.schema": "stability.ensemble.schema",
+    "stability.scene_ensemble": "stability.ensemble.chunks",
+    "stability.scene_run": "stability.ensemble.run",
+    "stability.memory": "stability.ensemble.memory",
+    "stability.periodic": "stability.analysis.periodic",
+    "stability.drift": "stability.free_body.work_precision.drift",
+    "stability.gpu": "stability.engine.gpu",
+    "stability.gpu.bench": "stability.engine.gpu.bench",
+    "stability.gpu.device": "stability.engine.gpu.device",
+    "stability.gpu.kernels": "stability.engine.gpu.kernels",
+    "stability.gpu.methods": "stability.engine.gpu.methods",
+    "stability.gpu.propagate": "stability.free_body.propagate_gpu",
+    "stability.gpu.retarget": "stability.engine.gpu.retarget",
+    "stability.gpu.run": "stability.engine.gpu.run",
+    "stability.scenes.spec": "stability.engine.scene",
+    "stability.scenes.user": "stability.engine.user_scene",
+    "stability.scenes.registry": "stability.registry",
+    "stability.bench": "stability.cli.bench",
     "stability.scenes.free_body": "stability.free_body.scene",
     "stability.scenes.free_body_attitude": "stability.free_body.scene_attitude",
     "stability.analytic": "stability.free_body.model",
@@ -83,7 +101,6 @@ MOVED = {
     "stability.exact_attitude": "stability.free_body.exact_attitude",
     "stability.attitude": "stability.free_body.attitude",
     "stability.driver": "stability.free_body.propagate",
-    "stability.ensemble": "stability.free_body.ensemble",
     "stability.timescales": "stability.free_body.timescales",
     "stability.reference": "stability.free_body.reference",
     "stability.polhodes": "stability.free_body.polhodes",
@@ -121,6 +138,29 @@ OLD_NAMES = {
         "SHAPES", "G", "rolls", "rolling_acceleration", "slipping_acceleration",
         "slipping_spin_rate", "launch_formulas", "start_states", "measure_incline",
         "measure_launches"), "stability.rolling.model"),
+    "stability.ensemble": dict.fromkeys((
+        "ensemble_memory", "max_angular_speed", "seed_sequence", "perturbed_starts",
+        "run_ensemble", "run_ensembles", "EnsembleSummary", "completed", "run_streamed",
+        "EnsembleChunks", "RNG_CHUNK", "STREAM_CHUNK_MEMBERS", "DEFAULT_DIVERGENCE_TOLERANCE",
+        "LARGE_RUN_BYTES", "DEFAULT_LEVELS", "PEAK_COPIES", "MAX_STEPS"
+        ), "stability.free_body.ensemble"),
+    "stability.engine.gpu": dict.fromkeys(("propagate_gpu", "propagate_many_gpu"),
+                                          "stability.free_body.propagate_gpu"),
+    "stability.animation": {
+        **dict.fromkeys(("FlipFrames", "flip_frames", "animate_flip"),
+                        "stability.free_body.animation"),
+        **dict.fromkeys(("TopFrames", "top_frames", "animate_top"),
+                        "stability.heavy_top.animation"),
+        **dict.fromkeys(("DEFAULT_FPS", "DEFAULT_SIZE", "MAX_FRAMES", "SUFFIXES", "output_path",
+                         "write_animation"), "stability.plotting.animation"),
+    },
+    "stability.figures.animation": {"FlipScene": "stability.free_body.animation",
+                                    "TopScene": "stability.heavy_top.animation",
+                                    "DPI": "stability.plotting.animation",
+                                    "frame_figure": "stability.plotting.animation"},
+    "stability.scenes": {"SCENES": "stability.registry", "scene": "stability.registry",
+                         "Scene": "stability.engine.scene",
+                         "define_scene": "stability.engine.user_scene"},
     "stability.estimators": {
         **dict.fromkeys(("DEPARTURE_FACTOR", "MIN_CROSSINGS", "MIN_POINTS", "WINDOW_ATTRS",
                          "WINDOW_HIGH_FRACTION", "WINDOW_LOW_FACTOR", "member_regimes"),
@@ -151,6 +191,11 @@ OLD_NAMES = {
 }
 
 
+#: The keys of :data:`OLD_NAMES` whose module is gone: each imports as a module of old names.
+SPLIT = ("stability.estimators", "stability.scenes", "stability.animation",
+         "stability.figures.animation")
+
+
 def moved_to(old: str) -> str:
     """Warn that the module ``old`` moved, and return its new path."""
     new = MOVED[old]
@@ -163,14 +208,16 @@ class OldPathFinder(importlib.abc.MetaPathFinder, importlib.abc.Loader):
     """Finds each old path of :data:`MOVED` and loads it as the module it now is."""
 
     def find_spec(self, fullname, path=None, target=None):
-        if fullname not in MOVED and fullname not in OLD_NAMES:
+        if fullname not in MOVED and fullname not in SPLIT:
             return None
-        return importlib.util.spec_from_loader(fullname, self)
+        # A split module is a package too, so that its old submodules' paths still import.
+        return importlib.util.spec_from_loader(fullname, self, is_package=fullname in SPLIT)
 
     def create_module(self, spec):
         if spec.name not in MOVED:  # a module split in several: its names, each where it went
             module = types.ModuleType(spec.name, f"Old path of the names in {spec.name}.")
             module.__getattr__ = old_names(spec.name)
+            module.__path__ = []
             self.spec = spec
             return module
         module = importlib.import_module(moved_to(spec.name))
@@ -181,12 +228,17 @@ class OldPathFinder(importlib.abc.MetaPathFinder, importlib.abc.Loader):
         """Nothing to run (the new module ran when it was imported): its own spec back."""
         module.__spec__ = self.spec
 
+    def get_code(self, fullname):
+        """``python -m <old path>``: code that runs the new module as ``__main__``."""
+        source = f"import runpy\nrunpy.run_module({moved_to(fullname)!r}, run_name='__main__')\n"
+        return compile(source, f"<{fullname}>", "exec")
+
 
 def old_attribute(name: str):
     """``stability.<name>`` for an old module path (the package's ``__getattr__``);
     AttributeError for any other name."""
     old = f"stability.{name}"
-    if old not in MOVED and old not in OLD_NAMES:
+    if old not in MOVED and old not in SPLIT:
         raise AttributeError(f"module 'stability' has no attribute {name!r}")
     return importlib.import_module(old)
 
@@ -211,6 +263,8 @@ def old_names(old: str):
 
 
 def install() -> None:
-    """Put the finder of old paths on ``sys.meta_path`` (once)."""
+    """Put the finder of old paths first on ``sys.meta_path`` (once): an old path inside a moved
+    package (``stability.gpu.bench``) is then its new module, not a file the path finder would
+    find in the new package's folder under the old name."""
     if not any(isinstance(f, OldPathFinder) for f in sys.meta_path):
-        sys.meta_path.append(OldPathFinder())
+        sys.meta_path.insert(0, OldPathFinder())

@@ -9,7 +9,7 @@ import numpy as np
 import pytest
 
 import stability
-from stability import bench as bench_module
+from stability.cli import bench as bench_module
 from stability.cli import main
 from stability.free_body.propagate import propagate
 from stability.study import STUDIES, load_study

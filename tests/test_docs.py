@@ -199,7 +199,7 @@ def test_the_site_builds_without_warnings_and_its_internal_links_resolve(tmp_pat
         assert not shown or html.find("highlight-Python") < min(shown), page.name
         assert not re.search(r"object at 0x[0-9a-f]+", html), page.name
     # the generated pages carry what the code says: every study kind and every scene
-    from stability.scenes import SCENES
+    from stability.registry import SCENES
     from stability.study import STUDIES
 
     studies = (out / "studies.html").read_text()

@@ -12,7 +12,7 @@ import pytest
 
 from stability.engine import BLOCK, compiled_loop, propagate_groups
 from stability.engine.loop import level_thresholds
-from stability.scenes import SCENES
+from stability.registry import SCENES
 from stability.util.threads import numba_threads
 
 ROOT = Path(__file__).resolve().parents[1]
@@ -114,7 +114,7 @@ sys.path.insert(0, sys.argv[1])
 import decay
 from stability.engine import compiled_loop, propagate_groups
 from stability.integrators.spec import MethodSpec
-from stability.scenes.spec import Scene
+from stability.engine.scene import Scene
 
 spec = MethodSpec(name="euler", title="explicit Euler", order=1, step=decay.decay_step,
                   params=lambda k, h: np.array([k]))

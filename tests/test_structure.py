@@ -15,14 +15,26 @@ from .test_dependencies import internal_imports, modules
 ROOT = Path(__file__).resolve().parents[1]
 
 #: Each layer reached so far, and what it may import besides itself (module paths from
-#: ``stability``; ``schema`` and ``version`` sit beside the machinery until the ensemble layer
-#: holds the register).
+#: ``stability``). ``ensemble``, ``analysis``, ``output`` and ``plotting`` are one level of the
+#: design: they may import each other (no module circle, which the test below forbids).
 LAYERS = {
     "util": set(),
     "core": {"util"},
-    "output": {"util", "core", "schema", "version"},
+    "integrators": {"util", "core"},
+    "engine": {"util", "core", "integrators", "moved"},
+    "ensemble": {"util", "core", "integrators", "engine", "output", "version", "moved"},
+    "analysis": {"util", "core", "ensemble"},
+    "output": {"util", "core", "ensemble", "version"},
     "plotting": {"util", "core", "output"},
-    "analysis": {"util", "core", "schema"},
+}
+
+#: Imports against the layer order still in the code, each with its reason, until it goes.
+UPWARD = {
+    ("engine", "registry"): "the loop and define_scene take a registered scene's name as well "
+                            "as a Scene; the name is looked up in the families' table",
+    ("ensemble", "registry"): "the same: a scene's name, looked up",
+    ("integrators", "free_body"): "the exact flow is a method of the free body, registered in "
+                                  "METHODS with the others",
 }
 
 #: Lines a module may have; those over it hold two ideas (or more), but for these, each with
@@ -31,19 +43,21 @@ MAX_LINES = 800
 LONG_MODULES = {
     "stability.free_body.ensemble": "the free body's start rule, plan, run and Dataset: split as the "
                           "generic ensemble layer takes its plan and run",
-    "stability.schema": "declarations only, one per Dataset kind: each moves to its family",
+    "stability.ensemble.schema": "declarations only, one per Dataset kind: each moves to its family",
     "stability.core.body": "the rigid body, its parts and presets: presets to a module of "
                            "their own",
     "stability.study.config": "the study schema library, shared sections, output writing",
 }
 
 #: Imports of the package's own modules inside functions, allowed at most: for the command
-#: line's start-up time (matplotlib, the studies), the optional GPU path, and the modules not
-#: yet moved to their family. The goal of the layout is 20; the count may only fall.
-MAX_LOCAL_IMPORTS = 43
+#: line's start-up time (the studies, matplotlib) and the optional GPU path (numba-cuda). The
+#: count may only fall.
+MAX_LOCAL_IMPORTS = 18
 
 #: Modules without a test module of their name, and the tests that exercise them.
 COVERED_ELSEWHERE = {
+    "stability.cli.main": "tests/test_cli.py",
+    "stability.ensemble.chunks": "tests/test_scene_ensemble.py",
     "stability.analysis.members": "tests/analysis/test_estimates.py",
     "stability.analysis.fits": "tests/analysis/test_estimates.py (growth_line, richardson_bias)",
     "stability.analysis.regimes": "tests/analysis/test_estimates.py",
@@ -58,7 +72,7 @@ COVERED_ELSEWHERE = {
     "stability.heavy_top.figures": "tests/heavy_top/test_gyroscope.py, tests/heavy_top/test_sleeping_top.py",
     "stability.rolling.figures": "tests/rolling/test_model.py",
     "stability.struck.figures": "tests/struck/test_model.py",
-    "stability.bench": "tests/test_cli.py (stability bench)",
+    "stability.cli.bench": "tests/test_cli.py (stability bench)",
     "stability.core.compensated": "tests/free_body/test_exact.py (the exact solution's invariants)",
     "stability.core.quaternions": "tests/free_body/test_attitude.py",
     "stability.core.roots": "tests/free_body/twisting_racket/test_geometric_phase.py",
@@ -75,13 +89,13 @@ COVERED_ELSEWHERE = {
     "stability.free_body.exact_attitude": "tests/free_body/twisting_racket/test_geometric_phase.py",
     "stability.figures.impacts": "tests/test_moved.py (the old names it keeps)",
     "stability.free_body.twisting_racket.figures": "tests/free_body/twisting_racket/test_geometric_phase.py",
-    "stability.gpu.bench": "tests/test_gpu.py",
-    "stability.gpu.device": "tests/test_gpu.py",
-    "stability.gpu.kernels": "tests/test_gpu.py",
-    "stability.gpu.methods": "tests/test_gpu.py",
-    "stability.gpu.propagate": "tests/test_gpu.py",
-    "stability.gpu.retarget": "tests/test_gpu.py",
-    "stability.gpu.run": "tests/test_gpu.py",
+    "stability.engine.gpu.bench": "tests/test_gpu.py",
+    "stability.engine.gpu.device": "tests/test_gpu.py",
+    "stability.engine.gpu.kernels": "tests/test_gpu.py",
+    "stability.engine.gpu.methods": "tests/test_gpu.py",
+    "stability.free_body.propagate_gpu": "tests/test_gpu.py",
+    "stability.engine.gpu.retarget": "tests/test_gpu.py",
+    "stability.engine.gpu.run": "tests/test_gpu.py",
     "stability.integrators.composition": "tests/test_integrators.py",
     "stability.integrators.exact_flow": "tests/free_body/test_exact.py",
     "stability.integrators.lgvi": "tests/test_integrators.py",
@@ -93,23 +107,22 @@ COVERED_ELSEWHERE = {
     "stability.integrators.rk4": "tests/test_integrators.py",
     "stability.integrators.rotations": "tests/test_integrators.py",
     "stability.integrators.spec": "tests/test_scenes_generic.py",
-    "stability.memory": "tests/test_bad_input.py (runs beyond memory refused)",
+    "stability.ensemble.memory": "tests/test_bad_input.py (runs beyond memory refused)",
     "stability.output.dataset": "tests/output/test_io.py",
     "stability.output.lock": "tests/test_faults_boundary.py",
     "stability.output.publish": "tests/test_faults_boundary.py",
     "stability.output.store": "tests/output/test_stream.py",
-    "stability.periodic": "tests/heavy_top/test_gyroscope.py",
+    "stability.analysis.periodic": "tests/heavy_top/test_gyroscope.py",
     "stability.plotting.style": "tests/free_body/tennis_racket/test_figures.py",
-    "stability.scene_run": "tests/test_user_scene.py, tests/test_scene_ensemble.py",
+    "stability.ensemble.run": "tests/test_user_scene.py, tests/test_scene_ensemble.py",
     "stability.engine_body.scene": "tests/test_scenes_generic.py",
     "stability.free_body.scene": "tests/test_scenes_generic.py",
     "stability.free_body.scene_attitude": "tests/test_scenes_generic.py",
     "stability.earth.scene": "tests/earth/test_equinoxes.py, tests/test_scenes_generic.py",
-    "stability.scenes.registry": "tests/test_scenes_generic.py",
+    "stability.registry": "tests/test_scenes_generic.py",
     "stability.rolling.scene": "tests/test_scenes_generic.py",
-    "stability.scenes.spec": "tests/test_scenes_generic.py",
+    "stability.engine.scene": "tests/test_scenes_generic.py",
     "stability.struck.scene": "tests/test_scenes_generic.py",
-    "stability.scenes.user": "tests/test_user_scene.py",
     "stability.heavy_top.methods": "tests/heavy_top/test_top.py",
     "stability.heavy_top.scene": "tests/test_scenes_generic.py",
     "stability.heavy_top.studies.gyroscope": "tests/heavy_top/test_gyroscope.py",
@@ -147,7 +160,7 @@ def test_each_layer_imports_only_the_layers_below_it():
         if own not in LAYERS or layer(imported) == own:
             continue
         target = layer(imported)
-        if target not in LAYERS[own]:
+        if target not in LAYERS[own] and (own, target) not in UPWARD:
             wrong.append(f"{module} imports {imported} ({own} may import "
                          f"{', '.join(sorted(LAYERS[own])) or 'nothing of the package'})")
     assert wrong == [], "\n".join(wrong)

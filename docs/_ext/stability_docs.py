@@ -3,10 +3,10 @@
 When the configuration is read this writes ``docs/generated/``:
 
 - ``scene_<name>.md``: each registered scene's equations, state and units, methods, invariants
-  and exact solution (``stability.scenes.SCENES``);
+  and exact solution (``stability.registry.SCENES``);
 - ``methods.md``: the registered integrators and what they declare (``stability.METHODS``);
 - ``dataset_schema.md``: every Dataset kind's variables, dims, units, long names and notes
-  (``stability.schema.SCHEMAS``, the register the code that writes them reads);
+  (``stability.ensemble.schema.SCHEMAS``, the register the code that writes them reads);
 - ``studies.md``: every study kind's keys, defaults, units and allowed values (the schemas that
   validate study files);
 - ``cli.md``: the help of every ``stability`` command (the argument parser);
@@ -108,8 +108,8 @@ def methods_page() -> str:
 
 
 def dataset_page() -> str:
-    """Every Dataset kind of the register (``stability.schema.SCHEMAS``): one table each."""
-    from stability.schema import KINDS, SCHEMAS
+    """Every Dataset kind of the register (``stability.ensemble.schema.SCHEMAS``): one table each."""
+    from stability.ensemble.schema import KINDS, SCHEMAS
     from stability.study import STUDIES
 
     api = set(api_names())
@@ -176,7 +176,7 @@ def studies_page() -> str:
 def cli_page() -> str:
     import argparse
 
-    from stability.cli import build_parser
+    from stability.cli.main import build_parser
 
     parser = build_parser()
     parser.prog = "stability"
@@ -222,13 +222,15 @@ API_MODULES = (
                          "core.elliptic")),
     ("Ensembles, runs and files", ("free_body.ensemble", "free_body.integrate",
                                    "free_body.attitude", "output.io", "output.stream",
-                                   "util.formatting", "schema")),
+                                   "util.formatting", "ensemble.schema")),
     ("Measures and estimators", ("analysis.members", "analysis.fits", "analysis.regimes",
                                  "analysis.estimates", "free_body.measure",
                                  "free_body.tennis_racket.analysis",
                                  "free_body.twisting_racket.geometric_phase",
-                                 "periodic", "core.roots", "drift", "free_body.reference")),
-    ("Scenes, integrators and the engine", ("scenes", "integrators", "engine")),
+                                 "analysis.periodic", "core.roots",
+                                 "free_body.work_precision.drift", "free_body.reference")),
+    ("Scenes, integrators and the engine", ("registry", "engine.scene", "engine.user_scene",
+                                            "integrators", "engine")),
     ("Studies' library functions", ("free_body.twisting_racket.measure", "engine_body.measure",
                                      "struck.model", "rolling.model", "heavy_top.measure",
                                      "earth.wobble", "earth.equinoxes", "earth.model",
@@ -237,7 +239,8 @@ API_MODULES = (
                                      "free_body.work_precision.sweeps",
                                      "free_body.stability_map.shapes",
                                      "free_body.tennis_racket.flipsweep", "free_body.polhodes")),
-    ("Figures and animations", ("animation", "figures.animation", "free_body.figures")),
+    ("Figures and animations", ("plotting.animation", "free_body.animation",
+                                "heavy_top.animation", "free_body.figures")),
 )
 
 
@@ -297,7 +300,7 @@ def _first_line(module_name) -> str:
 
 def generate(app=None) -> None:
     """Write every generated page (see the module docstring)."""
-    from stability.scenes import SCENES
+    from stability.registry import SCENES
 
     OUT.mkdir(exist_ok=True)
     for scene in SCENES.values():

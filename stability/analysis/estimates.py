@@ -32,7 +32,7 @@ import math
 import numpy as np
 import xarray as xr
 
-from ..schema import ESTIMATES
+from ..ensemble.schema import ESTIMATES
 from ..util import conventions as cv
 from ..util.conventions import REGIME_EXPONENTIAL, REGIME_OSCILLATION, perpendicular_axes
 from .fits import exponential_fit, mean_stderr, window_points
@@ -159,7 +159,8 @@ def estimate_dataset(mem, name, long_name, units, per_member, mean, stderr, n, w
 
 
 #: Units and long names of the ensemble estimates (scalars of :func:`omega_squared_estimate`
-#: and :func:`flip_estimate`), as the register declares them (:data:`stability.schema.ESTIMATES`).
+#: and :func:`flip_estimate`), as the register declares them
+#: (:data:`stability.ensemble.schema.ESTIMATES`).
 ESTIMATE_ATTRS = {name: var.attrs() for name, var in ESTIMATES.items()}
 
 
@@ -349,3 +350,8 @@ FLIP_MEMBER_NAMES = {
     "flip_interval_exact": ("exact flip interval 2K/nu of the member's start", cv.UNITS_TIME),
     "flip_interval_asymptote": ("asymptotic flip interval (2/lambda) ln(4/k')", cv.UNITS_TIME),
 }
+
+
+#: The module's public API (the rest serves the package's other modules).
+__all__ = ["ESTIMATE_ATTRS", "flip_estimate", "measured_frequency", "measured_growth_rate",
+           "omega_squared_estimate", "omega_squared_estimates"]

@@ -162,3 +162,7 @@ def richardson_bias(coarse, fine, order):
     """
     with np.errstate(invalid="ignore", divide="ignore"):
         return (np.asarray(coarse) - fine) / (1.0 - 2.0 ** -np.asarray(order, dtype=float))
+
+
+#: The module's public API (the rest serves the package's other modules).
+__all__ = ["growth_line", "richardson_bias"]

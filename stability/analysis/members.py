@@ -264,8 +264,8 @@ def summary_members(summaries, levels, axis: int, spin=None, *, w0=None, a0=None
     Parameters
     ----------
     summaries : mapping of str to ndarray
-        The summaries-only variables by name (:data:`stability.output.dataset.SUMMARIES`): shape (N,),
-        ``passage_time`` (N, n_levels); counts as floats, NaN for masked members.
+        The summaries-only variables by name (:data:`stability.output.dataset.SUMMARIES`): shape
+        (N,), ``passage_time`` (N, n_levels); counts as floats, NaN for masked members.
     levels : array_like, shape (n_levels,)
         Ascending amplitude levels of ``passage_time``, rad/s.
     axis : int
@@ -395,3 +395,8 @@ def sign_change_times(t, x) -> np.ndarray:
     """
     s = np.flatnonzero(np.signbit(x[1:]) != np.signbit(x[:-1]))
     return t[s] - x[s] * (t[s + 1] - t[s]) / (x[s + 1] - x[s])
+
+
+#: The module's public API (the rest serves the package's other modules).
+__all__ = ["Members", "members", "perpendicular_amplitude", "sign_change_times", "summary_members",
+           "tracked_members", "zero_crossings"]

@@ -23,7 +23,7 @@ import math
 import numpy as np
 import xarray as xr
 
-from ..schema import ESTIMATES
+from ..ensemble.schema import ESTIMATES
 from ..util import conventions as cv
 
 # Regime codes (int8), per member and per ensemble, declared with the other codes.
@@ -147,7 +147,7 @@ def classify(mem: Members):
 
 
 def regime_attrs(long_name):
-    """The regime flags' attributes (:data:`stability.schema.ESTIMATES`) under ``long_name``."""
+    """The regime flags' attributes (:data:`stability.ensemble.schema.ESTIMATES`) under ``long_name``."""
     return ESTIMATES["regime"].on((), long_name=long_name).attrs()
 
 
@@ -158,3 +158,8 @@ def ensemble_regime(regime, valid):
     counts = np.bincount(r.astype(np.int64), minlength=len(REGIME_FLAG_VALUES))
     best = int(np.argmax(counts))
     return best if counts[best] > MAJORITY * r.size else REGIME_UNDETERMINED
+
+
+#: The module's public API (the rest serves the package's other modules).
+__all__ = ["DEPARTURE_FACTOR", "MIN_CROSSINGS", "MIN_POINTS", "WINDOW_ATTRS",
+           "WINDOW_HIGH_FRACTION", "WINDOW_LOW_FACTOR", "member_regimes"]

@@ -3,7 +3,7 @@ double-double numbers built on them.
 
 Compiled helpers (``@njit``, inlined) of the exact solution's cancellation-free invariants
 (:mod:`stability.free_body.exact`); the GPU replaces :func:`two_prod` by one fused multiply-add
-(:mod:`stability.gpu.retarget`).
+(:mod:`stability.engine.gpu.retarget`).
 """
 
 from numba import njit

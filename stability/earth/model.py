@@ -12,11 +12,11 @@ The principal moments follow from published ratios (each with its source):
 
 A rigid Earth spinning at ``W = 2 pi / sidereal day`` about its figure axis C, with its rotation
 axis a little off that axis, wobbles: in the body frame the rotation axis circles the figure axis
-at ``Omega = W sqrt((C - A)(C - B) / (A B))`` (Euler's free precession; for A = B the familiar
-``A / (C - A) = (1 - H) / H`` sidereal days, 304.5, or 303.6 days), while in space it circles the fixed angular
-momentum once a day on a cone ~H times narrower. The observed Chandler wobble has a period of
-about 433 days: the Earth is not rigid (elastic mantle, oceans and fluid core lengthen it;
-Smith & Dahlen, Geophys. J. R. Astr. Soc. 64, 223 (1981)).
+at ``Omega = W sqrt((C - A)(C - B) / (A B))`` (Euler's free precession; for A = B the familiar ``A
+/ (C - A) = (1 - H) / H`` sidereal days, 304.5, or 303.6 days), while in space it circles the fixed
+angular momentum once a day on a cone ~H times narrower. The observed Chandler wobble has a period
+of about 433 days: the Earth is not rigid (elastic mantle, oceans and fluid core lengthen it; Smith
+& Dahlen, Geophys. J. R. Astr. Soc. 64, 223 (1981)).
 """
 
 from __future__ import annotations

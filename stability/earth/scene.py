@@ -29,7 +29,7 @@ from numba import njit
 from ..util import conventions as cv
 from .methods import AVERAGED_METHODS, METHODS
 from ..free_body.scene import component
-from ..scenes.spec import Scene
+from ..engine.scene import Scene
 
 
 @njit(inline="always")

@@ -17,7 +17,7 @@ from ..util import conventions as cv
 from ..free_body.scene import component
 from ..free_body.scene_attitude import example as example_mq
 from ..free_body.scene_attitude import quaternion_norm
-from ..scenes.spec import Scene
+from ..engine.scene import Scene
 from .methods import ENGINE_RULES, rotate, rotate3, world_state
 
 

@@ -25,3 +25,13 @@ in :mod:`stability.integrators`.
 This package's ``__init__`` imports nothing, so that the scene registry can import
 :mod:`.scene` without the rest.
 """
+
+#: What the family registers (:mod:`stability.registry`): its scenes and its study kinds, each as
+#: ``"module:name"`` inside this package, imported when first asked for.
+SCENES = ("scene:FREE_BODY", "scene_attitude:FREE_BODY_ATTITUDE")
+STUDIES = {
+    "tennis_racket": "tennis_racket.study:STUDY",
+    "stability_map": "stability_map.study:STUDY",
+    "work_precision": "work_precision.study:STUDY",
+    "twisting_racket": "twisting_racket.study:STUDY",
+}

@@ -1,8 +1,8 @@
 """The ``ds.stability`` accessor: the estimators as methods of an ensemble Dataset.
 
-A thin, stateless namespace over :mod:`stability.analysis` and :mod:`.measure` (the xarray "composition over
-inheritance" pattern): every method calls the plain function of the same name on the Dataset and
-returns what it returns, so ``ds.stability.measured_growth_rate()`` is
+A thin, stateless namespace over :mod:`stability.analysis` and :mod:`.measure` (the xarray
+"composition over inheritance" pattern): every method calls the plain function of the same name on
+the Dataset and returns what it returns, so ``ds.stability.measured_growth_rate()`` is
 ``stability.measured_growth_rate(ds)``. Nothing is stored on the accessor; everything an estimator
 needs lives in the Dataset's variables, coordinates and attributes. Registered when ``stability``
 is imported.

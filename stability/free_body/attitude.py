@@ -37,8 +37,8 @@ from ..core.quaternions import (
     IDENTITY, attitude_error, canonical_quaternion, frame_along, matrix_to_quaternion,
     quaternion_conjugate, quaternion_multiply, quaternion_to_matrix, spatial_angular_momentum,
 )
-from ..scene_ensemble import GroupedRun, propagate_stored
-from ..scenes import SCENES
+from ..ensemble.chunks import GroupedRun, propagate_stored
+from ..registry import SCENES
 
 # --- which methods carry the attitude ----------------------------------------------------------
 
@@ -265,7 +265,7 @@ def propagate_attitudes(method, moments, m0, q0, h, n_steps, save_every=1, progr
     label : str, optional
         Progress bar label.
     stored : dict, optional
-        Keyword arguments of :func:`stability.scene_ensemble.propagate_stored` (``store``,
+        Keyword arguments of :func:`stability.ensemble.chunks.propagate_stored` (``store``,
         ``resume``, ``scheduler`` ...): the run goes chunk by chunk into a store, resumable and
         on dask; by default in one piece here. The result is the same, bitwise.
 

@@ -37,13 +37,13 @@ from .propagate import CanonicalGroups, group_levels, propagate_many
 from ..analysis.members import summary_members
 from .exact_attitude import exact_attitudes
 from ..integrators import method_spec
-from ..memory import DEFAULT_MAX_MEMORY
+from ..ensemble.memory import DEFAULT_MAX_MEMORY
 from ..output.dataset import (
     add_attitude, config_toml, ensemble_dataset, history_line, provenance_attrs, summary_bytes,
     threading_layer,
 )
 from ..output.store import ChunkStore, read_progress
-from ..scene_ensemble import GroupedRun, propagate_stored, summed_attrs
+from ..ensemble.chunks import GroupedRun, propagate_stored, summed_attrs
 from .timescales import (
     DEFAULT_EPSILON,
     DEFAULT_MEMBERS,
@@ -104,7 +104,8 @@ def ensemble_memory(members: int, n_saved: int, n_levels: int = DEFAULT_LEVELS.s
     -------
     int
         ``N (n_saved + 1) 3 8`` bytes of time series (``w`` in float64, start included; none if
-        ``n_saved`` is 0; 9 doubles a sample with the attitude) plus the per-member summaries. A time-series run needs about
+        ``n_saved`` is 0; 9 doubles a sample with the attitude) plus the per-member summaries. A
+        time-series run needs about
         :data:`PEAK_COPIES` times the time series while it builds the Dataset.
     """
     members = positive_int("members", members)
@@ -287,11 +288,11 @@ def run_ensemble(
 ):
     """Run an ensemble of perturbed steady spins and return it as a labelled Dataset.
 
-    Every member is advanced by the parallel member loop (:func:`stability.free_body.propagate.propagate`)
-    with the method ``method``; the members are independent, so the cost is
-    ``members x t_end / h`` steps (of order 1e7 member-steps/s per core for ``lp2``, a few
-    times more for ``rk4``). The result does not depend on ``threads``, ``chunk_members`` or
-    ``chunk_steps``, bit for bit.
+    Every member is advanced by the parallel member loop
+    (:func:`stability.free_body.propagate.propagate`) with the method ``method``; the members are
+    independent, so the cost is ``members x t_end / h`` steps (of order 1e7 member-steps/s per core
+    for ``lp2``, a few times more for ``rk4``). The result does not depend on ``threads``,
+    ``chunk_members`` or ``chunk_steps``, bit for bit.
 
     Parameters
     ----------
@@ -315,9 +316,9 @@ def run_ensemble(
         By default the step angle is 0.02 rad (:func:`stability.free_body.timescales.default_step`),
         and the Dataset says so in its ``h_rule`` attribute.
     t_end : float, optional
-        Horizon in s: a whole number of steps, and of ``save_every`` steps. By default four
-        flip intervals 2K/nu of the exact motion (:func:`stability.free_body.timescales.default_horizon`;
-        the ``t_end_rule`` attribute).
+        Horizon in s: a whole number of steps, and of ``save_every`` steps. By default four flip
+        intervals 2K/nu of the exact motion
+        (:func:`stability.free_body.timescales.default_horizon`; the ``t_end_rule`` attribute).
     seed : int, None or numpy.random.SeedSequence, default 0
         Seed of the random directions; ``None`` draws fresh entropy. The entropy is recorded
         in the Dataset (``seed_entropy``), which is enough to repeat the run.
@@ -337,11 +338,10 @@ def run_ensemble(
         time-series run.
     scene : {"free_body", "free_body_attitude"}, default "free_body"
         What is integrated: w alone, or w and each member's attitude (a method of
-        ``stability.free_body.attitude.attitude_methods()``, time series only, on the CPU; w is bitwise
-        the same): every member starts at the identity (body axes along the space axes), and
-        the Dataset gains ``q``,
-        ``q_norm_error`` and ``attitude_error``, the angle to the exact attitude
-        (:mod:`stability.free_body.exact_attitude`) at each saved time.
+        ``stability.free_body.attitude.attitude_methods()``, time series only, on the CPU; w is
+        bitwise the same): every member starts at the identity (body axes along the space axes),
+        and the Dataset gains ``q``, ``q_norm_error`` and ``attitude_error``, the angle to the
+        exact attitude (:mod:`stability.free_body.exact_attitude`) at each saved time.
     levels : array_like, shape (n_levels,), optional
         Ascending perpendicular-amplitude levels in rad/s for ``passage_time``; default
         :data:`DEFAULT_LEVELS` times the spin (with ``starts``, times the median |w0|).
@@ -374,9 +374,9 @@ def run_ensemble(
         With ``store``: run the chunks on dask.distributed, ``"dask"`` for a local cluster, a
         scheduler address such as ``"tcp://host:8786"``, or a client.
     device : {"cpu", "gpu"}, default "cpu"
-        ``"gpu"``: run the member loop on a CUDA GPU (:mod:`stability.gpu`; methods
-        ``stability.gpu.GPU_METHODS``). Same members, agreeing with the CPU run to about 1e-12
-        relative, not bitwise (fused multiply-adds, the device's libm).
+        ``"gpu"``: run the member loop on a CUDA GPU (:mod:`stability.engine.gpu`; methods
+        ``stability.engine.gpu.GPU_METHODS``). Same members, agreeing with the CPU run to about
+        1e-12 relative, not bitwise (fused multiply-adds, the device's libm).
 
     Returns
     -------
@@ -427,7 +427,8 @@ _NO_SPIN = ("give spin, the spin rate in rad/s (epsilon and members have default
 
 def _default_timescales(body, axis, spin, epsilon, starts, h, t_end, save_every):
     """``h`` and ``t_end``, each chosen from the physics where it is None
-    (:mod:`stability.free_body.timescales`), and the rules chosen, by attribute name. Arguments too wrong
+    (:mod:`stability.free_body.timescales`), and the rules chosen, by attribute name. Arguments too
+    wrong
     to choose from are left for :func:`_plan` to name."""
     if (h is not None and t_end is not None) or not isinstance(body, RigidBody):
         return h, t_end, {}
@@ -584,7 +585,8 @@ def _summary(plan: _Plan, run) -> EnsembleSummary:
                            run.members * run.steps_done, run.wall_time, run.interrupted)
 
 
-# --- a run streamed to a store, chunk by chunk (stability.output.stream) -----------------------------
+# --- a run streamed to a store, chunk by chunk (stability.output.stream)
+# -----------------------------
 
 
 def run_streamed(kwargs: dict, store, *, resume=False, scheduler=None, threads=None,
@@ -643,7 +645,7 @@ def run_streamed(kwargs: dict, store, *, resume=False, scheduler=None, threads=N
 
 
 class EnsembleChunks:
-    """A free-body ensemble as a stored grouped run (:mod:`stability.scene_ensemble`): its
+    """A free-body ensemble as a stored grouped run (:mod:`stability.ensemble.chunks`): its
     start rule and its measurement.
 
     :meth:`grouped_run` is the run, one group, whose starts come from :meth:`starts`: members
@@ -677,7 +679,7 @@ class EnsembleChunks:
         return self._plan
 
     def grouped_run(self):
-        """The ensemble as a :class:`~stability.scene_ensemble.GroupedRun`: the arguments
+        """The ensemble as a :class:`~stability.ensemble.chunks.GroupedRun`: the arguments
         :func:`stability.free_body.propagate.propagate_many` gives the member loop for it."""
         plan = self.plan
         groups = self._groups(plan.members)
@@ -805,8 +807,8 @@ def _plan(body, axis, spin=None, epsilon=None, members=None, *, h, t_end, seed=0
     if device not in ("cpu", "gpu"):
         raise ValueError(f"device must be 'cpu' or 'gpu', got {device!r}")
     if device == "gpu":
-        from ..gpu import NoGPUError, gpu_method
-        from ..gpu.device import cuda_module
+        from ..engine.gpu import NoGPUError, gpu_method
+        from ..engine.gpu.device import cuda_module
 
         gpu_method(spec.name, scene)  # ValueError naming the methods the GPU has
         try:
@@ -1213,7 +1215,7 @@ def _propagate_tracked(plans, progress, rows):
     first = plans[0]
     gpu = {}
     if first.device == "gpu":
-        from ..gpu import propagate_groups_gpu  # numba-cuda: an optional dependency
+        from ..engine.gpu import propagate_groups_gpu  # numba-cuda: an optional dependency
 
         gpu = {"propagator": propagate_groups_gpu}
     return propagate_many(

@@ -35,10 +35,10 @@ terms cancel near the separatrix, is summed in double-double arithmetic (Dekker,
 functions are :mod:`stability.core.elliptic` (argument reduction that keeps k'^2 = 1e-15 at full
 accuracy).
 
-Accuracy (tests/free_body/test_exact.py): against mpmath at 40 digits near the separatrix (k'^2 <= 1e-12,
-times up to 6K/nu), <= 1.5e-14 relative to |w0|; against DOP853 at rtol = atol = 1e-12, the
-integrator's own error (<= 9e-12 over |t| <= 20). Cost: O(1) per output time, independent
-of t: ~1 microsecond to set up, a fraction of that per time.
+Accuracy (tests/free_body/test_exact.py): against mpmath at 40 digits near the separatrix (k'^2 <=
+1e-12, times up to 6K/nu), <= 1.5e-14 relative to |w0|; against DOP853 at rtol = atol = 1e-12, the
+integrator's own error (<= 9e-12 over |t| <= 20). Cost: O(1) per output time, independent of t: ~1
+microsecond to set up, a fraction of that per time.
 
 Sign conventions were checked against direct integration; the Celledoni et al. (2008) preprint
 has a sign error in nu for its case (i) and forces s1 = s3 on the separatrix (Leroy, "On an
@@ -368,7 +368,8 @@ def omega_many(I1, I2, I3, w1, w2, w3, t, out):
     """w at many times of one exact motion, canonical frame, written into ``out``.
 
     The compiled loop behind :func:`exact_omega` and the exact attitude
-    (:mod:`stability.free_body.exact_attitude`): :func:`motion` once, then :func:`omega_at` per time.
+    (:mod:`stability.free_body.exact_attitude`): :func:`motion` once, then :func:`omega_at` per
+    time.
 
     Parameters
     ----------

@@ -1,7 +1,7 @@
 """The exact attitude of the torque-free rigid body: Euler angles about L by exact quadrature.
 
-Frames as in :mod:`stability.free_body.attitude`: R(q) maps body to space and ``R' = R hat(w)``, so the
-spatial angular momentum L = R m is fixed. Take z-x-z Euler angles with space Z along L and
+Frames as in :mod:`stability.free_body.attitude`: R(q) maps body to space and ``R' = R hat(w)``, so
+the spatial angular momentum L = R m is fixed. Take z-x-z Euler angles with space Z along L and
 body z along the axis of the *smallest* moment (canonical axis 1, a racket's handle), body x, y
 along canonical axes 2, 3 (Landau & Lifshitz, *Mechanics*, section 35, with the axes renamed):
 
@@ -11,8 +11,8 @@ A is fixed by R(0) with phi(0) = 0. theta and psi are read off m(t) itself,
 
     m1 = |L| cos(theta),   m2 = |L| sin(theta) sin(psi),   m3 = |L| sin(theta) cos(psi),
 
-with m(t) from the exact elliptic solution (:mod:`stability.free_body.exact`), and the precession angle
-is the quadrature of
+with m(t) from the exact elliptic solution (:mod:`stability.free_body.exact`), and the precession
+angle is the quadrature of
 
     phi' = |L| (m2^2 / I2 + m3^2 / I3) / (m2^2 + m3^2)      (a weighted mean of |L|/I2, |L|/I3)
 
@@ -157,8 +157,8 @@ def free_motion(moments, w0) -> FreeMotion:
     Raises
     ------
     ValueError
-        For w0 = 0; on the separatrix (L^2 = 2 E I2 exactly, or k'^2 below the double range), where the
-        motion is not periodic, or for a start along the handle (phi undefined).
+        For w0 = 0; on the separatrix (L^2 = 2 E I2 exactly, or k'^2 below the double range), where
+        the motion is not periodic, or for a start along the handle (phi undefined).
     """
     I = np.asarray(moments, dtype=float)
     w = np.asarray(w0, dtype=float)

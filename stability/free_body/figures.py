@@ -44,12 +44,13 @@ def poinsot_figure(body, w0, t_end=None, q0=None, levels=(0.2, 0.5, 0.8, 0.95),
     """Poinsot's construction: polhodes on the energy ellipsoid, the herpolhode on the plane.
 
     Left: Poinsot's ellipsoid ``x . I x = 1`` in the body with polhodes around the stable axes
-    (:func:`stability.free_body.polhodes.energy_ellipsoid_polhodes`), the separatrix, and the polhode of
-    this start (:func:`stability.free_body.polhodes.poinsot_polhode`). Middle: in space, with L up, the
-    ellipsoid at t = 0 touching the invariable plane ``x . L/|L| = sqrt(2E)/|L|`` at
+    (:func:`stability.free_body.polhodes.energy_ellipsoid_polhodes`), the separatrix, and the
+    polhode of this start (:func:`stability.free_body.polhodes.poinsot_polhode`). Middle: in space,
+    with L up, the ellipsoid at t = 0 touching the invariable plane ``x . L/|L| = sqrt(2E)/|L|`` at
     rho = w / sqrt(2E), and the herpolhode it traces as it rolls. Right: the herpolhode in the
     plane (:func:`stability.free_body.polhodes.herpolhode`) between the circles r_min and r_max
-    (:func:`stability.free_body.polhodes.herpolhode_radii`). Poinsot 1834; Landau & Lifshitz section 37.
+    (:func:`stability.free_body.polhodes.herpolhode_radii`). Poinsot 1834; Landau & Lifshitz
+    section 37.
 
     Parameters
     ----------

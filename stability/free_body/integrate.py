@@ -1,8 +1,8 @@
 """One trajectory, any registered method: ``integrate(body, w0, t_end, h, method)``.
 
 On scene ``free_body_attitude`` the body-to-space attitude quaternion comes too
-(``stability.free_body.attitude``); on ``free_body`` the run goes through the 3-number member loop of
-``stability.free_body.propagate`` unchanged.
+(``stability.free_body.attitude``); on ``free_body`` the run goes through the 3-number member loop
+of ``stability.free_body.propagate`` unchanged.
 """
 
 from __future__ import annotations
@@ -15,7 +15,7 @@ from ..core.body import RigidBody
 from ..util.checks import positive_float, positive_int, real_array, step_count, vectors3
 from .attitude import IDENTITY, attitude_spec, carries_attitude, propagate_attitude
 from ..output.dataset import provenance_attrs, storable_attrs
-from ..schema import TRAJECTORY
+from ..ensemble.schema import TRAJECTORY
 from .propagate import propagate, untrusted
 from ..integrators import method_spec
 

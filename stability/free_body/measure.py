@@ -176,3 +176,8 @@ def _is_intermediate(moments, axis):
     moments = np.asarray(moments, dtype=float)
     others = np.delete(moments, axis - 1)
     return bool(others.min() < moments[axis - 1] < others.max())
+
+
+#: The module's public API (the rest serves the package's other modules).
+__all__ = ["complementary_moduli", "exact_flip_intervals", "flip_statistics",
+           "measured_omega_squared"]

@@ -203,13 +203,13 @@ def poinsot_polhode(body, w0, samples: int = 400) -> np.ndarray:
 def herpolhode_radii(body, w0) -> tuple[float, float]:
     """Least and greatest distance of the herpolhode from the centre of the invariable plane.
 
-    r^2 = |rho|^2 - d^2 = (|w|^2 L^2 - (w . m)^2) / (2E L^2) = |w x m|^2 / (2E L^2)
-    (Lagrange's identity: no cancellation). On the polhode the squares s_i = m_i^2 lie on the
-    line ``sum s_i = L^2``, ``sum s_i / I_i = 2E``, along which
-    ``|w x m|^2 = sum_{i<j} s_i s_j (1/I_i - 1/I_j)^2`` equals ``|w|^2 L^2 - 4 E^2``, affine
-    in s: its extremes over the segment with all s_i >= 0 are at the ends (the polhode's
-    turning points, where one m_j = 0), and there ``s_k = I_k (2E I_l - L^2) / (I_l - I_k)`` for {j, k, l} = {1, 2, 3}, with
-    L^2 - 2E I_l from :func:`stability.free_body.model.invariant_differences`. A symmetric body keeps
+    r^2 = |rho|^2 - d^2 = (|w|^2 L^2 - (w . m)^2) / (2E L^2) = |w x m|^2 / (2E L^2) (Lagrange's
+    identity: no cancellation). On the polhode the squares s_i = m_i^2 lie on the line ``sum s_i =
+    L^2``, ``sum s_i / I_i = 2E``, along which ``|w x m|^2 = sum_{i<j} s_i s_j (1/I_i - 1/I_j)^2``
+    equals ``|w|^2 L^2 - 4 E^2``, affine in s: its extremes over the segment with all s_i >= 0 are
+    at the ends (the polhode's turning points, where one m_j = 0), and there ``s_k = I_k (2E I_l -
+    L^2) / (I_l - I_k)`` for {j, k, l} = {1, 2, 3}, with L^2 - 2E I_l from
+    :func:`stability.free_body.model.invariant_differences`. A symmetric body keeps
     |w| constant: one circle; a steady spin about a principal axis: r = 0.
 
     Parameters
@@ -263,7 +263,8 @@ class Herpolhode(NamedTuple):
     distance : float
         sqrt(2E) / |L|, the distance of the plane from the centre, kg^-1/2 m^-1.
     frame : ndarray, shape (3, 3)
-        Columns: the plane's two axes and the normal (:func:`stability.free_body.attitude.frame_along`).
+        Columns: the plane's two axes and the normal
+        (:func:`stability.free_body.attitude.frame_along`).
     radii : (float, float)
         :func:`herpolhode_radii`: the annulus the curve fills.
     """
@@ -279,9 +280,10 @@ class Herpolhode(NamedTuple):
 def herpolhode(body, w0, t, q0=None) -> Herpolhode:
     """The herpolhode: the path of the contact point rho = w / sqrt(2E) on the invariable plane.
 
-    ``R(t) rho(t)`` with the exact attitude (:func:`stability.free_body.exact_attitude.exact_attitude`)
-    and the exact w(t): a point of the plane ``x . L / |L| = sqrt(2E) / |L|`` at every t (module
-    docstring; Poinsot 1834, Landau & Lifshitz section 37).
+    ``R(t) rho(t)`` with the exact attitude
+    (:func:`stability.free_body.exact_attitude.exact_attitude`) and the exact w(t): a point of the
+    plane ``x . L / |L| = sqrt(2E) / |L|`` at every t (module docstring; Poinsot 1834, Landau &
+    Lifshitz section 37).
 
     Parameters
     ----------

@@ -15,7 +15,7 @@ from ..core.quaternions import canonical_quaternion, quaternion_conjugate, quate
 from ..core.body import canonical_frame, from_canonical, to_canonical
 from ..util.checks import real_array, real_number
 from ..engine import BLOCK, CHECK_EVERY, Propagation, propagate_groups, untrusted
-from ..scenes import SCENES
+from ..registry import SCENES
 
 __all__ = ["BLOCK", "CHECK_EVERY", "Propagation", "propagate", "propagate_many", "tracking_axes",
            "untrusted"]
@@ -216,8 +216,8 @@ def tracking_axes(perm, track_axis) -> np.ndarray:
 def group_levels(levels, n_groups) -> np.ndarray:
     """The amplitude levels of ``n_groups`` ensembles checked, as one float array.
 
-    Shared by the CPU driver and the GPU one (:mod:`stability.gpu.propagate`), which both take
-    one row of levels per ensemble.
+    Shared by the CPU driver and the GPU one (:mod:`stability.free_body.propagate_gpu`), which both
+    take one row of levels per ensemble.
 
     Parameters
     ----------

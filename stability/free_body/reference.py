@@ -111,8 +111,8 @@ def attitude_reference(body: RigidBody, w0, t_end: float):
 
     The exact attitude (Celledoni, Fasso, Safstrom & Zanna 2008) is not in the package; the
     reference is DOP853 at rtol = atol = 1e-13 on Euler's equations and ``q' = q (0, w) / 2``
-    (``stability.free_body.attitude``'s convention: body-to-space, scalar first) for all members as one
-    system. Its accuracy is measured on its w part against the exact solution.
+    (``stability.free_body.attitude``'s convention: body-to-space, scalar first) for all members as
+    one system. Its accuracy is measured on its w part against the exact solution.
 
     Parameters
     ----------

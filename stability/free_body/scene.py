@@ -17,7 +17,7 @@ from ..core.body import RigidBody
 from .exact import exact_omega_of_starts
 from ..integrators import METHODS
 from ..integrators.spec import P_I1, P_INV1
-from ..scenes.spec import Scene
+from ..engine.scene import Scene
 
 
 @njit(inline="always")

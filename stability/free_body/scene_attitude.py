@@ -13,9 +13,9 @@ from numba import njit
 
 from ..util import conventions as cv
 from ..integrators import METHODS
+from ..engine.scene import Scene
 from .scene import angular_momentum, energy, example as example_m, observe as observe_m
 from .scene import tracked as tracked_m
-from ..scenes.spec import Scene
 
 
 @njit(inline="always")

@@ -28,7 +28,7 @@ from ..util import conventions as cv
 from .exact import body_states
 from .methods import METHODS, N_TOP
 from ..free_body.scene import component
-from ..scenes.spec import Scene
+from ..engine.scene import Scene
 
 
 @njit(inline="always")

@@ -16,7 +16,7 @@ from ..util import conventions as cv
 from .methods import (
     HEAT, MAX_SECTIONS, METHODS, P_G, P_K, P_MASS, P_R, P_SECTIONS, P_TRACK, V, W, X, track_row,
 )
-from ..scenes.spec import Scene
+from ..engine.scene import Scene
 
 
 @njit(inline="always")

@@ -17,7 +17,7 @@ from ..util import conventions as cv
 from .methods import (
     J_ACROSS, J_ALONG, METHODS, P_HELD, P_I_CM, P_MASS, PHI, T, W, X, Y, VX, VY, held_exact,
 )
-from ..scenes.spec import Scene
+from ..engine.scene import Scene
 
 
 @njit(inline="always")

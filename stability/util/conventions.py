@@ -47,7 +47,8 @@ REGIME_ALGEBRAIC = 4  #: neutral in linear theory (Omega^2 = 0): departure linea
 REGIME_MEANINGS = "undetermined neutral oscillation exponential_growth algebraic_drift"
 REGIME_FLAG_VALUES = (0, 1, 2, 3, 4)
 
-# Edge flags (int8 bit mask) of a shape of the triangle of shapes (stability.free_body.stability_map.shapes).
+# Edge flags (int8 bit mask) of a shape of the triangle of shapes
+# (stability.free_body.stability_map.shapes).
 EDGE_EQUAL_12 = 1  #: I1 = I2: oblate symmetric body (the sphere has both equalities)
 EDGE_EQUAL_23 = 2  #: I2 = I3: prolate symmetric body
 EDGE_FLAT = 4  #: I1 + I2 = I3: flat body (all mass in a plane)

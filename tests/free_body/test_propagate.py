@@ -140,7 +140,7 @@ def test_tracked_oscillation_about_the_largest_axis():
 def test_one_compiled_signature_serves_every_kind_of_run():
     """Saving, tracking and chunking must not trigger a second compilation (timed loops)."""
     from stability.engine import compiled_loop
-    from stability.scenes import SCENES
+    from stability.registry import SCENES
 
     m0 = starts(70)
     propagate("rk4", MOMENTS, m0, 0.01, 100, save_every=10, chunk_steps=30)

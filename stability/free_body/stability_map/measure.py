@@ -1,18 +1,19 @@
 """The stability map's Dataset: measured against analytic Omega^2 for every shape and axis.
 
-For every shape of the triangle (:mod:`stability.free_body.stability_map.shapes`) and each of its three axes, an
-ensemble of ``members`` starts at steady spin ``W`` about the axis plus a perturbation
-``epsilon W`` in a random perpendicular direction, runs summaries-only, and is classified and
-measured by :mod:`stability.analysis` (:func:`ensemble_estimates`: regime; growth rate on the
-linear phase or frequency from zero crossings; Omega^2 = -rate^2 or +frequency^2; flips against
-the exact 2K/nu and the asymptote (2/lambda) ln(4/k')). Each finite-order method also runs at
-``h / 2`` on some shapes: :func:`stability.analysis.fits.richardson_bias` gives its own O(h^p) bias
-in Omega^2, reported beside the measured error, not hidden.
+For every shape of the triangle (:mod:`stability.free_body.stability_map.shapes`) and each of its
+three axes, an ensemble of ``members`` starts at steady spin ``W`` about the axis plus a
+perturbation ``epsilon W`` in a random perpendicular direction, runs summaries-only, and is
+classified and measured by :mod:`stability.analysis` (:func:`ensemble_estimates`: regime; growth
+rate on the linear phase or frequency from zero crossings; Omega^2 = -rate^2 or +frequency^2; flips
+against the exact 2K/nu and the asymptote (2/lambda) ln(4/k')). Each finite-order method also runs
+at ``h / 2`` on some shapes: :func:`stability.analysis.fits.richardson_bias` gives its own O(h^p)
+bias in Omega^2, reported beside the measured error, not hidden.
 
 The Dataset (:func:`map_dataset`) has dims integrator, shape, axis (an integrator is a registry
 method at its step h, not called "method" so that ``ds.sel(integrator="rk4")`` works), the flip
-sweep on flip_shape, epsilon (:mod:`stability.free_body.tennis_racket.flipsweep`), the edge time series on edge_case,
-edge_time (:func:`stability.free_body.stability_map.shapes.edge_series`). :func:`headline` reads it back.
+sweep on flip_shape, epsilon (:mod:`stability.free_body.tennis_racket.flipsweep`), the edge time
+series on edge_case, edge_time (:func:`stability.free_body.stability_map.shapes.edge_series`).
+:func:`headline` reads it back.
 """
 
 from __future__ import annotations
@@ -27,7 +28,7 @@ from ...analysis.estimates import flip_estimate, omega_squared_estimates
 from ...analysis.members import members as gather_members
 from ..ensemble import completed, perturbed_starts, run_ensembles
 from ...output.stream import stream_chunks
-from ...schema import STABILITY_MAP
+from ...ensemble.schema import STABILITY_MAP
 from .shapes import EDGE_EQUAL_12, EDGE_EQUAL_23, EDGE_FLAT
 from ...util import conventions as cv
 from ...util.conventions import REGIME_ALGEBRAIC, REGIME_NEUTRAL
@@ -120,8 +121,9 @@ def batch_estimates(runs, analytic, flips, *, low_factor, high_fraction) -> list
 def map_runs(specs, steps, n_shapes: int, bias_check: bool = True, bias_stride: int = 1):
     """The batches a map runs (:func:`measure_map`'s ``runs``): each method at its step over
     every shape and, with ``bias_check``, each finite-order method again at half its step over
-    every ``bias_stride``-th shape (its O(h^p) bias, :func:`stability.analysis.fits.richardson_bias`).
-    Exact flows come first: their first-flip times are the reference of the others.
+    every ``bias_stride``-th shape (its O(h^p) bias,
+    :func:`stability.analysis.fits.richardson_bias`). Exact flows come first: their first-flip
+    times are the reference of the others.
 
     Parameters
     ----------
@@ -480,7 +482,8 @@ def map_dataset(specs, steps, spin, moments, edges, omega2, t_end, levels, out, 
     spin : float
         W, rad/s.
     moments, edges : ndarray, shapes (S, 3) and (S,)
-        The shapes and their edge flags (:func:`stability.free_body.stability_map.shapes.shape_grid`).
+        The shapes and their edge flags
+        (:func:`stability.free_body.stability_map.shapes.shape_grid`).
     omega2, t_end : ndarray, shape (S, 3)
         Analytic Omega^2 (s-2) and run length (s) per (shape, axis).
     levels : ndarray, shape (L,)

@@ -1,11 +1,13 @@
 """The stability map: measured against analytic Omega^2 for every shape of body and every axis.
 
-Every shape of the triangle of allowed moments (:mod:`stability.free_body.stability_map.shapes`) spins about each of its
-three axes: an ensemble per (shape, axis, method) runs summaries-only for ``horizon / |Omega|``
-and is measured against linear theory (:mod:`stability.free_body.stability_map.measure`); the finite-order methods
-run again at ``h / 2`` on every ``bias_stride``-th shape for their own O(h^p) bias. Also: the
-flip interval against epsilon for a few shapes (:mod:`stability.free_body.tennis_racket.flipsweep`) and time series on
-the equal-moment edges and the sphere (:func:`stability.free_body.stability_map.shapes.edge_series`).
+Every shape of the triangle of allowed moments (:mod:`stability.free_body.stability_map.shapes`)
+spins about each of its three axes: an ensemble per (shape, axis, method) runs summaries-only for
+``horizon / |Omega|`` and is measured against linear theory
+(:mod:`stability.free_body.stability_map.measure`); the finite-order methods run again at ``h / 2``
+on every ``bias_stride``-th shape for their own O(h^p) bias. Also: the flip interval against
+epsilon for a few shapes (:mod:`stability.free_body.tennis_racket.flipsweep`) and time series on
+the equal-moment edges and the sphere
+(:func:`stability.free_body.stability_map.shapes.edge_series`).
 
 Outputs: the Dataset, the resolved configuration and four figures
 (:mod:`stability.free_body.stability_map.figures`).
@@ -21,6 +23,7 @@ from pathlib import Path
 import numpy as np
 
 from ...analysis.fits import richardson_bias
+from ...core.body import RigidBody
 from . import measure as smap
 from ..ensemble import ensemble_memory
 from . import figures as figures
@@ -226,15 +229,12 @@ def compute(config: dict, progress=None, work_dir=None, resume=False, scheduler=
     work : dict
         ``member_steps`` and ``loop_time`` (s, in compiled code) summed over the map's runs.
     """
-    import stability
-
-
     spin = config["spin"]["rate"]
     ens, integ, ana = config["ensemble"], config["integration"], config["analysis"]
     members, eps, seed = ens["members"], ens["epsilon"], ens["seed"]
     moments, edges = shape_grid(config["grid"]["divisions"])
     n_shapes = moments.shape[0]
-    bodies = [stability.RigidBody(*I, name=f"shape {s}") for s, I in enumerate(moments)]
+    bodies = [RigidBody(*I, name=f"shape {s}") for s, I in enumerate(moments)]
     omega2 = analytic_omega_squared(moments, spin)
     t_end = horizons(omega2, integ["horizon"], integ["t_max"], integ["t_neutral"])
     levels = amplitude_levels(spin, eps, ana["levels_per_decade"])

@@ -13,7 +13,7 @@ from ...analysis.estimates import measured_growth_rate
 from ...analysis.fits import growth_line
 from ...analysis.members import perpendicular_amplitude
 from ...analysis.regimes import WINDOW_ATTRS, WINDOW_HIGH_FRACTION, WINDOW_LOW_FACTOR
-from ...schema import TENNIS_RACKET
+from ...ensemble.schema import TENNIS_RACKET
 from ...util import conventions as cv
 from ..measure import complementary_moduli, exact_flip_intervals
 from ..model import growth_rate, omega_squared
@@ -145,3 +145,7 @@ def analysis_headline(ds: xr.Dataset):
         rows.append(("max attitude error, angle to the exact attitude",
                      f"{values['max_attitude_error']:.1e}", "rad"))
     return rows, values
+
+
+#: The module's public API (the rest serves the package's other modules).
+__all__ = ["analyse_ensemble", "analysis_headline"]

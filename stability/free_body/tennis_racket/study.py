@@ -34,6 +34,7 @@ from ..ensemble import ensemble_memory, run_streamed
 from .analysis import analyse_ensemble, analysis_headline
 from . import figures as tennis
 from ...util import conventions as cv
+from ...util.formatting import format_bytes
 from ...study.config import (
     UNSET, ConfigError, Key, Schema, Section, StudyKind, StudySummary, check_memory, check_run,
     method_names, output_files, output_section, preset_names, run_section, write_outputs,
@@ -191,10 +192,6 @@ def run(config: dict, out_dir: Path, *, overwrite=False, threads=None, progress=
         Rows: analytic Omega^2 and growth rate, fitted rate and its relative error, median
         flip interval (measured and exact), invariant errors, wall time, member-steps/s.
     """
-    import stability
-    from stability.free_body.ensemble import format_bytes
-
-
     say = _reporter(progress)
     t_start = time.perf_counter()
     body = _body(config)
@@ -202,7 +199,7 @@ def run(config: dict, out_dir: Path, *, overwrite=False, threads=None, progress=
     spin = config["spin"]["rate"]
     ens, integ = config["ensemble"], config["integration"]
     steps = round(integ["t_end"] / integ["h"])
-    memory = stability.ensemble_memory(ens["members"], steps // integ["save_every"],
+    memory = ensemble_memory(ens["members"], steps // integ["save_every"],
                                        scene=integ["scene"])
     say(f"{body.name}: {ens['members']} members x {steps} steps of {integ['method']} "
         f"(h = {integ['h']:g} s), w kept every {integ['save_every']} steps: "

@@ -1,7 +1,7 @@
 """Montgomery's geometric phase and the twist of a tossed racket, exact and from a run.
 
-Frames and Euler angles as in :mod:`stability.free_body.exact_attitude` (canonical frame, L along space
-Z, body z along the smallest-moment axis: the handle). Two angles per member, each from two
+Frames and Euler angles as in :mod:`stability.free_body.exact_attitude` (canonical frame, L along
+space Z, body z along the smallest-moment axis: the handle). Two angles per member, each from two
 independent routes:
 
 - **Montgomery's angle** (Montgomery, Am. J. Phys. 59, 394 (1991)). Over one period T of the

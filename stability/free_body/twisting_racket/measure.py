@@ -1,11 +1,11 @@
 """The twisting racket: an ensemble of tossed bodies, Montgomery's angle and the twist per member.
 
 :func:`tossed_members` draws the ensemble: a spin W about the middle axis nudged by epsilon W
-across it (epsilon log-uniform, random direction), the body's own moments or shapes scattered
-about them. :func:`measure_twisting` runs every member with its attitude over two periods of
-its body motion (scene ``free_body_attitude``, each member its own step T / n so that the run
-lands on t = T), and measures both angles of :mod:`stability.free_body.twisting_racket.geometric_phase` from the run and
-from the exact motion, into one Dataset.
+across it (epsilon log-uniform, random direction), the body's own moments or shapes scattered about
+them. :func:`measure_twisting` runs every member with its attitude over two periods of its body
+motion (scene ``free_body_attitude``, each member its own step T / n so that the run lands on t =
+T), and measures both angles of :mod:`stability.free_body.twisting_racket.geometric_phase` from the
+run and from the exact motion, into one Dataset.
 """
 
 from __future__ import annotations
@@ -22,7 +22,7 @@ from ...output.dataset import storable_attrs
 from ..ensemble import seed_sequence
 from ..exact_attitude import exact_attitudes, free_motion
 from .geometric_phase import exact_angles, run_angles, wrap
-from ...schema import TWISTING_RACKET
+from ...ensemble.schema import TWISTING_RACKET
 
 #: Instants of the flip drawn for the first member (across its twist window).
 SNAPSHOTS = 7
@@ -89,7 +89,7 @@ def measure_twisting(moments, w0, *, method="lp8", steps_per_period=2000, save_e
     progress : bool or None, optional
         Progress bar; ``None`` shows one when the run is expected to take long.
     stored : dict, optional
-        Keyword arguments of :func:`stability.scene_ensemble.propagate_stored` (``store``,
+        Keyword arguments of :func:`stability.ensemble.chunks.propagate_stored` (``store``,
         ``resume``, ``scheduler`` ...): the run goes chunk by chunk into a store, resumable and
         on dask; by default in one piece here. The result is the same, bitwise.
 

@@ -1,10 +1,10 @@
 """The twisting-racket study: Montgomery's angle and the twist of rackets tossed about the middle axis.
 
-An ensemble of rackets (the preset, and shapes scattered about it) is tossed about the middle
-axis with nudges across it; :func:`stability.free_body.twisting_racket.measure.measure_twisting` runs each member with
-its attitude and measures, from the run and from the exact motion, Montgomery's angle over one
-period (against 2 E T / |L| - S) and the twist about the handle over the window centred on a
-flip in which the handle turns once about L. Outputs: the Dataset, two figures
+An ensemble of rackets (the preset, and shapes scattered about it) is tossed about the middle axis
+with nudges across it; :func:`stability.free_body.twisting_racket.measure.measure_twisting` runs
+each member with its attitude and measures, from the run and from the exact motion, Montgomery's
+angle over one period (against 2 E T / |L| - S) and the twist about the handle over the window
+centred on a flip in which the handle turns once about L. Outputs: the Dataset, two figures
 (:mod:`stability.free_body.twisting_racket.figures`) and the study's configuration.
 """
 

@@ -7,15 +7,16 @@
    log-log, one line per method, with t^(1/2) and t^1 guides: bounded for Poisson splittings,
    linear for RK4, a round-off random walk for methods that keep the energy.
 
-Each takes the study's Dataset (:func:`stability.free_body.work_precision.measure.work_precision_dataset`)
-and returns a ``matplotlib.figure.Figure`` whose every axis is labelled with its unit.
+Each takes the study's Dataset
+(:func:`stability.free_body.work_precision.measure.work_precision_dataset`) and returns a
+``matplotlib.figure.Figure`` whose every axis is labelled with its unit.
 """
 
 from __future__ import annotations
 
 import numpy as np
 
-from ...drift import envelope
+from .drift import envelope
 from ...integrators import METHODS
 from ...plotting.style import EXACT_COLOR, label, new_figure, styled
 from ...util import conventions as cv

@@ -1,12 +1,13 @@
 """The work-precision Dataset: built from timed sweeps, read as "which method is fastest".
 
-The Dataset (dims ``workload``, ``method``, ``sweep``, ``metric``, and ``long_time`` for the
-long horizon) holds, per (workload, method, sweep point), the step h or tolerance, the kernel
-time for the whole ensemble and per member-step, the work, the failed members and the (max,
-p99, median) over members of the final errors of w, the energy, |L| and the attitude
+The Dataset (dims ``workload``, ``method``, ``sweep``, ``metric``, and ``long_time`` for the long
+horizon) holds, per (workload, method, sweep point), the step h or tolerance, the kernel time for
+the whole ensemble and per member-step, the work, the failed members and the (max, p99, median)
+over members of the final errors of w, the energy, |L| and the attitude
 (:mod:`stability.free_body.work_precision.sweeps`); per workload the conditioning floor
-(:func:`stability.free_body.reference.conditioning_floor`) and the attitude reference's own error; per
-method the long-horizon energy and |L| errors and their log-log slope (:mod:`stability.drift`).
+(:func:`stability.free_body.reference.conditioning_floor`) and the attitude reference's own error;
+per method the long-horizon energy and |L| errors and their log-log slope
+(:mod:`stability.free_body.work_precision.drift`).
 
 Reading it: :func:`time_to_reach` (the kernel time at which a method brings an error statistic
 under a target), :func:`fastest`, and the Markdown tables of :func:`markdown_report`.
@@ -19,10 +20,10 @@ import math
 import numpy as np
 import xarray as xr
 
-from ...drift import drift_kind, envelope, log_slope
+from .drift import drift_kind, envelope, log_slope
 from ...integrators import METHODS
 from ..reference import METRICS
-from ...schema import WORK_PRECISION
+from ...ensemble.schema import WORK_PRECISION
 
 #: Name of scipy's DOP853 in the ``method`` dimension (run as one system over all members).
 SCIPY = "dop853"
@@ -65,12 +66,14 @@ def work_precision_dataset(methods, results, floors, long_results, reference_err
     methods : list of str
         Registry names of the methods that ran, in order; ``SCIPY`` is appended if it ran.
     results : dict
-        ``(workload, method) -> list of sweep points`` (:func:`stability.free_body.work_precision.sweeps.sweep_method`,
+        ``(workload, method) -> list of sweep points``
+        (:func:`stability.free_body.work_precision.sweeps.sweep_method`,
         :func:`stability.free_body.work_precision.sweeps.sweep_scipy`).
     floors : dict
         ``workload -> (max, p99, median)`` of the conditioning floor.
     long_results : dict
-        ``method -> (t, energy, momentum, wall)`` (:func:`stability.drift.long_horizon`).
+        ``method -> (t, energy, momentum, wall)``
+        (:func:`stability.free_body.work_precision.drift.long_horizon`).
     reference_errors : dict
         ``workload -> (max, p99, median)`` of the attitude reference's w error; a workload
         without an attitude run is NaN.
@@ -275,7 +278,7 @@ def invariants_table(ds: xr.Dataset) -> str:
     -------
     str
         The table: per method the RMS energy and ``|L|`` errors at the end, the log-log slope
-        and :func:`stability.drift.drift_kind`.
+        and :func:`stability.free_body.work_precision.drift.drift_kind`.
     """
     lines = ["| method | energy error at end | |L| error at end | log-log slope | behaviour |",
              "|---|---|---|---|---|"]

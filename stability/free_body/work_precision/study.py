@@ -1,16 +1,18 @@
 """The speed-against-error study: which integrator to use, at which accuracy, in numbers.
 
-Every registered method (``stability.METHODS``, so methods added later join by themselves) runs
-two ensembles over a sweep of step sizes h, and scipy's DOP853 runs them as one system over a
-sweep of tolerances, in the same process: **tennis** (spin about the intermediate axis, each
-member nudged by ``epsilon`` in a random perpendicular direction, over a few flips: the hard,
-ill-conditioned workload) and **stable** (spin about the largest or smallest axis). Each is
-scored against the exact solution and the conditioning floor (:mod:`stability.free_body.reference`),
-timed (:mod:`stability.free_body.work_precision.sweeps`), and every method also runs a **long horizon** of ``>= 1e6``
-steps to see what happens to the energy and |L| (:mod:`stability.drift`).
+Every registered method (``stability.METHODS``, so methods added later join by themselves) runs two
+ensembles over a sweep of step sizes h, and scipy's DOP853 runs them as one system over a sweep of
+tolerances, in the same process: **tennis** (spin about the intermediate axis, each member nudged
+by ``epsilon`` in a random perpendicular direction, over a few flips: the hard, ill-conditioned
+workload) and **stable** (spin about the largest or smallest axis). Each is scored against the
+exact solution and the conditioning floor (:mod:`stability.free_body.reference`), timed
+(:mod:`stability.free_body.work_precision.sweeps`), and every method also runs a **long horizon**
+of ``>= 1e6`` steps to see what happens to the energy and |L|
+(:mod:`stability.free_body.work_precision.drift`).
 
 Outputs: the Dataset (:mod:`stability.free_body.work_precision.measure`), two figures
-(:mod:`stability.free_body.work_precision.figures`) and ``work_precision.md``, the tables of the fastest
+(:mod:`stability.free_body.work_precision.figures`) and ``work_precision.md``, the tables of the
+fastest
 method at each accuracy (shown in the documentation's "How to choose an integrator").
 """
 
@@ -26,7 +28,7 @@ from .. import reference as ref
 from . import measure as wp
 from ..model import principal_axis
 from ...core.body import RigidBody
-from ...drift import long_horizon
+from .drift import long_horizon
 from ..ensemble import perturbed_starts
 from . import figures as figures
 from ...integrators import METHODS, method_spec

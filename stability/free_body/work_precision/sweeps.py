@@ -1,13 +1,13 @@
 """Timed sweeps: one method over a ladder of step sizes, or SciPy's DOP853 over tolerances.
 
-Each point of a sweep runs the whole ensemble once and records the kernel's wall time
-(compilation excluded; short runs repeated, :func:`timed_propagate`), the work (right-hand-side
-evaluations or exact sub-flows, ``spec.evaluations`` x steps, and nonlinear-solver iterations
-per step), the members that failed, and the (max, p99, median) over members of the relative
-errors of w, the energy and |L| at the end against a reference
-(:func:`stability.free_body.reference.final_errors`); for the methods that carry the attitude, the first
-members' attitude errors against a reference attitude as well. A sweep is a list of such points
-(dicts), coarsest first; :func:`stability.free_body.work_precision.measure.work_precision_dataset` stacks them.
+Each point of a sweep runs the whole ensemble once and records the kernel's wall time (compilation
+excluded; short runs repeated, :func:`timed_propagate`), the work (right-hand-side evaluations or
+exact sub-flows, ``spec.evaluations`` x steps, and nonlinear-solver iterations per step), the
+members that failed, and the (max, p99, median) over members of the relative errors of w, the
+energy and |L| at the end against a reference (:func:`stability.free_body.reference.final_errors`);
+for the methods that carry the attitude, the first members' attitude errors against a reference
+attitude as well. A sweep is a list of such points (dicts), coarsest first;
+:func:`stability.free_body.work_precision.measure.work_precision_dataset` stacks them.
 """
 
 from __future__ import annotations

@@ -9,7 +9,7 @@ from stability.free_body.work_precision.figures import (
     invariant_drift_figure, work_precision_figure,
 )
 from stability.free_body.work_precision import measure as wp
-from stability.drift import drift_kind
+from stability.free_body.work_precision.drift import drift_kind
 from stability.free_body.reference import METRICS
 from stability.study import ConfigError, load_study, run_study
 

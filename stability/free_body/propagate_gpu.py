@@ -1,8 +1,9 @@
 """The free body on the GPU: ``propagate_gpu`` and ``propagate_many_gpu``.
 
-The GPU twins of :func:`stability.free_body.propagate.propagate` and :func:`~stability.free_body.propagate.propagate_many`:
-the same arguments, the same frame conversions, tracking set-up and final checks (they are
-:func:`~stability.free_body.propagate.propagate_many` with :func:`stability.gpu.run.propagate_groups_gpu` as
+The GPU twins of :func:`stability.free_body.propagate.propagate` and
+:func:`~stability.free_body.propagate.propagate_many`: the same arguments, the same frame
+conversions, tracking set-up and final checks (they are
+:func:`~stability.free_body.propagate.propagate_many` with :func:`stability.engine.gpu.run.propagate_groups_gpu` as
 its propagator), and a :class:`stability.engine.Propagation` with arrays of the same shapes.
 """
 
@@ -12,9 +13,9 @@ import functools
 
 import numpy as np
 
-from ..free_body.propagate import propagate_many
-from .methods import THREADS_PER_BLOCK, gpu_method
-from .run import propagate_groups_gpu
+from .propagate import propagate_many
+from ..engine.gpu.methods import THREADS_PER_BLOCK, gpu_method
+from ..engine.gpu.run import propagate_groups_gpu
 
 
 def propagate_gpu(method, moments, m0, h, n_steps, axis=None, *, levels=None, save_every=0,
@@ -24,7 +25,7 @@ def propagate_gpu(method, moments, m0, h, n_steps, axis=None, *, levels=None, sa
     Parameters
     ----------
     method : str or MethodSpec
-        One of :data:`stability.gpu.GPU_METHODS` (``"rk4"``, ``"lp2"``, ``"exact"``, ...).
+        One of :data:`stability.engine.gpu.GPU_METHODS` (``"rk4"``, ``"lp2"``, ``"exact"``, ...).
     moments : array_like, shape (3,)
         Principal moments (I1, I2, I3) in kg m^2, any order.
     m0 : array_like, shape (N, 3)
@@ -58,7 +59,7 @@ def propagate_gpu(method, moments, m0, h, n_steps, axis=None, *, levels=None, sa
     ------
     ValueError
         For a method without a GPU kernel, or bad shapes.
-    stability.gpu.NoGPUError
+    stability.engine.gpu.NoGPUError
         When neither a CUDA GPU nor the simulator (``NUMBA_ENABLE_CUDASIM=1``) is available.
     """
     m0 = np.atleast_2d(np.asarray(m0, dtype=float))
@@ -77,10 +78,10 @@ def propagate_many_gpu(method, moments, m0, sizes, h, n_steps, save_every=0, tra
                        progress=None, q0=None, partial=False):
     """Several ensembles (groups), each of its own body, step and length, in one launch.
 
-    The arguments are those of :func:`stability.free_body.propagate.propagate_many` (``moments`` (G, 3),
-    ``m0`` (N, 3) with group 0's members first, ``sizes`` (G,), ``h`` and ``n_steps`` (G,) or
-    scalars, ``track_axes`` (G,), ``levels`` (G, L), ``q0`` (N, 4) to carry the attitude),
-    plus ``chunk_steps`` and ``threads_per_block`` of :func:`propagate_gpu`. Returns a
+    The arguments are those of :func:`stability.free_body.propagate.propagate_many` (``moments``
+    (G, 3), ``m0`` (N, 3) with group 0's members first, ``sizes`` (G,), ``h`` and ``n_steps`` (G,)
+    or scalars, ``track_axes`` (G,), ``levels`` (G, L), ``q0`` (N, 4) to carry the attitude), plus
+    ``chunk_steps`` and ``threads_per_block`` of :func:`propagate_gpu`. Returns a
     body-frame :class:`~stability.engine.Propagation` with ``steps_done`` per group.
     """
     gpu_method(method, "free_body" if q0 is None else "free_body_attitude")

@@ -12,7 +12,7 @@ from __future__ import annotations
 
 import os
 
-from .util.formatting import format_bytes
+from ..util.formatting import format_bytes
 
 #: Default limit (bytes) on what one run may hold in memory (and on the Dataset of
 #: :func:`stability.run_ensemble`, its ``max_memory``).

@@ -1,15 +1,15 @@
 """The register of every Dataset the package writes: each variable's dims, units and long name.
 
 One declaration per Dataset kind (:class:`DatasetSchema`, in :data:`SCHEMAS`): the free body's
-ensemble (:func:`stability.run_ensemble`), the Dataset of every study kind
-(``stability run``, keyed by the kind's name) and that of a run of any scene
-(:func:`stability.run_scene`, ``"scene_run"``: a :class:`SceneSchema`, a template whose
-variables are named from the scene, :meth:`SceneSchema.of` one scene's declaration). Each
-names every variable and coordinate it may hold (:class:`Variable`): its dims, units (UDUNITS
-spelling), long name, type, whether it is a coordinate, when it may be absent, and its
-further CF attributes (standard names, flags, comments). The code that builds a Dataset takes the dims and the attributes from here
-(:meth:`DatasetSchema.entries`), the documentation's Dataset reference is generated from here,
-and the tests hold every study's written file to its declaration (:meth:`DatasetSchema.problems`).
+ensemble (:func:`stability.run_ensemble`), the Dataset of every study kind (``stability run``,
+keyed by the kind's name) and that of a run of any scene (:func:`stability.run_scene`,
+``"scene_run"``: a :class:`SceneSchema`, a template whose variables are named from the scene,
+:meth:`SceneSchema.of` one scene's declaration). Each names every variable and coordinate it may
+hold (:class:`Variable`): its dims, units (UDUNITS spelling), long name, type, whether it is a
+coordinate, when it may be absent, and its further CF attributes (standard names, flags, comments).
+The code that builds a Dataset takes the dims and the attributes from here
+(:meth:`DatasetSchema.entries`), the documentation's Dataset reference is generated from here, and
+the tests hold every study's written file to its declaration (:meth:`DatasetSchema.problems`).
 
 A declaration::
 
@@ -32,7 +32,7 @@ from types import MappingProxyType
 
 import numpy as np
 
-from .util import conventions as cv
+from ..util import conventions as cv
 
 #: Type letters of :attr:`Variable.kind`: what the file may store.
 KINDS = {"f": "float", "i": "integer", "U": "text"}
@@ -268,7 +268,8 @@ def _schema(name, title, written_by, variables, file=None) -> DatasetSchema:
                          variables)
 
 
-# The free body's ensemble (stability.output.dataset.ensemble_dataset) --------------------------------
+# The free body's ensemble (stability.output.dataset.ensemble_dataset)
+# --------------------------------
 
 _SUMMARY_ONLY = "runs that save the time series (not summaries_only)"
 _ATTITUDE = "the scene free_body_attitude (the attitude carried)"
@@ -333,7 +334,8 @@ ENSEMBLE = _schema("ensemble", "an ensemble of free rigid bodies, per member",
                                    "(stability.free_body.exact_attitude)"),
 })
 
-# One trajectory (stability.integrate) ----------------------------------------------------------------
+# One trajectory (stability.integrate)
+# ----------------------------------------------------------------
 
 TRAJECTORY = _schema("trajectory", "one free rigid body's motion, sample by sample",
                      "stability.integrate", file="", variables={
@@ -402,7 +404,8 @@ ESTIMATES = MappingProxyType({
     "n_with_interval": _var((), _ONE, "members with two or more flips"),
 })
 
-# The stability map (stability.free_body.stability_map.measure.map_dataset) ---------------------------------------
+# The stability map (stability.free_body.stability_map.measure.map_dataset)
+# ---------------------------------------
 
 _MSA = ("integrator", "shape", AXIS)
 _EDGE_CASE, _EDGE_TIME, _FLIP_SHAPE = "edge_case", "edge_time", "flip_shape"
@@ -528,7 +531,8 @@ ENGINE_ARTEFACTS = _schema(
         TIME: _time_axis("time"),
     })
 
-# The work-precision study (stability.free_body.work_precision.measure) -------------------------------------------
+# The work-precision study (stability.free_body.work_precision.measure)
+# -------------------------------------------
 
 _WMS = ("workload", "method", "sweep")
 _WMSM = _WMS + ("metric",)
@@ -576,7 +580,8 @@ WORK_PRECISION = _schema(
                                          "against the exact solution"),
     })
 
-# The twisting racket (stability.free_body.twisting_racket.measure.measure_twisting) ------------------------------------
+# The twisting racket (stability.free_body.twisting_racket.measure.measure_twisting)
+# ------------------------------------
 
 TWISTING_RACKET = _schema(
     "twisting_racket", "Montgomery's angle and the twist of tossed bodies, per member, from "
@@ -1266,7 +1271,7 @@ SCENE_RUN = SceneSchema(
         "and levels are in the units of what the scene tracks (`tracked_units`). The global "
         "attributes `scene_components`, `scene_units`, `scene_parameters`, "
         "`scene_parameter_units` and `scene_invariants` record what the scene declared, and "
-        "`stability.schema.SCENE_RUN.of(...)` gives one scene's declaration"))
+        "`stability.ensemble.schema.SCENE_RUN.of(...)` gives one scene's declaration"))
 
 
 #: Every Dataset kind, by name: the free body's ensemble, each study kind's Dataset and a run of

@@ -3,7 +3,7 @@
 import numpy as np
 
 import stability
-from stability.drift import drift_kind, envelope, log_slope, long_horizon
+from stability.free_body.work_precision.drift import drift_kind, envelope, log_slope, long_horizon
 
 
 def test_envelope_is_the_running_maximum_of_the_size():

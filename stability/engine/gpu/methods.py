@@ -2,11 +2,11 @@
 
 from __future__ import annotations
 
-from ..scenes import scene as registered_scene
+from ...registry import scene as registered_scene
 
 #: (scene, method) pairs whose stage kernel cannot be compiled for the device, with the reason.
 #: Every other method of every scene, the user's own included, runs on the GPU: its kernels are
-#: retargeted (:mod:`stability.gpu.retarget`).
+#: retargeted (:mod:`stability.engine.gpu.retarget`).
 NOT_ON_GPU: dict = {}
 
 #: Threads per block: 128 keeps 16 resident blocks per SM within the register file at up to

@@ -21,14 +21,14 @@ for a new scene (copy ``stability/free_body/scene.py``):
    second, with at least one set the exact solution covers. The order test runs them to
    ``t = 4`` with steps ``4 / 2^k``: put anything that happens at a set time (the end of a
    contact) on a dyadic time, where a step ends.
-5. Add the scene to ``_ALL`` in ``stability/scenes/registry.py``. The generic tests then check
+5. Add the scene to ``_ALL`` in ``stability/registry.py``. The generic tests then check
    every method of it: ``tests/test_scenes_generic.py`` the order against the exact solution
    and the invariants as declared, ``tests/test_engine.py`` bitwise reproducibility across
    groups, chunks and thread counts. Tests of what is particular to the scene go in a file of
    its own.
 
 A scene of the user's own, in a module outside the package, comes from
-:func:`stability.define_scene` (``stability/scenes/user.py``), which writes its RK4 kernel.
+:func:`stability.define_scene` (``stability/engine/user_scene.py``), which writes its RK4 kernel.
 """
 
 from __future__ import annotations
@@ -212,3 +212,6 @@ def imported_scene(module: str, name: str, scene: str = "") -> Scene:
             "every dask worker too"
         ) from None
     return getattr(home, name)
+
+
+__all__ = ["Scene", "imported_scene"]

@@ -3,7 +3,7 @@
 The GPU twin of :mod:`stability.engine.loop`, for any scene. Like the CPU loop it is written once,
 as the template below, and rendered for each (scene, method) with the state's width, the stage
 count and the solver's bookkeeping written in; the scene's stage kernel and ``observe`` are
-their device twins (:mod:`stability.gpu.retarget`), so the GPU runs the scene's own formulas.
+their device twins (:mod:`stability.engine.gpu.retarget`), so the GPU runs the scene's own formulas.
 
 Thread i advances member i for ``n_steps`` steps, commits each step with the same Kahan
 compensated sum, and tracks what the CPU loop tracks, with the same definitions: sign changes of
@@ -21,7 +21,7 @@ addresses (coalesced). A member's group ``group[i]`` selects its parameter row, 
 tracking axes and levels, as blocks of the CPU loop do.
 
 This module imports ``numba.cuda``: import it only after
-:func:`stability.gpu.device.cuda_module` has found a device or the simulator. (The kernel reads
+:func:`stability.engine.gpu.device.cuda_module` has found a device or the simulator. (The kernel reads
 ``cuda`` as a global of its namespace, which is where the simulator swaps in its own.)
 """
 
@@ -32,13 +32,13 @@ import math
 
 from numba import cuda
 
-from ..util.conventions import STATUS_NONFINITE, STATUS_NOT_CONVERGED, STATUS_OK
-from ..engine import loop as cpu_loop
+from ...util.conventions import STATUS_NONFINITE, STATUS_NOT_CONVERGED, STATUS_OK
+from .. import loop as cpu_loop
 from .retarget import device_twin
 
 _KERNELS: dict = {}
 
-#: Kernel arguments, in order (shapes in :func:`stability.gpu.run.propagate_groups_gpu`).
+#: Kernel arguments, in order (shapes in :func:`stability.engine.gpu.run.propagate_groups_gpu`).
 ARGUMENTS = ("x", "comp", "params", "group", "hs", "steps", "step0", "axes", "track",
              "thresholds", "levels", "passage", "status", "fail_step", "iterations", "saved",
              "save_every", "k0")
@@ -229,7 +229,7 @@ def member_kernel(scene, spec, tracked=True):
     scene : Scene
         The scene (registered or the user's own).
     spec : MethodSpec
-        One of its methods (:func:`stability.gpu.methods.gpu_method`).
+        One of its methods (:func:`stability.engine.gpu.methods.gpu_method`).
     tracked : bool
         Compile the tracking of flips, crossings, amplitudes and levels in (or leave it out).
 
@@ -237,7 +237,7 @@ def member_kernel(scene, spec, tracked=True):
     -------
     CUDA kernel
         ``advance[blocks, threads](*ARGUMENTS)``; shapes in
-        :func:`stability.gpu.run.propagate_groups_gpu`.
+        :func:`stability.engine.gpu.run.propagate_groups_gpu`.
     """
     kernel = scene.kernel(spec)
     key = (scene.name, scene.source, spec.name, kernel, scene.observe, bool(tracked))
@@ -248,7 +248,7 @@ def member_kernel(scene, spec, tracked=True):
 
 def _build(scene, spec, kernel, tracked):
     source = render(scene.width, spec.stages, spec.implicit, tracked)
-    filename = f"<stability.gpu member loop: {scene.name}, {spec.name}>"
+    filename = f"<stability.engine.gpu member loop: {scene.name}, {spec.name}>"
     linecache.cache[filename] = (len(source), None, source.splitlines(True), filename)
     namespace = {
         "cuda": cuda, "math": math,

@@ -3,11 +3,13 @@
 One member per thread, its state in registers, members coalesced (structure of arrays,
 ``(n, N)``): :func:`propagate_groups_gpu` is :func:`stability.engine.propagate_groups` on the
 GPU, for any scene and method (:func:`gpu_methods`), the user's own scenes included;
-:func:`propagate_gpu` is :func:`stability.free_body.propagate.propagate` on the GPU, with the same tracking
-of flips, crossings, amplitudes and levels. The kernels run the CPU's own step kernels, compiled
-for the device (:mod:`stability.gpu.retarget`), inside a twin of the CPU member loop rendered
-for the scene's width (:mod:`stability.gpu.kernels`). Needs the ``gpu`` extra (``numba-cuda``) and a CUDA GPU, or
-``NUMBA_ENABLE_CUDASIM=1`` to run the kernels as Python on the CPU (slow: tests only).
+the free body's :func:`~stability.free_body.propagate_gpu.propagate_gpu` is
+:func:`stability.free_body.propagate.propagate` on the GPU, with the same tracking of flips,
+crossings, amplitudes and levels. The kernels run the CPU's own step kernels, compiled for the
+device (:mod:`stability.engine.gpu.retarget`), inside a twin of the CPU member loop rendered for
+the scene's width (:mod:`stability.engine.gpu.kernels`). Needs the ``gpu`` extra (``numba-cuda``)
+and a CUDA GPU, or ``NUMBA_ENABLE_CUDASIM=1`` to run the kernels as Python on the CPU (slow: tests
+only).
 
 Why results agree with the CPU to round-off but not bitwise: NVVM contracts a * b + c into fused
 multiply-adds (one rounding instead of two), the device's libm (``log``, ``sqrt`` rounding modes
@@ -20,9 +22,11 @@ difference is an ulp per step; over n steps they add up like the method's own ro
 
 from .device import NO_GPU_MESSAGE, NoGPUError, real_gpu
 from .methods import GPU_METHODS, NOT_ON_GPU, THREADS_PER_BLOCK, gpu_method, gpu_methods
-from .propagate import propagate_gpu, propagate_many_gpu
 from .run import propagate_groups_gpu
+from ... import moved
 
 __all__ = ["GPU_METHODS", "NOT_ON_GPU", "NO_GPU_MESSAGE", "NoGPUError", "THREADS_PER_BLOCK",
-           "gpu_method", "gpu_methods", "propagate_gpu", "propagate_groups_gpu",
-           "propagate_many_gpu", "real_gpu"]
+           "gpu_method", "gpu_methods", "propagate_groups_gpu", "real_gpu"]
+
+# The free body's GPU runs, which this package held as stability.gpu, are the free body's now.
+__getattr__ = moved.old_names("stability.engine.gpu")

@@ -58,7 +58,7 @@ def _assignment(text: str) -> tuple[str, str]:
 
 
 def build_parser() -> argparse.ArgumentParser:
-    from .version import __version__
+    from ..version import __version__
 
     parser = _Parser(
         prog="stability",
@@ -242,7 +242,7 @@ def _terminate_as_interrupt():
         return terminated
 
     def handler(signum, frame):
-        from .engine.run import request_stop
+        from ..engine.run import request_stop
 
         terminated.set()
         if request_stop():  # a run in progress ends after its chunk in flight
@@ -256,7 +256,7 @@ def _terminate_as_interrupt():
 
 
 def _one_line(exc: BaseException, command: str) -> str:
-    from .study import ConfigError
+    from ..study import ConfigError
 
     if isinstance(exc, ConfigError):
         text = str(exc)
@@ -268,7 +268,8 @@ def _one_line(exc: BaseException, command: str) -> str:
 
 
 def _cmd_animate(args) -> int:
-    from .animation import animate_flip, animate_top
+    from ..free_body.animation import animate_flip
+    from ..heavy_top.animation import animate_top
 
     make = animate_flip if args.what == "racket" else animate_top
     options = {"duration": args.duration, "fps": args.fps, "size": args.size}
@@ -280,14 +281,14 @@ def _cmd_animate(args) -> int:
 
 
 def _cmd_run(args) -> int:
-    from .study import load_study, run_study
+    from ..study import load_study, run_study
 
     overrides = list(args.overrides)
     kind, config, source = load_study(
         args.study, overrides=overrides, members=args.members, quick=args.quick
     )
     if args.dry_run:
-        from .study import to_toml
+        from ..study import to_toml
 
         sys.stdout.write(to_toml(config))
         return 0
@@ -314,8 +315,8 @@ def _cmd_run(args) -> int:
 def _cmd_status(args) -> int:
     from pathlib import Path
 
-    from .output.lock import holder_of
-    from .output.store import find_stores, status_lines
+    from ..output.lock import holder_of
+    from ..output.store import find_stores, status_lines
 
     folder = Path(args.dir)
     if not folder.is_dir():
@@ -334,7 +335,7 @@ def _cmd_status(args) -> int:
 
 
 def _cmd_studies(args) -> int:
-    from .study import STUDIES, study_kind
+    from ..study import STUDIES, study_kind
 
     if args.kind is None:
         width = max(len(name) for name in STUDIES)
@@ -349,7 +350,7 @@ def _cmd_studies(args) -> int:
 
 
 def _cmd_methods(args) -> int:
-    from .integrators import METHODS
+    from ..integrators import METHODS
 
     print(methods_table(METHODS, references=args.references))
     return 0
@@ -402,7 +403,7 @@ def _cell(value) -> str:
 
 def _cmd_bench(args) -> int:
     from .bench import bench, format_report, format_top_report, top_work_precision
-    from .scenes import SCENES
+    from ..registry import SCENES
 
     log = lambda line: print(line, file=sys.stderr, flush=True)
     if args.scene in ("free_body", "all"):

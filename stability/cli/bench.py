@@ -45,19 +45,19 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from .free_body.model import euler_system, intermediate_axis
-from .core.body import RigidBody
-from .free_body.propagate import propagate
-from .engine import propagate_groups
-from .engine.reference import plain_rk4
-from .free_body.ensemble import perturbed_starts, run_ensemble
-from .free_body.exact import exact_omega_of_starts
-from .heavy_top.exact import cos_theta, nutation_period
-from .heavy_top.model import HeavyTop, tilted_starts
-from .integrators import METHODS, method_spec
-from .integrators.spec import body_params
-from .scenes import SCENES
-from .util.checks import positive_float, positive_int
+from ..free_body.model import euler_system, intermediate_axis
+from ..core.body import RigidBody
+from ..free_body.propagate import propagate
+from ..engine import propagate_groups
+from ..engine.reference import plain_rk4
+from ..free_body.ensemble import perturbed_starts, run_ensemble
+from ..free_body.exact import exact_omega_of_starts
+from ..heavy_top.exact import cos_theta, nutation_period
+from ..heavy_top.model import HeavyTop, tilted_starts
+from ..integrators import METHODS, method_spec
+from ..integrators.spec import body_params
+from ..registry import SCENES
+from ..util.checks import positive_float, positive_int
 
 #: The workload: body preset, spin (rad/s), perturbation, step (s).
 BODY_PRESET = "tennis_racket"

@@ -1,10 +1,10 @@
 """Member-steps per second of the GPU kernels, and how far they are from the hardware's bounds.
 
-``python -m stability.gpu.bench [--members N ...] [--steps N] [--methods NAME ...] [--scenes]``
-times the free-body kernels of ``rk4`` and ``lp2`` (with and without tracking) on the CUDA GPU,
-and with ``--scenes`` every scene's every method, with
-CUDA events around launches made after a warm-up launch, and prints member-steps/s, the
-fraction of the issue's target for RK4 on one H100 (1e11 member-steps/s) and two bounds:
+``python -m stability.engine.gpu.bench [--members N ...] [--steps N] [--methods NAME ...]
+[--scenes]`` times the free-body kernels of ``rk4`` and ``lp2`` (with and without tracking) on the
+CUDA GPU, and with ``--scenes`` every scene's every method, with CUDA events around launches made
+after a warm-up launch, and prints member-steps/s, the fraction of the issue's target for RK4 on
+one H100 (1e11 member-steps/s) and two bounds:
 
 - compute: the device's FP64 instruction rate (SMs x clock x FP64 lanes per SM) over the FP64
   instructions one step issues (a fused multiply-add counts once), counted in the PTX of the
@@ -25,9 +25,9 @@ import sys
 
 import numpy as np
 
-from ..engine.run import member_arrays
-from ..scenes import SCENES
-from ..scenes import scene as registered_scene
+from ..run import member_arrays
+from ...registry import SCENES
+from ...registry import scene as registered_scene
 from .device import real_gpu
 from .kernels import member_kernel
 from .methods import THREADS_PER_BLOCK, gpu_method, gpu_methods
@@ -128,7 +128,7 @@ def scene_table(cuda, members, steps):
 
 
 def main(argv=None) -> int:
-    parser = argparse.ArgumentParser(prog="python -m stability.gpu.bench", description=__doc__
+    parser = argparse.ArgumentParser(prog="python -m stability.engine.gpu.bench", description=__doc__
                                      .split("\n")[0])
     parser.add_argument("--members", type=float, nargs="+", default=[1e6, 1e7])
     parser.add_argument("--steps", type=int, default=1000)

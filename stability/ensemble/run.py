@@ -2,11 +2,11 @@
 
 Any scene, registered (``"heavy_top"``) or of the user's own (:func:`stability.define_scene`),
 runs its members in groups (each with its own parameter set, step and step count) through the
-one stored path above the member loop (:func:`stability.scene_ensemble.propagate_stored`): in
+one stored path above the member loop (:func:`stability.ensemble.chunks.propagate_stored`): in
 this process, or chunk by chunk into a store, resumable after a crash and runnable on
 dask.distributed, bitwise the same however it was cut or wherever it ran. What the run would
 hold is checked before any work, and the result is an xarray Dataset declared in the register
-(:data:`stability.schema.SCENE_RUN`, a template its scene fills in): one variable per state
+(:data:`stability.ensemble.schema.SCENE_RUN`, a template its scene fills in): one variable per state
 component, named and in the units the scene gives (its start, its end and, with
 ``save_every``, its time series), each group's parameters, step and step count, each member's
 status (CF flags), failure time, the relative drift of each invariant the scene declares and,
@@ -22,17 +22,17 @@ from dataclasses import dataclass
 import numpy as np
 import xarray as xr
 
-from .engine.loop import N_TRACK
+from ..engine.loop import N_TRACK
 from .memory import DEFAULT_MAX_MEMORY, memory_problem
-from .output.dataset import header_attrs, method_attrs, storable_attrs
-from .scene_ensemble import GroupedRun, default_chunk_members, propagate_stored, summed_attrs
-from .scenes import SCENES
-from .scenes import scene as registered_scene
-from .scenes.user import ParameterRow, tracked_components
+from ..output.dataset import header_attrs, method_attrs, storable_attrs
+from .chunks import GroupedRun, default_chunk_members, propagate_stored, summed_attrs
+from ..registry import SCENES
+from ..registry import scene as registered_scene
+from ..engine.user_scene import ParameterRow, tracked_components
 from .schema import LEVEL, SCENE_RUN, UNITS_SEPARATOR
-from .util import conventions as cv
-from .util.checks import positive_int, real_array
-from .version import __version__
+from ..util import conventions as cv
+from ..util.checks import positive_int, real_array
+from ..version import __version__
 
 #: Working copies of the time series a run holds at its peak: the loop's samples, the series
 #: with its start, and what is written or read back of it.
@@ -53,7 +53,7 @@ def run_scene(scene, method, x0, parameters, *, h, n_steps, sizes=None, save_eve
     Parameters
     ----------
     scene : str or Scene
-        A registered scene's name (``stability.scenes.SCENES``) or a scene of the user's own
+        A registered scene's name (``stability.registry.SCENES``) or a scene of the user's own
         (:func:`stability.define_scene`).
     method : str
         A method of the scene.
@@ -95,7 +95,7 @@ def run_scene(scene, method, x0, parameters, *, h, n_steps, sizes=None, save_eve
         scheduler address, or a client); a scene of the user's own must be importable there.
     chunk_members : int, optional
         Members per chunk of a stored run (default
-        :func:`~stability.scene_ensemble.default_chunk_members`). Never changes the result.
+        :func:`~stability.ensemble.chunks.default_chunk_members`). Never changes the result.
     threads : int, optional
         Numba threads in this process.
     progress : bool, optional
@@ -108,7 +108,7 @@ def run_scene(scene, method, x0, parameters, *, h, n_steps, sizes=None, save_eve
     Returns
     -------
     xarray.Dataset
-        As :data:`stability.schema.SCENE_RUN` declares it for this scene.
+        As :data:`stability.ensemble.schema.SCENE_RUN` declares it for this scene.
 
     Raises
     ------

@@ -13,7 +13,7 @@ import math
 
 import numpy as np
 
-from .free_body.propagate import propagate
+from ..propagate import propagate
 
 #: Long-horizon log-log slopes that separate the three behaviours of an invariant's error:
 #: below BOUNDED_SLOPE "bounded", above DRIFT_SLOPE "linear drift", between them "random walk".

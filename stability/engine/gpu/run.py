@@ -4,9 +4,9 @@ The GPU twin of :func:`stability.engine.propagate_groups`: the same arguments, t
 shapes and tracking set-up (:func:`stability.engine.run.member_arrays`), the same chunks in time
 with their progress bar and Ctrl-C (:func:`stability.engine.run.run_in_chunks`), and a
 :class:`~stability.engine.Propagation` with arrays of the same shapes, in the kernels' frame. The
-host copies the members in (structure of arrays, members last), launches one thread per member
-in blocks of :data:`~stability.gpu.methods.THREADS_PER_BLOCK` once per chunk (the state stays on
-the device between chunks, and chunking never changes a result), and copies the results out.
+host copies the members in (structure of arrays, members last), launches one thread per member in
+blocks of :data:`~stability.engine.gpu.methods.THREADS_PER_BLOCK` once per chunk (the state stays
+on the device between chunks, and chunking never changes a result), and copies the results out.
 """
 
 from __future__ import annotations
@@ -15,9 +15,9 @@ import time
 
 import numpy as np
 
-from ..engine.loop import N_TRACK
-from ..engine.run import member_arrays, run_in_chunks
-from ..scenes import scene as registered_scene
+from ..loop import N_TRACK
+from ..run import member_arrays, run_in_chunks
+from ...registry import scene as registered_scene
 from .device import cuda_module
 from .methods import THREADS_PER_BLOCK, gpu_method
 
@@ -49,8 +49,8 @@ def propagate_groups_gpu(
     Raises
     ------
     ValueError
-        For a method without a GPU kernel (:func:`stability.gpu.gpu_method`) or bad shapes.
-    stability.gpu.NoGPUError
+        For a method without a GPU kernel (:func:`stability.engine.gpu.gpu_method`) or bad shapes.
+    stability.engine.gpu.NoGPUError
         When neither a CUDA GPU nor the simulator (``NUMBA_ENABLE_CUDASIM=1``) is available.
     KeyboardInterrupt
         When Ctrl-C stopped the run (without ``partial``).
@@ -90,7 +90,7 @@ def propagate_groups_gpu(
 
 class DeviceMembers:
     """The arrays of :class:`~stability.engine.run.MemberArrays` on the device, laid out for
-    the kernel (:mod:`stability.gpu.kernels`): structure of arrays, members last.
+    the kernel (:mod:`stability.engine.gpu.kernels`): structure of arrays, members last.
 
     Parameters
     ----------
@@ -120,7 +120,7 @@ class DeviceMembers:
         return self._cuda.to_device(np.ascontiguousarray(array))
 
     def arguments(self, steps, done, k0, save_every) -> tuple:
-        """The kernel's arguments (:data:`stability.gpu.kernels.ARGUMENTS`) for a launch of
+        """The kernel's arguments (:data:`stability.engine.gpu.kernels.ARGUMENTS`) for a launch of
         ``steps`` per group after ``done`` steps and ``k0`` saved samples."""
         return (self.x, self.comp, self.params, self.group, self.hs, self._put(steps),
                 self._put(done), self.axes, self.track, self.thresholds, self.levels,

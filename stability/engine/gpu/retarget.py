@@ -5,7 +5,7 @@ functions. :func:`device_twin` compiles the Python function behind one of them w
 ``cuda.jit(device=True)``, after replacing every ``@njit`` function it calls (a global of its
 module) by that function's own twin, recursively. So a GPU step runs the very formulas of the
 CPU step, in the same order: the only differences are the code generator's (see
-:mod:`stability.gpu`), never a second copy of the mathematics to keep in step.
+:mod:`stability.engine.gpu`), never a second copy of the mathematics to keep in step.
 
 ``OVERRIDES`` names the few CPU functions that get a device-specific body instead: Dekker's
 exact product by Veltkamp splitting assumes that a * b + c is rounded twice, which NVVM's
@@ -20,7 +20,7 @@ import types
 
 from numba.core.registry import CPUDispatcher
 
-from ..core.compensated import two_prod
+from ...core.compensated import two_prod
 from .device import simulated
 
 _TWINS: dict = {}

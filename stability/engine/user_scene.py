@@ -7,10 +7,10 @@ how to mend it), writes the scene's kernels into the disk cache of the member lo
 again): classical RK4 of the right-hand side (:func:`stability.integrators.rk4.rk4_source`) and,
 unless the user gives one, an ``observe`` that tracks components by number. It compiles each of
 the user's functions there once (cached like the loops; what Numba cannot compile is one line
-too) and returns a :class:`~stability.scenes.spec.Scene` that runs wherever a registered one
+too) and returns a :class:`~stability.engine.scene.Scene` that runs wherever a registered one
 does: :func:`stability.engine.propagate_groups`, and
-:class:`~stability.scene_ensemble.GroupedRun` with
-:func:`~stability.scene_ensemble.propagate_stored` (chunks in a store, resume, dask workers,
+:class:`~stability.ensemble.chunks.GroupedRun` with
+:func:`~stability.ensemble.chunks.propagate_stored` (chunks in a store, resume, dask workers,
 which import the user's module to find the scene).
 """
 
@@ -28,11 +28,11 @@ from typing import Callable, Mapping
 import numpy as np
 from numba.core.dispatcher import Dispatcher
 
-from ..engine.cache import load_module
+from .cache import load_module
 from ..integrators.rk4 import RK4, rk4_source
 from ..integrators.spec import MethodSpec, body_params
-from .registry import SCENES
-from .spec import Scene
+from ..registry import SCENES
+from .scene import Scene
 
 #: The step at which a method's ``params`` and kernels are tried at definition time.
 PROBE_H = 0.01
@@ -43,7 +43,7 @@ _ANSI = re.compile(r"\x1b\[[0-9;]*m")
 _KERNELS = '''\
 """Kernels of scene {scene!r} (defined in {caller}): classical RK4 of {rhs}{observe_note}.
 
-Written by stability.scenes.user.define_scene; do not edit (sources {{digest}}).
+Written by stability.engine.user_scene.define_scene; do not edit (sources {{digest}}).
 """
 
 from numba import njit
@@ -497,3 +497,6 @@ def _reason(exc) -> str:
     where = (re.findall(r"at (\S+\.py) \((\d+)\)", text)
              or re.findall(r'File "([^"]+)", line (\d+)', text))
     return reason + (f" ({where[0][0]}, line {where[0][1]})" if where else "")
+
+
+__all__ = ["ParameterRow", "define_scene"]

@@ -39,16 +39,16 @@ from pathlib import Path
 import numpy as np
 import xarray as xr
 
-from .engine import propagate_groups
-from .engine.run import Propagation
-from .output.io import READ
-from .output.store import ChunkStore
-from .output.stream import stream_chunks
-from .scenes import Scene
-from .scenes import scene as registered_scene
-from .util import conventions as cv
-from .util.threads import checked_threads, numba_threads
-from .version import __version__
+from ..engine import propagate_groups
+from ..engine.run import Propagation
+from ..output.io import READ
+from ..output.store import ChunkStore
+from ..output.stream import stream_chunks
+from ..engine.scene import Scene
+from ..registry import scene as registered_scene
+from ..util import conventions as cv
+from ..util.threads import checked_threads, numba_threads
+from ..version import __version__
 
 #: Chunks a stored run is cut into by default (each one is kept as soon as it is finished) ...
 DEFAULT_CHUNKS = 8
@@ -92,7 +92,7 @@ class GroupedRun:
         The progress bar's label.
     device : {"cpu", "gpu"}, default "cpu"
         Where the member loop runs: ``"gpu"`` on a CUDA GPU
-        (:func:`stability.gpu.propagate_groups_gpu`; the results agree with the CPU's to
+        (:func:`stability.engine.gpu.propagate_groups_gpu`; the results agree with the CPU's to
         round-off, not bitwise, so the device is part of a stored run's identity).
     chunk_steps : int, optional
         Steps per call of the loop (:func:`propagate_groups`); never changes the result.
@@ -186,7 +186,7 @@ class GroupedRun:
             return self.part(0, self.members).propagate(progress)
         propagator = propagate_groups
         if self.device == "gpu":
-            from .gpu import propagate_groups_gpu as propagator  # numba-cuda: optional
+            from ..engine.gpu import propagate_groups_gpu as propagator  # numba-cuda: optional
 
         return propagator(self.scene, self.method, self.x0, self.params, self.sizes, self.h,
                           self.n_steps, save_every=self.save_every, axes=self.axes,
