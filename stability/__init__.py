@@ -14,6 +14,8 @@ Notation, used everywhere in the package:
   axis, < 0 (growth at rate ``sqrt(-Omega^2)``) for the intermediate one.
 """
 
+import importlib
+
 from .version import __version__
 from . import moved
 from .free_body.model import axis_stability, growth_rate, omega_squared, oscillation_frequency
@@ -31,8 +33,6 @@ __all__ = ["METHODS", "MethodSpec", "Part", "RigidBody", "__version__", "axis_st
            "exact_omega", "flip_interval", "full_period",
            "growth_rate", "integrate", "method_spec", "omega_squared", "oscillation_frequency"]
 
-from .free_body.animation import animate_flip  # noqa: E402
-from .heavy_top.animation import animate_top  # noqa: E402
 from .free_body.ensemble import ensemble_memory, run_ensemble  # noqa: E402
 from .output.io import load, save  # noqa: E402
 from .engine.user_scene import define_scene  # noqa: E402
@@ -44,7 +44,17 @@ __all__ += ["flip_statistics", "measured_frequency", "measured_growth_rate", "me
 
 moved.install()  # a moved module's old path still imports, with a warning
 
+#: Names whose modules load matplotlib, imported when first used: ``import stability`` stays
+#: free of matplotlib (start-up time, and no font cache where the home folder is read-only).
+ON_FIRST_USE = {"animate_flip": "stability.free_body.animation",
+                "animate_top": "stability.heavy_top.animation"}
+
 
 def __getattr__(name):
-    """``stability.<old module name>`` (:mod:`stability.moved`)."""
+    """A name of :data:`ON_FIRST_USE`, or ``stability.<old module name>``
+    (:mod:`stability.moved`)."""
+    if name in ON_FIRST_USE:
+        value = getattr(importlib.import_module(ON_FIRST_USE[name]), name)
+        globals()[name] = value
+        return value
     return moved.old_attribute(name)
