@@ -43,13 +43,25 @@ def declared(family: str, kind: str) -> dict:
     return out
 
 
-def _load(where):
+def load(where):
+    """What a declaration names, imported.
+
+    Parameters
+    ----------
+    where : tuple of str
+        (module path, attribute), as :func:`declared` gives it.
+
+    Returns
+    -------
+    object
+        The scene or study kind.
+    """
     module, attribute = where
     return getattr(importlib.import_module(module), attribute)
 
 
 SCENES: dict[str, Scene] = {
-    s.name: s for s in (_load(where) for family in FAMILIES
+    s.name: s for s in (load(where) for family in FAMILIES
                         for where in declared(family, "SCENES").values())}
 
 #: Each study kind's name -> (module, attribute) of its StudyKind, imported when first used.
@@ -79,4 +91,4 @@ def scene(name) -> Scene:
         ) from None
 
 
-__all__ = ["FAMILIES", "SCENES", "STUDY_KINDS", "declared", "scene"]
+__all__ = ["FAMILIES", "SCENES", "STUDY_KINDS", "declared", "load", "scene"]

@@ -18,14 +18,13 @@ from __future__ import annotations
 
 import contextlib
 import errno
-import importlib
 import os
 import stat
 from collections.abc import Mapping
 from pathlib import Path
 
 from ..output.stream import RunInterrupted
-from ..registry import STUDY_KINDS
+from ..registry import STUDY_KINDS, load
 from .config import (
     REQUIRED,
     STUDY_KEY,
@@ -66,8 +65,7 @@ class StudyKinds(Mapping):
         self._where = dict(where)
 
     def __getitem__(self, name) -> StudyKind:
-        module, attribute = self._where[name]
-        return getattr(importlib.import_module(module), attribute)
+        return load(self._where[name])
 
     def __iter__(self):
         return iter(self._where)
