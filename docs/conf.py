@@ -26,6 +26,8 @@ extensions = [
     "sphinx.ext.autosummary",
     "sphinx.ext.intersphinx",
     "sphinx.ext.mathjax",
+    # MathJax 3 shipped with the site (_static/mathjax), so that equations render offline
+    "sphinx-mathjax-offline",
     "numpydoc",
     "myst_parser",
     "sphinx_gallery.gen_gallery",
@@ -33,7 +35,10 @@ extensions = [
 ]
 
 source_suffix = {".rst": "restructuredtext", ".md": "markdown"}
-exclude_patterns = ["_build", "generated/*.md", "generated/work_precision", "**/*.ipynb"]
+# sg_execution_times: sphinx-gallery's timing pages, which load their table scripts and styles
+# from the network (not written, see below; excluded should an older build have left them)
+exclude_patterns = ["_build", "generated/*.md", "generated/work_precision", "**/*.ipynb",
+                    "sg_execution_times.rst", "gallery/sg_execution_times.rst"]
 myst_enable_extensions = ["dollarmath"]
 myst_heading_anchors = 3
 # Pages made from README sections start their subsections at any level.
@@ -71,6 +76,8 @@ sphinx_gallery_conf = {
     "remove_config_comments": True,
     "within_subsection_order": "FileNameSortKey",
     "matplotlib_animations": False,
+    # the timing pages load jQuery, DataTables and Bootstrap from CDNs: the site stays offline
+    "write_computation_times": False,
     # a cell's last expression is shown only where it has an HTML view (a Dataset), not as
     # "<matplotlib.legend.Legend object at 0x...>"
     "capture_repr": ("_repr_html_",),

@@ -12,7 +12,7 @@ import numpy as np
 import xarray as xr
 
 import stability
-from stability.ensemble import run_ensembles
+from stability.free_body.ensemble import run_ensembles
 
 ratios = np.linspace(1.2, 3.0, 7)  # I3 / I1 with I2 halfway: (1, (1 + r) / 2, r)
 calls = [dict(body=stability.RigidBody(1.0, (1.0 + r) / 2, r), axis=axis, spin=1.0,

@@ -10,7 +10,7 @@ from the exact motion, and its defect from pi, for a few nudges.
 import matplotlib.pyplot as plt
 
 import stability
-from stability.twisting import measure_twisting, tossed_members
+from stability.free_body.twisting_racket.measure import measure_twisting, tossed_members
 
 body = stability.RigidBody.preset("tennis_racket")
 moments, w0, epsilon = tossed_members(body.moments, 12, 10.0, (1e-4, 1e-1), 0.0, seed=1)

@@ -8,15 +8,15 @@ The scaled angular velocity :math:`\rho = \omega / \sqrt{2E}` lies on the ellips
 :math:`L` at the distance :math:`\sqrt{2E} / |L|` from the centre, so it is fixed in space: the
 *invariable plane*. The ellipsoid rolls on it without slipping; :math:`\rho` traces the polhode
 on the ellipsoid and the herpolhode on the plane, between two circles whose radii follow from
-the invariants (:func:`stability.polhodes.herpolhode_radii`).
+the invariants (:func:`stability.free_body.polhodes.herpolhode_radii`).
 """
 
 import matplotlib.pyplot as plt
 import numpy as np
 
 import stability
-from stability.figures.poinsot import poinsot_figure
-from stability.polhodes import herpolhode
+from stability.free_body.figures import poinsot_figure
+from stability.free_body.polhodes import herpolhode
 
 body = stability.RigidBody.preset("tennis_racket")
 w0 = np.array([0.3, 10.0, 0.2])  # rad/s, near the intermediate axis: a flip

@@ -4,14 +4,14 @@ The flip, animated
 
 A tennis racket spun at 6 rad/s about its intermediate axis and nudged by 5 % of the spin turns
 over and back while its angular momentum L stays fixed in space. The animation is the exact
-motion (:func:`stability.exact_attitude.exact_attitude`), written by
+motion (:func:`stability.free_body.exact_attitude.exact_attitude`), written by
 :func:`stability.animate_flip` as a GIF (or an MP4 where ffmpeg is installed), the same as the
 command ``stability animate racket flip.gif``:
 
 .. image:: ../../data/readme/flip.gif
    :alt: the tennis racket turning over and back while L stays fixed
 
-:func:`stability.animation.flip_frames` gives what is drawn: the times, the exact w(t) and
+:func:`stability.free_body.animation.flip_frames` gives what is drawn: the times, the exact w(t) and
 attitude q(t) of every frame. L = R(q) I w is the same in all of them.
 """
 
@@ -22,8 +22,9 @@ import matplotlib.pyplot as plt
 import numpy as np
 
 import stability
-from stability.animation import flip_frames, top_frames
-from stability.figures.animation import frame_figure
+from stability.free_body.animation import flip_frames
+from stability.heavy_top.animation import top_frames
+from stability.plotting.animation import frame_figure
 
 frames = flip_frames()  # the defaults of animate_flip: the racket, 6 rad/s, a nudge of 0.05
 L = np.einsum("nij,nj->ni", frames.rotation, frames.body.moments * frames.w)

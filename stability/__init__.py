@@ -14,26 +14,29 @@ Notation, used everywhere in the package:
   axis, < 0 (growth at rate ``sqrt(-Omega^2)``) for the intermediate one.
 """
 
+import importlib
+
 from .version import __version__
 from . import moved
-from .analytic import axis_stability, growth_rate, omega_squared, oscillation_frequency
+from .free_body.model import axis_stability, growth_rate, omega_squared, oscillation_frequency
 from .core.body import Part, RigidBody
-from .exact import exact_omega, flip_interval, full_period
-from .integrate import integrate
+from .free_body.exact import exact_omega, flip_interval, full_period
+from .free_body.integrate import integrate
 from .integrators import METHODS, MethodSpec, method_spec
-from . import accessor  # noqa: F401  (registers the ds.stability accessor)
-from .estimators import flip_statistics, measured_frequency, measured_growth_rate, measured_omega_squared, member_regimes  # noqa: E501
+from .free_body import accessor  # noqa: F401  (registers the ds.stability accessor)
+from .analysis.estimates import measured_frequency, measured_growth_rate
+from .analysis.regimes import member_regimes
+from .free_body.measure import flip_statistics, measured_omega_squared
 
 
 __all__ = ["METHODS", "MethodSpec", "Part", "RigidBody", "__version__", "axis_stability",
            "exact_omega", "flip_interval", "full_period",
            "growth_rate", "integrate", "method_spec", "omega_squared", "oscillation_frequency"]
 
-from .animation import animate_flip, animate_top  # noqa: E402
-from .ensemble import ensemble_memory, run_ensemble  # noqa: E402
+from .free_body.ensemble import ensemble_memory, run_ensemble  # noqa: E402
 from .output.io import load, save  # noqa: E402
-from .scenes import define_scene  # noqa: E402
-from .scene_run import run_scene  # noqa: E402
+from .engine.user_scene import define_scene  # noqa: E402
+from .ensemble.run import run_scene  # noqa: E402
 
 __all__ += ["animate_flip", "animate_top", "define_scene", "ensemble_memory", "load",
             "run_ensemble", "run_scene", "save"]
@@ -41,7 +44,17 @@ __all__ += ["flip_statistics", "measured_frequency", "measured_growth_rate", "me
 
 moved.install()  # a moved module's old path still imports, with a warning
 
+#: Names whose modules load matplotlib, imported when first used: ``import stability`` stays
+#: free of matplotlib (start-up time, and no font cache where the home folder is read-only).
+ON_FIRST_USE = {"animate_flip": "stability.free_body.animation",
+                "animate_top": "stability.heavy_top.animation"}
+
 
 def __getattr__(name):
-    """``stability.<old module name>`` (:mod:`stability.moved`)."""
+    """A name of :data:`ON_FIRST_USE`, or ``stability.<old module name>``
+    (:mod:`stability.moved`)."""
+    if name in ON_FIRST_USE:
+        value = getattr(importlib.import_module(ON_FIRST_USE[name]), name)
+        globals()[name] = value
+        return value
     return moved.old_attribute(name)

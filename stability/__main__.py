@@ -1,5 +1,5 @@
 """``python -m stability``: the same command as the ``stability`` console script."""
 
-from .cli import console
+from .cli.main import console
 
 raise SystemExit(console())

@@ -9,7 +9,9 @@ the new path. :data:`MOVED` is the table; :func:`install` puts its finder on ``s
 
 A module whose path became a family's package (``stability.struck`` is now the struck bat's
 package, its functions in ``stability.struck.model``) keeps serving its old names instead:
-:data:`OLD_NAMES` is that table, and :func:`old_names` the package's ``__getattr__``.
+:data:`OLD_NAMES` is that table, and :func:`old_names` the package's ``__getattr__``. So does a
+module split in several (``stability.estimators``): its old path imports as a module that holds
+no code, only that ``__getattr__``.
 """
 
 from __future__ import annotations
@@ -18,9 +20,12 @@ import importlib
 import importlib.abc
 import importlib.util
 import sys
+import types
 import warnings
 
-#: Old dotted module path -> the module it now is.
+#: Old dotted module path -> the module it now is. (``stability.integrate``, which became
+#: ``stability.free_body.integrate``, is not here: that path is the function
+#: ``stability.integrate``, which a module imported there would replace.)
 MOVED = {
     "stability.conventions": "stability.util.conventions",
     "stability.checks": "stability.util.checks",
@@ -70,6 +75,51 @@ MOVED = {
     "stability.integrators.engine_rules": "stability.engine_body.methods",
     "stability.study.engine_artefacts": "stability.engine_body.studies.engine_artefacts",
     "stability.figures.artefacts": "stability.engine_body.figures",
+    "stability.accessor": "stability.free_body.accessor",
+    "stability.schema": "stability.ensemble.schema",
+    "stability.scene_ensemble": "stability.ensemble.chunks",
+    "stability.scene_run": "stability.ensemble.run",
+    "stability.memory": "stability.ensemble.memory",
+    "stability.periodic": "stability.analysis.periodic",
+    "stability.drift": "stability.free_body.work_precision.drift",
+    "stability.gpu": "stability.engine.gpu",
+    "stability.gpu.bench": "stability.engine.gpu.bench",
+    "stability.gpu.device": "stability.engine.gpu.device",
+    "stability.gpu.kernels": "stability.engine.gpu.kernels",
+    "stability.gpu.methods": "stability.engine.gpu.methods",
+    "stability.gpu.propagate": "stability.free_body.propagate_gpu",
+    "stability.gpu.retarget": "stability.engine.gpu.retarget",
+    "stability.gpu.run": "stability.engine.gpu.run",
+    "stability.scenes.spec": "stability.engine.scene",
+    "stability.scenes.user": "stability.engine.user_scene",
+    "stability.scenes.registry": "stability.registry",
+    "stability.bench": "stability.cli.bench",
+    "stability.scenes.free_body": "stability.free_body.scene",
+    "stability.scenes.free_body_attitude": "stability.free_body.scene_attitude",
+    "stability.analytic": "stability.free_body.model",
+    "stability.exact": "stability.free_body.exact",
+    "stability.exact_attitude": "stability.free_body.exact_attitude",
+    "stability.attitude": "stability.free_body.attitude",
+    "stability.driver": "stability.free_body.propagate",
+    "stability.timescales": "stability.free_body.timescales",
+    "stability.reference": "stability.free_body.reference",
+    "stability.polhodes": "stability.free_body.polhodes",
+    "stability.figures.poinsot": "stability.free_body.figures",
+    "stability.flipsweep": "stability.free_body.tennis_racket.flipsweep",
+    "stability.study.tennis_racket": "stability.free_body.tennis_racket.study",
+    "stability.figures.tennis": "stability.free_body.tennis_racket.figures",
+    "stability.stabilitymap": "stability.free_body.stability_map.measure",
+    "stability.study.stability_map": "stability.free_body.stability_map.study",
+    "stability.figures.stability_map": "stability.free_body.stability_map.figures",
+    "stability.shapes": "stability.free_body.stability_map.shapes",
+    "stability.workprecision": "stability.free_body.work_precision.measure",
+    "stability.sweeps": "stability.free_body.work_precision.sweeps",
+    "stability.study.work_precision": "stability.free_body.work_precision.study",
+    "stability.figures.work_precision": "stability.free_body.work_precision.figures",
+    "stability.twisting": "stability.free_body.twisting_racket.measure",
+    "stability.geometric_phase": "stability.free_body.twisting_racket.geometric_phase",
+    "stability.study.twisting_racket": "stability.free_body.twisting_racket.study",
+    "stability.figures.twisting": "stability.free_body.twisting_racket.figures",
 }
 
 #: Old module path that is now a package (or a module that kept only its old names) -> each
@@ -88,10 +138,62 @@ OLD_NAMES = {
         "SHAPES", "G", "rolls", "rolling_acceleration", "slipping_acceleration",
         "slipping_spin_rate", "launch_formulas", "start_states", "measure_incline",
         "measure_launches"), "stability.rolling.model"),
+    "stability.ensemble": dict.fromkeys((
+        "ensemble_memory", "max_angular_speed", "seed_sequence", "perturbed_starts",
+        "run_ensemble", "run_ensembles", "EnsembleSummary", "completed", "run_streamed",
+        "EnsembleChunks", "RNG_CHUNK", "STREAM_CHUNK_MEMBERS", "DEFAULT_DIVERGENCE_TOLERANCE",
+        "LARGE_RUN_BYTES", "DEFAULT_LEVELS", "PEAK_COPIES", "MAX_STEPS"
+        ), "stability.free_body.ensemble"),
+    "stability.engine.gpu": dict.fromkeys(("propagate_gpu", "propagate_many_gpu"),
+                                          "stability.free_body.propagate_gpu"),
+    "stability.animation": {
+        **dict.fromkeys(("FlipFrames", "flip_frames", "animate_flip"),
+                        "stability.free_body.animation"),
+        **dict.fromkeys(("TopFrames", "top_frames", "animate_top"),
+                        "stability.heavy_top.animation"),
+        **dict.fromkeys(("DEFAULT_FPS", "DEFAULT_SIZE", "MAX_FRAMES", "SUFFIXES", "output_path",
+                         "write_animation"), "stability.plotting.animation"),
+    },
+    "stability.figures.animation": {"FlipScene": "stability.free_body.animation",
+                                    "TopScene": "stability.heavy_top.animation",
+                                    "DPI": "stability.plotting.animation",
+                                    "frame_figure": "stability.plotting.animation"},
+    "stability.scenes": {"SCENES": "stability.registry", "scene": "stability.registry",
+                         "Scene": "stability.engine.scene",
+                         "define_scene": "stability.engine.user_scene"},
+    "stability.estimators": {
+        **dict.fromkeys(("DEPARTURE_FACTOR", "MIN_CROSSINGS", "MIN_POINTS", "WINDOW_ATTRS",
+                         "WINDOW_HIGH_FRACTION", "WINDOW_LOW_FACTOR", "member_regimes"),
+                        "stability.analysis.regimes"),
+        **dict.fromkeys(("ESTIMATE_ATTRS", "flip_estimate", "measured_frequency",
+                         "measured_growth_rate",
+                         "omega_squared_estimate", "omega_squared_estimates"),
+                        "stability.analysis.estimates"),
+        **dict.fromkeys(("Members", "members", "perpendicular_amplitude", "sign_change_times",
+                         "summary_members",
+                         "tracked_members", "zero_crossings"),
+                        "stability.analysis.members"),
+        **dict.fromkeys(("REGIME_ALGEBRAIC", "REGIME_EXPONENTIAL", "REGIME_MEANINGS",
+                         "REGIME_NEUTRAL",
+                         "REGIME_OSCILLATION", "REGIME_UNDETERMINED", "perpendicular_axes"),
+                        "stability.util.conventions"),
+        **dict.fromkeys(("analyse_ensemble", "analysis_headline"),
+                        "stability.free_body.tennis_racket.analysis"),
+        **dict.fromkeys(("complementary_moduli", "exact_flip_intervals", "flip_statistics",
+                         "measured_omega_squared"),
+                        "stability.free_body.measure"),
+        **dict.fromkeys(("growth_line", "richardson_bias"),
+                        "stability.analysis.fits"),
+    },
     "stability.figures.impacts": {"bat_figure": "stability.struck.figures",
                                   "rolling_map_figure": "stability.rolling.figures",
                                   "rolling_launch_figure": "stability.rolling.figures"},
 }
+
+
+#: The keys of :data:`OLD_NAMES` whose module is gone: each imports as a module of old names.
+SPLIT = ("stability.estimators", "stability.scenes", "stability.animation",
+         "stability.figures.animation")
 
 
 def moved_to(old: str) -> str:
@@ -106,11 +208,18 @@ class OldPathFinder(importlib.abc.MetaPathFinder, importlib.abc.Loader):
     """Finds each old path of :data:`MOVED` and loads it as the module it now is."""
 
     def find_spec(self, fullname, path=None, target=None):
-        if fullname not in MOVED:
+        if fullname not in MOVED and fullname not in SPLIT:
             return None
-        return importlib.util.spec_from_loader(fullname, self)
+        # A split module is a package too, so that its old submodules' paths still import.
+        return importlib.util.spec_from_loader(fullname, self, is_package=fullname in SPLIT)
 
     def create_module(self, spec):
+        if spec.name not in MOVED:  # a module split in several: its names, each where it went
+            module = types.ModuleType(spec.name, f"Old path of the names in {spec.name}.")
+            module.__getattr__ = old_names(spec.name)
+            module.__path__ = []
+            self.spec = spec
+            return module
         module = importlib.import_module(moved_to(spec.name))
         self.spec = module.__spec__  # the import system sets __spec__ to the old path's
         return module
@@ -119,12 +228,17 @@ class OldPathFinder(importlib.abc.MetaPathFinder, importlib.abc.Loader):
         """Nothing to run (the new module ran when it was imported): its own spec back."""
         module.__spec__ = self.spec
 
+    def get_code(self, fullname):
+        """``python -m <old path>``: code that runs the new module as ``__main__``."""
+        source = f"import runpy\nrunpy.run_module({moved_to(fullname)!r}, run_name='__main__')\n"
+        return compile(source, f"<{fullname}>", "exec")
+
 
 def old_attribute(name: str):
     """``stability.<name>`` for an old module path (the package's ``__getattr__``);
     AttributeError for any other name."""
     old = f"stability.{name}"
-    if old not in MOVED:
+    if old not in MOVED and old not in SPLIT:
         raise AttributeError(f"module 'stability' has no attribute {name!r}")
     return importlib.import_module(old)
 
@@ -149,6 +263,8 @@ def old_names(old: str):
 
 
 def install() -> None:
-    """Put the finder of old paths on ``sys.meta_path`` (once)."""
+    """Put the finder of old paths first on ``sys.meta_path`` (once): an old path inside a moved
+    package (``stability.gpu.bench``) is then its new module, not a file the path finder would
+    find in the new package's folder under the old name."""
     if not any(isinstance(f, OldPathFinder) for f in sys.meta_path):
-        sys.meta_path.append(OldPathFinder())
+        sys.meta_path.insert(0, OldPathFinder())

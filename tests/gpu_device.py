@@ -18,8 +18,8 @@ from tests.gpu_user_scene import DAMPED_BODY
 
 
 def cases():
-    from stability.gpu import gpu_methods
-    from stability.scenes import SCENES
+    from stability.engine.gpu import gpu_methods
+    from stability.registry import SCENES
 
     for scene in (*SCENES.values(), DAMPED_BODY):
         for method in gpu_methods(scene):
@@ -42,7 +42,7 @@ def reference(path):
 
 def check(path):
     from stability.engine import Propagation
-    from stability.gpu import propagate_groups_gpu
+    from stability.engine.gpu import propagate_groups_gpu
 
     stored = np.load(path)
     worst = 0.0

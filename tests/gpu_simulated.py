@@ -12,9 +12,9 @@ import time
 import numpy as np
 
 import stability
-from stability.driver import propagate
-from stability.exact import exact_omega_of_starts
-from stability.gpu import GPU_METHODS
+from stability.free_body.propagate import propagate
+from stability.free_body.exact import exact_omega_of_starts
+from stability.engine.gpu import GPU_METHODS
 
 #: A body in non-canonical axis order (body axis 0 is the intermediate one), spun about it.
 MOMENTS = np.array([2.0, 1.0, 3.0])
@@ -51,7 +51,7 @@ def relative(a, b):
 
 def compare(method):
     """GPU against CPU for one method: final states, tracked summaries, saved samples."""
-    from stability.gpu import propagate_gpu
+    from stability.free_body.propagate_gpu import propagate_gpu
 
     m0 = starts() * MOMENTS
     t0 = time.perf_counter()
@@ -84,8 +84,8 @@ def compare(method):
 
 
 def exact_against_elliptic():
-    """GPU ``exact`` (1 step of T, and 50 steps of T/50) against stability.exact at T."""
-    from stability.gpu import propagate_gpu
+    """GPU ``exact`` (1 step of T, and 50 steps of T/50) against stability.free_body.exact at T."""
+    from stability.free_body.propagate_gpu import propagate_gpu
 
     w0 = starts()
     body = stability.RigidBody(*MOMENTS, physical=False)
@@ -98,7 +98,7 @@ def exact_against_elliptic():
 
 def chunks_and_groups():
     """Chunked launches and grouped ensembles give bitwise the one-launch, one-group result."""
-    from stability.gpu import propagate_gpu, propagate_many_gpu
+    from stability.free_body.propagate_gpu import propagate_gpu, propagate_many_gpu
 
     m0 = starts() * MOMENTS
     whole = propagate_gpu("rk4", MOMENTS, m0, H, STEPS, AXIS, levels=LEVELS)
@@ -175,8 +175,8 @@ def scene_differences(gpu, cpu):
 def every_scene():
     """Every scene's every GPU method against the CPU loop, in chunked launches."""
     from stability.engine import propagate_groups
-    from stability.gpu import gpu_methods, propagate_groups_gpu
-    from stability.scenes import SCENES
+    from stability.engine.gpu import gpu_methods, propagate_groups_gpu
+    from stability.registry import SCENES
 
     from tests.gpu_user_scene import DAMPED_BODY
 
@@ -193,8 +193,8 @@ def stored_on_gpu():
     """A heavy-top run on the GPU streamed to a store in chunks, against the CPU in one piece."""
     import tempfile
 
-    from stability.scene_ensemble import GroupedRun, propagate_stored
-    from stability.scenes import SCENES
+    from stability.ensemble.chunks import GroupedRun, propagate_stored
+    from stability.registry import SCENES
 
     scene = SCENES["heavy_top"]
     x0, tops = scene.example(10, seed=4)
@@ -217,7 +217,7 @@ def stored_on_gpu():
 
 def errors():
     """The ValueError for a method the scene does not have."""
-    from stability.gpu import propagate_gpu
+    from stability.free_body.propagate_gpu import propagate_gpu
 
     try:
         propagate_gpu("no_such_method", MOMENTS, starts() * MOMENTS, H, 1)
@@ -228,7 +228,8 @@ def errors():
 
 def no_device():
     """What propagate_gpu says without a GPU and without the simulator."""
-    from stability.gpu import NoGPUError, propagate_gpu, real_gpu
+    from stability.engine.gpu import NoGPUError, real_gpu
+    from stability.free_body.propagate_gpu import propagate_gpu
 
     if real_gpu():
         return {"real_gpu": True}

@@ -162,11 +162,11 @@ def assert_readable(fig):
 
 def assert_declared(path, kind):
     """Assert that the netCDF file ``path``, as :func:`stability.load` reads it, is what the
-    register declares for the Dataset kind ``kind`` (:data:`stability.schema.SCHEMAS`): every
-    declared variable there (but those declared optional) with its dims, units, long name,
+    register declares for the Dataset kind ``kind`` (:data:`stability.ensemble.schema.SCHEMAS`):
+    every declared variable there (but those declared optional) with its dims, units, long name,
     type, role and flags, and no undeclared variable.
     """
-    from stability.schema import SCHEMAS
+    from stability.ensemble.schema import SCHEMAS
 
     problems = SCHEMAS[kind].problems(stability.load(path))
     assert problems == [], f"{path} departs from the {kind} Dataset's declaration: {problems}"

@@ -7,11 +7,11 @@ from matplotlib.animation import writers
 from PIL import Image
 
 import stability
-from stability.animation import (MAX_FRAMES, animate_flip, animate_top, flip_frames,
-                                 top_frames)
+from stability.free_body.animation import FlipScene, animate_flip, flip_frames
+from stability.heavy_top.animation import TopScene, animate_top, top_frames
+from stability.plotting.animation import MAX_FRAMES, frame_figure
 from stability.cli import main
 from stability.heavy_top.exact import nutation_roots
-from stability.figures.animation import FlipScene, TopScene, frame_figure
 from stability.plotting.style import missing_units
 from stability.heavy_top.model import HeavyTop
 
@@ -138,7 +138,7 @@ def test_bad_input_to_the_top_is_one_line(kwargs, message, tmp_path):
 
 
 def test_a_frame_figure_needs_frames():
-    with pytest.raises(ValueError, match="frames must come from stability.animation"):
+    with pytest.raises(ValueError, match="frames must come from stability.free_body.animation"):
         frame_figure(np.zeros((3, 4)))
 
 

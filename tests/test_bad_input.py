@@ -12,12 +12,12 @@ integers beyond a float's range, a byte-order mark that must parse), a run's ``m
 and ``progress.json`` damaged in every way a reader could trip on, a count that no memory holds
 for every study kind, and a dask scheduler address that takes the connection and never answers.
 
-Cases covered elsewhere and not repeated here: study-file keys of the wrong type or range,
-unknown keys and sections, a section given as a value, a missing or bad top-level ``study``
-key, a missing file and bad ``--set``/``--members`` values (``tests/test_study_config.py``);
-unknown subcommands and ``--threads`` out of range (``tests/test_cli.py``); bad bodies, starts
-of the wrong shape, non-finite values, bad seeds, time-series runs above ``max_memory``
-(``tests/core/test_body.py``, ``tests/test_ensemble.py``); hopeless steps at the level of the loop
+Cases covered elsewhere and not repeated here: study-file keys of the wrong type or range, unknown
+keys and sections, a section given as a value, a missing or bad top-level ``study`` key, a missing
+file and bad ``--set``/``--members`` values (``tests/test_study_config.py``); unknown subcommands
+and ``--threads`` out of range (``tests/test_cli.py``); bad bodies, starts of the wrong shape,
+non-finite values, bad seeds, time-series runs above ``max_memory`` (``tests/core/test_body.py``,
+``tests/free_body/test_ensemble.py``); hopeless steps at the level of the loop
 (``tests/test_hard_cases.py``).
 """
 
@@ -31,9 +31,10 @@ import numpy as np
 import pytest
 
 import stability
-from stability import analytic, attitude, driver, estimators, exact
+from stability.free_body import model as analytic, attitude, propagate as driver, exact
+from stability.analysis.members import zero_crossings
 from stability.core.body import Part
-from stability.ensemble import perturbed_starts, run_ensembles
+from stability.free_body.ensemble import perturbed_starts, run_ensembles
 
 from .helpers import one_line
 
@@ -308,7 +309,7 @@ API = {
                            "a must be real numbers"),
     "boolean rotation matrix": (lambda: attitude.matrix_to_quaternion(np.eye(3, dtype=bool)),
                                 "R must be real numbers, got booleans"),
-    "complex signal": (lambda: estimators.zero_crossings([0.0, 1.0, 2.0], [1j, -1j, 1j]),
+    "complex signal": (lambda: zero_crossings([0.0, 1.0, 2.0], [1j, -1j, 1j]),
                        "x must be real numbers"),
     # a run of any scene (stability.run_scene), refused before any work
     "starts of the wrong width (scene)": (

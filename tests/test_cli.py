@@ -9,11 +9,11 @@ import numpy as np
 import pytest
 
 import stability
-from stability import bench as bench_module
+from stability.cli import bench as bench_module
 from stability.cli import main
-from stability.driver import propagate
+from stability.free_body.propagate import propagate
 from stability.study import STUDIES, load_study
-from stability.study.tennis_racket import FIGURES
+from stability.free_body.tennis_racket.study import FIGURES
 
 from .helpers import assert_cf_compliant, assert_declared
 

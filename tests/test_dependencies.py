@@ -27,7 +27,7 @@ ALSO_INSTALLS = {"matplotlib": ("mpl_toolkits",)}
 #: it (and refuses in one line, naming what to install, when it is missing).
 OPTIONAL = {
     "distributed": ("distributed", "stability.output.stream"),
-    "numba.cuda": ("gpu", "stability.gpu"),
+    "numba.cuda": ("gpu", "stability.engine.gpu"),
 }
 
 

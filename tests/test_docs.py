@@ -1,7 +1,9 @@
 """The documentation: docstrings of the public API, and the site built with warnings as errors.
 
 The build runs the gallery's examples and the work-precision study (quick mode) and writes the
-pages generated from the code; the built HTML is then parsed and every internal link checked.
+pages generated from the code; the built HTML is then parsed, every internal link checked, and
+nothing that a page loads by itself (script, style sheet, font, image) may come from the network:
+the site, its equations included, works offline.
 """
 
 import inspect
@@ -80,6 +82,67 @@ class _Links(HTMLParser):
                 self.links.append(attrs[key])
 
 
+# what a browser fetches by itself on opening a page (an <a href> is only followed when clicked)
+_NETWORK = re.compile(r"^\s*(?:[a-z][a-z0-9+.-]*:)?//", re.IGNORECASE)  # https://, //host
+_CSS_URL = re.compile(r"""@import\s+(?:url\(\s*)?['"]?([^'");\s]+)|url\(\s*['"]?([^'")\s]+)""",
+                      re.IGNORECASE)
+_LINK_RELS_NOT_LOADED = {"canonical", "alternate", "next", "prev", "index", "search", "author",
+                         "license", "help", "top", "up", "first", "last", "bookmark"}
+
+
+class _Loads(HTMLParser):
+    """The URLs an HTML page loads when opened: scripts, style sheets, fonts, images, frames,
+    media, and those in its inline styles (@import, url())."""
+
+    def __init__(self):
+        super().__init__()
+        self.urls, self._in_style = [], False
+
+    def handle_starttag(self, tag, attrs):
+        attrs = dict(attrs)
+        if tag == "link" and not set((attrs.get("rel") or "").lower().split()) <= \
+                _LINK_RELS_NOT_LOADED:
+            self.urls.append(attrs.get("href") or "")
+        elif tag in ("script", "img", "iframe", "frame", "embed", "source", "track", "audio",
+                     "video", "input"):
+            self.urls += [attrs.get("src") or ""] + [
+                part.split()[0] for part in (attrs.get("srcset") or "").split(",") if part.strip()]
+            if tag == "video":
+                self.urls.append(attrs.get("poster") or "")
+        elif tag == "object":
+            self.urls.append(attrs.get("data") or "")
+        self.urls += _css_urls(attrs.get("style") or "")
+        self._in_style = tag == "style"
+
+    def handle_endtag(self, tag):
+        self._in_style = False
+
+    def handle_data(self, data):
+        if self._in_style:
+            self.urls += _css_urls(data)
+
+
+def _css_urls(css):
+    return [a or b for a, b in _CSS_URL.findall(css)]
+
+
+def network_loads(site):
+    """Every script, style sheet, font, image or other resource that a page of the built site
+    (or one of its style sheets) loads from the network, as "file: URL"."""
+    found = []
+    for path in sorted(site.rglob("*")):
+        if path.suffix == ".html":
+            loads = _Loads()
+            loads.feed(path.read_text(errors="replace"))
+            urls = loads.urls
+        elif path.suffix == ".css":
+            urls = _css_urls(path.read_text(errors="replace"))
+        else:
+            continue
+        found += [f"{path.relative_to(site)}: {url}" for url in urls if _NETWORK.match(url)]
+    return found
+
+
 @pytest.mark.slow
 @pytest.mark.run_last
 def test_the_site_builds_without_warnings_and_its_internal_links_resolve(tmp_path):
@@ -115,6 +178,12 @@ def test_the_site_builds_without_warnings_and_its_internal_links_resolve(tmp_pat
                     anchor not in parsed[path].ids:
                 broken.append(f"{page.relative_to(out)} -> {link} (no such anchor)")
     assert broken == []
+    # the site works offline: nothing it loads comes from the network (MathJax is shipped in
+    # _static/mathjax; sphinx-gallery's timing pages, which load CDN scripts, are not written)
+    assert network_loads(out) == []
+    assert (out / "_static" / "mathjax" / "tex-chtml.js").exists()
+    theory = (out / "theory.html").read_text()
+    assert re.search(r'<script [^>]*src="_static/mathjax/tex-chtml\.js', theory)
     # every cross-reference resolves: an unresolved one shows as its target ("python:None")
     unresolved = [f"{page.relative_to(out)}: {m.group(0)}" for page in pages
                   for m in re.finditer(r'<span class="pre">(?:python|numpy|xarray|numba|dask|'
@@ -130,7 +199,7 @@ def test_the_site_builds_without_warnings_and_its_internal_links_resolve(tmp_pat
         assert not shown or html.find("highlight-Python") < min(shown), page.name
         assert not re.search(r"object at 0x[0-9a-f]+", html), page.name
     # the generated pages carry what the code says: every study kind and every scene
-    from stability.scenes import SCENES
+    from stability.registry import SCENES
     from stability.study import STUDIES
 
     studies = (out / "studies.html").read_text()
@@ -138,5 +207,8 @@ def test_the_site_builds_without_warnings_and_its_internal_links_resolve(tmp_pat
     guides = "".join((out / "guide" / f"{g}.html").read_text() for g in (
         "free_body", "torqued", "impacts_rolling", "twisting", "dissipation"))
     assert all("Scene <code" in guides and name in guides for name in SCENES)
+    # each scene's equations are mathematics there (MathJax typesets them), not code
+    assert all(scene.latex for scene in SCENES.values())
+    assert guides.count('<div class="math') >= len(SCENES)
     api = (out / "generated" / "api.html").read_text()
     assert "run_ensemble" in api and "exact_attitude" in api

@@ -341,7 +341,7 @@ def test_every_study_that_runs_in_one_piece_is_stopped_in_the_fault_suite():
     assert set(ONE_PIECE) == {name for name, kind in STUDIES.items() if not kind.resumable}
 
 
-#: Studies of a scene run through the stored grouped path (stability.scene_ensemble): the
+#: Studies of a scene run through the stored grouped path (stability.ensemble.chunks): the
 #: arguments of a quick run in chunks small enough (eight or more, each taking tens of
 #: milliseconds) to be killed after two, and whether it is resumed on a local dask cluster (a
 #: few are: a cluster takes seconds to start). The tennis racket and the stability map have
@@ -448,7 +448,7 @@ SCENE_RUN = '''
 import sys
 import numpy as np
 import stability
-from stability.scenes import SCENES
+from stability.registry import SCENES
 
 scene = SCENES["heavy_top"]
 x0 = np.concatenate([scene.example(24, seed=k)[0] for k in range(2)])

@@ -10,7 +10,7 @@ import pytest
 
 import stability
 from stability.util.conventions import STATUS_NOT_CONVERGED, STATUS_OK
-from stability.driver import propagate
+from stability.free_body.propagate import propagate
 
 from .helpers import reference_omega
 

@@ -1,4 +1,4 @@
-"""The GPU kernels (stability.gpu), checked on numba-cuda's CUDA simulator against the CPU.
+"""The GPU kernels (stability.engine.gpu), checked on numba-cuda's CUDA simulator against the CPU.
 
 The simulator (``NUMBA_ENABLE_CUDASIM=1``) runs every kernel as Python on the CPU, one thread
 after another: it checks the kernels' logic (indexing, layout, tracking, chunks, groups, frame
@@ -25,7 +25,7 @@ import sys
 
 import pytest
 
-from stability.gpu import GPU_METHODS, NO_GPU_MESSAGE, NOT_ON_GPU, gpu_method, gpu_methods
+from stability.engine.gpu import GPU_METHODS, NO_GPU_MESSAGE, NOT_ON_GPU, gpu_method, gpu_methods
 
 from .helpers import once_per_run
 
@@ -102,7 +102,7 @@ def test_every_scene_and_method_runs_on_the_gpu(simulated):
     """Each registered scene's every method, and a scene of the user's own, in two groups,
     tracked, saved and in chunks: the CPU loop's result (bitwise under the simulator, which
     rounds as the CPU does)."""
-    from stability.scenes import SCENES
+    from stability.registry import SCENES
 
     runs = simulated["every_scene"]
     assert set(runs) == {f"{s.name}/{m}" for s in SCENES.values()
@@ -127,7 +127,7 @@ def test_no_gpu_and_no_simulator_says_what_to_do():
 def test_bench_without_gpu_skips():
     env = {k: v for k, v in os.environ.items() if k != "NUMBA_ENABLE_CUDASIM"}
     env["PYTHONPATH"] = os.pathsep.join(filter(None, [str(ROOT), env.get("PYTHONPATH")]))
-    done = subprocess.run([sys.executable, "-m", "stability.gpu.bench"], env=env, cwd=ROOT,
+    done = subprocess.run([sys.executable, "-m", "stability.engine.gpu.bench"], env=env, cwd=ROOT,
                           capture_output=True, text=True, timeout=300)
     assert done.returncode == 0, done.stderr[-4000:]
     if "member-steps/s" in done.stdout:
@@ -165,7 +165,7 @@ def test_a_stored_run_on_the_gpu_in_chunks_is_the_cpu_run(simulated):
 
 
 def test_grouped_run_refuses_an_unknown_device():
-    from stability.scene_ensemble import GroupedRun
+    from stability.ensemble.chunks import GroupedRun
 
     with pytest.raises(ValueError, match="device must be 'cpu' or 'gpu', got 'tpu'"):
         GroupedRun("free_body", "rk4", [[0.0, 1.0, 0.0]], [[1.0] * 9], [1], 0.1, 1,

@@ -27,9 +27,9 @@ import pytest
 
 import stability
 from stability.util import conventions as cv
-from stability.analytic import invariant_differences
-from stability.driver import propagate
-from stability.exact import elliptic_frequency
+from stability.free_body.model import invariant_differences
+from stability.free_body.propagate import propagate
+from stability.free_body.exact import elliptic_frequency
 
 ALL = list(stability.METHODS)
 FINITE = [name for name, spec in stability.METHODS.items() if not spec.is_exact]

@@ -10,7 +10,7 @@ from numba import njit
 import pytest
 
 import stability
-from stability.driver import propagate
+from stability.free_body.propagate import propagate
 from stability.integrators.composition import KAHAN_LI6, KAHAN_LI8, SUZUKI4
 
 from .helpers import reference_omega

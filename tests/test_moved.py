@@ -64,3 +64,27 @@ def test_old_names_work_in_a_fresh_process_as_users_wrote_them():
 def test_a_name_that_never_was_a_module_is_an_attribute_error():
     with pytest.raises(AttributeError, match="has no attribute 'no_such_module'"):
         stability.no_such_module  # noqa: B018
+
+
+def test_split_modules_and_moved_commands_work_in_a_fresh_process_as_users_wrote_them():
+    """A module split in several (``stability.estimators``, ``stability.scenes``) still
+    imports and serves its names, its old submodules included; ``python -m`` on a moved
+    module's old path runs the new module."""
+    code = ("import warnings; warnings.simplefilter('always')\n"
+            "from stability.estimators import measured_growth_rate, Members\n"
+            "from stability.scenes import SCENES, define_scene\n"
+            "import stability.scenes.free_body as fb\n"
+            "import stability.analysis.estimates as e, stability.registry as r\n"
+            "assert measured_growth_rate is e.measured_growth_rate and SCENES is r.SCENES\n"
+            "assert fb.FREE_BODY is SCENES['free_body']\n")
+    run = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True)
+    assert run.returncode == 0, run.stderr
+    assert ("FutureWarning: stability.estimators.measured_growth_rate moved to "
+            "stability.analysis.estimates.measured_growth_rate") in run.stderr
+    assert "FutureWarning: stability.scenes.free_body moved to stability.free_body.scene" \
+        in run.stderr
+    run = subprocess.run([sys.executable, "-m", "stability.gpu.bench", "--help"],
+                         capture_output=True, text=True)
+    assert run.returncode == 0, run.stderr
+    assert "usage: python -m stability.engine.gpu.bench" in run.stdout
+    assert "FutureWarning: stability.gpu.bench moved to stability.engine.gpu.bench" in run.stderr

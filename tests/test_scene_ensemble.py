@@ -6,8 +6,8 @@ import numpy as np
 import pytest
 
 import stability
-from stability.scene_ensemble import GroupedRun, propagate_stored
-from stability.scenes import SCENES
+from stability.ensemble.chunks import GroupedRun, propagate_stored
+from stability.registry import SCENES
 
 from .helpers import assert_declared
 

@@ -23,7 +23,7 @@ import pytest
 from stability.util.conventions import STATUS_OK
 from stability.engine import propagate_groups
 from stability.integrators.spec import MethodSpec
-from stability.scenes import SCENES
+from stability.registry import SCENES
 
 #: Horizon (s, in the examples' scaled units) and the step counts tried, h = T_END / n.
 T_END = 4.0

@@ -1,4 +1,4 @@
-"""The register of Dataset kinds (``stability.schema``): every study's Dataset is declared there,
+"""The register of Dataset kinds (``stability.ensemble.schema``): every study's Dataset is declared there,
 each study's written file is held to its declaration, and the check fails on a file that departs.
 
 Each study's file is checked where its own tests already run the study (``assert_declared``
@@ -18,7 +18,7 @@ import numpy as np
 import pytest
 
 import stability
-from stability.schema import KINDS, SCHEMAS
+from stability.ensemble.schema import KINDS, SCHEMAS
 from stability.study import STUDIES
 
 from .helpers import assert_declared
@@ -29,7 +29,7 @@ BODY = stability.RigidBody(1.0, 2.0, 3.0, physical=False)
 
 def test_every_study_kind_declares_the_dataset_it_writes():
     for name, kind in STUDIES.items():
-        assert name in SCHEMAS, f"study kind {name!r} has no declaration in stability.schema"
+        assert name in SCHEMAS, f"study kind {name!r} has no declaration in stability.ensemble.schema"
         assert SCHEMAS[name].file == kind.schema.section("output").key("dataset").default, name
 
 
@@ -58,7 +58,7 @@ def test_every_declaration_is_complete_and_names_the_code_that_writes_it():
 
 def test_the_register_imports_nothing_of_the_package_but_the_conventions():
     """It sits low in the import order: every module may import it."""
-    tree = ast.parse((ROOT / "stability" / "schema.py").read_text(encoding="utf-8"))
+    tree = ast.parse((ROOT / "stability" / "ensemble" / "schema.py").read_text(encoding="utf-8"))
     inside = []
     for node in ast.walk(tree):
         if isinstance(node, ast.ImportFrom) and node.level > 0:
@@ -156,8 +156,8 @@ def test_a_scene_runs_declaration_is_the_scenes_and_the_check_reads_which_scene_
     components, units and invariants; the check reads the scene from the Dataset's attributes,
     so other units, a missing component or a scene it does not name are found; two variables
     of one name are refused when the declaration is made."""
-    from stability.scenes import SCENES
-    from stability.schema import SCENE_RUN
+    from stability.registry import SCENES
+    from stability.ensemble.schema import SCENE_RUN
 
     scene = SCENES["heavy_top"]
     ds = stability.run_scene("heavy_top", "lp2", scene.example(4)[0], scene.example(1)[1][0],

@@ -12,8 +12,8 @@ import pytest
 
 import stability
 from stability.util import conventions as cv
-from stability.ensemble import max_angular_speed, run_ensemble
-from stability.exact import exact_omega_of_starts
+from stability.free_body.ensemble import max_angular_speed, run_ensemble
+from stability.free_body.exact import exact_omega_of_starts
 
 BODY = stability.RigidBody(1.0, 2.0, 3.0)
 #: A start near the intermediate axis (it flips) and a generic one.

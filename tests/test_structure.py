@@ -15,40 +15,67 @@ from .test_dependencies import internal_imports, modules
 ROOT = Path(__file__).resolve().parents[1]
 
 #: Each layer reached so far, and what it may import besides itself (module paths from
-#: ``stability``; ``schema`` and ``version`` sit beside the machinery until the ensemble layer
-#: holds the register).
+#: ``stability``). ``ensemble``, ``analysis``, ``output`` and ``plotting`` are one level of the
+#: design: they may import each other (no module circle, which the test below forbids).
 LAYERS = {
     "util": set(),
     "core": {"util"},
-    "output": {"util", "core", "schema", "version"},
+    "integrators": {"util", "core"},
+    "engine": {"util", "core", "integrators", "moved"},
+    "ensemble": {"util", "core", "integrators", "engine", "output", "version", "moved"},
+    "analysis": {"util", "core", "ensemble"},
+    "output": {"util", "core", "ensemble", "version"},
     "plotting": {"util", "core", "output"},
+}
+
+#: Imports against the layer order still in the code, each with its reason, until it goes.
+UPWARD = {
+    ("engine", "registry"): "the loop and define_scene take a registered scene's name as well "
+                            "as a Scene; the name is looked up in the families' table",
+    ("ensemble", "registry"): "the same: a scene's name, looked up",
+    ("integrators", "free_body"): "the exact flow is a method of the free body, registered in "
+                                  "METHODS with the others",
 }
 
 #: Lines a module may have; those over it hold two ideas (or more), but for these, each with
 #: its reason, until they are split.
 MAX_LINES = 800
 LONG_MODULES = {
-    "stability.estimators": "members, fits, regimes, rates, flips and the tennis study's "
-                            "analysis: split as the free body becomes a family",
-    "stability.ensemble": "the free body's start rule, plan, run and Dataset: split as the "
+    "stability.free_body.ensemble": "the free body's start rule, plan, run and Dataset: split as the "
                           "generic ensemble layer takes its plan and run",
-    "stability.schema": "declarations only, one per Dataset kind: each moves to its family",
+    "stability.ensemble.schema": "declarations only, one per Dataset kind: each moves to its family",
     "stability.core.body": "the rigid body, its parts and presets: presets to a module of "
                            "their own",
     "stability.study.config": "the study schema library, shared sections, output writing",
 }
 
 #: Imports of the package's own modules inside functions, allowed at most: for the command
-#: line's start-up time (matplotlib, the studies), the optional GPU path, and the modules not
-#: yet moved to their family. The goal of the layout is 20; the count may only fall.
-MAX_LOCAL_IMPORTS = 43
+#: line's start-up time (the studies, matplotlib) and the optional GPU path (numba-cuda). The
+#: count may only fall.
+MAX_LOCAL_IMPORTS = 18
 
 #: Modules without a test module of their name, and the tests that exercise them.
 COVERED_ELSEWHERE = {
-    "stability.bench": "tests/test_cli.py (stability bench)",
-    "stability.core.compensated": "tests/test_exact.py (the exact solution's invariants)",
-    "stability.core.quaternions": "tests/test_attitude.py",
-    "stability.core.roots": "tests/test_geometric_phase.py",
+    "stability.cli.main": "tests/test_cli.py",
+    "stability.ensemble.chunks": "tests/test_scene_ensemble.py",
+    "stability.analysis.members": "tests/analysis/test_estimates.py",
+    "stability.analysis.fits": "tests/analysis/test_estimates.py (growth_line, richardson_bias)",
+    "stability.analysis.regimes": "tests/analysis/test_estimates.py",
+    "stability.free_body.measure": "tests/analysis/test_estimates.py (Omega^2 and flips measured against the exact)",
+    "stability.free_body.tennis_racket.analysis": "tests/analysis/test_estimates.py, tests/free_body/tennis_racket/test_figures.py",
+    "stability.dissipation.figures": "tests/dissipation/test_explorer.py, tests/dissipation/test_dual_spin.py",
+    "stability.earth.figures": "tests/earth/test_wobble.py, tests/earth/test_equinoxes.py",
+    "stability.engine.reference": "tests/test_engine.py (the plain loop against the engine's rk4)",
+    "stability.engine_body.figures": "tests/engine_body/test_measure.py",
+    "stability.free_body.stability_map.figures": "tests/free_body/stability_map/test_study.py",
+    "stability.free_body.work_precision.figures": "tests/free_body/work_precision/test_study.py",
+    "stability.heavy_top.figures": "tests/heavy_top/test_gyroscope.py, tests/heavy_top/test_sleeping_top.py",
+    "stability.rolling.figures": "tests/rolling/test_model.py",
+    "stability.struck.figures": "tests/struck/test_model.py",
+    "stability.cli.bench": "tests/test_cli.py (stability bench)",
+    "stability.core.compensated": "tests/free_body/test_exact.py (the exact solution's invariants)",
+    "stability.core.quaternions": "tests/free_body/test_attitude.py",
+    "stability.core.roots": "tests/free_body/twisting_racket/test_geometric_phase.py",
     "stability.core.trig": "tests/test_integrators.py (the splitting methods' rotations)",
     "stability.dissipation.measure": "tests/dissipation/test_explorer.py",
     "stability.dissipation.scene": "tests/dissipation/test_methods.py",
@@ -59,20 +86,18 @@ COVERED_ELSEWHERE = {
     "stability.engine.cache": "tests/test_engine.py, tests/test_faults_cache.py",
     "stability.engine.loop": "tests/test_engine.py",
     "stability.engine.run": "tests/test_engine.py",
-    "stability.exact_attitude": "tests/test_geometric_phase.py",
+    "stability.free_body.exact_attitude": "tests/free_body/twisting_racket/test_geometric_phase.py",
     "stability.figures.impacts": "tests/test_moved.py (the old names it keeps)",
-    "stability.figures.tennis": "tests/test_figures.py",
-    "stability.figures.twisting": "tests/test_geometric_phase.py",
-    "stability.gpu.bench": "tests/test_gpu.py",
-    "stability.gpu.device": "tests/test_gpu.py",
-    "stability.gpu.kernels": "tests/test_gpu.py",
-    "stability.gpu.methods": "tests/test_gpu.py",
-    "stability.gpu.propagate": "tests/test_gpu.py",
-    "stability.gpu.retarget": "tests/test_gpu.py",
-    "stability.gpu.run": "tests/test_gpu.py",
-    "stability.integrate": "tests/test_integrators.py",
+    "stability.free_body.twisting_racket.figures": "tests/free_body/twisting_racket/test_geometric_phase.py",
+    "stability.engine.gpu.bench": "tests/test_gpu.py",
+    "stability.engine.gpu.device": "tests/test_gpu.py",
+    "stability.engine.gpu.kernels": "tests/test_gpu.py",
+    "stability.engine.gpu.methods": "tests/test_gpu.py",
+    "stability.free_body.propagate_gpu": "tests/test_gpu.py",
+    "stability.engine.gpu.retarget": "tests/test_gpu.py",
+    "stability.engine.gpu.run": "tests/test_gpu.py",
     "stability.integrators.composition": "tests/test_integrators.py",
-    "stability.integrators.exact_flow": "tests/test_exact.py",
+    "stability.integrators.exact_flow": "tests/free_body/test_exact.py",
     "stability.integrators.lgvi": "tests/test_integrators.py",
     "stability.integrators.lie_poisson": "tests/test_integrators.py",
     "stability.earth.methods": "tests/earth/test_equinoxes.py",
@@ -82,23 +107,22 @@ COVERED_ELSEWHERE = {
     "stability.integrators.rk4": "tests/test_integrators.py",
     "stability.integrators.rotations": "tests/test_integrators.py",
     "stability.integrators.spec": "tests/test_scenes_generic.py",
-    "stability.memory": "tests/test_bad_input.py (runs beyond memory refused)",
+    "stability.ensemble.memory": "tests/test_bad_input.py (runs beyond memory refused)",
     "stability.output.dataset": "tests/output/test_io.py",
     "stability.output.lock": "tests/test_faults_boundary.py",
     "stability.output.publish": "tests/test_faults_boundary.py",
     "stability.output.store": "tests/output/test_stream.py",
-    "stability.periodic": "tests/heavy_top/test_gyroscope.py",
-    "stability.plotting.style": "tests/test_figures.py",
-    "stability.scene_run": "tests/test_user_scene.py, tests/test_scene_ensemble.py",
+    "stability.analysis.periodic": "tests/heavy_top/test_gyroscope.py",
+    "stability.plotting.style": "tests/free_body/tennis_racket/test_figures.py",
+    "stability.ensemble.run": "tests/test_user_scene.py, tests/test_scene_ensemble.py",
     "stability.engine_body.scene": "tests/test_scenes_generic.py",
-    "stability.scenes.free_body": "tests/test_scenes_generic.py",
-    "stability.scenes.free_body_attitude": "tests/test_scenes_generic.py",
+    "stability.free_body.scene": "tests/test_scenes_generic.py",
+    "stability.free_body.scene_attitude": "tests/test_scenes_generic.py",
     "stability.earth.scene": "tests/earth/test_equinoxes.py, tests/test_scenes_generic.py",
-    "stability.scenes.registry": "tests/test_scenes_generic.py",
+    "stability.registry": "tests/test_scenes_generic.py",
     "stability.rolling.scene": "tests/test_scenes_generic.py",
-    "stability.scenes.spec": "tests/test_scenes_generic.py",
+    "stability.engine.scene": "tests/test_scenes_generic.py",
     "stability.struck.scene": "tests/test_scenes_generic.py",
-    "stability.scenes.user": "tests/test_user_scene.py",
     "stability.heavy_top.methods": "tests/heavy_top/test_top.py",
     "stability.heavy_top.scene": "tests/test_scenes_generic.py",
     "stability.heavy_top.studies.gyroscope": "tests/heavy_top/test_gyroscope.py",
@@ -110,14 +134,14 @@ COVERED_ELSEWHERE = {
     "stability.struck.studies.bat": "tests/struck/test_model.py",
     "stability.study.config": "tests/test_study_config.py",
     "stability.engine_body.studies.engine_artefacts": "tests/engine_body/test_measure.py",
-    "stability.study.tennis_racket": "tests/test_cli.py",
+    "stability.free_body.tennis_racket.study": "tests/test_cli.py",
     "stability.heavy_top.studies.common": "tests/heavy_top/test_gyroscope.py",
-    "stability.study.twisting_racket": "tests/test_geometric_phase.py",
-    "stability.timescales": "tests/test_ensemble.py",
+    "stability.free_body.twisting_racket.study": "tests/free_body/twisting_racket/test_geometric_phase.py",
+    "stability.free_body.timescales": "tests/free_body/test_ensemble.py",
     "stability.heavy_top.model": "tests/heavy_top/test_top.py",
-    "stability.twisting": "tests/test_geometric_phase.py",
+    "stability.free_body.twisting_racket.measure": "tests/free_body/twisting_racket/test_geometric_phase.py",
     "stability.util.checks": "tests/test_bad_input.py",
-    "stability.util.conventions": "tests/test_ensemble.py",
+    "stability.util.conventions": "tests/free_body/test_ensemble.py",
     "stability.util.formatting": "tests/test_bad_input.py (sizes in the memory refusals)",
     "stability.version": "tests/test_cli.py",
 }
@@ -136,7 +160,7 @@ def test_each_layer_imports_only_the_layers_below_it():
         if own not in LAYERS or layer(imported) == own:
             continue
         target = layer(imported)
-        if target not in LAYERS[own]:
+        if target not in LAYERS[own] and (own, target) not in UPWARD:
             wrong.append(f"{module} imports {imported} ({own} may import "
                          f"{', '.join(sorted(LAYERS[own])) or 'nothing of the package'})")
     assert wrong == [], "\n".join(wrong)

@@ -19,7 +19,7 @@ import pytest
 import stability
 from stability import define_scene
 from stability.engine import propagate_groups
-from stability.scene_ensemble import GroupedRun, propagate_stored
+from stability.ensemble.chunks import GroupedRun, propagate_stored
 from stability.output.store import status_lines
 
 from .helpers import assert_cf_compliant, assert_declared

@@ -3,10 +3,10 @@
 When the configuration is read this writes ``docs/generated/``:
 
 - ``scene_<name>.md``: each registered scene's equations, state and units, methods, invariants
-  and exact solution (``stability.scenes.SCENES``);
+  and exact solution (``stability.registry.SCENES``);
 - ``methods.md``: the registered integrators and what they declare (``stability.METHODS``);
 - ``dataset_schema.md``: every Dataset kind's variables, dims, units, long names and notes
-  (``stability.schema.SCHEMAS``, the register the code that writes them reads);
+  (``stability.ensemble.schema.SCHEMAS``, the register the code that writes them reads);
 - ``studies.md``: every study kind's keys, defaults, units and allowed values (the schemas that
   validate study files);
 - ``cli.md``: the help of every ``stability`` command (the argument parser);
@@ -23,6 +23,7 @@ import math
 import os
 import re
 import shutil
+import textwrap
 from pathlib import Path
 
 DOCS = Path(__file__).resolve().parents[1]
@@ -49,11 +50,31 @@ def scene_page(scene) -> str:
     exact = "yes" if scene.exact is not None else "none in closed form"
     doc = (importlib.import_module(scene.tracked.__module__).__doc__ or "").strip()
     doc = re.sub(r":(func|mod|class|meth|data|attr):`([^`]+)`", r"{py:\1}`\2`", doc)  # to MyST
+    doc = _math_to_myst(doc)
+    equations = (f"Equations:\n\n$$\n{scene.latex.strip()}\n$$" if scene.latex
+                 else f"Equations: `{scene.equations}`")
     return (f"## Scene `{scene.name}`: {scene.title}\n\n"
-            f"Equations: `{scene.equations}`\n\n{doc}\n\n"
+            f"{equations}\n\n{doc}\n\n"
             f"State ({scene.width} numbers a member, in the kernels' frame):\n\n{state}\n"
             f"Methods: {methods}. Invariants checked: {invariants or 'none'}. "
             f"Exact solution: {exact}.\n")
+
+
+def _math_to_myst(doc: str) -> str:
+    """A docstring's mathematics in MyST: ``:math:`x``` roles and ``.. math::`` blocks."""
+    doc = re.sub(r":math:`([^`]+)`", r"{math}`\1`", doc)
+    lines, out, i = doc.split("\n"), [], 0
+    while i < len(lines):
+        if lines[i].strip() != ".. math::":
+            out.append(lines[i])
+            i += 1
+            continue
+        i, block = i + 1, []
+        while i < len(lines) and (not lines[i].strip() or lines[i].startswith(" ")):
+            block.append(lines[i])
+            i += 1
+        out += ["```{math}", textwrap.dedent("\n".join(block)).strip(), "```", ""]
+    return "\n".join(out)
 
 
 def _kept(scene, invariant) -> str:
@@ -87,8 +108,8 @@ def methods_page() -> str:
 
 
 def dataset_page() -> str:
-    """Every Dataset kind of the register (``stability.schema.SCHEMAS``): one table each."""
-    from stability.schema import KINDS, SCHEMAS
+    """Every Dataset kind of the register (``stability.ensemble.schema.SCHEMAS``): one table each."""
+    from stability.ensemble.schema import KINDS, SCHEMAS
     from stability.study import STUDIES
 
     api = set(api_names())
@@ -155,7 +176,7 @@ def studies_page() -> str:
 def cli_page() -> str:
     import argparse
 
-    from stability.cli import build_parser
+    from stability.cli.main import build_parser
 
     parser = build_parser()
     parser.prog = "stability"
@@ -195,20 +216,31 @@ def work_precision_page(quick: bool) -> str:
 
 #: Modules whose public functions and classes the API reference lists (beside the top level).
 API_MODULES = (
-    ("Bodies and linear theory", ("core.body", "core.quaternions", "analytic",
+    ("Bodies and linear theory", ("core.body", "core.quaternions", "free_body.model",
                                   "heavy_top.model")),
-    ("Exact solutions", ("exact", "exact_attitude", "heavy_top.exact", "core.elliptic")),
-    ("Ensembles, runs and files", ("ensemble", "integrate", "attitude", "output.io", "output.stream",
-                                   "util.formatting", "schema")),
-    ("Measures and estimators", ("estimators", "geometric_phase", "periodic", "core.roots",
-                                 "drift", "reference")),
-    ("Scenes, integrators and the engine", ("scenes", "integrators", "engine")),
-    ("Studies' library functions", ("twisting", "engine_body.measure", "struck.model",
-                                     "rolling.model", "heavy_top.measure", "earth.wobble",
-                                     "earth.equinoxes", "earth.model", "stabilitymap",
-                                     "workprecision", "sweeps", "shapes", "flipsweep",
-                                     "polhodes")),
-    ("Figures and animations", ("animation", "figures.animation", "figures.poinsot")),
+    ("Exact solutions", ("free_body.exact", "free_body.exact_attitude", "heavy_top.exact",
+                         "core.elliptic")),
+    ("Ensembles, runs and files", ("free_body.ensemble", "free_body.integrate",
+                                   "free_body.attitude", "output.io", "output.stream",
+                                   "util.formatting", "ensemble.schema")),
+    ("Measures and estimators", ("analysis.members", "analysis.fits", "analysis.regimes",
+                                 "analysis.estimates", "free_body.measure",
+                                 "free_body.tennis_racket.analysis",
+                                 "free_body.twisting_racket.geometric_phase",
+                                 "analysis.periodic", "core.roots",
+                                 "free_body.work_precision.drift", "free_body.reference")),
+    ("Scenes, integrators and the engine", ("registry", "engine.scene", "engine.user_scene",
+                                            "integrators", "engine")),
+    ("Studies' library functions", ("free_body.twisting_racket.measure", "engine_body.measure",
+                                     "struck.model", "rolling.model", "heavy_top.measure",
+                                     "earth.wobble", "earth.equinoxes", "earth.model",
+                                     "free_body.stability_map.measure",
+                                     "free_body.work_precision.measure",
+                                     "free_body.work_precision.sweeps",
+                                     "free_body.stability_map.shapes",
+                                     "free_body.tennis_racket.flipsweep", "free_body.polhodes")),
+    ("Figures and animations", ("plotting.animation", "free_body.animation",
+                                "heavy_top.animation", "free_body.figures")),
 )
 
 
@@ -268,7 +300,7 @@ def _first_line(module_name) -> str:
 
 def generate(app=None) -> None:
     """Write every generated page (see the module docstring)."""
-    from stability.scenes import SCENES
+    from stability.registry import SCENES
 
     OUT.mkdir(exist_ok=True)
     for scene in SCENES.values():

@@ -237,7 +237,7 @@ class RigidBody:
 
         ``I1 = I2 = m (3 r^2 + l^2) / 12``, ``I3 = m r^2 / 2`` about the centre. Axis 3 is
         stable; axes 1 and 2 have equal moments, so spin about them is neutral, not unstable
-        (see :func:`stability.analytic.axis_stability`).
+        (see :func:`stability.free_body.model.axis_stability`).
 
         Parameters
         ----------
@@ -366,7 +366,7 @@ class RigidBody:
             For axes 1, 2, 3: ``axis``, ``moment`` (kg m^2), ``rank`` ("smallest",
             "intermediate", "largest"; "equal" where two moments are equal),
             ``omega_squared``, Omega^2 / W^2 = (Ia - Ib)(Ia - Ic) / (Ib Ic)
-            (:func:`stability.analytic.omega_squared` at W = 1 rad/s, s^-2), ``stability``
+            (:func:`stability.free_body.model.omega_squared` at W = 1 rad/s, s^-2), ``stability``
             ("stable" for Omega^2 > 0, "unstable" < 0, "neutral" = 0) and ``departure``, what
             a small departure from a spin W about the axis does, in words.
         """

@@ -2,8 +2,8 @@
 double-double numbers built on them.
 
 Compiled helpers (``@njit``, inlined) of the exact solution's cancellation-free invariants
-(:mod:`stability.exact`); the GPU replaces :func:`two_prod` by one fused multiply-add
-(:mod:`stability.gpu.retarget`).
+(:mod:`stability.free_body.exact`); the GPU replaces :func:`two_prod` by one fused multiply-add
+(:mod:`stability.engine.gpu.retarget`).
 """
 
 from numba import njit

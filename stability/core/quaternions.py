@@ -1,8 +1,8 @@
 """Quaternions of attitudes: products, conjugates, rotation matrices, errors, frames.
 
 Convention: ``q = (q0, q1, q2, q3)``, scalar first, Hamilton product; ``R(q)`` is the
-*body-to-space* rotation (space components of a body vector x are ``R(q) x``). NumPy functions
-over any leading shape; :mod:`stability.attitude` carries attitudes through runs with them.
+*body-to-space* rotation (space components of a body vector x are ``R(q) x``). NumPy functions over
+any leading shape; :mod:`stability.free_body.attitude` carries attitudes through runs with them.
 """
 
 from __future__ import annotations

@@ -22,5 +22,10 @@ the rest (dual-spin stabilisation). The family's modules, each importing only do
   figures.
 
 This package's ``__init__`` imports nothing, so that the scene registry
-(:mod:`stability.scenes`) can import :mod:`.scene` without the rest.
+(:mod:`stability.registry`) can import :mod:`.scene` without the rest.
 """
+
+#: What the family registers (:mod:`stability.registry`): its scenes and its study kinds, each as
+#: ``"module:name"`` inside this package, imported when first asked for.
+SCENES = ("scene:SPHERE_DAMPER", "scene:WHIP_DAMPER", "scene:GYROSTAT")
+STUDIES = {"explorer": "studies:STUDY", "dual_spin": "studies:DUAL_SPIN_STUDY"}

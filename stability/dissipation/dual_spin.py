@@ -1,16 +1,16 @@
 """Dual-spin maps: a gyrostat's nutation, measured, against its eigenvalues and the energy sink.
 
 A gyrostat (:mod:`.gyrostat`) with an axisymmetric platform of transverse moment ``A_t`` and a
-rotor of axial moment ``Jr`` spins with its platform at ``w_p`` about the rotor's axis. Over a
-map of the inertia ratio ``A3 / A_t`` (the whole body's spin-axis moment over its transverse
-one: below 1 a minor-axis spinner, above 1 a major-axis one) and the rotor's spin ``Omega``
-relative to the platform, for each placement of the damper (on the platform, in the rotor, or
-both), one group of members starts turning rigidly with H tilted by each initial nutation angle
-of a list (where the nutation grows, lowered by its growth over the settling). Each damper's
-viscous coefficient is a multiple of its energy-sink optimum ``c* = J h / A_t`` in that cell,
-so that "weak" and "strong" mean the same everywhere on the map. Each group runs until its nutation has grown past the fitted range or decayed by ``efolds`` e-folds
-at the linear rate (at most ``max_time``), keeping at least :data:`MIN_SAMPLES` states; from
-each member's kept states (:mod:`.measure`):
+rotor of axial moment ``Jr`` spins with its platform at ``w_p`` about the rotor's axis. Over a map
+of the inertia ratio ``A3 / A_t`` (the whole body's spin-axis moment over its transverse one: below
+1 a minor-axis spinner, above 1 a major-axis one) and the rotor's spin ``Omega`` relative to the
+platform, for each placement of the damper (on the platform, in the rotor, or both), one group of
+members starts turning rigidly with H tilted by each initial nutation angle of a list (where the
+nutation grows, lowered by its growth over the settling). Each damper's viscous coefficient is a
+multiple of its energy-sink optimum ``c* = J h / A_t`` in that cell, so that "weak" and "strong"
+mean the same everywhere on the map. Each group runs until its nutation has grown past the fitted
+range or decayed by ``efolds`` e-folds at the linear rate (at most ``max_time``), keeping at least
+:data:`MIN_SAMPLES` states; from each member's kept states (:mod:`.measure`):
 
 - the nutation angle theta between e3 and H; its rate fitted in the linear regime (after the
   dampers' own faster modes have died away, while ``floor <= theta <= fit_top``) beside the
@@ -33,8 +33,8 @@ from dataclasses import dataclass
 import numpy as np
 import xarray as xr
 
-from ..schema import DUAL_SPIN
-from ..scene_ensemble import GroupedRun, propagate_stored
+from ..ensemble.schema import DUAL_SPIN
+from ..ensemble.chunks import GroupedRun, propagate_stored
 from .gyrostat import (axial_momentum, axisymmetric_eigenvalues, energy_sink_optimum,
                        energy_sink_rate, first_order_rate, tilted_spin)
 from .measure import (MIN_FIT_SAMPLES, exponential_rate, largest_rise, nutation_angle,
@@ -167,14 +167,14 @@ def measure_dual_spin(body, ratios, speeds, angles, *, placements=PLACEMENTS, st
         Seed of the members' azimuths (irrelevant to an axisymmetric platform's physics).
     progress : bool, optional
     stored : dict, optional
-        Keyword arguments of :func:`~stability.scene_ensemble.propagate_stored` (a store,
+        Keyword arguments of :func:`~stability.ensemble.chunks.propagate_stored` (a store,
         resume, a scheduler).
 
     Returns
     -------
     xarray.Dataset
         Dims (placement, ratio, speed) and (placement, ratio, speed, start); declared in
-        :data:`stability.schema.DUAL_SPIN`.
+        :data:`stability.ensemble.schema.DUAL_SPIN`.
     """
     ratios = np.asarray(ratios, dtype=float)
     speeds = np.asarray(speeds, dtype=float)

@@ -30,8 +30,8 @@ import numpy as np
 import xarray as xr
 
 from ..util import conventions as cv
-from ..scene_ensemble import GroupedRun, propagate_stored, sub_store
-from ..scenes.spec import Scene
+from ..ensemble.chunks import GroupedRun, propagate_stored, sub_store
+from ..engine.scene import Scene
 from .measure import (decay_window, exponential_rate, growth_window, largest_rise,
                       nutation_angle, relative_drift)
 from .model import (energy_lost, energy_sink_optimum, energy_sink_rate, moving_eigenvalues,
@@ -155,7 +155,7 @@ def run_damped(damper, method, group_values, angles, *, spin, step_angle=0.5, ta
     progress : bool, optional
         Progress bar.
     stored : dict, optional
-        Keyword arguments of :func:`~stability.scene_ensemble.propagate_stored` (a store,
+        Keyword arguments of :func:`~stability.ensemble.chunks.propagate_stored` (a store,
         resume, a scheduler).
 
     Returns
@@ -298,7 +298,7 @@ def measure_explorer(body, J, factors, angles, *, method="lp2", step_angle=0.5, 
     progress : bool, optional
         Progress bars.
     stored : dict, optional
-        Keyword arguments of :func:`~stability.scene_ensemble.propagate_stored`: each damper
+        Keyword arguments of :func:`~stability.ensemble.chunks.propagate_stored`: each damper
         runs in its own store inside it.
 
     Returns

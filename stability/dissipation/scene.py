@@ -1,54 +1,73 @@
-"""Three damped bodies: a rigid shell with a viscous spherical damper, one with a spring-mass
+r"""Three damped bodies: a rigid shell with a viscous spherical damper, one with a spring-mass
 damper, and a gyrostat (a dual-spin body) with a spherical damper on its platform, in its rotor
-or both. All keep |H| and lose energy; the first two end spinning about their major axis.
+or both. All keep :math:`|H|` and lose energy; the first two end spinning about their major
+axis.
 
 Scene ``sphere_damper``: the state is ``(m1, m2, m3, s1, s2, s3)``, the shell's angular
-momentum ``m = I w`` and the sphere's ``s = J w_s``, in the shell's principal frame (canonical,
-``I1 <= I2 <= I3``). Parameters per body: ``(I1, I2, I3, J, c)``, the shell's moments, the
-sphere's and the viscous coefficient (the fluid's torque on the shell is ``c (w_s - w)``).
-Equations and methods: :mod:`stability.dissipation.methods`::
+momentum :math:`m = I \omega` and the sphere's :math:`s = J \omega_s`, in the shell's principal
+frame (canonical, :math:`I_1 \le I_2 \le I_3`). Parameters per body: ``(I1, I2, I3, J, c)``, the
+shell's moments, the sphere's and the viscous coefficient (the fluid's torque on the shell is
+:math:`c\, (\omega_s - \omega)`). Equations and methods: :mod:`stability.dissipation.methods`:
 
-    m' = m x w + c (w_s - w),    s' = s x w - c (w_s - w).
+.. math::
 
-Scene ``whip_damper``: four flexible whip antennas, radial from the body along ``+-e2`` and
-``+-e3`` at the arm ``b``, whose tips bend along the spin axis e1: each opposite pair bends
-antisymmetrically (tips at ``+-(b e_k + z_k e1)``, so the centre of mass stays put) on a
-spring ``k`` with a dashpot ``c``, ``mu`` the mass of a pair. The state is
-``(H1, H2, H3, z2, z3, p2, p3)``: the total angular momentum, the pairs' deflections and their
-momenta ``p2 = mu (z2' - b w3)``, ``p3 = mu (z3' + b w2)``. From the kinetic energy
-``T = w . I w / 2 + sum_k mu |w x r_k + z_k' e1|^2 / 2``, ``r_k = b e_k + z_k e1``,
-Lagrange's equations in the body frame give::
+    \dot m = m \times \omega + c\, (\omega_s - \omega), \qquad
+    \dot s = s \times \omega - c\, (\omega_s - \omega).
 
-    H' = H x w,   z2' = p2 / mu + b w3,   z3' = p3 / mu - b w2,
-    p2' = mu (z2 (w2^2 + w3^2) - b w1 w2) - k z2 - c z2',
-    p3' = mu (z3 (w2^2 + w3^2) - b w1 w3) - k z3 - c z3',
+Scene ``whip_damper``: four flexible whip antennas, radial from the body along :math:`\pm e_2`
+and :math:`\pm e_3` at the arm :math:`b`, whose tips bend along the spin axis :math:`e_1`: each
+opposite pair bends antisymmetrically (tips at :math:`\pm(b\, e_k + z_k e_1)`, so the centre of
+mass stays put) on a spring :math:`k` with a dashpot :math:`c`, :math:`\mu` the mass of a pair.
+The state is ``(H1, H2, H3, z2, z3, p2, p3)``: the total angular momentum, the pairs'
+deflections and their momenta :math:`p_2 = \mu\, (\dot z_2 - b\, \omega_3)`,
+:math:`p_3 = \mu\, (\dot z_3 + b\, \omega_2)`. From the kinetic energy
+:math:`T = \omega \cdot I \omega / 2 + \sum_k \mu\, |\omega \times r_k + \dot z_k e_1|^2 / 2`,
+:math:`r_k = b\, e_k + z_k e_1`, Lagrange's equations in the body frame give
 
-with w from the state (:func:`~stability.dissipation.methods.whip_rates`). One pair alone would
-leave a spin about the axis across both its arm and e1 undamped at linear order; two pairs damp
-every spin. Parameters per body: ``(I1, I2, I3, mu, b, k, c)``, the body's moments without the
-tips (e1 the long axis).
+.. math::
+
+    \begin{gathered}
+    \dot H = H \times \omega, \qquad \dot z_2 = p_2 / \mu + b\, \omega_3, \qquad
+    \dot z_3 = p_3 / \mu - b\, \omega_2, \\
+    \dot p_2 = \mu\, \big(z_2 (\omega_2^2 + \omega_3^2) - b\, \omega_1 \omega_2\big)
+    - k z_2 - c\, \dot z_2, \\
+    \dot p_3 = \mu\, \big(z_3 (\omega_2^2 + \omega_3^2) - b\, \omega_1 \omega_3\big)
+    - k z_3 - c\, \dot z_3,
+    \end{gathered}
+
+with :math:`\omega` from the state (:func:`~stability.dissipation.methods.whip_rates`). One pair
+alone would leave a spin about the axis across both its arm and :math:`e_1` undamped at linear
+order; two pairs damp every spin. Parameters per body: ``(I1, I2, I3, mu, b, k, c)``, the body's
+moments without the tips (:math:`e_1` the long axis).
 
 Scene ``gyrostat``: a platform and an axisymmetric rotor on a frictionless bearing along the
-platform's principal axis e3, with a viscous spherical damper on the platform (``Jp``, ``cp``)
-and one in the rotor (``Jq``, ``cq``); ``c = 0``: that damper is absent (its sphere at rest,
-zero momentum, stays so). The state is ``(m1, m2, m3, hr, p1, p2, p3, q1, q2, q3)`` in the
-platform's principal frame: the angular momentum of platform and rotor ``m = A w + Jr Omega
-e3`` (``A = diag(A1, A2, A3)`` the whole body's moments, the rotor's included; ``Omega`` the
-rotor's spin relative to the platform), the rotor's axial momentum ``hr = Jr (w3 + Omega)`` and
-the spheres' momenta. Parameters ``(A1, A2, A3, Jr, Jp, cp, Jq, cq)``. Equations (2) of
-:mod:`stability.dissipation.methods`, derived in :mod:`stability.dissipation.gyrostat`::
+platform's principal axis :math:`e_3`, with a viscous spherical damper on the platform (``Jp``,
+``cp``) and one in the rotor (``Jq``, ``cq``); ``c = 0``: that damper is absent (its sphere at
+rest, zero momentum, stays so). The state is ``(m1, m2, m3, hr, p1, p2, p3, q1, q2, q3)`` in the
+platform's principal frame: the angular momentum of platform and rotor
+:math:`m = A \omega + J_r \Omega\, e_3` (:math:`A = \mathrm{diag}(A_1, A_2, A_3)` the whole
+body's moments, the rotor's included; :math:`\Omega` the rotor's spin relative to the platform),
+the rotor's axial momentum :math:`h_r = J_r (\omega_3 + \Omega)` and the spheres' momenta.
+Parameters ``(A1, A2, A3, Jr, Jp, cp, Jq, cq)``. Equations (2) of
+:mod:`stability.dissipation.methods`, derived in :mod:`stability.dissipation.gyrostat`:
 
-    m' = m x w + cp u_p + cq u_q,  hr' = cq u_q3,  p' = p x w - cp u_p,  q' = q x w - cq u_q,
-    w = (m1 / A1, m2 / A2, (m3 - hr) / (A3 - Jr)),  u_p = p / Jp - w,
-    u_q = q / Jq - (w1, w2, hr / Jr).
+.. math::
 
-Invariant of all three: |H| (``angular_momentum``; ``H = m + p + q`` for the gyrostat). The energy (:func:`sphere_energy`,
-:func:`whip_energy`) is not one: it falls at the rate ``c |w_s - w|^2`` (sphere) or
-``c (z2'^2 + z3'^2)`` (whips), ``cp |u_p|^2 + cq |u_q|^2`` (gyrostat,
-:func:`gyrostat_energy`), a Lyapunov function. Tracking: the spin-axis component is
-``H_a / |H|`` (the cosine of the nutation angle between body axis a and H: it changes sign when
-that axis turns perpendicular to H) and the amplitude across it ``sqrt(H_b^2 + H_c^2) / |H|``,
-its sine, returned as ``b`` with ``c = 0``.
+    \begin{gathered}
+    \dot m = m \times \omega + c_p u_p + c_q u_q, \qquad \dot h_r = c_q u_{q,3}, \qquad
+    \dot p = p \times \omega - c_p u_p, \qquad \dot q = q \times \omega - c_q u_q, \\
+    \omega = \big(m_1 / A_1,\ m_2 / A_2,\ (m_3 - h_r) / (A_3 - J_r)\big), \qquad
+    u_p = p / J_p - \omega, \qquad u_q = q / J_q - (\omega_1, \omega_2, h_r / J_r).
+    \end{gathered}
+
+Invariant of all three: :math:`|H|` (``angular_momentum``; :math:`H = m + p + q` for the
+gyrostat). The energy (:func:`sphere_energy`, :func:`whip_energy`) is not one: it falls at the
+rate :math:`c\, |\omega_s - \omega|^2` (sphere) or :math:`c\, (\dot z_2^2 + \dot z_3^2)`
+(whips), :math:`c_p |u_p|^2 + c_q |u_q|^2` (gyrostat, :func:`gyrostat_energy`), a Lyapunov
+function. Tracking: the spin-axis component is :math:`H_a / |H|` (the cosine of the nutation
+angle between body axis :math:`a` and :math:`H`: it changes sign when that axis turns
+perpendicular to :math:`H`) and the amplitude across it :math:`\sqrt{H_b^2 + H_c^2} / |H|`, its
+sine, returned as ``b`` with ``c = 0``.
 """
 
 import math
@@ -57,8 +76,8 @@ import numpy as np
 from numba import njit
 
 from ..util import conventions as cv
-from ..scenes.free_body import component
-from ..scenes.spec import Scene
+from ..free_body.scene import component
+from ..engine.scene import Scene
 from .methods import (B_B, B_I1, B_I2, B_I3, B_K, B_MU, B_MU_B, GYROSTAT_METHODS, P_INV1,
                       P_INV2, P_INV3, P_INV_J, SPHERE_METHODS, WHIP_METHODS, sphere_params,
                       whip_params, whip_rates)
@@ -143,6 +162,9 @@ SPHERE_DAMPER = Scene(
     name="sphere_damper",
     title="rigid body with a viscous spherical damper (shell and sphere angular momenta)",
     equations="m' = m x w + c (w_s - w), s' = s x w - c (w_s - w) (m = I w, s = J w_s)",
+    latex=(r"\dot m = m \times \omega + c\, (\omega_s - \omega), \qquad"
+           r" \dot s = s \times \omega - c\, (\omega_s - \omega)"
+           r" \qquad (m = I \omega,\ s = J \omega_s)"),
     components=("m1", "m2", "m3", "s1", "s2", "s3"),
     units=(cv.UNITS_ANGULAR_MOMENTUM,) * 6,
     methods=SPHERE_METHODS,
@@ -219,6 +241,10 @@ WHIP_DAMPER = Scene(
     title="rigid body with four whip antennas (two pairs of spring-mass dampers)",
     equations="H' = H x w, z2' = p2 / mu + b w3, z3' = p3 / mu - b w2, "
               "p_k' = mu (z_k (w2^2 + w3^2) - b w1 w_k) - k z_k - c z_k'",
+    latex=(r"\begin{gathered} \dot H = H \times \omega, \quad \dot z_2 = p_2/\mu + b\, \omega_3,"
+           r" \quad \dot z_3 = p_3/\mu - b\, \omega_2, \\"
+           r" \dot p_k = \mu\, \big(z_k (\omega_2^2 + \omega_3^2) - b\, \omega_1 \omega_k\big)"
+           r" - k z_k - c\, \dot z_k \end{gathered}"),
     components=("H1", "H2", "H3", "z2", "z3", "p2", "p3"),
     units=(cv.UNITS_ANGULAR_MOMENTUM,) * 3 + ("m", "m", "kg m s-1", "kg m s-1"),
     methods=WHIP_METHODS,
@@ -300,6 +326,11 @@ GYROSTAT = Scene(
     equations="m' = m x w + cp u_p + cq u_q, hr' = cq u_q3, p' = p x w - cp u_p, "
               "q' = q x w - cq u_q (w = (m1/A1, m2/A2, (m3 - hr)/(A3 - Jr)), "
               "u_p = p/Jp - w, u_q = q/Jq - (w1, w2, hr/Jr))",
+    latex=(r"\begin{gathered} \dot m = m \times \omega + c_p u_p + c_q u_q, \quad"
+           r" \dot h_r = c_q u_{q,3}, \\ \dot p = p \times \omega - c_p u_p, \quad"
+           r" \dot q = q \times \omega - c_q u_q, \\ \omega = \big(m_1/A_1,\ m_2/A_2,\ "
+           r"(m_3 - h_r)/(A_3 - J_r)\big), \\ u_p = p/J_p - \omega, \quad"
+           r" u_q = q/J_q - (\omega_1, \omega_2, h_r/J_r) \end{gathered}"),
     components=("m1", "m2", "m3", "hr", "p1", "p2", "p3", "q1", "q2", "q3"),
     units=(cv.UNITS_ANGULAR_MOMENTUM,) * 10,
     methods=GYROSTAT_METHODS,

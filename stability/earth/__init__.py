@@ -15,18 +15,19 @@ The family's modules, each importing only downward:
 - :mod:`.studies`: the study kinds ``earth_wobble`` and ``equinoxes``;
 - :mod:`.figures`: their figures, drawn from the Datasets.
 
-It builds on the free body, as the design allows a family to build on another: the wobble is a
-free rigid body's, run by its ensembles (:mod:`stability.ensemble`, :mod:`stability.integrate`,
-:mod:`stability.attitude`) and measured by its estimators (:mod:`stability.estimators`), with
-Euler's period from :mod:`stability.analytic`. Besides, it uses the shared layers:
+It builds on the free body, as the design allows a family to build on another: the wobble is a free
+rigid body's, run by its ensembles (:mod:`stability.free_body.ensemble`,
+:mod:`stability.free_body.integrate`,
+:mod:`stability.free_body.attitude`) and measured by its estimators (:mod:`stability.analysis`), with
+Euler's period from :mod:`stability.free_body.model`. Besides, it uses the shared layers:
 :mod:`stability.core` (the rigid body, vectorizable trigonometry), :mod:`stability.util`
 (conventions, threads), :mod:`stability.integrators` (the composition coefficients, rotations,
-MethodSpec), :mod:`stability.scenes` (the scene contract), the scene-generic ensembles
-(:mod:`stability.scene_ensemble`), the Dataset register (:mod:`stability.schema`),
+MethodSpec), :mod:`stability.engine.scene` (the scene contract), the scene-generic ensembles
+(:mod:`stability.ensemble.chunks`), the Dataset register (:mod:`stability.ensemble.schema`),
 :mod:`stability.study` (the study framework) and :mod:`stability.plotting`.
 
 This package's ``__init__`` imports nothing of the family, so that the scene registry
-(:mod:`stability.scenes`) can import :mod:`.scene` without the rest. ``stability.earth`` was the
+(:mod:`stability.registry`) can import :mod:`.scene` without the rest. ``stability.earth`` was the
 module that is now :mod:`.model`: its names (``stability.earth.earth_moments``, ...) still
 import from here, with a warning, for one release (:func:`stability.moved.old_names`).
 """
@@ -34,3 +35,8 @@ import from here, with a warning, for one release (:func:`stability.moved.old_na
 from ..moved import old_names
 
 __getattr__ = old_names(__name__)
+
+#: What the family registers (:mod:`stability.registry`): its scenes and its study kinds, each as
+#: ``"module:name"`` inside this package, imported when first asked for.
+SCENES = ("scene:LUNISOLAR_EARTH", "scene:PRECESSING_AXIS")
+STUDIES = {"earth_wobble": "studies.earth_wobble:STUDY", "equinoxes": "studies.equinoxes:STUDY"}

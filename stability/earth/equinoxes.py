@@ -32,10 +32,10 @@ import numpy as np
 
 from .model import ARCSEC, DAY, DYNAMICAL_ELLIPTICITY, EQUATORIAL_RADIUS, MASS, POLAR_MOMENT_FACTOR
 from .methods import N_ORBIT, O_E, O_I, O_K, O_M0, O_N, O_NODE0, O_NODEDOT, O_W0, O_WDOT
-from ..scene_ensemble import GroupedRun, propagate_stored, sub_store
-from ..scenes import SCENES
+from ..ensemble.chunks import GroupedRun, propagate_stored, sub_store
+from ..registry import SCENES
 from .scene import figure_axes
-from ..schema import EQUINOXES
+from ..ensemble.schema import EQUINOXES
 
 #: The Julian year (s) and century, the units of the rates.
 YEAR = 365.25 * DAY
@@ -440,7 +440,7 @@ def measure_equinoxes(*, years=100.0, members=4, steps_per_day=4, method="lp4",
     progress : bool, optional
         Progress bars.
     stored : dict, optional
-        Keyword arguments of :func:`stability.scene_ensemble.propagate_stored` (``store``,
+        Keyword arguments of :func:`stability.ensemble.chunks.propagate_stored` (``store``,
         ``resume``, ``scheduler`` ...): the three runs go chunk by chunk into their own
         folders of that store, resumable and on dask; by default in one piece here. The
         result is the same, bitwise.
@@ -449,7 +449,7 @@ def measure_equinoxes(*, years=100.0, members=4, steps_per_day=4, method="lp4",
     -------
     xarray.Dataset
         Dims (model, torque, member), the series of member 0 (time) and the long run
-        (cycle_time); see :data:`stability.schema.EQUINOXES`.
+        (cycle_time); see :data:`stability.ensemble.schema.EQUINOXES`.
     """
     import time as _time
 

@@ -12,11 +12,11 @@ The principal moments follow from published ratios (each with its source):
 
 A rigid Earth spinning at ``W = 2 pi / sidereal day`` about its figure axis C, with its rotation
 axis a little off that axis, wobbles: in the body frame the rotation axis circles the figure axis
-at ``Omega = W sqrt((C - A)(C - B) / (A B))`` (Euler's free precession; for A = B the familiar
-``A / (C - A) = (1 - H) / H`` sidereal days, 304.5, or 303.6 days), while in space it circles the fixed angular
-momentum once a day on a cone ~H times narrower. The observed Chandler wobble has a period of
-about 433 days: the Earth is not rigid (elastic mantle, oceans and fluid core lengthen it;
-Smith & Dahlen, Geophys. J. R. Astr. Soc. 64, 223 (1981)).
+at ``Omega = W sqrt((C - A)(C - B) / (A B))`` (Euler's free precession; for A = B the familiar ``A
+/ (C - A) = (1 - H) / H`` sidereal days, 304.5, or 303.6 days), while in space it circles the fixed
+angular momentum once a day on a cone ~H times narrower. The observed Chandler wobble has a period
+of about 433 days: the Earth is not rigid (elastic mantle, oceans and fluid core lengthen it; Smith
+& Dahlen, Geophys. J. R. Astr. Soc. 64, 223 (1981)).
 """
 
 from __future__ import annotations
@@ -25,7 +25,7 @@ import math
 
 import numpy as np
 
-from ..analytic import oscillation_frequency
+from ..free_body.model import oscillation_frequency
 from ..core.body import RigidBody
 
 #: Published numbers (module docstring), SI units.
@@ -81,7 +81,7 @@ def earth(**kwargs) -> RigidBody:
 def euler_period(moments, spin) -> float:
     """Period (s) of the free wobble about the figure axis: ``2 pi / (W sqrt((C - A)(C - B)
     / (A B)))`` [Landau & Lifshitz, *Mechanics*, section 36], the small-offset limit: 2 pi
-    over :func:`stability.analytic.oscillation_frequency` about axis 3.
+    over :func:`stability.free_body.model.oscillation_frequency` about axis 3.
 
     Parameters
     ----------

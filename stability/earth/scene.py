@@ -1,4 +1,4 @@
-"""The Earth's two scenes: the oblate Earth torqued by the Sun and the Moon, and its figure
+r"""The Earth's two scenes: the oblate Earth torqued by the Sun and the Moon, and its figure
 axis averaged over their orbits.
 
 ``lunisolar_earth``, angular momentum, attitude and time: the state is ``(m1, m2, m3, q0, q1,
@@ -6,17 +6,18 @@ q2, q3, t)``, the body angular momentum, the body-to-space unit quaternion (scal
 is the ecliptic frame of the epoch) and the time, which the prescribed orbits of the Sun and the
 Moon depend on. Parameters: ``(A, C)`` and the two orbits' elements
 (:func:`stability.earth.equinoxes.earth_parameters`). Equations, methods and references:
-:mod:`stability.earth.methods`. Invariants: ``|q| = 1`` and ``m3`` (the torque of either body on
-an oblate Earth has no component along its figure axis). Tracking: the figure axis
-``k = R(q) e3`` in space, its component ``k_a`` along space axis a and ``sqrt(k_b^2 + k_c^2)``
-across it (with a = 3: the cosine and sine of the obliquity).
+:mod:`stability.earth.methods`. Invariants: :math:`|q| = 1` and :math:`m_3` (the torque of
+either body on an oblate Earth has no component along its figure axis). Tracking: the figure
+axis :math:`k = R(q)\, e_3` in space, its component :math:`k_a` along space axis :math:`a` and
+:math:`\sqrt{k_b^2 + k_c^2}` across it (with :math:`a = 3`: the cosine and sine of the
+obliquity).
 
 ``precessing_axis``, the orbit-averaged Earth, its figure axis in space under the rings of the
 Sun and the Moon: the state is ``(k1, k2, k3, t)``, the unit figure axis in the ecliptic frame of
 the epoch and the time (the Moon's ring turns with its node). The spin is averaged into the
-angular momentum ``C W k`` and each orbit into its ring; what is left is the slow precession and
-the 18.6-year nutation (:mod:`stability.earth.methods`, the averaged model). Parameters:
-``(H / W, Sun's orbit, Moon's orbit)``. Invariant: ``|k| = 1``. Its kernels are named
+angular momentum :math:`C W k` and each orbit into its ring; what is left is the slow precession
+and the 18.6-year nutation (:mod:`stability.earth.methods`, the averaged model). Parameters:
+``(H / W, Sun's orbit, Moon's orbit)``. Invariant: :math:`|k| = 1`. Its kernels are named
 ``axis_*``.
 """
 
@@ -27,8 +28,8 @@ from numba import njit
 
 from ..util import conventions as cv
 from .methods import AVERAGED_METHODS, METHODS
-from ..scenes.free_body import component
-from ..scenes.spec import Scene
+from ..free_body.scene import component
+from ..engine.scene import Scene
 
 
 @njit(inline="always")
@@ -94,6 +95,8 @@ LUNISOLAR_EARTH = Scene(
     name="lunisolar_earth",
     title="oblate Earth torqued by the Sun and the Moon (angular momentum, attitude, time)",
     equations="m' = m x I^-1 m + sum_j 3 G M_j / r_j^3 s_j x I s_j, q' = q (0, I^-1 m) / 2, t' = 1",
+    latex=(r"\dot m = m \times I^{-1} m + \sum_j \frac{3 G M_j}{r_j^3}\, s_j \times I s_j, \qquad"
+           r" \dot q = \tfrac12\, q\, (0, I^{-1} m), \qquad \dot t = 1"),
     components=("m1", "m2", "m3", "q0", "q1", "q2", "q3", "t"),
     units=(cv.UNITS_ANGULAR_MOMENTUM,) * 3 + (cv.UNITS_DIMENSIONLESS,) * 4 + (cv.UNITS_TIME,),
     methods=METHODS,
@@ -142,6 +145,8 @@ PRECESSING_AXIS = Scene(
     name="precessing_axis",
     title="orbit-averaged figure axis of the Earth (precession and nutation)",
     equations="k' = sum_j 3 k_j / (2 (1 - e_j^2)^(3/2)) (H / W) (n_j . k) (k x n_j), t' = 1",
+    latex=(r"\dot k = \sum_j \frac{3 k_j}{2 (1 - e_j^2)^{3/2}}\, \frac{H}{W}\, (n_j \cdot k)\,"
+           r" (k \times n_j), \qquad \dot t = 1"),
     components=("k1", "k2", "k3", "t"),
     units=(cv.UNITS_DIMENSIONLESS,) * 3 + (cv.UNITS_TIME,),
     methods=AVERAGED_METHODS,

@@ -18,13 +18,13 @@ import numpy as np
 import xarray as xr
 
 from ..util import conventions as cv
-from ..attitude import quaternion_to_matrix
+from ..free_body.attitude import quaternion_to_matrix
 from .model import ARCSEC, CHANDLER_PERIOD_DAYS, DAY, euler_period, oblate_euler_period
-from ..ensemble import completed, run_ensemble
-from ..estimators import measured_frequency
-from ..integrate import integrate
-from ..scene_ensemble import default_chunk_members
-from ..schema import EARTH_WOBBLE
+from ..free_body.ensemble import completed, run_ensemble
+from ..analysis.estimates import measured_frequency
+from ..free_body.integrate import integrate
+from ..ensemble.chunks import default_chunk_members
+from ..ensemble.schema import EARTH_WOBBLE
 
 #: Dimension of the cone member's samples.
 CONE_TIME = "cone_time"
@@ -65,7 +65,7 @@ def measure_free_wobble(body, spin, offset, *, members=16, periods=3.0, steps_pe
     stored : dict, optional
         ``store``, ``resume``, ``scheduler``, ``chunk_members`` and ``threads`` of
         :func:`stability.run_ensemble` for the ensemble: it then runs chunk by chunk into
-        that store (chunked as :func:`~stability.scene_ensemble.default_chunk_members` says
+        that store (chunked as :func:`~stability.ensemble.chunks.default_chunk_members` says
         unless ``chunk_members`` does), resumable and on dask, bitwise the run in one piece.
 
     Returns

@@ -1,11 +1,12 @@
 """Running the member loop: groups of members, chunks in time, Ctrl-C, progress.
 
 :func:`propagate_groups` is the one Python driver of :mod:`stability.engine.loop` for every
-scene: it loads (or compiles, once per process and then from the disk cache) the loop of a
-scene and a method, lays the members out in blocks, and calls the loop in chunks of steps, so a
-progress bar can advance and Ctrl-C can end the run cleanly after the chunk in flight (the state
-then matches the steps done). It works in the kernels' frame; the scenes' own layers convert
-(``stability.driver`` for the free body, ``stability.attitude`` for the body with attitude).
+scene: it loads (or compiles, once per process and then from the disk cache) the loop of a scene
+and a method, lays the members out in blocks, and calls the loop in chunks of steps, so a progress
+bar can advance and Ctrl-C can end the run cleanly after the chunk in flight (the state then
+matches the steps done). It works in the kernels' frame; the scenes' own layers convert
+(``stability.free_body.propagate`` for the free body, ``stability.free_body.attitude`` for the body
+with attitude).
 
 Reproducibility: each member's arithmetic depends on nothing but its own state, its group's
 parameters and step, so results are bitwise the same for any number of threads, any chunking in
@@ -24,7 +25,7 @@ from dataclasses import dataclass, field
 import numba
 import numpy as np
 
-from ..scenes import scene as registered_scene
+from ..registry import scene as registered_scene
 from .cache import compiling, load_module
 from .loop import BLOCK, CHECK_EVERY, N_TRACK, T_FIRST_A, T_FIRST_B, T_LAST_A, T_LAST_B
 from .loop import T_MAX_AMP2, T_NEXT_LEVEL, T_PREV_A, T_PREV_AMP2, T_PREV_B, T_COUNT_A
@@ -48,7 +49,7 @@ def compiled_loop(scene, spec, compensated=True):
     Parameters
     ----------
     scene : Scene
-        A registered scene (``stability.scenes.SCENES``).
+        A registered scene (``stability.registry.SCENES``).
     spec : MethodSpec
         A method of the scene.
     compensated : bool, default True
@@ -258,7 +259,7 @@ def propagate_groups(
     Parameters
     ----------
     scene : str or Scene
-        A name from ``stability.scenes.SCENES`` (or a Scene).
+        A name from ``stability.registry.SCENES`` (or a Scene).
     method : str or MethodSpec
         A method of the scene.
     x0 : array_like, shape (N, n)
@@ -339,7 +340,7 @@ class MemberArrays:
     """Everything the member loop reads and writes, on the host, in the kernels' frame.
 
     Made by :func:`member_arrays` (which checks the shapes); the loop, on the CPU or on a GPU
-    (:mod:`stability.gpu`), updates ``x``, ``comp``, ``status``, ``fail_step``,
+    (:mod:`stability.engine.gpu`), updates ``x``, ``comp``, ``status``, ``fail_step``,
     ``iterations``, ``track`` and ``passage`` in place, and :meth:`propagation` turns them into
     the result. Members are rows: ``x`` (N, n), ``track`` (N, N_TRACK) (no rows without
     tracking), ``passage`` (N, L); per group: ``params`` (G, n_params), ``sizes``, ``hs``,

@@ -14,16 +14,21 @@ The family's modules, each importing only downward:
 - :mod:`.figures`: its figure, drawn from the Dataset.
 
 It builds on the free body, whose flip it measures and whose scenes it shares the state with
-(:mod:`stability.scenes.free_body`, :mod:`stability.scenes.free_body_attitude`, the exact
-solution :mod:`stability.exact`, the linear theory :mod:`stability.analytic`, the attitude
-methods :mod:`stability.attitude`, :mod:`stability.ensemble`'s starts), and on the shared
-layers: :mod:`stability.core`, :mod:`stability.util`, :mod:`stability.integrators` (MethodSpec,
-rotations, the registry of the package's methods), :mod:`stability.scenes` (the scene contract),
-the scene-generic ensembles (:mod:`stability.scene_ensemble`), the estimators
-(:mod:`stability.estimators`), :mod:`stability.output`, the Dataset register
-(:mod:`stability.schema`), :mod:`stability.study` (the study framework) and
+(:mod:`stability.free_body.scene`, :mod:`stability.free_body.scene_attitude`, the exact solution
+:mod:`stability.free_body.exact`, the linear theory :mod:`stability.free_body.model`, the attitude
+methods :mod:`stability.free_body.attitude`, :mod:`stability.free_body.ensemble`'s starts), and on
+the shared layers: :mod:`stability.core`, :mod:`stability.util`, :mod:`stability.integrators`
+(MethodSpec, rotations, the registry of the package's methods), :mod:`stability.engine.scene` (the
+scene contract), the scene-generic ensembles (:mod:`stability.ensemble.chunks`), the estimators
+(:mod:`stability.analysis`), :mod:`stability.output`, the Dataset register
+(:mod:`stability.ensemble.schema`), :mod:`stability.study` (the study framework) and
 :mod:`stability.plotting`.
 
-This package's ``__init__`` imports nothing, so that the scene registry (:mod:`stability.scenes`)
+This package's ``__init__`` imports nothing, so that the scene registry (:mod:`stability.registry`)
 can import :mod:`.scene` without the rest.
 """
+
+#: What the family registers (:mod:`stability.registry`): its scenes and its study kinds, each as
+#: ``"module:name"`` inside this package, imported when first asked for.
+SCENES = ("scene:ENGINE_BODY",)
+STUDIES = {"engine_artefacts": "studies.engine_artefacts:STUDY"}

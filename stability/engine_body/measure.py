@@ -4,8 +4,8 @@ An ensemble tossed about the middle axis is run with each engine rule (scene ``e
 :mod:`stability.engine_body.methods`) and, beside them, with the package's integrators
 carrying the attitude (scene ``free_body_attitude``), at the time steps engines use. Per rule and
 step (:func:`measure_rule`): the fraction of members that flip, the flip interval and the growth
-rate against the exact ones (:func:`stability.estimators.flip_estimate`,
-:func:`stability.estimators.omega_squared_estimate`), the drift of the energy, of |L| and of the
+rate against the exact ones (:func:`stability.analysis.estimates.flip_estimate`,
+:func:`stability.analysis.estimates.omega_squared_estimate`), the drift of the energy, of |L| and of the
 direction of the spatial angular momentum, and the measured cost per step;
 :func:`step_for_accuracy` finds the step each rule needs for a flip interval within a tolerance
 (:func:`steps_for_accuracy`: for several quantities in one search).
@@ -19,18 +19,18 @@ import math
 import numpy as np
 import xarray as xr
 
-from ..analytic import growth_rate, omega_squared
-from ..attitude import IDENTITY, spatial_angular_momentum
+from ..free_body.model import growth_rate, omega_squared
+from ..free_body.attitude import IDENTITY, spatial_angular_momentum
 from ..core.body import RigidBody
-from ..estimators import (
-    exact_flip_intervals, flip_estimate, omega_squared_estimate, tracked_members,
-)
-from ..exact import exact_omega
+from ..analysis.estimates import flip_estimate, omega_squared_estimate
+from ..analysis.members import tracked_members
+from ..free_body.measure import exact_flip_intervals
+from ..free_body.exact import exact_omega
 from ..integrators import METHODS
 from ..output.dataset import storable_attrs
-from ..scene_ensemble import GroupedRun, propagate_stored, sub_store
-from ..scenes import SCENES
-from ..schema import ENGINE_ARTEFACTS
+from ..ensemble.chunks import GroupedRun, propagate_stored, sub_store
+from ..registry import SCENES
+from ..ensemble.schema import ENGINE_ARTEFACTS
 from ..util import conventions as cv
 from .methods import ENGINE_RULES, body_state, world_state
 
@@ -88,7 +88,7 @@ def run_rule(rule, moments, w0, h, t_end, *, save_every=0, progress=None, stored
     progress : bool or None, optional
         Progress bar; ``None`` shows one when the run is expected to take long.
     stored : dict, optional
-        Keyword arguments of :func:`stability.scene_ensemble.propagate_stored` (``store``,
+        Keyword arguments of :func:`stability.ensemble.chunks.propagate_stored` (``store``,
         ``resume``, ``scheduler`` ...): the run goes chunk by chunk into that store, resumable
         and on dask; by default in one piece here. The result is the same, bitwise.
 
@@ -294,7 +294,7 @@ def measure_artefacts(rules, moments, w0, steps, t_end, *, tolerance=0.01, searc
         The engine's progress bars (shown for runs expected to take more than a few seconds);
         ``False`` shows none.
     stored : dict, optional
-        Keyword arguments of :func:`stability.scene_ensemble.propagate_stored`: the run of
+        Keyword arguments of :func:`stability.ensemble.chunks.propagate_stored`: the run of
         every rule at every step, and each rule's trace, goes into a folder of its own of that
         store, resumable and on dask (the step searches, many short runs of a few members, run
         here in one piece); by default all in one piece here. The result is the same, bitwise.

@@ -1,22 +1,23 @@
-"""The free rigid body stepped as physics engines step it: space angular velocity and attitude.
+r"""The free rigid body stepped as physics engines step it: space angular velocity and attitude.
 
 The state is ``(omega_w1, omega_w2, omega_w3, q0, q1, q2, q3)``: the angular velocity in the
-space frame and the body-to-space quaternion q (scalar first), in the canonical body frame
-(``I1 <= I2 <= I3``); parameters :func:`~stability.integrators.spec.body_params`. The methods
-are the engines' update rules (:mod:`stability.engine_body.methods`), not the package's
-integrators. The loop tracks the body angular velocity ``w = R(q)^T omega_w``. Invariants: the
-energy ``w . I w / 2``, ``|I w| = |L|`` and ``|q| = 1``. Conversions from and to the body-frame
-``(m, q)``: :func:`~stability.engine_body.methods.world_state` and ``body_state``.
+space frame and the body-to-space quaternion :math:`q` (scalar first), in the canonical body
+frame (:math:`I_1 \le I_2 \le I_3`); parameters :func:`~stability.integrators.spec.body_params`.
+The methods are the engines' update rules (:mod:`stability.engine_body.methods`), not the
+package's integrators. The loop tracks the body angular velocity :math:`w = R(q)^T \omega_w`.
+Invariants: the energy :math:`w \cdot I w / 2`, :math:`|I w| = |L|` and :math:`|q| = 1`.
+Conversions from and to the body-frame ``(m, q)``:
+:func:`~stability.engine_body.methods.world_state` and ``body_state``.
 """
 
 import numpy as np
 from numba import njit
 
 from ..util import conventions as cv
-from ..scenes.free_body import component
-from ..scenes.free_body_attitude import example as example_mq
-from ..scenes.free_body_attitude import quaternion_norm
-from ..scenes.spec import Scene
+from ..free_body.scene import component
+from ..free_body.scene_attitude import example as example_mq
+from ..free_body.scene_attitude import quaternion_norm
+from ..engine.scene import Scene
 from .methods import ENGINE_RULES, rotate, rotate3, world_state
 
 
@@ -61,6 +62,8 @@ ENGINE_BODY = Scene(
     name="engine_body",
     title="free rigid body stepped as physics engines step it",
     equations="I w' = I w x w with w = R(q)^T omega_w, q' = (0, omega_w) q / 2",
+    latex=(r"I \dot w = I w \times w \text{ with } w = R(q)^T \omega_w, \qquad"
+           r" \dot q = \tfrac12\, (0, \omega_w)\, q"),
     components=("omega_w1", "omega_w2", "omega_w3", "q0", "q1", "q2", "q3"),
     units=(cv.UNITS_ANGULAR_VELOCITY,) * 3 + (cv.UNITS_DIMENSIONLESS,) * 4,
     methods=ENGINE_RULES,

@@ -18,12 +18,17 @@ The family's modules, each importing only downward:
 It builds on the shared layers: :mod:`stability.core` (the rigid body, elliptic functions),
 :mod:`stability.util` (conventions, input checks, threads), :mod:`stability.integrators` (the
 composition coefficients, rotations, the Euler right-hand side, MethodSpec),
-:mod:`stability.scenes` (the scene contract), the scene-generic ensembles
-(:mod:`stability.scene_ensemble`), the estimators and periodic-signal measures
-(:mod:`stability.estimators`, :mod:`stability.periodic`), the Dataset register
-(:mod:`stability.schema`), :mod:`stability.study` (the study framework) and
+:mod:`stability.engine.scene` (the scene contract), the scene-generic ensembles
+(:mod:`stability.ensemble.chunks`), the estimators and periodic-signal measures
+(:mod:`stability.analysis`, :mod:`stability.analysis.periodic`), the Dataset register
+(:mod:`stability.ensemble.schema`), :mod:`stability.study` (the study framework) and
 :mod:`stability.plotting`.
 
 This package's ``__init__`` imports nothing, so that the scene registry
-(:mod:`stability.scenes`) can import :mod:`.scene` without the rest.
+(:mod:`stability.registry`) can import :mod:`.scene` without the rest.
 """
+
+#: What the family registers (:mod:`stability.registry`): its scenes and its study kinds, each as
+#: ``"module:name"`` inside this package, imported when first asked for.
+SCENES = ("scene:HEAVY_TOP",)
+STUDIES = {"gyroscope": "studies.gyroscope:STUDY", "sleeping_top": "studies.sleeping_top:STUDY"}

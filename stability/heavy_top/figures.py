@@ -17,6 +17,7 @@ from ..util import conventions as cv
 from ..plotting.style import (
     AXIS_COLORS, EXACT_COLOR, label, new_figure, place_legend, plain_log_ticks, styled,
 )
+from .model import HeavyTop, sleeping_growth_rate
 
 
 @styled
@@ -30,7 +31,6 @@ def sleeping_top_figure(ds, claim=None):
     claim : float, optional
         Relative error the study claims (a horizontal line in the lower panel).
     """
-    from .model import HeavyTop, sleeping_growth_rate
 
     fig = new_figure(7.0, 6.0)
     top_ax, err_ax = fig.subplots(2, 1, sharex=True, height_ratios=(2, 1))

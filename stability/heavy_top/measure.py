@@ -8,7 +8,7 @@ but for a tilt ``tilt`` at random azimuths, spinning at w3 about the symmetry ax
 transverse angular velocity. All ensembles run in one call of the member loop (scene
 ``heavy_top``, groups with their own top, step and horizon), tracking ``sin(tilt)`` and its first
 passages of a ladder of levels. The growth rate of each member is the slope of ``ln(level)``
-against passage time over the linear phase (:mod:`stability.estimators`), from ``low_factor``
+against passage time over the linear phase (:mod:`stability.analysis`), from ``low_factor``
 times the start (the decaying mode has died away) up to ``high_fraction`` in ``sin(tilt)`` (the
 nonlinear terms are ~high_fraction^2); it is set beside the analytic
 ``sqrt(4 A M g l - C^2 w3^2) / (2 A)`` (:mod:`stability.heavy_top.model`). Above the critical
@@ -27,7 +27,7 @@ of symmetric tops (scene ``heavy_top``) is released at theta0 with spin w3 and a
 ``phi'(0) = release x M g l / (C w3)`` for each ``release`` (0: at rest, the cusped path of the
 figure axis; < 0: loops; between 0 and 1: waves). Each member runs ``periods`` nutation periods,
 its state sampled ``samples_per_period`` times a period, and three numbers are read from the
-samples (:mod:`stability.periodic`):
+samples (:mod:`stability.analysis.periodic`):
 
 - the nutation period, from the upward crossings of cos(theta) = g3 through the middle of its
   range (cubic Hermite interpolation with ``g3' = g1 w2 - g2 w1``), as a frequency 2 pi / T;
@@ -53,11 +53,11 @@ import time
 import numpy as np
 import xarray as xr
 
-from .. import estimators as est
-from ..periodic import extrema, level_crossings, mean_period, weighted_mean
-from ..scene_ensemble import GroupedRun, propagate_stored
-from ..scenes import SCENES
-from ..schema import GYROSCOPE, SLEEPING_TOP
+from ..analysis.estimates import measured_growth_rate
+from ..analysis.periodic import extrema, level_crossings, mean_period, weighted_mean
+from ..ensemble.chunks import GroupedRun, propagate_stored
+from ..registry import SCENES
+from ..ensemble.schema import GYROSCOPE, SLEEPING_TOP
 from ..util import conventions as cv
 from . import exact as exact_top
 from .model import (
@@ -114,14 +114,14 @@ def measure_sleeping_tops(tops, spins, *, members=64, tilt=1e-9, method="lp4",
     progress : bool, optional
         Progress bar (default: for runs longer than a few seconds).
     stored : dict, optional
-        Keyword arguments of :func:`stability.scene_ensemble.propagate_stored` (``store``,
+        Keyword arguments of :func:`stability.ensemble.chunks.propagate_stored` (``store``,
         ``resume``, ``scheduler`` ...): the tops run chunk by chunk into a store, resumable and
         on dask; by default in one piece here. The result is the same, bitwise.
 
     Returns
     -------
     xarray.Dataset
-        Dims (length, spin); see :data:`stability.schema.SLEEPING_TOP`.
+        Dims (length, spin); see :data:`stability.ensemble.schema.SLEEPING_TOP`.
     """
     tops = list(tops)
     spins = np.asarray(spins, dtype=float)
@@ -162,7 +162,7 @@ def measure_sleeping_tops(tops, spins, *, members=64, tilt=1e-9, method="lp4",
         rows = slice(g * members, (g + 1) * members)
         extras = {key: value[rows] for key, value in run.extras.items()}
         mem = tilt_members(extras, x0[rows], run.status[rows], levels)
-        fit = est.measured_growth_rate(mem, low_factor=low_factor, high_fraction=high_fraction)
+        fit = measured_growth_rate(mem, low_factor=low_factor, high_fraction=high_fraction)
         n = int(fit["n_fitted"])
         out["n_fitted"][g] = n
         out["members_failed"][g] = int(np.sum(run.status[rows] != cv.STATUS_OK))
@@ -266,7 +266,7 @@ def measure_gyroscopes(top, spins, tilts, releases=(-1.0, 0.0, 0.5), *, method="
     progress : bool, optional
         Progress bar.
     stored : dict, optional
-        Keyword arguments of :func:`stability.scene_ensemble.propagate_stored` (``store``,
+        Keyword arguments of :func:`stability.ensemble.chunks.propagate_stored` (``store``,
         ``resume``, ``scheduler`` ...): the tops run chunk by chunk into a store, resumable and
         on dask; by default in one piece here. The result is the same, bitwise.
 
@@ -274,7 +274,7 @@ def measure_gyroscopes(top, spins, tilts, releases=(-1.0, 0.0, 0.5), *, method="
     -------
     xarray.Dataset
         Dims (tilt, spin, release) and (release, path_time); see
-        :data:`stability.schema.GYROSCOPE`. The tilt coordinate is in degrees.
+        :data:`stability.ensemble.schema.GYROSCOPE`. The tilt coordinate is in degrees.
     """
     spins = np.asarray(spins, dtype=float)
     tilts = np.asarray(tilts, dtype=float)

@@ -6,14 +6,14 @@ and the gravity g. The kernels (scene ``heavy_top``) take its moments about the 
 ``I1 = I1cm + M l^2``, ``I2 = I2cm + M l^2``, ``I3 = I3cm`` (parallel-axis theorem), and
 ``c = (0, 0, M g l)``.
 
-Linear theory of the symmetric top (``I1 = I2 = A`` about the pivot, ``I3 = C``) spun at w3
-about its upright symmetry axis (the *sleeping* top): the complex tilt ``xi = theta e^{i phi}``
-obeys ``A xi'' - i C w3 xi' - M g l xi = 0`` [Goldstein, Poole & Safko, *Classical Mechanics*,
-3rd ed., section 5.7; Klein & Sommerfeld, *Theorie des Kreisels*], with roots
-``s = (i C w3 +- sqrt(4 A M g l - C^2 w3^2)) / (2 A)``. The top is stable when
-``C^2 w3^2 > 4 A M g l``, that is above the critical spin ``w_c = 2 sqrt(A M g l) / C``;
-below it a small tilt grows at ``lambda = sqrt(4 A M g l - C^2 w3^2) / (2 A)``
-(:func:`sleeping_growth_rate`); above it the tilt nutates at ``|Im s|`` (:func:`sleeping_frequencies`).
+Linear theory of the symmetric top (``I1 = I2 = A`` about the pivot, ``I3 = C``) spun at w3 about
+its upright symmetry axis (the *sleeping* top): the complex tilt ``xi = theta e^{i phi}`` obeys ``A
+xi'' - i C w3 xi' - M g l xi = 0`` [Goldstein, Poole & Safko, *Classical Mechanics*, 3rd ed.,
+section 5.7; Klein & Sommerfeld, *Theorie des Kreisels*], with roots ``s = (i C w3 +- sqrt(4 A M g
+l - C^2 w3^2)) / (2 A)``. The top is stable when ``C^2 w3^2 > 4 A M g l``, that is above the
+critical spin ``w_c = 2 sqrt(A M g l) / C``; below it a small tilt grows at ``lambda = sqrt(4 A M g
+l - C^2 w3^2) / (2 A)`` (:func:`sleeping_growth_rate`); above it the tilt nutates at ``|Im s|``
+(:func:`sleeping_frequencies`).
 """
 
 from __future__ import annotations
@@ -25,6 +25,7 @@ import numpy as np
 
 from ..core.body import RigidBody
 from ..util.checks import real_number
+from ..analysis.members import tracked_members
 
 #: Standard gravity (m s-2), the default g.
 STANDARD_GRAVITY = 9.80665
@@ -339,7 +340,7 @@ def tilted_starts(spin, tilt, members, *, top: HeavyTop, seed=0, tilt_rate=0.0,
 
 
 def tilt_members(extras, x0, status, levels):
-    """The estimators' :class:`~stability.estimators.Members` of tracked top runs.
+    """The estimators' :class:`~stability.analysis.members.Members` of tracked top runs.
 
     The tracked amplitude is ``sin(tilt)`` of body axis 3 (scene ``heavy_top``), so the
     estimators fit its growth exactly as they fit the perpendicular angular velocity of a
@@ -350,7 +351,7 @@ def tilt_members(extras, x0, status, levels):
     ----------
     extras : dict
         ``Propagation.extras`` of these runs' rows, as
-        :func:`stability.estimators.tracked_members` takes them (crossings,
+        :func:`stability.analysis.members.tracked_members` takes them (crossings,
         ``max_perp_amplitude`` (N,), ``passage_time`` (N, n_levels)).
     x0 : ndarray, shape (N, 6)
         Starts ``(m1, m2, m3, g1, g2, g3)`` (:func:`tilted_starts`).
@@ -363,6 +364,5 @@ def tilt_members(extras, x0, status, levels):
     -------
     Members
     """
-    from ..estimators import tracked_members
 
     return tracked_members(extras, x0[:, 3:6], 3, 1.0, levels, status=status)

@@ -1,20 +1,22 @@
-"""The heavy top on a fixed pivot in uniform gravity: body angular momentum and the vertical.
+r"""The heavy top on a fixed pivot in uniform gravity: body angular momentum and the vertical.
 
-The state is ``(m1, m2, m3, g1, g2, g3)``: m the angular momentum about the pivot and g the
-upward vertical, both in the principal frame of the moments about the pivot; six numbers per
-member and no attitude (the tilt of any body axis is read from g). Parameters per top:
-``(I1, I2, I3, c1, c2, c3)``, the moments about the pivot and ``c = M g l chi`` with chi the
-unit vector from the pivot to the centre of mass (:class:`stability.heavy_top.model.HeavyTop`
-makes them).
+The state is ``(m1, m2, m3, g1, g2, g3)``: :math:`m` the angular momentum about the pivot and
+:math:`g` the upward vertical, both in the principal frame of the moments about the pivot; six
+numbers per member and no attitude (the tilt of any body axis is read from :math:`g`).
+Parameters per top: ``(I1, I2, I3, c1, c2, c3)``, the moments about the pivot and
+:math:`c = M g\, l\, \chi` with :math:`\chi` the unit vector from the pivot to the centre of mass
+(:class:`stability.heavy_top.model.HeavyTop` makes them).
 Equations, methods and references: :mod:`stability.heavy_top.methods`. Invariants: the
-energy ``m . I^-1 m / 2 + c . g`` and the Casimirs ``|g|`` and ``g . m`` (the angular momentum
-about the vertical); exact solution for a symmetric top (:func:`exact`, from
-:func:`stability.heavy_top.exact.body_states`): the example's second top is one.
+energy :math:`m \cdot I^{-1} m / 2 + c \cdot g` and the Casimirs :math:`|g|` and
+:math:`g \cdot m` (the angular momentum about the vertical); exact solution for a symmetric top
+(:func:`exact`, from :func:`stability.heavy_top.exact.body_states`): the example's second top is
+one.
 
-Tracking: the spin-axis component is ``g_a`` (the cosine of the tilt of body axis a from the
-vertical: it changes sign when that axis passes the horizontal) and the amplitude across it is
-``sqrt(g_b^2 + g_c^2)``, the sine of the tilt, returned as ``b`` with ``c = 0``: the components
-g_b, g_c themselves turn with the spin, and would count the spin's turns as oscillations.
+Tracking: the spin-axis component is :math:`g_a` (the cosine of the tilt of body axis :math:`a`
+from the vertical: it changes sign when that axis passes the horizontal) and the amplitude
+across it is :math:`\sqrt{g_b^2 + g_c^2}`, the sine of the tilt, returned as ``b`` with
+``c = 0``: the components :math:`g_b, g_c` themselves turn with the spin, and would count the
+spin's turns as oscillations.
 """
 
 import math
@@ -25,8 +27,8 @@ from numba import njit
 from ..util import conventions as cv
 from .exact import body_states
 from .methods import METHODS, N_TOP
-from ..scenes.free_body import component
-from ..scenes.spec import Scene
+from ..free_body.scene import component
+from ..engine.scene import Scene
 
 
 @njit(inline="always")
@@ -93,6 +95,8 @@ HEAVY_TOP = Scene(
     name="heavy_top",
     title="heavy top on a fixed pivot (angular momentum and vertical)",
     equations="m' = m x I^-1 m + g x c, g' = g x I^-1 m (c = M g l chi)",
+    latex=(r"\dot m = m \times I^{-1} m + g \times c, \qquad \dot g = g \times I^{-1} m"
+           r" \qquad (c = M g\, l\, \chi)"),
     components=("m1", "m2", "m3", "g1", "g2", "g3"),
     units=(cv.UNITS_ANGULAR_MOMENTUM,) * 3 + (cv.UNITS_DIMENSIONLESS,) * 3,
     methods=METHODS,

@@ -2,7 +2,7 @@
 
 Each step maps m to the exact solution at time h by Jacobi elliptic functions (Landau &
 Lifshitz, *Mechanics*, section 37; the formulas, regimes and accuracy are in
-:mod:`stability.exact`), so its only error is rounding: |L| and the energy are kept to
+:mod:`stability.free_body.exact`), so its only error is rounding: |L| and the energy are kept to
 round-off, with no truncation error at any h. It is the exact free flow that Celledoni, Fasso,
 Safstrom & Zanna (SIAM J. Sci. Comput. 30, 2084 (2008)) use inside splittings. The increment
 is formed without cancellation, so with the driver's compensated sum 2000 steps stay within
@@ -19,7 +19,7 @@ import math
 
 from numba import njit
 
-from ..exact import flow_increment
+from ..free_body.exact import flow_increment
 from .spec import P_I1, P_I2, P_I3, MethodSpec, body_params
 
 
@@ -27,7 +27,7 @@ from .spec import P_I1, P_I2, P_I3, MethodSpec, body_params
 def exact_step(m1, m2, m3, h, p, s):
     """Exact flow over time h from m (canonical frame); returns the increment and 0 iterations.
 
-    The increment is formed without cancellation (:func:`stability.exact.increment`), to a
+    The increment is formed without cancellation (:func:`stability.free_body.exact.increment`), to a
     relative error of a few ulp, so the driver's compensated sum keeps the state as accurate
     as an exact evaluation from t = 0. Never raises and never allocates.
     """

@@ -111,7 +111,8 @@ class MethodSpec:
         Stages per step (kernel calls with s = 0 .. stages - 1).
     attitude_step : numba dispatcher or None
         The kernel that advances (m, q) together (scene ``free_body_attitude``, see
-        ``stability.attitude``); the one fact that says whether the method carries the attitude::
+        ``stability.free_body.attitude``); the one fact that says whether the method carries the
+        attitude::
 
             attitude_step(m1, m2, m3, q0, q1, q2, q3, h, p, s)
                 -> (d1, d2, d3, e0, e1, e2, e3, iterations)

@@ -1,8 +1,8 @@
 """What a Dataset written by the package contains: variables, attributes, provenance, history.
 
-Every variable's dims, units and long name are declared in :mod:`stability.schema`, the
-register of every Dataset kind (the documentation's Dataset reference is generated from it);
-this module assembles the free body's ensemble Dataset (:data:`stability.schema.ENSEMBLE`) and
+Every variable's dims, units and long name are declared in :mod:`stability.ensemble.schema`, the
+register of every Dataset kind (the documentation's Dataset reference is generated from it); this
+module assembles the free body's ensemble Dataset (:data:`stability.ensemble.schema.ENSEMBLE`) and
 the attributes every Dataset carries.
 
 Ensemble Dataset (``run_ensemble``)
@@ -49,7 +49,7 @@ import xarray as xr
 
 from ..util import conventions as cv
 from ..core.body import RigidBody
-from ..schema import ENSEMBLE, LEVEL
+from ..ensemble.schema import ENSEMBLE, LEVEL
 from ..version import __version__
 
 #: Where the physics comes from; method references are added per Dataset.
@@ -70,7 +70,7 @@ SUMMARIES = (
 def variable_attrs(name: str) -> dict:
     """``long_name``, ``units`` (and CF standard name, comments, flags) of the ensemble's
     variable or coordinate ``name``, as the register declares them
-    (:data:`stability.schema.ENSEMBLE`)."""
+    (:data:`stability.ensemble.schema.ENSEMBLE`)."""
     return ENSEMBLE.attrs(name)
 
 

@@ -25,7 +25,7 @@ import xarray as xr
 from ..util import conventions as cv
 from .dataset import check_storable
 from .publish import disk_error
-from ..schema import file_order, held_order
+from ..ensemble.schema import file_order, held_order
 
 #: zlib compression level (1 fastest ... 9 smallest); 4 is near the knee of size against time.
 COMPLEVEL = 4

@@ -44,7 +44,7 @@ from xarray.indexes import RangeIndex
 from ..util import conventions as cv
 from .dataset import variable_attrs
 from .io import READ, save
-from ..schema import held_order
+from ..ensemble.schema import held_order
 from .lock import FolderLock
 from .publish import read_plain_file, write_text
 

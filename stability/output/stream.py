@@ -6,10 +6,11 @@ of the process it is in. :func:`stream_chunks` runs the chunks of a
 :class:`~stability.output.store.ChunkStore` that are not done, here or as dask tasks, with progress,
 ``progress.json`` and the Ctrl-C message. The jobs are defined above this module, which imports
 none of them: every scene's grouped runs, raw or measured, the free body's ensembles among them
-(:class:`~stability.scene_ensemble.ChunkJob`), and the stability map's batches.
+(:class:`~stability.ensemble.chunks.ChunkJob`), and the stability map's batches.
 
-``run_ensemble(..., store=DIR)`` streams this way (:func:`stability.ensemble.run_streamed`):
-the members are cut into chunks of ``chunk_members``; each chunk is run exactly as
+``run_ensemble(..., store=DIR)`` streams this way
+(:func:`stability.free_body.ensemble.run_streamed`): the members are cut into chunks of
+``chunk_members``; each chunk is run exactly as
 :func:`stability.run_ensemble` runs its members (its random starts are drawn for that chunk
 alone, from the same seed streams) and written as soon as it is finished into a
 :class:`~stability.output.store.ChunkStore`. Memory is one chunk's, so
@@ -59,7 +60,7 @@ def stream_chunks(job, chunks: ChunkStore, *, scheduler=None, threads=None, prog
     chunks : ChunkStore
         The store; each finished chunk is written into it at once.
     scheduler, threads, progress, compress
-        As in :func:`stability.ensemble.run_streamed`.
+        As in :func:`stability.free_body.ensemble.run_streamed`.
 
     Raises
     ------

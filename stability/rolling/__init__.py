@@ -14,17 +14,22 @@ The family's modules, each importing only downward:
 - :mod:`.figures`: its figures, drawn from the Dataset.
 
 It builds on the shared layers: :mod:`stability.util` (conventions, threads),
-:mod:`stability.integrators` (MethodSpec), :mod:`stability.scenes` (the scene contract),
+:mod:`stability.integrators` (MethodSpec), :mod:`stability.engine.scene` (the scene contract),
 :mod:`stability.engine` (the member loop), the scene-generic ensembles
-(:mod:`stability.scene_ensemble`), the Dataset register (:mod:`stability.schema`),
+(:mod:`stability.ensemble.chunks`), the Dataset register (:mod:`stability.ensemble.schema`),
 :mod:`stability.study` (the study framework) and :mod:`stability.plotting`.
 
 ``stability.rolling`` was the module now :mod:`.model`: its names still come from here, for one
 release, with a ``FutureWarning`` (:func:`stability.moved.old_names`). Otherwise this package's
-``__init__`` imports nothing, so that the scene registry (:mod:`stability.scenes`) can import
+``__init__`` imports nothing, so that the scene registry (:mod:`stability.registry`) can import
 :mod:`.scene` without the rest.
 """
 
 from ..moved import old_names
 
 __getattr__ = old_names(__name__)
+
+#: What the family registers (:mod:`stability.registry`): its scenes and its study kinds, each as
+#: ``"module:name"`` inside this package, imported when first asked for.
+SCENES = ("scene:ROLLING_BODY",)
+STUDIES = {"rolling": "studies.rolling:STUDY"}

@@ -32,9 +32,9 @@ from .methods import (
     HEAT, MODE, P_K, P_MU_K, P_MU_S, P_R, P_SECTIONS, P_TRACK, SWITCHES, T_ROLL, V, W, X, X_ROLL,
     track_row,
 )
-from ..scene_ensemble import GroupedRun, propagate_stored
-from ..scenes import SCENES
-from ..schema import ROLLING
+from ..ensemble.chunks import GroupedRun, propagate_stored
+from ..registry import SCENES
+from ..ensemble.schema import ROLLING
 
 #: I / (M R^2) of the shapes by name.
 SHAPES = {"sphere": 0.4, "cylinder": 0.5, "spherical_shell": 2.0 / 3.0, "hoop": 1.0}
@@ -236,7 +236,7 @@ def measure_incline(shapes, angles, mu_s, *, members=4, mu_ratio=0.8, mu_scatter
     progress : bool or None, optional
         Progress bar; ``None`` shows one when the run is expected to take more than 2 s.
     stored : dict, optional
-        Keyword arguments of :func:`stability.scene_ensemble.propagate_stored` (``store``,
+        Keyword arguments of :func:`stability.ensemble.chunks.propagate_stored` (``store``,
         ``resume``, ``scheduler`` ...): the runs go chunk by chunk into a store, resumable and
         on dask; by default in one piece here. The result is the same, bitwise.
 
@@ -354,7 +354,7 @@ def measure_launches(*, radius, mass, k, mu_k, speeds, spin_ratios, members, mu_
     progress : bool or None, optional
         Progress bar; ``None`` shows one when the run is expected to take more than 2 s.
     stored : dict, optional
-        Keyword arguments of :func:`stability.scene_ensemble.propagate_stored` (``store``,
+        Keyword arguments of :func:`stability.ensemble.chunks.propagate_stored` (``store``,
         ``resume``, ``scheduler`` ...): the runs go chunk by chunk into a store, resumable and
         on dask; by default in one piece here. The result is the same, bitwise.
 

@@ -16,7 +16,7 @@ from ..util import conventions as cv
 from .methods import (
     HEAT, MAX_SECTIONS, METHODS, P_G, P_K, P_MASS, P_R, P_SECTIONS, P_TRACK, V, W, X, track_row,
 )
-from ..scenes.spec import Scene
+from ..engine.scene import Scene
 
 
 @njit(inline="always")
@@ -72,6 +72,9 @@ ROLLING_BODY = Scene(
     title="round body rolling or slipping along straight sections (Coulomb friction)",
     equations="rolling: v' = g sin(theta) / (1 + k); slipping: v' = g (sin(theta) - s mu_k "
               "cos(theta)), w' = s mu_k g cos(theta) / (k R)",
+    latex=(r"\text{rolling: } \dot v = \frac{g \sin\theta}{1 + k}; \qquad"
+           r" \text{slipping: } \dot v = g\, (\sin\theta - s\, \mu_k \cos\theta), \quad"
+           r" \dot w = \frac{s\, \mu_k\, g \cos\theta}{k R}"),
     components=("x", "v", "w", "t", "mode", "switches", "t_roll", "x_roll", "heat"),
     units=("m", "m s-1", cv.UNITS_ANGULAR_VELOCITY, cv.UNITS_TIME, cv.UNITS_DIMENSIONLESS,
            cv.UNITS_DIMENSIONLESS, cv.UNITS_TIME, "m", cv.UNITS_ENERGY),

@@ -15,17 +15,22 @@ The family's modules, each importing only downward:
 
 It builds on the shared layers: :mod:`stability.core` (the rigid body and its presets),
 :mod:`stability.util` (conventions, input checks, threads), :mod:`stability.integrators`
-(MethodSpec), :mod:`stability.scenes` (the scene contract), the scene-generic ensembles
-(:mod:`stability.scene_ensemble`), the estimators (:mod:`stability.estimators`), the Dataset
-register (:mod:`stability.schema`), :mod:`stability.study` (the study framework) and
+(MethodSpec), :mod:`stability.engine.scene` (the scene contract), the scene-generic ensembles
+(:mod:`stability.ensemble.chunks`), the estimators (:mod:`stability.analysis`), the Dataset
+register (:mod:`stability.ensemble.schema`), :mod:`stability.study` (the study framework) and
 :mod:`stability.plotting`.
 
 ``stability.struck`` was the module now :mod:`.model`: its names still come from here, for one
 release, with a ``FutureWarning`` (:func:`stability.moved.old_names`). Otherwise this package's
-``__init__`` imports nothing, so that the scene registry (:mod:`stability.scenes`) can import
+``__init__`` imports nothing, so that the scene registry (:mod:`stability.registry`) can import
 :mod:`.scene` without the rest.
 """
 
 from ..moved import old_names
 
 __getattr__ = old_names(__name__)
+
+#: What the family registers (:mod:`stability.registry`): its scenes and its study kinds, each as
+#: ``"module:name"`` inside this package, imported when first asked for.
+SCENES = ("scene:STRUCK_BODY",)
+STUDIES = {"bat": "studies.bat:STUDY"}

@@ -27,11 +27,11 @@ import numpy as np
 import xarray as xr
 
 from ..core.body import PRESETS, Part, RigidBody
-from ..estimators import zero_crossings
+from ..analysis.members import zero_crossings
 from .methods import J_ACROSS, J_ALONG, PHI, VX, VY, W, X, strike_params
-from ..scene_ensemble import GroupedRun, propagate_stored
-from ..scenes import SCENES
-from ..schema import BAT
+from ..ensemble.chunks import GroupedRun, propagate_stored
+from ..registry import SCENES
+from ..ensemble.schema import BAT
 from ..util.checks import positive_float, real_number
 
 INCH = 0.0254
@@ -278,7 +278,7 @@ def measure_strikes(body: StruckBody, pivots, strikes, impulse=12.0, contact_tim
     progress : bool or None, optional
         Progress bar; ``None`` shows one when the run is expected to take more than 2 s.
     stored : dict, optional
-        Keyword arguments of :func:`stability.scene_ensemble.propagate_stored` (``store``,
+        Keyword arguments of :func:`stability.ensemble.chunks.propagate_stored` (``store``,
         ``resume``, ``scheduler`` ...): the strikes run chunk by chunk into a store, resumable
         and on dask; by default in one piece here. The result is the same, bitwise.
 

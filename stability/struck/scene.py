@@ -17,7 +17,7 @@ from ..util import conventions as cv
 from .methods import (
     J_ACROSS, J_ALONG, METHODS, P_HELD, P_I_CM, P_MASS, PHI, T, W, X, Y, VX, VY, held_exact,
 )
-from ..scenes.spec import Scene
+from ..engine.scene import Scene
 
 
 @njit(inline="always")
@@ -77,6 +77,8 @@ STRUCK_BODY = Scene(
     title="bat or racket struck across its axis, held at the hands or free (planar)",
     equations="held: I_P w' = s F, R = M d (w' n - w^2 e) - F n; free: I_cm w' = (s - d) F, "
               "M v' = F n",
+    latex=(r"\text{held: } I_P \dot w = s F, \quad R = M d\, (\dot w\, n - w^2 e) - F n; \qquad"
+           r" \text{free: } I_{cm} \dot w = (s - d) F, \quad M \dot v = F n"),
     components=("x", "y", "phi", "vx", "vy", "w", "j_along", "j_across", "t"),
     units=("m", "m", "rad", "m s-1", "m s-1", cv.UNITS_ANGULAR_VELOCITY, "N s", "N s",
            cv.UNITS_TIME),

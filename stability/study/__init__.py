@@ -5,12 +5,12 @@ each kind to its :class:`~.config.StudyKind`: the schema its files are checked a
 ``run`` function that does the work by calling the package. ``run_study`` is what
 ``stability run`` calls.
 
-To add a kind of study: write one module here with its ``SCHEMA``, ``outputs`` and ``run``
-(see :mod:`.tennis_racket`), or the ``studies.py`` of a family package
-(:mod:`stability.dissipation.studies`), add one line to ``STUDIES``, and declare the Dataset it writes
-in :data:`stability.schema.SCHEMAS` under the kind's name (the tests hold its file to it). A
-study orchestrates: its ``run`` reads the resolved file, calls the package (references, sweeps,
-estimators, shape grids live there, once), saves the Dataset, draws the figures and
+To add a kind of study: write one module here with its ``SCHEMA``, ``outputs`` and ``run`` (see
+:mod:`.tennis_racket`), or the ``studies.py`` of a family package
+(:mod:`stability.dissipation.studies`), add one line to ``STUDIES``, and declare the Dataset it
+writes in :data:`stability.ensemble.schema.SCHEMAS` under the kind's name (the tests hold its file
+to it). A study orchestrates: its ``run`` reads the resolved file, calls the package (references,
+sweeps, estimators, shape grids live there, once), saves the Dataset, draws the figures and
 summarises; figures draw the Dataset.
 """
 
@@ -23,14 +23,8 @@ import stat
 from collections.abc import Mapping
 from pathlib import Path
 
-from ..dissipation import studies as dissipation
-from ..earth.studies import earth_wobble, equinoxes
-from ..engine_body.studies import engine_artefacts
-from ..heavy_top.studies import gyroscope, sleeping_top
 from ..output.stream import RunInterrupted
-from ..rolling.studies import rolling
-from ..struck.studies import bat
-from . import stability_map, tennis_racket, twisting_racket, work_precision
+from ..registry import STUDY_KINDS, load
 from .config import (
     REQUIRED,
     STUDY_KEY,
@@ -48,9 +42,13 @@ from .config import (
     toml_text,
     toml_type,
 )
+from ..output.lock import FolderLock
+from ..output.publish import check_target, clean_leftovers, remove_folder, staged
+from ..output.store import ChunkStore, find_stores, read_manifest
+
 
 class StudyKinds(Mapping):
-    """The registered study kinds by name, each read from its module when it is asked for.
+    """The registered study kinds by name, each imported from its family when it is asked for.
 
     A kind's module imports the study framework (this package) before it defines its
     ``STUDY``; read while this package loads, the table would find a kind whose module was
@@ -58,16 +56,16 @@ class StudyKinds(Mapping):
 
     Parameters
     ----------
-    where : mapping of str to (module, str)
-        Each kind's name -> its module and the name of its :class:`~.config.StudyKind` there.
+    where : mapping of str to (str, str)
+        Each kind's name -> its module's path and the name of its
+        :class:`~.config.StudyKind` there (:data:`stability.registry.STUDY_KINDS`).
     """
 
     def __init__(self, where):
         self._where = dict(where)
 
     def __getitem__(self, name) -> StudyKind:
-        module, attribute = self._where[name]
-        return getattr(module, attribute)
+        return load(self._where[name])
 
     def __iter__(self):
         return iter(self._where)
@@ -76,21 +74,7 @@ class StudyKinds(Mapping):
         return len(self._where)
 
 
-STUDIES: Mapping[str, StudyKind] = StudyKinds({
-    "bat": (bat, "STUDY"),
-    "dual_spin": (dissipation, "DUAL_SPIN_STUDY"),
-    "earth_wobble": (earth_wobble, "STUDY"),
-    "engine_artefacts": (engine_artefacts, "STUDY"),
-    "equinoxes": (equinoxes, "STUDY"),
-    "explorer": (dissipation, "STUDY"),
-    "gyroscope": (gyroscope, "STUDY"),
-    "rolling": (rolling, "STUDY"),
-    "sleeping_top": (sleeping_top, "STUDY"),
-    "stability_map": (stability_map, "STUDY"),
-    "tennis_racket": (tennis_racket, "STUDY"),
-    "twisting_racket": (twisting_racket, "STUDY"),
-    "work_precision": (work_precision, "STUDY"),
-})
+STUDIES: Mapping[str, StudyKind] = StudyKinds(STUDY_KINDS)
 
 
 def study_kind(name) -> StudyKind:
@@ -237,8 +221,6 @@ def run_study(
     stability.output.stream.RunInterrupted
         Ctrl-C or SIGTERM; its message says what was kept and how to continue.
     """
-    from ..output.lock import FolderLock
-    from ..output.publish import check_target, clean_leftovers, remove_folder, staged
 
     if isinstance(study, dict):
         kind = study_kind(study.get(STUDY_KEY))
@@ -336,7 +318,6 @@ def _kept(work: Path):
     Nothing there is changed (the folder may be another run's), and only the chunk files
     there are checked (a manifest may claim any number of chunks).
     """
-    from ..output.store import ChunkStore, find_stores, read_manifest
 
     if work.is_symlink() or not work.is_dir():
         return None

@@ -30,9 +30,9 @@ from pathlib import Path
 from typing import Any, Callable
 
 from ..core.body import RigidBody
-from ..ensemble import DEFAULT_MAX_MEMORY, format_bytes
+from ..free_body.ensemble import DEFAULT_MAX_MEMORY, format_bytes
 from ..integrators import METHODS
-from ..memory import memory_problem
+from ..ensemble.memory import memory_problem
 from ..output.dataset import append_history, config_toml, software_attrs
 from ..output.io import saving
 from ..plotting.style import save
@@ -310,7 +310,7 @@ def check_memory(schema: Schema, config: dict, source: str, nbytes: float, keys,
     Raises
     ------
     ConfigError
-        If ``nbytes`` exceeds :data:`stability.memory.DEFAULT_MAX_MEMORY` or the machine's
+        If ``nbytes`` exceeds :data:`stability.ensemble.memory.DEFAULT_MAX_MEMORY` or the machine's
         memory.
     """
 
@@ -382,7 +382,7 @@ def check_run(config: dict, source: str) -> None:
 
 
 def stored_run(config: dict, work, resume: bool, scheduler, threads) -> dict:
-    """Keyword arguments of :func:`stability.scene_ensemble.propagate_stored` for a study's
+    """Keyword arguments of :func:`stability.ensemble.chunks.propagate_stored` for a study's
     run: its chunks in ``work``, the scheduler given (``--scheduler``) or the file's."""
     return {"store": work, "resume": resume,
             "scheduler": scheduler or config["run"]["scheduler"] or None,
@@ -402,8 +402,8 @@ def output_files(config: dict, figures, extra=()) -> list[str]:
 def write_outputs(ds, config: dict, out_dir, name: str, figures: dict, *, overwrite=False,
                   history=None, attrs=None, threads=None, texts=None):
     """Label ``ds`` and write what ``[output]`` asks for: the Dataset, ``config.toml`` and the
-    figures, published together (:func:`stability.output.io.saving`: the write runs while the figures
-    draw; an interruption publishes nothing).
+    figures, published together (:func:`stability.output.io.saving`: the write runs while the
+    figures draw; an interruption publishes nothing).
 
     Parameters
     ----------
@@ -707,8 +707,8 @@ def set_value(raw: dict, dotted: str, text: str, source: str = "--set") -> None:
 def to_toml(config: dict) -> str:
     """A resolved configuration as TOML text, as stored in a Dataset's ``config_toml``.
 
-    The same writer as the Dataset's (:func:`stability.output.dataset.config_toml`), so the copy a run
-    writes next to its Dataset and the attribute inside it are the same text.
+    The same writer as the Dataset's (:func:`stability.output.dataset.config_toml`), so the copy a
+    run writes next to its Dataset and the attribute inside it are the same text.
     """
 
     return config_toml(config)

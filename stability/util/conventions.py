@@ -38,7 +38,7 @@ STATUS_MEANINGS = "ok non_finite diverged not_converged step_too_large"
 STATUS_FLAG_VALUES = (STATUS_OK, STATUS_NONFINITE, STATUS_DIVERGED, STATUS_NOT_CONVERGED,
                       STATUS_STEP_TOO_LARGE)
 
-# Regime codes (int8) of a member's or an ensemble's motion (stability.estimators).
+# Regime codes (int8) of a member's or an ensemble's motion (stability.analysis.regimes).
 REGIME_UNDETERMINED = 0  #: mixed members, too few points, or a departure fitting neither model
 REGIME_NEUTRAL = 1  #: no crossing and no departure within the run
 REGIME_OSCILLATION = 2  #: stable: bounded oscillation, Omega^2 > 0
@@ -47,7 +47,8 @@ REGIME_ALGEBRAIC = 4  #: neutral in linear theory (Omega^2 = 0): departure linea
 REGIME_MEANINGS = "undetermined neutral oscillation exponential_growth algebraic_drift"
 REGIME_FLAG_VALUES = (0, 1, 2, 3, 4)
 
-# Edge flags (int8 bit mask) of a shape of the triangle of shapes (stability.shapes).
+# Edge flags (int8 bit mask) of a shape of the triangle of shapes
+# (stability.free_body.stability_map.shapes).
 EDGE_EQUAL_12 = 1  #: I1 = I2: oblate symmetric body (the sphere has both equalities)
 EDGE_EQUAL_23 = 2  #: I2 = I3: prolate symmetric body
 EDGE_FLAT = 4  #: I1 + I2 = I3: flat body (all mass in a plane)
@@ -91,3 +92,20 @@ def member_attrs(long_name: str = "ensemble member") -> dict:
     ``standard_name = "realization"`` (whose canonical units CF gives as 1)."""
     return {"long_name": long_name, "units": UNITS_DIMENSIONLESS,
             **STANDARD_COORDINATES[MEMBER]}
+
+
+def perpendicular_axes(axis: int) -> tuple[int, int]:
+    """The two principal axes (1-based, ascending) perpendicular to ``axis``.
+
+    Parameters
+    ----------
+    axis : int
+        An axis label, 1, 2 or 3.
+
+    Returns
+    -------
+    tuple of int
+        The other two labels, ascending.
+    """
+    b, c = (a for a in (1, 2, 3) if a != axis)
+    return b, c

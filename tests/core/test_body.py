@@ -6,7 +6,7 @@ import numpy as np
 import pytest
 
 import stability
-from stability.analytic import axis_stability
+from stability.free_body.model import axis_stability
 from stability.core.body import PRESETS, Part, RigidBody
 
 
@@ -305,7 +305,7 @@ def test_part_is_exported():
 def test_a_body_describes_its_axes_as_the_linear_theory_does(moments):
     """axis_summary / describe / _repr_html_: Omega^2 at unit spin is analytic.omega_squared's,
     the word is axis_stability's, and the unstable axis's growth rate is growth_rate's."""
-    from stability.analytic import axis_stability, growth_rate, omega_squared
+    from stability.free_body.model import axis_stability, growth_rate, omega_squared
 
     body = stability.RigidBody(*moments, physical=False)
     rows = body.axis_summary()

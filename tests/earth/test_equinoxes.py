@@ -13,7 +13,7 @@ from stability.earth import equinoxes as eq
 from stability.engine import propagate_groups
 from stability.earth.figures import equinoxes_figure
 from stability.earth.methods import perturber
-from stability.scenes import SCENES
+from stability.registry import SCENES
 from stability.earth.scene import figure_axes
 
 from ..helpers import assert_cf_compliant, assert_declared, assert_readable, quick_study

@@ -6,11 +6,11 @@ import pytest
 
 from stability import RigidBody
 from stability.engine import propagate_groups
-from stability.exact import exact_omega
+from stability.free_body.exact import exact_omega
 from stability.integrators import METHODS
 from stability.engine_body.methods import ENGINE_RULES, body_state, world_state
 from stability.integrators.spec import body_params
-from stability.scenes import SCENES
+from stability.registry import SCENES
 
 SCENE = SCENES["engine_body"]
 I = np.array([1.0, 2.0, 3.0])  # canonical already

@@ -10,7 +10,7 @@ import xarray as xr
 from stability.heavy_top import exact as exact_top
 from stability.heavy_top.figures import gyroscope_paths_figure, gyroscope_rates_figure
 from stability.heavy_top.measure import measure_gyroscopes
-from stability.periodic import extrema, level_crossings, mean_period, weighted_mean
+from stability.analysis.periodic import extrema, level_crossings, mean_period, weighted_mean
 from stability.study import run_study
 from stability.heavy_top.model import (
     HeavyTop, gyroscopic_nutation_amplitude, gyroscopic_nutation_frequency,

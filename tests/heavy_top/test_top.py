@@ -12,7 +12,7 @@ from stability.heavy_top.methods import METHODS
 from stability.heavy_top.model import (
     HeavyTop, critical_spin, sleeping_frequencies, sleeping_growth_rate, tilted_starts,
 )
-from stability.scenes import SCENES
+from stability.registry import SCENES
 
 SCENE = SCENES["heavy_top"]
 #: An asymmetric top with its centre of mass off every principal axis: nothing cancels.

@@ -14,7 +14,7 @@ from stability.rolling.model import (
     G, SHAPES, launch_formulas, measure_incline, measure_launches, rolling_acceleration, rolls,
     slipping_acceleration, slipping_spin_rate, start_states,
 )
-from stability.scenes import SCENES
+from stability.registry import SCENES
 
 from ..helpers import assert_cf_compliant, assert_declared, assert_readable
 

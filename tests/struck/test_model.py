@@ -7,7 +7,7 @@ import pytest
 
 from stability.core.body import Part
 from stability.engine import propagate_groups
-from stability.scenes import SCENES
+from stability.registry import SCENES
 from stability.struck.methods import J_ACROSS, X, held_exact, strike_params
 from stability.struck.model import (
     INCH, baseball_bat, centre_of_percussion, hand_velocity, measure_strikes, reaction_impulse,

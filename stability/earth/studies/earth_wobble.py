@@ -13,10 +13,10 @@ import math
 import time
 from pathlib import Path
 
-from ...attitude import attitude_methods
+from ...free_body.attitude import attitude_methods
 from ...core.body import RigidBody
 from ..model import ARCSEC, earth_moments
-from ...ensemble import ensemble_memory
+from ...free_body.ensemble import ensemble_memory
 from ..figures import wobble_cones_figure
 from ...util.threads import numba_threads
 from ..wobble import measure_free_wobble

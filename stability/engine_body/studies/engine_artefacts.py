@@ -1,12 +1,12 @@
 """The engine-artefacts study: the tennis-racket ensemble stepped with physics engines' update rules.
 
-The ensemble of :mod:`stability.study.tennis_racket` (a racket tossed about its middle axis,
-nudged by epsilon of the spin) is run with each engine rule (explicit, semi-implicit and
+The ensemble of :mod:`stability.free_body.tennis_racket.study` (a racket tossed about its middle
+axis, nudged by epsilon of the spin) is run with each engine rule (explicit, semi-implicit and
 implicit Euler, |L| or energy rescaled, no gyroscopic term) and, beside them, with the package's
 integrators, at the frame rates engines use;
 :func:`stability.engine_body.measure.measure_artefacts` measures what each does to the flip and
-the invariants and the step each needs for the flip interval within a tolerance. Outputs: the Dataset, the figure (:mod:`stability.engine_body.figures`) and the
-study's configuration.
+the invariants and the step each needs for the flip interval within a tolerance. Outputs: the
+Dataset, the figure (:mod:`stability.engine_body.figures`) and the study's configuration.
 """
 
 from __future__ import annotations
@@ -16,9 +16,9 @@ from pathlib import Path
 
 import numpy as np
 
-from ...attitude import attitude_methods
+from ...free_body.attitude import attitude_methods
 from ...core.body import RigidBody
-from ...ensemble import perturbed_starts
+from ...free_body.ensemble import perturbed_starts
 from ...study.config import (
     MEMBER_BYTES, ConfigError, Key, Schema, Section, StudyKind, StudySummary, SummaryTable,
     check_memory, check_run, output_files, output_section, run_section, stored_run,

@@ -3,11 +3,12 @@
 from __future__ import annotations
 
 from ...study.config import ConfigError, Key
+from ..methods import METHODS
+from ..model import HeavyTop
 
 
 def top_methods() -> tuple:
     """Names of the heavy top's methods (the ``method`` key's choices)."""
-    from ..methods import METHODS
 
     return tuple(METHODS)
 
@@ -30,7 +31,6 @@ def top_keys(length: Key) -> tuple:
 def symmetric_top(config: dict, length: float, source: str = "<config>", name: str = "top"):
     """The :class:`~stability.heavy_top.model.HeavyTop` of ``[top]`` at ``length``; a ConfigError
     for a top that is not symmetric or not physical."""
-    from ..model import HeavyTop
 
     t = config["top"]
     I1, I2, _ = t["central_moments"]

@@ -23,6 +23,9 @@ from ...study.config import (
     output_files, output_section, run_rows, run_section, stored_run, write_outputs,
 )
 from .common import check_spins, symmetric_top, top_keys, top_methods
+from ..figures import gyroscope_paths_figure, gyroscope_rates_figure
+from ..measure import measure_gyroscopes
+from ...util.threads import numba_threads
 
 NAME = "gyroscope"
 #: Figure stems: the paths of the figure axis, the rates against spin.
@@ -134,9 +137,6 @@ def run(config: dict, out_dir: Path, *, overwrite=False, threads=None, progress=
 
     The tops run chunk by chunk into the folder ``work`` (so that a stopped run continues with
     ``resume``), on ``scheduler`` (default: the file's ``[run] scheduler``)."""
-    from ..figures import gyroscope_paths_figure, gyroscope_rates_figure
-    from ..measure import measure_gyroscopes
-    from ...util.threads import numba_threads
 
     t_start = time.perf_counter()
     top = _top(config)

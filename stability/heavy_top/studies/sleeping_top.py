@@ -22,6 +22,9 @@ from ...study.config import (
     check_run, output_files, output_section, run_section, stored_run, write_outputs,
 )
 from .common import check_spins, symmetric_top, top_keys, top_methods
+from ..figures import sleeping_top_figure
+from ..measure import measure_sleeping_tops
+from ...util.threads import numba_threads
 
 NAME = "sleeping_top"
 FIGURE = "sleeping_top"
@@ -107,9 +110,6 @@ def run(config: dict, out_dir: Path, *, overwrite=False, threads=None, progress=
 
     The tops run chunk by chunk into the folder ``work`` (so that a stopped run continues with
     ``resume``), on ``scheduler`` (default: the file's ``[run] scheduler``)."""
-    from ..figures import sleeping_top_figure
-    from ..measure import measure_sleeping_tops
-    from ...util.threads import numba_threads
 
     t_start = time.perf_counter()
     tops = _tops(config)

@@ -17,7 +17,7 @@ from pathlib import Path
 
 import numpy as np
 
-from ...scene_ensemble import sub_store
+from ...ensemble.chunks import sub_store
 from ...study.config import (
     MEMBER_BYTES, ConfigError, Key, Schema, Section, StudyKind, StudySummary, check_memory,
     check_run, output_files, output_section, run_section, stored_run, write_outputs,

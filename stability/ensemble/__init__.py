@@ -1,0 +1,17 @@
+"""Ensembles of any scene: grouped runs cut into chunks, streamed to a store, resumed and run on
+dask; the memory a run may hold; the register of every Dataset the package writes; and
+:func:`~stability.ensemble.run.run_scene`, a run of any scene as a labelled Dataset.
+
+- :mod:`.schema`: the register (each variable's dims, units, long name, declared once);
+- :mod:`.memory`: the one memory check every run makes before any work;
+- :mod:`.chunks`: grouped runs of any scene, in chunks, stored, resumable and distributed;
+- :mod:`.run`: ``run_scene``.
+
+``stability.ensemble`` was the free body's module of ``run_ensemble``, now
+:mod:`stability.free_body.ensemble`: its names are served from there, with a warning, for one
+release (:mod:`stability.moved`).
+"""
+
+from .. import moved
+
+__getattr__ = moved.old_names("stability.ensemble")

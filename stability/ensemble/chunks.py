@@ -1,0 +1,399 @@
+"""Grouped runs of any scene, streamed to disk, resumable and distributed like the free body's.
+
+A study of a scene (a heavy top, a struck bat, a rolling body ...) lays its members out in groups,
+each group with its own parameter row, step and step count, and runs them with the one member
+loop (:func:`stability.engine.propagate_groups`). :class:`GroupedRun` holds such a run;
+:func:`propagate_stored` runs it, by default in this process exactly as before, and with a
+``store`` folder chunk by chunk through the same machinery as the free body's streamed ensembles
+(:mod:`stability.output.stream`): each finished chunk of members is kept at once, a stopped run
+resumes with ``resume`` and only the missing chunks run, and the chunks run on dask.distributed
+with ``scheduler``. The result is the same :class:`~stability.engine.Propagation`, bitwise,
+however the run was cut or wherever it ran: members are independent, and a chunk that holds a
+part of a group runs that part with the group's own row, step and step count.
+
+A scene of the user's own (:func:`stability.define_scene`) runs the same way. A dask worker
+finds it by reference: it imports the module that defines the scene, so that module must be
+importable there (a local cluster's workers start with this process's ``sys.path``; put the
+module's folder on remote workers' ``PYTHONPATH``), and it loads the compiled loop from the disk
+cache when the workers share it (``STABILITY_CACHE_DIR``).
+
+A stored run is cut into chunks, and each chunk is one job (:class:`ChunkJob`): its members
+propagated, then *measured*. Without a measurement the chunk is the raw
+:class:`~stability.engine.Propagation` and :func:`propagate_stored` gives the whole run's back
+(what the studies measure afterwards); with one (``measure=``, a picklable
+``measure(part, propagation, lo, hi, threads) -> xarray.Dataset``) each chunk is kept as the
+measurement's Dataset of its members and the result is the Dataset over the chunk files: the
+free body's :func:`stability.run_ensemble` with ``store=`` is that path, with its own start rule
+and measurement, and so is :func:`stability.run_scene`, every scene's Dataset. The starts are
+the run's ``x0``, or a rule that makes any members' starts alone (``starts=``: the free body
+draws each chunk's from its seed, so that memory is one chunk's).
+"""
+
+from __future__ import annotations
+
+import hashlib
+import math
+from dataclasses import dataclass, replace
+from pathlib import Path
+
+import numpy as np
+import xarray as xr
+
+from ..engine import propagate_groups
+from ..engine.run import Propagation
+from ..output.io import READ
+from ..output.store import ChunkStore
+from ..output.stream import stream_chunks
+from ..engine.scene import Scene
+from ..registry import scene as registered_scene
+from ..util import conventions as cv
+from ..util.threads import checked_threads, numba_threads
+from ..version import __version__
+
+#: Chunks a stored run is cut into by default (each one is kept as soon as it is finished) ...
+DEFAULT_CHUNKS = 8
+#: ... each of at least this many member-steps: a chunk costs a few tens of milliseconds of
+#: files and launch, so short runs (many in a study, of a few members) stay whole.
+MIN_CHUNK_WORK = 10**7
+
+#: Dimension names of the chunk files.
+COMPONENT = "component"
+SAMPLE = "sample"
+
+
+@dataclass(eq=False)
+class GroupedRun:
+    """Groups of members of one scene and method, as :func:`propagate_groups` takes them.
+
+    The fields are the constructor's parameters and the instance's attributes.
+
+    Parameters
+    ----------
+    scene : str or Scene
+        A registered scene's name, or a scene (one of the user's own is pickled by reference:
+        its module is imported where a chunk runs).
+    method : str
+        A method of the scene.
+    x0 : ndarray, shape (N, n), or None
+        Initial states, group after group; None with ``starts``.
+    params : ndarray, shape (G, p)
+        Each group's parameter row.
+    sizes : ndarray of int, shape (G,)
+        Members per group.
+    h : ndarray, shape (G,)
+        Each group's step.
+    n_steps : ndarray of int, shape (G,)
+        Each group's step count.
+    save_every : int, default 0
+        Keep the state every ``save_every`` steps (0: only the final state).
+    axes, levels : ndarray, optional
+        Tracking, as :func:`propagate_groups` takes it.
+    label : str, optional
+        The progress bar's label.
+    device : {"cpu", "gpu"}, default "cpu"
+        Where the member loop runs: ``"gpu"`` on a CUDA GPU
+        (:func:`stability.engine.gpu.propagate_groups_gpu`; the results agree with the CPU's to
+        round-off, not bitwise, so the device is part of a stored run's identity).
+    chunk_steps : int, optional
+        Steps per call of the loop (:func:`propagate_groups`); never changes the result.
+    starts : callable, optional
+        The start rule, instead of ``x0``: ``starts(lo, hi)`` gives the initial states of
+        members ``lo ... hi - 1`` alone (the same whichever members are asked with them);
+        picklable where the chunks run on dask, and with ``identity()`` (a dict) for a store's
+        fingerprint unless a measurement gives the run's identity.
+    """
+
+    scene: str | Scene
+    method: str
+    x0: np.ndarray
+    params: np.ndarray
+    sizes: np.ndarray
+    h: np.ndarray
+    n_steps: np.ndarray
+    save_every: int = 0
+    axes: np.ndarray | None = None
+    levels: np.ndarray | None = None
+    label: str | None = None
+    device: str = "cpu"
+    chunk_steps: int | None = None
+    starts: object = None
+
+    def __post_init__(self):
+        if self.device not in ("cpu", "gpu"):
+            raise ValueError(f"device must be 'cpu' or 'gpu', got {self.device!r}")
+        if (self.x0 is None) == (self.starts is None):
+            raise ValueError("give the starts as x0 or as a rule, starts=, not both")
+        if self.x0 is not None:
+            self.x0 = np.ascontiguousarray(self.x0, dtype=float)
+        self.params = np.ascontiguousarray(np.atleast_2d(self.params), dtype=float)
+        self.sizes = np.asarray(self.sizes, dtype=np.int64).reshape(-1)
+        groups = self.sizes.size
+        self.h = np.broadcast_to(np.asarray(self.h, dtype=float), (groups,)).copy()
+        self.n_steps = np.broadcast_to(np.asarray(self.n_steps, dtype=np.int64), (groups,)).copy()
+        if self.axes is not None:
+            self.axes = np.broadcast_to(np.asarray(self.axes, dtype=np.int64), (groups, 3)).copy()
+        if self.levels is not None:
+            levels = np.atleast_2d(np.asarray(self.levels, dtype=float))
+            self.levels = np.broadcast_to(levels, (groups, levels.shape[-1])).copy()
+
+    @property
+    def members(self) -> int:
+        return int(self.sizes.sum())
+
+    @property
+    def width(self) -> int:
+        """Numbers per member in the scene's state."""
+        return registered_scene(self.scene).width
+
+    @property
+    def n_saved(self) -> int:
+        """Samples kept per member in the whole run (NaN past a group's own last one)."""
+        return int(self.n_steps.max()) // self.save_every if self.save_every > 0 else 0
+
+    def identity(self) -> dict:
+        """What makes the run what it is, for a store's fingerprint: names and array digests."""
+        arrays = {name: getattr(self, name) for name in
+                  ("x0", "params", "sizes", "h", "n_steps", "axes", "levels")}
+        name, source = ((self.scene, "") if isinstance(self.scene, str)
+                        else (self.scene.name, self.scene.source))
+        if self.starts is not None:
+            rule = getattr(self.starts, "identity", None)
+            if rule is None:
+                raise ValueError("a run whose starts come from a rule needs the rule's "
+                                 "identity() for its store's fingerprint")
+            arrays.pop("x0")
+        return {"scene": name, **({"scene_source": source} if source else {}),  # user's code
+                **({"starts": rule()} if self.starts is not None else {}),
+                **({"device": self.device} if self.device != "cpu" else {}),
+                "method": self.method, "save_every": self.save_every,
+                "arrays": {name: None if a is None else _digest(a) for name, a in arrays.items()}}
+
+    def part(self, lo: int, hi: int) -> "GroupedRun":
+        """Members ``lo ... hi - 1``: the groups they fall in, each with its own row and step."""
+        ends = np.cumsum(self.sizes)
+        starts = ends - self.sizes
+        sizes = np.clip(np.minimum(ends, hi) - np.maximum(starts, lo), 0, None)
+        keep = sizes > 0
+        pick = (lambda a: None if a is None else a[keep])
+        x0 = self.x0[lo:hi] if self.starts is None else self.starts(lo, hi)
+        return replace(self, x0=x0, params=self.params[keep], sizes=sizes[keep],
+                       h=self.h[keep], n_steps=self.n_steps[keep], axes=pick(self.axes),
+                       levels=pick(self.levels), starts=None)
+
+    def propagate(self, progress=None) -> Propagation:
+        """The run in this process (:func:`propagate_groups`, or its GPU twin)."""
+        if self.starts is not None:
+            return self.part(0, self.members).propagate(progress)
+        propagator = propagate_groups
+        if self.device == "gpu":
+            from ..engine.gpu import propagate_groups_gpu as propagator  # numba-cuda: optional
+
+        return propagator(self.scene, self.method, self.x0, self.params, self.sizes, self.h,
+                          self.n_steps, save_every=self.save_every, axes=self.axes,
+                          levels=self.levels, progress=progress, chunk_steps=self.chunk_steps,
+                          label=self.label)
+
+
+@dataclass(eq=False)
+class ChunkJob:
+    """The chunk job of a stored run (:func:`stability.output.stream.stream_chunks`): members
+    ``lo ... hi - 1`` of ``run`` propagated (:meth:`GroupedRun.part`), then measured.
+
+    Parameters
+    ----------
+    run : GroupedRun
+        The whole run.
+    measure : callable, optional
+        ``measure(part, propagation, lo, hi, threads) -> xarray.Dataset``: the chunk's Dataset
+        from its part of the run (a :class:`GroupedRun`) and that part's
+        :class:`~stability.engine.Propagation`, members numbered from ``lo``; ``threads`` is
+        what the chunk was asked to run with. Default: :class:`RawChunk`, the propagation as
+        it is.
+    """
+
+    run: GroupedRun
+    measure: object = None
+
+    def __post_init__(self):
+        if self.measure is None:
+            self.measure = RawChunk(self.run.n_saved)
+
+    def __call__(self, lo: int, hi: int, progress, threads) -> xr.Dataset:
+        part = self.run.part(lo, hi)
+        return self.measure(part, part.propagate(progress), lo, hi, threads)
+
+
+@dataclass(frozen=True)
+class RawChunk:
+    """The measurement that keeps a chunk raw: its members' :class:`Propagation` as a Dataset,
+    which :func:`propagate_stored` reads back into the whole run's.
+
+    Parameters
+    ----------
+    n_saved : int
+        Samples per member of the whole run (:attr:`GroupedRun.n_saved`): a chunk's saved
+        states are padded with NaN to them, whichever groups it holds.
+    """
+
+    n_saved: int
+
+    def __call__(self, part: GroupedRun, run: Propagation, lo: int, hi: int,
+                 threads=None) -> xr.Dataset:
+        data = {
+            "x_final": ((cv.MEMBER, COMPONENT), run.x_final),
+            "status": ((cv.MEMBER,), run.status),
+            "fail_step": ((cv.MEMBER,), run.fail_step),
+            "iterations": ((cv.MEMBER,), run.iterations),
+            "steps_done": ((cv.MEMBER,), np.repeat(run.steps_done, part.sizes)),
+        }
+        if self.n_saved:  # no variable of a dimension of length 0 (netCDF's unlimited one)
+            saved = np.full((hi - lo, self.n_saved, part.width), np.nan)
+            saved[:, :run.saved.shape[1]] = run.saved
+            data["saved"] = ((cv.MEMBER, SAMPLE, COMPONENT), saved)
+        for name, value in run.extras.items():
+            dims = (cv.MEMBER,) + tuple(f"{name}_{d}" for d in range(1, value.ndim))
+            data[f"extra_{name}"] = (dims, value)
+        return xr.Dataset(data, coords={cv.MEMBER: np.arange(lo, hi)},
+                          attrs={"wall_time": run.wall_time, "compile_time": run.compile_time})
+
+
+def propagate_stored(run: GroupedRun, store=None, *, measure=None, resume=False,
+                     scheduler=None, chunk_members=None, threads=None, progress=None,
+                     compress=None):
+    """Run ``run``: in this process, or chunk by chunk into the folder ``store``.
+
+    Parameters
+    ----------
+    run : GroupedRun
+    store : path-like, optional
+        Folder of the chunk files (a :class:`~stability.output.store.ChunkStore`, created if
+        missing). Without it the run is :func:`propagate_groups` in this process.
+    measure : callable, optional
+        The measurement each chunk is kept as (:class:`ChunkJob`); the result is then the
+        measured Dataset. It may also have ``identity(run) -> dict``, what makes the run what it
+        is for the store's fingerprint (default: the run's :meth:`GroupedRun.identity` and the
+        measurement's class), and ``whole_attrs(chunks, todo) -> dict``, the attributes of the
+        whole Dataset from the store and the chunks this call ran (default
+        :func:`summed_attrs`).
+    resume : bool, default False
+        Finish a run of the same members stopped earlier (only the missing chunks run).
+    scheduler : str or distributed.Client, optional
+        Run the chunks on dask.distributed (needs ``store``;
+        :func:`stability.free_body.ensemble.run_streamed`).
+    chunk_members : int, optional
+        Members per chunk; default: the run in :data:`DEFAULT_CHUNKS` chunks, fewer where a
+        chunk would hold less than :data:`MIN_CHUNK_WORK` member-steps.
+    threads : int, optional
+        Numba threads for chunks run in this process (and for a measured run without a store).
+    progress : bool, optional
+        Progress bar.
+    compress : bool, optional
+        zlib-compress the chunk files; default: only a measured run's (a raw run's are read
+        back at once).
+
+    Returns
+    -------
+    Propagation or xarray.Dataset
+        Without ``measure``, the :class:`Propagation` :func:`propagate_groups` returns;
+        ``wall_time`` and ``compile_time`` are the sums over the chunks run. With it, the
+        measurement's Dataset of the whole run: over the chunk files (dask arrays) with a
+        store, in memory without.
+
+    Raises
+    ------
+    stability.output.stream.RunInterrupted
+        Ctrl-C or SIGTERM stopped a stored run; its finished chunks are kept.
+    """
+    n = run.members
+    if store is None:
+        if scheduler is not None:
+            raise ValueError("a run on a dask scheduler needs a store folder for its chunks")
+        if measure is None:
+            return run.propagate(progress)
+        with numba_threads(checked_threads(threads)):
+            return ChunkJob(run, measure)(0, n, progress, threads)
+    if chunk_members is None:
+        chunk_members = default_chunk_members(n, float(np.sum(run.sizes * run.n_steps)))
+    if measure is not None and hasattr(measure, "identity"):
+        identity = measure.identity(run)
+    else:
+        identity = {"grouped_run": run.identity(),
+                    **({"measurement": type(measure).__qualname__} if measure is not None
+                       else {}),
+                    "software": f"stability {__version__}"}
+    chunks = ChunkStore(store, identity, n, chunk_members, resume=resume)
+    try:
+        todo = stream_chunks(ChunkJob(run, measure), chunks, scheduler=scheduler,
+                             threads=threads, progress=progress,
+                             compress=measure is not None if compress is None else compress)
+        if measure is not None:
+            whole = getattr(measure, "whole_attrs", None)
+            chunks.complete(whole(chunks, todo) if whole is not None else summed_attrs(chunks))
+            return chunks.open()
+        parts = []
+        for k in range(chunks.n_chunks):
+            with xr.open_dataset(chunks.path(k), engine="netcdf4") as ds:
+                parts.append(ds.load())
+        chunks.complete({})
+    finally:
+        chunks.close()
+    return _propagation(run, parts)
+
+
+def summed_attrs(chunks: ChunkStore) -> dict:
+    """The attributes of a whole stored run from its chunks': the first chunk's, with
+    ``wall_time`` and ``compile_time`` summed over every chunk."""
+    wall = compile_time = 0.0
+    first = None
+    for k in range(chunks.n_chunks):
+        with xr.open_dataset(chunks.path(k), **READ) as ds:
+            attrs = dict(ds.attrs)
+        wall += float(attrs.get("wall_time", 0.0))
+        compile_time += float(attrs.get("compile_time", 0.0))
+        if first is None:
+            first = attrs
+    return {**first, "wall_time": wall, "compile_time": compile_time}
+
+
+def default_chunk_members(members: int, member_steps: float) -> int:
+    """Members per chunk of a stored run by default: at most :data:`DEFAULT_CHUNKS` chunks,
+    fewer where a chunk would hold less than :data:`MIN_CHUNK_WORK` member-steps."""
+    chunks = min(DEFAULT_CHUNKS, max(1, int(member_steps // MIN_CHUNK_WORK)))
+    return max(1, math.ceil(members / chunks))
+
+
+def sub_store(stored: dict | None, name: str) -> dict:
+    """``stored`` (keyword arguments of :func:`propagate_stored`) for one of several runs of a
+    study: its own store, the folder ``name`` inside the study's (nothing if there is none)."""
+    stored = dict(stored or {})
+    if stored.get("store") is not None:
+        stored["store"] = Path(stored["store"]) / name
+        if stored["store"].is_symlink():
+            raise ValueError(f"{stored['store']} is a symbolic link; a run keeps its chunks "
+                             "only in a real folder inside the output folder: remove the link")
+    return stored
+
+
+def _propagation(run: GroupedRun, parts: list) -> Propagation:
+    """The :class:`Propagation` of a whole run from the Datasets of its chunks, in order."""
+    ds = xr.concat(parts, cv.MEMBER)
+    first = np.cumsum(run.sizes) - run.sizes
+    steps = np.where(run.sizes > 0, ds.steps_done.values[np.minimum(first, run.members - 1)]
+                     if run.members else 0, run.n_steps)
+    extras = {name[len("extra_"):]: ds[name].values for name in ds.data_vars
+              if name.startswith("extra_")}
+    saved = (ds.saved.values if "saved" in ds
+             else np.empty((run.members, 0, run.width)))
+    return Propagation(
+        x_final=ds.x_final.values, saved=saved, status=ds.status.values,
+        fail_step=ds.fail_step.values, iterations=ds.iterations.values,
+        steps_done=steps.astype(np.int64),
+        wall_time=sum(float(p.attrs["wall_time"]) for p in parts),
+        compile_time=sum(float(p.attrs["compile_time"]) for p in parts), extras=extras)
+
+
+def _digest(a: np.ndarray) -> str:
+    a = np.ascontiguousarray(a)
+    h = hashlib.sha256(f"{a.dtype.str}{a.shape}".encode())
+    h.update(a.tobytes())
+    return h.hexdigest()

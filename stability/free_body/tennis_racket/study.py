@@ -1,0 +1,297 @@
+"""The tennis-racket study: an ensemble spun about the intermediate axis flips, again and again.
+
+A real-looking body (a preset such as the tennis racket, or given moments) spins at ``rate``
+about a principal axis (by default the intermediate one), each member perturbed by ``epsilon``
+(relative to the spin) in a random direction perpendicular to it. The study runs the ensemble
+with :func:`stability.run_ensemble`, adds the analytic answers (Omega^2, the growth rate
+``sqrt(-Omega^2)``, each member's exact flip interval 2K/nu and its asymptote
+(2/lambda) ln(4/k'), literature notes 1.5 and 2.1) and the measured growth rate, saves the
+Dataset and draws the four figures of :mod:`stability.free_body.tennis_racket.figures`.
+
+The measured growth rate is :func:`stability.measured_growth_rate` of the saved Dataset, which
+records its window (``[analysis] fit_above`` and ``fit_below`` as the attributes
+``growth_window_low_factor`` and ``growth_window_high_fraction``), so that
+``ds.stability.measured_growth_rate()`` gives the number the summary prints: each member's
+``ln sqrt(w_b^2 + w_c^2)`` fitted by a straight line over its *linear phase*, from
+``fit_above`` times its start ``epsilon * rate`` (the decaying eigenmode has died out) to
+``fit_below`` times the rate (before the nonlinearity bends the curve, whose relative effect on
+the slope is about ``(a / rate)^2 / 2``), and the mean over members.
+"""
+
+from __future__ import annotations
+
+import math
+import sys
+import time
+from pathlib import Path
+
+import numpy as np
+
+from ..model import MOMENT_NAMES, principal_axis
+from ..attitude import FREE_BODY_SCENES, attitude_methods, carries_attitude
+from ...core.body import RigidBody
+from ..ensemble import ensemble_memory, run_streamed
+from .analysis import analyse_ensemble, analysis_headline
+from . import figures as tennis
+from ...util import conventions as cv
+from ...util.formatting import format_bytes
+from ...study.config import (
+    UNSET, ConfigError, Key, Schema, Section, StudyKind, StudySummary, check_memory, check_run,
+    method_names, output_files, output_section, preset_names, run_section, write_outputs,
+)
+
+NAME = "tennis_racket"
+
+#: Spin axes a study file may name: a body axis, or the axis with that moment.
+AXIS_NAMES = MOMENT_NAMES
+
+#: Figure file stems, in the order of the issue: flips, polhodes, growth, flip intervals.
+FIGURES = ("fig1_flips", "fig2_polhodes", "fig3_growth", "fig4_flip_intervals")
+
+
+SCHEMA = Schema(
+    top=(Key("title", "str", "Tennis-racket flips of a perturbed spin about the intermediate axis",
+             "one line describing the run (the Dataset's title)"),),
+    sections=(
+        Section("body", "the rigid body: a preset, or its principal moments", (
+            Key("preset", "str", "tennis_racket", "a body from RigidBody.presets()",
+                choices=preset_names),
+            Key("moments", "floats", UNSET, "principal moments I1, I2, I3 (instead of preset)",
+                unit="kg m2", minimum=0.0, exclusive_minimum=True, length=3),
+            Key("physical", "bool", True,
+                "require the triangle inequality of real bodies (false: mathematical body)"),
+            Key("name", "str", UNSET, "label of a body given by moments"),
+        ), exclusive=(("preset", "moments"),)),
+        Section("spin", "the steady spin that is perturbed", (
+            Key("axis", ("int", "str"), "intermediate",
+                "principal axis of the spin: 1, 2, 3, or the axis with that moment",
+                choices=(1, 2, 3) + AXIS_NAMES),
+            Key("rate", "float", 10.0, "spin rate W", unit="rad s-1",
+                minimum=0.0, exclusive_minimum=True),
+        )),
+        Section("ensemble", "the perturbed members", (
+            Key("members", "int", 10_000, "number of members", minimum=1),
+            Key("epsilon", "float", 1e-4,
+                "perturbation size relative to the spin, in a random perpendicular direction",
+                minimum=0.0, exclusive_minimum=True, maximum=1.0),
+            Key("seed", "int", 1, "seed of the random directions (numpy SeedSequence entropy)",
+                minimum=0),
+        )),
+        Section("integration", "what is integrated, the integrator and the time grid", (
+            Key("scene", "str", "free_body",
+                "what is integrated: w alone (free_body), or w and each member's attitude q "
+                "(free_body_attitude, with a method that carries it)", choices=FREE_BODY_SCENES),
+            Key("method", "str", "rk4", "integrator (stability methods lists them)",
+                choices=method_names),
+            Key("h", "float", 2e-3, "step", unit="s", minimum=0.0, exclusive_minimum=True),
+            Key("t_end", "float", 10.0, "horizon: a whole number of save_every steps", unit="s",
+                minimum=0.0, exclusive_minimum=True),
+            Key("save_every", "int", 25, "keep w every save_every steps", minimum=1),
+        )),
+        Section("analysis", "the growth-rate fit over the linear phase", (
+            Key("fit_above", "float", 10.0,
+                "start each member's fit when its amplitude exceeds this times epsilon * rate",
+                minimum=1.0, exclusive_minimum=True),
+            Key("fit_below", "float", 0.03,
+                "end it before the amplitude exceeds this times rate (or its saturation)",
+                minimum=0.0, exclusive_minimum=True, maximum=1.0),
+        )),
+        run_section(
+            Key("chunk_members", "int", 4096,
+                "members per chunk: each finished chunk is kept at once, so a stopped run "
+                "continues from there (stability run --resume)", minimum=1),
+            extra=(Key("device", "str", "cpu",
+                       "where the member loop runs: 'cpu', or 'gpu' (a CUDA GPU, the gpu extra)",
+                       choices=("cpu", "gpu")),),
+            title="how the ensemble is cut into chunks, and where they run"),
+        output_section(NAME, FIGURES),
+    ),
+)
+
+#: ``--quick``: a small ensemble over two flip intervals, for tests and a first look.
+QUICK = {"ensemble": {"members": 256}, "integration": {"t_end": 5.0}}
+
+
+def check(config: dict, source: str) -> dict:
+    """Checks across keys: body given once, a whole number of samples, a non-empty fit window."""
+    body, integ, analysis = config["body"], config["integration"], config["analysis"]
+    if "moments" not in body and "name" in body:
+        raise ConfigError("name labels a body given by moments; a preset has its own name",
+                          source, "body", "name")
+    n_steps = integ["t_end"] / integ["h"]
+    if abs(n_steps - round(n_steps)) > 1e-9 * n_steps or round(n_steps) < 1:
+        raise ConfigError(
+            f"must be a whole number of steps h = {integ['h']} s, got t_end / h = {n_steps:.12g}",
+            source, "integration", "t_end",
+        )
+    n_steps = round(n_steps)
+    if n_steps % integ["save_every"]:
+        raise ConfigError(
+            f"must divide the number of steps t_end / h = {n_steps}, got {integ['save_every']}",
+            source, "integration", "save_every",
+        )
+    start = analysis["fit_above"] * config["ensemble"]["epsilon"]
+    if start >= analysis["fit_below"]:
+        raise ConfigError(
+            f"must be > fit_above * [ensemble] epsilon = {start:g} (the fit window is "
+            f"empty), got {analysis['fit_below']}",
+            source, "analysis", "fit_below",
+        )
+    try:
+        _body(config)
+    except ValueError as exc:
+        raise ConfigError(str(exc), source, "body") from None
+    if carries_attitude(integ["scene"]):
+        if integ["method"] not in attitude_methods():
+            raise ConfigError(
+                f"must carry the attitude with scene = 'free_body_attitude': one of "
+                f"{', '.join(attitude_methods())}, got {integ['method']!r}",
+                source, "integration", "method")
+        if config["run"]["device"] != "cpu":
+            raise ConfigError("must be 'cpu' with scene = 'free_body_attitude' (the GPU loop "
+                              "carries w alone)", source, "run", "device")
+
+    members = config["ensemble"]["members"]
+    check_memory(  # the analysis and figures hold the whole time series
+        SCHEMA, config, source,
+        ensemble_memory(members, n_steps // integ["save_every"], scene=integ["scene"]),
+        [("ensemble", "members"), ("integration", "t_end")],
+        f"the time series of {members} members", "use fewer members, a shorter t_end or a "
+        "larger [integration] save_every")
+    check_run(config, source)
+    return config
+
+
+def expected_bytes(config: dict) -> int:
+    """Disk space of a run at most: the chunks of its ensemble and the Dataset (uncompressed)."""
+
+    integ = config["integration"]
+    saved = round(integ["t_end"] / integ["h"]) // integ["save_every"]
+    return 2 * ensemble_memory(config["ensemble"]["members"], saved, scene=integ["scene"])
+
+
+def outputs(config: dict) -> list[str]:
+    """Files a run writes into the output folder."""
+    return output_files(config, FIGURES)
+
+
+# ----------------------------------------------------------------------------------- the run
+
+
+def run(config: dict, out_dir: Path, *, overwrite=False, threads=None, progress=None,
+        history=None, work=None, resume=False, scheduler=None) -> StudySummary:
+    """Run the study described by the resolved ``config``; write its files into ``out_dir``.
+
+    The ensemble is streamed chunk by chunk into the folder ``work`` (uncompressed scratch
+    files, :mod:`stability.output.stream`), so that a stopped run continues with ``resume``; its
+    chunks run on ``scheduler`` (default: the file's ``[run] scheduler``).
+
+    Returns
+    -------
+    StudySummary
+        Rows: analytic Omega^2 and growth rate, fitted rate and its relative error, median
+        flip interval (measured and exact), invariant errors, wall time, member-steps/s.
+    """
+    say = _reporter(progress)
+    t_start = time.perf_counter()
+    body = _body(config)
+    axis = spin_axis(body, config["spin"]["axis"])
+    spin = config["spin"]["rate"]
+    ens, integ = config["ensemble"], config["integration"]
+    steps = round(integ["t_end"] / integ["h"])
+    memory = ensemble_memory(ens["members"], steps // integ["save_every"],
+                                       scene=integ["scene"])
+    say(f"{body.name}: {ens['members']} members x {steps} steps of {integ['method']} "
+        f"(h = {integ['h']:g} s), w kept every {integ['save_every']} steps: "
+        f"{format_bytes(memory)} of results")
+    ds = _ensemble(config, body, axis, work or out_dir / ".ensemble", resume,
+                   scheduler or config["run"]["scheduler"] or None, threads, progress,
+                   history or f"stability run ({NAME})")
+    t_ensemble = time.perf_counter() - t_start
+    say("exact flip intervals and the growth-rate fit ...")
+    ds = analyse_ensemble(ds, body, axis, spin, ens["epsilon"],
+                          low_factor=config["analysis"]["fit_above"],
+                          high_fraction=config["analysis"]["fit_below"])
+
+    say(f"writing {config['output']['dataset']} and drawing the figures ...")
+    figures = (tennis.flips_figure, tennis.polhode_figure, tennis.growth_figure,
+               tennis.flip_interval_figure)
+    ds, files = write_outputs(ds, config, out_dir, NAME, dict(zip(FIGURES, figures)),
+                              overwrite=overwrite, history=False, threads=threads)
+    wall = time.perf_counter() - t_start
+    return summarize(ds, out_dir, files, wall, t_ensemble)
+
+
+def _ensemble(config, body, axis, work, resume, scheduler, threads, progress, command):
+    """The ensemble, streamed through the chunk folder ``work`` and read back into memory."""
+
+    ens, integ = config["ensemble"], config["integration"]
+    kwargs = dict(
+        body=body, axis=axis, spin=config["spin"]["rate"], epsilon=ens["epsilon"],
+        members=ens["members"], h=integ["h"], t_end=integ["t_end"], seed=ens["seed"],
+        method=integ["method"], save_every=integ["save_every"],
+        chunk_members=config["run"]["chunk_members"], config=config, command=command,
+        device=config["run"]["device"], scene=integ["scene"],
+    )
+    lazy = run_streamed(kwargs, work, resume=resume, scheduler=scheduler, threads=threads,
+                        progress=progress, compress=False)
+    ds = lazy.compute()
+    lazy.close()
+    member = ds[cv.MEMBER]  # an ordinary index in memory, as run_ensemble's own Datasets have
+    return ds.drop_indexes(cv.MEMBER).assign_coords(
+        {cv.MEMBER: (cv.MEMBER, np.arange(member.size, dtype=np.int64), member.attrs)})
+
+
+def _reporter(progress):
+    """Print a stage of the run on stderr, unless progress output is off."""
+    if progress is False:
+        return lambda message: None
+    return lambda message: print(message, file=sys.stderr, flush=True)
+
+
+def _body(config: dict):
+
+    b = config["body"]
+    if "moments" in b:
+        return RigidBody(*b["moments"], physical=b["physical"], name=b.get("name", "body"))
+    return RigidBody.preset(b["preset"])
+
+
+def spin_axis(body, axis) -> int:
+    """Body axis (1, 2 or 3) of ``axis``: a number, or "smallest", "intermediate", "largest"."""
+    if axis in (1, 2, 3):
+        return int(axis)
+    return principal_axis(body, axis)
+
+
+def summarize(ds, out_dir, files, wall, t_ensemble) -> StudySummary:
+    """The summary table of a finished run: the analysis
+    (:func:`stability.free_body.tennis_racket.analysis.analysis_headline`), then its cost."""
+    rows, values = analysis_headline(ds)
+    n, steps, loop = values["members"], int(ds.attrs["steps_done"]), float(ds.attrs["wall_time"])
+    values.update({
+        "wall_time": wall, "ensemble_time": t_ensemble, "integration_time": loop,
+        "compile_time": float(ds.attrs["compile_time"]),
+        "member_steps_per_s": n * steps / loop if loop > 0 else math.nan,
+    })
+    rows += [
+        ("wall time (all: compile, run, analysis, files)", f"{wall:.1f}", "s"),
+        ("  integration / Numba compile", f"{loop:.2f} / {values['compile_time']:.1f}", "s"),
+        (f"member-steps per second ({n} x {steps} steps)",
+         f"{values['member_steps_per_s']:.3g}", "s-1"),
+    ]
+    return StudySummary(NAME, Path(out_dir), files, rows, values)
+
+
+STUDY = StudyKind(
+    name=NAME,
+    title="the tennis-racket flip: growth rate and flip intervals of a tossed ensemble",
+    schema=SCHEMA,
+    run=run,
+    outputs=outputs,
+    check=check,
+    quick=QUICK,
+    members_key=("ensemble", "members"),
+    expected_bytes=expected_bytes,
+    resumable=True,
+)

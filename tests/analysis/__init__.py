@@ -1,0 +1,1 @@
+"""Tests of the estimators on ensembles (stability.analysis)."""

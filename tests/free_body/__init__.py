@@ -1,0 +1,1 @@
+"""Tests of the free rigid body (stability.free_body)."""

@@ -1,0 +1,1 @@
+"""Tests of stability.free_body.twisting_racket."""

@@ -1,0 +1,1 @@
+"""Tests of stability.free_body.work_precision."""
