@@ -33,7 +33,8 @@ __all__ = ["METHODS", "MethodSpec", "Part", "RigidBody", "__version__", "axis_st
            "exact_omega", "flip_interval", "full_period",
            "growth_rate", "integrate", "method_spec", "omega_squared", "oscillation_frequency"]
 
-from .free_body.ensemble import ensemble_memory, run_ensemble  # noqa: E402
+from .free_body.ensemble import run_ensemble  # noqa: E402
+from .free_body.plan import ensemble_memory  # noqa: E402
 from .output.io import load, save  # noqa: E402
 from .engine.user_scene import define_scene  # noqa: E402
 from .ensemble.run import run_scene  # noqa: E402

@@ -138,12 +138,16 @@ OLD_NAMES = {
         "SHAPES", "G", "rolls", "rolling_acceleration", "slipping_acceleration",
         "slipping_spin_rate", "launch_formulas", "start_states", "measure_incline",
         "measure_launches"), "stability.rolling.model"),
-    "stability.ensemble": dict.fromkeys((
-        "ensemble_memory", "max_angular_speed", "seed_sequence", "perturbed_starts",
-        "run_ensemble", "run_ensembles", "EnsembleSummary", "completed", "run_streamed",
-        "EnsembleChunks", "RNG_CHUNK", "STREAM_CHUNK_MEMBERS", "DEFAULT_DIVERGENCE_TOLERANCE",
-        "LARGE_RUN_BYTES", "DEFAULT_LEVELS", "PEAK_COPIES", "MAX_STEPS"
-        ), "stability.free_body.ensemble"),
+    "stability.ensemble": {
+        **dict.fromkeys(("run_ensemble", "run_ensembles", "EnsembleSummary", "completed"),
+                        "stability.free_body.ensemble"),
+        **dict.fromkeys(("max_angular_speed", "seed_sequence", "perturbed_starts", "RNG_CHUNK"),
+                        "stability.free_body.starts"),
+        **dict.fromkeys(("ensemble_memory", "STREAM_CHUNK_MEMBERS", "DEFAULT_DIVERGENCE_TOLERANCE",
+                         "LARGE_RUN_BYTES", "DEFAULT_LEVELS", "PEAK_COPIES", "MAX_STEPS"),
+                        "stability.free_body.plan"),
+        **dict.fromkeys(("run_streamed", "EnsembleChunks"), "stability.free_body.streamed"),
+    },
     "stability.engine.gpu": dict.fromkeys(("propagate_gpu", "propagate_many_gpu"),
                                           "stability.free_body.propagate_gpu"),
     "stability.animation": {

@@ -34,7 +34,8 @@ import stability
 from stability.free_body import model as analytic, attitude, propagate as driver, exact
 from stability.analysis.members import zero_crossings
 from stability.core.body import Part
-from stability.free_body.ensemble import perturbed_starts, run_ensembles
+from stability.free_body.ensemble import run_ensembles
+from stability.free_body.starts import perturbed_starts
 
 from .helpers import one_line
 

@@ -12,7 +12,8 @@ import pytest
 
 import stability
 from stability.util import conventions as cv
-from stability.free_body.ensemble import max_angular_speed, run_ensemble
+from stability.free_body.ensemble import run_ensemble
+from stability.free_body.starts import max_angular_speed
 from stability.free_body.exact import exact_omega_of_starts
 
 BODY = stability.RigidBody(1.0, 2.0, 3.0)

@@ -50,7 +50,8 @@ from ..core.body import RigidBody
 from ..free_body.propagate import propagate
 from ..engine import propagate_groups
 from ..engine.reference import plain_rk4
-from ..free_body.ensemble import perturbed_starts, run_ensemble
+from ..free_body.ensemble import run_ensemble
+from ..free_body.starts import perturbed_starts
 from ..free_body.exact import exact_omega_of_starts
 from ..heavy_top.exact import cos_theta, nutation_period
 from ..heavy_top.model import HeavyTop, tilted_starts

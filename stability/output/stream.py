@@ -9,7 +9,7 @@ none of them: every scene's grouped runs, raw or measured, the free body's ensem
 (:class:`~stability.ensemble.chunks.ChunkJob`), and the stability map's batches.
 
 ``run_ensemble(..., store=DIR)`` streams this way
-(:func:`stability.free_body.ensemble.run_streamed`): the members are cut into chunks of
+(:func:`stability.free_body.streamed.run_streamed`): the members are cut into chunks of
 ``chunk_members``; each chunk is run exactly as
 :func:`stability.run_ensemble` runs its members (its random starts are drawn for that chunk
 alone, from the same seed streams) and written as soon as it is finished into a
@@ -60,7 +60,7 @@ def stream_chunks(job, chunks: ChunkStore, *, scheduler=None, threads=None, prog
     chunks : ChunkStore
         The store; each finished chunk is written into it at once.
     scheduler, threads, progress, compress
-        As in :func:`stability.free_body.ensemble.run_streamed`.
+        As in :func:`stability.free_body.streamed.run_streamed`.
 
     Raises
     ------

@@ -30,7 +30,8 @@ from pathlib import Path
 from typing import Any, Callable
 
 from ..core.body import RigidBody
-from ..free_body.ensemble import DEFAULT_MAX_MEMORY, format_bytes
+from ..ensemble.memory import DEFAULT_MAX_MEMORY
+from ..util.formatting import format_bytes
 from ..integrators import METHODS
 from ..ensemble.memory import memory_problem
 from ..output.dataset import append_history, config_toml, software_attrs

@@ -6,7 +6,7 @@ import numpy as np
 
 import stability
 from stability.engine_body.measure import measure_rule, step_for_accuracy
-from stability.free_body.ensemble import perturbed_starts
+from stability.free_body.starts import perturbed_starts
 
 from ..helpers import assert_cf_compliant, assert_declared, assert_readable
 

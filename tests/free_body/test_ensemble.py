@@ -10,9 +10,9 @@ import stability
 from stability.util import conventions as cv
 from stability.free_body import ensemble
 from stability.output.dataset import LEVEL, SUMMARIES, summary_bytes
-from stability.free_body.ensemble import (
-    RNG_CHUNK, ensemble_memory, max_angular_speed, perturbed_starts, run_ensemble,
-)
+from stability.free_body.ensemble import run_ensemble
+from stability.free_body.plan import ensemble_memory
+from stability.free_body.starts import RNG_CHUNK, max_angular_speed, perturbed_starts
 
 BODY = stability.RigidBody(1.0, 2.0, 3.0, name="I=(1,2,3)")
 #: Growth rate about the intermediate axis for spin W = 1: sqrt((I2-I1)(I3-I2)/(I1 I3)).

@@ -16,7 +16,7 @@ from pathlib import Path
 from ...free_body.attitude import attitude_methods
 from ...core.body import RigidBody
 from ..model import ARCSEC, earth_moments
-from ...free_body.ensemble import ensemble_memory
+from ...free_body.plan import ensemble_memory
 from ..figures import wobble_cones_figure
 from ...util.threads import numba_threads
 from ..wobble import measure_free_wobble

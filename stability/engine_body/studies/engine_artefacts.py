@@ -18,7 +18,7 @@ import numpy as np
 
 from ...free_body.attitude import attitude_methods
 from ...core.body import RigidBody
-from ...free_body.ensemble import perturbed_starts
+from ...free_body.starts import perturbed_starts
 from ...study.config import (
     MEMBER_BYTES, ConfigError, Key, Schema, Section, StudyKind, StudySummary, SummaryTable,
     check_memory, check_run, output_files, output_section, run_section, stored_run,

@@ -30,7 +30,8 @@ import numpy as np
 from ..model import MOMENT_NAMES, principal_axis
 from ..attitude import FREE_BODY_SCENES, attitude_methods, carries_attitude
 from ...core.body import RigidBody
-from ..ensemble import ensemble_memory, run_streamed
+from ..plan import ensemble_memory
+from ..streamed import run_streamed
 from .analysis import analyse_ensemble, analysis_headline
 from . import figures as tennis
 from ...util import conventions as cv

@@ -19,7 +19,7 @@ import xarray as xr
 from ...util import conventions as cv
 from ..attitude import IDENTITY, propagate_attitudes
 from ...output.dataset import storable_attrs
-from ..ensemble import seed_sequence
+from ..starts import seed_sequence
 from ..exact_attitude import exact_attitudes, free_motion
 from .geometric_phase import exact_angles, run_angles, wrap
 from ...ensemble.schema import TWISTING_RACKET

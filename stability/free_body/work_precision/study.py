@@ -29,7 +29,7 @@ from . import measure as wp
 from ..model import principal_axis
 from ...core.body import RigidBody
 from .drift import long_horizon
-from ..ensemble import perturbed_starts
+from ..starts import perturbed_starts
 from . import figures as figures
 from ...integrators import METHODS, method_spec
 from ...output.dataset import software_attrs

@@ -1,0 +1,187 @@
+"""A free-body ensemble streamed to a store chunk by chunk
+(:mod:`stability.ensemble.chunks`): resumable, and on dask.distributed."""
+
+from __future__ import annotations
+
+
+import numpy as np
+
+from .attitude import IDENTITY
+from .propagate import CanonicalGroups, group_levels
+from ..output.dataset import history_line
+from ..output.store import ChunkStore, read_progress
+from ..ensemble.chunks import GroupedRun, propagate_stored, summed_attrs
+from ..util import conventions as cv
+from ..version import __version__
+from .plan import EnsemblePlan, chunk_plan, plan_ensemble
+from .results import RunPart, finish_run, members_dataset
+
+__all__ = ["run_streamed", "EnsembleChunks"]
+
+def run_streamed(kwargs: dict, store, *, resume=False, scheduler=None, threads=None,
+                 progress=None, compress=True):
+    """Run the ensemble ``run_ensemble(**kwargs)`` chunk by chunk into the folder ``store``.
+
+    Returns the Dataset over the chunk files (dask arrays). See :func:`stability.run_ensemble`
+    for ``kwargs``; ``chunk_members`` there is the members per chunk file here
+    (default :data:`stability.free_body.plan.STREAM_CHUNK_MEMBERS`).
+
+    Parameters
+    ----------
+    kwargs : dict
+        Keyword arguments of :func:`stability.run_ensemble` (without ``threads``,
+        ``progress``, ``store``, ``resume`` and ``scheduler``).
+    store : str or path-like
+        Folder of the chunk files; created if missing.
+    resume : bool, default False
+        Finish a run of the same arguments stopped earlier: only the chunks not on disk are
+        run. Without it, a store that already has chunks done is refused.
+    scheduler : str or distributed.Client, optional
+        Run the chunks on dask.distributed: ``"dask"`` for a local cluster, a scheduler
+        address such as ``"tcp://host:8786"``, or a client. By default they run in this
+        process.
+    threads : int, optional
+        Numba threads when the chunks run in this process; default: Numba's current setting.
+        Dask workers use their own threads.
+    progress : bool, optional
+        Progress bar: over members when several chunks are run, else the chunk's own;
+        ``False`` shows none.
+    compress : bool, default True
+        zlib-compress the chunk files (:func:`stability.output.io.save`).
+
+    Returns
+    -------
+    xarray.Dataset
+        The whole run over the chunk files (dask arrays).
+
+    Raises
+    ------
+    stability.output.stream.RunInterrupted
+        If Ctrl-C or SIGTERM stopped the run; the finished chunks are kept.
+    ValueError
+        For invalid arguments, or a store with chunks done and no ``resume``.
+    OSError
+        If the dask scheduler cannot be reached, or a chunk written by a worker is not
+        readable here.
+    """
+    kwargs = dict(kwargs)
+    plan = plan_ensemble(**kwargs, defer_starts=True)
+    kwargs["chunk_members"] = plan.chunk_members
+    ensemble = EnsembleChunks(kwargs, plan)
+    return propagate_stored(ensemble.grouped_run(), store, measure=ensemble, resume=resume,
+                            scheduler=scheduler, chunk_members=plan.chunk_members,
+                            threads=threads, progress=progress, compress=compress)
+
+
+class EnsembleChunks:
+    """A free-body ensemble as a stored grouped run (:mod:`stability.ensemble.chunks`): its
+    start rule and its measurement.
+
+    :meth:`grouped_run` is the run, one group, whose starts come from :meth:`starts`: members
+    ``lo ... hi - 1`` of :func:`stability.run_ensemble` drawn for those members alone, in each
+    body's canonical frame. Called as a measurement, the object turns a chunk's propagation
+    into the Dataset ``run_ensemble`` gives those members, numbered from ``lo``
+    (:func:`stability.free_body.results.finish_run` and
+    :func:`stability.free_body.results.members_dataset`). :meth:`identity` and
+    :meth:`whole_attrs` are the store's fingerprint and the whole Dataset's attributes.
+
+    Parameters
+    ----------
+    kwargs : dict
+        Keyword arguments of :func:`stability.run_ensemble` for the whole run (with
+        ``chunk_members`` resolved).
+    plan : optional
+        The run's plan, when the caller has it (it is made again where the job is unpickled).
+    """
+
+    def __init__(self, kwargs: dict, plan=None):
+        self.kwargs = kwargs
+        self._plan = plan
+        self._drawn = {}
+
+    def __getstate__(self):
+        return {"kwargs": self.kwargs, "_plan": None, "_drawn": {}}
+
+    @property
+    def plan(self) -> EnsemblePlan:
+        if self._plan is None:
+            self._plan = plan_ensemble(**self.kwargs, defer_starts=True)
+        return self._plan
+
+    def grouped_run(self):
+        """The ensemble as a :class:`~stability.ensemble.chunks.GroupedRun`: the arguments
+        :func:`stability.free_body.propagate.propagate_many` gives the member loop for it."""
+        plan = self.plan
+        groups = self._groups(plan.members)
+        return GroupedRun(
+            "free_body_attitude" if plan.attitude else "free_body", plan.spec.name, None,
+            groups.params, [plan.members], plan.h, plan.n_steps,
+            save_every=0 if plan.summaries_only else plan.save_every,
+            axes=groups.tracking_axes([plan.a]), levels=group_levels([plan.levels], 1),
+            device=plan.device, chunk_steps=plan.chunk_steps, starts=self.starts)
+
+    def starts(self, lo: int, hi: int) -> np.ndarray:
+        """The start rule: the initial states (canonical m, and q) of members lo to hi - 1."""
+        sub = chunk_plan(self.plan, lo, hi)
+        self._drawn[lo, hi] = sub  # for the measurement of the same chunk: drawn once
+        groups = self._groups(hi - lo)
+        x0 = groups.to_canonical(sub.w0 * sub.body.moments)
+        if sub.attitude:
+            x0 = np.concatenate([x0, groups.attitudes(np.tile(IDENTITY, (hi - lo, 1)),
+                                                      to_canonical=True)], axis=1)
+        return x0
+
+    def __call__(self, part, run, lo: int, hi: int, threads):
+        """The measurement: the Dataset of members lo to hi - 1 from their propagation."""
+        sub = self._drawn.pop((lo, hi), None) or chunk_plan(self.plan, lo, hi)
+        n = hi - lo
+        groups = self._groups(n)
+        run.x_final = groups.from_canonical_state(run.x_final)
+        run.saved = groups.from_canonical_state(run.saved)
+        part = RunPart(run, slice(0, n), slice(0, n), int(run.steps_done[0]))
+        measured = finish_run(sub, [part], n, sub.n_steps, False)
+        ds = members_dataset(sub, measured, threads)
+        member = ds[cv.MEMBER]
+        return ds.assign_coords({cv.MEMBER: (cv.MEMBER, np.arange(lo, lo + member.size),
+                                             member.attrs)})
+
+    def identity(self, run) -> dict:
+        """What decides the members' numbers, for the store's fingerprint (not the caller's
+        configuration, which may differ in keys that do not, such as the figures of a study)."""
+        return {"run_ensemble": {k: v for k, v in self.plan.resolved.items() if k != "threads"},
+                "software": f"stability {__version__}"}
+
+    def whole_attrs(self, chunks: ChunkStore, todo) -> dict:
+        """The whole Dataset's attributes, with a ``history`` line for this call."""
+        attrs = _whole_attrs(chunks)
+        progress = read_progress(chunks.dir) or {}
+        attrs["history"] = attrs.get("history", "") + "\n" + history_line(
+            f"streamed to {chunks.dir}: {chunks.n_chunks} chunks of {chunks.chunk_members} "
+            f"members ({len(todo)} run by this call), "
+            f"{progress.get('members_per_second', 0):.3g} members/s, "
+            f"{progress.get('elapsed_seconds', 0):.1f} s")
+        return attrs
+
+    def _groups(self, members: int) -> CanonicalGroups:
+        plan = self.plan
+        return CanonicalGroups(plan.spec, plan.body.moments[None, :], np.array([members]),
+                               np.array([plan.h]))
+
+
+def _whole_attrs(chunks: ChunkStore) -> dict:
+    """The attributes of the whole run from those of its chunks."""
+    attrs = summed_attrs(chunks)
+    wall = attrs["wall_time"]
+    n = chunks.members
+    title = attrs.get("title", "")
+    if "-member ensemble" in title:
+        attrs["title"] = f"{n}-member ensemble" + title.split("-member ensemble", 1)[1]
+    steps = float(attrs.get("steps_done", 0))
+    attrs.update({
+        "members": n,
+        "members_requested": n,
+        "member_steps_per_second": n * steps / wall if wall > 0 else 0.0,
+        "chunks": chunks.n_chunks,
+        "chunk_members": chunks.chunk_members,
+    })
+    return attrs
