@@ -148,6 +148,14 @@ OLD_NAMES = {
                         "stability.free_body.plan"),
         **dict.fromkeys(("run_streamed", "EnsembleChunks"), "stability.free_body.streamed"),
     },
+    "stability.ensemble.schema": {
+        name: f"stability.{family}.schema" for family, names in (
+            ("free_body", ("TRAJECTORY", "TENNIS_RACKET", "STABILITY_MAP", "WORK_PRECISION",
+                           "TWISTING_RACKET")),
+            ("engine_body", ("ENGINE_ARTEFACTS",)), ("earth", ("EARTH_WOBBLE", "EQUINOXES")),
+            ("heavy_top", ("GYROSCOPE", "SLEEPING_TOP")), ("struck", ("BAT",)),
+            ("rolling", ("ROLLING",)), ("dissipation", ("EXPLORER", "DUAL_SPIN")))
+        for name in names},
     "stability.engine.gpu": dict.fromkeys(("propagate_gpu", "propagate_many_gpu"),
                                           "stability.free_body.propagate_gpu"),
     "stability.animation": {

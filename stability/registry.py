@@ -13,6 +13,7 @@ registered here) and is passed as it is.
 import importlib
 
 from .engine.scene import Scene
+from .ensemble.schema import DatasetSchema, register
 
 #: The families, each a package ``stability.<name>``, in the order their scenes are listed.
 FAMILIES = ("free_body", "heavy_top", "earth", "rolling", "struck", "engine_body", "dissipation")
@@ -26,12 +27,13 @@ def declared(family: str, kind: str) -> dict:
     family : str
         A name of :data:`FAMILIES`.
     kind : str
-        ``"SCENES"`` or ``"STUDIES"``.
+        ``"SCENES"``, ``"STUDIES"`` or ``"DATASETS"``.
 
     Returns
     -------
     dict
-        Each study kind's name (or each scene's position) -> (module path, attribute name).
+        Each study kind's name (or each scene's or Dataset's position) -> (module path,
+        attribute name).
     """
     package = f"stability.{family}"
     table = getattr(importlib.import_module(package), kind)
@@ -65,6 +67,13 @@ SCENES: dict[str, Scene] = {
                         for where in declared(family, "SCENES").values())}
 
 #: Each study kind's name -> (module, attribute) of its StudyKind, imported when first used.
+#: Each family's Dataset declarations by name, added to the register
+#: (:data:`stability.ensemble.schema.SCHEMAS`).
+DATASETS: dict[str, DatasetSchema] = {
+    s.name: s for s in (load(where) for family in FAMILIES
+                        for where in declared(family, "DATASETS").values())}
+register(*DATASETS.values())
+
 STUDY_KINDS: dict[str, tuple] = dict(sorted(
     (name, where) for family in FAMILIES for name, where in declared(family, "STUDIES").items()))
 
@@ -91,4 +100,4 @@ def scene(name) -> Scene:
         ) from None
 
 
-__all__ = ["FAMILIES", "SCENES", "STUDY_KINDS", "declared", "load", "scene"]
+__all__ = ["DATASETS", "FAMILIES", "SCENES", "STUDY_KINDS", "declared", "load", "scene"]

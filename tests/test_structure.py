@@ -41,7 +41,6 @@ UPWARD = {
 #: its reason, until they are split.
 MAX_LINES = 800
 LONG_MODULES = {
-    "stability.ensemble.schema": "declarations only, one per Dataset kind: each moves to its family",
     "stability.core.body": "the rigid body, its parts and presets: presets to a module of "
                            "their own",
     "stability.study.config": "the study schema library, shared sections, output writing",

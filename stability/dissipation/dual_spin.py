@@ -33,7 +33,7 @@ from dataclasses import dataclass
 import numpy as np
 import xarray as xr
 
-from ..ensemble.schema import DUAL_SPIN
+from .schema import DUAL_SPIN
 from ..ensemble.chunks import GroupedRun, propagate_stored
 from .gyrostat import (axial_momentum, axisymmetric_eigenvalues, energy_sink_optimum,
                        energy_sink_rate, first_order_rate, tilted_spin)
@@ -174,7 +174,7 @@ def measure_dual_spin(body, ratios, speeds, angles, *, placements=PLACEMENTS, st
     -------
     xarray.Dataset
         Dims (placement, ratio, speed) and (placement, ratio, speed, start); declared in
-        :data:`stability.ensemble.schema.DUAL_SPIN`.
+        :data:`stability.dissipation.schema.DUAL_SPIN`.
     """
     ratios = np.asarray(ratios, dtype=float)
     speeds = np.asarray(speeds, dtype=float)

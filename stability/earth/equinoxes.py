@@ -35,7 +35,7 @@ from .methods import N_ORBIT, O_E, O_I, O_K, O_M0, O_N, O_NODE0, O_NODEDOT, O_W0
 from ..ensemble.chunks import GroupedRun, propagate_stored, sub_store
 from ..registry import SCENES
 from .scene import figure_axes
-from ..ensemble.schema import EQUINOXES
+from .schema import EQUINOXES
 
 #: The Julian year (s) and century, the units of the rates.
 YEAR = 365.25 * DAY
@@ -449,7 +449,7 @@ def measure_equinoxes(*, years=100.0, members=4, steps_per_day=4, method="lp4",
     -------
     xarray.Dataset
         Dims (model, torque, member), the series of member 0 (time) and the long run
-        (cycle_time); see :data:`stability.ensemble.schema.EQUINOXES`.
+        (cycle_time); see :data:`stability.earth.schema.EQUINOXES`.
     """
     import time as _time
 

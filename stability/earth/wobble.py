@@ -24,7 +24,7 @@ from ..free_body.ensemble import completed, run_ensemble
 from ..analysis.estimates import measured_frequency
 from ..free_body.integrate import integrate
 from ..ensemble.chunks import default_chunk_members
-from ..ensemble.schema import EARTH_WOBBLE
+from .schema import EARTH_WOBBLE
 
 #: Dimension of the cone member's samples.
 CONE_TIME = "cone_time"

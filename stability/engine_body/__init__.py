@@ -28,7 +28,8 @@ This package's ``__init__`` imports nothing, so that the scene registry (:mod:`s
 can import :mod:`.scene` without the rest.
 """
 
-#: What the family registers (:mod:`stability.registry`): its scenes and its study kinds, each as
-#: ``"module:name"`` inside this package, imported when first asked for.
+#: What the family registers (:mod:`stability.registry`): its scenes, its study kinds and the
+#: declarations of the Datasets they write, each as ``"module:name"`` inside this package.
 SCENES = ("scene:ENGINE_BODY",)
 STUDIES = {"engine_artefacts": "studies.engine_artefacts:STUDY"}
+DATASETS = ("schema:ENGINE_ARTEFACTS",)

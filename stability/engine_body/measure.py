@@ -30,7 +30,7 @@ from ..integrators import METHODS
 from ..output.dataset import storable_attrs
 from ..ensemble.chunks import GroupedRun, propagate_stored, sub_store
 from ..registry import SCENES
-from ..ensemble.schema import ENGINE_ARTEFACTS
+from .schema import ENGINE_ARTEFACTS
 from ..util import conventions as cv
 from .methods import ENGINE_RULES, body_state, world_state
 

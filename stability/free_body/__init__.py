@@ -26,8 +26,8 @@ This package's ``__init__`` imports nothing, so that the scene registry can impo
 :mod:`.scene` without the rest.
 """
 
-#: What the family registers (:mod:`stability.registry`): its scenes and its study kinds, each as
-#: ``"module:name"`` inside this package, imported when first asked for.
+#: What the family registers (:mod:`stability.registry`): its scenes, its study kinds and the
+#: declarations of the Datasets they write, each as ``"module:name"`` inside this package.
 SCENES = ("scene:FREE_BODY", "scene_attitude:FREE_BODY_ATTITUDE")
 STUDIES = {
     "tennis_racket": "tennis_racket.study:STUDY",
@@ -35,3 +35,10 @@ STUDIES = {
     "work_precision": "work_precision.study:STUDY",
     "twisting_racket": "twisting_racket.study:STUDY",
 }
+DATASETS = (
+    "schema:TRAJECTORY",
+    "schema:TENNIS_RACKET",
+    "schema:STABILITY_MAP",
+    "schema:WORK_PRECISION",
+    "schema:TWISTING_RACKET",
+)

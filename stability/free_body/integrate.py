@@ -15,7 +15,7 @@ from ..core.body import RigidBody
 from ..util.checks import positive_float, positive_int, real_array, step_count, vectors3
 from .attitude import IDENTITY, attitude_spec, carries_attitude, propagate_attitude
 from ..output.dataset import provenance_attrs, storable_attrs
-from ..ensemble.schema import TRAJECTORY
+from .schema import TRAJECTORY
 from .propagate import propagate, untrusted
 from ..integrators import method_spec
 

@@ -57,7 +57,7 @@ from ..analysis.estimates import measured_growth_rate
 from ..analysis.periodic import extrema, level_crossings, mean_period, weighted_mean
 from ..ensemble.chunks import GroupedRun, propagate_stored
 from ..registry import SCENES
-from ..ensemble.schema import GYROSCOPE, SLEEPING_TOP
+from .schema import GYROSCOPE, SLEEPING_TOP
 from ..util import conventions as cv
 from . import exact as exact_top
 from .model import (
@@ -121,7 +121,7 @@ def measure_sleeping_tops(tops, spins, *, members=64, tilt=1e-9, method="lp4",
     Returns
     -------
     xarray.Dataset
-        Dims (length, spin); see :data:`stability.ensemble.schema.SLEEPING_TOP`.
+        Dims (length, spin); see :data:`stability.heavy_top.schema.SLEEPING_TOP`.
     """
     tops = list(tops)
     spins = np.asarray(spins, dtype=float)
@@ -274,7 +274,7 @@ def measure_gyroscopes(top, spins, tilts, releases=(-1.0, 0.0, 0.5), *, method="
     -------
     xarray.Dataset
         Dims (tilt, spin, release) and (release, path_time); see
-        :data:`stability.ensemble.schema.GYROSCOPE`. The tilt coordinate is in degrees.
+        :data:`stability.heavy_top.schema.GYROSCOPE`. The tilt coordinate is in degrees.
     """
     spins = np.asarray(spins, dtype=float)
     tilts = np.asarray(tilts, dtype=float)

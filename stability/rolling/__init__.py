@@ -29,7 +29,8 @@ from ..moved import old_names
 
 __getattr__ = old_names(__name__)
 
-#: What the family registers (:mod:`stability.registry`): its scenes and its study kinds, each as
-#: ``"module:name"`` inside this package, imported when first asked for.
+#: What the family registers (:mod:`stability.registry`): its scenes, its study kinds and the
+#: declarations of the Datasets they write, each as ``"module:name"`` inside this package.
 SCENES = ("scene:ROLLING_BODY",)
 STUDIES = {"rolling": "studies.rolling:STUDY"}
+DATASETS = ("schema:ROLLING",)

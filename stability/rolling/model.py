@@ -34,7 +34,7 @@ from .methods import (
 )
 from ..ensemble.chunks import GroupedRun, propagate_stored
 from ..registry import SCENES
-from ..ensemble.schema import ROLLING
+from .schema import ROLLING
 
 #: I / (M R^2) of the shapes by name.
 SHAPES = {"sphere": 0.4, "cylinder": 0.5, "spherical_shell": 2.0 / 3.0, "hoop": 1.0}

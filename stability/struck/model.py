@@ -31,7 +31,7 @@ from ..analysis.members import zero_crossings
 from .methods import J_ACROSS, J_ALONG, PHI, VX, VY, W, X, strike_params
 from ..ensemble.chunks import GroupedRun, propagate_stored
 from ..registry import SCENES
-from ..ensemble.schema import BAT
+from .schema import BAT
 from ..util.checks import positive_float, real_number
 
 INCH = 0.0254

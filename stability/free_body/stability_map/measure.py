@@ -29,7 +29,7 @@ from ...analysis.members import members as gather_members
 from ..ensemble import completed, run_ensembles
 from ..starts import perturbed_starts
 from ...output.stream import stream_chunks
-from ...ensemble.schema import STABILITY_MAP
+from ..schema import STABILITY_MAP
 from .shapes import EDGE_EQUAL_12, EDGE_EQUAL_23, EDGE_FLAT
 from ...util import conventions as cv
 from ...util.conventions import REGIME_ALGEBRAIC, REGIME_NEUTRAL

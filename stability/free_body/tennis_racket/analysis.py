@@ -13,7 +13,7 @@ from ...analysis.estimates import measured_growth_rate
 from ...analysis.fits import growth_line
 from ...analysis.members import perpendicular_amplitude
 from ...analysis.regimes import WINDOW_ATTRS, WINDOW_HIGH_FRACTION, WINDOW_LOW_FACTOR
-from ...ensemble.schema import TENNIS_RACKET
+from ..schema import TENNIS_RACKET
 from ...util import conventions as cv
 from ..measure import complementary_moduli, exact_flip_intervals
 from ..model import growth_rate, omega_squared

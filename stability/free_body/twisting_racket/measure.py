@@ -22,7 +22,7 @@ from ...output.dataset import storable_attrs
 from ..starts import seed_sequence
 from ..exact_attitude import exact_attitudes, free_motion
 from .geometric_phase import exact_angles, run_angles, wrap
-from ...ensemble.schema import TWISTING_RACKET
+from ..schema import TWISTING_RACKET
 
 #: Instants of the flip drawn for the first member (across its twist window).
 SNAPSHOTS = 7

@@ -23,7 +23,7 @@ import xarray as xr
 from .drift import drift_kind, envelope, log_slope
 from ...integrators import METHODS
 from ..reference import METRICS
-from ...ensemble.schema import WORK_PRECISION
+from ..schema import WORK_PRECISION
 
 #: Name of scipy's DOP853 in the ``method`` dimension (run as one system over all members).
 SCIPY = "dop853"
