@@ -13,6 +13,7 @@ registered here) and is passed as it is.
 import importlib
 
 from .engine.scene import Scene
+from .util.checks import registered
 
 #: The families, each a package ``stability.<name>``, in the order their scenes are listed.
 FAMILIES = ("free_body", "heavy_top", "earth", "rolling", "struck", "engine_body", "dissipation")
@@ -83,12 +84,7 @@ def scene(name) -> Scene:
     """
     if isinstance(name, Scene):
         return name
-    try:
-        return SCENES[name]
-    except (KeyError, TypeError):
-        raise ValueError(
-            f"unknown scene {name!r}; known scenes: {', '.join(SCENES)}"
-        ) from None
+    return registered(SCENES, name, "scene")
 
 
 __all__ = ["FAMILIES", "SCENES", "STUDY_KINDS", "declared", "load", "scene"]
