@@ -14,6 +14,7 @@ import importlib
 
 from .engine.scene import Scene
 from .ensemble.schema import DatasetSchema, register
+from .util.checks import registered
 
 #: The families, each a package ``stability.<name>``, in the order their scenes are listed.
 FAMILIES = ("free_body", "heavy_top", "earth", "rolling", "struck", "engine_body", "dissipation")
@@ -92,12 +93,7 @@ def scene(name) -> Scene:
     """
     if isinstance(name, Scene):
         return name
-    try:
-        return SCENES[name]
-    except (KeyError, TypeError):
-        raise ValueError(
-            f"unknown scene {name!r}; known scenes: {', '.join(SCENES)}"
-        ) from None
+    return registered(SCENES, name, "scene")
 
 
 __all__ = ["DATASETS", "FAMILIES", "SCENES", "STUDY_KINDS", "declared", "load", "scene"]

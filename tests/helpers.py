@@ -186,6 +186,17 @@ def one_line(capsys, argv) -> str:
     return lines[0]
 
 
+def bad_study_line(tmp_path, capsys, kind: str, text: str) -> str:
+    """Run a study file of kind ``kind`` with ``text`` below its first line; assert it fails in
+    one line (:func:`one_line`) and writes no output folder, and return that line."""
+    path = tmp_path / "bad.toml"
+    path.write_text(f'study = "{kind}"\n' + text)
+    out = tmp_path / "out"
+    line = one_line(capsys, ["run", str(path), "--out", str(out), "--no-progress"])
+    assert not out.exists()
+    return line
+
+
 def quick_study(tmp_path_factory, kind: str, **options):
     """Run ``studies/<kind>.toml`` in quick mode into a fresh folder, PNG figures only, no
     progress bar (``options``: further ``run_study`` arguments); ``(summary, folder)``."""

@@ -80,15 +80,40 @@ def crossed(prev, v):
     return (prev >= 0.0) != (v >= 0.0)
 
 
+@njit(inline="always")
+def counted_crossing(count, first, last, prev, v, t_prev, h):
+    """``(count, first, last)`` after a sign change of v since the previous step.
+
+    Its time ``t_prev + h prev / (prev - v)`` by linear interpolation is the new ``last``, and
+    ``first`` too when it is the first one; the CPU and the GPU loops both count with this.
+    """
+    t_cross = t_prev + h * prev / (prev - v)
+    count += 1.0
+    if count == 1.0:
+        first = t_cross
+    return count, first, t_cross
+
+
+@njit(inline="always")
+def passage_fraction(level, prev_amp, amp):
+    """Where in the step the amplitude passed ``level``, in [0, 1]: ln(level / prev_amp) /
+    ln(amp / prev_amp) (linear in t during exponential growth), the amplitude itself
+    interpolated where the logarithms are undefined; the CPU and the GPU loops both use it."""
+    if prev_amp > 0.0 and amp > prev_amp:
+        frac = math.log(level / prev_amp) / math.log(amp / prev_amp)
+    else:
+        frac = (level - prev_amp) / (amp - prev_amp)
+    return min(max(frac, 0.0), 1.0)
+
+
 @njit
 def record_crossing(tr, j, col_count, col_first, col_last, prev, v, t_prev, h):
     """Count a sign change of v since the previous step; its time by linear interpolation."""
-    t_cross = t_prev + h * prev / (prev - v)
-    count = tr[col_count, j] + 1.0
-    if count == 1.0:
-        tr[col_first, j] = t_cross
-    tr[col_last, j] = t_cross
+    count, first, last = counted_crossing(tr[col_count, j], tr[col_first, j], tr[col_last, j],
+                                          prev, v, t_prev, h)
     tr[col_count, j] = count
+    tr[col_first, j] = first
+    tr[col_last, j] = last
 
 
 @njit
@@ -113,11 +138,7 @@ def record_events(tr, j, prev_a, prev_b, prev_amp2, va, vb, amp2, t_prev, h, lev
         amp = math.sqrt(amp2)
         prev_amp = math.sqrt(prev_amp2)
         while level < n_levels and amp2 >= thresholds[level]:
-            if prev_amp > 0.0 and amp > prev_amp:
-                frac = math.log(levels[level] / prev_amp) / math.log(amp / prev_amp)
-            else:
-                frac = (levels[level] - prev_amp) / (amp - prev_amp)
-            passage[member, level] = t_prev + h * min(max(frac, 0.0), 1.0)
+            passage[member, level] = t_prev + h * passage_fraction(levels[level], prev_amp, amp)
             level += 1
         tr[T_NEXT_LEVEL, j] = level
 

@@ -16,6 +16,7 @@ from .moser_veselov import DMV, DMV4
 from .munthe_kaas import RKMK4
 from .rk4 import RK4
 from .spec import MethodSpec, body_params
+from ..util.checks import registered
 
 _ALL = (RK4, LP2, LP4, LP6, LP8, EXACT, DMV, DMV4, LGVI, RKMK4, MIDPOINT)
 
@@ -36,11 +37,7 @@ def method_spec(name) -> MethodSpec:
     """
     if isinstance(name, MethodSpec):
         return name
-    try:
-        return METHODS[name]
-    except (KeyError, TypeError):
-        known = ", ".join(METHODS)
-        raise ValueError(f"unknown method {name!r}; known methods: {known}") from None
+    return registered(METHODS, name, "method")
 
 
 __all__ = ["METHODS", "MethodSpec", "body_params", "method_spec"]

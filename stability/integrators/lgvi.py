@@ -32,14 +32,7 @@ fixed-point sweep slows down (h |w| near 1) and because the LGVI form takes torq
 import numpy as np
 from numba import njit
 
-from .rotations import (
-    cayley_increment,
-    cayley_quaternion,
-    quaternion_increment,
-    solve3,
-    unless_failed,
-    unless_failed_attitude,
-)
+from .rotations import cayley_attitude_increment, cayley_increment, solve3, unless_failed
 from .spec import P_I1, P_I2, P_I3, P_INV1, P_INV2, P_INV3, MethodSpec, body_params
 
 #: Newton stopping rule for (2): the correction sum_i |df_i| is 0 or has stopped decreasing,
@@ -102,9 +95,7 @@ def lgvi_attitude_step(m1, m2, m3, q0, q1, q2, q3, h, p, s):
     """LGVI on (m, q): also ``R <- R F``, i.e. ``q <- q (1, f)/sqrt(1 + |f|^2)``."""
     f1, f2, f3, it = lgvi_solve(m1, m2, m3, h, p)
     d1, d2, d3 = cayley_increment(m1, m2, m3, f1, f2, f3)
-    r0, r1, r2, r3 = cayley_quaternion(f1, f2, f3)
-    e0, e1, e2, e3 = quaternion_increment(q0, q1, q2, q3, r0, r1, r2, r3)
-    return unless_failed_attitude(d1, d2, d3, e0, e1, e2, e3, it)
+    return cayley_attitude_increment(d1, d2, d3, q0, q1, q2, q3, f1, f2, f3, it)
 
 
 LGVI = MethodSpec(

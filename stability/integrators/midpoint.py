@@ -34,12 +34,7 @@ hence a quadratic invariant of the joint system) is kept to the solver tolerance
 import numpy as np
 from numba import njit
 
-from .rotations import (
-    cayley_quaternion,
-    quaternion_increment,
-    unless_failed,
-    unless_failed_attitude,
-)
+from .rotations import cayley_attitude_increment, unless_failed
 from .spec import P_A1, P_A2, P_A3, P_INV1, P_INV2, P_INV3, MethodSpec, body_params
 
 #: Fixed-point stopping rule for (3): the change sum_i |y_i^new - y_i| is 0 or has stopped
@@ -94,9 +89,7 @@ def midpoint_attitude_step(m1, m2, m3, q0, q1, q2, q3, h, p, s):
     d3 = h * p[P_A3] * y1 * y2
     hh = 0.5 * h
     f1, f2, f3 = hh * y1 * p[P_INV1], hh * y2 * p[P_INV2], hh * y3 * p[P_INV3]
-    r0, r1, r2, r3 = cayley_quaternion(f1, f2, f3)
-    e0, e1, e2, e3 = quaternion_increment(q0, q1, q2, q3, r0, r1, r2, r3)
-    return unless_failed_attitude(d1, d2, d3, e0, e1, e2, e3, it)
+    return cayley_attitude_increment(d1, d2, d3, q0, q1, q2, q3, f1, f2, f3, it)
 
 
 MIDPOINT = MethodSpec(

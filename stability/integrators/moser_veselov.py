@@ -38,12 +38,7 @@ modification depends only on invariants that the map keeps, E and |m| stay exact
 import numpy as np
 from numba import njit
 
-from .rotations import (
-    cayley_quaternion,
-    quaternion_increment,
-    unless_failed,
-    unless_failed_attitude,
-)
+from .rotations import cayley_attitude_increment, unless_failed
 from .spec import N_BODY_PARAMS, P_I1, P_I2, P_I3, P_INV1, P_INV2, P_INV3, MethodSpec, body_params
 
 #: Fixed-point stopping rule for (1): the change sum_i |c_i^new - c_i| is 0 or has stopped
@@ -148,9 +143,7 @@ def dmv_step(m1, m2, m3, h, p, s):
 def dmv_attitude_step(m1, m2, m3, q0, q1, q2, q3, h, p, s):
     """DMV on (m, q): also ``q <- q (1, c)/sqrt(1 + |c|^2)``; increments of m and q, sweeps."""
     d1, d2, d3, c1, c2, c3, it = _dmv(m1, m2, m3, h, p)
-    r0, r1, r2, r3 = cayley_quaternion(c1, c2, c3)
-    e0, e1, e2, e3 = quaternion_increment(q0, q1, q2, q3, r0, r1, r2, r3)
-    return unless_failed_attitude(d1, d2, d3, e0, e1, e2, e3, it)
+    return cayley_attitude_increment(d1, d2, d3, q0, q1, q2, q3, c1, c2, c3, it)
 
 
 @njit(inline="always", error_model="numpy")
@@ -164,9 +157,7 @@ def dmv4_step(m1, m2, m3, h, p, s):
 def dmv4_attitude_step(m1, m2, m3, q0, q1, q2, q3, h, p, s):
     """Order-4 DMV on (m, q); increments of m and q, fixed-point sweeps."""
     d1, d2, d3, c1, c2, c3, it = _dmv4(m1, m2, m3, h, p)
-    r0, r1, r2, r3 = cayley_quaternion(c1, c2, c3)
-    e0, e1, e2, e3 = quaternion_increment(q0, q1, q2, q3, r0, r1, r2, r3)
-    return unless_failed_attitude(d1, d2, d3, e0, e1, e2, e3, it)
+    return cayley_attitude_increment(d1, d2, d3, q0, q1, q2, q3, c1, c2, c3, it)
 
 
 DMV = MethodSpec(

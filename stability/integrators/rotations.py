@@ -101,6 +101,18 @@ def cayley_quaternion(f1, f2, f3):
     return -f2n * inv / (1.0 + root), f1 * inv, f2 * inv, f3 * inv
 
 
+@njit(inline="always", error_model="numpy")
+def cayley_attitude_increment(d1, d2, d3, q0, q1, q2, q3, f1, f2, f3, it):
+    """Increments of m and of ``q <- q (1, f) / sqrt(1 + |f|^2)`` (the Cayley rotation of f).
+
+    ``q r - q`` with ``r - 1`` from :func:`cayley_quaternion`, passed with ``(d1, d2, d3)``
+    and ``it`` through :func:`unless_failed_attitude`: the attitude steps of the Cayley methods.
+    """
+    r0, r1, r2, r3 = cayley_quaternion(f1, f2, f3)
+    e0, e1, e2, e3 = quaternion_increment(q0, q1, q2, q3, r0, r1, r2, r3)
+    return unless_failed_attitude(d1, d2, d3, e0, e1, e2, e3, it)
+
+
 @njit(inline="always")
 def cayley_increment(m1, m2, m3, f1, f2, f3):
     """``F^T m - m`` for the Cayley rotation F of ``f``, formed without cancellation.

@@ -45,6 +45,7 @@ from .config import (
 from ..output.lock import FolderLock
 from ..output.publish import check_target, clean_leftovers, remove_folder, staged
 from ..output.store import ChunkStore, find_stores, read_manifest
+from ..util.checks import registered
 
 
 class StudyKinds(Mapping):
@@ -79,12 +80,7 @@ STUDIES: Mapping[str, StudyKind] = StudyKinds(STUDY_KINDS)
 
 def study_kind(name) -> StudyKind:
     """The registered kind ``name``; ``ValueError`` listing the known kinds if there is none."""
-    try:
-        return STUDIES[name]
-    except (KeyError, TypeError):
-        raise ValueError(
-            f"unknown study kind {name!r}; known kinds: {', '.join(STUDIES)}"
-        ) from None
+    return registered(STUDIES, name, "study kind", "kinds")
 
 
 def load_study(path, *, overrides=(), members=None, quick=False):

@@ -100,6 +100,18 @@ def vectors3(name: str, value, unit: str = "") -> np.ndarray:
     return x
 
 
+def registered(table, name, what: str, plural: str = ""):
+    """``table[name]``, or a ValueError listing the names ``table`` has: ``unknown <what>
+    'name'; known <plural>: a, b`` (``plural`` defaults to ``what`` + "s"); an unhashable
+    ``name`` is unknown too."""
+    try:
+        return table[name]
+    except (KeyError, TypeError):
+        raise ValueError(
+            f"unknown {what} {name!r}; known {plural or what + 's'}: {', '.join(table)}"
+        ) from None
+
+
 def step_count(t_end: float, h: float) -> int:
     """Number of steps of size ``h`` in ``t_end``; it must be a whole number (to 1e-9)."""
     n = round(t_end / h)

@@ -128,26 +128,14 @@ if hit:
         pb = b0
         pamp2 = pb * pb + cc0 * cc0
     if crossed(pa, va):
-        t_cross = t_prev + h * pa / (pa - va)
-        count_a += 1.0
-        if count_a == 1.0:
-            first_a = t_cross
-        last_a = t_cross
+        count_a, first_a, last_a = counted_crossing(count_a, first_a, last_a, pa, va, t_prev, h)
     if crossed(pb, vb):
-        t_cross = t_prev + h * pb / (pb - vb)
-        count_b += 1.0
-        if count_b == 1.0:
-            first_b = t_cross
-        last_b = t_cross
+        count_b, first_b, last_b = counted_crossing(count_b, first_b, last_b, pb, vb, t_prev, h)
     if level < n_levels and amp2 >= th[level]:
         amp = math.sqrt(amp2)
         prev_amp = math.sqrt(pamp2)
         while level < n_levels and amp2 >= th[level]:
-            if prev_amp > 0.0 and amp > prev_amp:
-                frac = math.log(lv[level] / prev_amp) / math.log(amp / prev_amp)
-            else:
-                frac = (lv[level] - prev_amp) / (amp - prev_amp)
-            passage[level, i] = t_prev + h * min(max(frac, 0.0), 1.0)
+            passage[level, i] = t_prev + h * passage_fraction(lv[level], prev_amp, amp)
             level += 1
     next_th = th[level]'''
 
@@ -255,6 +243,8 @@ def _build(scene, spec, kernel, tracked):
         "step": device_twin(cuda, kernel), "observe": device_twin(cuda, scene.observe),
         "kahan": device_twin(cuda, cpu_loop.kahan),
         "crossed": device_twin(cuda, cpu_loop.crossed),
+        "counted_crossing": device_twin(cuda, cpu_loop.counted_crossing),
+        "passage_fraction": device_twin(cuda, cpu_loop.passage_fraction),
         "not_finite": device_twin(cuda, cpu_loop.not_finite),
         "CHECK_EVERY": cpu_loop.CHECK_EVERY, "STATUS_OK": STATUS_OK,
         "STATUS_NONFINITE": STATUS_NONFINITE, "STATUS_NOT_CONVERGED": STATUS_NOT_CONVERGED,
