@@ -67,7 +67,6 @@ SCENES: dict[str, Scene] = {
     s.name: s for s in (load(where) for family in FAMILIES
                         for where in declared(family, "SCENES").values())}
 
-#: Each study kind's name -> (module, attribute) of its StudyKind, imported when first used.
 #: Each family's Dataset declarations by name, added to the register
 #: (:data:`stability.ensemble.schema.SCHEMAS`).
 DATASETS: dict[str, DatasetSchema] = {
@@ -75,6 +74,7 @@ DATASETS: dict[str, DatasetSchema] = {
                         for where in declared(family, "DATASETS").values())}
 register(*DATASETS.values())
 
+#: Each study kind's name -> (module, attribute) of its StudyKind, imported when first used.
 STUDY_KINDS: dict[str, tuple] = dict(sorted(
     (name, where) for family in FAMILIES for name, where in declared(family, "STUDIES").items()))
 
