@@ -156,6 +156,15 @@ OLD_NAMES = {
             ("heavy_top", ("GYROSCOPE", "SLEEPING_TOP")), ("struck", ("BAT",)),
             ("rolling", ("ROLLING",)), ("dissipation", ("EXPLORER", "DUAL_SPIN")))
         for name in names},
+    "stability.study.config": {
+        **dict.fromkeys(("FIGURE_FORMATS", "preset_names", "method_names",
+                         "tossed_body_sections", "MEMBER_BYTES", "check_memory", "output_section",
+                         "run_section", "run_keys", "scheduler_key", "check_run", "stored_run"),
+                        "stability.study.sections"),
+        **dict.fromkeys(("output_files", "write_outputs"), "stability.study.outputs"),
+        **dict.fromkeys(("STUDY_KEY", "StudyKind", "StudySummary", "run_rows", "SummaryTable"),
+                        "stability.study.kind"),
+    },
     "stability.engine.gpu": dict.fromkeys(("propagate_gpu", "propagate_many_gpu"),
                                           "stability.free_body.propagate_gpu"),
     "stability.animation": {

@@ -212,7 +212,7 @@ def test_every_kind_has_its_dataset_checked_against_cf():
 
 
 def test_summary_table_aligns_names_over_units_and_cells():
-    from stability.study.config import StudySummary, SummaryTable
+    from stability.study.kind import StudySummary, SummaryTable
 
     table = SummaryTable("two rules", [("rule", ""), ("error", "rel."), ("step", "s")],
                          [("a", "+1.0e-03", "0.1"), ("long_name", "no flip", "12.5")])

@@ -32,10 +32,10 @@ from pathlib import Path
 
 import numpy as np
 
-from ..study.config import (
-    ConfigError, Key, Schema, Section, StudyKind, StudySummary, SummaryTable, check_memory,
-    check_run, output_files, output_section, run_rows, run_section, stored_run, write_outputs,
-)
+from ..study.config import ConfigError, Key, Schema, Section
+from ..study.kind import StudyKind, StudySummary, SummaryTable, run_rows
+from ..study.outputs import output_files, write_outputs
+from ..study.sections import check_memory, check_run, output_section, run_section, stored_run
 from ..util.threads import numba_threads
 from .dual_spin import PLACEMENTS, DualSpinBody, measure_dual_spin
 from .explorer import Whips, measure_explorer

@@ -4,7 +4,7 @@ A run that would not fit is refused at once, in one line, rather than by NumPy's
 error, perhaps after minutes of work. Each caller estimates its own bytes (a rough upper bound
 of what it holds at its peak) and words the refusal as its settings are named (a study's keys,
 a function's arguments); the limit and the line's middle are here:
-:func:`stability.study.config.check_memory` for the study kinds, :func:`stability.run_scene`
+:func:`stability.study.sections.check_memory` for the study kinds, :func:`stability.run_scene`
 for a run of any scene.
 """
 

@@ -1,17 +1,18 @@
 """Studies: a parameter file in, a Dataset and figures out.
 
 A study file (TOML, ``studies/*.toml``) names its kind with ``study = "..."``; ``STUDIES`` maps
-each kind to its :class:`~.config.StudyKind`: the schema its files are checked against and the
+each kind to its :class:`~.kind.StudyKind`: the schema its files are checked against and the
 ``run`` function that does the work by calling the package. ``run_study`` is what
-``stability run`` calls.
+``stability run`` calls. The framework: :mod:`.config` (the file library: keys, sections,
+validation, the resolved configuration), :mod:`.sections` (the sections and checks the kinds
+share), :mod:`.outputs` (what a run writes into its folder) and :mod:`.kind` (the protocol).
 
-To add a kind of study: write one module here with its ``SCHEMA``, ``outputs`` and ``run`` (see
-:mod:`.tennis_racket`), or the ``studies.py`` of a family package
-(:mod:`stability.dissipation.studies`), add one line to ``STUDIES``, and declare the Dataset it
-writes in :data:`stability.ensemble.schema.SCHEMAS` under the kind's name (the tests hold its file
-to it). A study orchestrates: its ``run`` reads the resolved file, calls the package (references,
-sweeps, estimators, shape grids live there, once), saves the Dataset, draws the figures and
-summarises; figures draw the Dataset.
+To add a kind of study: write its module in its family's package with its ``SCHEMA``,
+``outputs`` and ``run`` (see :mod:`stability.heavy_top.studies.gyroscope`), name it in the
+family's ``STUDIES``, and declare the Dataset it writes in the family's ``schema.py`` under the
+kind's name, named in its ``DATASETS`` (the tests hold its file to it). A study orchestrates: its
+``run`` reads the resolved file, calls the package (references, sweeps, estimators, shape grids
+live there, once), saves the Dataset, draws the figures and summarises; figures draw the Dataset.
 """
 
 from __future__ import annotations
@@ -26,22 +27,10 @@ from pathlib import Path
 from ..output.stream import RunInterrupted
 from ..registry import STUDY_KINDS, load
 from .config import (
-    REQUIRED,
-    STUDY_KEY,
-    UNSET,
-    ConfigError,
-    Key,
-    Schema,
-    Section,
-    StudyKind,
-    StudySummary,
-    read,
-    resolve,
-    set_value,
-    to_toml,
-    toml_text,
-    toml_type,
+    REQUIRED, UNSET, ConfigError, Key, Schema, Section, read, resolve, set_value, to_toml,
+    toml_text, toml_type,
 )
+from .kind import STUDY_KEY, StudyKind, StudySummary
 from ..output.lock import FolderLock
 from ..output.publish import check_target, clean_leftovers, remove_folder, staged
 from ..output.store import ChunkStore, find_stores, read_manifest

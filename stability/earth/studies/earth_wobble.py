@@ -20,10 +20,10 @@ from ...free_body.plan import ensemble_memory
 from ..figures import wobble_cones_figure
 from ...util.threads import numba_threads
 from ..wobble import measure_free_wobble
-from ...study.config import (
-    ConfigError, Key, Schema, Section, StudyKind, StudySummary, check_memory, check_run,
-    output_files, output_section, run_section, stored_run, write_outputs,
-)
+from ...study.config import ConfigError, Key, Schema, Section
+from ...study.kind import StudyKind, StudySummary
+from ...study.outputs import output_files, write_outputs
+from ...study.sections import check_memory, check_run, output_section, run_section, stored_run
 
 NAME = "earth_wobble"
 FIGURE = "earth_wobble"

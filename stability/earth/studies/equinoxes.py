@@ -18,10 +18,10 @@ from ..equinoxes import measure_equinoxes
 from ..figures import equinoxes_figure
 from ..methods import METHODS
 from ...util.threads import numba_threads
-from ...study.config import (
-    Key, Schema, Section, StudyKind, StudySummary, check_run, output_files, output_section,
-    run_keys, stored_run, write_outputs,
-)
+from ...study.config import Key, Schema, Section
+from ...study.kind import StudyKind, StudySummary
+from ...study.outputs import output_files, write_outputs
+from ...study.sections import check_run, output_section, run_keys, stored_run
 
 NAME = "equinoxes"
 FIGURE = "equinoxes"

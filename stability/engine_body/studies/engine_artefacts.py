@@ -19,10 +19,12 @@ import numpy as np
 from ...free_body.attitude import attitude_methods
 from ...core.body import RigidBody
 from ...free_body.starts import perturbed_starts
-from ...study.config import (
-    MEMBER_BYTES, ConfigError, Key, Schema, Section, StudyKind, StudySummary, SummaryTable,
-    check_memory, check_run, output_files, output_section, run_section, stored_run,
-    tossed_body_sections, write_outputs,
+from ...study.config import ConfigError, Key, Schema, Section
+from ...study.kind import StudyKind, StudySummary, SummaryTable
+from ...study.outputs import output_files, write_outputs
+from ...study.sections import (
+    MEMBER_BYTES, check_memory, check_run, output_section, run_section, stored_run,
+    tossed_body_sections
 )
 from ...util.threads import numba_threads
 from ..figures import artefacts_figure

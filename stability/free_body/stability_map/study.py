@@ -35,10 +35,10 @@ from .shapes import amplitude_levels, analytic_omega_squared, edge_series, horiz
 from ...util import conventions as cv
 from ...util.threads import numba_threads
 from ...version import __version__
-from ...study.config import (
-    UNSET, ConfigError, Key, Schema, Section, StudyKind, StudySummary, check_memory, check_run,
-    method_names, output_files, output_section, scheduler_key, write_outputs,
-)
+from ...study.config import UNSET, ConfigError, Key, Schema, Section
+from ...study.kind import StudyKind, StudySummary
+from ...study.outputs import output_files, write_outputs
+from ...study.sections import check_memory, check_run, method_names, output_section, scheduler_key
 
 NAME = "stability_map"
 

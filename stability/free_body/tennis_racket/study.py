@@ -36,9 +36,11 @@ from .analysis import analyse_ensemble, analysis_headline
 from . import figures as tennis
 from ...util import conventions as cv
 from ...util.formatting import format_bytes
-from ...study.config import (
-    UNSET, ConfigError, Key, Schema, Section, StudyKind, StudySummary, check_memory, check_run,
-    method_names, output_files, output_section, preset_names, run_section, write_outputs,
+from ...study.config import UNSET, ConfigError, Key, Schema, Section
+from ...study.kind import StudyKind, StudySummary
+from ...study.outputs import output_files, write_outputs
+from ...study.sections import (
+    check_memory, check_run, method_names, output_section, preset_names, run_section
 )
 
 NAME = "tennis_racket"

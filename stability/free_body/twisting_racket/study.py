@@ -21,10 +21,12 @@ from .figures import flip_figure, twist_figure
 from .geometric_phase import wrap
 from .measure import measure_twisting, tossed_members
 from ...util.threads import numba_threads
-from ...study.config import (
-    MEMBER_BYTES, ConfigError, Key, Schema, Section, StudyKind, StudySummary, check_memory,
-    check_run, output_files, output_section, run_section, stored_run, tossed_body_sections,
-    write_outputs,
+from ...study.config import ConfigError, Key, Schema, Section
+from ...study.kind import StudyKind, StudySummary
+from ...study.outputs import output_files, write_outputs
+from ...study.sections import (
+    MEMBER_BYTES, check_memory, check_run, output_section, run_section, stored_run,
+    tossed_body_sections
 )
 
 BODY, RATE = tossed_body_sections()

@@ -36,10 +36,10 @@ from ...output.dataset import software_attrs
 from .sweeps import jittered_starts, step_grid, sweep_method, sweep_scipy
 from ...util.progress import progress_bar
 from ...util.threads import numba_threads
-from ...study.config import (
-    ConfigError, Key, Schema, Section, StudyKind, StudySummary, check_memory, method_names,
-    output_files, output_section, write_outputs,
-)
+from ...study.config import ConfigError, Key, Schema, Section
+from ...study.kind import StudyKind, StudySummary
+from ...study.outputs import output_files, write_outputs
+from ...study.sections import check_memory, method_names, output_section
 
 NAME = "work_precision"
 

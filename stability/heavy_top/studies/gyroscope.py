@@ -18,10 +18,10 @@ from pathlib import Path
 
 import numpy as np
 
-from ...study.config import (
-    ConfigError, Key, Schema, Section, StudyKind, StudySummary, check_memory, check_run,
-    output_files, output_section, run_rows, run_section, stored_run, write_outputs,
-)
+from ...study.config import ConfigError, Key, Schema, Section
+from ...study.kind import StudyKind, StudySummary, run_rows
+from ...study.outputs import output_files, write_outputs
+from ...study.sections import check_memory, check_run, output_section, run_section, stored_run
 from .common import check_spins, symmetric_top, top_keys, top_methods
 from ..figures import gyroscope_paths_figure, gyroscope_rates_figure
 from ..measure import measure_gyroscopes

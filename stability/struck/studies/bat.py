@@ -16,9 +16,11 @@ from pathlib import Path
 
 import numpy as np
 
-from ...study.config import (
-    MEMBER_BYTES, ConfigError, Key, Schema, Section, StudyKind, StudySummary, check_memory,
-    check_run, output_files, output_section, run_section, stored_run, write_outputs,
+from ...study.config import ConfigError, Key, Schema, Section
+from ...study.kind import StudyKind, StudySummary
+from ...study.outputs import output_files, write_outputs
+from ...study.sections import (
+    MEMBER_BYTES, check_memory, check_run, output_section, run_section, stored_run
 )
 from ...util.threads import numba_threads
 from ..figures import bat_figure

@@ -1,0 +1,155 @@
+"""The study protocol: :class:`StudyKind` (a kind's schema, checks, run and outputs), what a
+run returns (:class:`StudySummary`) and its printed table (:class:`SummaryTable`)."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Callable
+
+
+from .config import ConfigError, Schema, resolve, toml_text
+
+
+#: The key every study file starts with: the kind of study it is.
+STUDY_KEY = "study"
+
+
+@dataclass(frozen=True)
+class StudyKind:
+    """A kind of study: its schema, how to run it, and what the generic options map to.
+
+    Attributes
+    ----------
+    name : str
+        The value of ``study = "..."`` in a study file, and the registry key.
+    title : str
+        One line saying what the study shows.
+    schema : Schema
+        Sections and keys of its study files.
+    run : callable
+        ``run(config, out_dir, *, overwrite, threads, progress, history) -> StudySummary``:
+        runs the resolved ``config`` and writes the outputs into ``out_dir`` (a Path that exists).
+    outputs : callable
+        ``outputs(config) -> list[str]``: the file names (relative to the output folder) a run
+        writes, so that a run refuses to start rather than overwrite them after minutes of work.
+    check : callable, optional
+        ``check(config, source) -> config``: checks that involve several keys (raise
+        :class:`ConfigError`); may complete the configuration (e.g. drop a default that another
+        key replaces).
+    quick : dict
+        ``{section: {key: value}}`` overrides for ``--quick``: a small run for tests and demos.
+    members_key : tuple of str, optional
+        ``(section, key)`` that ``--members`` sets; None if the kind has no such count.
+    expected_bytes : callable, optional
+        ``expected_bytes(config) -> int``: disk space a run needs at most, checked against the
+        free space before it starts.
+    resumable : bool
+        ``run`` also takes ``work`` (a folder for finished parts, kept when the run is
+        stopped), ``resume`` and ``scheduler`` (``stability run --resume``, ``--scheduler``).
+    """
+
+    name: str
+    title: str
+    schema: Schema
+    run: Callable
+    outputs: Callable
+    check: Callable | None = None
+    quick: dict = field(default_factory=dict)
+    members_key: tuple[str, str] | None = None
+    expected_bytes: Callable | None = None
+    resumable: bool = False
+
+    def resolve(self, raw: dict, source: str = "<study>") -> dict:
+        """Validate a parsed study file of this kind; return the resolved configuration."""
+        raw = dict(raw)
+        kind = raw.pop(STUDY_KEY, self.name)
+        if kind != self.name:
+            raise ConfigError(f"study is {toml_text(kind)}, expected {toml_text(self.name)}",
+                              source)
+        config = {STUDY_KEY: self.name}
+        config.update(resolve(raw, self.schema, source))
+        if self.check is not None:
+            config = self.check(config, source)
+        return config
+
+
+@dataclass
+class StudySummary:
+    """What a study run reports: headline numbers and the files it wrote.
+
+    Attributes
+    ----------
+    study : str
+        Study kind.
+    out_dir : Path
+        Folder the files were written to.
+    files : list of Path
+        Files written.
+    rows : list of (str, str, str)
+        ``(quantity, value, unit)`` for the summary table printed at the end of a run.
+    values : dict
+        The same numbers as floats, keyed by short names (for tests and scripts).
+    """
+
+    study: str
+    out_dir: Path
+    files: list = field(default_factory=list)
+    rows: list = field(default_factory=list)
+    values: dict = field(default_factory=dict)
+    tables: list = field(default_factory=list)
+
+    def table(self) -> str:
+        """The rows as an aligned plain-text table, then each of ``tables``."""
+        parts = []
+        if self.rows:
+            w0 = max(len(r[0]) for r in self.rows)
+            w1 = max(len(r[1]) for r in self.rows)
+            parts.append("\n".join(f"{q:<{w0}}  {v:>{w1}}  {u}".rstrip()
+                                   for q, v, u in self.rows))
+        parts += [table.text() for table in self.tables]
+        return "\n\n".join(parts)
+
+
+def run_rows(values: dict, wall: float) -> list:
+    """The closing rows of a summary of stored runs: the members not ok, the wall time (all, and
+    the integration's) and the member-steps, from ``values`` (``members_failed``,
+    ``integration_time``, ``member_steps``) and ``wall`` (s)."""
+    return [("members not ok", f"{values['members_failed']}", ""),
+            ("wall time (all) / integration", f"{wall:.1f} / {values['integration_time']:.1f}",
+             "s"),
+            ("member-steps", f"{values['member_steps']:.3g}", "")]
+
+
+@dataclass
+class SummaryTable:
+    """A table of a study's summary with one column per quantity (:attr:`StudySummary.tables`).
+
+    Attributes
+    ----------
+    title : str
+        One line above the table.
+    columns : list of (str, str)
+        ``(name, unit)`` of each column; the unit is printed under the name, in parentheses
+        (none for an empty unit).
+    rows : list of tuple of str
+        The cells, formatted; the first column is left-aligned, the others right-aligned.
+    """
+
+    title: str
+    columns: list
+    rows: list = field(default_factory=list)
+
+    def text(self) -> str:
+        """The title, a header of names over units, and the rows, in aligned columns."""
+        names = [name for name, _ in self.columns]
+        units = [f"({unit})" if unit else "" for _, unit in self.columns]
+        widths = [max(len(names[k]), len(units[k]), *(len(row[k]) for row in self.rows))
+                  for k in range(len(self.columns))]
+
+        def line(cells):
+            first = f"{cells[0]:<{widths[0]}}"
+            rest = [f"{cell:>{width}}" for cell, width in zip(cells[1:], widths[1:])]
+            return "  ".join([first, *rest]).rstrip()
+
+        return "\n".join([self.title, line(names), line(units), *map(line, self.rows)])
