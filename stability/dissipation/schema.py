@@ -1,22 +1,9 @@
 """The declarations of the dissipation family's Datasets: the Explorer-1 study and the dual-spin
-map.
-
-Each is a :class:`stability.ensemble.schema.DatasetSchema`: every variable's dims, units and
-long name. The registry (:mod:`stability.registry`) adds them to the register,
-:data:`stability.ensemble.schema.SCHEMAS`.
-"""
+map, registered from the family's ``DATASETS`` (:mod:`stability.registry`)."""
 
 from ..util import conventions as cv
 from ..ensemble.schema import (
-    DEGREE,
-    ONE,
-    PER_SECOND,
-    RAD_PER_S,
-    SECOND,
-    coordinate,
-    declare,
-    status_variable,
-    variable,
+    DEGREE, ONE, PER_SECOND, RAD_PER_S, SECOND, coordinate, declare, status_variable, variable,
 )
 
 __all__ = ["EXPLORER", "DUAL_SPIN"]

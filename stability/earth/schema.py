@@ -1,24 +1,9 @@
-"""The declarations of the Earth's Datasets: the free wobble and the precession of the equinoxes.
-
-Each is a :class:`stability.ensemble.schema.DatasetSchema`: every variable's dims, units and
-long name. The registry (:mod:`stability.registry`) adds them to the register,
-:data:`stability.ensemble.schema.SCHEMAS`.
-"""
+"""The declarations of the Earth's Datasets: the free wobble and the precession of the equinoxes,
+registered from the family's ``DATASETS`` (:mod:`stability.registry`)."""
 
 from ..ensemble.schema import (
-    ARCSEC,
-    ARCSEC_PER_YEAR,
-    AXIS,
-    DAY,
-    DEGREE,
-    MEMBER,
-    ONE,
-    RAD_PER_S,
-    YEAR,
-    coordinate,
-    declare,
-    member_coordinate,
-    variable,
+    ARCSEC, ARCSEC_PER_YEAR, AXIS, DAY, DEGREE, MEMBER, ONE, RAD_PER_S, YEAR, coordinate, declare,
+    member_coordinate, variable,
 )
 
 __all__ = ["EARTH_WOBBLE", "EQUINOXES"]

@@ -1,20 +1,8 @@
-"""The declarations of the engine artefacts study's Dataset.
-
-Each is a :class:`stability.ensemble.schema.DatasetSchema`: every variable's dims, units and
-long name. The registry (:mod:`stability.registry`) adds them to the register,
-:data:`stability.ensemble.schema.SCHEMAS`.
-"""
+"""The declarations of the engine artefacts study's Dataset, registered from the family's
+``DATASETS`` (:mod:`stability.registry`)."""
 
 from ..ensemble.schema import (
-    ONE,
-    PER_SECOND,
-    RADIAN,
-    RAD_PER_S,
-    SECOND,
-    TIME,
-    coordinate,
-    declare,
-    time_coordinate,
+    ONE, PER_SECOND, RADIAN, RAD_PER_S, SECOND, TIME, coordinate, declare, time_coordinate,
     variable,
 )
 

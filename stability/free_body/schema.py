@@ -1,37 +1,14 @@
 """The declarations of the free body's Datasets: one trajectory, the tennis racket's ensemble, the
-stability map, the work-precision study and the twisting racket.
-
-Each is a :class:`stability.ensemble.schema.DatasetSchema`: every variable's dims, units and
-long name. The registry (:mod:`stability.registry`) adds them to the register,
-:data:`stability.ensemble.schema.SCHEMAS`.
-"""
+stability map, the work-precision study and the twisting racket, registered from the family's
+``DATASETS`` (:mod:`stability.registry`)."""
 
 from dataclasses import replace
 
 from ..util import conventions as cv
 from ..ensemble.schema import (
-    ATTITUDE_NOTE,
-    AXIS,
-    ENSEMBLE,
-    ESTIMATES,
-    KG_M2,
-    LEVEL,
-    MEMBER,
-    ONE,
-    PER_SECOND,
-    PER_SECOND2,
-    QUATERNION,
-    RADIAN,
-    RAD_PER_S,
-    RAD_PER_S2,
-    SECOND,
-    TIME,
-    Variable,
-    coordinate,
-    declare,
-    status_variable,
-    time_coordinate,
-    variable,
+    ATTITUDE_NOTE, AXIS, ENSEMBLE, ESTIMATES, KG_M2, LEVEL, MEMBER, ONE, PER_SECOND, PER_SECOND2,
+    QUATERNION, RADIAN, RAD_PER_S, RAD_PER_S2, SECOND, TIME, Variable, coordinate, declare,
+    status_variable, time_coordinate, variable,
 )
 
 __all__ = ["TRAJECTORY", "TENNIS_RACKET", "STABILITY_MAP", "WORK_PRECISION", "TWISTING_RACKET"]

@@ -1,23 +1,9 @@
-"""The declarations of the heavy top's Datasets: the released gyroscopes and the sleeping tops.
-
-Each is a :class:`stability.ensemble.schema.DatasetSchema`: every variable's dims, units and
-long name. The registry (:mod:`stability.registry`) adds them to the register,
-:data:`stability.ensemble.schema.SCHEMAS`.
-"""
+"""The declarations of the heavy top's Datasets: the released gyroscopes and the sleeping tops,
+registered from the family's ``DATASETS`` (:mod:`stability.registry`)."""
 
 from ..ensemble.schema import (
-    DEGREE,
-    KG_M2,
-    METRE,
-    ONE,
-    PER_SECOND,
-    RADIAN,
-    RAD_PER_S,
-    SECOND,
-    coordinate,
-    declare,
-    status_variable,
-    variable,
+    DEGREE, KG_M2, METRE, ONE, PER_SECOND, RADIAN, RAD_PER_S, SECOND, coordinate, declare,
+    status_variable, variable,
 )
 
 __all__ = ["GYROSCOPE", "SLEEPING_TOP"]

@@ -1,27 +1,10 @@
-"""The declarations of the rolling and slipping study's Dataset.
-
-Each is a :class:`stability.ensemble.schema.DatasetSchema`: every variable's dims, units and
-long name. The registry (:mod:`stability.registry`) adds them to the register,
-:data:`stability.ensemble.schema.SCHEMAS`.
-"""
+"""The declarations of the rolling and slipping study's Dataset, registered from the family's
+``DATASETS`` (:mod:`stability.registry`)."""
 
 from ..util import conventions as cv
 from ..ensemble.schema import (
-    DEGREE,
-    MEMBER,
-    METRE,
-    METRE_PER_S,
-    ONE,
-    RAD_PER_S,
-    RAD_PER_S2,
-    SECOND,
-    TIME,
-    coordinate,
-    declare,
-    member_coordinate,
-    status_variable,
-    time_coordinate,
-    variable,
+    DEGREE, MEMBER, METRE, METRE_PER_S, ONE, RAD_PER_S, RAD_PER_S2, SECOND, TIME, coordinate,
+    declare, member_coordinate, status_variable, time_coordinate, variable,
 )
 
 __all__ = ["ROLLING"]

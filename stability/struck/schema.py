@@ -1,19 +1,8 @@
-"""The declarations of the struck bat's Dataset.
-
-Each is a :class:`stability.ensemble.schema.DatasetSchema`: every variable's dims, units and
-long name. The registry (:mod:`stability.registry`) adds them to the register,
-:data:`stability.ensemble.schema.SCHEMAS`.
-"""
+"""The declarations of the struck bat's Dataset, registered from the family's ``DATASETS``
+(:mod:`stability.registry`)."""
 
 from ..ensemble.schema import (
-    METRE,
-    METRE_PER_S,
-    NEWTON_SECOND,
-    ONE,
-    RAD_PER_S,
-    coordinate,
-    declare,
-    status_variable,
+    METRE, METRE_PER_S, NEWTON_SECOND, ONE, RAD_PER_S, coordinate, declare, status_variable,
     variable,
 )
 
