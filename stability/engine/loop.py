@@ -1,10 +1,11 @@
 """The one member loop, for every scene and every method.
 
-Layout of the hot path: members are split into blocks of at most ``BLOCK``; blocks run in
-parallel (``prange``), each a call of the block function ``_block``; inside a block the time
-loop is outside and the loop over the block's members is innermost, in structure-of-arrays form
-(one array per state component), so the inlined step kernel vectorizes across members. Every
-step's increment is added with Kahan compensated summation (Hairer, Lubich & Wanner, GNI,
+Layout of the hot path: members are split into blocks of at most ``BLOCK``; blocks run in parallel,
+on threads that each run a share of them with the GIL released
+(:func:`stability.engine.run.run_blocks`), each a call of the block function ``_block``; inside a
+block the time loop is outside and the loop over the block's members is innermost, in structure-of-
+arrays form (one array per state component), so the inlined step kernel vectorizes across members.
+Every step's increment is added with Kahan compensated summation (Hairer, Lubich & Wanner, GNI,
 VIII.5), so round-off does not accumulate linearly over long runs. Kernels never raise: a member
 whose state stops being finite, or whose implicit solve fails, gets a status code and the step
 count at which it was found.
@@ -172,14 +173,13 @@ def level_thresholds(levels) -> np.ndarray:
 # vectorizes the member loops without runtime alias checks (separate arrays per row defeat it
 # once a loop touches more than a handful of them). Integers live in ``iw`` the same way.
 #
-# A block is a function of its own, called from the prange loop, not the loop's body: Numba
-# types the body of a prange loop twice (in the function that holds it, and again in the
-# parallel kernel it makes of it) and runs its parallel passes over all of it, so a loop with
-# the block written inside compiled in 2 to 2.5 times the time (free_body rk4 9 s, heavy_top
-# lp2 15 s, free_body_attitude lp8 18 s; as a call 5.7, 6.8 and 7.4 s, on one core), for
-# bitwise the same results at the same speed to 1-2 %. The block number goes in as int64:
-# the parallel kernel's loop index is unsigned, and a uint64 ``b`` would compile the block a
-# second time, for that signature.
+# A call of ``advance`` runs the blocks it is given (``blocks``, indices into the block table),
+# one after the other, with the GIL released: :func:`stability.engine.run.propagate_groups`
+# gives each of its threads a share of the blocks. The loop has no parallel region of Numba's
+# own (``prange``): Numba's parallel passes and the kernel they build cost 2 s of the 4 to 6 s
+# a loop takes to compile (free_body rk4 5.75 s as a prange loop, 3.73 s as this; heavy_top lp2
+# 7.8 and 5.7 s), for bitwise the same results. The block number is int64 (an index of the
+# block table).
 
 _TEMPLATE = '''\
 """Member loop of scene {scene!r} with method {method!r}{variant_note}.
@@ -188,7 +188,7 @@ Rendered from the template in stability/engine/loop.py; do not edit (sources {{d
 """
 
 import numpy as np
-from numba import njit, prange
+from numba import njit
 
 from stability.util.conventions import STATUS_NONFINITE, STATUS_NOT_CONVERGED, STATUS_OK
 from stability.engine.loop import (
@@ -298,14 +298,14 @@ def _block(
 
 
 
-@njit(parallel=True, nogil=True, error_model="numpy")
+@njit(nogil=True, error_model="numpy")
 def advance(
-    x, comp, params, block_lo, block_size, block_group, hs, steps, step0, save_every, saved,
-    k0, status, fail_step, iterations, axes, track, levels, thresholds, passage,
+    blocks, x, comp, params, block_lo, block_size, block_group, hs, steps, step0, save_every,
+    saved, k0, status, fail_step, iterations, axes, track, levels, thresholds, passage,
 ):
-    for b in prange(block_lo.shape[0]):
+    for k in range(blocks.shape[0]):
         _block(
-            np.int64(b), x, comp, params, block_lo, block_size, block_group, hs, steps, step0,
+            blocks[k], x, comp, params, block_lo, block_size, block_group, hs, steps, step0,
             save_every, saved, k0, status, fail_step, iterations, axes, track, levels,
             thresholds, passage,
         )

@@ -20,6 +20,7 @@ import signal
 import sys
 import threading
 import time
+from concurrent.futures import ThreadPoolExecutor
 from dataclasses import dataclass, field
 
 import numba
@@ -104,8 +105,9 @@ def loop_ready(advance, width, n_params) -> float:
             i64 = np.int64
             one = np.zeros((1, width))
             advance(
-                one, one.copy(), np.zeros((1, n_params)), np.zeros(1, i64), np.zeros(1, i64),
-                np.zeros(1, i64), np.zeros(1), np.zeros(1, i64), np.zeros(1, i64), 0,
+                np.zeros(1, i64), one, one.copy(), np.zeros((1, n_params)), np.zeros(1, i64),
+                np.zeros(1, i64), np.zeros(1, i64), np.zeros(1), np.zeros(1, i64),
+                np.zeros(1, i64), 0,
                 np.zeros((1, 0, width)), np.zeros(1, i64), np.zeros(1, np.int8),
                 np.full(1, -1, i64), np.zeros(1, i64), np.zeros((1, 3), i64),
                 np.zeros((0, N_TRACK)), np.zeros((1, 0)), np.full((1, 1), np.inf),
@@ -180,6 +182,49 @@ def untrusted(steps, fail_step):
     """
     fail = np.asarray(fail_step)[:, None]
     return (fail >= 0) & (np.asarray(steps)[None, :] > fail - CHECK_EVERY)
+
+
+def thread_shares(work, threads: int) -> list:
+    """The blocks each thread runs: ``work`` (member-steps of each block) spread over at most
+    ``threads`` shares of nearly equal work, the largest blocks placed first, each on the share
+    with the least work so far (longest-processing-time first; Graham 1969, within 4/3 of the
+    best). Each share is an int64 array of block indices, ascending."""
+    work = np.asarray(work, dtype=float)
+    n = max(1, min(int(threads), work.size))
+    if n == 1:
+        return [np.arange(work.size, dtype=np.int64)]
+    load = np.zeros(n)
+    owner = np.empty(work.size, dtype=np.int64)
+    for b in np.argsort(-work, kind="stable"):
+        k = int(np.argmin(load))
+        owner[b] = k
+        load[k] += work[b]
+    return [np.flatnonzero(owner == k).astype(np.int64) for k in range(n)]
+
+
+_POOL: dict = {}
+
+
+def run_blocks(advance, work, threads: int, arguments: tuple) -> None:
+    """``advance(blocks, *arguments)`` for every block, on ``threads`` threads at most.
+
+    The loop releases the GIL, so the shares of :func:`thread_shares` run at the same time: one
+    in this thread, the others on a pool kept for the process. Members are independent, so who
+    runs a block never changes a result."""
+    shares = thread_shares(work, threads)
+    if len(shares) == 1:
+        advance(shares[0], *arguments)
+        return
+    pool = _POOL.get(len(shares) - 1)
+    if pool is None:
+        pool = _POOL[len(shares) - 1] = ThreadPoolExecutor(len(shares) - 1,
+                                                           thread_name_prefix="stability-loop")
+    others = [pool.submit(advance, share, *arguments) for share in shares[1:]]
+    try:
+        advance(shares[0], *arguments)
+    finally:
+        for future in others:  # every share finishes before the arrays are read
+            future.result()
 
 
 #: Smallest block the table splits groups into: half an AVX-512 vector, so that even an
@@ -313,23 +358,18 @@ def propagate_groups(
     k_saved = np.zeros(a.sizes.size, dtype=np.int64)
 
     def run_chunk(this):
-        block_lo, block_size, block_group = block_table(a.sizes, this > 0,
-                                                        numba.get_num_threads())
-        advance(
+        threads = numba.get_num_threads()
+        block_lo, block_size, block_group = block_table(a.sizes, this > 0, threads)
+        run_blocks(advance, block_size * this[block_group], threads, (
             a.x, a.comp, a.params, block_lo, block_size, block_group, a.hs, this, done,
             save_every, saved, k_saved, a.status, a.fail_step, a.iterations, a.axes, a.track,
             a.levels, a.thresholds, a.passage,
-        )
+        ))
 
-    # Groups of unequal length leave blocks of unequal work: hand blocks out one at a time.
-    chunksize = numba.set_parallel_chunksize(1 if a.sizes.size > 1 else 0)
-    try:
-        wall, interrupted = run_in_chunks(
-            run_chunk, a.sizes, a.total, done, k_saved, save_every, chunk_steps, progress,
-            label or spec.name,
-        )
-    finally:
-        numba.set_parallel_chunksize(chunksize)
+    wall, interrupted = run_in_chunks(
+        run_chunk, a.sizes, a.total, done, k_saved, save_every, chunk_steps, progress,
+        label or spec.name,
+    )
     if interrupted and not partial:
         raise KeyboardInterrupt
     return arrays.propagation(saved, done, k_saved, interrupted, wall, compile_time)

@@ -110,14 +110,15 @@ def append_history(ds: xr.Dataset, command: str) -> xr.Dataset:
     return out
 
 
-def threading_layer() -> str:
-    """Numba's threading layer in use, or a note that no parallel code has run yet."""
-    import numba
+#: What runs the member loop's blocks at the same time, recorded as ``numba_threading_layer``:
+#: the package's own threads (:func:`stability.engine.run.run_blocks`); the loop has no parallel
+#: region of Numba's, so no Numba threading layer is used.
+LOOP_THREADS = "none: the member loop's blocks run on the package's threads, GIL released"
 
-    try:
-        return str(numba.threading_layer())
-    except ValueError:  # raised before the first parallel call
-        return "unknown (no parallel run yet)"
+
+def threading_layer() -> str:
+    """What runs the member loop in parallel (:data:`LOOP_THREADS`)."""
+    return LOOP_THREADS
 
 
 def software_attrs() -> dict:

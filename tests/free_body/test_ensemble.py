@@ -11,6 +11,7 @@ from stability.util import conventions as cv
 from stability.free_body import ensemble
 from stability.output.dataset import LEVEL, SUMMARIES, summary_bytes
 from stability.free_body.ensemble import run_ensemble
+from stability.output.dataset import LOOP_THREADS
 from stability.free_body.plan import ensemble_memory
 from stability.free_body.starts import RNG_CHUNK, max_angular_speed, perturbed_starts
 
@@ -141,7 +142,7 @@ def test_dataset_schema(reference):
                 "numba_version", "numba_threading_layer", "config_toml"):
         assert key in attrs, key
     assert attrs["method_order"] == 2 and attrs["axis"] == 2 and attrs["epsilon"] == 1e-3
-    assert attrs["numba_threading_layer"] in ("tbb", "omp", "workqueue")
+    assert attrs["numba_threading_layer"] == LOOP_THREADS
     assert attrs["history"].count("\n") == 0 and "run_ensemble" in attrs["history"]
     for value in attrs.values():
         assert isinstance(value, (str, int, float, np.ndarray)) and not isinstance(value, bool)
