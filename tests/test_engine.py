@@ -219,6 +219,49 @@ def test_block_table_covers_every_active_member_once_and_splits_the_last_groups(
         assert np.all(size <= BLOCK // 8)  # 64 and 5 members: blocks of 8 and of 4
 
 
+def test_thread_shares_give_every_block_once_and_balance_the_work():
+    """Longest-processing-time first: every block in exactly one share, ascending, and no share
+    above 4/3 of the best possible largest share (Graham 1969), here checked against the lower
+    bound max(total / threads, largest block)."""
+    from stability.engine.run import thread_shares
+
+    rng = np.random.default_rng(3)
+    for threads in (1, 2, 3, 8):
+        for work in (np.full(157, 64.0 * 100), rng.integers(1, 50, 40) * 1000.0, np.ones(2)):
+            shares = thread_shares(work, threads)
+            assert len(shares) == min(threads, work.size)
+            joined = np.concatenate(shares)
+            assert np.array_equal(np.sort(joined), np.arange(work.size))
+            assert all(np.all(np.diff(share) > 0) for share in shares)
+            best = max(work.sum() / len(shares), work.max())
+            assert max(work[share].sum() for share in shares) <= 4 / 3 * best
+
+
+def test_a_forked_child_runs_the_loop_on_threads_of_its_own():
+    """A process forked after the loop ran on a thread pool (multiprocessing's fork, a forking
+    server) cannot use the parent's pool, whose threads did not come with it: the child makes its
+    own and gets the parent's result, where it would otherwise wait for ever."""
+    code = textwrap.dedent("""
+        import os, sys
+        import numpy as np
+        import stability
+        body = stability.RigidBody(1.0, 2.0, 3.0)
+        run = dict(axis=2, spin=1.0, members=500, h=0.01, t_end=2.0, summaries_only=True,
+                   threads=2, progress=False)
+        parent = stability.run_ensemble(body, **run)
+        pid = os.fork()
+        if pid == 0:
+            child = stability.run_ensemble(body, **run)
+            same = all(np.array_equal(parent[k].values, child[k].values, equal_nan=True)
+                       for k in parent.data_vars)
+            os._exit(0 if same else 3)
+        sys.exit(os.waitstatus_to_exitcode(os.waitpid(pid, 0)[1]))
+    """)
+    done = subprocess.run([sys.executable, "-W", "ignore", "-c", code], capture_output=True,
+                          text=True, timeout=120)
+    assert done.returncode == 0, done.stderr[-2000:]
+
+
 def test_the_speed_reference_loop_is_rk4_on_every_member():
     """``stability bench``'s plain loop (:mod:`stability.engine.reference`) does the engine's
     RK4 on every member, the last partial block included: it differs from the engine's

@@ -16,6 +16,7 @@ time and any grouping of ensembles into calls.
 from __future__ import annotations
 
 import contextlib
+import os
 import signal
 import sys
 import threading
@@ -202,7 +203,20 @@ def thread_shares(work, threads: int) -> list:
     return [np.flatnonzero(owner == k).astype(np.int64) for k in range(n)]
 
 
-_POOL: dict = {}
+#: The thread pools of :func:`run_blocks`, by size, with the process that made them.
+_POOLS: dict = {}
+_POOLS_LOCK = threading.Lock()
+
+
+def _pool(size: int) -> ThreadPoolExecutor:
+    """A pool of ``size`` threads kept for the process. A forked child makes its own: a pool's
+    threads do not survive a fork, and one copied into the child would never run its work."""
+    with _POOLS_LOCK:
+        pid, pool = _POOLS.get(size, (None, None))
+        if pid != os.getpid():
+            pool = ThreadPoolExecutor(size, thread_name_prefix="stability-loop")
+            _POOLS[size] = (os.getpid(), pool)
+        return pool
 
 
 def run_blocks(advance, work, threads: int, arguments: tuple) -> None:
@@ -215,11 +229,7 @@ def run_blocks(advance, work, threads: int, arguments: tuple) -> None:
     if len(shares) == 1:
         advance(shares[0], *arguments)
         return
-    pool = _POOL.get(len(shares) - 1)
-    if pool is None:
-        pool = _POOL[len(shares) - 1] = ThreadPoolExecutor(len(shares) - 1,
-                                                           thread_name_prefix="stability-loop")
-    others = [pool.submit(advance, share, *arguments) for share in shares[1:]]
+    others = [_pool(len(shares) - 1).submit(advance, share, *arguments) for share in shares[1:]]
     try:
         advance(shares[0], *arguments)
     finally:
