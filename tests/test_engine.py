@@ -220,21 +220,27 @@ def test_block_table_covers_every_active_member_once_and_splits_the_last_groups(
 
 
 def test_thread_shares_give_every_block_once_and_balance_the_work():
-    """Longest-processing-time first: every block in exactly one share, ascending, and no share
-    above 4/3 of the best possible largest share (Graham 1969), here checked against the lower
-    bound max(total / threads, largest block)."""
-    from stability.engine.run import thread_shares
+    """Every block in exactly one share, ascending. Up to LPT_BLOCKS blocks no share exceeds
+    4/3 of the best possible largest share (Graham 1969; checked against the lower bound
+    max(total / threads, largest block)); above, they are runs of consecutive blocks (made
+    without a loop over them) and none exceeds total / threads by more than the largest block."""
+    from stability.engine.run import LPT_BLOCKS, thread_shares
 
     rng = np.random.default_rng(3)
     for threads in (1, 2, 3, 8):
-        for work in (np.full(157, 64.0 * 100), rng.integers(1, 50, 40) * 1000.0, np.ones(2)):
+        for work in (np.full(157, 64.0 * 100), rng.integers(1, 50, 40) * 1000.0, np.ones(2),
+                     rng.integers(1, 50, 3 * LPT_BLOCKS) * 1000.0):
             shares = thread_shares(work, threads)
-            assert len(shares) == min(threads, work.size)
+            assert 1 <= len(shares) <= min(threads, work.size)
             joined = np.concatenate(shares)
             assert np.array_equal(np.sort(joined), np.arange(work.size))
             assert all(np.all(np.diff(share) > 0) for share in shares)
-            best = max(work.sum() / len(shares), work.max())
-            assert max(work[share].sum() for share in shares) <= 4 / 3 * best
+            largest = max(work[share].sum() for share in shares)
+            if work.size <= LPT_BLOCKS:
+                assert largest <= 4 / 3 * max(work.sum() / len(shares), work.max())
+            else:  # runs of consecutive blocks, cut where the running sum passes k / threads
+                assert largest <= work.sum() / threads + work.max()
+                assert all(np.all(np.diff(share) == 1) for share in shares)
 
 
 def test_a_forked_child_runs_the_loop_on_threads_of_its_own():
