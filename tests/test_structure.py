@@ -41,8 +41,8 @@ UPWARD = {
 #: its reason, until they are split.
 MAX_LINES = 800
 LONG_MODULES = {
-    "stability.core.body": "the rigid body, its parts and presets: presets to a module of "
-                           "their own",
+    "stability.core.body": "one public class with its constructors, parts and presets: 393 "
+                           "lines of code, the rest the numpydoc of the API users call most",
 }
 
 #: Imports of the package's own modules inside functions, allowed at most: for the command
