@@ -3,12 +3,12 @@
 Layout of the hot path: members are split into blocks of at most ``BLOCK``; blocks run in parallel,
 on threads that each run a share of them with the GIL released
 (:func:`stability.engine.run.run_blocks`), each a call of the block function ``_block``; inside a
-block the time loop is outside and the loop over the block's members is innermost, in structure-of-
-arrays form (one array per state component), so the inlined step kernel vectorizes across members.
-Every step's increment is added with Kahan compensated summation (Hairer, Lubich & Wanner, GNI,
-VIII.5), so round-off does not accumulate linearly over long runs. Kernels never raise: a member
-whose state stops being finite, or whose implicit solve fails, gets a status code and the step
-count at which it was found.
+block the time loop is outside and the loop over the block's members is innermost, in
+structure-of-arrays form (one array per state component), so the inlined step kernel vectorizes
+across members. Every step's increment is added with Kahan compensated summation (Hairer, Lubich &
+Wanner, GNI, VIII.5), so round-off does not accumulate linearly over long runs. Kernels never
+raise: a member whose state stops being finite, or whose implicit solve fails, gets a status code
+and the step count at which it was found.
 
 The loop is written once, as the template below, and rendered for each (scene, method) pair with
 the state width, the kernel and the stage count written in: the step kernel is then an ordinary
@@ -174,11 +174,11 @@ def level_thresholds(levels) -> np.ndarray:
 # once a loop touches more than a handful of them). Integers live in ``iw`` the same way.
 #
 # A call of ``advance`` runs the blocks it is given (``blocks``, indices into the block table),
-# one after the other, with the GIL released: :func:`stability.engine.run.propagate_groups`
-# gives each of its threads a share of the blocks. The loop has no parallel region of Numba's
+# one after the other, with the GIL released: :func:`stability.engine.run.run_blocks` gives
+# each of its threads a share of the blocks. The loop has no parallel region of Numba's
 # own (``prange``): Numba's parallel passes and the kernel they build cost 2 s of the 4 to 6 s
-# a loop takes to compile (free_body rk4 5.75 s as a prange loop, 3.73 s as this; heavy_top lp2
-# 7.8 and 5.7 s), for bitwise the same results. The block number is int64 (an index of the
+# a loop takes to compile (free_body rk4 5.75 s as a prange loop, 4.0 s as this; heavy_top lp2
+# 7.8 and 5.9 s), for bitwise the same results. The block number is int64 (an index of the
 # block table).
 
 _TEMPLATE = '''\
