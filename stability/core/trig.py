@@ -35,7 +35,7 @@ PIO2_2 = 6.07710050630396597660e-11
 PIO2_2T = 2.02226624879595063154e-21
 
 
-@njit(inline="always", error_model="numpy")
+@njit(forceinline=True, error_model="numpy")
 def sin_cosm1(x):
     """Return ``(sin(x), cos(x) - 1)`` for a float ``x``, vectorizable, ~1 ulp."""
     n = math.floor(x * INVPIO2 + 0.5)

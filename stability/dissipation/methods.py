@@ -112,7 +112,7 @@ def sphere_params(values, h: float = 0.0) -> np.ndarray:
                            moments * J / (moments + J), np.expm1(-0.5 * h * rates)])
 
 
-@njit(inline="always")
+@njit(forceinline=True)
 def sphere_rhs(m1, m2, m3, s1, s2, s3, p):
     """Equations (1): ``m' = m x w + c u``, ``s' = s x w - c u``."""
     e1, e2, e3 = euler_rhs(m1, m2, m3, p)  # m x w, written without cancellation
@@ -123,7 +123,7 @@ def sphere_rhs(m1, m2, m3, s1, s2, s3, p):
             s2 * w3 - s3 * w2 - t1, s3 * w1 - s1 * w3 - t2, s1 * w2 - s2 * w1 - t3)
 
 
-@njit(inline="always")
+@njit(forceinline=True)
 def relaxation(m1, m2, m3, s1, s2, s3, f1, f2, f3, p):
     """The exact flow D for the time t with ``f_k = expm1(-r_k t)``: the increment of m,
     ``-mu_k u_k f_k = mu_k u_k (1 - exp(-r_k t))`` (that of s is its opposite, so H is kept
@@ -223,7 +223,7 @@ def whip_params(values, h: float = 0.0) -> np.ndarray:
     return np.concatenate([values, [1.0 / mu, mu * b, 2.0 * mu * b * b]])
 
 
-@njit(inline="always", error_model="numpy")
+@njit(forceinline=True, error_model="numpy")
 def whip_rates(H1, H2, H3, z2, z3, p2, p3, p):
     """The angular velocity w and the tips' rates from the state (scene ``whip_damper``): the
     arrow system ``K w = (H1, H2 - b p3, H3 + b p2)``,
@@ -244,7 +244,7 @@ def whip_rates(H1, H2, H3, z2, z3, p2, p3, p):
     return w1, w2, w3, p2 * inv_mu + b * w3, p3 * inv_mu - b * w2
 
 
-@njit(inline="always", error_model="numpy")
+@njit(forceinline=True, error_model="numpy")
 def whip_rhs(H1, H2, H3, z2, z3, p2, p3, p):
     """``H' = H x w``, ``z2' = p2 / mu + b w3``, ``z3' = p3 / mu - b w2``,
     ``p2' = mu (z2 (w2^2 + w3^2) - b w1 w2) - k z2 - c z2'`` and
@@ -296,7 +296,7 @@ def gyrostat_params(values, h: float = 0.0) -> np.ndarray:
                             1.0 / Jq, cq], values])
 
 
-@njit(inline="always")
+@njit(forceinline=True)
 def gyrostat_rhs(m1, m2, m3, hr, p1, p2, p3, q1, q2, q3, p):
     """Equations (2): ``m' = m x w + cp u_p + cq u_q``, ``h_r' = cq u_q3``,
     ``p' = p x w - cp u_p``, ``q' = q x w - cq u_q``."""

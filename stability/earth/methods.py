@@ -89,7 +89,7 @@ def perturber(t, p, o):
     return x, y, z, p[o + O_K] / (one_m * one_m * one_m)
 
 
-@njit(inline="always")
+@njit(forceinline=True)
 def to_body(q0, q1, q2, q3, x, y, z):
     """``R(q)^T v``: a space vector in the body frame (q scalar first, body to space)."""
     r11 = 1.0 - 2.0 * (q2 * q2 + q3 * q3)
@@ -105,7 +105,7 @@ def to_body(q0, q1, q2, q3, x, y, z):
             r13 * x + r23 * y + r33 * z)
 
 
-@njit(inline="always", error_model="numpy")
+@njit(forceinline=True, error_model="numpy")
 def gravity_gradient(q0, q1, q2, q3, t, p, o, dc):
     """Torque (body frame) of perturber ``o`` on the oblate Earth, dc = C - A."""
     x, y, z, gm_r3 = perturber(t, p, o)
@@ -196,7 +196,7 @@ METHODS = {spec.name: spec for spec in (LP2, LP4)}
 # The orbit-averaged model
 
 
-@njit(inline="always", error_model="numpy")
+@njit(forceinline=True, error_model="numpy")
 def ring_normal(t, p, o):
     """Normal of perturber ``o``'s orbit at time t and its averaged strength
     ``3 k / (2 (1 - e^2)^(3/2))`` (s-2)."""

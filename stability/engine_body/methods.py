@@ -38,7 +38,7 @@ from ..integrators.spec import (
 )
 
 
-@njit(inline="always")
+@njit(forceinline=True)
 def rotate3(q0, q1, q2, q3, x1, x2, x3, sign):
     """``R x`` (sign = 1) or ``R^T x`` (sign = -1) for ``R = R(q / |q|)``:
     ``x + (2 / |q|^2) (sign q0 v x x + v x (v x x))`` with v = (q1, q2, q3)."""
@@ -47,7 +47,7 @@ def rotate3(q0, q1, q2, q3, x1, x2, x3, sign):
     return x1 + d1, x2 + d2, x3 + d3
 
 
-@njit(inline="always", error_model="numpy")
+@njit(forceinline=True, error_model="numpy")
 def _rotation_update(q0, q1, q2, q3, o1, o2, o3, h):
     """Increment of (R): ``u / |u| - q`` with ``u = q + d``, ``d = (h/2) (0, omega) q``.
 
@@ -66,14 +66,14 @@ def _rotation_update(q0, q1, q2, q3, o1, o2, o3, h):
     return (d0 * inv + q0 * cm1, d1 * inv + q1 * cm1, d2 * inv + q2 * cm1, d3 * inv + q3 * cm1)
 
 
-@njit(inline="always")
+@njit(forceinline=True)
 def _gyroscopic(w1, w2, w3, h, p):
     """Explicit Euler increment of the body angular momentum: ``h (I w) x w`` (= h m x I^-1 m)."""
     m1, m2, m3 = p[P_I1] * w1, p[P_I2] * w2, p[P_I3] * w3
     return h * p[P_A1] * m2 * m3, h * p[P_A2] * m3 * m1, h * p[P_A3] * m1 * m2
 
 
-@njit(inline="always")
+@njit(forceinline=True)
 def _finish(x0, x1, x2, q0, q1, q2, q3, g1, g2, g3, h, new, it):
     """Increments of the state from the body velocity increment g: ``omega_w' = omega_w + R g``,
     then (R) with the new (``new``) or the old omega_w."""
@@ -126,7 +126,7 @@ def implicit_euler_step(x0, x1, x2, q0, q1, q2, q3, h, p, s):
                    g3 if ok else 0.0, h, True, 1 if ok else -1)
 
 
-@njit(inline="always", error_model="numpy")
+@njit(forceinline=True, error_model="numpy")
 def _rescaled(x0, x1, x2, q0, q1, q2, q3, h, p, energy):
     """Explicit Euler ``L' = L + h L x w`` on ``L = I w``, then ``L' <- sigma L'`` with
     ``|sigma L'| = |L|`` or (``energy``) the old kinetic energy; ``L' - L`` is perpendicular

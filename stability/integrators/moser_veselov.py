@@ -96,14 +96,14 @@ def dmv_solve(m1, m2, m3, h, b1, b2, b3, e1, e2, e3):
     return c1, c2, c3, alpha, iterations
 
 
-@njit(inline="always", error_model="numpy")
+@njit(forceinline=True, error_model="numpy")
 def dmv_increment(h, c1, c2, c3, alpha, e1, e2, e3):
     """m_{n+1} - m_n = (4/h) (I_j - I_k) c_j c_k / alpha (Hairer & Vilmart 2006)."""
     s = 4.0 / (h * alpha)
     return s * e1 * c2 * c3, s * e2 * c3 * c1, s * e3 * c1 * c2
 
 
-@njit(inline="always", error_model="numpy")
+@njit(forceinline=True, error_model="numpy")
 def _dmv(m1, m2, m3, h, p):
     e1 = p[P_I2] - p[P_I3]
     e2 = p[P_I3] - p[P_I1]
@@ -113,7 +113,7 @@ def _dmv(m1, m2, m3, h, p):
     return d1, d2, d3, c1, c2, c3, it
 
 
-@njit(inline="always", error_model="numpy")
+@njit(forceinline=True, error_model="numpy")
 def _dmv4(m1, m2, m3, h, p):
     b1, b2, b3 = p[P_INV1], p[P_INV2], p[P_INV3]
     half_l2 = 0.5 * (m1 * m1 + m2 * m2 + m3 * m3)

@@ -30,7 +30,7 @@ from .rotations import cross, exp_coefficients, quaternion_increment, rotate_inc
 from .spec import P_INV1, P_INV2, P_INV3, MethodSpec, body_params
 
 
-@njit(inline="always", error_model="numpy")
+@njit(forceinline=True, error_model="numpy")
 def _rotated(u1, u2, u3, m1, m2, m3):
     """exp(hat u) m."""
     a, b, _, _ = exp_coefficients(math.sqrt(u1 * u1 + u2 * u2 + u3 * u3))

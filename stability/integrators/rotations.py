@@ -1,13 +1,15 @@
 """Scalar helpers for the rotation-based step kernels: 3x3 solves, rotation exponentials, and
 quaternion increments.
 
-All functions take and return plain floats (no arrays, no allocation) and are
-``njit(inline="always")``, so the member loop inlines them. Quaternions are scalar first,
-``q = (q0, q1, q2, q3)``, Hamilton product; ``R(q)`` is the rotation matrix of a unit ``q`` and
-``R(a b) = R(a) R(b)``. An attitude update ``Q <- Q F`` (right multiplication by the body-frame
-rotation of one step) is ``q <- q r`` with ``r`` the unit quaternion of ``F``; the kernels return
-the *increment* ``q r - q = q (r - 1)``, with ``r - 1`` formed without cancellation, so the
-member loop can add it with compensated summation like the increment of m.
+All functions take and return plain floats (no arrays, no allocation). The short ones are
+``njit(forceinline=True)`` (LLVM inlines them into the kernels that call them), the long
+``carried_rotation`` ``njit(inline="always")`` (:mod:`stability.engine.loop`, "Inlining").
+Quaternions are scalar first, ``q = (q0, q1, q2, q3)``, Hamilton product; ``R(q)`` is the
+rotation matrix of a unit ``q`` and ``R(a b) = R(a) R(b)``. An attitude update ``Q <- Q F``
+(right multiplication by the body-frame rotation of one step) is ``q <- q r`` with ``r`` the
+unit quaternion of ``F``; the kernels return the *increment* ``q r - q = q (r - 1)``, with
+``r - 1`` formed without cancellation, so the member loop can add it with compensated summation
+like the increment of m.
 """
 
 import math
@@ -21,13 +23,13 @@ from ..core.trig import sin_cosm1
 SMALL_ANGLE = 1e-8
 
 
-@njit(inline="always")
+@njit(forceinline=True)
 def cross(a1, a2, a3, b1, b2, b3):
     """The vector product a x b."""
     return a2 * b3 - a3 * b2, a3 * b1 - a1 * b3, a1 * b2 - a2 * b1
 
 
-@njit(inline="always", error_model="numpy")
+@njit(forceinline=True, error_model="numpy")
 def solve3(a11, a12, a13, a21, a22, a23, a31, a32, a33, r1, r2, r3):
     """Solve the 3x3 system A x = r by Cramer's rule (cofactors); no pivoting, no allocation.
 
@@ -45,7 +47,7 @@ def solve3(a11, a12, a13, a21, a22, a23, a31, a32, a33, r1, r2, r3):
     return x1, x2, x3
 
 
-@njit(inline="always", error_model="numpy")
+@njit(forceinline=True, error_model="numpy")
 def exp_coefficients(theta):
     """Coefficients of the rotation exponential for the angle ``theta = |k| >= 0``.
 
@@ -64,7 +66,7 @@ def exp_coefficients(theta):
     return a, b, cm1, d
 
 
-@njit(inline="always")
+@njit(forceinline=True)
 def rotate_increment(k1, k2, k3, v1, v2, v3, a, b):
     """``exp(hat k) v - v = a (k x v) + b k x (k x v)``, a and b from ``exp_coefficients``."""
     # written out rather than two cross() calls: fewer inlinings, shorter compilation
@@ -77,7 +79,7 @@ def rotate_increment(k1, k2, k3, v1, v2, v3, a, b):
     return a * u1 + b * w1, a * u2 + b * w2, a * u3 + b * w3
 
 
-@njit(inline="always")
+@njit(forceinline=True)
 def quaternion_increment(q0, q1, q2, q3, r0m1, r1, r2, r3):
     """``q r - q = q (r - 1)`` for ``r = (1 + r0m1, r1, r2, r3)`` (Hamilton product)."""
     e0 = q0 * r0m1 - q1 * r1 - q2 * r2 - q3 * r3
@@ -87,7 +89,7 @@ def quaternion_increment(q0, q1, q2, q3, r0m1, r1, r2, r3):
     return e0, e1, e2, e3
 
 
-@njit(inline="always", error_model="numpy")
+@njit(forceinline=True, error_model="numpy")
 def cayley_quaternion(f1, f2, f3):
     """``r - 1`` for the unit quaternion ``r = (1, f) / sqrt(1 + |f|^2)``.
 
@@ -101,7 +103,7 @@ def cayley_quaternion(f1, f2, f3):
     return -f2n * inv / (1.0 + root), f1 * inv, f2 * inv, f3 * inv
 
 
-@njit(inline="always", error_model="numpy")
+@njit(forceinline=True, error_model="numpy")
 def cayley_attitude_increment(d1, d2, d3, q0, q1, q2, q3, f1, f2, f3, it):
     """Increments of m and of ``q <- q (1, f) / sqrt(1 + |f|^2)`` (the Cayley rotation of f).
 
@@ -113,7 +115,7 @@ def cayley_attitude_increment(d1, d2, d3, q0, q1, q2, q3, f1, f2, f3, it):
     return unless_failed_attitude(d1, d2, d3, e0, e1, e2, e3, it)
 
 
-@njit(inline="always")
+@njit(forceinline=True)
 def cayley_increment(m1, m2, m3, f1, f2, f3):
     """``F^T m - m`` for the Cayley rotation F of ``f``, formed without cancellation.
 
@@ -170,14 +172,14 @@ def carried_rotation(m1, m2, m3, g1, g2, g3, first, theta, t_casimir, inv2):
     return r1, r2, r3, (q1 - g1) + e1, (q2 - g2) + e2, (q3 - g3) + e3
 
 
-@njit(inline="always")
+@njit(forceinline=True)
 def unless_failed(d1, d2, d3, it):
     """``(d1, d2, d3, it)``, with a zero increment when the solve failed (``it <= 0``)."""
     ok = it > 0
     return (d1 if ok else 0.0), (d2 if ok else 0.0), (d3 if ok else 0.0), it
 
 
-@njit(inline="always")
+@njit(forceinline=True)
 def unless_failed_attitude(d1, d2, d3, e0, e1, e2, e3, it):
     """Increments of m and q, both zero when the solve failed (``it <= 0``)."""
     ok = it > 0
