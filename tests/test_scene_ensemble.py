@@ -2,6 +2,11 @@
 on a dask cluster, every member is bitwise the run in one piece, raw or measured into the
 scene's Dataset (stability.run_scene)."""
 
+import os
+import signal
+import threading
+from dataclasses import replace
+
 import numpy as np
 import pytest
 
@@ -43,6 +48,37 @@ def test_a_stored_run_cut_into_chunks_is_bitwise_the_run_in_one_piece(tmp_path, 
     stored = propagate_stored(run, tmp_path / "store", chunk_members=3, progress=False)
     assert_bitwise(stored, whole)
     assert stored.saved.shape == whole.saved.shape == (16, 6, SCENES[scene].width)
+    here = propagate_stored(run, chunk_members=3, progress=False)  # in memory, in chunks
+    assert_bitwise(here, whole)
+
+
+def test_ctrl_c_during_a_run_in_memory_keeps_the_member_chunks_finished_before_it():
+    """A real SIGINT, during the second of six member chunks of about 0.3 s each here: the
+    result is the chunks finished before it, bitwise those members' run, or (had it come during
+    the first) the first chunk up to the steps it did."""
+    scene = SCENES["free_body"]
+    spec = scene.method("rk4")
+    x0, params = scene.example(6 * 500, seed=3)
+    run = GroupedRun("free_body", "rk4", x0, spec.params(params[0], 0.01), [x0.shape[0]], 0.01,
+                     300_000, axes=[[1, 0, 2]], levels=[[1e-2, 0.1]])
+    propagate_stored(replace(run, n_steps=10), progress=False)  # compiled before the timing
+    timer = threading.Timer(0.45, os.kill, (os.getpid(), signal.SIGINT))
+    timer.start()
+    try:
+        kept = propagate_stored(run, chunk_members=500, partial=True, progress=False)
+    finally:
+        timer.cancel()
+    n = kept.x_final.shape[0]
+    assert kept.interrupted and n % 500 == 0 and 0 < n < run.members
+    steps = int(kept.steps_done[0])
+    if steps == run.n_steps[0]:
+        assert n >= 500
+    else:  # the signal came during the first chunk
+        assert n == 500 and 0 < steps < run.n_steps[0]
+    alone = replace(run.part(0, n), n_steps=steps).propagate()
+    assert_bitwise(kept, alone)
+    with pytest.raises(ValueError, match="needs a store"):
+        propagate_stored(run, scheduler="dask")
 
 
 def test_a_resumed_run_runs_only_what_is_missing_and_is_bitwise_the_same(tmp_path):

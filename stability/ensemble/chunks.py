@@ -27,6 +27,12 @@ free body's :func:`stability.run_ensemble` with ``store=`` is that path, with it
 and measurement, and so is :func:`stability.run_scene`, every scene's Dataset. The starts are
 the run's ``x0``, or a rule that makes any members' starts alone (``starts=``: the free body
 draws each chunk's from its seed, so that memory is one chunk's).
+
+Without a store, a raw run stays in this process, cut into chunks of members only when asked
+(``chunk_members``, what bounds its memory), and Ctrl-C may keep what was done (``partial``):
+the free body's :func:`stability.run_ensemble` and
+:func:`stability.free_body.ensemble.run_ensembles` in memory are that path, with the ensembles'
+starts as ``x0``.
 """
 
 from __future__ import annotations
@@ -40,7 +46,7 @@ import numpy as np
 import xarray as xr
 
 from ..engine import propagate_groups
-from ..engine.run import Propagation
+from ..engine.run import Propagation, deferred_interrupt
 from ..output.io import READ
 from ..output.store import ChunkStore
 from ..output.stream import stream_chunks
@@ -72,8 +78,8 @@ class GroupedRun:
     scene : str or Scene
         A registered scene's name, or a scene (one of the user's own is pickled by reference:
         its module is imported where a chunk runs).
-    method : str
-        A method of the scene.
+    method : str or MethodSpec
+        A method of the scene (a spec it does not register is taken as it is).
     x0 : ndarray, shape (N, n), or None
         Initial states, group after group; None with ``starts``.
     params : ndarray, shape (G, p)
@@ -104,7 +110,7 @@ class GroupedRun:
     """
 
     scene: str | Scene
-    method: str
+    method: object
     x0: np.ndarray
     params: np.ndarray
     sizes: np.ndarray
@@ -165,7 +171,8 @@ class GroupedRun:
         return {"scene": name, **({"scene_source": source} if source else {}),  # user's code
                 **({"starts": rule()} if self.starts is not None else {}),
                 **({"device": self.device} if self.device != "cpu" else {}),
-                "method": self.method, "save_every": self.save_every,
+                "method": getattr(self.method, "name", self.method),
+                "save_every": self.save_every,
                 "arrays": {name: None if a is None else _digest(a) for name, a in arrays.items()}}
 
     def part(self, lo: int, hi: int) -> "GroupedRun":
@@ -180,10 +187,11 @@ class GroupedRun:
                        h=self.h[keep], n_steps=self.n_steps[keep], axes=pick(self.axes),
                        levels=pick(self.levels), starts=None)
 
-    def propagate(self, progress=None) -> Propagation:
-        """The run in this process (:func:`propagate_groups`, or its GPU twin)."""
+    def propagate(self, progress=None, partial=False) -> Propagation:
+        """The run in this process (:func:`propagate_groups`, or its GPU twin); with
+        ``partial``, Ctrl-C returns the steps done (``interrupted``) instead of raising."""
         if self.starts is not None:
-            return self.part(0, self.members).propagate(progress)
+            return self.part(0, self.members).propagate(progress, partial)
         propagator = propagate_groups
         if self.device == "gpu":
             from ..engine.gpu import propagate_groups_gpu as propagator  # numba-cuda: optional
@@ -191,7 +199,7 @@ class GroupedRun:
         return propagator(self.scene, self.method, self.x0, self.params, self.sizes, self.h,
                           self.n_steps, save_every=self.save_every, axes=self.axes,
                           levels=self.levels, progress=progress, chunk_steps=self.chunk_steps,
-                          label=self.label)
+                          label=self.label, partial=partial)
 
 
 @dataclass(eq=False)
@@ -259,7 +267,7 @@ class RawChunk:
 
 def propagate_stored(run: GroupedRun, store=None, *, measure=None, resume=False,
                      scheduler=None, chunk_members=None, threads=None, progress=None,
-                     compress=None):
+                     compress=None, partial=False):
     """Run ``run``: in this process, or chunk by chunk into the folder ``store``.
 
     Parameters
@@ -282,7 +290,9 @@ def propagate_stored(run: GroupedRun, store=None, *, measure=None, resume=False,
         :func:`stability.free_body.ensemble.run_streamed`).
     chunk_members : int, optional
         Members per chunk; default: the run in :data:`DEFAULT_CHUNKS` chunks, fewer where a
-        chunk would hold less than :data:`MIN_CHUNK_WORK` member-steps.
+        chunk would hold less than :data:`MIN_CHUNK_WORK` member-steps. Without a store (and
+        a measurement) the run is cut into chunks only when this is given, each run in turn:
+        what bounds the memory of a run kept in memory.
     threads : int, optional
         Numba threads for chunks run in this process (and for a measured run without a store).
     progress : bool, optional
@@ -290,6 +300,11 @@ def propagate_stored(run: GroupedRun, store=None, *, measure=None, resume=False,
     compress : bool, optional
         zlib-compress the chunk files; default: only a measured run's (a raw run's are read
         back at once).
+    partial : bool, default False
+        Without a store or a measurement: if Ctrl-C stops the run, return what was done
+        (``interrupted`` True) instead of raising: the chunks finished before it (the result
+        then has fewer members than the run), or, if it stopped the first chunk, the steps
+        that chunk did.
 
     Returns
     -------
@@ -309,7 +324,7 @@ def propagate_stored(run: GroupedRun, store=None, *, measure=None, resume=False,
         if scheduler is not None:
             raise ValueError("a run on a dask scheduler needs a store folder for its chunks")
         if measure is None:
-            return run.propagate(progress)
+            return _in_chunks(run, chunk_members, progress, partial)
         with numba_threads(checked_threads(threads)):
             return ChunkJob(run, measure)(0, n, progress, threads)
     if chunk_members is None:
@@ -338,6 +353,50 @@ def propagate_stored(run: GroupedRun, store=None, *, measure=None, resume=False,
     finally:
         chunks.close()
     return _propagation(run, parts)
+
+
+def _in_chunks(run: GroupedRun, chunk_members, progress, partial) -> Propagation:
+    """``run`` in this process, ``chunk_members`` members at a time (all at once by default);
+    see :func:`propagate_stored`'s ``partial`` for Ctrl-C."""
+    n = run.members
+    if chunk_members is None or chunk_members >= n:
+        return run.propagate(progress, partial)
+    done = []
+    with deferred_interrupt() as between:  # Ctrl-C between two chunks
+        for lo in range(0, n, chunk_members):
+            if between.requested and done:
+                break
+            prop = run.part(lo, min(lo + chunk_members, n)).propagate(progress, partial)
+            if prop.interrupted and done:  # keep the chunks that finished
+                break
+            done.append(prop)
+            if prop.interrupted:  # the first chunk: the steps it did
+                break
+    if between.requested and not partial:
+        raise KeyboardInterrupt
+    members = sum(p.x_final.shape[0] for p in done)
+    ends = np.cumsum(run.sizes)
+    first = ends - run.sizes
+    steps = np.where(first < members, run.n_steps, 0)
+    if done[0].interrupted:  # the groups of the first chunk, each the steps it did
+        covered = np.minimum(ends, members) - first > 0
+        steps = np.zeros_like(run.n_steps)
+        steps[covered] = done[0].steps_done
+    steps = np.where(run.sizes > 0, steps, run.n_steps)
+    saved = np.full((members, max(p.saved.shape[1] for p in done), run.width), np.nan)
+    lo = 0
+    for p in done:
+        saved[lo:lo + p.saved.shape[0], :p.saved.shape[1]] = p.saved
+        lo += p.saved.shape[0]
+    return Propagation(
+        x_final=np.concatenate([p.x_final for p in done]), saved=saved,
+        status=np.concatenate([p.status for p in done]),
+        fail_step=np.concatenate([p.fail_step for p in done]),
+        iterations=np.concatenate([p.iterations for p in done]),
+        steps_done=steps.astype(np.int64), interrupted=members < n or done[0].interrupted,
+        wall_time=sum(p.wall_time for p in done),
+        compile_time=sum(p.compile_time for p in done),
+        extras={name: np.concatenate([p.extras[name] for p in done]) for name in done[0].extras})
 
 
 def summed_attrs(chunks: ChunkStore) -> dict:

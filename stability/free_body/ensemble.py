@@ -2,16 +2,18 @@
 
 Member j starts at steady spin ``W`` about a principal axis plus a perturbation of size
 ``epsilon W`` perpendicular to it, in a random direction (or a fixed one, or from starts the
-caller gives), and every member is advanced by the one parallel member loop of
-:mod:`stability.free_body.propagate`. The result is an xarray Dataset (schema in
-:mod:`stability.output.dataset`): the time series ``w`` (unless ``summaries_only``) and per-member summaries: flips (sign changes
-of the spin-axis component), crossings of a perpendicular component, the maximum perpendicular
-amplitude and the first passage of that amplitude through given levels (all tracked at every
-step inside the member loop, so also without a time series), the end-of-run relative
-errors of energy and |L|, and a status code. A member whose state stops being finite, whose
-invariants leave ``divergence_tolerance``, whose implicit solve fails or whose step angle
-``h max|w|`` exceeds what the method resolves (``MethodSpec.max_step_angle``) is flagged and all
-its numbers are NaN: status ok means the member's numbers can be trusted.
+caller gives), and the members are one grouped run of the ensemble layer
+(:mod:`stability.ensemble.chunks`, built by :func:`stability.free_body.propagate.grouped_run`),
+advanced by the one parallel member loop. The result is an xarray Dataset (schema in
+:mod:`stability.output.dataset`): the time series ``w`` (unless ``summaries_only``) and
+per-member summaries: flips (sign changes of the spin-axis component), crossings of a
+perpendicular component, the maximum perpendicular amplitude and the first passage of that
+amplitude through given levels (all tracked at every step inside the member loop, so also
+without a time series), the end-of-run relative errors of energy and |L|, and a status code. A
+member whose state stops being finite, whose invariants leave ``divergence_tolerance``, whose
+implicit solve fails or whose step angle ``h max|w|`` exceeds what the method resolves
+(``MethodSpec.max_step_angle``) is flagged and all its numbers are NaN: status ok means the
+member's numbers can be trusted.
 
 Reproducibility: the random directions are drawn outside compiled code, from one
 ``numpy.random.SeedSequence`` child per :data:`RNG_CHUNK` members (child c draws the members
@@ -33,7 +35,8 @@ import numpy as np
 
 from .attitude import IDENTITY
 from ..core.body import RigidBody
-from .propagate import propagate_many
+from .propagate import grouped_run
+from ..ensemble.chunks import propagate_stored
 from ..analysis.members import summary_members
 from ..ensemble.memory import DEFAULT_MAX_MEMORY
 from .timescales import (
@@ -47,7 +50,7 @@ from ..util import conventions as cv
 from ..util.checks import positive_float, positive_int, vectors3
 from ..util.threads import checked_threads, numba_threads
 from .plan import DEFAULT_DIVERGENCE_TOLERANCE, NO_SPIN, EnsemblePlan, plan_ensemble
-from .results import MemberRun, RunPart, finish_run, members_dataset
+from .results import RunPart, finish_run, members_dataset
 from .starts import axis_index, max_angular_speed, nonnegative_float
 from .streamed import run_streamed
 
@@ -380,14 +383,34 @@ def _summary(plan: EnsemblePlan, run) -> EnsembleSummary:
 def _run(plans, progress) -> list:
     """Propagate the members of ``plans`` (one method), tracking their summaries.
 
-    One plan runs in chunks of its ``chunk_members``; several plans run together, one group
-    each, in one call of the member loop. If Ctrl-C stops a single plan's chunk, the result
-    holds the chunks completed before it; if it stopped the first chunk, that chunk up to the
-    steps it completed. A stopped batch keeps the steps every ensemble completed.
+    The plans are one grouped run of the ensemble layer (:func:`grouped_run`), run in this
+    process by :func:`stability.ensemble.chunks.propagate_stored`: one plan in chunks of its
+    ``chunk_members``; several plans together, one group each, in one call of the member loop.
+    If Ctrl-C stops a single plan's chunk, the result holds the chunks completed before it; if
+    it stopped the first chunk, that chunk up to the steps it completed. A stopped batch keeps
+    the steps every ensemble completed.
     """
+    first = plans[0]
+    run, groups = grouped_run(
+        first.spec, [plan.body.moments for plan in plans],
+        np.concatenate([plan.w0 * plan.body.moments for plan in plans]),
+        [plan.w0.shape[0] for plan in plans], [plan.h for plan in plans],
+        [plan.n_steps for plan in plans], 0 if first.summaries_only else first.save_every,
+        first.chunk_steps if len(plans) == 1 else None,
+        track_axes=[plan.a for plan in plans], levels=[plan.levels for plan in plans],
+        q0=(np.tile(IDENTITY, (sum(plan.w0.shape[0] for plan in plans), 1))
+            if first.attitude else None),
+        device=first.device,
+    )
+    prop = groups.from_kernels(propagate_stored(
+        run, chunk_members=first.chunk_members if len(plans) == 1 else None,
+        progress=progress,
+        partial=True,  # Ctrl-C: the chunks done are kept, the Dataset marked interrupted
+    ))
     if len(plans) == 1:
-        return [_run_chunked(plans[0], progress)]
-    prop = _propagate_tracked(plans, progress, None)
+        done, steps = prop.x_final.shape[0], int(prop.steps_done[0])
+        return [finish_run(first, [RunPart(prop, slice(0, done), slice(0, done), steps)], done,
+                           steps, prop.interrupted)]
     work = np.array([plan.w0.shape[0] * plan.n_steps for plan in plans], dtype=float)
     runs, lo = [], 0
     for g, plan in enumerate(plans):
@@ -397,44 +420,3 @@ def _run(plans, progress) -> list:
         runs.append(finish_run(plan, [part], n, steps, prop.interrupted and steps < plan.n_steps))
         lo += n
     return runs
-
-
-def _run_chunked(plan, progress) -> MemberRun:
-    """One plan, ``chunk_members`` members per call."""
-    n = plan.w0.shape[0]
-    parts = []
-    steps_done, interrupted, done = plan.n_steps, False, 0
-    for lo in range(0, n, plan.chunk_members):
-        hi = min(lo + plan.chunk_members, n)
-        prop = _propagate_tracked([plan], progress, slice(lo, hi))
-        if prop.interrupted and lo > 0:  # keep the chunks that completed
-            interrupted = True
-            break
-        parts.append(RunPart(prop, slice(0, hi - lo), slice(lo, hi), int(prop.steps_done[0])))
-        done = hi
-        if prop.interrupted:  # the first chunk: keep the steps it completed
-            interrupted, steps_done = True, int(prop.steps_done[0])
-            break
-    return finish_run(plan, parts, done, steps_done, interrupted)
-
-
-def _propagate_tracked(plans, progress, rows):
-    """One call of the member loop over ``plans`` (members ``rows`` of a single plan)."""
-    starts = [plan.w0 if rows is None else plan.w0[rows] for plan in plans]
-    first = plans[0]
-    gpu = {}
-    if first.device == "gpu":
-        from ..engine.gpu import propagate_groups_gpu  # numba-cuda: an optional dependency
-
-        gpu = {"propagator": propagate_groups_gpu}
-    return propagate_many(
-        first.spec, [plan.body.moments for plan in plans],
-        np.concatenate([w * plan.body.moments for w, plan in zip(starts, plans)]),
-        [w.shape[0] for w in starts], [plan.h for plan in plans],
-        [plan.n_steps for plan in plans], 0 if first.summaries_only else first.save_every,
-        progress, first.chunk_steps if len(plans) == 1 else None,
-        track_axes=[plan.a for plan in plans], levels=[plan.levels for plan in plans],
-        q0=np.tile(IDENTITY, (sum(w.shape[0] for w in starts), 1)) if first.attitude else None,
-        partial=True,  # Ctrl-C: the chunks done are kept, the Dataset marked interrupted
-        **gpu,
-    )

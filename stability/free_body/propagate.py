@@ -15,10 +15,11 @@ from ..core.quaternions import canonical_quaternion, quaternion_conjugate, quate
 from ..core.body import canonical_frame, from_canonical, to_canonical
 from ..util.checks import real_array, real_number
 from ..engine import BLOCK, CHECK_EVERY, Propagation, propagate_groups, untrusted
+from ..ensemble.chunks import GroupedRun
 from ..registry import SCENES
 
-__all__ = ["BLOCK", "CHECK_EVERY", "Propagation", "propagate", "propagate_many", "tracking_axes",
-           "untrusted"]
+__all__ = ["BLOCK", "CHECK_EVERY", "Propagation", "propagate", "propagate_many", "grouped_run",
+           "tracking_axes", "untrusted"]
 
 
 def propagate(
@@ -114,6 +115,25 @@ def propagate_many(
         Body frame; ``steps_done`` per group. With ``q0`` the states are (m, q), q the carried
         (unnormalised) body-to-space quaternion.
     """
+    grouped, groups = grouped_run(method, moments, m0, sizes, h, n_steps, save_every,
+                                  chunk_steps, track_axes, levels, q0)
+    run = propagator(
+        grouped.scene, grouped.method, grouped.x0, grouped.params, grouped.sizes, grouped.h,
+        grouped.n_steps, save_every=save_every, axes=grouped.axes, levels=grouped.levels,
+        progress=progress, chunk_steps=chunk_steps, partial=partial,
+    )
+    return groups.from_kernels(run)
+
+
+def grouped_run(method, moments, m0, sizes, h, n_steps, save_every=0, chunk_steps=None,
+                track_axes=None, levels=None, q0=None, device="cpu"):
+    """Several ensembles as one :class:`~stability.ensemble.chunks.GroupedRun` of the
+    ``free_body`` scene (``free_body_attitude`` with ``q0``), in the kernels' canonical frame.
+
+    The arguments are :func:`propagate_many`'s, and ``device`` the run's. Returns the run and
+    its :class:`CanonicalGroups`, whose :meth:`CanonicalGroups.from_kernels` turns the run's
+    :class:`~stability.engine.Propagation` back into the bodies' frames.
+    """
     scene = SCENES["free_body" if q0 is None else "free_body_attitude"]
     spec = scene.method(method)
     moments = np.atleast_2d(np.asarray(moments, dtype=float))
@@ -128,14 +148,11 @@ def propagate_many(
     if track_axes is not None:
         axes = groups.tracking_axes(track_axes)
         levels = group_levels(np.zeros((n_groups, 0)) if levels is None else levels, n_groups)
-    run = propagator(
-        scene, spec, x0, groups.params, sizes, hs, n_steps,
-        save_every=save_every, axes=axes, levels=levels, progress=progress,
-        chunk_steps=chunk_steps, partial=partial,
-    )
-    run.x_final = groups.from_canonical_state(run.x_final)
-    run.saved = groups.from_canonical_state(run.saved)
-    return run
+    registered = scene.methods.get(spec.name) is spec
+    run = GroupedRun(scene.name, spec.name if registered else spec, x0, groups.params, sizes, hs,
+                     n_steps, save_every=save_every, axes=axes, levels=levels, device=device,
+                     chunk_steps=chunk_steps)
+    return run, groups
 
 
 class CanonicalGroups:
@@ -188,6 +205,13 @@ class CanonicalGroups:
         if x.shape[-1] == 3:
             return m
         return np.concatenate([m, self.attitudes(x[..., 3:], to_canonical=False)], axis=-1)
+
+    def from_kernels(self, run: Propagation) -> Propagation:
+        """``run`` (of :func:`grouped_run`) with its final and saved states in the body frames;
+        a run cut short by Ctrl-C may hold only its first members."""
+        run.x_final = self.from_canonical_state(run.x_final)
+        run.saved = self.from_canonical_state(run.saved)
+        return run
 
     def tracking_axes(self, track_axes) -> np.ndarray:
         """:func:`tracking_axes` of each group, shape (G, 3)."""

@@ -1,6 +1,7 @@
 """run_ensemble: starts, reproducibility, flagged members, summaries against known answers."""
 
 import math
+from dataclasses import replace
 
 import numba
 import numpy as np
@@ -8,7 +9,7 @@ import pytest
 
 import stability
 from stability.util import conventions as cv
-from stability.free_body import ensemble
+from stability.ensemble.chunks import GroupedRun
 from stability.output.dataset import LEVEL, SUMMARIES, summary_bytes
 from stability.free_body.ensemble import run_ensemble
 from stability.output.dataset import LOOP_THREADS
@@ -319,14 +320,14 @@ def test_passage_times_are_zero_below_the_start_and_increase_above(reference):
 
 
 def test_interrupted_run_is_marked_partial(monkeypatch):
-    real = ensemble.propagate_many
+    real = GroupedRun.propagate
 
-    def stopped_halfway(spec, moments, m0, sizes, h, n_steps, *args, **kwargs):
-        result = real(spec, moments, m0, sizes, h, np.asarray(n_steps) // 2, *args, **kwargs)
+    def stopped_halfway(run, progress=None, partial=False):
+        result = real(replace(run, n_steps=run.n_steps // 2), progress, partial)
         result.interrupted = True
         return result
 
-    monkeypatch.setattr(ensemble, "propagate_many", stopped_halfway)
+    monkeypatch.setattr(GroupedRun, "propagate", stopped_halfway)
     ds = run_ensemble(BODY, 2, 1.0, 1e-3, 10, **RUN)
     assert ds.attrs["interrupted"] == 1 and ds.attrs["steps_done"] == 1000
     assert "partial" in ds.attrs["title"]
@@ -335,17 +336,16 @@ def test_interrupted_run_is_marked_partial(monkeypatch):
 
 
 def test_interrupted_chunked_run_keeps_the_completed_chunks(monkeypatch):
-    real = ensemble.propagate_many
+    real = GroupedRun.propagate
     calls = []
 
-    def stopped_in_second_chunk(spec, moments, m0, sizes, h, n_steps, *args, **kwargs):
-        calls.append(len(m0))
-        result = real(spec, moments, m0, sizes, h, np.asarray(n_steps) // len(calls), *args,
-                      **kwargs)
+    def stopped_in_second_chunk(run, progress=None, partial=False):
+        calls.append(run.members)
+        result = real(replace(run, n_steps=run.n_steps // len(calls)), progress, partial)
         result.interrupted = len(calls) > 1
         return result
 
-    monkeypatch.setattr(ensemble, "propagate_many", stopped_in_second_chunk)
+    monkeypatch.setattr(GroupedRun, "propagate", stopped_in_second_chunk)
     ds = run_ensemble(BODY, 2, 1.0, 1e-3, 25, chunk_members=10, summaries_only=True, **RUN)
     assert calls == [10, 10]
     assert ds.attrs["interrupted"] == 1 and ds.attrs["steps_done"] == 2000
