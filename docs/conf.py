@@ -97,3 +97,12 @@ numpydoc_xref_aliases = {
     "Path": "pathlib.Path",
 }
 numpydoc_xref_ignore = "all"
+
+
+def setup(app):
+    # sphinx-mathjax-offline only sets mathjax_path and copies MathJax once the build has
+    # finished: safe for parallel reading and writing (sphinx-build -j), which it does not
+    # declare, so that -j would warn and read serially
+    mathjax = app.extensions.get("sphinx-mathjax-offline")
+    if mathjax is not None:
+        mathjax.parallel_read_safe = mathjax.parallel_write_safe = True

@@ -149,7 +149,9 @@ def test_the_site_builds_without_warnings_and_its_internal_links_resolve(tmp_pat
     out = tmp_path / "html"
     env = dict(os.environ, STABILITY_DOCS_QUICK="1", MPLBACKEND="Agg")
     done = subprocess.run(
-        [sys.executable, "-m", "sphinx", "-W", "--keep-going", "-q", "-b", "html",
+        # -j 2: the pages read and written in two processes (the build runs last, when the
+        # other tests are done)
+        [sys.executable, "-m", "sphinx", "-W", "--keep-going", "-q", "-b", "html", "-j", "2",
          "-d", str(tmp_path / "doctrees"), "docs", str(out)],
         cwd=ROOT, env=env, capture_output=True, text=True, timeout=900)
     assert done.returncode == 0, done.stderr[-4000:]
