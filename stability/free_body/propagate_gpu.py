@@ -3,8 +3,9 @@
 The GPU twins of :func:`stability.free_body.propagate.propagate` and
 :func:`~stability.free_body.propagate.propagate_many`: the same arguments, the same frame
 conversions, tracking set-up and final checks (they are
-:func:`~stability.free_body.propagate.propagate_many` with :func:`stability.engine.gpu.run.propagate_groups_gpu` as
-its propagator), and a :class:`stability.engine.Propagation` with arrays of the same shapes.
+:func:`~stability.free_body.propagate.propagate_many` with
+:func:`stability.engine.gpu.run.propagate_groups_gpu` as its propagator), and a
+:class:`stability.engine.Propagation` with arrays of the same shapes.
 """
 
 from __future__ import annotations
@@ -14,12 +15,12 @@ import functools
 import numpy as np
 
 from .propagate import propagate_many
-from ..engine.gpu.methods import THREADS_PER_BLOCK, gpu_method
+from ..engine.gpu.methods import gpu_method
 from ..engine.gpu.run import propagate_groups_gpu
 
 
 def propagate_gpu(method, moments, m0, h, n_steps, axis=None, *, levels=None, save_every=0,
-                  chunk_steps=None, threads_per_block=THREADS_PER_BLOCK):
+                  chunk_steps=None, threads_per_block=None):
     """Advance an ensemble of body angular momenta on the GPU (one member per thread).
 
     Parameters
@@ -44,8 +45,8 @@ def propagate_gpu(method, moments, m0, h, n_steps, axis=None, *, levels=None, sa
     chunk_steps : int, optional
         Steps per kernel launch (a multiple of ``save_every``); by default chosen so a launch
         takes about 0.25 s. Never changes the result.
-    threads_per_block : int
-        CUDA block size.
+    threads_per_block : int, optional
+        CUDA block size (default: as :func:`stability.engine.gpu.propagate_groups_gpu` chooses).
 
     Returns
     -------
@@ -74,7 +75,7 @@ def propagate_gpu(method, moments, m0, h, n_steps, axis=None, *, levels=None, sa
 
 
 def propagate_many_gpu(method, moments, m0, sizes, h, n_steps, save_every=0, track_axes=None,
-                       levels=None, chunk_steps=None, threads_per_block=THREADS_PER_BLOCK,
+                       levels=None, chunk_steps=None, threads_per_block=None,
                        progress=None, q0=None, partial=False):
     """Several ensembles (groups), each of its own body, step and length, in one launch.
 

@@ -21,11 +21,14 @@ from ...registry import scene as registered_scene
 from .device import cuda_module
 from .methods import THREADS_PER_BLOCK, gpu_method
 
+#: Threads of a CUDA warp: a block of fewer members than THREADS_PER_BLOCK is this many times
+#: the warps they need.
+WARP = 32
+
 
 def propagate_groups_gpu(
     scene, method, x0, params, sizes, h, n_steps, *, save_every=0, axes=None, levels=None,
-    progress=None, chunk_steps=None, label=None, partial=False,
-    threads_per_block=THREADS_PER_BLOCK,
+    progress=None, chunk_steps=None, label=None, partial=False, threads_per_block=None,
 ):
     """Advance groups of members of ``scene`` with ``method`` on a CUDA GPU (one per thread).
 
@@ -37,8 +40,11 @@ def propagate_groups_gpu(
     chunk_steps : int, optional
         Steps per kernel launch (rounded to a multiple of ``save_every``); by default chosen so
         a launch takes about 0.25 s. Never changes the result.
-    threads_per_block : int
-        CUDA block size.
+    threads_per_block : int, optional
+        CUDA block size; default :data:`~stability.engine.gpu.methods.THREADS_PER_BLOCK`, or
+        fewer for fewer members: whole warps of 32, as many as the members need (the same
+        results; under the CUDA simulator, where each thread is a Python thread, a 21-member
+        run starts 32 threads per launch instead of 128).
 
     Returns
     -------
@@ -68,6 +74,8 @@ def propagate_groups_gpu(
     compile_time = _ready(cuda, kernel, width, a.params.shape[1], a.levels.shape[1])
 
     members = DeviceMembers(cuda, a)
+    if threads_per_block is None:
+        threads_per_block = min(THREADS_PER_BLOCK, WARP * max(1, -(-n_members // WARP)))
     blocks = max(1, -(-n_members // threads_per_block))
     done = np.zeros(a.sizes.size, dtype=np.int64)
     k_saved = np.zeros(a.sizes.size, dtype=np.int64)
