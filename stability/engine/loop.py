@@ -20,7 +20,7 @@ edited kernel is compiled again and an unchanged one is loaded from disk in the 
 Inlining: the loop calls the kernels it is rendered with (a method's step, a scene's ``observe``),
 which are ``njit(inline="always")``: Numba copies their code into the loop, which then
 vectorizes across members (as plain ``@njit`` calls, LLVM left the larger kernels out of line and
-the loops ran up to ten times slower). The short helpers the kernels call in turn (rotations,
+those loops ran 3 to 14 times slower). The short helpers the kernels call in turn (rotations,
 compensated sums, a scene's right-hand side, ``kahan`` and the other helpers here) are
 ``njit(forceinline=True)``: LLVM inlines them (``alwaysinline``), the same arithmetic, but Numba
 compiles each once per process instead of copying and typing its code again at every call site.
