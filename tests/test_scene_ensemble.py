@@ -79,6 +79,9 @@ def test_ctrl_c_during_a_run_in_memory_keeps_the_member_chunks_finished_before_i
     assert_bitwise(kept, alone)
     with pytest.raises(ValueError, match="needs a store"):
         propagate_stored(run, scheduler="dask")
+    for bad in (0, -3, 2.5):
+        with pytest.raises(ValueError, match="chunk_members must be a whole number"):
+            propagate_stored(run, chunk_members=bad)
 
 
 def test_a_resumed_run_runs_only_what_is_missing_and_is_bitwise_the_same(tmp_path):

@@ -12,7 +12,7 @@ from numba import njit
 SPLITTER = 134217729.0
 
 
-@njit(forceinline=True)
+@njit(forceinline=True, error_model="numpy")
 def two_sum(a, b):
     """s + e = a + b exactly (Knuth, TAOCP vol. 2, 4.2.2, Theorem B)."""
     s = a + b
@@ -20,14 +20,14 @@ def two_sum(a, b):
     return s, (a - (s - bb)) + (b - bb)
 
 
-@njit(forceinline=True)
+@njit(forceinline=True, error_model="numpy")
 def fast_two_sum(a, b):
     """s + e = a + b exactly, for |a| >= |b| (Dekker 1971)."""
     s = a + b
     return s, b - (s - a)
 
 
-@njit(forceinline=True)
+@njit(forceinline=True, error_model="numpy")
 def two_prod(a, b):
     """p + e = a b exactly, by Veltkamp splitting (Dekker 1971); |a|, |b| < 2^996."""
     p = a * b
@@ -40,7 +40,7 @@ def two_prod(a, b):
     return p, ((ah * bh - p) + ah * bl + al * bh) + al * bl
 
 
-@njit(forceinline=True)
+@njit(forceinline=True, error_model="numpy")
 def dd_mul(ah, al, bh, bl):
     """Double-double product (relative error ~2^-104)."""
     p, e = two_prod(ah, bh)
@@ -48,7 +48,7 @@ def dd_mul(ah, al, bh, bl):
     return fast_two_sum(p, e)
 
 
-@njit(forceinline=True)
+@njit(forceinline=True, error_model="numpy")
 def dd_add(ah, al, bh, bl):
     """Double-double sum, accurate under cancellation (Shewchuk-style two-sum of both parts)."""
     s, e = two_sum(ah, bh)

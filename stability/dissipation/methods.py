@@ -112,7 +112,7 @@ def sphere_params(values, h: float = 0.0) -> np.ndarray:
                            moments * J / (moments + J), np.expm1(-0.5 * h * rates)])
 
 
-@njit(forceinline=True)
+@njit(forceinline=True, error_model="numpy")
 def sphere_rhs(m1, m2, m3, s1, s2, s3, p):
     """Equations (1): ``m' = m x w + c u``, ``s' = s x w - c u``."""
     e1, e2, e3 = euler_rhs(m1, m2, m3, p)  # m x w, written without cancellation
@@ -123,7 +123,7 @@ def sphere_rhs(m1, m2, m3, s1, s2, s3, p):
             s2 * w3 - s3 * w2 - t1, s3 * w1 - s1 * w3 - t2, s1 * w2 - s2 * w1 - t3)
 
 
-@njit(forceinline=True)
+@njit(forceinline=True, error_model="numpy")
 def relaxation(m1, m2, m3, s1, s2, s3, f1, f2, f3, p):
     """The exact flow D for the time t with ``f_k = expm1(-r_k t)``: the increment of m,
     ``-mu_k u_k f_k = mu_k u_k (1 - exp(-r_k t))`` (that of s is its opposite, so H is kept
@@ -296,7 +296,7 @@ def gyrostat_params(values, h: float = 0.0) -> np.ndarray:
                             1.0 / Jq, cq], values])
 
 
-@njit(forceinline=True)
+@njit(forceinline=True, error_model="numpy")
 def gyrostat_rhs(m1, m2, m3, hr, p1, p2, p3, q1, q2, q3, p):
     """Equations (2): ``m' = m x w + cp u_p + cq u_q``, ``h_r' = cq u_q3``,
     ``p' = p x w - cp u_p``, ``q' = q x w - cq u_q``."""

@@ -83,7 +83,7 @@ from .methods import (B_B, B_I1, B_I2, B_I3, B_K, B_MU, B_MU_B, GYROSTAT_METHODS
                       whip_params, whip_rates)
 
 
-@njit(forceinline=True)
+@njit(forceinline=True, error_model="numpy")
 def nutation_components(H1, H2, H3, ia, ib, ic):
     """``(H_a / |H|, sqrt(H_b^2 + H_c^2) / |H|, 0)``: cosine and sine of body axis a's angle
     from H."""

@@ -89,7 +89,7 @@ def perturber(t, p, o):
     return x, y, z, p[o + O_K] / (one_m * one_m * one_m)
 
 
-@njit(forceinline=True)
+@njit(forceinline=True, error_model="numpy")
 def to_body(q0, q1, q2, q3, x, y, z):
     """``R(q)^T v``: a space vector in the body frame (q scalar first, body to space)."""
     r11 = 1.0 - 2.0 * (q2 * q2 + q3 * q3)

@@ -32,7 +32,7 @@ from ..free_body.scene import component
 from ..engine.scene import Scene
 
 
-@njit(forceinline=True)
+@njit(forceinline=True, error_model="numpy")
 def figure_axis(q0, q1, q2, q3):
     """``R(q) e3``: the body's axis 3 in space."""
     return (2.0 * (q1 * q3 + q0 * q2), 2.0 * (q2 * q3 - q0 * q1),

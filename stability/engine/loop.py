@@ -22,8 +22,11 @@ which are ``njit(inline="always")``: Numba copies their code into the loop, whic
 vectorizes across members (as plain ``@njit`` calls, LLVM left the larger kernels out of line and
 those loops ran 3 to 14 times slower). The short helpers the kernels call in turn (rotations,
 compensated sums, a scene's right-hand side, ``kahan`` and the other helpers here) are
-``njit(forceinline=True)``: LLVM inlines them (``alwaysinline``), the same arithmetic, but Numba
-compiles each once per process instead of copying and typing its code again at every call site.
+``njit(forceinline=True, error_model="numpy")``: LLVM inlines them (``alwaysinline``), the same
+arithmetic, but Numba compiles each once per process instead of copying and typing its code again
+at every call site. Their error model is the loop's, written out: a function compiled on its own
+keeps the error model of its first compilation, and a division by zero must give inf in the loop,
+never raise, whoever called the helper first.
 Helpers with a loop or a long body (the implicit solves, ``carried_rotation``) stay
 ``inline="always"``: as ``forceinline`` the midpoint rule and heavy_top lp4 ran 9-10 % slower.
 Compiling the loops of every scene and method (43 loops, one process) took 2 min 39 s instead of
@@ -74,7 +77,7 @@ T_NEXT_LEVEL = 10  #: index of the next amplitude level to reach
 N_TRACK = 11
 
 
-@njit(forceinline=True)
+@njit(forceinline=True, error_model="numpy")
 def kahan(x, c, d):
     """``x + d`` with the running compensation ``c`` (Kahan 1965): returns (x, c) updated."""
     y = d - c
@@ -82,19 +85,19 @@ def kahan(x, c, d):
     return t, (t - x) - y
 
 
-@njit(forceinline=True)
+@njit(forceinline=True, error_model="numpy")
 def not_finite(total):
     """1 if ``total`` is inf or NaN (a sum of the state's components), else 0."""
     return 1 if total - total != 0.0 else 0
 
 
-@njit(forceinline=True)
+@njit(forceinline=True, error_model="numpy")
 def crossed(prev, v):
     """True if v has another sign than prev (zero counts as positive)."""
     return (prev >= 0.0) != (v >= 0.0)
 
 
-@njit(forceinline=True)
+@njit(forceinline=True, error_model="numpy")
 def counted_crossing(count, first, last, prev, v, t_prev, h):
     """``(count, first, last)`` after a sign change of v since the previous step.
 
@@ -108,7 +111,7 @@ def counted_crossing(count, first, last, prev, v, t_prev, h):
     return count, first, t_cross
 
 
-@njit(forceinline=True)
+@njit(forceinline=True, error_model="numpy")
 def passage_fraction(level, prev_amp, amp):
     """Where in the step the amplitude passed ``level``, in [0, 1]: ln(level / prev_amp) /
     ln(amp / prev_amp) (linear in t during exponential growth), the amplitude itself

@@ -57,13 +57,13 @@ SOURCES = "{{digest}}"
 
 {rk4}
 
-@njit(forceinline=True)
+@njit(forceinline=True, error_model="numpy")
 def pick({state}, i):
     """Component i of the state (the last one for any larger i)."""
     return {pick}
 
 
-@njit(forceinline=True)
+@njit(inline="always")
 def observe({state}, p, ia, ib, ic):
     """Components ia, ib and ic: the tracked spin-axis component and two across it."""
     return pick({state}, ia), pick({state}, ib), pick({state}, ic)

@@ -38,7 +38,7 @@ from ..integrators.spec import (
 )
 
 
-@njit(forceinline=True)
+@njit(forceinline=True, error_model="numpy")
 def rotate3(q0, q1, q2, q3, x1, x2, x3, sign):
     """``R x`` (sign = 1) or ``R^T x`` (sign = -1) for ``R = R(q / |q|)``:
     ``x + (2 / |q|^2) (sign q0 v x x + v x (v x x))`` with v = (q1, q2, q3)."""
@@ -66,14 +66,14 @@ def _rotation_update(q0, q1, q2, q3, o1, o2, o3, h):
     return (d0 * inv + q0 * cm1, d1 * inv + q1 * cm1, d2 * inv + q2 * cm1, d3 * inv + q3 * cm1)
 
 
-@njit(forceinline=True)
+@njit(forceinline=True, error_model="numpy")
 def _gyroscopic(w1, w2, w3, h, p):
     """Explicit Euler increment of the body angular momentum: ``h (I w) x w`` (= h m x I^-1 m)."""
     m1, m2, m3 = p[P_I1] * w1, p[P_I2] * w2, p[P_I3] * w3
     return h * p[P_A1] * m2 * m3, h * p[P_A2] * m3 * m1, h * p[P_A3] * m1 * m2
 
 
-@njit(forceinline=True)
+@njit(forceinline=True, error_model="numpy")
 def _finish(x0, x1, x2, q0, q1, q2, q3, g1, g2, g3, h, new, it):
     """Increments of the state from the body velocity increment g: ``omega_w' = omega_w + R g``,
     then (R) with the new (``new``) or the old omega_w."""

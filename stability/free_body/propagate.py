@@ -144,10 +144,12 @@ def grouped_run(method, moments, m0, sizes, h, n_steps, save_every=0, chunk_step
     x0 = groups.to_canonical(np.atleast_2d(np.asarray(m0, dtype=float)))
     if q0 is not None:
         x0 = np.concatenate([x0, groups.attitudes(q0, to_canonical=True)], axis=1)
-    axes = None
+    axes = None  # levels count only with the tracking axes
     if track_axes is not None:
         axes = groups.tracking_axes(track_axes)
         levels = group_levels(np.zeros((n_groups, 0)) if levels is None else levels, n_groups)
+    else:
+        levels = None
     registered = scene.methods.get(spec.name) is spec
     run = GroupedRun(scene.name, spec.name if registered else spec, x0, groups.params, sizes, hs,
                      n_steps, save_every=save_every, axes=axes, levels=levels, device=device,

@@ -20,7 +20,7 @@ from ..integrators.spec import P_I1, P_INV1
 from ..engine.scene import Scene
 
 
-@njit(forceinline=True)
+@njit(forceinline=True, error_model="numpy")
 def component(x1, x2, x3, index):
     """Component ``index`` (0, 1, 2) of a 3-vector, as a select (branch-free in the loop)."""
     return x1 if index == 0 else (x2 if index == 1 else x3)

@@ -65,7 +65,7 @@ def top_params(top, h: float = 0.0) -> np.ndarray:
     return np.concatenate([body_params(top[:3], h), top[3:]])
 
 
-@njit(forceinline=True)
+@njit(forceinline=True, error_model="numpy")
 def top_rhs(m1, m2, m3, g1, g2, g3, p):
     """Equations (1): ``m' = m x w + g x c``, ``g' = g x w`` with ``w = I^-1 m``."""
     e1, e2, e3 = euler_rhs(m1, m2, m3, p)  # m x w, written without cancellation

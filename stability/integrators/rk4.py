@@ -21,7 +21,7 @@ from .rotations import quaternion_increment
 from .spec import P_A1, P_A2, P_A3, P_INV1, P_INV2, P_INV3, MethodSpec, body_params
 
 
-@njit(forceinline=True)
+@njit(forceinline=True, error_model="numpy")
 def euler_rhs(m1, m2, m3, p):
     """Euler's equations m' = m x I^-1 m: ``(A1 m2 m3, A2 m3 m1, A3 m1 m2)``."""
     return p[P_A1] * m2 * m3, p[P_A2] * m3 * m1, p[P_A3] * m1 * m2
@@ -90,7 +90,7 @@ def rk4_source(width: int, rhs: str = "rhs", name: str = "rk4_step") -> str:
     ])
 
 
-@njit(forceinline=True)
+@njit(forceinline=True, error_model="numpy")
 def _qdot(q0, q1, q2, q3, w1, w2, w3):
     """q' = q (0, w) / 2."""
     e0, e1, e2, e3 = quaternion_increment(q0, q1, q2, q3, 0.0, w1, w2, w3)

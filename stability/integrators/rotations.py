@@ -2,8 +2,9 @@
 quaternion increments.
 
 All functions take and return plain floats (no arrays, no allocation). The short ones are
-``njit(forceinline=True)`` (LLVM inlines them into the kernels that call them), the long
-``carried_rotation`` ``njit(inline="always")`` (:mod:`stability.engine.loop`, "Inlining").
+``njit(forceinline=True, error_model="numpy")`` (LLVM inlines them into the kernels that call
+them), the long ``carried_rotation`` ``njit(inline="always")`` (:mod:`stability.engine.loop`,
+"Inlining").
 Quaternions are scalar first, ``q = (q0, q1, q2, q3)``, Hamilton product; ``R(q)`` is the
 rotation matrix of a unit ``q`` and ``R(a b) = R(a) R(b)``. An attitude update ``Q <- Q F``
 (right multiplication by the body-frame rotation of one step) is ``q <- q r`` with ``r`` the
@@ -23,7 +24,7 @@ from ..core.trig import sin_cosm1
 SMALL_ANGLE = 1e-8
 
 
-@njit(forceinline=True)
+@njit(forceinline=True, error_model="numpy")
 def cross(a1, a2, a3, b1, b2, b3):
     """The vector product a x b."""
     return a2 * b3 - a3 * b2, a3 * b1 - a1 * b3, a1 * b2 - a2 * b1
@@ -66,7 +67,7 @@ def exp_coefficients(theta):
     return a, b, cm1, d
 
 
-@njit(forceinline=True)
+@njit(forceinline=True, error_model="numpy")
 def rotate_increment(k1, k2, k3, v1, v2, v3, a, b):
     """``exp(hat k) v - v = a (k x v) + b k x (k x v)``, a and b from ``exp_coefficients``."""
     # written out rather than two cross() calls: fewer inlinings, shorter compilation
@@ -79,7 +80,7 @@ def rotate_increment(k1, k2, k3, v1, v2, v3, a, b):
     return a * u1 + b * w1, a * u2 + b * w2, a * u3 + b * w3
 
 
-@njit(forceinline=True)
+@njit(forceinline=True, error_model="numpy")
 def quaternion_increment(q0, q1, q2, q3, r0m1, r1, r2, r3):
     """``q r - q = q (r - 1)`` for ``r = (1 + r0m1, r1, r2, r3)`` (Hamilton product)."""
     e0 = q0 * r0m1 - q1 * r1 - q2 * r2 - q3 * r3
@@ -115,7 +116,7 @@ def cayley_attitude_increment(d1, d2, d3, q0, q1, q2, q3, f1, f2, f3, it):
     return unless_failed_attitude(d1, d2, d3, e0, e1, e2, e3, it)
 
 
-@njit(forceinline=True)
+@njit(forceinline=True, error_model="numpy")
 def cayley_increment(m1, m2, m3, f1, f2, f3):
     """``F^T m - m`` for the Cayley rotation F of ``f``, formed without cancellation.
 
@@ -172,14 +173,14 @@ def carried_rotation(m1, m2, m3, g1, g2, g3, first, theta, t_casimir, inv2):
     return r1, r2, r3, (q1 - g1) + e1, (q2 - g2) + e2, (q3 - g3) + e3
 
 
-@njit(forceinline=True)
+@njit(forceinline=True, error_model="numpy")
 def unless_failed(d1, d2, d3, it):
     """``(d1, d2, d3, it)``, with a zero increment when the solve failed (``it <= 0``)."""
     ok = it > 0
     return (d1 if ok else 0.0), (d2 if ok else 0.0), (d3 if ok else 0.0), it
 
 
-@njit(forceinline=True)
+@njit(forceinline=True, error_model="numpy")
 def unless_failed_attitude(d1, d2, d3, e0, e1, e2, e3, it):
     """Increments of m and q, both zero when the solve failed (``it <= 0``)."""
     ok = it > 0

@@ -13,8 +13,8 @@ when an implicit solve failed to converge). A one-stage method does the whole st
 composition runs its sub-flows as stages, each applied to ``m`` plus the increments of the
 earlier stages, so the driver's loop over members stays innermost and vectorizes for every
 stage. Kernels are ``njit(inline="always")`` so that the loop inlines them; the helpers they
-call are ``njit(forceinline=True)`` where they are short (:mod:`stability.engine.loop`,
-"Inlining").
+call are ``njit(forceinline=True, error_model="numpy")`` where they are short
+(:mod:`stability.engine.loop`, "Inlining").
 
 Checklist for a new method (see ``stability/integrators/__init__.py``):
 

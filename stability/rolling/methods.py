@@ -115,14 +115,14 @@ def section_of(x, v, p):
     return j
 
 
-@njit(forceinline=True)
+@njit(forceinline=True, error_model="numpy")
 def can_roll(sn, cs, p):
     """Condition (1): the static friction rolling needs is available."""
     k = p[P_K]
     return k * abs(sn) <= p[P_MU_S] * cs * (1.0 + k)
 
 
-@njit(forceinline=True)
+@njit(forceinline=True, error_model="numpy")
 def time_to(distance, v, a):
     """Smallest tau > 0 with v tau + a tau^2 / 2 = distance, inf if none (no cancellation)."""
     if a == 0.0:

@@ -59,13 +59,13 @@ def strike_params(strike, h: float = 0.0) -> np.ndarray:
     return p
 
 
-@njit(forceinline=True)
+@njit(forceinline=True, error_model="numpy")
 def force(t, p):
     """Equation (1)."""
     return p[P_F0] * math.sin(p[P_OMEGA] * t) if 0.0 <= t <= p[P_TAU] else 0.0
 
 
-@njit(forceinline=True)
+@njit(forceinline=True, error_model="numpy")
 def struck_rhs(phi, vx, vy, w, t, p):
     """Equations (2) held (``P_HELD`` = 1) or the free body's; the rates of the state."""
     f = force(t, p)

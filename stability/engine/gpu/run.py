@@ -5,8 +5,9 @@ shapes and tracking set-up (:func:`stability.engine.run.member_arrays`), the sam
 with their progress bar and Ctrl-C (:func:`stability.engine.run.run_in_chunks`), and a
 :class:`~stability.engine.Propagation` with arrays of the same shapes, in the kernels' frame. The
 host copies the members in (structure of arrays, members last), launches one thread per member in
-blocks of :data:`~stability.engine.gpu.methods.THREADS_PER_BLOCK` once per chunk (the state stays
-on the device between chunks, and chunking never changes a result), and copies the results out.
+blocks of :data:`~stability.engine.gpu.methods.THREADS_PER_BLOCK` (or of the whole warps fewer
+members need) once per chunk (the state stays on the device between chunks, and chunking never
+changes a result), and copies the results out.
 """
 
 from __future__ import annotations
