@@ -79,8 +79,10 @@ def test_ctrl_c_during_a_run_in_memory_keeps_the_member_chunks_finished_before_i
     assert_bitwise(kept, alone)
     with pytest.raises(ValueError, match="needs a store"):
         propagate_stored(run, scheduler="dask")
-    for bad in (0, -3, 2.5):
-        with pytest.raises(ValueError, match="chunk_members must be a whole number"):
+    for bad, message in ((0, "chunk_members must be >= 1, got 0"),
+                         (-3, "chunk_members must be >= 1, got -3"),
+                         (2.5, "chunk_members must be a whole number, got 2.5")):
+        with pytest.raises(ValueError, match=message):
             propagate_stored(run, chunk_members=bad)
 
 

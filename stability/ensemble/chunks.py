@@ -53,6 +53,7 @@ from ..output.stream import stream_chunks
 from ..engine.scene import Scene
 from ..registry import scene as registered_scene
 from ..util import conventions as cv
+from ..util.checks import positive_int
 from ..util.threads import checked_threads, numba_threads
 from ..version import __version__
 
@@ -320,10 +321,8 @@ def propagate_stored(run: GroupedRun, store=None, *, measure=None, resume=False,
         Ctrl-C or SIGTERM stopped a stored run; its finished chunks are kept.
     """
     n = run.members
-    if chunk_members is not None and not (isinstance(chunk_members, (int, np.integer))
-                                          and chunk_members >= 1):
-        raise ValueError(f"chunk_members must be a whole number of members, at least 1; got "
-                         f"{chunk_members!r}")
+    if chunk_members is not None:
+        chunk_members = positive_int("chunk_members", chunk_members)
     if store is None:
         if scheduler is not None:
             raise ValueError("a run on a dask scheduler needs a store folder for its chunks")
