@@ -95,22 +95,45 @@ def test_tilted_starts_set_the_euler_angle_rates():
 
 def test_the_worked_example_of_the_notes():
     """Disk top at w3 = 314 rad/s released at rest horizontally (the notes: W = 2.78 rad/s,
-    w_n = 77.5 rad/s, 4.1 degrees): exact mean precession 2.7691 rad/s against the fast-top
-    2.7761, nutation frequency 77.721 against C w3 / A = 77.425 rad/s, amplitude 4.0913 degrees
-    against the fast-top 4.1088."""
+    w_n = 77.5 rad/s, 4.1 degrees), against references written out here.
+
+    Released at rest at u = cos(theta) = 0, the energy and p_phi give
+    u'^2 = f(u) = beta u (u - u2)(u - u3) with beta = 2 M g l / A, a = C w3 / A and u2, u3 the
+    roots of beta u^2 - a^2 u - beta (Goldstein, section 5.7): u2 is the lowest point, the
+    period is twice the integral of du / sqrt(f) from u2 to 0 and phi' = -a u / (1 - u^2),
+    integrated by quadrature with the 1 / sqrt end-point weights. The fast-top values are
+    M g l / (C w3), C w3 / A and 2 A M g l / (C w3)^2.
+    """
+    from scipy.integrate import quad
+
     w3 = 314.0
     x0 = tilted_starts(w3, np.pi / 2, 1, top=DISK)
     A, _, C = DISK.pivot_moments
-    assert exact_top.mean_precession_rate(x0, A, C, DISK.mgl)[0] == pytest.approx(2.7691,
-                                                                                  abs=1e-4)
-    assert gyroscopic_precession_rate(DISK, w3) == pytest.approx(2.7761, abs=1e-4)
-    assert 2 * np.pi / exact_top.nutation_period(x0, A, C, DISK.mgl)[0] == pytest.approx(
-        77.721, abs=1e-3)
-    assert gyroscopic_nutation_frequency(DISK, w3) == pytest.approx(77.425, abs=1e-3)
-    u1, u2, _ = exact_top.nutation_roots(x0, A, C, DISK.mgl)
-    assert np.degrees(np.arccos(u1) - np.arccos(u2))[0] == pytest.approx(4.0913, abs=1e-4)
-    assert np.degrees(gyroscopic_nutation_amplitude(DISK, w3, np.pi / 2)) == pytest.approx(
-        4.1088, abs=1e-4)
+    mgl = DISK.mgl
+    a, beta = C * w3 / A, 2.0 * mgl / A
+    u2, u3 = sorted(np.roots([beta, -a * a, -beta]).real)
+    weight = {"weight": "alg", "wvar": (-0.5, -0.5), "epsabs": 0.0, "epsrel": 1e-13}
+
+    def half_period_integral(g):  # integral of g(u) du / sqrt(f(u)) from u2 to 0
+        return quad(lambda u: g(u) / np.sqrt(beta * (u3 - u)), u2, 0.0, **weight)[0]
+
+    period = 2.0 * half_period_integral(lambda u: 1.0)
+    precession = 2.0 * half_period_integral(lambda u: -a * u / (1.0 - u * u)) / period
+    amplitude = np.degrees(np.arccos(u2) - np.pi / 2)
+    assert exact_top.mean_precession_rate(x0, A, C, mgl)[0] == pytest.approx(precession,
+                                                                              rel=1e-10)
+    assert exact_top.nutation_period(x0, A, C, mgl)[0] == pytest.approx(period, rel=1e-10)
+    u1_code, u2_code, _ = exact_top.nutation_roots(x0, A, C, mgl)
+    assert np.degrees(np.arccos(u1_code) - np.arccos(u2_code))[0] == pytest.approx(
+        amplitude, rel=1e-10)
+    assert gyroscopic_precession_rate(DISK, w3) == pytest.approx(mgl / (C * w3), rel=1e-14)
+    assert gyroscopic_nutation_frequency(DISK, w3) == pytest.approx(a, rel=1e-14)
+    assert gyroscopic_nutation_amplitude(DISK, w3, np.pi / 2) == pytest.approx(
+        2.0 * A * mgl / (C * w3) ** 2, rel=1e-14)
+    # the notes' figures, at the notes' precision
+    assert precession == pytest.approx(2.78, abs=0.015)
+    assert 2.0 * np.pi / period == pytest.approx(77.5, abs=0.25)
+    assert amplitude == pytest.approx(4.1, abs=0.05)
 
 
 @pytest.fixture(scope="module")
