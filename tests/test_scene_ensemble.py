@@ -86,6 +86,31 @@ def test_ctrl_c_during_a_run_in_memory_keeps_the_member_chunks_finished_before_i
             propagate_stored(run, chunk_members=bad)
 
 
+def test_ctrl_c_while_the_first_member_chunk_is_set_up_stops_the_run_at_once(monkeypatch):
+    """A real SIGINT while the first of six member chunks is being set up (before its loop
+    starts): the run stops there, with none of the 300,000 steps done (before, that whole
+    chunk ran first), and without ``partial`` it raises KeyboardInterrupt."""
+    scene = SCENES["free_body"]
+    x0, params = scene.example(6 * 50, seed=3)
+    run = GroupedRun("free_body", "rk4", x0, scene.method("rk4").params(params[0], 0.01),
+                     [x0.shape[0]], 0.01, 300_000, axes=[[1, 0, 2]], levels=[[1e-2, 0.1]])
+    propagate_stored(replace(run, n_steps=10), progress=False)  # compiled before
+    part = GroupedRun.part
+
+    def part_and_ctrl_c(self, lo, hi):
+        if lo == 0:
+            os.kill(os.getpid(), signal.SIGINT)  # handled here, in the main thread
+        return part(self, lo, hi)
+
+    monkeypatch.setattr(GroupedRun, "part", part_and_ctrl_c)
+    kept = propagate_stored(run, chunk_members=50, partial=True, progress=False)
+    assert kept.interrupted and kept.x_final.shape[0] == 50
+    assert int(kept.steps_done[0]) == 0
+    assert np.array_equal(kept.x_final, x0[:50])
+    with pytest.raises(KeyboardInterrupt):
+        propagate_stored(run, chunk_members=50, progress=False)
+
+
 def test_a_resumed_run_runs_only_what_is_missing_and_is_bitwise_the_same(tmp_path):
     run = grouped("heavy_top", next(iter(SCENES["heavy_top"].methods)))
     whole = propagate_stored(run, progress=False)

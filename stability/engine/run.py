@@ -569,12 +569,14 @@ def deferred_interrupt():
     """Turn Ctrl-C into a flag checked between chunks, so no half-finished chunk is lost.
 
     A process that was started with Ctrl-C ignored (a background job of a script) keeps it
-    ignored; :func:`request_stop` still reaches the run.
+    ignored; :func:`request_stop` still reaches the run. A run started inside another whose
+    stop was already requested (a member chunk set up after a Ctrl-C) starts stopped.
     """
     flag = _Interrupt()
     if threading.current_thread() is not threading.main_thread():
         yield flag
         return
+    flag.requested = any(outer.requested for outer in _RUNNING)
     previous = signal.getsignal(signal.SIGINT)
     _RUNNING.append(flag)  # before the handler, so no Ctrl-C finds the list without it
     try:
