@@ -340,7 +340,8 @@ def test_exact_method_is_registered():
 
 
 def run_kernel(I, w0, h, n_steps):
-    """Steps of the ``exact`` kernel in the canonical frame, summed as stability.free_body.propagate does."""
+    """Steps of the ``exact`` kernel in the canonical frame, summed as
+    stability.free_body.propagate does."""
     p = body_params(I)
     m = I * np.asarray(w0, dtype=float)
     comp = np.zeros(3)
