@@ -153,6 +153,10 @@ def test_default_study_fits_the_analytic_growth_rate(tmp_path, capsys):
     fitted = ds.attrs["growth_rate_fitted"]
     t0, t1 = ds.attrs["growth_fit_window"]
     assert 0.0 < t0 < t1 < 1.5
+    # about the middle axis at 10 rad/s: sqrt(-Omega^2) = w sqrt((I2 - I1)(I3 - I2) / (I1 I3))
+    i1, i2, i3 = np.sort(stability.RigidBody.preset("tennis_racket").moments)
+    assert analytic == pytest.approx(10.0 * np.sqrt((i2 - i1) * (i3 - i2) / (i1 * i3)),
+                                     rel=1e-14)
     assert analytic == pytest.approx(float(np.sqrt(-ds.attrs["omega_squared"])), rel=1e-15)
     assert abs(fitted - analytic) < 1e-3
     assert abs(fitted - analytic) / analytic < 1e-3
