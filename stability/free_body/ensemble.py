@@ -29,6 +29,8 @@ resolves the arguments (:mod:`~stability.free_body.plan`), from a propagation to
 
 from __future__ import annotations
 
+import inspect
+from collections.abc import Iterable, Mapping
 from dataclasses import dataclass
 
 import numpy as np
@@ -47,7 +49,7 @@ from .timescales import (
     nominal_start,
 )
 from ..util import conventions as cv
-from ..util.checks import positive_float, positive_int, vectors3
+from ..util.checks import did_you_mean, positive_float, positive_int, vectors3
 from ..util.threads import checked_threads, numba_threads
 from .plan import DEFAULT_DIVERGENCE_TOLERANCE, NO_SPIN, EnsemblePlan, plan_ensemble
 from .results import RunPart, finish_run, members_dataset
@@ -305,15 +307,23 @@ def run_ensembles(calls, *, threads=None, progress=None, datasets=True) -> list:
         In the order of ``calls``. If Ctrl-C stopped the batch, the Datasets of the ensembles it
         stopped say so (``interrupted``), as :func:`run_ensemble`'s do.
     """
-    plans = []
+    if isinstance(calls, (Mapping, str, bytes)) or not isinstance(calls, Iterable):
+        raise ValueError("calls must be a list of dicts, each the keyword arguments of "
+                         f"run_ensemble for one ensemble; got a {type(calls).__name__}")
+    plans, rules = [], []
     for k, call in enumerate(calls):
+        if not isinstance(call, Mapping):
+            raise ValueError(f"calls[{k}] must be a dict of run_ensemble's keyword arguments, "
+                             f"got a {type(call).__name__}")
         call = dict(call)
-        bad = {"threads", "progress", "chunk_members", "chunk_steps"} & set(call)
-        if bad:
-            raise ValueError(f"calls[{k}]: {sorted(bad)[0]} is set for the whole batch, not per "
-                             "ensemble; pass it to run_ensembles")
-        plans.append(plan_ensemble(**call))
-        if not (datasets or plans[-1].summaries_only):
+        _check_call_keys(k, call)
+        try:
+            plan, rule = _planned(call)
+        except ValueError as exc:
+            raise ValueError(f"calls[{k}]: {exc}") from None
+        plans.append(plan)
+        rules.append(rule)
+        if not (datasets or plan.summaries_only):
             raise ValueError(f"calls[{k}]: datasets=False needs summaries_only=True")
     batches: dict = {}
     for k, plan in enumerate(plans):
@@ -328,7 +338,52 @@ def run_ensembles(calls, *, threads=None, progress=None, datasets=True) -> list:
                 runs[k] = run
         if not datasets:
             return [_summary(plan, run) for plan, run in zip(plans, runs)]
-        return [members_dataset(plan, run, threads) for plan, run in zip(plans, runs)]
+        out = []
+        for plan, run, rule in zip(plans, runs, rules):
+            ds = members_dataset(plan, run, threads)
+            ds.attrs.update(rule)
+            out.append(ds)
+        return out
+
+
+#: run_ensemble's arguments that are the whole batch's in :func:`run_ensembles`.
+_BATCH_ARGUMENTS = ("threads", "progress", "chunk_members", "chunk_steps")
+#: run_ensemble's arguments of a streamed run, which :func:`run_ensembles` (in memory) has not.
+_STREAM_ARGUMENTS = ("store", "resume", "scheduler")
+
+
+def _check_call_keys(k, call) -> None:
+    """ValueError naming ``calls[k]`` for a key :func:`run_ensembles` cannot take."""
+    known = [name for name in inspect.signature(run_ensemble).parameters]
+    for name in call:
+        if name not in known:
+            raise ValueError(f"calls[{k}]: unknown argument {name!r} of run_ensemble"
+                             f"{did_you_mean(name, known)}")
+        if name in _BATCH_ARGUMENTS:
+            raise ValueError(f"calls[{k}]: {name} is set for the whole batch, not per "
+                             "ensemble; pass it to run_ensembles")
+        if name in _STREAM_ARGUMENTS and call[name] not in (None, False):
+            raise ValueError(f"calls[{k}]: {name} is for a streamed run of run_ensemble; "
+                             "run_ensembles runs in memory: call run_ensemble(store=...) for "
+                             "each ensemble instead")
+    for name in ("body", "axis"):
+        if name not in call:
+            raise ValueError(f"calls[{k}]: give {name}, as run_ensemble needs it")
+
+
+def _planned(call):
+    """The plan of one call of :func:`run_ensembles` and the rules of its default step and
+    horizon, with the defaults :func:`run_ensemble` applies."""
+    call = {name: value for name, value in call.items() if name not in _STREAM_ARGUMENTS}
+    if call.get("starts") is None:
+        if call.get("epsilon") is None:
+            call["epsilon"] = DEFAULT_EPSILON
+        if call.get("members") is None:
+            call["members"] = DEFAULT_MEMBERS
+    call["h"], call["t_end"], rules = _default_timescales(
+        call["body"], call["axis"], call.get("spin"), call.get("epsilon"), call.get("starts"),
+        call.get("h"), call.get("t_end"), call.get("save_every", 1))
+    return plan_ensemble(**call), rules
 
 
 @dataclass(frozen=True)

@@ -18,7 +18,6 @@ and nothing is run or written before the whole file has passed.
 
 from __future__ import annotations
 
-import difflib
 import json
 import math
 import os
@@ -30,6 +29,7 @@ from pathlib import Path
 from typing import Any, Callable
 
 from ..output.dataset import config_toml
+from ..util.checks import did_you_mean
 from .. import moved
 
 #: Default of a key that has no default: the file must set it.
@@ -380,12 +380,12 @@ def resolve(raw: dict, schema: Schema, source: str = "<study>") -> dict:
         if isinstance(value, dict):
             if name not in section_names:
                 raise ConfigError(
-                    f"unknown section [{name}]{_did_you_mean(name, section_names)}; "
+                    f"unknown section [{name}]{did_you_mean(name, section_names)}; "
                     f"allowed sections: {', '.join(f'[{s}]' for s in section_names)}",
                     source,
                 )
         elif name not in top_names:
-            hint = _did_you_mean(name, top_names)
+            hint = did_you_mean(name, top_names)
             if name in section_names:
                 raise ConfigError(
                     f"[{name}] must be a section (a TOML table), got {toml_text(value)}", source
@@ -405,7 +405,7 @@ def resolve(raw: dict, schema: Schema, source: str = "<study>") -> dict:
         for name in given:
             if name not in names:
                 raise ConfigError(
-                    f"unknown key {name!r}{_did_you_mean(name, names)}; "
+                    f"unknown key {name!r}{did_you_mean(name, names)}; "
                     f"allowed keys: {', '.join(names)}",
                     source,
                     section.name,
@@ -456,11 +456,6 @@ def _type_hint(key: Key, value) -> str:
         if _convert(kind, value, None) is not _MISMATCH:
             return ""
     return f" (a {toml_type(value)})"
-
-
-def _did_you_mean(name: str, options) -> str:
-    close = difflib.get_close_matches(name, list(options), n=1, cutoff=0.6)
-    return f" (did you mean {close[0]!r}?)" if close else ""
 
 
 def set_value(raw: dict, dotted: str, text: str, source: str = "--set") -> None:

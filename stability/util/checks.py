@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import difflib
 import math
 import numbers
 
@@ -110,6 +111,12 @@ def registered(table, name, what: str, plural: str = ""):
         raise ValueError(
             f"unknown {what} {name!r}; known {plural or what + 's'}: {', '.join(table)}"
         ) from None
+
+
+def did_you_mean(name, options) -> str:
+    """`` (did you mean 'x'?)`` naming the option closest to ``name``, or "" if none is close."""
+    close = difflib.get_close_matches(str(name), [str(o) for o in options], n=1, cutoff=0.6)
+    return f" (did you mean {close[0]!r}?)" if close else ""
 
 
 def step_count(t_end: float, h: float) -> int:

@@ -516,3 +516,33 @@ def test_run_ensembles_refuses_settings_of_the_whole_batch_per_call():
     with pytest.raises(ValueError, match="chunk_steps is set for the whole batch"):
         run_ensembles([dict(body=BODY, axis=2, spin=1.0, epsilon=1e-3, members=5, h=0.1,
                             t_end=1.0, chunk_steps=3)])
+
+
+def test_run_ensembles_takes_run_ensembles_defaults_and_names_the_call_it_refuses():
+    """A call without h, t_end, epsilon or members gets run_ensemble's defaults (the same
+    Dataset, its rules included); a wrong call is refused by its index, before anything runs."""
+    from stability.free_body.ensemble import run_ensembles
+
+    call = dict(body=BODY, axis=2, spin=1.0, members=4, summaries_only=True)
+    (together,) = run_ensembles([call])
+    alone = run_ensemble(**call)
+    assert together.attrs["h_rule"] == alone.attrs["h_rule"]
+    assert together.attrs["t_end_rule"] == alone.attrs["t_end_rule"]
+    for name in alone.variables:
+        a, b = alone[name].values, together[name].values
+        assert np.array_equal(a, b, equal_nan=a.dtype.kind == "f"), name
+    ok = dict(body=BODY, axis=2, spin=1.0, members=3, h=0.1, t_end=1.0)
+    for calls, message in (
+            (ok, "calls must be a list of dicts, each the keyword arguments of run_ensemble "
+                 "for one ensemble; got a dict"),
+            (None, "got a NoneType"),
+            ([ok, 3], r"calls\[1\] must be a dict of run_ensemble's keyword arguments, got a int"),
+            ([dict(ok, sppin=1.0)], r"calls\[0\]: unknown argument 'sppin' of run_ensemble "
+                                    r"\(did you mean 'spin'\?\)"),
+            ([ok, dict(ok, axis=7)], r"calls\[1\]: axis must be the principal axis 1, 2 or 3"),
+            ([{k: v for k, v in ok.items() if k != "body"}], r"calls\[0\]: give body"),
+            ([dict(ok, store="somewhere")], r"calls\[0\]: store is for a streamed run"),
+            ([dict(ok, resume=True)], r"calls\[0\]: resume is for a streamed run")):
+        with pytest.raises(ValueError, match=message):
+            run_ensembles(calls)
+    assert len(run_ensembles([dict(ok, store=None, resume=False)])) == 1
