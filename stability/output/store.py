@@ -127,7 +127,7 @@ class ChunkStore:
             if done and not resume and earlier["complete"]:
                 raise ValueError(
                     f"{self.dir} already holds this run, complete; open it with "
-                    "stability.open_store, or pass --resume (resume=True) to reuse it"
+                    "stability.output.store.open_store, or pass --resume (resume=True) to reuse it"
                 )
             if done and not resume:
                 raise ValueError(
