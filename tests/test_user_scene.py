@@ -226,6 +226,29 @@ def run_in_new_process(folder, env=None):
     return json.loads(done.stdout.strip().splitlines()[-1])
 
 
+@pytest.mark.parametrize("change, message", [
+    (dict(parameters={"omega": float("nan")}),
+     "scene 'user_oscillator': parameter omega must be finite, got nan"),
+    (dict(parameters=[float("inf")]),
+     "scene 'user_oscillator': parameter omega must be finite, got inf"),
+    (dict(parameters={"omega": "one"}),
+     "scene 'user_oscillator': parameter omega must be a number, got 'one'"),
+    (dict(save_every=3), "n_steps = 10 is not a multiple of save_every = 3, so the final "
+                         "state would not be saved"),
+    (dict(save_every=100), "n_steps = 10 is not a multiple of save_every = 100"),
+    (dict(x0=np.ones((0, 2))), "x0 has no rows: give at least one member, a row of 2 numbers"),
+    (dict(label=5), "label must be a string"),
+])
+def test_a_run_of_the_users_scene_refuses_nonsense_in_one_line(home, change, message):
+    _, scene = home
+    args = dict(x0=np.ones((3, 2)), parameters={"omega": 1.0}, h=0.01, n_steps=10,
+                progress=False)
+    args.update(change)
+    with pytest.raises(ValueError, match=message.replace("(", r"\(")) as caught:
+        stability.run_scene(scene, "rk4", args.pop("x0"), args.pop("parameters"), **args)
+    assert "\n" not in str(caught.value)
+
+
 def test_a_new_process_loads_the_scene_from_disk_and_an_edit_compiles_again(home, tmp_path):
     """A new process finds the loop compiled here in the disk cache; an edited copy of the
     module (another cache: it must compile, whatever earlier runs left) compiles and runs the
@@ -288,6 +311,10 @@ def rhs_numba_cannot(x, v, p):
     return v, -p[0] * float(fractions.Fraction(1, 3)) * x
 
 
+def rhs_dict(x, v, p):
+    return {"a": x}, v
+
+
 def energy_scalar(x, values):
     return 0.0
 
@@ -316,6 +343,11 @@ CASES = {
     "example's parameters": (dict(example="example_three"), ValueError,
                              "a parameter set has 1 number .k., got 3"),
     "observe alone": (dict(observe="rhs"), ValueError, "observe and tracked together"),
+    "rhs returns a dict among its numbers": (dict(rhs="rhs_dict"), ValueError,
+                                             "rhs returned dict .* as its number 0; it must "
+                                             "return a tuple of 2 numbers"),
+    "invariants a list": (dict(invariants=["energy_scalar"]), TypeError,
+                          "invariants must be a dict of name: function"),
     "invariant shape": (dict(invariants={"energy": "energy_scalar"}), ValueError,
                         r"invariant 'energy' returned shape \(\)"),
     "numba cannot compile": (dict(rhs="rhs_numba_cannot"), TypeError,

@@ -32,6 +32,7 @@ from .cache import load_module
 from ..integrators.rk4 import RK4, rk4_source
 from ..integrators.spec import MethodSpec, body_params
 from ..registry import SCENES
+from ..util.checks import real_array, real_number
 from .scene import Scene
 
 #: The step at which a method's ``params`` and kernels are tried at definition time.
@@ -113,14 +114,20 @@ class ParameterRow:
                     + (f"; unknown: {', '.join(map(str, unknown))}" if unknown else "")
                     + (f"; missing: {', '.join(missing)}" if missing else "")
                 )
-            values = [values[n] for n in self.names]
-        out = np.asarray(values, dtype=float).reshape(-1)
+            out = np.array([real_number(f"scene {self.scene!r}: parameter {n}", values[n])
+                            for n in self.names], dtype=float)
+        else:
+            out = real_array(f"scene {self.scene!r}: a parameter set", values).reshape(-1)
         if out.size != len(self.names):
             count = len(self.names)
             raise ValueError(
                 f"scene {self.scene!r}: a parameter set has {count} number{'s' * (count != 1)} "
                 f"({', '.join(self.names) or 'none'}), got {out.size}"
             )
+        for name, value in zip(self.names, out):
+            if not np.isfinite(value):
+                raise ValueError(f"scene {self.scene!r}: parameter {name} must be finite, "
+                                 f"got {value}")
         return out
 
     def __call__(self, values, h=0.0) -> np.ndarray:
@@ -240,6 +247,9 @@ def define_scene(name, components, units, rhs, parameters=(), *, parameter_units
     if observe is not None:
         _check_arguments(name, "observe", _top_level(name, "observe", observe),
                          [*components, "p", "ia", "ib", "ic"])
+    if invariants is not None and not isinstance(invariants, Mapping):
+        raise TypeError(f"scene {name!r}: invariants must be a dict of name: function(x, "
+                        f"values), got {type(invariants).__name__}")
     invariants = dict(invariants or {})
     for label, function in [*invariants.items(), ("exact", exact), ("example", example),
                             ("tracked", tracked)]:
@@ -423,6 +433,12 @@ def _returned(scene, role, function, args, count, where):
     out = _call(scene, role, function, args, where)
     numbers_only = isinstance(out, tuple) and all(
         isinstance(v, numbers.Real) and not isinstance(v, bool) for v in out)
+    if isinstance(out, tuple) and len(out) == count and not numbers_only:
+        k, bad = next((k, v) for k, v in enumerate(out)
+                      if not isinstance(v, numbers.Real) or isinstance(v, bool))
+        raise ValueError(f"scene {scene!r}: {role} returned {type(bad).__name__} {bad!r:.40} "
+                         f"as its number {k}; it must return a tuple of {count} numbers, "
+                         f"tried on {where}")
     if not numbers_only or len(out) != count:
         got = (f"a tuple of {len(out)}" if isinstance(out, tuple) else type(out).__name__)
         raise ValueError(f"scene {scene!r}: {role} returned {got}; it must return a tuple of "

@@ -134,6 +134,8 @@ def run_scene(scene, method, x0, parameters, *, h, n_steps, sizes=None, save_eve
     if not np.all(np.isfinite(x0)):
         row = int(np.flatnonzero(~np.all(np.isfinite(x0), axis=1))[0])
         raise ValueError(f"x0 must be finite; its row {row} is not")
+    if x0.shape[0] == 0:
+        raise ValueError(f"x0 has no rows: give at least one member, a row of {width} numbers")
     sets = _parameter_sets(parameters)
     groups = len(sets)
     n = x0.shape[0]
@@ -143,6 +145,13 @@ def run_scene(scene, method, x0, parameters, *, h, n_steps, sizes=None, save_eve
         raise ValueError(f"h must be finite and > 0 (in s), got {_shown(h)}")
     steps = _steps(n_steps, groups)
     save_every = positive_int("save_every", save_every, allow_zero=True)
+    if save_every and np.any(steps % save_every):
+        shown = int(steps[0]) if np.unique(steps).size == 1 else _shown(steps)
+        raise ValueError(f"n_steps = {shown} is not a multiple of save_every = "
+                         f"{save_every}, so the final state would not be saved; choose "
+                         "save_every dividing the steps (or 0: the final states only)")
+    if label is not None and not isinstance(label, str):
+        raise ValueError(f"label must be a string (the progress bar's), got {label!r:.80}")
     if save_every and np.unique(hs).size > 1:
         raise ValueError(f"a time series (save_every = {save_every}) needs one step for every "
                          f"group, got h = {_shown(hs)}; run the groups apart or keep the final "
