@@ -22,6 +22,7 @@ non-finite values, bad seeds, time-series runs above ``max_memory`` (``tests/cor
 """
 
 import contextlib
+import functools
 import os
 import subprocess
 import sys
@@ -47,6 +48,12 @@ RUN = dict(h=0.1, t_end=1.0)
 TOP = np.array([1.0, 1.2, 0.5, 0.0, 0.0, 1.5])
 TOP_STARTS = np.tile([0.0, 0.0, 4.0, 0.3, 0.0, 0.95], (3, 1))
 SCENE_RUN = dict(h=0.01, n_steps=10)
+
+
+@functools.cache
+def small_run():
+    """A time series of 4 members, for the estimators' options."""
+    return stability.run_ensemble(BODY, 2, 1.0, 0.1, 4, h=0.1, t_end=2.0, progress=False)
 
 # --- the command line -------------------------------------------------------------------------
 
@@ -312,7 +319,39 @@ API = {
                                 "R must be real numbers, got booleans"),
     "complex signal": (lambda: zero_crossings([0.0, 1.0, 2.0], [1j, -1j, 1j]),
                        "x must be real numbers"),
+    # the estimators' options (the Dataset accessor and the functions behind it)
+    "fit window starting below the start": (
+        lambda: small_run().stability.measured_growth_rate(low_factor=0.0),
+        "low_factor must be >= 1 (the fit starts at low_factor times the initial amplitude), "
+        "got 0.0"),
+    "fit window as a string": (
+        lambda: small_run().stability.measured_growth_rate(low_factor="x"),
+        "low_factor must be a number, got 'x'"),
+    "fit window ending beyond the spin": (
+        lambda: small_run().stability.measured_omega_squared(high_fraction=2.0),
+        "high_fraction must be in (0, 1]"),
+    "analytic Omega^2 not a number": (
+        lambda: small_run().stability.measured_omega_squared(analytic=float("nan")),
+        "analytic must be finite (Omega^2 in s-2)"),
+    "body as a tuple (flip statistics)": (
+        lambda: small_run().stability.flip_statistics(body=(1.0, 2.0, 3.0)),
+        "body must be a stability.RigidBody, got tuple"),
+    "Dataset naming no axis": (
+        lambda: small_run().assign_attrs(axis="banana").stability.member_regimes(),
+        "the Dataset's attribute axis must be 1, 2 or 3 (the principal axis of the spin), got "
+        "'banana'; pass axis= to override it"),
+    "spin as a string (estimators)": (
+        lambda: small_run().stability.member_regimes(spin="fast"),
+        "spin must be a number in rad/s, got 'fast'"),
     # a run of any scene (stability.run_scene), refused before any work
+    "time series that misses the last step (scene)": (
+        lambda: stability.run_scene("heavy_top", "lp2", TOP_STARTS, TOP, h=0.01, n_steps=10,
+                                    save_every=3),
+        "n_steps = 10 is not a multiple of save_every = 3, so the final state would not be "
+        "saved"),
+    "no members (scene)": (
+        lambda: stability.run_scene("heavy_top", "lp2", np.ones((0, 6)), TOP, **SCENE_RUN),
+        "x0 has no rows: give at least one member, a row of 6 numbers"),
     "starts of the wrong width (scene)": (
         lambda: stability.run_scene("heavy_top", "lp2", np.ones((3, 5)), TOP, **SCENE_RUN),
         "x0 must have shape (members, 6) for scene 'heavy_top', one column per component "

@@ -34,6 +34,7 @@ import xarray as xr
 
 from ..ensemble.schema import ESTIMATES
 from ..util import conventions as cv
+from ..util.checks import real_number
 from ..util.conventions import REGIME_EXPONENTIAL, REGIME_OSCILLATION, perpendicular_axes
 from .fits import exponential_fit, mean_stderr, window_points
 from .members import Members, members
@@ -104,7 +105,22 @@ def growth_window(ds, low_factor, high_fraction):
         low_factor = float(attrs.get(WINDOW_ATTRS["low_factor"], WINDOW_LOW_FACTOR))
     if high_fraction is None:
         high_fraction = float(attrs.get(WINDOW_ATTRS["high_fraction"], WINDOW_HIGH_FRACTION))
-    return low_factor, high_fraction
+    return checked_window(low_factor, high_fraction)
+
+
+def checked_window(low_factor, high_fraction):
+    """``(low_factor, high_fraction)`` as floats if they make a window, else ValueError: the
+    fit starts at ``low_factor >= 1`` times the initial amplitude and ends at a fraction
+    ``0 < high_fraction <= 1`` of min(spin, saturation)."""
+    low = real_number("low_factor", low_factor)
+    high = real_number("high_fraction", high_fraction)
+    if not (math.isfinite(low) and low >= 1.0):
+        raise ValueError(f"low_factor must be >= 1 (the fit starts at low_factor times the "
+                         f"initial amplitude), got {low_factor!r}")
+    if not (0.0 < high <= 1.0):
+        raise ValueError(f"high_fraction must be in (0, 1] (the fit ends at that fraction of "
+                         f"min(spin, saturation)), got {high_fraction!r}")
+    return low, high
 
 
 def measured_frequency(ds: xr.Dataset, axis=None, spin=None) -> xr.Dataset:
@@ -215,6 +231,7 @@ def omega_squared_estimates(mems, analytic=None, *, low_factor=WINDOW_LOW_FACTOR
         :func:`omega_squared_estimate` of each ensemble, in order.
     """
     mems = list(mems)
+    low_factor, high_fraction = checked_window(low_factor, high_fraction)
     analytic = [None] * len(mems) if analytic is None else list(analytic)
     out = [None] * len(mems)
     for indices in _stacks(mems):

@@ -20,13 +20,14 @@ it from the member loop's tracking without a Dataset.
 from __future__ import annotations
 
 import math
+import numbers
 from dataclasses import dataclass
 
 import numpy as np
 import xarray as xr
 
 from ..util import conventions as cv
-from ..util.checks import real_array
+from ..util.checks import real_array, real_number
 from ..util.conventions import perpendicular_axes
 
 # Names of the summaries-only variables (see the module docstring).
@@ -178,15 +179,24 @@ def members(ds: xr.Dataset, axis=None, spin=None) -> Members:
 
 
 def _spin_axis(ds, axis, w0):
-    if axis is None:
-        axis = ds.attrs.get("axis")
+    if axis is None and "axis" in ds.attrs:
+        axis = ds.attrs["axis"]
+        if not _is_axis(axis):
+            raise ValueError(f"the Dataset's attribute axis must be 1, 2 or 3 (the principal "
+                             f"axis of the spin), got {axis!r}; pass axis= to override it")
     if axis is None:
         if w0 is None:
             raise ValueError("pass axis=1, 2 or 3: the Dataset does not say which axis spins")
         axis = int(np.argmax(np.nanmedian(np.abs(w0), axis=0))) + 1
-    if isinstance(axis, bool) or int(axis) != axis or int(axis) not in cv.AXES:
+    if not _is_axis(axis):
         raise ValueError(f"axis must be 1, 2 or 3 (the principal axis of the spin), got {axis!r}")
     return int(axis)
+
+
+def _is_axis(axis) -> bool:
+    """True for 1, 2 or 3 as a number (not a boolean or a string)."""
+    return (isinstance(axis, numbers.Real) and not isinstance(axis, (bool, np.bool_))
+            and axis in cv.AXES)
 
 
 def _spin_value(ds, spin, w0, axis):
@@ -196,7 +206,7 @@ def _spin_value(ds, spin, w0, axis):
         spin = float(np.nanmedian(np.abs(w0[:, axis - 1])))
     if spin is None:
         raise ValueError("pass spin= (rad/s): the Dataset carries neither 'spin' nor w0")
-    spin = abs(float(spin))
+    spin = abs(real_number("spin", spin, "rad/s"))
     if not math.isfinite(spin) or spin == 0.0:
         raise ValueError(f"spin must be finite and nonzero (rad/s), got {spin}")
     return spin

@@ -16,7 +16,8 @@ from ..analysis.members import members
 from ..analysis.regimes import regime_attrs
 from ..output.dataset import body_from_attrs
 from ..util import conventions as cv
-from ..util.checks import real_array
+from ..core.body import RigidBody
+from ..util.checks import real_array, real_number
 from .exact import flip_intervals
 from .model import omega_squared
 
@@ -53,6 +54,8 @@ def measured_omega_squared(ds: xr.Dataset, axis=None, spin=None, *, analytic=Non
     """
     low_factor, high_fraction = growth_window(ds, low_factor, high_fraction)
     mem = members(ds, axis, spin)
+    if analytic is not None and not np.isfinite(real_number("analytic", analytic, "s-2")):
+        raise ValueError(f"analytic must be finite (Omega^2 in s-2), got {analytic!r}")
     if analytic is None and isinstance(ds, xr.Dataset):
         analytic = _analytic_from_attrs(ds, mem)
     est = omega_squared_estimate(mem, analytic, low_factor=low_factor,
@@ -152,6 +155,8 @@ def flip_statistics(ds: xr.Dataset, axis=None, spin=None, *, body=None) -> xr.Da
         (measured - exact) / exact) and its standard error, ``n_flips_mean``,
         ``n_with_interval``.
     """
+    if body is not None and not isinstance(body, RigidBody):
+        raise ValueError(f"body must be a stability.RigidBody, got {type(body).__name__}")
     mem = members(ds, axis, spin)
     if body is None and isinstance(ds, xr.Dataset) and all(
         k in ds.attrs for k in ("I1", "I2", "I3")
