@@ -378,9 +378,10 @@ def test_every_resumable_study_is_killed_and_resumed_in_the_fault_suite():
 
 
 @pytest.mark.parametrize("name", sorted(RESUMED))
-def test_a_study_killed_then_resumed_is_bitwise_an_uninterrupted_run(tmp_path, name):
+def test_a_study_killed_then_resumed_is_bitwise_an_uninterrupted_run(tmp_path, name, capsys):
     """kill -9 after two of its chunks, then --resume (on a local dask cluster for some): the
-    Dataset's numbers are bitwise those of a run that was never stopped, on this machine."""
+    Dataset's numbers are bitwise those of a run that was never stopped, on this machine.
+    Another study's --resume into that folder is refused first, touching nothing."""
     study = str(ROOT / "studies" / f"{name}.toml")
     small, on_dask = RESUMED[name]
     args = ["run", study, "--quick", *small, "--no-progress", "--set", "output.formats=['png']"]
@@ -396,6 +397,15 @@ def test_a_study_killed_then_resumed_is_bitwise_an_uninterrupted_run(tmp_path, n
     proc.wait(timeout=60)
     done, total = chunks_done(work)
     assert done < total or not (out / f"{name}.nc").exists(), "the run ended first"
+    other = "rolling" if name != "rolling" else "bat"
+    before = snapshot(out)
+    capsys.readouterr()
+    assert main(["run", str(ROOT / "studies" / f"{other}.toml"), "--quick", "--no-progress",
+                 "--out", str(out), "--resume"]) == 2
+    said = capsys.readouterr().err.strip()
+    assert said.count("\n") == 0 and f"nothing of study {other!r} to resume in {out}" in said
+    assert f".stability-work-{name}" in said and "drop --resume to start afresh" in said
+    assert snapshot(out) == before
     resume = ["--resume", *(["--scheduler", "dask"] if on_dask else [])]
     assert main([*args, "--out", str(out), *resume]) == 0
     assert not work.exists() and temporaries(out) == []

@@ -226,6 +226,8 @@ def run_study(
     check_target(out, names, overwrite=overwrite, expected_bytes=expected)  # before writing
     extra = {}
     work = out / f".stability-work-{Path(names[0]).stem}"
+    if resume:
+        _check_something_to_resume(out, work, kind.name)
     created = not out.exists()
     made_work = False
     lock = FolderLock(out, what="output folder")
@@ -272,6 +274,20 @@ def _make_folder(out: Path) -> None:
     except OSError as exc:
         raise OSError(exc.errno, f"cannot create the output folder ({exc.strerror or exc})",
                       str(out)) from None
+
+
+def _check_something_to_resume(out: Path, work: Path, kind: str) -> None:
+    """Refuse ``--resume`` into a folder that holds another study's stopped run and none of
+    this one's (a mistaken study file or ``--out``); with nothing there at all, the run starts
+    afresh, as a job that always passes ``--resume`` expects on its first start."""
+    if os.path.lexists(work) or not out.is_dir() or out.is_symlink():
+        return
+    others = sorted(p.name for p in out.iterdir() if p.name.startswith(".stability-work-"))
+    if others:
+        raise ValueError(
+            f"nothing of study {kind!r} to resume in {out}: it holds the stopped run of "
+            f"another ({', '.join(others)}, not {work.name}); check the study file and --out, "
+            "or drop --resume to start afresh")
 
 
 def _check_work_folder(work: Path) -> None:
