@@ -84,6 +84,8 @@ class Key:
         The minimum itself is not allowed (``> minimum`` rather than ``>= minimum``).
     length : int, optional
         Required length of a list.
+    suffix : str, optional
+        Required ending of a string (a file name's extension, such as ``".nc"``).
     """
 
     name: str
@@ -96,6 +98,7 @@ class Key:
     maximum: float | None = None
     exclusive_minimum: bool = False
     length: int | None = None
+    suffix: str | None = None
 
     def __post_init__(self):
         kinds = self.kinds
@@ -132,6 +135,8 @@ class Key:
                 }[kind]
             )
         text = " or ".join(words)
+        if self.suffix is not None:
+            text += f" ending in {self.suffix}"
         bounds = []
         if self.minimum is not None:
             bounds.append(f"{'>' if self.exclusive_minimum else '>='} {self.minimum:g}")
@@ -154,6 +159,9 @@ class Key:
         items = converted if isinstance(converted, list) else [converted]
         for item in items:
             if choices is not None and item not in choices:
+                raise ValueError(self.allowed())
+            if self.suffix is not None and isinstance(item, str) and (
+                    not item.endswith(self.suffix) or item == self.suffix):
                 raise ValueError(self.allowed())
             if isinstance(item, (int, float)) and not isinstance(item, bool):
                 if not math.isfinite(item):

@@ -104,7 +104,8 @@ def output_section(name: str, figures, extra=()) -> Section:
     what = "draw the figure" if len(figures) == 1 else f"draw the {len(figures)} figures"
     return Section("output", "where the results go", (
         Key("dir", "str", f"results/{name}", "output folder (relative to the current directory)"),
-        Key("dataset", "str", f"{name}.nc", "file name of the Dataset (netCDF)"),
+        Key("dataset", "str", f"{name}.nc", "file name of the Dataset (netCDF)",
+            suffix=".nc"),
         *extra,
         Key("figures", "bool", True, what),
         Key("formats", "strs", ["png", "pdf"], "figure formats", choices=FIGURE_FORMATS),
