@@ -160,11 +160,22 @@ def load(path) -> xr.Dataset:
     ------
     FileNotFoundError
         If ``path`` does not exist.
+    ValueError
+        If ``path`` is a folder or not a netCDF file.
     """
     path = Path(path)
     if not path.exists():
         raise FileNotFoundError(f"no such file: {path}")
-    with xr.open_dataset(path, **READ) as ds:
+    if path.is_dir():
+        raise ValueError(f"{path} is a folder; give a .nc file written by stability.save (the "
+                         "folder of a stored run opens with stability.output.store.open_store)")
+    try:
+        ds = xr.open_dataset(path, **READ)
+    except (OSError, ValueError) as exc:  # netCDF4's "Unknown file format", no engine, ...
+        raise ValueError(f"{path} is not a netCDF file stability can read "
+                         f"({str(exc).splitlines()[0][:120]}); give a .nc file written by "
+                         "stability.save") from None
+    with ds:
         return held_order(ds.load())
 
 

@@ -195,6 +195,14 @@ def test_config_toml_round_trips_through_toml_and_netcdf(summaries, tmp_path):
 def test_load_and_save_errors(summaries, tmp_path):
     with pytest.raises(FileNotFoundError, match="no such file"):
         stability.load(tmp_path / "missing.nc")
+    text = tmp_path / "notes.nc"
+    text.write_text("not a netCDF file\n")
+    with pytest.raises(ValueError, match=r"notes.nc is not a netCDF file stability can read "
+                                         r"\(.*Unknown file format.*\); give a .nc file"):
+        stability.load(text)
+    with pytest.raises(ValueError, match="is a folder; give a .nc file written by "
+                                         "stability.save"):
+        stability.load(tmp_path)
     with pytest.raises(ValueError, match="does not exist"):
         stability.save(summaries, tmp_path / "nowhere" / "run.nc")
     with pytest.raises(ValueError, match="xarray.Dataset"):
