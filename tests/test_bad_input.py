@@ -319,6 +319,23 @@ API = {
                                 "R must be real numbers, got booleans"),
     "complex signal": (lambda: zero_crossings([0.0, 1.0, 2.0], [1j, -1j, 1j]),
                        "x must be real numbers"),
+    "store as a number": (
+        lambda: stability.run_ensemble(BODY, 2, 1.0, 0.1, 4, store=123, **RUN),
+        "store must be a folder path (a str or pathlib.Path), got 123"),
+    "starts without rows": (
+        lambda: stability.run_ensemble(BODY, 2, starts=np.ones((0, 3))),
+        "starts has no rows: give one start w0 (3 numbers, rad/s) per member"),
+    "progress as a word": (
+        lambda: stability.run_ensemble(BODY, 2, 1.0, 0.1, 4, progress="yes", **RUN),
+        "progress must be True, False or None (shown for long runs), got 'yes'"),
+    "progress as a word (batch)": (
+        lambda: run_ensembles([dict(body=BODY, axis=2, spin=1.0, members=3, **RUN)],
+                              progress="no"),
+        "progress must be True, False or None"),
+    "progress as a number (scene)": (
+        lambda: stability.run_scene("heavy_top", "lp2", TOP_STARTS, TOP, progress=1,
+                                    **SCENE_RUN),
+        "progress must be True, False or None"),
     # the estimators' options (the Dataset accessor and the functions behind it)
     "fit window starting below the start": (
         lambda: small_run().stability.measured_growth_rate(low_factor=0.0),

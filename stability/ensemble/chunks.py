@@ -53,7 +53,7 @@ from ..output.stream import stream_chunks
 from ..engine.scene import Scene
 from ..registry import scene as registered_scene
 from ..util import conventions as cv
-from ..util.checks import positive_int
+from ..util.checks import checked_progress, positive_int
 from ..util.threads import checked_threads, numba_threads
 from ..version import __version__
 
@@ -321,6 +321,7 @@ def propagate_stored(run: GroupedRun, store=None, *, measure=None, resume=False,
         Ctrl-C or SIGTERM stopped a stored run; its finished chunks are kept.
     """
     n = run.members
+    progress = checked_progress(progress)
     if chunk_members is not None:
         chunk_members = positive_int("chunk_members", chunk_members)
     if store is None:

@@ -31,7 +31,7 @@ from ..registry import scene as registered_scene
 from ..engine.user_scene import ParameterRow, tracked_components
 from .schema import LEVEL, SCENE_RUN, UNITS_SEPARATOR
 from ..util import conventions as cv
-from ..util.checks import positive_int, real_array
+from ..util.checks import checked_progress, positive_int, real_array
 from ..version import __version__
 
 #: Working copies of the time series a run holds at its peak: the loop's samples, the series
@@ -126,6 +126,7 @@ def run_scene(scene, method, x0, parameters, *, h, n_steps, sizes=None, save_eve
     scene = registered_scene(scene)
     spec = scene.method(method)
     width = scene.width
+    progress = checked_progress(progress)
     x0 = real_array("x0", x0, "the scene's units")
     if x0.ndim != 2 or x0.shape[1] != width:
         raise ValueError(f"x0 must have shape (members, {width}) for scene {scene.name!r}, one "

@@ -49,9 +49,11 @@ from .timescales import (
     nominal_start,
 )
 from ..util import conventions as cv
-from ..util.checks import did_you_mean, positive_float, positive_int, vectors3
+from ..util.checks import (checked_progress, did_you_mean, positive_float, positive_int,
+                           vectors3)
 from ..util.threads import checked_threads, numba_threads
-from .plan import DEFAULT_DIVERGENCE_TOLERANCE, NO_SPIN, EnsemblePlan, plan_ensemble
+from .plan import (DEFAULT_DIVERGENCE_TOLERANCE, NO_SPIN, NO_STARTS, EnsemblePlan,
+                   plan_ensemble)
 from .results import RunPart, finish_run, members_dataset
 from .starts import axis_index, max_angular_speed, nonnegative_float
 from .streamed import run_streamed
@@ -206,6 +208,7 @@ def run_ensemble(
     28.7
     >>> ds = stability.run_ensemble(body, axis=2, spin=1.0)  # the step and horizon by default
     """
+    progress = checked_progress(progress)
     if starts is None:
         epsilon = DEFAULT_EPSILON if epsilon is None else epsilon
         members = DEFAULT_MEMBERS if members is None else members
@@ -234,6 +237,8 @@ def _default_timescales(body, axis, spin, epsilon, starts, h, t_end, save_every)
         w0 = vectors3("starts", starts, "rad/s")
         if w0.ndim != 2:
             return h, t_end, {}
+        if w0.shape[0] == 0:
+            raise ValueError(NO_STARTS)
     elif spin is None:
         raise ValueError(NO_SPIN)
     else:
@@ -310,6 +315,7 @@ def run_ensembles(calls, *, threads=None, progress=None, datasets=True) -> list:
     if isinstance(calls, (Mapping, str, bytes)) or not isinstance(calls, Iterable):
         raise ValueError("calls must be a list of dicts, each the keyword arguments of "
                          f"run_ensemble for one ensemble; got a {type(calls).__name__}")
+    progress = checked_progress(progress)
     plans, rules = [], []
     for k, call in enumerate(calls):
         if not isinstance(call, Mapping):

@@ -75,6 +75,7 @@ def ensemble_memory(members: int, n_saved: int, n_levels: int = DEFAULT_LEVELS.s
     return series + members * summary_bytes(n_levels)
 
 
+NO_STARTS = "starts has no rows: give one start w0 (3 numbers, rad/s) per member"
 NO_SPIN = ("give spin, the spin rate in rad/s (epsilon and members have defaults), or "
             "starts=, the initial angular velocities")
 
@@ -162,6 +163,8 @@ def plan_ensemble(body, axis, spin=None, epsilon=None, members=None, *, h, t_end
         w0 = vectors3("starts", starts, "rad/s")
         if w0.ndim != 2:
             raise ValueError(f"starts must have shape (members, 3), got {w0.shape}")
+        if w0.shape[0] == 0:
+            raise ValueError(NO_STARTS)
         if members is not None and positive_int("members", members) != w0.shape[0]:
             raise ValueError(
                 f"members = {members} but starts has {w0.shape[0]} rows; leave members out "

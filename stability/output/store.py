@@ -42,6 +42,7 @@ import xarray as xr
 from xarray.indexes import RangeIndex
 
 from ..util import conventions as cv
+from ..util.checks import folder_path
 from .dataset import variable_attrs
 from .io import READ, save
 from ..ensemble.schema import held_order
@@ -90,7 +91,7 @@ class ChunkStore:
 
     def __init__(self, directory, identity: dict, members: int, chunk_members: int,
                  resume: bool = False, unit: str = "members"):
-        self.dir = Path(directory)
+        self.dir = folder_path("store", directory)
         self.unit = unit
         self.members = int(members)
         self.chunk_members = int(chunk_members)

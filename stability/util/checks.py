@@ -5,6 +5,8 @@ from __future__ import annotations
 import difflib
 import math
 import numbers
+import os
+from pathlib import Path
 
 import numpy as np
 
@@ -111,6 +113,24 @@ def registered(table, name, what: str, plural: str = ""):
         raise ValueError(
             f"unknown {what} {name!r}; known {plural or what + 's'}: {', '.join(table)}"
         ) from None
+
+
+def folder_path(name: str, value) -> Path:
+    """``value`` as a Path if it is a path (a str or path-like), else ValueError naming
+    ``name``; whether the folder exists is the caller's to check."""
+    if isinstance(value, (str, os.PathLike)) and os.fspath(value) not in ("", b""):
+        return Path(value)
+    raise ValueError(f"{name} must be a folder path (a str or pathlib.Path), got "
+                     f"{_short(value)}")
+
+
+def checked_progress(progress):
+    """``progress`` if it is True, False or None (the bar shown, never, or on long runs on a
+    terminal), else ValueError: a string such as "no" would read as True."""
+    if progress is None or isinstance(progress, (bool, np.bool_)):
+        return None if progress is None else bool(progress)
+    raise ValueError(f"progress must be True, False or None (shown for long runs), got "
+                     f"{_short(progress)}")
 
 
 def did_you_mean(name, options) -> str:
