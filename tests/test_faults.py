@@ -239,18 +239,18 @@ def test_read_only_output_folder_is_refused_before_computing(tmp_path):
 
 @pytest.mark.parametrize("dataset, message", [
     ("sub/run.nc", "must be a plain file name"),
-    ("", "must be a plain file name"),
-    ("folder", "is a folder, where the output file 'folder' goes"),
+    ("", "[output] dataset must be a string ending in .nc"),
+    ("folder.nc", "is a folder, where the output file 'folder.nc' goes"),
 ])
 def test_bad_output_names_are_refused_before_computing(tmp_path, dataset, message):
-    (tmp_path / "out" / "folder").mkdir(parents=True)
+    (tmp_path / "out" / "folder.nc").mkdir(parents=True)
     done = subprocess.run(stability_cmd(*QUICK, "--out", str(tmp_path / "out"), "--set",
                                         f"output.dataset='{dataset}'"),
                           cwd=ROOT, capture_output=True, text=True, timeout=120)
     assert done.returncode == 2
     err = done.stderr.strip().splitlines()
     assert len(err) == 1 and message in err[0], err
-    assert [p.name for p in (tmp_path / "out").iterdir()] == ["folder"]
+    assert [p.name for p in (tmp_path / "out").iterdir()] == ["folder.nc"]
 
 
 @pytest.mark.parametrize("phase", ["integrate", "write"])
