@@ -381,7 +381,8 @@ def test_every_resumable_study_is_killed_and_resumed_in_the_fault_suite():
 def test_a_study_killed_then_resumed_is_bitwise_an_uninterrupted_run(tmp_path, name, capsys):
     """kill -9 after two of its chunks, then --resume (on a local dask cluster for some): the
     Dataset's numbers are bitwise those of a run that was never stopped, on this machine.
-    Another study's --resume into that folder is refused first, touching nothing."""
+    Another study's --resume into that folder is refused first, and a --resume after the run
+    finished, touching nothing."""
     study = str(ROOT / "studies" / f"{name}.toml")
     small, on_dask = RESUMED[name]
     args = ["run", study, "--quick", *small, "--no-progress", "--set", "output.formats=['png']"]
@@ -409,6 +410,12 @@ def test_a_study_killed_then_resumed_is_bitwise_an_uninterrupted_run(tmp_path, n
     resume = ["--resume", *(["--scheduler", "dask"] if on_dask else [])]
     assert main([*args, "--out", str(out), *resume]) == 0
     assert not work.exists() and temporaries(out) == []
+    finished = snapshot(out)
+    capsys.readouterr()
+    assert main([*args, "--out", str(out), "--resume"]) == 2  # once more: nothing to resume
+    said = capsys.readouterr().err.strip()
+    assert f"nothing of study {name!r} to resume in {out}: its run there is finished" in said
+    assert snapshot(out) == finished
     with xr.open_dataset(tmp_path / "whole" / f"{name}.nc") as whole, \
             xr.open_dataset(out / f"{name}.nc") as resumed:
         assert set(whole.variables) == set(resumed.variables)

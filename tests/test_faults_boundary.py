@@ -340,9 +340,8 @@ def test_a_stale_lock_file_of_another_user_does_not_block_a_run(request):
     ("a\nb.nc", "no white space"),
     ("a\tb.nc", "no white space"),
     (".hidden.nc", "not hidden"),
-    ("config.toml", "two outputs of this run are named"),
-    ("fig1_flips.png", "two outputs of this run are named"),
-    ("FIG1_FLIPS.png", "two outputs of this run are named"),
+    ("config.toml", "[output] dataset must be a string ending in .nc"),
+    ("fig1_flips.png", "[output] dataset must be a string ending in .nc"),
 ])
 def test_output_names_that_would_be_lost_are_refused_before_computing(tmp_path, capsys,
                                                                        dataset, message):
@@ -350,6 +349,14 @@ def test_output_names_that_would_be_lost_are_refused_before_computing(tmp_path, 
                            f"output.dataset={json.dumps(dataset)}")
     assert status == 2, err
     assert len(err) == 1 and message in err[0], err
+    assert not (tmp_path / "out").exists()
+
+
+def test_two_outputs_of_one_name_are_refused_before_computing(tmp_path):
+    """Names that one file system would hold as one file (they differ in case only)."""
+    for names in (["run.nc", "config.toml", "run.nc"], ["fig1_flips.png", "FIG1_FLIPS.png"]):
+        with pytest.raises(ValueError, match="two outputs of this run are named"):
+            check_target(tmp_path / "out", names, overwrite=False)
     assert not (tmp_path / "out").exists()
 
 

@@ -223,11 +223,11 @@ def run_study(
     out = Path(out_dir if out_dir is not None else config["output"]["dir"])
     names = kind.outputs(config)
     expected = kind.expected_bytes(config) if kind.expected_bytes is not None else None
-    check_target(out, names, overwrite=overwrite, expected_bytes=expected)  # before writing
-    extra = {}
     work = out / f".stability-work-{Path(names[0]).stem}"
     if resume:
-        _check_something_to_resume(out, work, kind.name)
+        _check_something_to_resume(out, work, kind.name, [] if overwrite else names)
+    check_target(out, names, overwrite=overwrite, expected_bytes=expected)  # before writing
+    extra = {}
     created = not out.exists()
     made_work = False
     lock = FolderLock(out, what="output folder")
@@ -276,12 +276,19 @@ def _make_folder(out: Path) -> None:
                       str(out)) from None
 
 
-def _check_something_to_resume(out: Path, work: Path, kind: str) -> None:
-    """Refuse ``--resume`` into a folder that holds another study's stopped run and none of
-    this one's (a mistaken study file or ``--out``); with nothing there at all, the run starts
-    afresh, as a job that always passes ``--resume`` expects on its first start."""
+def _check_something_to_resume(out: Path, work: Path, kind: str, names) -> None:
+    """Refuse ``--resume`` into a folder that holds no stopped run of this study but its
+    finished outputs (of ``names``), or another study's stopped run (a mistaken study file or
+    ``--out``); with nothing there at all, the run starts afresh, as a job that always passes
+    ``--resume`` expects on its first start."""
     if os.path.lexists(work) or not out.is_dir() or out.is_symlink():
         return
+    finished = [name for name in names if os.path.lexists(out / name)]
+    if finished:
+        raise ValueError(
+            f"nothing of study {kind!r} to resume in {out}: its run there is finished "
+            f"({finished[0]} exists); drop --resume and pass --overwrite to run it again, or "
+            "choose another --out")
     others = sorted(p.name for p in out.iterdir() if p.name.startswith(".stability-work-"))
     if others:
         raise ValueError(
