@@ -209,10 +209,8 @@ def run_ensemble(
     >>> ds = stability.run_ensemble(body, axis=2, spin=1.0)  # the step and horizon by default
     """
     progress = checked_progress(progress)
-    if starts is None:
-        epsilon = DEFAULT_EPSILON if epsilon is None else epsilon
-        members = DEFAULT_MEMBERS if members is None else members
-    h, t_end, rules = _default_timescales(body, axis, spin, epsilon, starts, h, t_end, save_every)
+    epsilon, members, h, t_end, rules = _with_defaults(body, axis, spin, epsilon, members,
+                                                       starts, h, t_end, save_every)
     ds = _run_ensemble(
         body, axis, spin, epsilon, members, h=h, t_end=t_end, seed=seed, method=method,
         save_every=save_every, direction=direction, starts=starts,
@@ -223,6 +221,16 @@ def run_ensemble(
     )
     ds.attrs.update(rules)
     return ds
+
+
+def _with_defaults(body, axis, spin, epsilon, members, starts, h, t_end, save_every):
+    """``(epsilon, members, h, t_end, rules)``: the arguments of :func:`run_ensemble` that are
+    None given their defaults, and the rules of a default step and horizon."""
+    if starts is None:
+        epsilon = DEFAULT_EPSILON if epsilon is None else epsilon
+        members = DEFAULT_MEMBERS if members is None else members
+    h, t_end, rules = _default_timescales(body, axis, spin, epsilon, starts, h, t_end, save_every)
+    return epsilon, members, h, t_end, rules
 
 
 def _default_timescales(body, axis, spin, epsilon, starts, h, t_end, save_every):
@@ -381,14 +389,9 @@ def _planned(call):
     """The plan of one call of :func:`run_ensembles` and the rules of its default step and
     horizon, with the defaults :func:`run_ensemble` applies."""
     call = {name: value for name, value in call.items() if name not in _STREAM_ARGUMENTS}
-    if call.get("starts") is None:
-        if call.get("epsilon") is None:
-            call["epsilon"] = DEFAULT_EPSILON
-        if call.get("members") is None:
-            call["members"] = DEFAULT_MEMBERS
-    call["h"], call["t_end"], rules = _default_timescales(
-        call["body"], call["axis"], call.get("spin"), call.get("epsilon"), call.get("starts"),
-        call.get("h"), call.get("t_end"), call.get("save_every", 1))
+    call["epsilon"], call["members"], call["h"], call["t_end"], rules = _with_defaults(
+        call["body"], call["axis"], call.get("spin"), call.get("epsilon"), call.get("members"),
+        call.get("starts"), call.get("h"), call.get("t_end"), call.get("save_every", 1))
     return plan_ensemble(**call), rules
 
 
