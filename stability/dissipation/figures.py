@@ -124,8 +124,8 @@ def flat_time_figure(ds):
     rate_ax.set_ylabel(label("growth rate of the nutation", cv.UNITS_RATE))
     rate_ax.set_title("growth rate about the minor axis", fontsize=9)
     for k, color in enumerate(_colors(ds.angle.size)):
-        time_ax.loglog(ds.damping.values, ds.flat_time.values[:, k] / MINUTE, "o-", ms=4,
-                       color=color, lw=0.8, label=f"run, theta0 = {ds.angle.values[k]:g}°")
+        time_ax.loglog(ds.damping.values, ds.flat_time.values[:, k] / MINUTE, "o", ms=4,
+                       color=color, label=f"run, theta0 = {ds.angle.values[k]:g}°")
     log_ratio = np.log(np.tan(np.radians(ds.attrs["flat_angle"]))
                        / np.tan(np.radians(ds.angle.values[0])))
     time_ax.loglog(dense, log_ratio / linear / MINUTE, color=EXACT_COLOR, lw=1.0,
@@ -142,7 +142,8 @@ def flat_time_figure(ds):
                  label=f"c* = J W I_s / I_t = {c_star:.3g} N m s")
     time_ax.set_xlabel(label("damping c / c*", cv.UNITS_DIMENSIONLESS))
     time_ax.set_ylabel(label(f"time to {ds.attrs['flat_angle']:g}° (flat spin)", "min"))
-    plain_log_ticks(time_ax, "x")
+    plain_log_ticks(time_ax)
+    plain_log_ticks(rate_ax, "y")
     place_legend(rate_ax, fontsize=7)
     place_legend(time_ax, fontsize=7)
     fig.suptitle(f"{ds.attrs['body']}: the damping that turns it over fastest", fontsize=10)
@@ -259,7 +260,7 @@ def dual_spin_map_figure(ds):
         ax.axvline(1.0, color="gray", ls=":", lw=0.8)
         ax.set_title(PLACEMENT_TITLES.get(placement, placement), fontsize=9)
         ax.set_xlabel(label("A3 / A_t", cv.UNITS_DIMENSIONLESS))
-    axes[0].set_ylabel(label("rotor speed relative to the platform", cv.UNITS_ANGULAR_VELOCITY))
+    axes[0].set_ylabel(label("rotor speed rel. to the platform", cv.UNITS_ANGULAR_VELOCITY))
     bar = fig.colorbar(mesh, ax=list(axes), shrink=0.9)
     bar.set_label(label("linear growth rate", cv.UNITS_RATE))
     handles = [
@@ -315,13 +316,15 @@ def dual_spin_rate_figure(ds, claim=None):
         error_ax.semilogy(d.rate_linear.values.ravel()[shown], np.maximum(sink[shown], 1e-9),
                           "x", ms=4, color=color, alpha=0.6, label=f"energy sink, on {placement}")
     if claim is not None:
-        error_ax.axhline(claim, color=EXACT_COLOR, ls="--", lw=1, label=f"claim {claim:g}")
+        error_ax.axhline(claim, color=EXACT_COLOR, ls="--", lw=1,
+                         label=f"claim {claim:g} (fitted rates)")
     rate_ax.axhline(0.0, color="gray", lw=0.5)
     rate_ax.set_xlabel(label("growth rate by the linear eigenvalue", cv.UNITS_RATE))
     rate_ax.set_ylabel(label("fitted / energy-sink growth rate", cv.UNITS_RATE))
     rate_ax.set_title("growth (> 0) and decay (< 0) of the nutation", fontsize=9)
     error_ax.set_xlabel(label("growth rate by the linear eigenvalue", cv.UNITS_RATE))
-    error_ax.set_ylabel(label("|relative difference from it|", cv.UNITS_DIMENSIONLESS))
+    error_ax.set_ylabel(label("|relative difference from the eigenvalue|",
+                              cv.UNITS_DIMENSIONLESS))
     error_ax.set_title("fitted rates (floored at 1e-9) and the energy sink's error", fontsize=9)
     place_legend(rate_ax, fontsize=7)
     place_legend(error_ax, fontsize=7)

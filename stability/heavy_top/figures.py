@@ -51,7 +51,8 @@ def sleeping_top_figure(ds, claim=None):
         err = np.abs(one.relative_error.values)
         shown = np.isfinite(err) & (err > 0)
         err_ax.semilogy(spins[shown], err[shown], "o-", color=color, ms=3, lw=0.8)
-    top_ax.plot([], [], color=EXACT_COLOR, lw=1.2, label="analytic sqrt(4 A M g l - C² w3²) / (2A)")
+    top_ax.plot([], [], color="0.5", lw=1.2,
+                label="lines, in each top's colour: analytic sqrt(4 A M g l - C² w3²) / (2A)")
     top_ax.set_ylabel(label("growth rate of the tilt", cv.UNITS_RATE))
     top_ax.set_title(f"Sleeping top: tilt growth below the critical spin "
                      f"({ds.attrs.get('method', '')}, {ds.attrs.get('members', '')} members each)")
@@ -90,7 +91,7 @@ def gyroscope_paths_figure(ds):
     axes = np.atleast_1d(fig.subplots(1, releases.size, sharey=True))
     for r, (ax, k) in enumerate(zip(axes, releases)):
         one = ds.isel(release=r)
-        ax.plot(np.degrees(one.path_phi), np.degrees(one.path_theta), color=AXIS_COLORS[r % 3],
+        ax.plot(np.degrees(one.path_phi), np.degrees(one.path_theta), color=AXIS_COLORS[0],
                 lw=1.6, label="run")
         ax.plot(np.degrees(one.path_phi_exact), np.degrees(one.path_theta_exact),
                 color=EXACT_COLOR, ls="--", lw=0.8, label="exact")
@@ -171,6 +172,8 @@ def gyroscope_rates_figure(ds, claim=None):
                         label=quantity)
     if claim is not None:
         err_ax.axhline(claim, color=EXACT_COLOR, ls="--", lw=1, label=f"claim {claim:g}")
+        low, high = err_ax.get_ylim()
+        err_ax.set_ylim(low, max(high, 10.0 * claim))  # the claim's line inside the panel
     err_ax.set_xscale("log")
     for ax in (prec_ax, nut_ax, amp_ax):
         plain_log_ticks(ax)

@@ -41,7 +41,8 @@ def rolling_map_figure(ds):
         place_legend(ax, fontsize=7.5)
     axes[0].set_ylabel(label("static friction coefficient mu_s", "1"))
     fig.colorbar(mesh, ax=axes, label=label("fraction of the cell's members that slip", "1"))
-    fig.suptitle("Released at rest on an incline: rolls below the line, slips above it "
+    fig.suptitle("Released at rest on an incline: rolls above the line (friction enough), "
+                 "slips below it "
                  f"(mu_s scattered {100 * ds.attrs['incline_mu_scatter']:g}%, shape "
                  f"{100 * ds.attrs['incline_shape_scatter']:g}%, mu_k = "
                  f"{ds.attrs['incline_mu_ratio']:g} mu_s)")
@@ -78,7 +79,8 @@ def rolling_launch_figure(ds):
     e0 = 0.5 * ds.attrs["launch_mass"] * ds.v0**2 * (1.0 + k * ratio**2)
     heat_ax.plot(ratio, ds.heat / e0, ".", ms=3, label="run: work of friction")
     heat_ax.plot(line, (1.0 - line) ** 2 * k / ((1.0 + k) * (1.0 + k * line**2)),
-                 color=EXACT_COLOR, lw=1.0, label="M (v0 - R w0)^2 k / (2 (1 + k))")
+                 color=EXACT_COLOR, lw=1.0,
+                 label="(1 - R w0/v0)^2 k / ((1 + k)(1 + k (R w0/v0)^2))")
     heat_ax.set_xlabel(label("launch spin R w0 / v0", "1"))
     heat_ax.set_ylabel(label("heat / launch energy", "1"))
     heat_ax.set_title("energy lost to friction")

@@ -29,15 +29,16 @@ def bat_figure(ds):
     near, far = ds.sweet_zone_measured.values[main]
     if np.isfinite(near):
         body_ax.axvspan(near, far if np.isfinite(far) else x[-1], color="#ffdd55", alpha=0.5,
-                        label=f"sweet zone (sting < {sting:g} J), hands at "
+                        label=f"sweet zone (|reaction| < {sting:g} × the impulse J), hands at "
                               f"{100 * float(ds.pivot[main]):.1f} cm")
     for i, pivot in enumerate(ds.pivot.values):
         color = _PIVOT_COLORS[i % len(_PIVOT_COLORS)]
         cop = float(ds.percussion_centre_measured.sel(hold="held")[i])
         body_ax.plot([pivot], [0.0], "s", color=color, ms=6)
         body_ax.plot([cop], [0.0], "*", color=color, ms=11)
-    body_ax.set_aspect("equal")
-    body_ax.set_ylim(-3 * r.max(), 3 * r.max())
+    # to scale by widening the y limits, not by narrowing the panel: its x axis stays the
+    # strike axis of the panels below
+    body_ax.set_aspect("equal", adjustable="datalim")
     body_ax.set_ylabel(label("half-width", "m"))
     place_legend(body_ax, fontsize=7.5, ncol=2)
     body_ax.set_title(f"{ds.attrs['body']}, {ds.attrs['mass']:.3g} kg, to scale: hands "

@@ -88,9 +88,9 @@ def map_figure(ds, method=None):
         pc = ax.tripcolor(tri, analytic_fine[k], cmap="RdBu_r", norm=norm, shading="gouraud",
                           rasterized=True)
         ok = np.isfinite(shown[:, k])
-        ax.scatter(I1[ok], I2[ok], c=shown[ok, k], cmap="RdBu_r", norm=norm, s=7,
-                   edgecolors="0.2", linewidths=0.15, zorder=3,
-                   label="measured (same colour scale)")
+        ax.scatter(I1[ok], I2[ok], c=shown[ok, k], cmap="RdBu_r", norm=norm, s=16,
+                   edgecolors="black", linewidths=0.5, zorder=3,
+                   label="measured (the background's colour scale)")
         drift = np.any(regime[:, :, k] == REGIME_ALGEBRAIC, axis=0)
         still = np.any(regime[:, :, k] == REGIME_NEUTRAL, axis=0)
         ax.scatter(I1[drift], I2[drift], marker="o", s=16, facecolors="none",

@@ -315,10 +315,13 @@ def flip_interval_figure(ds, body=None, axis=None, max_points=3000):
 
         rel_measured = (measured - exact) / exact
         rel_asymptote = (asymptote - exact) / exact
-        right.plot(x[idx], rel_measured[idx], "o", ms=2.5, color=ENSEMBLE_COLOR, alpha=0.6,
-                   label=f"measured (max |·| = {np.max(np.abs(rel_measured[good])):.1e})")
-        right.plot(x[order], rel_asymptote[order], "--", color="crimson", lw=1.5,
+        # the asymptote's difference depends on each member's start, not on ln(4/k') alone:
+        # one marker per member, under the measured ones
+        right.plot(x[idx], rel_asymptote[idx], "s", ms=2.0, color="crimson", zorder=1,
                    label=f"asymptote (max |·| = {np.max(np.abs(rel_asymptote[good])):.1e})")
+        right.plot(x[idx], rel_measured[idx], "o", ms=2.5, color=ENSEMBLE_COLOR, alpha=0.6,
+                   zorder=2,
+                   label=f"measured (max |·| = {np.max(np.abs(rel_measured[good])):.1e})")
         right.axhline(0.0, color=EXACT_COLOR, lw=1.0)
         right.ticklabel_format(axis="y", style="sci", scilimits=(-2, 2))
     middle.set_xlabel(label("ln(4/k′), k′ = complementary modulus ∝ ε", cv.UNITS_DIMENSIONLESS))

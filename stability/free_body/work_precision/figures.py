@@ -87,7 +87,7 @@ def work_precision_figure(ds, metrics=("max", "p99", "median")):
             floor = float(ds.floor.sel(workload=workload, metric=metric))
             if np.isfinite(floor) and floor > 0:
                 ax.axhline(floor, color=EXACT_COLOR, lw=0.8, ls=(0, (1, 2)),
-                           label="conditioning floor")
+                           label="conditioning floor (one rounding of D2 at the start)")
             ax.set_xscale("log")
             ax.set_yscale("log")
             ax.set_xlabel(label("kernel wall time for the ensemble", cv.UNITS_TIME))
