@@ -36,7 +36,9 @@ def _method_styles(ds):
     import matplotlib as mpl
 
 
-    colors = mpl.colormaps["tab20"].colors
+    tab20 = mpl.colormaps["tab20"].colors
+    # tab20's dark shades, then its light ones, without its greys (SciPy's reference is grey)
+    colors = [tab20[i] for i in (*range(0, 20, 2), *range(1, 20, 2)) if i not in (14, 15)]
     styles = {}
     for k, m in enumerate(str(x) for x in ds.method.values):
         spec = METHODS.get(m)
@@ -44,8 +46,7 @@ def _method_styles(ds):
             styles[m] = (SCIPY_COLOR, "-.", "x")
             continue
         dash = _FAMILY_STYLE.get(spec.family, "-." if spec.implicit else "-")
-        # tab20's dark shades for the first ten methods, then its light ones
-        styles[m] = (colors[(2 * k) % 20 + (2 * k // 20) % 2], dash, _MARKERS[k % len(_MARKERS)])
+        styles[m] = (colors[k % len(colors)], dash, _MARKERS[k % len(_MARKERS)])
     return styles
 
 
