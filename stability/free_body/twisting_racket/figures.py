@@ -43,11 +43,15 @@ def twist_figure(ds):
                      label="Montgomery: run vs 2 E T/|L| - S")
     mont_ax.semilogy(ds.montgomery_formula.values, np.maximum(ds.twist_error.values, 1e-17),
                      "s", ms=3, color=AXIS_COLORS[2], label="twist: run vs exact")
-    mont_ax.axhline(ds.attrs["claim"], color="black", lw=0.8, ls=":", label="the claim")
+    mont_ax.axhline(ds.attrs["claim"], color="black", lw=0.8, ls=":",
+                    label=f"the claim, {ds.attrs['claim']:g} rad")
     mont_ax.set_xlabel(label("Montgomery's angle", "rad"))
     mont_ax.set_ylabel(label("|difference|", "rad"))
-    mont_ax.set_title(f"{ds.attrs['method']}, {ds.attrs['steps_per_period']} steps per period")
+    mont_ax.set_title(f"run against the formulas\n({ds.attrs['method']}, "
+                      f"{ds.attrs['steps_per_period']} steps per period)", fontsize=9)
     place_legend(mont_ax)
+    fig.suptitle("The twisting racket: while the handle goes once round L, the body turns about "
+                 "the handle by nearly, not exactly, pi", fontsize=10)
     return fig
 
 
