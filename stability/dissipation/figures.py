@@ -174,7 +174,7 @@ def end_state_figure(ds, claim=None):
                        label=f"whip antennas, theta0 = {ds.whip_angle.values[0]:g}°")
     flat = float(ds.flat_energy_ratio.values[0, 0])
     energy_ax.axhline(flat, color=EXACT_COLOR, ls=":", lw=1,
-                      label="|H|²/(2 A_max) over the start's energy")
+                      label="|H|²/(2 A_max) over the start's energy (damper body)")
     energy_ax.set_yscale("log")
     energy_ax.set_xlabel(label("time", "min"))
     energy_ax.set_ylabel(label("energy / its start", cv.UNITS_DIMENSIONLESS))
@@ -193,7 +193,9 @@ def end_state_figure(ds, claim=None):
                           color=color, mfc="none", label=text)
     if claim is not None:
         error_ax.axhline(claim, color=EXACT_COLOR, ls="--", lw=1, label=f"claim {claim:g}")
-    error_ax.set_xlabel(label("member (damping-major order)", cv.UNITS_DIMENSIONLESS))
+    error_ax.set_xticks(members, [f"{c:g} c*\n{a:g}°" for c in ds.damping.values
+                                  for a in ds.angle.values], fontsize=7)
+    error_ax.set_xlabel("member: damping c / c* and start tilt theta0")
     error_ax.set_ylabel(label("|relative difference|", cv.UNITS_DIMENSIONLESS))
     error_ax.set_title(f"every member against the theory ({ds.attrs['method']})", fontsize=9)
     place_legend(error_ax, fontsize=7)
