@@ -195,7 +195,7 @@ def end_state_figure(ds, claim=None):
         error_ax.axhline(claim, color=EXACT_COLOR, ls="--", lw=1, label=f"claim {claim:g}")
     error_ax.set_xticks(members, [f"{c:g} c*\n{a:g}°" for c in ds.damping.values
                                   for a in ds.angle.values], fontsize=7)
-    error_ax.set_xlabel("member: damping c / c* and start tilt theta0")
+    error_ax.set_xlabel(label("member: damping c / c* and start tilt theta0", "c*, degree"))
     error_ax.set_ylabel(label("|relative difference|", cv.UNITS_DIMENSIONLESS))
     error_ax.set_title(f"every member against the theory ({ds.attrs['method']})", fontsize=9)
     place_legend(error_ax, fontsize=7)
