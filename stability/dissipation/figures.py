@@ -180,7 +180,6 @@ def end_state_figure(ds, claim=None):
     energy_ax.set_ylabel(label("energy / its start", cv.UNITS_DIMENSIONLESS))
     energy_ax.set_title(f"theta0 = {ds.angle.values[0]:g}°: the energy falls to the flat "
                         "spin's and stays there", fontsize=9)
-    place_legend(energy_ax, fontsize=7)
     members = np.arange(ds.damping.size * ds.angle.size)
     rows = (("growth_rate_error", "growth rate vs linear", "o"),
             ("decay_rate_error", "decay about the major axis vs linear", "s"),
@@ -199,6 +198,7 @@ def end_state_figure(ds, claim=None):
     error_ax.set_ylabel(label("|relative difference|", cv.UNITS_DIMENSIONLESS))
     error_ax.set_title(f"every member against the theory ({ds.attrs['method']})", fontsize=9)
     place_legend(error_ax, fontsize=7)
+    place_legend(energy_ax, fontsize=7)  # once the panel below has its two-line tick labels
     fig.suptitle(f"{ds.attrs['body']}: |H| kept, the energy lost to the flat spin", fontsize=10)
     return fig
 
