@@ -233,9 +233,8 @@ def run_in_new_process(folder, env=None):
      "scene 'user_oscillator': parameter omega must be finite, got inf"),
     (dict(parameters={"omega": "one"}),
      "scene 'user_oscillator': parameter omega must be a number, got 'one'"),
-    (dict(save_every=3), "n_steps = 10 is not a multiple of save_every = 3, so the final "
-                         "state would not be saved"),
-    (dict(save_every=100), "n_steps = 10 is not a multiple of save_every = 100"),
+    (dict(save_every=100), "save_every = 100 is more than the 10 steps of the longest "
+                           "group, so the series would hold the start alone"),
     (dict(x0=np.ones((0, 2))), "x0 has no rows: give at least one member, a row of 2 numbers"),
     (dict(label=5), "label must be a string"),
 ])
@@ -247,6 +246,13 @@ def test_a_run_of_the_users_scene_refuses_nonsense_in_one_line(home, change, mes
     with pytest.raises(ValueError, match=message.replace("(", r"\(")) as caught:
         stability.run_scene(scene, "rk4", args.pop("x0"), args.pop("parameters"), **args)
     assert "\n" not in str(caught.value)
+
+
+def test_invariants_may_be_given_as_name_function_pairs(home):
+    module = importlib.import_module("user_oscillator")
+    pairs = define_scene("paired_oscillator", ["x", "v"], ["m", "m s-1"], module.rhs,
+                         ["omega"], invariants=[("energy", module.energy)])
+    assert list(pairs.invariants) == ["energy"]
 
 
 def test_a_new_process_loads_the_scene_from_disk_and_an_edit_compiles_again(home, tmp_path):

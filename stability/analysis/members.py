@@ -27,7 +27,7 @@ import numpy as np
 import xarray as xr
 
 from ..util import conventions as cv
-from ..util.checks import real_array, real_number
+from ..util.checks import real_array, real_number, scalar
 from ..util.conventions import perpendicular_axes
 
 # Names of the summaries-only variables (see the module docstring).
@@ -179,8 +179,9 @@ def members(ds: xr.Dataset, axis=None, spin=None) -> Members:
 
 
 def _spin_axis(ds, axis, w0):
+    axis = scalar(axis)
     if axis is None and "axis" in ds.attrs:
-        axis = ds.attrs["axis"]
+        axis = scalar(ds.attrs["axis"])
         if not _is_axis(axis):
             raise ValueError(f"the Dataset's attribute axis must be 1, 2 or 3 (the principal "
                              f"axis of the spin), got {axis!r}; pass axis= to override it")

@@ -247,10 +247,11 @@ def define_scene(name, components, units, rhs, parameters=(), *, parameter_units
     if observe is not None:
         _check_arguments(name, "observe", _top_level(name, "observe", observe),
                          [*components, "p", "ia", "ib", "ic"])
-    if invariants is not None and not isinstance(invariants, Mapping):
+    try:
+        invariants = dict(invariants or {})
+    except (TypeError, ValueError):
         raise TypeError(f"scene {name!r}: invariants must be a dict of name: function(x, "
-                        f"values), got {type(invariants).__name__}")
-    invariants = dict(invariants or {})
+                        f"values), got {type(invariants).__name__}") from None
     for label, function in [*invariants.items(), ("exact", exact), ("example", example),
                             ("tracked", tracked)]:
         if function is not None and not callable(function):

@@ -146,11 +146,10 @@ def run_scene(scene, method, x0, parameters, *, h, n_steps, sizes=None, save_eve
         raise ValueError(f"h must be finite and > 0 (in s), got {_shown(h)}")
     steps = _steps(n_steps, groups)
     save_every = positive_int("save_every", save_every, allow_zero=True)
-    if save_every and np.any(steps % save_every):
-        shown = int(steps[0]) if np.unique(steps).size == 1 else _shown(steps)
-        raise ValueError(f"n_steps = {shown} is not a multiple of save_every = "
-                         f"{save_every}, so the final state would not be saved; choose "
-                         "save_every dividing the steps (or 0: the final states only)")
+    if save_every > int(steps.max()):
+        raise ValueError(f"save_every = {save_every} is more than the {int(steps.max())} steps "
+                         "of the longest group, so the series would hold the start alone; "
+                         "choose save_every <= n_steps (or 0: the final states only)")
     if label is not None and not isinstance(label, str):
         raise ValueError(f"label must be a string (the progress bar's), got {label!r:.80}")
     if save_every and np.unique(hs).size > 1:

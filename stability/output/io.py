@@ -171,6 +171,8 @@ def load(path) -> xr.Dataset:
                          "folder of a stored run opens with stability.output.store.open_store)")
     try:
         ds = xr.open_dataset(path, **READ)
+    except PermissionError:
+        raise
     except (OSError, ValueError) as exc:  # netCDF4's "Unknown file format", no engine, ...
         raise ValueError(f"{path} is not a netCDF file stability can read "
                          f"({str(exc).splitlines()[0][:120]}); give a .nc file written by "

@@ -225,7 +225,7 @@ def run_study(
     expected = kind.expected_bytes(config) if kind.expected_bytes is not None else None
     work = out / f".stability-work-{Path(names[0]).stem}"
     if resume:
-        _check_something_to_resume(out, work, kind.name, [] if overwrite else names)
+        _check_something_to_resume(out, work, kind.name, [] if overwrite else names[:1])
     check_target(out, names, overwrite=overwrite, expected_bytes=expected)  # before writing
     extra = {}
     created = not out.exists()
@@ -278,7 +278,7 @@ def _make_folder(out: Path) -> None:
 
 def _check_something_to_resume(out: Path, work: Path, kind: str, names) -> None:
     """Refuse ``--resume`` into a folder that holds no stopped run of this study but its
-    finished outputs (of ``names``), or another study's stopped run (a mistaken study file or
+    finished Dataset (``names``), or another study's stopped run (a mistaken study file or
     ``--out``); with nothing there at all, the run starts afresh, as a job that always passes
     ``--resume`` expects on its first start."""
     if os.path.lexists(work) or not out.is_dir() or out.is_symlink():

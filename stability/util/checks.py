@@ -29,9 +29,19 @@ def real_number(name: str, value, unit: str = "") -> float:
     Booleans, strings and complex numbers are refused rather than converted: ``float(True)`` is
     1.0 and ``float("2")`` is 2.0, which would hide a mistake.
     """
+    value = scalar(value)
     if isinstance(value, (bool, np.bool_)) or not isinstance(value, numbers.Real):
         raise ValueError(f"{name} must be a number{_in(unit)}, got {_short(value)}")
     return float(value)
+
+
+def scalar(value):
+    """The number a 0-d array or a scalar DataArray holds (``value.item()``); anything else as
+    it is."""
+    if getattr(value, "ndim", None) == 0 and hasattr(value, "item") and not isinstance(
+            value, (numbers.Number, np.generic)):
+        return value.item()
+    return value
 
 
 def real_array(name: str, value, unit: str = "") -> np.ndarray:
@@ -154,7 +164,7 @@ def _short(value, limit: int = 80) -> str:
     """``repr(value)`` cut to ``limit`` characters; an array as its dtype and shape."""
     if isinstance(value, np.ndarray) and value.size > 6:
         return f"an array of {value.dtype} with shape {value.shape}"
-    text = repr(value)
+    text = repr(value).splitlines()[0] if repr(value) else ""
     return text if len(text) <= limit else text[: limit - 3] + "..."
 
 

@@ -47,6 +47,13 @@ def test_accessor_passes_arguments_through():
     assert not via_accessor.identical(ds.stability.measured_growth_rate())
     # the package exports the same function at the top level
     assert stability.measured_growth_rate is measured_growth_rate
+    # numbers held in 0-d arrays and scalar DataArrays (another estimate's result) are numbers
+    xr.testing.assert_identical(
+        ds.stability.measured_growth_rate(high_fraction=np.array(0.5),
+                                          low_factor=xr.DataArray(10.0)), direct)
+    xr.testing.assert_identical(
+        ds.stability.measured_omega_squared(analytic=xr.DataArray(-0.3), axis=np.array(2)),
+        ds.stability.measured_omega_squared(analytic=-0.3, axis=2))
 
 
 def test_accessor_is_stateless():
