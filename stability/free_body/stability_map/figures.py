@@ -176,7 +176,8 @@ def scatter_figure(ds):
     n_neu = int(np.sum(reg == REGIME_NEUTRAL))
     right.axhline(tol, color="k", ls="--", lw=0.8, label=f"bar {tol:g}")
     right.axvline(floor, color="0.5", ls=":", lw=0.8, label=f"|Ω²|/W² = {floor:g}")
-    right.plot([], [], " ", label=f"Ω² = 0: no rate fitted; over the {reg.shape[0]} methods,\n"
+    methods = f"the {reg.shape[0]} methods" if reg.shape[0] != 1 else "the method"
+    right.plot([], [], " ", label=f"Ω² = 0: no rate fitted; over {methods},\n"
                                   f"{n_alg} algebraic drift, {n_neu} no departure")
     left.set_xlabel(label("analytic Ω² / W²", "1"))
     left.set_ylabel(label("measured Ω² / W²", "1"))
