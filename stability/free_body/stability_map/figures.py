@@ -256,8 +256,9 @@ def edges_figure(ds):
         a = int(ds.edge_axis.values[c])
         w = ds.edge_w.values[c]
         others = perpendicular_axes(a)
-        for b in others:
-            ax.plot(t, w[:, b - 1], color=AXIS_COLORS[b - 1], lw=1.4, label=f"w{b}")
+        for k, b in enumerate(others):  # the second dashed: on a sphere the two coincide
+            ax.plot(t, w[:, b - 1], color=AXIS_COLORS[b - 1], lw=2.4 - k, ls=("-", "--")[k],
+                    label=f"w{b}")
         slope = float(ds.edge_slope_predicted.values[c])
         drifting = others[int(np.argmax(np.abs(w[-1, [b - 1 for b in others]] -
                                                w[0, [b - 1 for b in others]])))]
@@ -272,6 +273,7 @@ def edges_figure(ds):
                 transform=ax.transAxes, ha="right", va="bottom", fontsize=7)
         ax.set_xlabel(label("time", "s"))
         ax.set_ylabel(label("perpendicular components of w", "rad s-1"))
+        ax.ticklabel_format(axis="y", style="sci", scilimits=(-2, 3))
         place_legend(ax, fontsize=7)
     fig.suptitle(f"Equal moments: Ω² = 0, departure linear in t ({ds.attrs['edge_method']}, "
                  f"h = {float(ds.attrs['edge_h']):g} s, ε = {ds.attrs['edge_epsilon']:g})",
