@@ -1,4 +1,4 @@
-"""
+r"""
 A scene of your own: a body with a viscous damper
 =================================================
 

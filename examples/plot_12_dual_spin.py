@@ -16,6 +16,7 @@ eigenvalues; then a small map over the inertia ratio and the rotor's speed, each
 with RK4 and its nutation's rate measured against the eigenvalue.
 """
 
+import matplotlib.pyplot as plt
 import numpy as np
 
 from stability.dissipation import gyrostat
@@ -48,5 +49,5 @@ for placement in ds.placement.values:
     agree = int((d.verdict_measured == d.verdict_linear).sum())
     print(f"{placement:>8}: measured = eigenvalues in {agree} of {d.verdict_linear.size} "
           f"cells, fitted rates within {float(np.abs(d.rate_error).max()):.1e} of them")
-fig = dual_spin_map_figure(ds)
+fig = dual_spin_map_figure(ds, fig=plt.figure())
 ds

@@ -36,6 +36,24 @@ def _object(dotted):
         return getattr(getattr(importlib.import_module(parent), attr), name)
 
 
+def test_every_source_compiles_without_a_warning():
+    """No invalid escape such as "\\o" in a string that is not raw, where "\\t" or "\\n" would pass
+    silently: a gallery page's docstring with "\\times" showed a tab and "imes" in its equations."""
+    import warnings
+
+    sources = [*ROOT.glob("stability/**/*.py"), *ROOT.glob("examples/*.py"),
+               *ROOT.glob("docs/*.py")]
+    assert len(sources) > 100
+    for path in sources:
+        text = path.read_text(encoding="utf-8")
+        with warnings.catch_warnings():
+            warnings.simplefilter("error")
+            compile(text, str(path), "exec")
+        tree = __import__("ast").parse(text)
+        doc = __import__("ast").get_docstring(tree, clean=False) or ""
+        assert "\t" not in doc, f"{path}: a tab in the module docstring (make it r-prefixed)"
+
+
 def test_every_name_in_the_api_reference_has_a_numpydoc_summary():
     missing = []
     for name in api_names():

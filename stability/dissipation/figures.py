@@ -213,7 +213,7 @@ PLACEMENT_TITLES = {"platform": "damper on the platform", "rotor": "damper in th
 
 
 @styled
-def dual_spin_map_figure(ds):
+def dual_spin_map_figure(ds, fig=None):
     """For each placement of the dampers: the linear growth rate over the inertia ratio and the
     rotor's relative speed (colour), the boundary where the eigenvalues change sign (solid) and
     where the energy-sink criterion does (dashed), both on a dense grid, and at every cell the
@@ -224,12 +224,20 @@ def dual_spin_map_figure(ds):
     ----------
     ds : xarray.Dataset
         The dual-spin study's Dataset.
+    fig : matplotlib.figure.Figure, optional
+        Draw into this figure (e.g. one made by ``plt.figure``, which a notebook or the gallery
+        shows), resized to the map's size; by default a new one.
     """
     from matplotlib.colors import TwoSlopeNorm
     from matplotlib.lines import Line2D
 
     placements = [str(p) for p in ds.placement.values]
-    fig = new_figure(7.5, 3.4 if len(placements) > 1 else 4.0)
+    size = (7.5, 3.4 if len(placements) > 1 else 4.0)
+    if fig is None:
+        fig = new_figure(*size)
+    else:
+        fig.set_size_inches(*size)
+        fig.set_layout_engine("constrained")
     axes = np.atleast_1d(fig.subplots(1, len(placements), sharey=True, squeeze=False)[0])
     ratios, speeds = ds.ratio.values, ds.speed.values
     body = body_of(ds)
