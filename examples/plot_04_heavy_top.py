@@ -27,10 +27,19 @@ print(f"nutation period: exact {period * 1e3:.3f} ms, gyroscopic 2 pi A / (C w3)
 print(f"slow precession rate m g l / (C w3): {gyroscopic_precession_rate(top, spin):.4f} rad/s")
 
 # %%
-# The tilt of the figure axis against time: nutation between two tilts.
+# The tilt of the figure axis against time: nutation between two tilts. Its lowest tilts come
+# every exact period (dashed); the gyroscopic period (dotted) is shorter, and it drifts off.
 
+gyro_period = 2 * np.pi / gyroscopic_nutation_frequency(top, spin)
 fig, ax = plt.subplots(figsize=(7, 3.5), layout="constrained")
-ax.plot(t * 1e3, tilt)
+ax.plot(t * 1e3, tilt, label="exact tilt")
+for k in range(1, int(t[-1] / period) + 1):
+    ax.axvline(k * period * 1e3, color="k", ls="--", lw=0.7,
+               label="exact nutation period" if k == 1 else None)
+for k in range(1, int(t[-1] / gyro_period) + 1):
+    ax.axvline(k * gyro_period * 1e3, color="C3", ls=":", lw=0.9,
+               label="gyroscopic 2 pi A / (C w3)" if k == 1 else None)
+ax.legend(loc="lower right", fontsize=8)
 ax.set_xlabel("time (ms)")
 ax.set_ylabel("tilt of the figure axis (degree)")
 ax.set_title("a disk top released at 60 degrees: nutation between two tilts")

@@ -25,7 +25,7 @@ back = stability.load(path)
 # What came back: the same numbers (checked below), each variable's units and long name, the
 # history and the configuration that made the run.
 
-xr.testing.assert_identical(ds.drop_attrs(deep=False), back.drop_attrs(deep=False))
+xr.testing.assert_identical(ds, back)
 print(back.w.attrs)
 print(back.attrs["history"])
 print(back.attrs["config_toml"][:200])

@@ -41,12 +41,15 @@ ax.loglog(factors, linear, "k", label="linear eigenvalue")
 ax.loglog(factors, sink, "--", color="C1", label="energy-sink estimate")
 ax.set_xlabel("damping c / c* (1)")
 ax.set_ylabel("growth rate (1/s)")
+ax.set_title("growth of the nutation against the damper's damping")
 ax.legend()
 
 # %%
 # Members started rigid, their angular momentum tilted 0.02 and 1 degree from the long axis,
-# at three dampings: each runs past the flat spin. The measured growth rate matches the
-# eigenvalue, the end state is the major axis and the energy lost is the formula's.
+# at three dampings: each runs past the flat spin. The growth rate measured from the 0.02
+# degree starts matches the eigenvalue (a start at 1 degree has no linear phase to fit: nan),
+# the end state is the major axis and the energy lost is the formula's. Solid: 0.02 degree,
+# dashed: 1 degree.
 ds = measure_explorer(body, J, [0.3, 1.0, 3.0], np.radians([0.02, 1.0]), samples=600,
                       progress=False)
 print("growth rate, measured / linear - 1:", ds.growth_rate_error.values.round(6).tolist())
@@ -56,8 +59,10 @@ print("time to the flat spin (min):", (ds.flat_time.values / 60).round(1).tolist
 
 fig, ax = plt.subplots(figsize=(6.5, 3.5), layout="constrained")
 for j, f in enumerate(ds.damping.values):
-    ax.semilogy(ds.sample_time[j] / 60, ds.theta[j, 0], label=f"c = {f:g} c*")
+    (line,) = ax.semilogy(ds.sample_time[j] / 60, ds.theta[j, 0], label=f"c = {f:g} c*")
+    ax.semilogy(ds.sample_time[j] / 60, ds.theta[j, 1], "--", color=line.get_color())
 ax.set_xlabel("time (min)")
 ax.set_ylabel("nutation angle (degree)")
+ax.set_title("from the long axis to the flat spin")
 ax.legend()
 ds

@@ -32,4 +32,4 @@ print(f"radii on the plane: {r.min():.4f} to {r.max():.4f} (closed form "
 # The polhodes on the ellipsoid, the ellipsoid on the plane, and the herpolhode seen down L.
 
 fig = plt.figure(figsize=(15, 5.8))
-poinsot_figure(body, w0, fig=fig)
+poinsot_figure(body, w0, t_end=float(t[-1]), fig=fig)

@@ -102,7 +102,8 @@ def poinsot_figure(body, w0, t_end=None, q0=None, levels=(0.2, 0.5, 0.8, 0.95),
             body_ax.plot(*curve.T, color=colors[centre], lw=0.9,
                          label=f"polhodes around axis {centre + 1}" if k == 0 else None)
     for k, curve in enumerate(energy_ellipsoid_separatrix(body, 361)):
-        body_ax.plot(*curve.T, color="crimson", lw=1.4, label="separatrix" if k == 0 else None)
+        body_ax.plot(*curve.T, color=AXIS_COLORS[1], lw=1.4,
+                     label="separatrix" if k == 0 else None)
     body_ax.plot(*own.T, color=EXACT_COLOR, lw=2.2, label="this start's polhode")
     body_ax.scatter(*own[0], color=EXACT_COLOR, s=25, depthshade=False)
     _equal_aspect(body_ax, np.column_stack([x.ravel(), y.ravel(), z.ravel()]))
@@ -126,7 +127,7 @@ def poinsot_figure(body, w0, t_end=None, q0=None, levels=(0.2, 0.5, 0.8, 0.95),
     space_ax.plot(corners[:, 0], corners[:, 1], np.full(5, d), color="0.4", lw=0.8,
                   label="invariable plane")
     space_ax.plot(herp.plane[:, 0], herp.plane[:, 1], np.full(len(t), d), color="crimson",
-                  lw=0.9, label="herpolhode (in space)")
+                  lw=0.9, label=f"herpolhode, over {t[-1]:.3g} s")
     space_ax.plot([0, 0], [0, 0], [0, 1.3 * d], color="black", lw=2.0)
     space_ax.text(0, 0, 1.35 * d, "L", fontsize=10)
     _equal_aspect(space_ax, np.vstack([mesh.reshape(-1, 3),
@@ -136,15 +137,15 @@ def poinsot_figure(body, w0, t_end=None, q0=None, levels=(0.2, 0.5, 0.8, 0.95),
     space_ax.set_zlabel(label("along L", UNIT), fontsize=8)
     space_ax.tick_params(labelsize=7)
     space_ax.view_init(elev=12.0, azim=-60.0)
-    space_ax.set_title(f"space: the ellipsoid rolls on the plane at sqrt(2E)/|L| = {d:.4g}")
+    space_ax.set_title(f"space: the ellipsoid rolls on the plane at sqrt(2E)/|L| = {d:.4g} "
+                       f"{UNIT}")
 
     # (c) the herpolhode in the plane, between r_min and r_max.
     turn = np.linspace(0.0, 2.0 * np.pi, 361)
-    for r, what in zip(herp.radii, ("r_min", "r_max")):
-        plane_ax.plot(r * np.cos(turn), r * np.sin(turn), color="0.5", lw=0.9, ls="--",
-                      label=f"{what} = {r:.4g}")
-    plane_ax.plot(herp.plane[:, 0], herp.plane[:, 1], color="crimson", lw=0.8,
-                  label=f"herpolhode over {t[-1]:.3g} s")
+    for r, what, dash in zip(herp.radii, ("r_min", "r_max"), (":", "--")):
+        plane_ax.plot(r * np.cos(turn), r * np.sin(turn), color="0.5", lw=0.9, ls=dash,
+                      label=f"{what} = {r:.4g} {UNIT}")
+    plane_ax.plot(herp.plane[:, 0], herp.plane[:, 1], color="crimson", lw=0.8)
     plane_ax.plot(*herp.plane[0], "o", color=EXACT_COLOR, ms=4, label="start")
     plane_ax.set_aspect("equal")
     plane_ax.set_xlabel(label("x in the invariable plane", UNIT))
@@ -156,8 +157,9 @@ def poinsot_figure(body, w0, t_end=None, q0=None, levels=(0.2, 0.5, 0.8, 0.95),
         more, more_labels = ax.get_legend_handles_labels()
         handles, labels = handles + more, labels + more_labels
     fig.legend(handles, labels, loc="lower center", ncols=5, framealpha=0.9)
+    name = body.name.replace("_", " ")
     fig.suptitle(
-        f"Poinsot's construction for the {body.name}, I = ({', '.join(f'{v:.4g}' for v in I)}) "
+        f"Poinsot's construction for the {name}, I = ({', '.join(f'{v:.4g}' for v in I)}) "
         f"kg m², w0 = ({', '.join(f'{v:.3g}' for v in w0)}) rad/s: E = {energy:.4g} J, "
         f"|L| = {momentum:.4g} kg m²/s", fontsize=10)
     return fig
