@@ -31,8 +31,8 @@ print((measured / analytic).round(3).to_pandas())
 
 # %%
 # Measured against analytic Omega^2 across the shapes. Near I3/I1 = 1 the moments are close and
-# |Omega| small: 30 s hold less than one oscillation or e-folding, too little to measure, and
-# those points are missing (NaN in the table above).
+# Omega^2 is small: 30 s hold less than one oscillation or e-folding, too little to measure,
+# and those points are missing (NaN in the table above).
 
 fig, ax = plt.subplots(figsize=(7, 3.5), layout="constrained")
 for axis in (1, 2, 3):

@@ -19,7 +19,7 @@ print(f"twist, run against exact: {float(ds.twist_error.max()):.1e} rad")
 print(f"Montgomery's angle, run against 2 E T / |L| - S: {float(ds.montgomery_error.max()):.1e}")
 
 # %%
-# The defect pi - |twist| over one turn of the handle against the nudge epsilon. Each member is
+# The defect ``pi - |twist|`` over one turn of the handle against the nudge epsilon. Each member is
 # nudged in a random direction across the middle axis, so two nudges of one size can leave
 # different defects (the two near epsilon = 0.07).
 
