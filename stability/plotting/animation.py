@@ -150,6 +150,7 @@ def axes3d(fig, reach, bottom=None, top=None):
     for axis in (ax.xaxis, ax.yaxis, ax.zaxis):
         axis.set_major_locator(MaxNLocator(3))
     ax.tick_params(labelsize=5, pad=-3)
+    ax.zaxis.set_tick_params(pad=0)  # closer, a minus sign hid under its tick mark
     return ax
 
 
