@@ -182,6 +182,14 @@ def test_bench_prints_its_table(capsys):
     body = [line for line in lines[header + 2:] if line.strip()]
     solvers = [line.split("  ")[0].strip() for line in body[:3]]
     assert solvers == ["rk4", "scipy DOP853", "numpy RK4"]
+    # then what the engine costs on W1, a row per loop
+    engine = next(k for k, line in enumerate(lines) if "what the engine costs" in line)
+    shown = "\n".join(lines[engine:])
+    for row in ("plain RK4 loop", "engine rk4, uncompensated", "engine rk4",
+                "run_ensemble rk4, summaries only"):
+        assert row in shown
+    assert main([*args, "--no-engine"]) == 0
+    assert "what the engine costs" not in capsys.readouterr().out
 
 
 def test_bench_measures_every_solver_at_known_accuracy():

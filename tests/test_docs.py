@@ -54,6 +54,28 @@ def test_every_source_compiles_without_a_warning():
         assert "\t" not in doc, f"{path}: a tab in the module docstring (make it r-prefixed)"
 
 
+def test_the_examples_in_the_docstrings_of_the_package_namespace_run():
+    """Every ``>>>`` example of what ``import stability`` gives (not marked to skip) runs and
+    prints what it shows, with ``stability`` and ``np`` at hand as a reader has them."""
+    import doctest
+
+    import numpy as np
+
+    import stability
+
+    finder = doctest.DocTestFinder(exclude_empty=True)
+    runner = doctest.DocTestRunner(optionflags=doctest.ELLIPSIS | doctest.NORMALIZE_WHITESPACE)
+    seen = set()
+    for name in [n for n in dir(stability) if not n.startswith("_")]:
+        for test in finder.find(getattr(stability, name), name,
+                                extraglobs={"stability": stability, "np": np}):
+            if test.name not in seen:
+                seen.add(test.name)
+                runner.run(test)
+    results = runner.summarize(verbose=False)
+    assert results.attempted >= 15 and results.failed == 0, results
+
+
 def test_every_name_in_the_api_reference_has_a_numpydoc_summary():
     missing = []
     for name in api_names():

@@ -119,9 +119,13 @@ def run_scene(scene, method, x0, parameters, *, h, n_steps, sizes=None, save_eve
 
     Examples
     --------
-    >>> ds = stability.run_scene("heavy_top", "lp2", x0, [top], h=0.01, n_steps=1000,
-    ...                          save_every=10)  # doctest: +SKIP
-    >>> ds.g3  # the cosine of the tilt of axis 3 over time  # doctest: +SKIP
+    >>> from stability.heavy_top.model import HeavyTop, tilted_starts
+    >>> top = HeavyTop.disk(mass=0.1, radius=0.03, length=0.04)
+    >>> x0 = tilted_starts(150.0, np.radians(60.0), 4, top=top)  # 4 tops at 150 rad/s, 60 deg
+    >>> ds = stability.run_scene("heavy_top", "lp2", x0, top.parameters, h=1e-4,
+    ...                          n_steps=1000, save_every=10, progress=False)
+    >>> ds.g3.shape  # the cosine of the tilt of axis 3, per member over time
+    (4, 101)
     """
     scene = registered_scene(scene)
     spec = scene.method(method)
