@@ -225,7 +225,7 @@ def run_study(
     expected = kind.expected_bytes(config) if kind.expected_bytes is not None else None
     work = out / f".stability-work-{Path(names[0]).stem}"
     if resume:
-        _check_something_to_resume(out, work, kind.name, [] if overwrite else names[:1])
+        _check_something_to_resume(out, work, kind.name, None if overwrite else names[0])
     check_target(out, names, overwrite=overwrite, expected_bytes=expected)  # before writing
     extra = {}
     created = not out.exists()
@@ -276,18 +276,17 @@ def _make_folder(out: Path) -> None:
                       str(out)) from None
 
 
-def _check_something_to_resume(out: Path, work: Path, kind: str, names) -> None:
+def _check_something_to_resume(out: Path, work: Path, kind: str, dataset) -> None:
     """Refuse ``--resume`` into a folder that holds no stopped run of this study but its
-    finished Dataset (``names``), or another study's stopped run (a mistaken study file or
-    ``--out``); with nothing there at all, the run starts afresh, as a job that always passes
-    ``--resume`` expects on its first start."""
+    finished ``dataset`` (None: not asked, as with ``--overwrite``), or another study's stopped
+    run (a mistaken study file or ``--out``); with nothing there at all, the run starts afresh,
+    as a job that always passes ``--resume`` expects on its first start."""
     if os.path.lexists(work) or not out.is_dir() or out.is_symlink():
         return
-    finished = [name for name in names if os.path.lexists(out / name)]
-    if finished:
+    if dataset is not None and os.path.lexists(out / dataset):
         raise ValueError(
             f"nothing of study {kind!r} to resume in {out}: its run there is finished "
-            f"({finished[0]} exists); drop --resume and pass --overwrite to run it again, or "
+            f"({dataset} exists); drop --resume and pass --overwrite to run it again, or "
             "choose another --out")
     others = sorted(p.name for p in out.iterdir() if p.name.startswith(".stability-work-"))
     if others:
