@@ -360,6 +360,8 @@ def run_ensembles(calls, *, threads=None, progress=None, datasets=True) -> list:
         return out
 
 
+#: The arguments :func:`run_ensemble` takes, by name.
+_ARGUMENTS = tuple(inspect.signature(run_ensemble).parameters)
 #: run_ensemble's arguments that are the whole batch's in :func:`run_ensembles`.
 _BATCH_ARGUMENTS = ("threads", "progress", "chunk_members", "chunk_steps")
 #: run_ensemble's arguments of a streamed run, which :func:`run_ensembles` (in memory) has not.
@@ -368,11 +370,10 @@ _STREAM_ARGUMENTS = ("store", "resume", "scheduler")
 
 def _check_call_keys(k, call) -> None:
     """ValueError naming ``calls[k]`` for a key :func:`run_ensembles` cannot take."""
-    known = [name for name in inspect.signature(run_ensemble).parameters]
     for name in call:
-        if name not in known:
+        if name not in _ARGUMENTS:
             raise ValueError(f"calls[{k}]: unknown argument {name!r} of run_ensemble"
-                             f"{did_you_mean(name, known)}")
+                             f"{did_you_mean(name, _ARGUMENTS)}")
         if name in _BATCH_ARGUMENTS:
             raise ValueError(f"calls[{k}]: {name} is set for the whole batch, not per "
                              "ensemble; pass it to run_ensembles")

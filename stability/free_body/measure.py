@@ -52,12 +52,12 @@ def measured_omega_squared(ds: xr.Dataset, axis=None, spin=None, *, analytic=Non
         sign against the analytic sign; a zero analytic value agrees with drift or neutral),
         ``n_fitted``; per member ``member_regime``.
     """
-    low_factor, high_fraction = growth_window(ds, low_factor, high_fraction)
-    mem = members(ds, axis, spin)
     if analytic is not None:
         analytic = real_number("analytic", analytic, "s-2")
         if not np.isfinite(analytic):
             raise ValueError(f"analytic must be finite (Omega^2 in s-2), got {analytic}")
+    low_factor, high_fraction = growth_window(ds, low_factor, high_fraction)
+    mem = members(ds, axis, spin)
     if analytic is None and isinstance(ds, xr.Dataset):
         analytic = _analytic_from_attrs(ds, mem)
     est = omega_squared_estimate(mem, analytic, low_factor=low_factor,

@@ -164,7 +164,7 @@ def _short(value, limit: int = 80) -> str:
     """``repr(value)`` cut to ``limit`` characters; an array as its dtype and shape."""
     if isinstance(value, np.ndarray) and value.size > 6:
         return f"an array of {value.dtype} with shape {value.shape}"
-    text = repr(value).splitlines()[0] if repr(value) else ""
+    text = (repr(value).splitlines() or [""])[0]
     return text if len(text) <= limit else text[: limit - 3] + "..."
 
 
