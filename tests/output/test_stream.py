@@ -136,12 +136,17 @@ def test_dask_local_cluster_gives_the_local_result(in_memory, tmp_path):
     distributed = pytest.importorskip("distributed")
     with distributed.LocalCluster(n_workers=2, threads_per_worker=1, processes=True,
                                   dashboard_address=None) as cluster, \
-            distributed.Client(cluster) as client:
+            distributed.Client(cluster) as client, \
+            distributed.get_task_stream(client) as tasks:
         ds = stability.run_ensemble(**RUN, store=tmp_path / "s", chunk_members=128,
                                     scheduler=client)
         assert_same_members(in_memory, ds.load())
-        workers = {info["id"] for info in client.scheduler_info()["workers"].values()}
-        assert len(workers) == 2
+        workers = set(cluster.scheduler.workers)  # the cluster's own worker addresses
+    # every chunk (700 members in chunks of 128: 6) ran as a task on one of those workers,
+    # none in this process
+    ran = {t["key"]: t["worker"] for t in tasks.data if "stability-chunk-" in str(t["key"])}
+    assert len(ran) == 6, ran
+    assert set(ran.values()) <= workers and workers, (ran, workers)
 
 
 def test_unreachable_scheduler_is_one_clear_error(tmp_path, monkeypatch):
