@@ -175,13 +175,17 @@ LEGEND_PLACES = ("best", "upper right", "upper left", "lower left", "lower right
 def place_legend(ax, **kwargs):
     """A legend on ``ax`` where it covers none of the data (:func:`covered_data`).
 
-    Tries :data:`LEGEND_PLACES` inside the axes, laying the figure out for each, and puts the
-    legend beside the axes, on the right, when none is clear. ``kwargs`` go to ``ax.legend``.
+    Tries :data:`LEGEND_PLACES` inside the axes and puts the legend beside the axes, on the
+    right, when none is clear. ``kwargs`` go to ``ax.legend``. The figure is laid out once: a
+    legend inside the axes moves nothing else, and each place's box is measured with that
+    layout's renderer.
     """
-    fig = ax.get_figure(root=True)
+    if ax.get_legend() is not None:  # one beside the axes would shrink them in that layout
+        ax.get_legend().remove()
+    renderer = _drawn(ax.get_figure(root=True))
     for place in LEGEND_PLACES:
         legend = ax.legend(loc=place, **kwargs)
-        if not _legend_hits(ax, _drawn(fig)):
+        if not _legend_hits(ax, renderer):
             return legend
     return ax.legend(loc="upper left", bbox_to_anchor=(1.02, 1.0), borderaxespad=0.0, **kwargs)
 
@@ -209,12 +213,13 @@ SAMPLES_PER_SEGMENT = 24
 
 
 def _drawn(fig):
-    """Lay ``fig`` out and draw it (on an Agg canvas if it has none); its renderer."""
+    """Lay ``fig`` out as drawing it would, without rendering pixels (on an Agg canvas if it
+    has none); the renderer to measure it with."""
     from matplotlib.backends.backend_agg import FigureCanvasAgg
 
     if not hasattr(fig.canvas, "get_renderer"):
         FigureCanvasAgg(fig)
-    fig.canvas.draw()
+    fig.draw_without_rendering()
     return fig.canvas.get_renderer()
 
 

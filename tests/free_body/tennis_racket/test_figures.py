@@ -123,8 +123,8 @@ def test_covered_data_finds_a_legend_over_the_lines_and_place_legend_clears_it()
     assert len(problems) == 1 and problems[0].startswith("axes 0: the legend covers ")
     place_legend(ax)  # no clear place inside: beside the axes
     assert covered_data(fig) == []
-    ax.get_legend().remove()
     ax.plot([0.0, 1.0], [40.0, 40.0], label="apart")  # room between the lines
+    # placed again: the legend beside the axes is replaced by one in the room inside
     place_legend(ax)
     assert covered_data(fig) == []
     inside, legend = ax.get_window_extent(), ax.get_legend().get_window_extent()
