@@ -146,6 +146,41 @@ def test_signal_at_each_phase_loses_nothing_and_leaves_nothing(earlier, tmp_path
     assert snapshot(out).keys() == before.keys()
 
 
+def test_ctrl_c_while_a_figure_draws_takes_effect_after_that_figure(tmp_path):
+    """A real SIGINT sent while a study's figure is being drawn: the figure is finished (an
+    interrupt raised inside matplotlib's compiled code came out as another error, or a crash),
+    the next one is not begun, the Dataset's write ends, and KeyboardInterrupt follows."""
+    from stability.plotting.style import new_figure
+    from stability.study.outputs import write_outputs
+
+    ds = xr.Dataset({"x": ("n", np.arange(3.0), {"units": "1", "long_name": "x"})})
+    config = {"title": "t", "output": {"dataset": "d.nc", "figures": True, "formats": ["png"]}}
+    drawn = []
+
+    def first(ds):
+        fig = new_figure()
+        fig.subplots().plot(ds.x)
+        os.kill(os.getpid(), signal.SIGINT)  # Ctrl-C, in the middle of this figure
+        for _ in range(100):  # the interpreter runs a Python handler at the next instructions
+            time.sleep(0.001)
+        drawn.append("first")
+        return fig
+
+    def second(ds):
+        drawn.append("second")
+        return new_figure()
+
+    with pytest.raises(KeyboardInterrupt):
+        write_outputs(ds, config, tmp_path, "test", {"a": first, "b": second})
+    assert drawn == ["first"]
+    assert (tmp_path / "a.png").is_file() and not (tmp_path / "b.png").exists()
+    written = xr.load_dataset(tmp_path / "d.nc")  # the Dataset's write was let finish
+    np.testing.assert_array_equal(written.x, ds.x)
+    assert written.attrs["title"] == "t"
+    assert signal.getsignal(signal.SIGINT) is signal.default_int_handler  # given back
+
+
+
 def test_publication_killed_half_way_is_completed_by_the_next_run(tmp_path):
     out = tmp_path / "out"
     out.mkdir()

@@ -3,7 +3,7 @@ run leaves each whole or absent."""
 
 from __future__ import annotations
 
-
+from ..engine.run import deferred_interrupt
 from ..output.dataset import append_history, config_toml, software_attrs
 from ..output.io import saving
 from ..plotting.style import save
@@ -11,6 +11,7 @@ from ..util import conventions as cv
 from ..util.threads import numba_threads
 
 from .config import to_toml
+
 
 def output_files(config: dict, figures, extra=()) -> list[str]:
     """The files a run of ``config`` writes into its folder: the Dataset, the files named by the
@@ -27,6 +28,10 @@ def write_outputs(ds, config: dict, out_dir, name: str, figures: dict, *, overwr
     """Label ``ds`` and write what ``[output]`` asks for: the Dataset, ``config.toml`` and the
     figures, published together (:func:`stability.output.io.saving`: the write runs while the
     figures draw; an interruption publishes nothing).
+
+    Ctrl-C (and SIGTERM) take effect between two figures, as KeyboardInterrupt: raised inside
+    matplotlib's compiled drawing code, an interrupt came out as another error ("Invalid
+    affine transformation matrix") or crashed the process.
 
     Parameters
     ----------
@@ -68,11 +73,14 @@ def write_outputs(ds, config: dict, out_dir, name: str, figures: dict, *, overwr
         ds = append_history(ds, history or f"stability run ({name})")
     out = config["output"]
     files = [out_dir / out["dataset"]]
-    with saving(ds, files[0], overwrite=overwrite):
+    with deferred_interrupt() as stop, saving(ds, files[0], overwrite=overwrite):
         for file, text in {**(texts or {}), "config.toml": to_toml(config)}.items():
             (out_dir / file).write_text(text, encoding="utf-8")
             files.append(out_dir / file)
-        if out["figures"]:
-            for stem, draw in figures.items():
-                files += save(draw(ds), out_dir, stem, out["formats"])
+        for stem, draw in figures.items() if out["figures"] else ():
+            if stop.requested:
+                break
+            files += save(draw(ds), out_dir, stem, out["formats"])
+        if stop.requested:  # the Dataset's write ends first (leaving the block waits for it)
+            raise KeyboardInterrupt
     return ds, files
