@@ -76,6 +76,34 @@ def test_the_scene_draws_the_frames_rotations():
     assert missing_units(fig) == [] and fig.get_size_inches() * fig.dpi == pytest.approx(200)
 
 
+def test_ctrl_c_while_a_frame_draws_takes_effect_after_that_frame(tmp_path):
+    """A real SIGINT sent while frame 2 draws: that frame is finished, no later one begun, and
+    KeyboardInterrupt leaves no file and no partial file behind."""
+    import os
+    import signal
+    import time
+
+    from stability.plotting.animation import write_animation
+
+    scene = FlipScene(flip_frames(duration=1.0, fps=6), 160)
+    drawn = []
+    draw = scene.draw
+
+    def draw_and_interrupt(k):
+        draw(k)
+        if k == 2:
+            os.kill(os.getpid(), signal.SIGINT)
+            time.sleep(0.05)  # a Python handler runs at the next instructions
+        drawn.append(k)
+
+    scene.draw = draw_and_interrupt
+    with pytest.raises(KeyboardInterrupt):
+        write_animation(scene, tmp_path / "flip.gif", fps=6)
+    assert drawn == [0, 1, 2]
+    assert list(tmp_path.iterdir()) == []
+    assert signal.getsignal(signal.SIGINT) is signal.default_int_handler
+
+
 def test_the_top_nods_between_its_turning_tilts():
     top = HeavyTop.disk(mass=0.2, radius=0.03, length=0.05)
     frames = top_frames(top, spin=200.0, tilt=0.5, duration=0.6, fps=20, speed=1.0)

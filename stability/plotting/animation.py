@@ -18,6 +18,7 @@ import numpy as np
 from matplotlib.figure import Figure
 from matplotlib.ticker import MaxNLocator
 
+from ..engine.run import deferred_interrupt
 from ..util.checks import positive_float, positive_int
 from .style import label
 
@@ -94,7 +95,8 @@ def write_animation(scene, path, fps) -> Path:
     """Draw every frame of ``scene`` into ``path`` (.gif or .mp4); return the path.
 
     The file is written under a temporary name in the same folder and renamed when whole, so
-    an interrupted run leaves no truncated file.
+    an interrupted run leaves no truncated file. Ctrl-C takes effect between two frames (raised
+    inside matplotlib's compiled drawing code, it could come out as another error).
 
     Parameters
     ----------
@@ -116,8 +118,11 @@ def write_animation(scene, path, fps) -> Path:
     writer = PillowWriter(fps=fps) if path.suffix.lower() == ".gif" else FFMpegWriter(fps=fps)
     partial = path.with_name(f".{path.stem}.part{path.suffix}")
     try:
-        with writer.saving(scene.figure, str(partial), dpi=scene.dpi):
+        with deferred_interrupt() as stop, writer.saving(scene.figure, str(partial),
+                                                         dpi=scene.dpi):
             for k in range(scene.frames):
+                if stop.requested:
+                    raise KeyboardInterrupt
                 scene.draw(k)
                 writer.grab_frame()
         partial.replace(path)
