@@ -146,6 +146,8 @@ COVERED_ELSEWHERE = {
     "stability.util.checks": "tests/test_bad_input.py",
     "stability.util.conventions": "tests/free_body/test_ensemble.py",
     "stability.util.formatting": "tests/test_bad_input.py (sizes in the memory refusals)",
+    "stability.util.interrupts": "tests/test_faults.py, tests/test_animation.py, "
+                                 "tests/test_scene_ensemble.py (real SIGINTs)",
     "stability.version": "tests/test_cli.py",
 }
 

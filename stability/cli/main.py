@@ -247,7 +247,7 @@ def _terminate_as_interrupt():
         return terminated
 
     def handler(signum, frame):
-        from ..engine.run import request_stop
+        from ..util.interrupts import request_stop
 
         terminated.set()
         if request_stop():  # a run in progress ends after its chunk in flight

@@ -15,9 +15,7 @@ time and any grouping of ensembles into calls.
 
 from __future__ import annotations
 
-import contextlib
 import os
-import signal
 import sys
 import threading
 import time
@@ -28,6 +26,7 @@ import numba
 import numpy as np
 
 from ..registry import scene as registered_scene
+from ..util.interrupts import deferred_interrupt
 from .cache import compiling, load_module
 from .loop import BLOCK, CHECK_EVERY, N_TRACK, T_FIRST_A, T_FIRST_B, T_LAST_A, T_LAST_B
 from .loop import T_MAX_AMP2, T_NEXT_LEVEL, T_PREV_A, T_PREV_AMP2, T_PREV_B, T_COUNT_A
@@ -93,10 +92,11 @@ def compiled_loop(scene, spec, compensated=True):
 def loop_ready(advance, width, n_params) -> float:
     """Compile or load ``advance`` for the standard argument types; the seconds it took.
 
-    Ctrl-C (or SIGTERM, through :func:`request_stop`) during the compilation takes effect when
-    it ends, as KeyboardInterrupt: raised in the middle of Numba's and LLVM's work it can leave
-    their objects half built (a run stopped that way once ended in a segmentation fault at the
-    interpreter's exit, after its clean message). The compiled loop is cached all the same.
+    Ctrl-C (or SIGTERM, through :func:`~stability.util.interrupts.request_stop`) during the
+    compilation takes effect when it ends, as KeyboardInterrupt: raised in the middle of
+    Numba's and LLVM's work it can leave their objects half built (a run stopped that way once
+    ended in a segmentation fault at the interpreter's exit, after its clean message). The
+    compiled loop is cached all the same.
     """
     t0 = time.perf_counter()
     if advance.signatures:
@@ -322,8 +322,8 @@ def propagate_groups(
 ):
     """Advance groups of members of ``scene`` with ``method``, in the kernels' frame.
 
-    Ctrl-C (or :func:`request_stop`, which SIGTERM calls) stops the run after its chunk in
-    flight and raises KeyboardInterrupt, unless ``partial``.
+    Ctrl-C (or :func:`~stability.util.interrupts.request_stop`, which SIGTERM calls) stops the
+    run after its chunk in flight and raises KeyboardInterrupt, unless ``partial``.
 
     Parameters
     ----------
@@ -554,48 +554,6 @@ def run_in_chunks(run_chunk, sizes, total, done, k_saved, save_every, chunk_step
     if bar is not None:
         bar.close()
     return wall, interrupted
-
-
-class _Interrupt:
-    requested = False
-
-
-#: The flags of the runs in progress in the main thread, innermost last.
-_RUNNING: list = []
-
-
-@contextlib.contextmanager
-def deferred_interrupt():
-    """Turn Ctrl-C into a flag checked between chunks, so no half-finished chunk is lost.
-
-    A process that was started with Ctrl-C ignored (a background job of a script) keeps it
-    ignored; :func:`request_stop` still reaches the run. A run started inside another whose
-    stop was already requested (a member chunk set up after a Ctrl-C) starts stopped.
-    """
-    flag = _Interrupt()
-    if threading.current_thread() is not threading.main_thread():
-        yield flag
-        return
-    flag.requested = any(outer.requested for outer in _RUNNING)
-    previous = signal.getsignal(signal.SIGINT)
-    _RUNNING.append(flag)  # before the handler, so no Ctrl-C finds the list without it
-    try:
-        if previous is not signal.SIG_IGN:
-            signal.signal(signal.SIGINT, lambda signum, frame: request_stop())
-        yield flag
-    finally:
-        if previous is not signal.SIG_IGN:
-            signal.signal(signal.SIGINT, previous)
-        _RUNNING.remove(flag)
-
-
-def request_stop() -> bool:
-    """Stop the run in progress as Ctrl-C does, after its chunk in flight (a signal handler
-    calls this); False when no run is in progress."""
-    if not _RUNNING:
-        return False
-    _RUNNING[-1].requested = True
-    return True
 
 
 def _progress_bar(total, initial, label, unit):

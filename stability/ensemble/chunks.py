@@ -46,7 +46,8 @@ import numpy as np
 import xarray as xr
 
 from ..engine import propagate_groups
-from ..engine.run import Propagation, deferred_interrupt
+from ..engine.run import Propagation
+from ..util.interrupts import deferred_interrupt
 from ..output.io import READ
 from ..output.store import ChunkStore
 from ..output.stream import stream_chunks

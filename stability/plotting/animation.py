@@ -18,8 +18,8 @@ import numpy as np
 from matplotlib.figure import Figure
 from matplotlib.ticker import MaxNLocator
 
-from ..engine.run import deferred_interrupt
 from ..util.checks import positive_float, positive_int
+from ..util.interrupts import deferred_interrupt
 from .style import label
 
 #: Frames per second of the files by default (a GIF plays it exactly: 5 hundredths of a second).

@@ -3,11 +3,11 @@ run leaves each whole or absent."""
 
 from __future__ import annotations
 
-from ..engine.run import deferred_interrupt
 from ..output.dataset import append_history, config_toml, software_attrs
 from ..output.io import saving
 from ..plotting.style import save
 from ..util import conventions as cv
+from ..util.interrupts import deferred_interrupt
 from ..util.threads import numba_threads
 
 from .config import to_toml
