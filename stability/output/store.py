@@ -38,8 +38,9 @@ from pathlib import Path
 
 import netCDF4
 import numpy as np
+import pandas as pd
 import xarray as xr
-from xarray.indexes import RangeIndex
+from xarray.indexes import PandasIndex
 
 from ..util import conventions as cv
 from ..util.checks import folder_path
@@ -436,10 +437,12 @@ def open_store(directory) -> xr.Dataset:
         )
     finally:
         netCDF4.set_chunk_cache(*previous)
-    # Members are numbered by position: a range index, not 8 bytes a member in memory
-    # (0.8 GB for 1e8 members, read from every file and concatenated).
+    # Members are numbered by position: a pandas RangeIndex, not 8 bytes a member in memory
+    # (0.8 GB for 1e8 members, read from every file and concatenated). xarray's own RangeIndex
+    # did that too, but a Dataset holding it could not be printed (xarray 2026.9: its
+    # coordinate has no nbytes, which the repr sums).
     numbers = xr.Coordinates.from_xindex(
-        RangeIndex.arange(0, manifest["members"], 1, dim=cv.MEMBER, dtype="int64"))
+        PandasIndex(pd.RangeIndex(manifest["members"], name=cv.MEMBER), cv.MEMBER))
     ds = ds.assign_coords(numbers)
     ds[cv.MEMBER].attrs.update(variable_attrs(cv.MEMBER))
     ds.attrs = dict(manifest["attrs"])

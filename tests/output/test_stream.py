@@ -161,6 +161,19 @@ def test_unreachable_scheduler_is_one_clear_error(tmp_path, monkeypatch):
         stability.run_ensemble(**RUN, store=tmp_path / "t", scheduler="somewhere")
 
 
+def test_a_stored_run_prints_and_numbers_its_members_without_an_array(tmp_path):
+    import pandas as pd
+
+    ds = stability.run_ensemble(**RUN, store=tmp_path / "s", chunk_members=256)
+    text = repr(ds)  # as a notebook shows it: the repr sums every variable's bytes
+    assert "member" in text and "700" in text
+    assert "<div" in ds._repr_html_()
+    # member numbers: a range, not 8 bytes a member read from every file
+    assert isinstance(ds.indexes["member"], pd.RangeIndex)
+    np.testing.assert_array_equal(ds.member, np.arange(700))
+    assert isinstance(ds.isel(member=slice(100, 300)).indexes["member"], pd.RangeIndex)
+
+
 def test_history_and_status_tell_how_the_run_went(tmp_path):
     ds = stability.run_ensemble(**RUN, store=tmp_path / "s", chunk_members=256)
     last = ds.attrs["history"].splitlines()[-1]
