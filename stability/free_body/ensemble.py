@@ -117,7 +117,8 @@ def run_ensemble(
         method's ``max_step_angle`` (``stability.METHODS[method].max_step_angle``, 0.3 to 3
         rad) is labelled ``step_too_large``; if every member would be, the run is refused.
         By default the step angle is 0.02 rad (:func:`stability.free_body.timescales.default_step`),
-        and the Dataset says so in its ``h_rule`` attribute.
+        or a little less, so that a ``t_end`` given is a whole number of saved steps; the
+        Dataset says which in its ``h_rule`` attribute.
     t_end : float, optional
         Horizon in s: a whole number of steps, and of ``save_every`` steps. By default four flip
         intervals 2K/nu of the exact motion
@@ -254,11 +255,21 @@ def _default_timescales(body, axis, spin, epsilon, starts, h, t_end, save_every)
         w0 = nominal_start(a + 1, spin, nonnegative_float("epsilon", epsilon))[None, :]
     rules = {}
     if h is None:
-        h, rules["h_rule"] = default_step(float(np.max(max_angular_speed(body.moments, w0))))
+        h, rules["h_rule"] = default_step(float(np.max(max_angular_speed(body.moments, w0))),
+                                          *_given_horizon(t_end, save_every))
     if t_end is None:
         t_end, rules["t_end_rule"] = default_horizon(
             body, w0, positive_float("h", h, "s"), positive_int("save_every", save_every))
     return h, t_end, rules
+
+
+def _given_horizon(t_end, save_every) -> tuple:
+    """``(t_end, save_every)`` checked, for a default step to fit; ``()`` where either is
+    missing or wrong (:func:`plan_ensemble` names what is wrong)."""
+    try:
+        return (positive_float("t_end", t_end, "s"), positive_int("save_every", save_every))
+    except (TypeError, ValueError):
+        return ()
 
 
 def _run_ensemble(body, axis, spin, epsilon, members, *, h, t_end, seed, method, save_every,

@@ -40,10 +40,21 @@ def nominal_start(axis: int, spin: float, epsilon: float) -> np.ndarray:
     return w0
 
 
-def default_step(max_speed: float) -> tuple[float, str]:
-    """The step for a motion whose |w| reaches ``max_speed`` (rad/s), and the rule, in words."""
+def default_step(max_speed: float, t_end: float | None = None,
+                 save_every: int = 1) -> tuple[float, str]:
+    """The step for a motion whose |w| reaches ``max_speed`` (rad/s), and the rule, in words.
+
+    With a horizon ``t_end`` (s) given, the step is shortened to the largest ``t_end / N`` no
+    longer than that, ``N`` a multiple of ``save_every``, so that the horizon is a whole number
+    of saved steps.
+    """
     h = DEFAULT_STEP_ANGLE / max_speed
-    return h, f"h = {DEFAULT_STEP_ANGLE:g} rad / max|w| ({max_speed:.6g} rad/s), chosen by default"
+    rule = f"h = {DEFAULT_STEP_ANGLE:g} rad / max|w| ({max_speed:.6g} rad/s)"
+    if t_end is not None:
+        steps = save_every * max(1, math.ceil(t_end / (h * save_every) - 1e-9))
+        h = t_end / steps
+        rule += f", shortened to t_end / {steps}"
+    return h, rule + ", chosen by default"
 
 
 def default_horizon(body, starts, h: float, save_every: int = 1) -> tuple[float, str]:

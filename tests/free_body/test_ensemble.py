@@ -441,6 +441,14 @@ def test_one_line_start_chooses_step_and_horizon_from_the_physics():
     assert np.all(stable.flip_count.values == 0)
     assert stable.attrs["t_end"] == pytest.approx(
         DEFAULT_FLIPS * flip_interval(BODY, nominal_start(3, 1.0, 1e-3)), abs=0.05)
+    # a horizon given without a step: the default step, shortened so that the horizon is a
+    # whole number of saved steps (it was refused as not a whole number of steps)
+    fitted = run_ensemble(BODY, axis=2, spin=1.0, t_end=7.0, save_every=3, progress=False)
+    steps = round(7.0 / fitted.attrs["h"])
+    assert steps % 3 == 0 and steps * fitted.attrs["h"] == pytest.approx(7.0, rel=1e-14)
+    assert 1.0 <= h / fitted.attrs["h"] < 1.0 + 3 * h / 7.0  # no longer than the default
+    assert fitted.sizes["time"] == steps // 3 + 1
+    assert f"shortened to t_end / {steps}" in fitted.attrs["h_rule"]
 
 
 def test_ensembles_run_together_are_bitwise_the_ensembles_run_alone():
