@@ -12,13 +12,12 @@ import numpy as np
 import xarray as xr
 
 import stability
-from stability.free_body.ensemble import run_ensembles
 
 ratios = np.linspace(1.2, 3.0, 7)  # I3 / I1 with I2 halfway: (1, (1 + r) / 2, r)
 calls = [dict(body=stability.RigidBody(1.0, (1.0 + r) / 2, r), axis=axis, spin=1.0,
               epsilon=1e-4, members=16, h=0.01, t_end=30.0, summaries_only=True, seed=3)
          for r in ratios for axis in (1, 2, 3)]
-runs = run_ensembles(calls)
+runs = stability.run_ensembles(calls)
 measured = xr.DataArray(
     np.array([float(ds.stability.measured_omega_squared(low_factor=10.0, high_fraction=0.03)
                     .omega_squared_measured) for ds in runs]).reshape(ratios.size, 3),

@@ -33,14 +33,14 @@ __all__ = ["METHODS", "MethodSpec", "Part", "RigidBody", "__version__", "axis_st
            "exact_omega", "flip_interval", "full_period",
            "growth_rate", "integrate", "method_spec", "omega_squared", "oscillation_frequency"]
 
-from .free_body.ensemble import run_ensemble  # noqa: E402
+from .free_body.ensemble import run_ensemble, run_ensembles  # noqa: E402
 from .free_body.plan import ensemble_memory  # noqa: E402
 from .output.io import load, save  # noqa: E402
 from .engine.user_scene import define_scene  # noqa: E402
 from .ensemble.run import run_scene  # noqa: E402
 
 __all__ += ["animate_flip", "animate_top", "define_scene", "ensemble_memory", "load",
-            "run_ensemble", "run_scene", "save"]
+            "run_ensemble", "run_ensembles", "run_scene", "save"]
 __all__ += ["flip_statistics", "measured_frequency", "measured_growth_rate", "measured_omega_squared", "member_regimes"]  # noqa: E501
 
 moved.install()  # a moved module's old path still imports, with a warning
