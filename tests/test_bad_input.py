@@ -293,6 +293,12 @@ API = {
     "nudge beyond any step": (
         lambda: stability.run_ensemble(RACKET, 2, 10.0, 1e300, 10, h=2e-3, t_end=0.2),
         "epsilon = 1e+300 (of spin = 10 rad/s) is out of range"),
+    "a body at rest, no step given (integrate)": (
+        lambda: stability.integrate(RACKET, [0.0, 0.0, 0.0]),
+        "a body at rest has no time scale to choose the step from; give h and t_end"),
+    "a body at rest, no step given (run_ensemble)": (
+        lambda: stability.run_ensemble(RACKET, 2, starts=[[0.0, 0.0, 0.0]]),
+        "a body at rest has no time scale to choose the step from; give h and t_end"),
     "starts beyond any step": (
         lambda: stability.run_ensemble(RACKET, 2, starts=[[1e200, 1e200, 1.0]], h=2e-3,
                                        t_end=0.2),

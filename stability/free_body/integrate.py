@@ -1,4 +1,5 @@
-"""One trajectory, any registered method: ``integrate(body, w0, t_end, h, method)``.
+"""One trajectory, any registered method: ``integrate(body, w0, t_end, h, method)``; the
+horizon and the step chosen from the physics where they are not given.
 
 On scene ``free_body_attitude`` the body-to-space attitude quaternion comes too
 (``stability.free_body.attitude``); on ``free_body`` the run goes through the 3-number member loop
@@ -17,11 +18,13 @@ from .attitude import IDENTITY, attitude_spec, carries_attitude, propagate_attit
 from ..output.dataset import provenance_attrs, storable_attrs
 from .schema import TRAJECTORY
 from .propagate import propagate, untrusted
+from .starts import max_angular_speed
+from .timescales import default_horizon, default_step
 from ..integrators import method_spec
 
 
 def integrate(
-    body: RigidBody, w0, t_end, h, method="rk4", save_every=1, progress=None,
+    body: RigidBody, w0, t_end=None, h=None, method="rk4", save_every=1, progress=None,
     scene="free_body", q0=None,
 ):
     """Integrate the torque-free Euler equations from ``w0`` and return the trajectory.
@@ -31,10 +34,14 @@ def integrate(
     body : RigidBody
     w0 : array_like, shape (3,)
         Initial body-frame angular velocity in rad/s.
-    t_end : float
-        Final time in s; must be a whole number of steps.
-    h : float
-        Step size in s.
+    t_end : float, optional
+        Final time in s; must be a whole number of steps. By default four flip intervals 2K/nu
+        of the exact motion, rounded up to whole saved steps
+        (:func:`stability.free_body.timescales.default_horizon`).
+    h : float, optional
+        Step size in s. By default the step angle ``h max|w|`` is 0.02 rad, or a little less so
+        that a ``t_end`` given is a whole number of saved steps
+        (:func:`stability.free_body.timescales.default_step`).
     method : str, default "rk4"
         A name from ``stability.METHODS``.
     save_every : int, default 1
@@ -55,6 +62,7 @@ def integrate(
         attributes naming the body, the method, its order, ``h``, the run's status and the
         nonlinear-solver iterations (``solver_iterations``, 0 for explicit methods).
         After a non-finite or failed state the remaining samples are NaN and ``status`` says so.
+        A default step or horizon is said in ``h_rule`` or ``t_end_rule``.
         On scene ``free_body_attitude`` also ``q`` (time, quaternion_component), the unit
         quaternion of the body-to-space rotation (normalised on output), and ``q_norm_error``
         (time), the norm error ``|q| - 1`` of the quaternion the method carried (not
@@ -74,9 +82,16 @@ def integrate(
     if w0.ndim != 1:
         raise ValueError(f"w0 must have shape (3,) for integrate(), got {w0.shape}; "
                          "use run_ensemble for many starts")
-    t_end = positive_float("t_end", t_end, "s")
-    h = positive_float("h", h, "s")
     save_every = positive_int("save_every", save_every)
+    rules = {}
+    if t_end is not None:
+        t_end = positive_float("t_end", t_end, "s")
+    if h is None:
+        speed = float(max_angular_speed(body.moments, w0[None, :])[0])
+        h, rules["h_rule"] = default_step(speed, t_end, save_every)
+    h = positive_float("h", h, "s")
+    if t_end is None:
+        t_end, rules["t_end_rule"] = default_horizon(body, w0, h, save_every)
     n_steps = step_count(t_end, h)
     if n_steps % save_every:
         raise ValueError(
@@ -122,6 +137,7 @@ def integrate(
                 "status": cv.STATUS_MEANINGS.split()[status],
                 "interrupted": int(result.interrupted),
                 "solver_iterations": int(result.iterations[0]),
+                **rules,
             }
         ),
     )

@@ -48,6 +48,9 @@ def default_step(max_speed: float, t_end: float | None = None,
     longer than that, ``N`` a multiple of ``save_every``, so that the horizon is a whole number
     of saved steps.
     """
+    if not max_speed > 0.0:
+        raise ValueError("w = 0 at every start: a body at rest has no time scale to choose the "
+                         "step from; give h and t_end")
     h = DEFAULT_STEP_ANGLE / max_speed
     rule = f"h = {DEFAULT_STEP_ANGLE:g} rad / max|w| ({max_speed:.6g} rad/s)"
     if t_end is not None:

@@ -451,6 +451,29 @@ def test_one_line_start_chooses_step_and_horizon_from_the_physics():
     assert f"shortened to t_end / {steps}" in fitted.attrs["h_rule"]
 
 
+def test_integrate_chooses_step_and_horizon_from_the_physics_where_not_given():
+    """integrate(body, w0): the step angle 0.02 rad and four flip intervals, as run_ensemble
+    chooses them; the trajectory ends on the exact motion; a given horizon keeps its value."""
+    from stability.free_body.exact import flip_interval
+    from stability.free_body.timescales import DEFAULT_FLIPS, DEFAULT_STEP_ANGLE
+
+    w0 = np.array([1e-3, 1.0, 1e-3])
+    ds = stability.integrate(BODY, w0)
+    h, t_end = ds.attrs["h"], float(ds.time[-1])
+    speed = float(max_angular_speed(BODY.moments, w0[None])[0])
+    assert h * speed == pytest.approx(DEFAULT_STEP_ANGLE, rel=1e-12)
+    assert DEFAULT_FLIPS * flip_interval(BODY, w0) <= t_end < DEFAULT_FLIPS * flip_interval(
+        BODY, w0) + h
+    assert "0.02 rad" in ds.attrs["h_rule"] and "4 flip intervals" in ds.attrs["t_end_rule"]
+    # rk4 at 0.02 rad a step over four flips: the end state on the exact one to 1e-6
+    np.testing.assert_allclose(ds.w.values[-1], stability.exact_omega(BODY, w0, t_end),
+                               atol=1e-6 * speed)
+    given = stability.integrate(BODY, w0, 5.0, save_every=4)
+    assert float(given.time[-1]) == pytest.approx(5.0, rel=1e-14)
+    assert given.attrs["h"] <= h and "t_end_rule" not in given.attrs
+    assert round(5.0 / given.attrs["h"]) % 4 == 0
+
+
 def test_ensembles_run_together_are_bitwise_the_ensembles_run_alone():
     """run_ensembles: bodies, axes, steps, horizons and starts of every kind in one batch give
     Datasets whose variables are bitwise those of run_ensemble one call at a time."""
