@@ -1,11 +1,12 @@
 """A step and a horizon chosen from the physics of a spin, for runs that do not give them.
 
-``run_ensemble(body, axis=2, spin=10.0)`` needs no step and no horizon: the step keeps the angle
-turned per step, ``h max|w|``, at :data:`DEFAULT_STEP_ANGLE` (``max|w|`` over the motion,
-:func:`stability.free_body.starts.max_angular_speed`), and the horizon covers :data:`DEFAULT_FLIPS` flip
-intervals ``2K/nu`` of the exact motion (:func:`stability.free_body.exact.flip_intervals`): flips
-about the intermediate axis, half periods of the small oscillation ``pi / Omega`` about a stable
-one (Landau & Lifshitz, Mechanics, section 37). A motion that never flips (a sphere, a steady spin)
+``run_ensemble(body, axis=2, spin=10.0)`` and ``integrate(body, w0)`` need no step and no
+horizon: the step keeps the angle turned per step, ``h max|w|``, at :data:`DEFAULT_STEP_ANGLE`
+(``max|w|`` over the motion, :func:`stability.free_body.starts.max_angular_speed`), and the
+horizon covers :data:`DEFAULT_FLIPS` flip intervals ``2K/nu`` of the exact motion
+(:func:`stability.free_body.exact.flip_intervals`): flips about the intermediate axis, half
+periods of the small oscillation ``pi / Omega`` about a stable one (Landau & Lifshitz,
+Mechanics, section 37). A motion that never flips (a sphere, a steady spin)
 gets :data:`FALLBACK_TURNS` turns of the spin instead. Both rules are written into the Dataset
 (``h_rule``, ``t_end_rule``).
 """
