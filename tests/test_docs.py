@@ -76,6 +76,26 @@ def test_the_examples_in_the_docstrings_of_the_package_namespace_run():
     assert results.attempted >= 15 and results.failed == 0, results
 
 
+def test_the_readme_python_example_runs_and_says_what_it_claims(tmp_path, monkeypatch):
+    """The README's Python block runs as a reader copies it (its files go to a fresh folder),
+    and the values its comments state hold."""
+    blocks = re.findall(r"```python\n(.*?)```", (ROOT / "README.md").read_text(), re.S)
+    assert len(blocks) == 1
+    monkeypatch.chdir(tmp_path)
+    import numpy as np
+
+    names = {}
+    exec(compile(blocks[0], "README.md", "exec"), names)
+    stability = names["stability"]
+    assert f"{stability.growth_rate(names['body'], axis=2, spin=10.0):.3f}" == "9.048"
+    one = names["one"]
+    end = stability.exact_omega(names["body"], one.w.values[0], float(one.time[-1]))
+    assert abs(one.w.values[-1] - end).max() < 1e-6 * 10.0
+    w2 = one.w.values[:, 1]
+    assert np.sum(np.signbit(w2[1:]) != np.signbit(w2[:-1])) == 4  # four flips
+    assert {p.name for p in tmp_path.iterdir()} >= {"racket.nc", "flip.gif", "poinsot.png"}
+
+
 def test_every_name_in_the_api_reference_has_a_numpydoc_summary():
     missing = []
     for name in api_names():
