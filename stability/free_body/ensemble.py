@@ -44,18 +44,16 @@ from ..ensemble.memory import DEFAULT_MAX_MEMORY
 from .timescales import (
     DEFAULT_EPSILON,
     DEFAULT_MEMBERS,
-    default_horizon,
-    default_step,
+    default_timescales,
     nominal_start,
 )
 from ..util import conventions as cv
-from ..util.checks import (checked_progress, did_you_mean, positive_float, positive_int,
-                           vectors3)
+from ..util.checks import checked_progress, did_you_mean, positive_float, vectors3
 from ..util.threads import checked_threads, numba_threads
 from .plan import (DEFAULT_DIVERGENCE_TOLERANCE, NO_SPIN, NO_STARTS, EnsemblePlan,
                    plan_ensemble)
 from .results import RunPart, finish_run, members_dataset
-from .starts import axis_index, max_angular_speed, nonnegative_float
+from .starts import axis_index, nonnegative_float
 from .streamed import run_streamed
 
 
@@ -236,9 +234,9 @@ def _with_defaults(body, axis, spin, epsilon, members, starts, h, t_end, save_ev
 
 def _default_timescales(body, axis, spin, epsilon, starts, h, t_end, save_every):
     """``h`` and ``t_end``, each chosen from the physics where it is None
-    (:mod:`stability.free_body.timescales`), and the rules chosen, by attribute name. Arguments too
-    wrong
-    to choose from are left for :func:`plan_ensemble` to name."""
+    (:func:`stability.free_body.timescales.default_timescales`), and the rules chosen, by
+    attribute name. Arguments too wrong to choose from are left for :func:`plan_ensemble` to
+    name."""
     if (h is not None and t_end is not None) or not isinstance(body, RigidBody):
         return h, t_end, {}
     a = axis_index(axis)
@@ -253,23 +251,7 @@ def _default_timescales(body, axis, spin, epsilon, starts, h, t_end, save_every)
     else:
         spin = positive_float("spin", spin, "rad/s")
         w0 = nominal_start(a + 1, spin, nonnegative_float("epsilon", epsilon))[None, :]
-    rules = {}
-    if h is None:
-        h, rules["h_rule"] = default_step(float(np.max(max_angular_speed(body.moments, w0))),
-                                          *_given_horizon(t_end, save_every))
-    if t_end is None:
-        t_end, rules["t_end_rule"] = default_horizon(
-            body, w0, positive_float("h", h, "s"), positive_int("save_every", save_every))
-    return h, t_end, rules
-
-
-def _given_horizon(t_end, save_every) -> tuple:
-    """``(t_end, save_every)`` checked, for a default step to fit; ``()`` where either is
-    missing or wrong (:func:`plan_ensemble` names what is wrong)."""
-    try:
-        return (positive_float("t_end", t_end, "s"), positive_int("save_every", save_every))
-    except (TypeError, ValueError):
-        return ()
+    return default_timescales(body, w0, h, t_end, save_every)
 
 
 def _run_ensemble(body, axis, spin, epsilon, members, *, h, t_end, seed, method, save_every,

@@ -18,8 +18,7 @@ from .attitude import IDENTITY, attitude_spec, carries_attitude, propagate_attit
 from ..output.dataset import provenance_attrs, storable_attrs
 from .schema import TRAJECTORY
 from .propagate import propagate, untrusted
-from .starts import max_angular_speed
-from .timescales import default_horizon, default_step
+from .timescales import default_timescales
 from ..integrators import method_spec
 
 
@@ -83,15 +82,10 @@ def integrate(
         raise ValueError(f"w0 must have shape (3,) for integrate(), got {w0.shape}; "
                          "use run_ensemble for many starts")
     save_every = positive_int("save_every", save_every)
-    rules = {}
     if t_end is not None:
         t_end = positive_float("t_end", t_end, "s")
-    if h is None:
-        speed = float(max_angular_speed(body.moments, w0[None, :])[0])
-        h, rules["h_rule"] = default_step(speed, t_end, save_every)
+    h, t_end, rules = default_timescales(body, w0[None, :], h, t_end, save_every)
     h = positive_float("h", h, "s")
-    if t_end is None:
-        t_end, rules["t_end_rule"] = default_horizon(body, w0, h, save_every)
     n_steps = step_count(t_end, h)
     if n_steps % save_every:
         raise ValueError(

@@ -17,7 +17,9 @@ import math
 
 import numpy as np
 
+from ..util.checks import positive_float, positive_int
 from .exact import flip_intervals
+from .starts import max_angular_speed
 
 #: Default angle turned per step, h max|w| (rad): 314 steps a turn, well inside every method's
 #: ``max_step_angle`` (1 rad and more) and accurate to about 1e-6 in Omega^2 for lp2.
@@ -78,3 +80,23 @@ def default_horizon(body, starts, h: float, save_every: int = 1) -> tuple[float,
     unit = h * save_every
     t_end = max(1, math.ceil(wanted / unit - 1e-9)) * unit
     return t_end, f"t_end = {rule}, rounded up to whole saved steps, chosen by default"
+
+
+def default_timescales(body, starts, h=None, t_end=None, save_every=1) -> tuple:
+    """``(h, t_end, rules)`` for the motions from ``starts`` (N, 3), rad/s: each of ``h`` and
+    ``t_end`` that is None chosen by :func:`default_step` (over the largest ``|w|`` of any
+    start) and :func:`default_horizon`, and the rules chosen, by attribute name (``h_rule``,
+    ``t_end_rule``). A default step is fitted to a ``t_end`` given where it and ``save_every``
+    are valid; where they are not, they are returned as given, for the caller to name."""
+    rules = {}
+    if h is None:
+        try:
+            horizon = (positive_float("t_end", t_end, "s"), positive_int("save_every", save_every))
+        except (TypeError, ValueError):
+            horizon = ()  # none given, or one the caller's checks name
+        speed = float(np.max(max_angular_speed(body.moments, starts)))
+        h, rules["h_rule"] = default_step(speed, *horizon)
+    if t_end is None:
+        t_end, rules["t_end_rule"] = default_horizon(
+            body, starts, positive_float("h", h, "s"), positive_int("save_every", save_every))
+    return h, t_end, rules
