@@ -155,7 +155,7 @@ def test_loops_load_from_disk_and_compile_again_when_a_kernel_changes(tmp_path):
 
 def _loop_digests():
     """The digest naming each registered (scene, method) loop, as compiled_loop computes it."""
-    from stability.engine.cache import digest
+    from stability.engine.sources import digest
 
     out = {}
     for scene in SCENES.values():

@@ -11,11 +11,13 @@ import contextlib
 import fcntl
 import json
 import os
+import pickle
 import pwd
 import shutil
 import subprocess
 import sys
 import textwrap
+import threading
 import time
 from pathlib import Path
 
@@ -142,14 +144,14 @@ def modes(cache: Path) -> dict:
 
 
 @pytest.mark.parametrize("umask", [0o022, 0o002], ids=["022", "002"])
-def test_cache_files_have_the_mode_the_umask_gives(umask, made):
+def test_cache_files_are_writable_by_their_owner_alone_whatever_the_umask(umask, made):
     """Every folder and file a cold run creates (rendered loop, lock file, Numba's index and
-    machine code) has the mode 0777 or 0666 less the umask, so other users of a shared cache
-    can read it (and, under umask 002, its group can lock and write). The rendered loop was
-    0600: every other user got "Permission denied"."""
+    machine code) has the mode 0755 or 0644 less the umask: others can read a shared cache,
+    and no one but its owner can write it, so that the trust rule holds it. Under umask 002
+    they were 0775 and 0664, and any member of the group could plant code in them."""
     cache = made[umask]
     assert set(loop_files(cache)) == {"py", "lock", "nbi", "nbc"}
-    expected = {name: (0o777 if (cache / name).is_dir() else 0o666) & ~umask
+    expected = {name: (0o755 if (cache / name).is_dir() else 0o644) & ~umask
                 for name in modes(cache)}
     assert modes(cache) == expected
 
@@ -163,7 +165,7 @@ def nobody(tmp_path):
     Nobody is given CAP_DAC_READ_SEARCH, so that it can reach the interpreter and the test's
     files wherever they are (a Python under /root, pytest's 0700 temporary folders); it reads
     past permissions, but writes nothing it may not (what the umask lets others read is
-    :func:`test_cache_files_have_the_mode_the_umask_gives`).
+    :func:`test_cache_files_are_writable_by_their_owner_alone_whatever_the_umask`).
     """
     setpriv = shutil.which("setpriv")
     if setpriv is None or os.geteuid() != 0:
@@ -267,3 +269,253 @@ def test_a_run_waiting_for_a_compile_says_so_then_loads_it(work, warm, tmp_path)
     assert lock_file.stem in err[0].replace(str(lock_file), "")
     result = json.loads(proc.stdout.read().strip().splitlines()[-1])
     assert (result["misses"], result["hits"]) == (0, 1)
+
+
+# --- the trust rule: nothing someone else could have written is run or unpickled --------------
+
+class Plant:
+    """A pickle that, once loaded, leaves the file ``marker``: what an attacker would plant."""
+
+    def __init__(self, marker):
+        self.marker = str(marker)
+
+    def __reduce__(self):
+        return (os.system, (f"touch {self.marker}",))
+
+
+def seeded_home(warm, tmp_path) -> Path:
+    """A home whose own cache holds the loop's machine code, so a fallback to it needs no
+    compile (the rendered file is written there by the run)."""
+    home = tmp_path / "home"
+    shutil.copytree(warm / "loops" / "__pycache__",
+                    home / ".cache" / "stability" / "loops" / "__pycache__")
+    return home
+
+
+def test_a_planted_pyc_beside_a_loop_is_never_run(work, warm, tmp_path):
+    """A ``.pyc`` for the rendered loop in ``__pycache__``, matching its file's time and size:
+    the run executes the bytes it rendered and checked, not the planted code, and stays warm
+    without a word. Python's loader ran the ``.pyc``."""
+    import importlib.util
+    from importlib._bootstrap_external import _code_to_timestamp_pyc
+
+    cache = copy_of(warm, tmp_path)
+    source = loop_files(cache)["py"]
+    marker = tmp_path / "planted-code-ran"
+    planted = compile(f"open({str(marker)!r}, 'w').close()\n" + source.read_text(),
+                      str(source), "exec")
+    st = source.stat()
+    Path(importlib.util.cache_from_source(str(source))).write_bytes(
+        _code_to_timestamp_pyc(planted, st.st_mtime, st.st_size))
+    result, err = run(work, cache)
+    assert not marker.exists()
+    assert (result["misses"], result["hits"], err) == (0, 1, [])
+
+
+def give_to_nobody(path):
+    os.chown(path, NOBODY, NOBODY, follow_symlinks=False)
+
+
+@pytest.mark.parametrize("entry, spoil, words", [
+    ("nbi", give_to_nobody, "belongs to user nobody"),
+    ("nbc", lambda path: path.chmod(0o664), "is writable by its group"),
+    ("pycache", lambda path: path.chmod(0o777), "is writable by every user"),
+    ("loops", give_to_nobody, "belongs to user nobody"),
+    ("nbi-link", None, "is a symbolic link"),
+], ids=["index-of-another-user", "group-writable-machine-code", "folder-open-to-all",
+        "loops-of-another-user", "index-a-link"])
+def test_a_cache_someone_else_could_have_written_is_never_unpickled(entry, spoil, words, work,
+                                                                    warm, tmp_path):
+    """Numba's index and machine code are pickles, which run code when loaded. One planted in
+    a cache that fails the trust rule (a file or folder of another user's, one its group or
+    every user may write, a link) is never loaded: the run keeps the loop in the user's own
+    cache instead, with one warning naming the cache and why, and its numbers are right. The
+    planted pickle ran, and the run ended normally."""
+    if os.geteuid() != 0 and spoil is give_to_nobody:
+        pytest.skip("giving a file away needs root")
+    cache = copy_of(warm, tmp_path)
+    files = loop_files(cache)
+    marker = tmp_path / "planted-pickle-ran"
+    plant = pickle.dumps(Plant(marker))
+    target = files["nbc" if entry == "nbc" else "nbi"]
+    target.write_bytes(plant)
+    if entry == "nbi-link":
+        elsewhere = tmp_path / "elsewhere.nbi"
+        elsewhere.write_bytes(plant)
+        target.unlink()
+        target.symlink_to(elsewhere)
+        problem = target
+    else:
+        problem = {"nbi": target, "nbc": target, "pycache": target.parent,
+                   "loops": cache / "loops"}[entry]
+        spoil(problem)
+    result, err = run(work, cache, home=seeded_home(warm, tmp_path))
+    assert not marker.exists()
+    assert (result["misses"], result["hits"]) == (0, 1)
+    assert len(err) == 1, err
+    assert f"cannot use the compiled-loop cache {cache / 'loops'} ({problem} {words}" in err[0]
+    assert str(tmp_path / "home" / ".cache" / "stability" / "loops") in err[0]
+
+
+def test_a_group_or_an_owner_named_by_the_user_is_trusted_with_a_shared_cache(work, warm,
+                                                                               tmp_path):
+    """A cache prepared by another account (here nobody's), or written by a group whose
+    members may all compile into it (group-writable, ``$STABILITY_CACHE_GROUP``): named by the
+    user, it is loaded warm without a word; unnamed, it is not loaded (one warning)."""
+    if os.geteuid() != 0:
+        pytest.skip("giving a file away needs root")
+    cache = copy_of(warm, tmp_path)
+    for path in [cache, *cache.rglob("*")]:
+        give_to_nobody(path)
+    result, err = run(work, cache, home=seeded_home(warm, tmp_path))
+    assert len(err) == 1 and "belongs to user nobody" in err[0], err
+    os.environ["STABILITY_CACHE_OWNER"] = "nobody"
+    try:
+        result, err = run(work, cache)
+    finally:
+        del os.environ["STABILITY_CACHE_OWNER"]
+    assert (result["misses"], result["hits"], err) == (0, 1, [])
+
+    shared = copy_of(warm, tmp_path / "group")
+    for path in [shared, *shared.rglob("*")]:
+        os.chown(path, os.getuid(), 0)
+        path.chmod(path.stat().st_mode | 0o020)
+    os.environ["STABILITY_CACHE_GROUP"] = "0"
+    try:
+        result, err = run(work, shared)
+    finally:
+        del os.environ["STABILITY_CACHE_GROUP"]
+    assert (result["misses"], result["hits"], err) == (0, 1, [])
+
+
+def test_a_rendered_loop_swapped_after_its_check_is_not_what_runs(tmp_path, monkeypatch,
+                                                                  caplog):
+    """Another process replaces the rendered file again and again while loops are loaded: the
+    module run is always the one rendered. The file was read twice (checked, then imported),
+    and about 5 % of loads ran the planted one."""
+    from stability.engine import cache as loop_cache
+    from stability.engine.sources import digest
+
+    monkeypatch.setenv("STABILITY_CACHE_DIR", str(tmp_path / "cache"))
+    source = "WHO = 'rendered'\n"
+    path = loop_cache.cache_dir() / f"race__{digest(source, ())[:20]}.py"
+    name = f"{loop_cache.MODULE_PREFIX}__race__{digest(source, ())[:20]}"
+    loop_cache.load_module("race", source, ())
+    stop, swaps = threading.Event(), [0]
+
+    def swap():
+        while not stop.is_set():
+            for text in ("WHO = 'planted'\n", source):
+                tmp = path.with_name(f"swap-{swaps[0]}")
+                tmp.write_text(text)
+                os.replace(tmp, path)
+                swaps[0] += 1
+
+    swapper = threading.Thread(target=swap, daemon=True)
+    swapper.start()
+    try:
+        seen = set()
+        for _ in range(300):
+            sys.modules.pop(name)
+            seen.add(loop_cache.load_module("race", source, ()).WHO)
+    finally:
+        stop.set()
+        swapper.join()
+    assert swaps[0] > 100
+    assert seen == {"rendered"}
+
+
+# --- the compile lock ---------------------------------------------------------------------------
+
+def test_a_lock_file_planted_as_a_link_truncates_nothing(work, warm, tmp_path):
+    """The loop's lock file is a link to a file of the user's: the cache is not used (one
+    warning naming the link), the run is right, and the file linked to is untouched. A cold
+    run opened the lock through the link and truncated that file."""
+    cache = copy_of(warm, tmp_path)
+    shutil.rmtree(cache / "loops" / "__pycache__")
+    victim = tmp_path / "precious.txt"
+    victim.write_text("a file the user cares about\n")
+    lock_file = loop_files(cache)["lock"]
+    lock_file.unlink()
+    lock_file.symlink_to(victim)
+    result, err = run(work, cache, home=seeded_home(warm, tmp_path))
+    assert (result["misses"], result["hits"]) == (0, 1)
+    assert len(err) == 1 and f"{lock_file} is a symbolic link" in err[0], err
+    assert victim.read_text() == "a file the user cares about\n"
+
+
+def test_a_lock_file_is_never_truncated_nor_waited_on_when_it_is_a_fifo(tmp_path):
+    """An existing lock file of the user's keeps its length (the holder's record is written
+    over its start); a FIFO at its name, another user's lock, a hard link to another file:
+    no lock, at once (the loop is compiled without it)."""
+    from stability.engine.cache import LOCK_RECORD, _CompileLock
+
+    lock_file = tmp_path / "loop.lock"
+    lock_file.write_bytes(b"x" * 1000)
+    lock = _CompileLock(lock_file)
+    assert lock.acquire()
+    assert lock_file.read_bytes()[:LOCK_RECORD].decode().startswith(f"{os.getpid()} on ")
+    lock.release()
+    assert lock_file.stat().st_size == 1000
+
+    fifo = tmp_path / "fifo.lock"
+    os.mkfifo(fifo)
+    outcome = []
+    taker = threading.Thread(target=lambda: outcome.append(_CompileLock(fifo).acquire()),
+                             daemon=True)
+    taker.start()
+    taker.join(timeout=10)
+    assert outcome == [False]
+
+    other = tmp_path / "elsewhere"
+    other.write_text("keep")
+    os.link(other, tmp_path / "linked.lock")
+    assert not _CompileLock(tmp_path / "linked.lock").acquire()
+    if os.geteuid() == 0:
+        theirs = tmp_path / "theirs.lock"
+        theirs.write_text("")
+        give_to_nobody(theirs)
+        assert not _CompileLock(theirs).acquire()
+
+
+# --- the private fallback -----------------------------------------------------------------------
+
+@pytest.mark.parametrize("case", ["link-to-a-shared-folder", "open-to-others",
+                                  "another-users", "loops-a-link"])
+def test_a_private_folder_in_the_way_is_passed_over_for_a_fresh_one(case, tmp_path,
+                                                                    monkeypatch):
+    """``$TMPDIR/stability-<uid>``, where a process keeps loops it can keep nowhere else, is a
+    link to a folder every user may write (it passed the owner check, through the link), open
+    to others, another user's, or holds ``loops`` as a link: it is passed over for a fresh
+    private folder (mode 0700), and the loops are kept there."""
+    import tempfile
+
+    from stability.engine import cache as loop_cache
+
+    if case == "another-users" and os.geteuid() != 0:
+        pytest.skip("giving a folder away needs root")
+    temp = tmp_path / "tmp"
+    temp.mkdir()
+    monkeypatch.setattr(tempfile, "tempdir", str(temp))
+    monkeypatch.setattr(loop_cache, "_FRESH", [])
+    monkeypatch.setenv("XDG_CACHE_HOME", str(tmp_path / "cache"))
+    monkeypatch.delenv("STABILITY_CACHE_DIR", raising=False)
+    folder = temp / f"stability-{os.getuid()}"
+    shared = tmp_path / "shared"
+    shared.mkdir()
+    shared.chmod(0o1777)
+    if case == "link-to-a-shared-folder":
+        folder.symlink_to(shared)
+    else:
+        folder.mkdir(mode=0o700)
+    if case == "open-to-others":
+        folder.chmod(0o755)
+    if case == "another-users":
+        give_to_nobody(folder)
+    if case == "loops-a-link":
+        (folder / "loops").symlink_to(shared)
+    [place] = list(loop_cache.private_dirs())
+    assert place.root != folder and place.root.parent == temp
+    assert place.root.stat().st_mode & 0o777 == 0o700
+    path = place.take("probe.py", b"X = 1\n")
+    assert path.parent == place.folder and list(shared.iterdir()) == []
