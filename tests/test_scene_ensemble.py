@@ -172,3 +172,25 @@ def test_a_scenes_dataset_made_on_a_dask_cluster_is_bitwise_the_one_made_here(tm
     for name in here.variables:
         assert np.array_equal(there[name].values, here[name].values, equal_nan=True), name
     assert_declared(stability.save(there, tmp_path / "top.nc"), "scene_run")
+
+
+def test_a_registered_scene_takes_its_parameters_by_name_as_a_users_scene_does():
+    """sphere_damper names (I1, I2, I3, J, c): a mapping by name is the numbers in that order,
+    and one that names them wrong is one line giving the order."""
+    scene = SCENES["sphere_damper"]
+    x0, sets = scene.example(3)
+    by_name = dict(zip(scene.parameters, sets[0]))
+    kwargs = dict(h=0.05, n_steps=20, progress=False)
+    named = stability.run_scene(scene, "rk4", x0, by_name, **kwargs)
+    ordered = stability.run_scene(scene, "rk4", x0, sets[0], **kwargs)
+    for name in ordered.variables:
+        assert np.array_equal(named[name].values, ordered[name].values, equal_nan=True), name
+    assert named.J.item() == sets[0][3]
+    with pytest.raises(ValueError) as info:
+        stability.run_scene(scene, "rk4", x0, {**by_name, "K": 1.0}, **kwargs)
+    assert str(info.value) == (
+        "parameter set 0: scene 'sphere_damper': the parameter set must name exactly I1, I2, "
+        "I3, J, c (or give those numbers in that order); unknown: K")
+    with pytest.raises(ValueError, match="scene 'heavy_top' does not name its parameters"):
+        stability.run_scene("heavy_top", "lp2", SCENES["heavy_top"].example(2)[0],
+                            {"I1": 1.0}, **kwargs)

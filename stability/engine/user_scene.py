@@ -110,7 +110,8 @@ class ParameterRow:
             if unknown or missing:
                 raise ValueError(
                     f"scene {self.scene!r}: the parameter set must name exactly "
-                    f"{', '.join(self.names) or 'nothing'}"
+                    f"{', '.join(self.names) or 'nothing'} (or give those numbers in that "
+                    "order)"
                     + (f"; unknown: {', '.join(map(str, unknown))}" if unknown else "")
                     + (f"; missing: {', '.join(missing)}" if missing else "")
                 )

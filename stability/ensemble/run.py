@@ -141,7 +141,7 @@ def run_scene(scene, method, x0, parameters, *, h, n_steps, sizes=None, save_eve
         raise ValueError(f"x0 must be finite; its row {row} is not")
     if x0.shape[0] == 0:
         raise ValueError(f"x0 has no rows: give at least one member, a row of {width} numbers")
-    sets = _parameter_sets(parameters)
+    sets = _in_order(scene, spec, _parameter_sets(parameters))
     groups = len(sets)
     n = x0.shape[0]
     sizes = _sizes(sizes, groups, n)
@@ -399,6 +399,26 @@ def _parameter_sets(parameters) -> list:
     if not sets:
         raise ValueError("parameters must hold at least one parameter set (one per group)")
     return sets
+
+
+def _in_order(scene, spec, sets) -> list:
+    """The sets of a registered scene that names its parameters as its numbers in that order
+    (a mapping by name taken as a user scene takes it); the others as given."""
+    if isinstance(spec.params, ParameterRow):
+        return sets  # a scene of the user's: its methods take mappings themselves
+    if not scene.parameters:
+        if any(isinstance(values, Mapping) for values in sets):
+            raise ValueError(f"scene {scene.name!r} does not name its parameters: give each "
+                             "set as the numbers its methods take, not a mapping")
+        return sets
+    row = ParameterRow(scene.name, scene.parameters)
+    out = []
+    for g, values in enumerate(sets):
+        try:
+            out.append(row.values(values) if isinstance(values, Mapping) else values)
+        except ValueError as exc:
+            raise ValueError(f"parameter set {g}: {_one_line(exc)}") from None
+    return out
 
 
 def _sizes(sizes, groups, n) -> np.ndarray:
