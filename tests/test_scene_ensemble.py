@@ -194,3 +194,23 @@ def test_a_registered_scene_takes_its_parameters_by_name_as_a_users_scene_does()
     with pytest.raises(ValueError, match="scene 'heavy_top' does not name its parameters"):
         stability.run_scene("heavy_top", "lp2", SCENES["heavy_top"].example(2)[0],
                             {"I1": 1.0}, **kwargs)
+
+
+def test_the_level_coordinate_of_a_scenes_run_holds_the_levels(tmp_path):
+    """As run_ensemble's: the values in the tracked units, not 0, 1, 2; levels given per group
+    are all of them, a member's passage times NaN at the other groups' levels."""
+    scene = SCENES["heavy_top"]
+    x0, tops = scene.example(5)
+    kwargs = dict(h=0.05, n_steps=40, axes=[1, 0, 2], tracked_units="1", progress=False)
+    one = stability.run_scene(scene, "lp2", x0, tops[0], levels=[1e-2, 5e-2, 0.3], **kwargs)
+    assert one.level.values.tolist() == [1e-2, 5e-2, 0.3]
+    assert one.level.attrs["units"] == "1" and "levels" not in one
+    assert_declared(stability.save(one, tmp_path / "top.nc"), "scene_run")
+    two = stability.run_scene(scene, "lp2", x0, tops[:2], sizes=[3, 2],
+                              levels=[[1e-2, 0.3], [5e-2, 0.3]], **kwargs)
+    assert two.level.values.tolist() == [1e-2, 5e-2, 0.3]
+    passage = two.passage_time.values
+    assert np.isnan(passage[:3, 1]).all() and np.isnan(passage[3:, 0]).all()
+    assert np.array_equal(passage[:3, [0, 2]], one.passage_time.values[:3, [0, 2]],
+                          equal_nan=True)
+    assert not np.isnan(passage[:, 2]).all()

@@ -78,7 +78,9 @@ def run_scene(scene, method, x0, parameters, *, h, n_steps, sizes=None, save_eve
         Turns tracking on: the components (numbered from 0) the scene's ``observe`` reads as
         the spin axis and the two across it; the Dataset gains the tracked events.
     levels : array_like, shape (L,) or (G, L), optional
-        Ascending amplitude levels (with ``axes``) for the passage times.
+        Ascending amplitude levels (with ``axes``) for the passage times, the Dataset's
+        ``level`` coordinate (levels given per group: all of them, a member's passage times
+        NaN at those of the other groups).
     tracked_units : str, optional
         Units of what the scene tracks (the amplitude and the levels); by default those of
         the components read, for a scene that tracks its components (a scene of the user's
@@ -294,9 +296,10 @@ class SceneMeasure:
             data[f"{name}_drift"] = self._drift(invariant, x0, x1, group, ok)
         if self.axes is not None:
             tracked = self._tracked(run.extras, ok)
-            data.update(tracked)
             if "passage_time" in tracked:
-                coords[LEVEL] = np.arange(self.levels.shape[1], dtype=np.int64)
+                coords[LEVEL], tracked["passage_time"] = self._at_levels(
+                    tracked["passage_time"], group)
+            data.update(tracked)
         data["members"] = self.sizes
         data["h"] = self.h
         data["n_steps"] = self.n_steps
@@ -306,8 +309,6 @@ class SceneMeasure:
             data["parameters"] = self.numbers
         if self.axes is not None:
             data["tracked_components"] = self.axes
-            if self.levels.shape[1]:
-                data["levels"] = self.levels
         return xr.Dataset(declared.entries(data), coords=declared.entries(coords),
                           attrs=storable_attrs(self._attrs(scene, spec, part, run)))
 
@@ -331,6 +332,17 @@ class SceneMeasure:
                 drift[rows] = np.where(start != 0.0, (end - start) / np.abs(start), np.nan)
         drift[~ok] = np.nan
         return drift
+
+    def _at_levels(self, passage, group):
+        """The levels of every group, ascending, and each member's passage times at them (NaN
+        at the levels of other groups than its own)."""
+        levels = np.unique(self.levels)
+        if levels.size == self.levels.shape[1]:  # one list for every group
+            return levels, passage
+        out = np.full((passage.shape[0], levels.size), np.nan)
+        columns = np.searchsorted(levels, self.levels[group])
+        out[np.arange(passage.shape[0])[:, None], columns] = passage
+        return levels, out
 
     def _tracked(self, extras, ok) -> dict:
         out = {}

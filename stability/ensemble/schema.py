@@ -518,8 +518,9 @@ SCENE_RUN = SceneSchema(
         _GROUP: coordinate(_GROUP, ONE, "group of members (one parameter set, step and step "
                            "count)", kind="i"),
         TIME: time_coordinate(optional=_SERIES),
-        LEVEL: coordinate(LEVEL, ONE, "number of the tracked amplitude level", kind="i",
-                          optional=_TRACKING),
+        LEVEL: coordinate(LEVEL, _TRACKED_UNITS, "amplitude level across the spin axis of the "
+                          "passage times", optional="runs that track at levels (axes and "
+                          "levels given)", comment="the levels of every group, ascending"),
         COMPONENT: variable((MEMBER, TIME), _OWN, f"{COMPONENT} (state component) at each saved "
                             "time", optional=_SERIES, comment=_COMPONENT_VALUE + "; NaN past the "
                             "end of a shorter group"),
@@ -559,8 +560,9 @@ SCENE_RUN = SceneSchema(
                                        optional=_TRACKING),
         "passage_time": variable((MEMBER, LEVEL), SECOND, "first time the amplitude across the "
                                  "spin axis reaches the level", optional=_TRACKING,
-                                 comment="NaN where the level was never reached; 0 where the "
-                                     "start is above it"),
+                                 comment="NaN where the level was never reached or is one "
+                                     "of another group's levels only; 0 where the start is "
+                                     "above it"),
         "members": variable(_GROUP, ONE, "members of the group", kind="i"),
         "h": variable(_GROUP, SECOND, "integration step h"),
         "n_steps": variable(_GROUP, ONE, "steps of the run", kind="i"),
@@ -572,8 +574,6 @@ SCENE_RUN = SceneSchema(
         "tracked_components": variable((_GROUP, _TRACK), ONE, "state components the tracking "
                                        "reads (spin axis, then the two across it), numbered from 0",
                                        kind="i", optional=_TRACKING),
-        "levels": variable((_GROUP, LEVEL), _TRACKED_UNITS, "amplitude levels of the passage times",
-                           optional=_TRACKING),
     }, note=(
         "Its variables are named from the scene: a name holding `<component>` stands for one "
         "variable per state component (its units the component's), `<parameter>` one per "
