@@ -169,6 +169,7 @@ def test_a_scenes_dataset_made_on_a_dask_cluster_is_bitwise_the_one_made_here(tm
             distributed.Client(cluster) as client:
         there = stability.run_scene("heavy_top", "lp2", x0, tops, store=tmp_path / "store",
                                     chunk_members=5, scheduler=client, **kwargs)
+    assert there.attrs["wall_time"] > 0 and there.attrs["chunk_time"] > 0  # elapsed, summed
     for name in here.variables:
         assert np.array_equal(there[name].values, here[name].values, equal_nan=True), name
     assert_declared(stability.save(there, tmp_path / "top.nc"), "scene_run")
@@ -214,3 +215,42 @@ def test_the_level_coordinate_of_a_scenes_run_holds_the_levels(tmp_path):
     assert np.array_equal(passage[:3, [0, 2]], one.passage_time.values[:3, [0, 2]],
                           equal_nan=True)
     assert not np.isnan(passage[:, 2]).all()
+
+
+@pytest.mark.parametrize("kind", ["scene", "free body"])
+def test_a_stored_runs_wall_time_is_its_elapsed_time_and_chunk_time_the_chunks_sum(tmp_path,
+                                                                                   kind):
+    """wall_time is the seconds from the first chunk's start to the last one's end (here, in
+    turn, at least the chunks' loop times together), chunk_time those loop times summed, the
+    rate over wall_time; a finished store opened again keeps what it recorded."""
+    import time
+
+    import xarray as xr
+
+    store = tmp_path / "store"
+    if kind == "scene":
+        scene = SCENES["heavy_top"]
+        x0, tops = scene.example(12)
+        run = lambda **more: stability.run_scene(  # noqa: E731
+            scene, "lp2", x0, tops[0], h=0.05, n_steps=200, store=store, chunk_members=3,
+            progress=False, **more)
+        steps = 12 * 200
+    else:
+        body = stability.RigidBody(1.0, 2.0, 3.0)
+        run = lambda **more: stability.run_ensemble(  # noqa: E731
+            body, 2, 1.0, 0.1, 12, h=0.1, t_end=20.0, summaries_only=True, store=store,
+            chunk_members=3, progress=False, **more)
+        steps = 12 * 200
+    t0 = time.perf_counter()
+    ds = run()
+    outer = time.perf_counter() - t0
+    attrs = ds.attrs
+    loops = [float(xr.open_dataset(path, decode_times=False).attrs["wall_time"])
+             for path in sorted(store.glob("chunk-*.nc"))]
+    assert len(loops) == 4 and attrs["chunks"] == 4
+    assert attrs["chunk_time"] == pytest.approx(sum(loops), rel=1e-12)
+    assert attrs["chunk_time"] <= attrs["wall_time"] <= outer
+    assert attrs["member_steps_per_second"] == pytest.approx(steps / attrs["wall_time"])
+    again = run(resume=True)
+    assert again.attrs["wall_time"] == attrs["wall_time"]
+    assert again.attrs["member_steps_per_second"] == attrs["member_steps_per_second"]

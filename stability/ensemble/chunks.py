@@ -49,7 +49,7 @@ from ..engine import propagate_groups
 from ..engine.run import Propagation
 from ..util.interrupts import deferred_interrupt
 from ..output.io import READ
-from ..output.store import ChunkStore
+from ..output.store import ChunkStore, read_manifest
 from ..output.stream import stream_chunks
 from ..engine.scene import Scene
 from ..registry import scene as registered_scene
@@ -282,9 +282,9 @@ def propagate_stored(run: GroupedRun, store=None, *, measure=None, resume=False,
         The measurement each chunk is kept as (:class:`ChunkJob`); the result is then the
         measured Dataset. It may also have ``identity(run) -> dict``, what makes the run what it
         is for the store's fingerprint (default: the run's :meth:`GroupedRun.identity` and the
-        measurement's class), and ``whole_attrs(chunks, todo) -> dict``, the attributes of the
-        whole Dataset from the store and the chunks this call ran (default
-        :func:`summed_attrs`).
+        measurement's class), and ``whole_attrs(chunks, todo, elapsed) -> dict``, the
+        attributes of the whole Dataset from the store, the chunks this call ran and the
+        seconds they took (default :func:`summed_attrs`).
     resume : bool, default False
         Finish a run of the same members stopped earlier (only the missing chunks run).
     scheduler : str or distributed.Client, optional
@@ -343,12 +343,15 @@ def propagate_stored(run: GroupedRun, store=None, *, measure=None, resume=False,
                     "software": f"stability {__version__}"}
     chunks = ChunkStore(store, identity, n, chunk_members, resume=resume)
     try:
-        todo = stream_chunks(ChunkJob(run, measure), chunks, scheduler=scheduler,
-                             threads=threads, progress=progress,
-                             compress=measure is not None if compress is None else compress)
+        streamed = stream_chunks(ChunkJob(run, measure), chunks, scheduler=scheduler,
+                                 threads=threads, progress=progress,
+                                 compress=measure is not None if compress is None else compress)
         if measure is not None:
+            if not streamed.todo and read_manifest(chunks.dir)["complete"]:
+                return chunks.open()  # finished before: its attributes as recorded then
             whole = getattr(measure, "whole_attrs", None)
-            chunks.complete(whole(chunks, todo) if whole is not None else summed_attrs(chunks))
+            chunks.complete(whole(chunks, *streamed) if whole is not None
+                            else summed_attrs(chunks, streamed.elapsed))
             return chunks.open()
         parts = []
         for k in range(chunks.n_chunks):
@@ -404,9 +407,11 @@ def _in_chunks(run: GroupedRun, chunk_members, progress, partial) -> Propagation
         extras={name: np.concatenate([p.extras[name] for p in done]) for name in done[0].extras})
 
 
-def summed_attrs(chunks: ChunkStore) -> dict:
+def summed_attrs(chunks: ChunkStore, elapsed: float) -> dict:
     """The attributes of a whole stored run from its chunks': the first chunk's, with
-    ``wall_time`` and ``compile_time`` summed over every chunk."""
+    ``wall_time`` the ``elapsed`` seconds of the call that finished it, ``chunk_time`` the
+    chunks' own ``wall_time`` summed over every chunk (more than the elapsed time where chunks
+    ran side by side) and ``compile_time`` summed too."""
     wall = compile_time = 0.0
     first = None
     for k in range(chunks.n_chunks):
@@ -416,7 +421,8 @@ def summed_attrs(chunks: ChunkStore) -> dict:
         compile_time += float(attrs.get("compile_time", 0.0))
         if first is None:
             first = attrs
-    return {**first, "wall_time": wall, "compile_time": compile_time}
+    return {**first, "wall_time": float(elapsed), "chunk_time": wall,
+            "compile_time": compile_time}
 
 
 def default_chunk_members(members: int, member_steps: float) -> int:

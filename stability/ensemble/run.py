@@ -312,12 +312,13 @@ class SceneMeasure:
         return xr.Dataset(declared.entries(data), coords=declared.entries(coords),
                           attrs=storable_attrs(self._attrs(scene, spec, part, run)))
 
-    def whole_attrs(self, chunks, todo) -> dict:
-        """The whole stored run's attributes: the first chunk's, times summed over chunks."""
-        attrs = summed_attrs(chunks)
-        steps = float(np.sum(self.sizes * self.n_steps))
-        wall = attrs["wall_time"]
-        attrs["member_steps_per_second"] = steps / wall if wall > 0 else 0.0
+    def whole_attrs(self, chunks, todo, elapsed) -> dict:
+        """The whole stored run's attributes (:func:`summed_attrs`), its rate that of the
+        chunks ``todo`` this call ran in ``elapsed`` seconds."""
+        attrs = summed_attrs(chunks, elapsed)
+        steps = np.repeat(self.n_steps, self.sizes)
+        ran = sum(float(steps[slice(*chunks.bounds(k))].sum()) for k in todo)
+        attrs["member_steps_per_second"] = ran / elapsed if elapsed > 0 else 0.0
         attrs["chunks"] = chunks.n_chunks
         attrs["chunk_members"] = chunks.chunk_members
         return attrs

@@ -151,9 +151,9 @@ class EnsembleChunks:
         return {"run_ensemble": {k: v for k, v in self.plan.resolved.items() if k != "threads"},
                 "software": f"stability {__version__}"}
 
-    def whole_attrs(self, chunks: ChunkStore, todo) -> dict:
+    def whole_attrs(self, chunks: ChunkStore, todo, elapsed) -> dict:
         """The whole Dataset's attributes, with a ``history`` line for this call."""
-        attrs = _whole_attrs(chunks)
+        attrs = _whole_attrs(chunks, todo, elapsed)
         progress = read_progress(chunks.dir) or {}
         attrs["history"] = attrs.get("history", "") + "\n" + history_line(
             f"streamed to {chunks.dir}: {chunks.n_chunks} chunks of {chunks.chunk_members} "
@@ -168,11 +168,12 @@ class EnsembleChunks:
                                np.array([plan.h]))
 
 
-def _whole_attrs(chunks: ChunkStore) -> dict:
-    """The attributes of the whole run from those of its chunks."""
-    attrs = summed_attrs(chunks)
-    wall = attrs["wall_time"]
+def _whole_attrs(chunks: ChunkStore, todo, elapsed) -> dict:
+    """The attributes of the whole run from those of its chunks (:func:`summed_attrs`), its
+    rate that of the chunks ``todo`` this call ran in ``elapsed`` seconds."""
+    attrs = summed_attrs(chunks, elapsed)
     n = chunks.members
+    ran = sum(hi - lo for lo, hi in map(chunks.bounds, todo))
     title = attrs.get("title", "")
     if "-member ensemble" in title:
         attrs["title"] = f"{n}-member ensemble" + title.split("-member ensemble", 1)[1]
@@ -180,7 +181,7 @@ def _whole_attrs(chunks: ChunkStore) -> dict:
     attrs.update({
         "members": n,
         "members_requested": n,
-        "member_steps_per_second": n * steps / wall if wall > 0 else 0.0,
+        "member_steps_per_second": ran * steps / elapsed if elapsed > 0 else 0.0,
         "chunks": chunks.n_chunks,
         "chunk_members": chunks.chunk_members,
     })

@@ -34,6 +34,7 @@ from __future__ import annotations
 import logging
 import time
 from pathlib import Path
+from typing import NamedTuple
 
 from .store import ChunkStore, chunk_name, write_chunk
 from ..util.threads import checked_threads, numba_threads
@@ -48,9 +49,17 @@ class RunInterrupted(KeyboardInterrupt):
     """
 
 
+class Streamed(NamedTuple):
+    """What :func:`stream_chunks` ran: the chunks' indices, and the seconds from the start of
+    the first to the end of the last (0.0 for none), however many ran side by side."""
+
+    todo: list
+    elapsed: float
+
+
 def stream_chunks(job, chunks: ChunkStore, *, scheduler=None, threads=None, progress=None,
-                  compress=True) -> list[int]:
-    """Run the chunks of ``chunks`` that are not done with ``job``; return their indices.
+                  compress=True) -> Streamed:
+    """Run the chunks of ``chunks`` that are not done with ``job``.
 
     Parameters
     ----------
@@ -62,22 +71,28 @@ def stream_chunks(job, chunks: ChunkStore, *, scheduler=None, threads=None, prog
     scheduler, threads, progress, compress
         As in :func:`stability.free_body.streamed.run_streamed`.
 
+    Returns
+    -------
+    Streamed
+        The chunks run and the seconds they took (a cluster's start excluded).
+
     Raises
     ------
     RunInterrupted
         Ctrl-C or SIGTERM; the finished chunks are kept.
     """
     todo = chunks.missing()
+    elapsed = 0.0
     if todo:
         if scheduler is None:
-            _run_here(job, chunks, todo, threads, progress, compress)
+            elapsed = _run_here(job, chunks, todo, threads, progress, compress)
         else:
-            _run_on_dask(job, chunks, todo, scheduler, progress, compress)
-    return todo
+            elapsed = _run_on_dask(job, chunks, todo, scheduler, progress, compress)
+    return Streamed(todo, elapsed)
 
 
-def _run_here(job, chunks, todo, threads, progress, compress):
-    """The missing chunks in this process, on all its Numba threads."""
+def _run_here(job, chunks, todo, threads, progress, compress) -> float:
+    """The missing chunks in this process, on all its Numba threads; the seconds taken."""
     tracker = _Tracker(chunks, todo, progress)
     try:
         with numba_threads(checked_threads(threads)):
@@ -90,6 +105,7 @@ def _run_here(job, chunks, todo, threads, progress, compress):
         tracker.stopped()
     finally:
         tracker.close()
+    return tracker.elapsed
 
 
 def run_chunk(job, directory, k: int, lo: int, hi: int, compress: bool,
@@ -129,8 +145,9 @@ def run_chunk(job, directory, k: int, lo: int, hi: int, compress: bool,
     return k
 
 
-def _run_on_dask(job, chunks, todo, scheduler, progress, compress):
-    """The missing chunks as tasks of a dask.distributed cluster."""
+def _run_on_dask(job, chunks, todo, scheduler, progress, compress) -> float:
+    """The missing chunks as tasks of a dask.distributed cluster; the seconds from their
+    submission to the last one's end."""
     try:
         from distributed import Client, LocalCluster, as_completed
     except ImportError:
@@ -173,6 +190,7 @@ def _run_on_dask(job, chunks, todo, scheduler, progress, compress):
             client.close()
         if cluster is not None:
             cluster.close()
+    return tracker.elapsed
 
 
 #: Seconds to reach a dask scheduler (its connection is retried that long) ...
@@ -237,6 +255,7 @@ class _Tracker:
         self.chunks = chunks
         self.started = time.time()
         self.t0 = time.perf_counter()
+        self.elapsed = None  # set when the run ends
         self.done_chunks = chunks.n_chunks - len(todo)
         self.done_members = chunks.members - sum(hi - lo for lo, hi in map(chunks.bounds, todo))
         self.new_members = 0
@@ -267,6 +286,8 @@ class _Tracker:
         )
 
     def close(self):
+        if self.elapsed is None:
+            self.elapsed = time.perf_counter() - self.t0
         if self.bar is not None:
             self.bar.close()
             self.bar = None
