@@ -26,6 +26,7 @@ import functools
 import os
 import subprocess
 import sys
+from dataclasses import replace
 from pathlib import Path
 
 import numpy as np
@@ -37,6 +38,7 @@ from stability.analysis.members import zero_crossings
 from stability.core.body import Part
 from stability.free_body.ensemble import run_ensembles
 from stability.free_body.starts import perturbed_starts
+from stability.registry import SCENES
 
 from .helpers import one_line
 
@@ -399,9 +401,15 @@ API = {
                                     h=[0.01, 0.02], n_steps=10, save_every=2),
         "needs one step for every group"),
     "tracking in unknown units (scene)": (
-        lambda: stability.run_scene("heavy_top", "lp2", TOP_STARTS, TOP, axes=[2, 0, 1],
-                                    **SCENE_RUN),
-        "say in tracked_units= the units of what scene 'heavy_top' tracks"),
+        lambda: stability.run_scene(replace(SCENES["heavy_top"], tracked_units=""), "lp2",
+                                    TOP_STARTS, TOP, axes=[2, 0, 1], **SCENE_RUN),
+        "say in tracked_units= the units of what scene 'heavy_top' tracks (its observe), or "
+        "declare them in the scene (define_scene(..., tracked_units=))"),
+    "parameters by a wrong name (scene)": (
+        lambda: stability.run_scene("sphere_damper", "rk4", np.ones((2, 6)),
+                                    {"I1": 1.0, "I2": 2.0, "I3": 3.0, "J": 0.2}, **SCENE_RUN),
+        "parameter set 0: scene 'sphere_damper': the parameter set must name exactly I1, I2, "
+        "I3, J, c (or give those numbers in that order); missing: c"),
     "run beyond memory (scene)": (
         lambda: stability.run_scene("heavy_top", "lp2", TOP_STARTS, TOP, h=0.01,
                                     n_steps=10**12, save_every=1),

@@ -254,3 +254,15 @@ def test_a_stored_runs_wall_time_is_its_elapsed_time_and_chunk_time_the_chunks_s
     again = run(resume=True)
     assert again.attrs["wall_time"] == attrs["wall_time"]
     assert again.attrs["member_steps_per_second"] == attrs["member_steps_per_second"]
+
+
+def test_every_registered_scene_declares_what_it_tracks_and_a_tracked_run_takes_it():
+    """A tracked run of a damper scene needs no tracked_units=: the scene declares them (the
+    sine of the nutation angle, dimensionless)."""
+    assert all(scene.tracked_units for scene in SCENES.values())
+    scene = SCENES["sphere_damper"]
+    x0, sets = scene.example(3)
+    ds = stability.run_scene(scene, "rk4", x0, sets[0], h=0.05, n_steps=20, axes=[0, 1, 2],
+                             levels=[0.1], progress=False)
+    assert ds.max_perp_amplitude.attrs["units"] == ds.level.attrs["units"] == "1"
+    assert ds.attrs["tracked_units"] == "1"

@@ -349,6 +349,9 @@ CASES = {
     "example's parameters": (dict(example="example_three"), ValueError,
                              "a parameter set has 1 number .k., got 3"),
     "observe alone": (dict(observe="rhs"), ValueError, "observe and tracked together"),
+    "tracked units a number": (dict(tracked_units=5), TypeError,
+                               "tracked_units must be a UDUNITS string such as 'rad s-1' or "
+                               "'1', got 5"),
     "rhs returns a dict among its numbers": (dict(rhs="rhs_dict"), ValueError,
                                              "rhs returned dict .* as its number 0; it must "
                                              "return a tuple of 2 numbers"),
@@ -393,3 +396,22 @@ def test_each_mistake_is_one_line_at_definition_time(mistakes, case):
     shown = caught.value.__cause__ or (None if caught.value.__suppress_context__
                                        else caught.value.__context__)
     assert shown is None  # no traceback of ours or Numba's before the line
+
+
+def test_a_scene_declares_the_units_of_what_it_tracks(home, mistakes, monkeypatch):
+    """define_scene(tracked_units=) is the scene's (run_scene's default); the kernels are the
+    oscillator's, not compiled again."""
+    import types
+
+    from stability.engine import user_scene
+
+    _, oscillator = home
+    kernels = types.SimpleNamespace(rk4_step=oscillator.method("rk4").step,
+                                    observe=oscillator.observe, SOURCES="")
+    monkeypatch.setattr(user_scene, "_kernels", lambda *args: kernels)
+    monkeypatch.setattr(user_scene, "_compiles", lambda *args: None)
+    spring = define_scene("spring", ["x", "v"], ["m", "m s-1"], mistakes.rhs, ["k"],
+                          tracked_units="m")
+    assert spring.tracked_units == "m"
+    assert define_scene("spring", ["x", "v"], ["m", "m s-1"], mistakes.rhs,
+                        ["k"]).tracked_units == ""

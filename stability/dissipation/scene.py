@@ -173,6 +173,7 @@ SPHERE_DAMPER = Scene(
     invariants={"angular_momentum": sphere_angular_momentum},
     example=sphere_example,
     parameters=("I1", "I2", "I3", "J", "c"),
+    tracked_units=cv.UNITS_DIMENSIONLESS,
 )
 
 
@@ -253,6 +254,7 @@ WHIP_DAMPER = Scene(
     invariants={"angular_momentum": whip_angular_momentum},
     example=whip_example,
     parameters=("I1", "I2", "I3", "mu", "b", "k", "c"),
+    tracked_units=cv.UNITS_DIMENSIONLESS,
 )
 
 
@@ -339,4 +341,5 @@ GYROSTAT = Scene(
     invariants={"angular_momentum": gyrostat_angular_momentum},
     example=gyrostat_example,
     parameters=("A1", "A2", "A3", "Jr", "Jp", "cp", "Jq", "cq"),
+    tracked_units=cv.UNITS_DIMENSIONLESS,
 )

@@ -106,6 +106,7 @@ LUNISOLAR_EARTH = Scene(
     # q is turned by rotations; no term of the equations changes m3.
     kept_by={"quaternion_norm": True, "axial_momentum": True},
     example=example,
+    tracked_units=cv.UNITS_DIMENSIONLESS,
 )
 
 
@@ -155,4 +156,5 @@ PRECESSING_AXIS = Scene(
     invariants={"axis_norm": axis_norm},
     kept_by={"axis_norm": False},  # RK4 keeps |k| to its order
     example=axis_example,
+    tracked_units=cv.UNITS_DIMENSIONLESS,
 )

@@ -11,7 +11,8 @@ for a new scene (copy ``stability/free_body/scene.py``):
    with ``p = spec.params(parameters, h)``; kernels are ``njit(inline="always")`` module-level
    functions and never raise.
 3. Write ``observe(x_0, ..., x_{n-1}, p, ia, ib, ic) -> (a, b, c)``: what the loop tracks (the
-   component along the spin axis and two across it), and ``tracked``, the same in NumPy.
+   component along the spin axis and two across it), ``tracked``, the same in NumPy, and
+   ``tracked_units``, the units of the amplitude across the axis.
 4. Give its invariants (NumPy functions of the state and the parameters) and, in
    ``kept_by``, which methods keep each one to round-off (the others keep it to their order);
    its exact solution where one exists, ``exact(x0, parameters, t) -> x`` (the states at time
@@ -105,6 +106,9 @@ class Scene:
     latex : str, default ""
         The same equations in LaTeX, shown as mathematics on the scene's documentation page
         (``equations`` is shown as code where this is empty).
+    tracked_units : str, default ""
+        UDUNITS unit of the amplitude ``observe`` tracks across the spin axis (and of the
+        levels): what a tracked run's Dataset labels them with unless the run says otherwise.
     """
 
     name: str
@@ -125,6 +129,7 @@ class Scene:
     module: str = field(repr=False, default="")
     source: str = field(repr=False, default="")
     latex: str = field(repr=False, default="")
+    tracked_units: str = ""
 
     def __reduce_ex__(self, protocol):
         """By reference, ``(module, name)``, for a scene that has a module; else by value."""

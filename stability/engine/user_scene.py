@@ -159,7 +159,8 @@ def tracked_components(x, p, axes):
 
 def define_scene(name, components, units, rhs, parameters=(), *, parameter_units=None,
                  params=None, title=None, equations=None, methods=(), observe=None,
-                 tracked=None, invariants=None, exact=None, example=None) -> Scene:
+                 tracked=None, tracked_units=None, invariants=None, exact=None,
+                 example=None) -> Scene:
     """A scene from the user's own right-hand side ``x' = rhs(x, p)``, run as registered ones.
 
     Call it at the top level of a module of yours and bind the result to a name there
@@ -206,6 +207,10 @@ def define_scene(name, components, units, rhs, parameters=(), *, parameter_units
         ``observe(x_0, ..., x_{n-1}, p, ia, ib, ic) -> (a, b, c)`` (``@njit``) and the same in
         NumPy, ``tracked(x, p, axes)`` over states ``x`` (N, n). By default components ``ia``,
         ``ib``, ``ic`` by number.
+    tracked_units : str, optional
+        UDUNITS unit of the amplitude across the spin axis that ``observe`` tracks (``b`` and
+        ``c``), for the Dataset of a tracked run, which then needs no ``tracked_units=``; by
+        default those of the components read, where the default ``observe`` tracks them.
     invariants : mapping of str to callable, optional
         ``f(x, values) -> ndarray (N,)`` of states ``x`` (N, n) and a parameter set's numbers.
     exact : callable, optional
@@ -248,6 +253,10 @@ def define_scene(name, components, units, rhs, parameters=(), *, parameter_units
     if observe is not None:
         _check_arguments(name, "observe", _top_level(name, "observe", observe),
                          [*components, "p", "ia", "ib", "ic"])
+    if tracked_units is not None and (not isinstance(tracked_units, str)
+                                      or not tracked_units.strip()):
+        raise TypeError(f"scene {name!r}: tracked_units must be a UDUNITS string such as "
+                        f"'rad s-1' or '1', got {tracked_units!r}")
     try:
         invariants = dict(invariants or {})
     except (TypeError, ValueError):
@@ -296,6 +305,7 @@ def define_scene(name, components, units, rhs, parameters=(), *, parameter_units
         parameter_units=parameter_units,
         module=caller,
         source=kernels.SOURCES,
+        tracked_units=tracked_units or "",
     )
 
 

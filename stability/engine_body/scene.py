@@ -74,4 +74,5 @@ ENGINE_BODY = Scene(
     kept_by={"energy": "preserves_energy", "angular_momentum": "preserves_casimir",
              "quaternion_norm": True},  # every rule normalises q
     example=example,
+    tracked_units=cv.UNITS_ANGULAR_VELOCITY,
 )

@@ -82,9 +82,10 @@ def run_scene(scene, method, x0, parameters, *, h, n_steps, sizes=None, save_eve
         ``level`` coordinate (levels given per group: all of them, a member's passage times
         NaN at those of the other groups).
     tracked_units : str, optional
-        Units of what the scene tracks (the amplitude and the levels); by default those of
-        the components read, for a scene that tracks its components (a scene of the user's
-        without an ``observe`` of its own), and required otherwise.
+        Units of what the scene tracks (the amplitude and the levels); by default those the
+        scene declares (``Scene.tracked_units``: every registered scene, and a scene of the
+        user's given ``tracked_units=``), else those of the components read, for a scene that
+        tracks its components (a scene of the user's without an ``observe`` of its own).
     store : path-like, optional
         Run chunk by chunk into this folder (:class:`~stability.output.store.ChunkStore`) and return
         the Dataset over its files (dask arrays): memory is one chunk's, and a stopped run is
@@ -530,10 +531,13 @@ def _tracking(scene, axes, levels, tracked_units, groups):
     if not np.all(np.isfinite(lv)) or np.any(lv <= 0.0) or np.any(np.diff(lv, axis=1) <= 0.0):
         raise ValueError(f"levels must be finite, > 0 and strictly ascending, got "
                          f"{_shown(levels)}")
+    if tracked_units is None and scene.tracked_units:
+        tracked_units = scene.tracked_units
     if tracked_units is None:
         if scene.tracked is not tracked_components:
             raise ValueError(f"say in tracked_units= the units of what scene {scene.name!r} "
-                             "tracks (its observe)")
+                             "tracks (its observe), or declare them in the scene "
+                             "(define_scene(..., tracked_units=))")
         last = scene.width - 1
         read = {scene.units[min(int(i), last)] for i in a[:, 1:].ravel()}
         if len(read) != 1:

@@ -87,5 +87,6 @@ FREE_BODY = Scene(
     kept_by={"energy": "preserves_energy", "angular_momentum": "preserves_casimir"},
     exact=exact,
     example=example,
+    tracked_units=cv.UNITS_ANGULAR_VELOCITY,
 )
 

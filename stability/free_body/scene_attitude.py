@@ -65,4 +65,5 @@ FREE_BODY_ATTITUDE = Scene(
              "quaternion_norm": frozenset(n for n, s in METHODS.items()
                                           if s.attitude and n != "rk4")},
     example=example,
+    tracked_units=cv.UNITS_ANGULAR_VELOCITY,
 )

@@ -108,4 +108,5 @@ HEAVY_TOP = Scene(
              "vertical_momentum": "preserves_casimir"},
     exact=exact,
     example=example,
+    tracked_units=cv.UNITS_DIMENSIONLESS,
 )

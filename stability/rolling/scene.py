@@ -84,4 +84,5 @@ ROLLING_BODY = Scene(
     invariants={"energy": energy},
     kept_by={"energy": "preserves_energy"},
     example=example,
+    tracked_units="m s-1",
 )

@@ -89,4 +89,5 @@ STRUCK_BODY = Scene(
     kept_by={"angular_momentum": None},  # not during the contact
     exact=exact,
     example=example,
+    tracked_units=cv.UNITS_ANGULAR_VELOCITY,
 )
