@@ -52,6 +52,7 @@ from ..util.checks import checked_progress, did_you_mean, positive_float, vector
 from ..util.threads import checked_threads, numba_threads
 from .plan import (DEFAULT_DIVERGENCE_TOLERANCE, NO_SPIN, NO_STARTS, EnsemblePlan,
                    plan_ensemble)
+from .model import spin_axis
 from .results import RunPart, finish_run, members_dataset
 from .starts import axis_index, nonnegative_float
 from .streamed import run_streamed
@@ -98,8 +99,10 @@ def run_ensemble(
     Parameters
     ----------
     body : RigidBody
-    axis : int
-        Principal axis (1, 2 or 3, as the body numbers them) of the steady spin. Flips are sign
+    axis : int or str
+        Principal axis (1, 2 or 3, as the body numbers them) of the steady spin, or the name of
+        its moment, ``"smallest"``, ``"intermediate"`` or ``"largest"``
+        (:func:`~stability.free_body.model.spin_axis`, as study files take it). Flips are sign
         changes of the component of w along it.
     spin : float
         Spin rate W in rad/s, > 0 (not with ``starts``).
@@ -208,6 +211,7 @@ def run_ensemble(
     >>> ds = stability.run_ensemble(body, axis=2, spin=1.0)  # the step and horizon by default
     """
     progress = checked_progress(progress)
+    axis = _named_axis(body, axis)
     epsilon, members, h, t_end, rules = _with_defaults(body, axis, spin, epsilon, members,
                                                        starts, h, t_end, save_every)
     ds = _run_ensemble(
@@ -220,6 +224,11 @@ def run_ensemble(
     )
     ds.attrs.update(rules)
     return ds
+
+
+def _named_axis(body, axis):
+    """``axis`` named by its moment as its label (:func:`spin_axis`), for a RigidBody."""
+    return spin_axis(body, axis) if isinstance(body, RigidBody) else axis
 
 
 def _with_defaults(body, axis, spin, epsilon, members, starts, h, t_end, save_every):
@@ -383,6 +392,7 @@ def _planned(call):
     """The plan of one call of :func:`run_ensembles` and the rules of its default step and
     horizon, with the defaults :func:`run_ensemble` applies."""
     call = {name: value for name, value in call.items() if name not in _STREAM_ARGUMENTS}
+    call["axis"] = _named_axis(call["body"], call["axis"])
     call["epsilon"], call["members"], call["h"], call["t_end"], rules = _with_defaults(
         call["body"], call["axis"], call.get("spin"), call.get("epsilon"), call.get("members"),
         call.get("starts"), call.get("h"), call.get("t_end"), call.get("save_every", 1))

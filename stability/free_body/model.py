@@ -47,6 +47,7 @@ __all__ = [
     "oscillation_frequency",
     "perpendicular_axes",
     "principal_axis",
+    "spin_axis",
 ]
 
 #: Names of the axes by their moment, in ascending order of the moment.
@@ -393,6 +394,18 @@ def principal_axis(body, which: str) -> int:
         raise ValueError(f"which must be one of {', '.join(MOMENT_NAMES)}, got {which!r}")
     order = np.argsort(_moments(body), kind="stable")
     return int(order[MOMENT_NAMES.index(which)]) + 1
+
+
+def spin_axis(body, axis):
+    """Body axis of ``axis``: the name of its moment (``"smallest"``, ``"intermediate"``,
+    ``"largest"``) as its label 1, 2 or 3 (:func:`principal_axis`), anything else as it is (for
+    the caller's own check); how study files and :func:`stability.run_ensemble` read it."""
+    if not isinstance(axis, str):
+        return axis
+    if axis not in MOMENT_NAMES:
+        raise ValueError(f"axis must be the principal axis 1, 2 or 3, or the name of its "
+                         f"moment ({', '.join(MOMENT_NAMES)}), got {axis!r}")
+    return principal_axis(body, axis)
 
 
 def moment_name(body, axis: int) -> str:

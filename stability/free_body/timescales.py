@@ -71,15 +71,17 @@ def default_horizon(body, starts, h: float, save_every: int = 1) -> tuple[float,
     interval = float(np.median(intervals)) if intervals.size else math.inf
     if math.isfinite(interval) and interval > 0.0:
         wanted = DEFAULT_FLIPS * interval
-        rule = f"{DEFAULT_FLIPS} flip intervals 2K/nu of the exact motion ({interval:.6g} s)"
+        rule = (f"{DEFAULT_FLIPS} flip intervals 2K/nu of the exact motion, "
+                f"{DEFAULT_FLIPS} x {interval:.6g} s = {wanted:.6g} s")
     else:
         speed = float(np.median(np.linalg.norm(starts, axis=1)))
         wanted = FALLBACK_TURNS * 2.0 * math.pi / speed
         rule = (f"{FALLBACK_TURNS} turns of the spin (the motion has no finite flip "
-                "interval)")
+                f"interval), {wanted:.6g} s")
     unit = h * save_every
     t_end = max(1, math.ceil(wanted / unit - 1e-9)) * unit
-    return t_end, f"t_end = {rule}, rounded up to whole saved steps, chosen by default"
+    return t_end, (f"t_end = {rule}, rounded up to whole saved steps: {t_end:.6g} s, chosen "
+                   "by default")
 
 
 def default_timescales(body, starts, h=None, t_end=None, save_every=1) -> tuple:

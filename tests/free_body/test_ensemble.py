@@ -434,6 +434,9 @@ def test_one_line_start_chooses_step_and_horizon_from_the_physics():
     assert DEFAULT_FLIPS * interval <= t_end < DEFAULT_FLIPS * interval + h
     assert ds.sizes["member"] == 100 and ds.attrs["epsilon"] == 1e-3
     assert "0.02 rad" in ds.attrs["h_rule"] and "4 flip intervals" in ds.attrs["t_end_rule"]
+    # the rule says the interval, the four of them and the horizon they round up to
+    assert (f"4 x {interval:.6g} s = {4 * interval:.6g} s, rounded up to whole saved steps: "
+            f"{t_end:.6g} s") in ds.attrs["t_end_rule"]
     flips = ds.flip_count.values[ds.status.values == 0]
     assert flips.size == 100 and 3 <= np.median(flips) <= 5  # about one a flip interval
     stable = run_ensemble(BODY, axis=3, spin=1.0, h=0.05, progress=False, summaries_only=True)
@@ -577,3 +580,22 @@ def test_run_ensembles_takes_run_ensembles_defaults_and_names_the_call_it_refuse
         with pytest.raises(ValueError, match=message):
             run_ensembles(calls)
     assert len(run_ensembles([dict(ok, store=None, resume=False)])) == 1
+
+
+def test_run_ensemble_takes_the_spin_axis_by_the_name_of_its_moment():
+    """As study files do ([spin] axis = "intermediate"): the same run as by its label, in
+    run_ensemble and run_ensembles; a name not known is one line listing them."""
+    racket = stability.RigidBody.preset("tennis_racket")
+    kwargs = dict(spin=10.0, members=4, h=0.01, t_end=1.0, summaries_only=True,
+                  progress=False)
+    named = run_ensemble(racket, axis="intermediate", **kwargs)
+    assert named.attrs["axis"] == 2
+    numbered = run_ensemble(racket, axis=2, **kwargs)
+    assert np.array_equal(named.flip_count.values, numbered.flip_count.values)
+    (batch,) = stability.run_ensembles([dict(body=racket, axis="intermediate", **{
+        k: v for k, v in kwargs.items() if k != "progress"})], progress=False)
+    assert batch.attrs["axis"] == 2
+    with pytest.raises(ValueError) as info:
+        run_ensemble(racket, axis="middle", **kwargs)
+    assert str(info.value) == ("axis must be the principal axis 1, 2 or 3, or the name of its "
+                               "moment (smallest, intermediate, largest), got 'middle'")

@@ -27,7 +27,7 @@ from pathlib import Path
 
 import numpy as np
 
-from ..model import MOMENT_NAMES, principal_axis
+from ..model import MOMENT_NAMES, spin_axis
 from ..attitude import FREE_BODY_SCENES, attitude_methods, carries_attitude
 from ...core.body import RigidBody
 from ..plan import ensemble_memory
@@ -258,13 +258,6 @@ def _body(config: dict):
     if "moments" in b:
         return RigidBody(*b["moments"], physical=b["physical"], name=b.get("name", "body"))
     return RigidBody.preset(b["preset"])
-
-
-def spin_axis(body, axis) -> int:
-    """Body axis (1, 2 or 3) of ``axis``: a number, or "smallest", "intermediate", "largest"."""
-    if axis in (1, 2, 3):
-        return int(axis)
-    return principal_axis(body, axis)
 
 
 def summarize(ds, out_dir, files, wall, t_ensemble) -> StudySummary:
