@@ -313,8 +313,8 @@ def propagate_stored(run: GroupedRun, store=None, *, measure=None, resume=False,
     Propagation or xarray.Dataset
         Without ``measure``, the :class:`Propagation` :func:`propagate_groups` returns;
         ``wall_time`` and ``compile_time`` are the sums over the chunks run. With it, the
-        measurement's Dataset of the whole run: over the chunk files (dask arrays) with a
-        store, in memory without.
+        measurement's Dataset of the whole run: with a store, over the chunk files, its time
+        series dask arrays and the rest loaded (:func:`small_loaded`); in memory without.
 
     Raises
     ------
@@ -348,11 +348,11 @@ def propagate_stored(run: GroupedRun, store=None, *, measure=None, resume=False,
                                  compress=measure is not None if compress is None else compress)
         if measure is not None:
             if not streamed.todo and read_manifest(chunks.dir)["complete"]:
-                return chunks.open()  # finished before: its attributes as recorded then
+                return small_loaded(chunks.open())  # finished before: its attributes then
             whole = getattr(measure, "whole_attrs", None)
             chunks.complete(whole(chunks, *streamed) if whole is not None
                             else summed_attrs(chunks, streamed.elapsed))
-            return chunks.open()
+            return small_loaded(chunks.open())
         parts = []
         for k in range(chunks.n_chunks):
             with xr.open_dataset(chunks.path(k), engine="netcdf4") as ds:
@@ -405,6 +405,22 @@ def _in_chunks(run: GroupedRun, chunk_members, progress, partial) -> Propagation
         wall_time=sum(p.wall_time for p in done),
         compile_time=sum(p.compile_time for p in done),
         extras={name: np.concatenate([p.extras[name] for p in done]) for name in done[0].extras})
+
+
+#: A stored run's variables without a time axis (per-member summaries, per-group numbers)
+#: come back loaded when together they hold at most this many bytes.
+LOADED_BYTES = 2**30
+
+
+def small_loaded(ds: xr.Dataset) -> xr.Dataset:
+    """``ds`` over its chunk files with its variables that have no ``time`` axis loaded into
+    memory (NumPy: ``.median()`` and the like work on them), when they hold at most
+    :data:`LOADED_BYTES`; the time series stay dask arrays, read as they are used."""
+    small = [v for v in ds.variables.values() if cv.TIME not in v.dims]
+    if sum(v.nbytes for v in small) <= LOADED_BYTES:
+        for variable in small:
+            variable.load()
+    return ds
 
 
 def summed_attrs(chunks: ChunkStore, elapsed: float) -> dict:

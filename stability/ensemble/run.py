@@ -88,8 +88,10 @@ def run_scene(scene, method, x0, parameters, *, h, n_steps, sizes=None, save_eve
         tracks its components (a scene of the user's without an ``observe`` of its own).
     store : path-like, optional
         Run chunk by chunk into this folder (:class:`~stability.output.store.ChunkStore`) and return
-        the Dataset over its files (dask arrays): memory is one chunk's, and a stopped run is
-        finished with ``resume``.
+        the Dataset over its files: memory is one chunk's, and a stopped run is finished with
+        ``resume``. The time series are dask arrays, read as they are used (``.load()`` reads
+        one into memory); the rest comes back loaded
+        (:func:`~stability.ensemble.chunks.small_loaded`).
     resume : bool, default False
         With ``store``: finish a run of the same members stopped earlier (only the missing
         chunks run; bitwise the uninterrupted run).

@@ -169,9 +169,11 @@ def run_ensemble(
         The command recorded as the first ``history`` line; default: this call.
     store : str or path-like, optional
         Stream the run to this folder, one netCDF file per chunk of ``chunk_members``
-        (default 2**20) written as soon as it is done, and return the Dataset over those files
-        (dask arrays): memory is one chunk's, and a stopped run can be resumed
-        (:mod:`stability.output.stream`).
+        (default 2**20) written as soon as it is done, and return the Dataset over those files:
+        memory is one chunk's (and the summaries'), and a stopped run can be resumed
+        (:mod:`stability.output.stream`). The time series (``w``) are dask arrays, read as they
+        are used (``ds.w.load()`` reads them into memory); the per-member summaries come back
+        loaded, as in memory (:func:`~stability.ensemble.chunks.small_loaded`).
     resume : bool, default False
         With ``store``: finish a run stopped earlier (only the missing chunks are run; the
         result is bitwise that of an uninterrupted run). A store of a different run is refused.

@@ -22,7 +22,7 @@ def run_streamed(kwargs: dict, store, *, resume=False, scheduler=None, threads=N
                  progress=None, compress=True):
     """Run the ensemble ``run_ensemble(**kwargs)`` chunk by chunk into the folder ``store``.
 
-    Returns the Dataset over the chunk files (dask arrays). See :func:`stability.run_ensemble`
+    Returns the Dataset over the chunk files, its time series dask arrays. See :func:`stability.run_ensemble`
     for ``kwargs``; ``chunk_members`` there is the members per chunk file here
     (default :data:`stability.free_body.plan.STREAM_CHUNK_MEMBERS`).
 
@@ -52,7 +52,8 @@ def run_streamed(kwargs: dict, store, *, resume=False, scheduler=None, threads=N
     Returns
     -------
     xarray.Dataset
-        The whole run over the chunk files (dask arrays).
+        The whole run over the chunk files: the time series dask arrays, the summaries
+        loaded (:func:`~stability.ensemble.chunks.small_loaded`).
 
     Raises
     ------
