@@ -29,3 +29,19 @@ xr.testing.assert_identical(ds, back)
 print(back.w.attrs)
 print(back.attrs["history"])
 print(back.attrs["config_toml"][:200])
+
+# %%
+# The same file opened with plain xarray, as any netCDF tool opens it. CF time units count from
+# a date and a run has none, so ``time`` holds seconds from the nominal 1970-01-01: with its
+# defaults xarray shows them as dates in 1970, and each series in the order the file holds it,
+# (member, axis, time). ``decode_times=False`` keeps the seconds; ``ds.stability.in_seconds()``
+# turns a file opened with the defaults into what ``stability.load`` reads (seconds, the
+# package's order, the CF attributes kept).
+
+plain = xr.open_dataset(path)
+print(plain.time.values[:2], plain.w.dims)  # dates in 1970, (member, axis, time)
+seconds = plain.stability.in_seconds()
+print(seconds.time.values[:2], seconds.w.dims)  # [0. 0.1] s, (member, time, axis)
+xr.testing.assert_identical(seconds.load(), back)
+print(xr.open_dataset(path, decode_times=False).time.values[:2])  # the seconds as stored
+plain.close()

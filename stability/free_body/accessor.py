@@ -13,6 +13,7 @@ from __future__ import annotations
 import xarray as xr
 
 from ..analysis import estimates, regimes
+from ..output import plain
 from . import measure
 
 
@@ -44,3 +45,9 @@ class StabilityAccessor:
     def flip_statistics(self, **kwargs) -> xr.Dataset:
         """First flip and flip interval; see :func:`stability.free_body.measure.flip_statistics`."""
         return measure.flip_statistics(self._ds, **kwargs)
+
+    def in_seconds(self) -> xr.Dataset:
+        """A file opened with plain ``xarray.open_dataset`` as :func:`stability.load` reads it:
+        ``time`` in seconds since the start (CF units kept), series (member, time, axis); see
+        :func:`stability.output.plain.in_seconds`."""
+        return plain.in_seconds(self._ds)

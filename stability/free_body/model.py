@@ -399,7 +399,25 @@ def principal_axis(body, which: str) -> int:
 def spin_axis(body, axis):
     """Body axis of ``axis``: the name of its moment (``"smallest"``, ``"intermediate"``,
     ``"largest"``) as its label 1, 2 or 3 (:func:`principal_axis`), anything else as it is (for
-    the caller's own check); how study files and :func:`stability.run_ensemble` read it."""
+    the caller's own check); how study files and :func:`stability.run_ensemble` read it.
+
+    Parameters
+    ----------
+    body : RigidBody or array_like, shape (3,)
+        Principal moments in kg m^2, any order.
+    axis : int or str
+        A label 1, 2, 3, or a name of :data:`MOMENT_NAMES`.
+
+    Returns
+    -------
+    int or object
+        The label of the named axis, or ``axis`` as given.
+
+    Raises
+    ------
+    ValueError
+        A string that names no moment.
+    """
     if not isinstance(axis, str):
         return axis
     if axis not in MOMENT_NAMES:

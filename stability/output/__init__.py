@@ -3,5 +3,6 @@
 (:mod:`~stability.output.store`), streaming any chunk job to it here or on dask.distributed
 (:mod:`~stability.output.stream`), publishing into an output folder that is a boundary
 (:mod:`~stability.output.publish`, :mod:`~stability.output.lock`), and the provenance every
-Dataset carries (:mod:`~stability.output.dataset`).
+Dataset carries (:mod:`~stability.output.dataset`); a file opened with plain xarray made what
+:func:`stability.load` reads (:mod:`~stability.output.plain`).
 """
