@@ -22,7 +22,7 @@ sys.path.insert(0, str(ROOT / "docs" / "_ext"))
 
 numpydoc = pytest.importorskip("numpydoc.docscrape", reason="the docs extra is not installed")
 
-from stability_docs import api_names, quiet_shortest_name_probes  # noqa: E402
+from stability_docs import api_names, quiet_shortest_name_probes, scene_docstring  # noqa: E402
 
 
 def _object(dotted):
@@ -316,3 +316,25 @@ def test_the_readme_and_getting_started_say_the_same_time_for_the_tennis_study()
         assert found, page
         said.append(found.group(0))
     assert said[0] == said[1] and "about 8 s on two cores" in said[0]
+
+
+def test_a_family_guide_shows_each_paragraph_of_its_scenes_docstring_once():
+    """The dissipation guide showed the module docstring of its three scenes three times, the
+    torqued-body guide the Earth's twice: each scene's page now has its own part of it."""
+    import importlib
+    from collections import defaultdict
+
+    from stability.registry import SCENES
+
+    families = defaultdict(list)
+    for scene in SCENES.values():
+        families[scene.tracked.__module__].append(scene)
+    shared = {module: scenes for module, scenes in families.items() if len(scenes) > 1}
+    assert {"stability.dissipation.scene", "stability.earth.scene"} <= set(shared)
+    for module, scenes in shared.items():
+        doc = importlib.import_module(module).__doc__.strip()
+        paragraphs = re.split(r"\n\s*\n", doc)
+        shown = [re.split(r"\n\s*\n", scene_docstring(scene)) for scene in scenes]
+        assert sum(shown, []) == paragraphs, module  # each once, in the docstring's order
+        for scene, page in zip(scenes, shown):
+            assert any(f"``{scene.name}``" in paragraph for paragraph in page), scene.name

@@ -48,7 +48,7 @@ def scene_page(scene) -> str:
     methods = ", ".join(f"`{name}`" for name in scene.methods)
     invariants = ", ".join(f"`{name}` ({_kept(scene, name)})" for name in scene.invariants)
     exact = "yes" if scene.exact is not None else "none in closed form"
-    doc = (importlib.import_module(scene.tracked.__module__).__doc__ or "").strip()
+    doc = scene_docstring(scene)
     doc = re.sub(r":(func|mod|class|meth|data|attr):`([^`]+)`", r"{py:\1}`\2`", doc)  # to MyST
     doc = _math_to_myst(doc)
     equations = (f"Equations:\n\n$$\n{scene.latex.strip()}\n$$" if scene.latex
@@ -58,6 +58,33 @@ def scene_page(scene) -> str:
             f"State ({scene.width} numbers a member, in the kernels' frame):\n\n{state}\n"
             f"Methods: {methods}. Invariants checked: {invariants or 'none'}. "
             f"Exact solution: {exact}.\n")
+
+
+def scene_docstring(scene) -> str:
+    """The part of the docstring of the module that defines ``scene`` about it: where the
+    module holds several scenes, each described from a paragraph that starts with its name
+    (``Scene ``name``:`` or ````name``,``), the paragraphs from its own up to the next scene's,
+    the module's opening ones on its first scene's page and its closing ones on its last's, so
+    that a guide that shows every scene of a family shows each paragraph once."""
+    from stability.registry import SCENES
+
+    module = scene.tracked.__module__
+    doc = (importlib.import_module(module).__doc__ or "").strip()
+    names = [s.name for s in SCENES.values() if s.tracked.__module__ == module]
+    paragraphs = re.split(r"\n\s*\n", doc)
+    starts = {}
+    for k, paragraph in enumerate(paragraphs):
+        found = re.match(r"(?:Scene )?``(\w+)``", paragraph)
+        if found and found.group(1) in names and found.group(1) not in starts:
+            starts[found.group(1)] = k
+    if scene.name not in starts:
+        return doc
+    order = sorted(starts.values())
+    lo = starts[scene.name]
+    hi = next((k for k in order if k > lo), len(paragraphs))
+    if lo == order[0]:
+        lo = 0  # the module's opening paragraphs
+    return "\n\n".join(paragraphs[lo:hi])
 
 
 def _math_to_myst(doc: str) -> str:
