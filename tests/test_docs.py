@@ -22,7 +22,8 @@ sys.path.insert(0, str(ROOT / "docs" / "_ext"))
 
 numpydoc = pytest.importorskip("numpydoc.docscrape", reason="the docs extra is not installed")
 
-from stability_docs import api_names, quiet_shortest_name_probes, scene_docstring  # noqa: E402
+from stability_docs import (  # noqa: E402
+    api_names, presets_page, quiet_shortest_name_probes, scene_docstring)
 
 
 def _object(dotted):
@@ -338,3 +339,22 @@ def test_a_family_guide_shows_each_paragraph_of_its_scenes_docstring_once():
         assert sum(shown, []) == paragraphs, module  # each once, in the docstring's order
         for scene, page in zip(scenes, shown):
             assert any(f"``{scene.name}``" in paragraph for paragraph in page), scene.name
+
+
+def test_the_guide_lists_every_preset_as_rigidbody_presets_gives_it():
+    """The free-body guide includes the generated table: one row per preset, its name,
+    moments and description, and nothing else."""
+    import stability
+
+    assert "generated/presets.md" in (ROOT / "docs" / "guide" / "free_body.md").read_text()
+    rows = [line for line in presets_page().splitlines() if line.startswith("| `")]
+    listed = {}
+    for row in rows:
+        name, moments, description = (cell.strip() for cell in row.strip("|").split(" | "))
+        listed[name.strip("`")] = (moments, description)
+    presets = stability.RigidBody.presets()
+    assert list(listed) == list(presets)
+    for name, (moments, description) in listed.items():
+        assert description == presets[name]
+        assert [float(x) for x in moments.split(", ")] == pytest.approx(
+            stability.RigidBody.preset(name).moments, rel=1e-3)

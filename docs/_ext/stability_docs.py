@@ -5,6 +5,8 @@ When the configuration is read this writes ``docs/generated/``:
 - ``scene_<name>.md``: each registered scene's equations, state and units, methods, invariants
   and exact solution (``stability.registry.SCENES``);
 - ``methods.md``: the registered integrators and what they declare (``stability.METHODS``);
+- ``presets.md``: the preset bodies, their moments and descriptions
+  (``stability.RigidBody.presets()``);
 - ``dataset_schema.md``: every Dataset kind's variables, dims, units, long names and notes
   (``stability.ensemble.schema.SCHEMAS``, the register the code that writes them reads);
 - ``studies.md``: every study kind's keys, defaults, units and allowed values (the schemas that
@@ -115,6 +117,20 @@ def _kept(scene, invariant) -> str:
         return "to round-off by every method"
     names = ", ".join(f"`{name}`" for name in kept)
     return f"to round-off by {names}; by the others to their order"
+
+
+def presets_page() -> str:
+    """The bodies ``RigidBody.preset(name)`` builds, with their moments and descriptions."""
+    from stability import RigidBody
+
+    rows = []
+    for name, description in RigidBody.presets().items():
+        I1, I2, I3 = RigidBody.preset(name).moments
+        rows.append((f"`{name}`", f"{I1:.4g}, {I2:.4g}, {I3:.4g}", description))
+    return ("Every preset body, `stability.RigidBody.preset(name)` (in a study file "
+            "`[body] preset = \"name\"`; `RigidBody.presets()` lists them), principal "
+            "moments ascending:\n\n"
+            + _table(("preset", "I1, I2, I3 (kg m²)", "what it is"), rows))
 
 
 def methods_page() -> str:
@@ -334,6 +350,7 @@ def generate(app=None) -> None:
     for scene in SCENES.values():
         (OUT / f"scene_{scene.name}.md").write_text(scene_page(scene))
     (OUT / "methods.md").write_text(methods_page())
+    (OUT / "presets.md").write_text(presets_page())
     (OUT / "dataset_schema.md").write_text(dataset_page())
     (OUT / "studies.md").write_text(studies_page())
     (OUT / "cli.md").write_text(cli_page())

@@ -349,7 +349,15 @@ class RigidBody:
 
     @staticmethod
     def presets() -> dict[str, str]:
-        """The preset names with a one-line description of each, as ``{name: description}``."""
+        """The bodies :meth:`preset` builds, by name, each with what it is.
+
+        Returns
+        -------
+        dict of str to str
+            ``{name: description}``, names sorted: ``"book"``, ``"phone"``, ``"t_handle"``,
+            ``"tennis_racket"``; each description gives the dimensions and masses assumed and
+            which body axis is which.
+        """
         return {name: PRESETS[name].description for name in sorted(PRESETS)}
 
     def __repr__(self) -> str:
