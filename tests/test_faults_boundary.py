@@ -332,6 +332,32 @@ def test_a_stale_lock_file_of_another_user_does_not_block_a_run(request):
         pass
 
 
+def test_a_lock_file_planted_as_a_hard_link_truncates_nothing(tmp_path):
+    """An output folder whose lock file is a second name of a file of the user's (a hard
+    link): the run is refused in one line and the file keeps its contents. The lock was taken
+    and its note written over the file, truncated."""
+    victim = tmp_path / "thesis.tex"
+    victim.write_text("three years of work\n")
+    out = tmp_path / "out"
+    out.mkdir()
+    os.link(victim, out / OUTPUT_LOCK)
+    with pytest.raises(ValueError, match="2 names \\(a hard link\\).*remove it"):
+        FolderLock(out).acquire()
+    assert victim.read_text() == "three years of work\n"
+
+
+def test_a_lock_file_left_with_a_longer_note_is_written_over_not_truncated(tmp_path):
+    """A lock file left by a killed run, with a longer note than this run's: the new note is
+    written over it, padded, so the file is never truncated, and it reads as this run's."""
+    (tmp_path / OUTPUT_LOCK).write_text(json.dumps({"pid": 1, "host": "h" * 300}) + "\n")
+    size = (tmp_path / OUTPUT_LOCK).stat().st_size
+    with FolderLock(tmp_path):
+        assert (tmp_path / OUTPUT_LOCK).stat().st_size == size
+        note = json.loads((tmp_path / OUTPUT_LOCK).read_text())
+        assert note["pid"] == os.getpid()
+        assert holder_of(tmp_path).startswith(f"process {os.getpid()}")
+
+
 # --- output names ------------------------------------------------------------------------
 
 

@@ -185,10 +185,13 @@ def _open_lock_file(name: str, dir_fd: int, folder: Path) -> int:
                              "a plain file: remove the link") from None
         raise OSError(exc.errno, f"cannot take the lock of the {folder} ({exc.strerror})",
                       str(folder / name)) from None
-    if not stat.S_ISREG(os.fstat(fd).st_mode):
+    st = os.fstat(fd)
+    if not stat.S_ISREG(st.st_mode) or st.st_nlink != 1:
         os.close(fd)
-        raise ValueError(f"{folder / name} is not a plain file; a run's lock file must be "
-                         "one: remove it")
+        kind = "not a plain file" if not stat.S_ISREG(st.st_mode) else (
+            f"a file with {st.st_nlink} names (a hard link)")
+        raise ValueError(f"{folder / name} is {kind}; a run's lock file must be a plain file "
+                         "of its own: remove it")
     return fd
 
 
@@ -202,11 +205,13 @@ def _same_file(fd: int, name: str, dir_fd: int) -> bool:
 
 
 def _write_holder(fd: int) -> None:
+    """The holder's note, written over the file's start and padded with blanks to the length
+    it had (at most :data:`_MOST`): the file is never truncated, as it may not be ours."""
     text = json.dumps({"pid": os.getpid(), "host": socket.gethostname(),
                        "since": time.strftime("%Y-%m-%dT%H:%M:%S%z")}) + "\n"
     with contextlib.suppress(OSError):  # the lock holds without the note
-        os.ftruncate(fd, 0)
-        os.pwrite(fd, text.encode(), 0)
+        size = min(os.fstat(fd).st_size, _MOST)
+        os.pwrite(fd, text.encode().ljust(size), 0)
 
 
 def _read_holder(fd: int) -> str:
