@@ -12,7 +12,7 @@ import numpy as np
 from .attitude import attitude_spec, carries_attitude
 from ..core.body import RigidBody
 from ..integrators import method_spec
-from ..ensemble.memory import DEFAULT_MAX_MEMORY
+from ..ensemble.memory import DEFAULT_MAX_MEMORY, limit_words, machine_memory
 from ..output.dataset import config_toml, summary_bytes
 from ..util.checks import positive_float, positive_int, real_array, step_count, vectors3
 from ..util.formatting import format_bytes
@@ -120,6 +120,8 @@ def plan_ensemble(body, axis, spin=None, epsilon=None, members=None, *, h, t_end
     """Validate the arguments of :func:`run_ensemble` and draw the starts; ValueError if bad.
 
     With ``defer_starts`` random starts are not drawn: :func:`chunk_plan` draws each chunk's.
+    The memory is checked before any start is drawn, against ``max_memory`` or the machine's
+    memory where that is less.
     """
     if not isinstance(body, RigidBody):
         raise ValueError(f"body must be a stability.RigidBody, got {type(body).__name__}")
@@ -204,20 +206,21 @@ def plan_ensemble(body, axis, spin=None, epsilon=None, members=None, *, h, t_end
     held = chunk_members if defer_starts else n_members
     stored = ensemble_memory(held, 0 if summaries_only else n_saved, levels.size,
                              scene=scene)
-    if not summaries_only and stored > max_memory:
+    limit = min(max_memory, machine_memory() or max_memory)
+    more = ", or raise max_memory" if limit == max_memory else ""
+    if not summaries_only and stored > limit:
         raise ValueError(
             f"the time series of {held} members x {n_time} samples x "
             f"{9 if attitude else 3} doubles would "
             f"take {format_bytes(stored)} (about {PEAK_COPIES}x that while the run builds it), "
-            f"above max_memory = {format_bytes(max_memory)}; raise save_every, use fewer "
-            "members, pass summaries_only=True (per-member summaries only), or raise max_memory"
+            f"above {limit_words(max_memory)}; raise save_every, use fewer members, pass "
+            f"summaries_only=True (per-member summaries only){more}"
         )
-    if summaries_only and stored > max_memory:
+    if summaries_only and stored > limit:
         raise ValueError(
             f"the summaries of {held} members would take {format_bytes(stored)} "
-            f"({format_bytes(stored / held)} a member), above max_memory = "
-            f"{format_bytes(max_memory)}; use fewer members, stream the run to disk "
-            "(store=, a chunk at a time in memory), or raise max_memory"
+            f"({format_bytes(stored / held)} a member), above {limit_words(max_memory)}; use "
+            f"fewer members, stream the run to disk (store=, a chunk at a time in memory){more}"
         )
     chunk_members = min(chunk_members or n_members, n_members)
     level = logging.WARNING if stored > LARGE_RUN_BYTES else logging.INFO
