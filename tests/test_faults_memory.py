@@ -32,6 +32,34 @@ def cgroup_of_1_mib(tmp_path, monkeypatch):
     monkeypatch.setattr(memory, "PROC_CGROUP", proc)
 
 
+def test_a_broadcast_x0_of_1e8_rows_is_refused_before_it_is_copied():
+    row = tilted_starts(150.0, np.radians(60.0), 1, top=TOP)[0]
+    x0 = np.broadcast_to(row, (10**8, row.size))  # 4.8 GB as a copy, none as a view
+    tracemalloc.start()
+    try:
+        with pytest.raises(ValueError, match=r"a run of 100000000 members of scene 'heavy_top' "
+                                             r"would take about .* GiB in memory"):
+            stability.run_scene("heavy_top", "lp2", x0, TOP.parameters, h=1e-4, n_steps=10,
+                                progress=False)
+        peak = tracemalloc.get_traced_memory()[1]
+    finally:
+        tracemalloc.stop()
+    assert peak < 50 * 2**20, f"{peak / 2**30:.2f} GiB allocated before the refusal"
+
+
+def test_a_batch_is_checked_on_its_total_before_the_starts_of_its_last_calls_are_drawn():
+    calls = [dict(body=BODY, axis=2, spin=1.0, epsilon=1e-3, members=1000, h=0.01, t_end=0.1,
+                  summaries_only=True, max_memory=500_000) for _ in range(3)]
+    each = stability.ensemble_memory(1000, 0)
+    assert each < 500_000 < 3 * each  # each call fits alone, the batch does not
+    with pytest.raises(ValueError) as caught:
+        stability.run_ensembles(calls, progress=False)
+    message = str(caught.value)
+    assert message.startswith("calls[2]: the summaries of 1000 members would take")
+    assert "with the 439.5 KiB of the ensembles before it in the batch" in message
+    assert "above max_memory = 488.3 KiB" in message and "\n" not in message
+
+
 def test_a_cgroup_limit_below_the_machine_is_the_memory_there_is(cgroup_of_1_mib):
     assert memory.cgroup_limit() == 2**20
     assert memory.machine_memory() == 2**20

@@ -136,14 +136,12 @@ def run_scene(scene, method, x0, parameters, *, h, n_steps, sizes=None, save_eve
     spec = scene.method(method)
     width = scene.width
     progress = checked_progress(progress)
-    x0 = real_array("x0", x0, "the scene's units")
+    # Only the shape of x0 until the memory check (a broadcast array of 1e9 rows copies to GiB)
+    x0 = real_array("x0", x0, "the scene's units", copy=False)
     if x0.ndim != 2 or x0.shape[1] != width:
         raise ValueError(f"x0 must have shape (members, {width}) for scene {scene.name!r}, one "
                          f"column per component ({', '.join(scene.components)}), got shape "
                          f"{x0.shape}")
-    if not np.all(np.isfinite(x0)):
-        row = int(np.flatnonzero(~np.all(np.isfinite(x0), axis=1))[0])
-        raise ValueError(f"x0 must be finite; its row {row} is not")
     if x0.shape[0] == 0:
         raise ValueError(f"x0 has no rows: give at least one member, a row of {width} numbers")
     sets = _in_order(scene, spec, _parameter_sets(parameters))
@@ -191,6 +189,10 @@ def run_scene(scene, method, x0, parameters, *, h, n_steps, sizes=None, save_eve
                                          "memory)"), max_memory)
     if problem is not None:
         raise ValueError(problem)
+    x0 = np.array(x0, dtype=float)
+    if not np.all(np.isfinite(x0)):
+        row = int(np.flatnonzero(~np.all(np.isfinite(x0), axis=1))[0])
+        raise ValueError(f"x0 must be finite; its row {row} is not")
     run = GroupedRun(_by_name(scene), spec.name, x0, rows, sizes, hs, steps,
                      save_every=save_every, axes=axes, levels=levels,
                      label=label or f"{scene.name} ({spec.name})")

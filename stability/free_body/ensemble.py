@@ -309,6 +309,9 @@ def run_ensembles(calls, *, threads=None, progress=None, datasets=True) -> list:
         Keyword arguments of :func:`run_ensemble`, one dict per ensemble (``body``, ``axis``,
         ``spin``, ... ; not ``threads``, ``progress``, ``chunk_members``, ``chunk_steps``).
         Summaries-only ensembles of one method run together; time-series ones one at a time.
+        The batch holds every ensemble at once, so each call's ``max_memory`` (4 GiB by
+        default; the machine's memory where that is less) bounds its ensemble together with
+        those before it: the whole batch is checked before any start is drawn.
     threads : int, optional
         Numba threads for the whole batch.
     progress : bool, optional
@@ -329,16 +332,18 @@ def run_ensembles(calls, *, threads=None, progress=None, datasets=True) -> list:
                          f"run_ensemble for one ensemble; got a {type(calls).__name__}")
     progress = checked_progress(progress)
     plans, rules = [], []
+    held = 0  # bytes of the calls planned so far
     for k, call in enumerate(calls):
         if not isinstance(call, Mapping):
             raise ValueError(f"calls[{k}] must be a dict of run_ensemble's keyword arguments, "
                              f"got a {type(call).__name__}")
         call = dict(call)
         _check_call_keys(k, call)
-        try:
-            plan, rule = _planned(call)
+        try:  # the batch's memory so far counts, checked before this call's starts are drawn
+            plan, rule = _planned(call, held=held)
         except ValueError as exc:
             raise ValueError(f"calls[{k}]: {exc}") from None
+        held += plan.nbytes
         plans.append(plan)
         rules.append(rule)
         if not (datasets or plan.summaries_only):
@@ -390,15 +395,16 @@ def _check_call_keys(k, call) -> None:
             raise ValueError(f"calls[{k}]: give {name}, as run_ensemble needs it")
 
 
-def _planned(call):
+def _planned(call, held=0):
     """The plan of one call of :func:`run_ensembles` and the rules of its default step and
-    horizon, with the defaults :func:`run_ensemble` applies."""
+    horizon, with the defaults :func:`run_ensemble` applies; ``held``: bytes of the calls
+    before it (:func:`~stability.free_body.plan.plan_ensemble`)."""
     call = {name: value for name, value in call.items() if name not in _STREAM_ARGUMENTS}
     call["axis"] = _named_axis(call["body"], call["axis"])
     call["epsilon"], call["members"], call["h"], call["t_end"], rules = _with_defaults(
         call["body"], call["axis"], call.get("spin"), call.get("epsilon"), call.get("members"),
         call.get("starts"), call.get("h"), call.get("t_end"), call.get("save_every", 1))
-    return plan_ensemble(**call), rules
+    return plan_ensemble(**call, held=held), rules
 
 
 @dataclass(frozen=True)

@@ -109,6 +109,7 @@ class EnsemblePlan:
     command: str | None
     device: str = "cpu"
     attitude: bool = False
+    nbytes: int = 0  # of the whole ensemble's Dataset (ensemble_memory)
 
 
 def plan_ensemble(body, axis, spin=None, epsilon=None, members=None, *, h, t_end, seed=0,
@@ -116,11 +117,13 @@ def plan_ensemble(body, axis, spin=None, epsilon=None, members=None, *, h, t_end
                   levels=None, divergence_tolerance=DEFAULT_DIVERGENCE_TOLERANCE,
                   max_memory=DEFAULT_MAX_MEMORY, chunk_members=None, chunk_steps=None,
                   config=None, command=None, device="cpu", defer_starts=False,
-                  scene="free_body") -> EnsemblePlan:
+                  scene="free_body", held=0) -> EnsemblePlan:
     """Validate the arguments of :func:`run_ensemble` and draw the starts; ValueError if bad.
 
     With ``defer_starts`` random starts are not drawn: :func:`chunk_plan` draws each chunk's.
-    The memory is checked before any start is drawn, against ``max_memory`` or the machine's
+    ``held``: bytes that the ensembles before this one in a batch hold
+    (:func:`stability.run_ensembles`), counted with it against ``max_memory``. The memory is
+    checked before any start is drawn, against ``max_memory`` or the machine's
     memory where that is less.
     """
     if not isinstance(body, RigidBody):
@@ -203,24 +206,27 @@ def plan_ensemble(body, axis, spin=None, epsilon=None, members=None, *, h, t_end
     n_time = n_saved + 1
     if defer_starts:  # streamed to disk: a chunk at a time in memory
         chunk_members = min(chunk_members or STREAM_CHUNK_MEMBERS, n_members)
-    held = chunk_members if defer_starts else n_members
-    stored = ensemble_memory(held, 0 if summaries_only else n_saved, levels.size,
+    members_held = chunk_members if defer_starts else n_members
+    stored = ensemble_memory(members_held, 0 if summaries_only else n_saved, levels.size,
                              scene=scene)
     limit = min(max_memory, machine_memory() or max_memory)
+    beside = (f", with the {format_bytes(held)} of the ensembles before it in the batch"
+              if held else "")
     more = ", or raise max_memory" if limit == max_memory else ""
-    if not summaries_only and stored > limit:
+    if not summaries_only and stored + held > limit:
         raise ValueError(
-            f"the time series of {held} members x {n_time} samples x "
+            f"the time series of {members_held} members x {n_time} samples x "
             f"{9 if attitude else 3} doubles would "
-            f"take {format_bytes(stored)} (about {PEAK_COPIES}x that while the run builds it), "
-            f"above {limit_words(max_memory)}; raise save_every, use fewer members, pass "
-            f"summaries_only=True (per-member summaries only){more}"
+            f"take {format_bytes(stored)} (about {PEAK_COPIES}x that while the run builds it)"
+            f"{beside}, above {limit_words(max_memory)}; raise save_every, use fewer "
+            f"members, pass summaries_only=True (per-member summaries only){more}"
         )
-    if summaries_only and stored > limit:
+    if summaries_only and stored + held > limit:
         raise ValueError(
-            f"the summaries of {held} members would take {format_bytes(stored)} "
-            f"({format_bytes(stored / held)} a member), above {limit_words(max_memory)}; use "
-            f"fewer members, stream the run to disk (store=, a chunk at a time in memory){more}"
+            f"the summaries of {members_held} members would take {format_bytes(stored)} "
+            f"({format_bytes(stored / members_held)} a member){beside}, above "
+            f"{limit_words(max_memory)}; use fewer members, stream the run to disk "
+            f"(store=, a chunk at a time in memory){more}"
         )
     chunk_members = min(chunk_members or n_members, n_members)
     level = logging.WARNING if stored > LARGE_RUN_BYTES else logging.INFO
@@ -229,7 +235,7 @@ def plan_ensemble(body, axis, spin=None, epsilon=None, members=None, *, h, t_end
         "run_ensemble: %d members x %d steps of %s (%.3g member-steps); Dataset %s "
         "(%s per member)%s",
         n_members, n_steps, spec.name, float(n_members) * n_steps, format_bytes(stored),
-        format_bytes(stored / held),
+        format_bytes(stored / members_held),
         "" if summaries_only else f", about {PEAK_COPIES}x that at the peak",
     )
 
@@ -278,7 +284,7 @@ def plan_ensemble(body, axis, spin=None, epsilon=None, members=None, *, h, t_end
         chunk_steps=chunk_steps,
         resolved=resolved, start_kind=start_kind, spin=spin, epsilon=epsilon,
         direction=direction, ss=ss, config_text=config_text, command=command, device=device,
-        attitude=bool(attitude),
+        attitude=bool(attitude), nbytes=stored,
     )
 
 

@@ -44,14 +44,17 @@ def scalar(value):
     return value
 
 
-def real_array(name: str, value, unit: str = "") -> np.ndarray:
+def real_array(name: str, value, unit: str = "", copy: bool = True) -> np.ndarray:
     """``value`` as a new float64 array if it holds real numbers only, else ValueError.
 
     The one gate for array input at the public boundary. Integers and floats (Python or NumPy,
     in lists, tuples or arrays of any shape) are accepted; complex numbers, booleans, strings,
     bytes, dates, ``None``, ragged lists and other objects are refused with one line naming
     ``name``, where ``np.array(value, dtype=float)`` would silently drop an imaginary part,
-    read True as 1 or parse "2". Shape and finiteness are the caller's to check.
+    read True as 1 or parse "2". Shape and finiteness are the caller's to check. With
+    ``copy=False``, an array given comes back as it is (a view, of its own dtype: nothing of
+    its size allocated), for a caller that checks the memory its shape needs before it
+    converts it.
     """
     try:
         x = np.asarray(value)
@@ -76,7 +79,7 @@ def real_array(name: str, value, unit: str = "") -> np.ndarray:
         )
     elif kind not in "iuf":
         raise ValueError(f"{name} must be real numbers{_in(unit)}, got {_short(value)}")
-    return np.array(x, dtype=float)
+    return np.array(x, dtype=float) if copy else x
 
 
 def positive_float(name: str, value, unit: str = "") -> float:
