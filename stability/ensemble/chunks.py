@@ -51,6 +51,7 @@ from ..util.interrupts import deferred_interrupt
 from ..output.io import READ
 from ..output.store import ChunkStore, read_manifest
 from ..output.stream import stream_chunks
+from ..output.untrusted import opened, read_dataset
 from ..engine.scene import Scene
 from ..registry import scene as registered_scene
 from ..util import conventions as cv
@@ -355,8 +356,8 @@ def propagate_stored(run: GroupedRun, store=None, *, measure=None, resume=False,
             return small_loaded(chunks.open())
         parts = []
         for k in range(chunks.n_chunks):
-            with xr.open_dataset(chunks.path(k), engine="netcdf4") as ds:
-                parts.append(ds.load())
+            # the run's own memory check came first: a chunk is held to the machine's
+            parts.append(read_dataset(chunks.path(k), math.inf, engine="netcdf4"))
         chunks.complete({})
     finally:
         chunks.close()
@@ -431,7 +432,7 @@ def summed_attrs(chunks: ChunkStore, elapsed: float) -> dict:
     wall = compile_time = 0.0
     first = None
     for k in range(chunks.n_chunks):
-        with xr.open_dataset(chunks.path(k), **READ) as ds:
+        with opened(chunks.path(k), **READ) as ds:
             attrs = dict(ds.attrs)
         wall += float(attrs.get("wall_time", 0.0))
         compile_time += float(attrs.get("compile_time", 0.0))

@@ -89,7 +89,7 @@ def machine_words(machine: int) -> str:
 
 
 def memory_problem(nbytes: float, what: str, fix: str,
-                   max_memory: float = DEFAULT_MAX_MEMORY) -> str | None:
+                   max_memory: float = DEFAULT_MAX_MEMORY, holder: str = "a run") -> str | None:
     """Why a run holding ``nbytes`` would not fit, as the end of a one-line refusal; None if
     it fits.
 
@@ -103,12 +103,14 @@ def memory_problem(nbytes: float, what: str, fix: str,
         How to bring it down, e.g. ``"use fewer members or a larger save_every"``.
     max_memory : float, default :data:`DEFAULT_MAX_MEMORY`
         The most a run may hold; the machine's memory where that is less.
+    holder : str, default "a run"
+        What may hold that much, as the line names it.
 
     Returns
     -------
     str or None
-        ``"<what> would take about <size> in memory, above the <limit> a run may hold; this
-        machine has <size>; <fix>"``.
+        ``"<what> would take about <size> in memory, above the <limit> <holder> may hold;
+        this machine has <size>; <fix>"``.
     """
     machine = machine_memory()
     limit = min(max_memory, machine or max_memory)
@@ -116,5 +118,5 @@ def memory_problem(nbytes: float, what: str, fix: str,
         return None
     has = f"; this machine has {machine_words(machine)}" if machine else ""
     return (f"{what} would take about {format_bytes(nbytes)} in memory, above the "
-            f"{format_bytes(limit)} a run may hold{has}; {fix}")
+            f"{format_bytes(limit)} {holder} may hold{has}; {fix}")
 

@@ -5,7 +5,8 @@ along ``member``, to a temporary file in the target's directory that is renamed 
 only when complete (``os.replace`` is atomic on one filesystem), so an interrupted write never
 leaves a broken file; it refuses to replace an existing file unless asked. ``load`` reads the
 file back into memory and returns a Dataset identical (``xarray.testing.assert_identical``) to
-the one saved. Time coordinates are float numbers with CF time units counted from a nominal
+the one saved; it refuses, in one line, a file that is not a regular one, that reaches outside
+itself (HDF5 external links, external storage) or that declares more than fits in memory. Time coordinates are float numbers with CF time units counted from a nominal
 date (``"s since 1970-01-01 00:00:00"``, :data:`stability.util.conventions.TIME_ORIGIN`): ``load``
 passes ``decode_times=False`` (and ``decode_timedelta=False``) so that they stay numbers;
 other readers may do the same, or let xarray decode them to dates from that origin.
@@ -25,6 +26,8 @@ import xarray as xr
 from ..util import conventions as cv
 from .dataset import check_storable
 from .publish import disk_error
+from .untrusted import read_dataset
+from ..ensemble.memory import DEFAULT_MAX_MEMORY
 from ..ensemble.schema import file_order, held_order
 
 #: zlib compression level (1 fastest ... 9 smallest); 4 is near the knee of size against time.
@@ -143,12 +146,20 @@ def _write_in_thread(ds: xr.Dataset, path: Path, encoding: dict) -> None:
         pool.shutdown(wait=True)
 
 
-def load(path) -> xr.Dataset:
+def load(path, max_memory: float = DEFAULT_MAX_MEMORY) -> xr.Dataset:
     """Read a file written by :func:`save` into memory.
+
+    The file is checked first, as any file handed in may be hostile
+    (:mod:`stability.output.untrusted`): a regular file only, nothing that reaches outside
+    it (HDF5 external links, external storage), and its declared size within ``max_memory``
+    before anything is read.
 
     Parameters
     ----------
     path : str or path-like
+    max_memory : float, default 4 GiB
+        Refuse a file whose variables would take more than this many bytes in memory (or more
+        than the machine has); open such a file lazily with ``xarray.open_dataset``.
 
     Returns
     -------
@@ -161,24 +172,10 @@ def load(path) -> xr.Dataset:
     FileNotFoundError
         If ``path`` does not exist.
     ValueError
-        If ``path`` is a folder or not a netCDF file.
+        One line naming the file: a folder, a FIFO or a device; not a netCDF file; links or
+        storage outside it; too large for memory; or damaged (a variable cannot be read).
     """
-    path = Path(path)
-    if not path.exists():
-        raise FileNotFoundError(f"no such file: {path}")
-    if path.is_dir():
-        raise ValueError(f"{path} is a folder; give a .nc file written by stability.save (the "
-                         "folder of a stored run opens with stability.output.store.open_store)")
-    try:
-        ds = xr.open_dataset(path, **READ)
-    except PermissionError:
-        raise
-    except (OSError, ValueError) as exc:  # netCDF4's "Unknown file format", no engine, ...
-        raise ValueError(f"{path} is not a netCDF file stability can read "
-                         f"({str(exc).splitlines()[0][:120]}); give a .nc file written by "
-                         "stability.save") from None
-    with ds:
-        return held_order(ds.load())
+    return held_order(read_dataset(path, max_memory, **READ))
 
 
 def _write(ds: xr.Dataset, path: Path, encoding: dict) -> None:

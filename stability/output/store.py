@@ -49,6 +49,7 @@ from .io import READ, save
 from ..ensemble.schema import held_order
 from .lock import FolderLock
 from .publish import read_plain_file, write_text
+from .untrusted import first_line, lazy_file
 
 MANIFEST = "manifest.json"
 PROGRESS = "progress.json"
@@ -412,17 +413,23 @@ def _shown(value) -> str:
 def open_store(directory) -> xr.Dataset:
     """The Dataset of a complete store, lazily over its chunk files (dask arrays).
 
+    Each chunk file is checked before it is opened, as :func:`stability.load` checks a file
+    (:func:`stability.output.untrusted.lazy_file`): a regular file, nothing reaching outside
+    it, coordinates of a size that fits in memory.
+
     Raises
     ------
     ValueError
-        If the folder is not a store, or not every chunk is done.
+        If the folder is not a store, not every chunk is done, or a chunk file is refused or
+        does not open (one line naming it).
     """
     directory = Path(directory)
     manifest = read_manifest(directory)
     if not manifest.get("complete"):
         raise ValueError(f"{directory} holds an unfinished run; finish it with --resume "
                          "(resume=True) first")
-    paths = [directory / chunk_name(k) for k in range(manifest["chunks"])]
+    paths = [lazy_file(directory / chunk_name(k), drop=(cv.MEMBER,))
+             for k in range(manifest["chunks"])]
     # No HDF5 chunk cache for these files: dask reads each on-disk chunk once, and a cache per
     # variable per open file would keep the whole run in memory as it is read (64 files of
     # 32768 members: 0.24 GiB more after reading one variable each).
@@ -435,6 +442,8 @@ def open_store(directory) -> xr.Dataset:
             **READ, chunks={}, parallel=False,
             drop_variables=[cv.MEMBER],
         )
+    except (OSError, RuntimeError, ValueError) as exc:  # a damaged coordinate, chunks that differ
+        raise _unopened(directory, paths, exc) from None
     finally:
         netCDF4.set_chunk_cache(*previous)
     # Members are numbered by position: a pandas RangeIndex, not 8 bytes a member in memory
@@ -447,6 +456,19 @@ def open_store(directory) -> xr.Dataset:
     ds[cv.MEMBER].attrs.update(variable_attrs(cv.MEMBER))
     ds.attrs = dict(manifest["attrs"])
     return held_order(ds)
+
+
+def _unopened(directory: Path, paths, exc: BaseException) -> ValueError:
+    """The line for chunk files that did not open as one: the first that does not open alone
+    named, or that they do not fit together."""
+    for path in paths:
+        try:
+            xr.open_dataset(path, **READ, drop_variables=[cv.MEMBER]).close()
+        except (OSError, RuntimeError, ValueError) as alone:
+            return ValueError(f"{path} is damaged ({first_line(alone)}); remove its folder and "
+                              "run again")
+    return ValueError(f"the chunk files in {directory} do not fit together as one "
+                      f"run ({first_line(exc)}); remove the folder and run again")
 
 
 def file_checksum(path) -> str:

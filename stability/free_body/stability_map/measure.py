@@ -29,6 +29,7 @@ from ...analysis.members import members as gather_members
 from ..ensemble import completed, run_ensembles
 from ..starts import perturbed_starts
 from ...output.stream import stream_chunks
+from ...output.untrusted import read_dataset
 from ..schema import STABILITY_MAP
 from .shapes import EDGE_EQUAL_12, EDGE_EQUAL_23, EDGE_FLAT
 from ...util import conventions as cv
@@ -376,22 +377,26 @@ def read_batch(path, n_cells: int) -> list:
     list of (int, float, dict)
         Per cell: member-steps, kernel loop time in s, and the estimates (scalars as Python
         numbers, per-member arrays as ndarrays; booleans come back as int8).
-    """
-    import xarray as xr
 
-    with xr.open_dataset(path, engine="netcdf4") as ds:
-        cells = [{} for _ in range(n_cells)]
-        for name in ds.data_vars:
-            if name.endswith(".length"):
-                continue
-            values = ds[name].values
-            if f"{name}.length" in ds:
-                ends = np.cumsum(ds[f"{name}.length"].values)
-                parts = np.split(values, ends[:-1])
-            else:
-                parts = [v.item() if v.ndim == 0 else v for v in values]
-            for x, part in zip(cells, parts):
-                x[name] = part
+    Raises
+    ------
+    ValueError
+        One line naming the file, if it is not one to read
+        (:func:`stability.output.untrusted.read_dataset`).
+    """
+    ds = read_dataset(path, engine="netcdf4")
+    cells = [{} for _ in range(n_cells)]
+    for name in ds.data_vars:
+        if name.endswith(".length"):
+            continue
+        values = ds[name].values
+        if f"{name}.length" in ds:
+            ends = np.cumsum(ds[f"{name}.length"].values)
+            parts = np.split(values, ends[:-1])
+        else:
+            parts = [v.item() if v.ndim == 0 else v for v in values]
+        for x, part in zip(cells, parts):
+            x[name] = part
     return [(x.pop("member_steps"), x.pop("loop_time"), x) for x in cells]
 
 
