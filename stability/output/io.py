@@ -6,10 +6,12 @@ only when complete (``os.replace`` is atomic on one filesystem), so an interrupt
 leaves a broken file; it refuses to replace an existing file unless asked. ``load`` reads the
 file back into memory and returns a Dataset identical (``xarray.testing.assert_identical``) to
 the one saved; it refuses, in one line, a file that is not a regular one, that reaches outside
-itself (HDF5 external links, external storage) or that declares more than fits in memory. Time coordinates are float numbers with CF time units counted from a nominal
-date (``"s since 1970-01-01 00:00:00"``, :data:`stability.util.conventions.TIME_ORIGIN`): ``load``
-passes ``decode_times=False`` (and ``decode_timedelta=False``) so that they stay numbers;
-other readers may do the same, or let xarray decode them to dates from that origin.
+itself (HDF5 external links, external storage) or that declares more than fits in memory
+(:mod:`stability.output.untrusted`). Time coordinates are float numbers with CF time units
+counted from a nominal date (``"s since 1970-01-01 00:00:00"``,
+:data:`stability.util.conventions.TIME_ORIGIN`): ``load`` passes ``decode_times=False`` (and
+``decode_timedelta=False``) so that they stay numbers; other readers may do the same, or let
+xarray decode them to dates from that origin.
 """
 
 from __future__ import annotations
