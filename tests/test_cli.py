@@ -15,7 +15,7 @@ from stability.free_body.propagate import propagate
 from stability.study import STUDIES, load_study
 from stability.free_body.tennis_racket.study import FIGURES
 
-from .helpers import assert_cf_compliant, assert_declared
+from .helpers import assert_cf_compliant, assert_declared, one_line
 
 ROOT = Path(__file__).resolve().parents[1]
 TENNIS = ROOT / "studies" / "tennis_racket.toml"
@@ -52,6 +52,32 @@ def test_usage_errors_are_one_line(capsys, tmp_path):
     assert main(["run", str(TENNIS), "--threads", "999", "--out", str(tmp_path / "o")]) == 2
     err = capsys.readouterr().err.strip()
     assert len(err.splitlines()) == 1 and "threads must be a whole number from 1 to" in err
+    assert not (tmp_path / "o").exists()
+
+
+@pytest.mark.parametrize("option, value, fragment", [
+    ("--fps", "1e308", "gives over 1e308 frames, more than 1000"),  # was OverflowError
+    ("--duration", "1e308", "gives over 1e308 frames, more than 1000"),
+    ("--fps", "1e6", "gives 3874358 frames, more than 1000"),
+    ("--speed", "1e-308", "frames, more than 1000; shorten the duration"),
+    ("--fps", "0", "fps must be finite and > 0"),
+    ("--fps", "nan", "fps must be finite and > 0"),
+    ("--fps", "-1", "fps must be finite and > 0"),
+    ("--fps", "inf", "fps must be finite and > 0"),
+])
+def test_absurd_animation_numbers_are_one_usage_line(option, value, fragment, capsys,
+                                                     tmp_path):
+    out = tmp_path / "flip.gif"
+    line = one_line(capsys, ["animate", "racket", str(out), option, value])
+    assert line.startswith("stability animate: error: ") and fragment in line, line
+    assert not out.exists()
+
+
+@pytest.mark.parametrize("value", ["", "  "])
+def test_an_empty_scheduler_is_a_usage_error_not_a_run_here(value, capsys, tmp_path):
+    line = one_line(capsys, ["run", str(TENNIS), "--quick", "--out", str(tmp_path / "o"),
+                             "--scheduler", value])
+    assert "--scheduler: must be 'dask'" in line and "leave --scheduler out" in line, line
     assert not (tmp_path / "o").exists()
 
 

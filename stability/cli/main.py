@@ -48,6 +48,14 @@ def _positive_int(text: str) -> int:
     return value
 
 
+def _scheduler(text: str) -> str:
+    if text.strip() != "dask" and "://" not in text:
+        raise argparse.ArgumentTypeError(
+            f"must be 'dask' (a local cluster) or a scheduler address such as tcp://host:8786, "
+            f"got {text!r}; leave --scheduler out to run on this machine")
+    return text.strip()
+
+
 def _assignment(text: str) -> tuple[str, str]:
     key, sep, value = text.partition("=")
     if not sep or "." not in key:
@@ -87,7 +95,7 @@ def build_parser() -> argparse.ArgumentParser:
                      "chunks of a stopped run)")
     run.add_argument("--resume", action="store_true",
                      help="finish a stopped run of the same study: only its missing chunks run")
-    run.add_argument("--scheduler", metavar="ADDRESS",
+    run.add_argument("--scheduler", metavar="ADDRESS", type=_scheduler,
                      help="run the chunks on dask.distributed: 'dask' for a local cluster, or "
                      "a scheduler address such as tcp://host:8786")
     run.add_argument(

@@ -11,6 +11,7 @@ FFMpegWriter, where ffmpeg is installed).
 
 from __future__ import annotations
 
+import math
 import os
 from pathlib import Path
 
@@ -39,15 +40,18 @@ def frame_times(duration, fps, speed) -> np.ndarray:
     duration = positive_float("duration", duration, "s")
     fps = positive_float("fps", fps, "frames/s")
     speed = positive_float("speed", speed, "s of motion per s shown")
-    n = round(fps * duration / speed)
+    frames = fps * duration / speed  # inf where the product overflows
+    if frames > MAX_FRAMES + 0.5:
+        count = (round(frames) if frames < 1e9 else f"{frames:.3g}" if math.isfinite(frames)
+                 else "over 1e308")
+        raise ValueError(f"duration = {duration:g} s at fps = {fps:g} and speed = {speed:g} "
+                         f"gives {count} frames, more than {MAX_FRAMES}; shorten the duration, "
+                         "lower fps or raise speed")
+    n = round(frames)
     if n < 2:
         raise ValueError(f"duration = {duration:g} s at fps = {fps:g} and speed = {speed:g} "
                          f"gives {n} frame(s); give a longer duration or a higher fps "
                          "(at least 2 frames)")
-    if n > MAX_FRAMES:
-        raise ValueError(f"duration = {duration:g} s at fps = {fps:g} and speed = {speed:g} "
-                         f"gives {n} frames, more than {MAX_FRAMES}; shorten the duration, "
-                         "lower fps or raise speed")
     return np.arange(n) * (speed / fps)
 
 

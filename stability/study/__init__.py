@@ -217,6 +217,11 @@ def run_study(
         )
     if threads is not None:
         threads = _check_threads(threads)
+    if scheduler is not None and not hasattr(scheduler, "submit") and not (
+            isinstance(scheduler, str) and (scheduler == "dask" or "://" in scheduler)):
+        raise ValueError(f"scheduler must be 'dask' (a local cluster), a scheduler address such "
+                         f"as 'tcp://host:8786' or a distributed.Client, got {scheduler!r}; "
+                         "None runs on this machine")
     if (resume or scheduler is not None) and not kind.resumable:
         option = "--resume" if resume else "--scheduler"
         raise ValueError(f"study kind {kind.name!r} runs in one piece; drop {option}")
