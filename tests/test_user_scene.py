@@ -317,6 +317,10 @@ def rhs_numba_cannot(x, v, p):
     return v, -p[0] * float(fractions.Fraction(1, 3)) * x
 
 
+def rhs_divides_by_zero(x, v, p):
+    return v, -p[0] / (x - 1.0)
+
+
 def rhs_dict(x, v, p):
     return {"a": x}, v
 
@@ -359,6 +363,10 @@ CASES = {
                           "invariants must be a dict of name: function"),
     "invariant shape": (dict(invariants={"energy": "energy_scalar"}), ValueError,
                         r"invariant 'energy' returned shape \(\)"),
+    "rhs raises only when compiled": (  # it was "Numba cannot compile"
+        dict(rhs="rhs_divides_by_zero"), ValueError,
+        r"rhs rhs_divides_by_zero raised ZeroDivisionError: division by zero when compiled "
+        r"\(compiled code raises on a division by zero.*tried on a state and parameters of ones"),
     "numba cannot compile": (dict(rhs="rhs_numba_cannot"), TypeError,
                              r"Numba cannot compile rhs rhs_numba_cannot: "
                              r"Unknown attribute 'Fraction'.*user_mistakes.py, line \d+\)"),

@@ -27,6 +27,7 @@ from typing import Callable, Mapping
 
 import numpy as np
 from numba.core.dispatcher import Dispatcher
+from numba.core.errors import NumbaError
 
 from .cache import load_module
 from ..integrators.rk4 import RK4, rk4_source
@@ -282,7 +283,7 @@ def define_scene(name, components, units, rhs, parameters=(), *, parameter_units
         _shaped(name, "exact", exact, (x[None, :], values, 0.0), (1, width), where)
 
     kernels = _kernels(name, caller, rhs, extra, observe, width)
-    _compiles(name, kernels, rhs_function, extra, observe, x, p)
+    _compiles(name, kernels, rhs_function, extra, observe, x, p, where)
     rk4 = MethodSpec(
         name="rk4", title=RK4.title, order=4, step=kernels.rk4_step, params=row,
         family=RK4.family, evaluations=4, reference=RK4.reference,
@@ -499,8 +500,9 @@ def _kernels(name, caller, rhs, extra, observe, width):
     return load_module(f"{name}__kernels", source, tuple(roots), tuple(python.values()))
 
 
-def _compiles(scene, kernels, rhs, extra, observe, x, p):
-    """Compile (or load) each check of the kernels' module: Numba's complaint in one line."""
+def _compiles(scene, kernels, rhs, extra, observe, x, p, where):
+    """Compile (or load) and run each check of the kernels' module: Numba's complaint, or the
+    exception the compiled function raised, in one line."""
     checks = [("rhs", "rhs", rhs)]
     checks += [(f"kernel_{k}", f"method {spec.name!r}'s kernel", spec.step.py_func)
                for k, spec in enumerate(extra.values())]
@@ -510,9 +512,15 @@ def _compiles(scene, kernels, rhs, extra, observe, x, p):
     for role, label, python in checks:
         try:
             getattr(kernels, f"check_{role}")(x, PROBE_H, p, axes)
-        except Exception as exc:
+        except NumbaError as exc:
             raise TypeError(f"scene {scene!r}: Numba cannot compile {label} "
                             f"{python.__qualname__}: {_reason(exc)}") from None
+        except Exception as exc:  # compiled, then raised when run
+            hint = (" (compiled code raises on a division by zero, where NumPy gives inf or "
+                    "nan)" if isinstance(exc, ZeroDivisionError) else "")
+            raise ValueError(f"scene {scene!r}: {label} {python.__qualname__} raised "
+                             f"{type(exc).__name__}: {_reason(exc)} when compiled{hint}, "
+                             f"tried on {where}") from None
 
 
 def _reason(exc) -> str:
