@@ -10,7 +10,8 @@ The in-process rows (``stability.cli.main`` here, as nothing in them runs) cover
 run reads besides its options: the study file itself (not a regular file, too large, not UTF-8,
 integers beyond a float's range, a byte-order mark that must parse), a run's ``manifest.json``
 and ``progress.json`` damaged in every way a reader could trip on, a count that no memory holds
-for every study kind, and a dask scheduler address that takes the connection and never answers.
+for every study kind, and a dask scheduler address that takes the connection and never answers
+or where a web server answers.
 
 Cases covered elsewhere and not repeated here: study-file keys of the wrong type or range, unknown
 keys and sections, a section given as a value, a missing or bad top-level ``study`` key, a missing
@@ -697,6 +698,41 @@ def test_scheduler_that_never_answers_is_given_up_in_seconds(tmp_path):
     assert done.returncode == 2 and len(lines) == 1, done.stderr
     assert f"cannot reach the dask scheduler at {address}" in lines[0], lines[0]
     assert "did not answer as a dask scheduler" in lines[0], lines[0]
+    assert not out.exists() or not any(out.iterdir())
+
+
+def test_scheduler_address_where_a_web_server_answers_is_one_line(tmp_path, capsys):
+    """An HTTP server on the port, answering the dask handshake with "HTTP/1.1 400" at once (as
+    servers that refuse a binary request line do): dask read "HTTP/1.1" as a frame count and
+    asked for 3.07 EiB, a MemoryError traceback. One line now, nothing written."""
+    import http.server
+    import threading
+
+    class Refusing(http.server.BaseHTTPRequestHandler):
+        protocol_version = "HTTP/1.1"
+
+        def handle_one_request(self):  # the request line is binary: refused as it arrives
+            self.connection.recv(65536)
+            self.command, self.request_version, self.requestline = "", "HTTP/1.1", ""
+            self.send_error(400)
+            self.close_connection = True
+
+        def log_message(self, *args):
+            pass
+
+    server = http.server.ThreadingHTTPServer(("127.0.0.1", 0), Refusing)
+    threading.Thread(target=server.serve_forever, daemon=True).start()
+    address = f"tcp://127.0.0.1:{server.server_address[1]}"
+    out = tmp_path / "out"
+    try:
+        line = one_line(capsys, ["run", str(ROOT / "studies" / "tennis_racket.toml"), "--quick",
+                                 "--out", str(out), "--no-progress", "--scheduler", address])
+    finally:
+        server.shutdown()
+        server.server_close()
+    assert line.startswith(f"stability run: error: cannot reach the dask scheduler at {address} "
+                           "(it answered, but not as a dask scheduler does"), line
+    assert "web server" in line, line
     assert not out.exists() or not any(out.iterdir())
 
 

@@ -218,7 +218,8 @@ def scheduler_client(address: str, timeout: float = CONNECT_TIMEOUT):
     Raises
     ------
     OSError
-        One line: the scheduler cannot be reached, or did not answer, within ``timeout``.
+        One line: the scheduler cannot be reached, or did not answer (or not as a dask
+        scheduler does), within ``timeout``.
     """
     import asyncio
     from concurrent.futures import ThreadPoolExecutor
@@ -242,6 +243,9 @@ def scheduler_client(address: str, timeout: float = CONNECT_TIMEOUT):
                               f"within {timeout + _ANSWER:g} s") from None
         except (OSError, ValueError) as exc:  # refused, no such host, a malformed address
             raise unreachable(" ".join(str(exc).split()) or type(exc).__name__) from None
+        except Exception:  # another protocol: "HTTP/1.1" read as a frame count (3 EiB)
+            raise unreachable("it answered, but not as a dask scheduler does: another "
+                              "service, such as a web server, may be on that port") from None
     try:
         return Client(address, timeout=f"{timeout}s")
     except (OSError, TimeoutError) as exc:
