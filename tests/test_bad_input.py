@@ -169,6 +169,9 @@ CLI = {
     "engine frame rate of zero": (
         'study = "engine_artefacts"\n[rules]\nframe_rates = [60.0, 0.0]\n', [],
         ["[rules] frame_rates"]),
+    "moments whose products underflow": (
+        'study = "tennis_racket"\n[body]\nmoments = [1e-300, 2e-300, 3e-300]\n', [],
+        ["[body] moments (1e-300, 2e-300, 3e-300) kg m^2 are out of a double's range"]),
     "step hopeless for the spin": (
         'study = "tennis_racket"\n[spin]\nrate = 1e6\n[integration]\nmethod = "lp2"\n',
         [], ["h = 0.002 s is too large for lp2", "choose h <="]),
@@ -223,6 +226,15 @@ API = {
     "complex moment": (lambda: stability.RigidBody(1 + 0j, 2.0, 3.0), "I1 must be a number"),
     "boolean moment": (lambda: stability.RigidBody(True, 2.0, 3.0), "I1 must be a number"),
     "moment as a string": (lambda: stability.RigidBody("1", 2.0, 3.0), "I1 must be a number"),
+    # ZeroDivisionError in the kernel parameters, once run
+    "moments whose products underflow": (
+        lambda: stability.RigidBody(1e-300, 2e-300, 3e-300),
+        "moments (1e-300, 2e-300, 3e-300) kg m^2 are out of a double's range"),
+    "moments whose products overflow": (
+        lambda: stability.RigidBody(1e200, 2e200, 3e200, physical=False),
+        "products of two and of three moments, which must lie between 2.23e-308 and 1.8e+308"),
+    "tiny moments from a tensor": (lambda: stability.RigidBody.from_tensor(np.eye(3) * 1e-200),
+                                   "divide all three by one factor"),
     "complex tensor": (lambda: stability.RigidBody.from_tensor(np.eye(3) * (1 + 1j)),
                        "J must be real numbers"),
     "boolean mass": (lambda: stability.RigidBody.box(True, 1.0, 2.0, 3.0),

@@ -16,6 +16,7 @@ from __future__ import annotations
 
 import html
 import math
+import sys
 from collections.abc import Callable, Iterable, Mapping
 from dataclasses import dataclass, field
 from types import MappingProxyType
@@ -43,8 +44,9 @@ class RigidBody:
     Raises
     ------
     ValueError
-        If a moment is not finite, is zero or negative, or (with ``physical=True``) the moments
-        violate the triangle inequality.
+        If a moment is not finite, is zero or negative, the products of two or three moments
+        underflow or overflow a double, or (with ``physical=True``) the moments violate the
+        triangle inequality.
     """
 
     I1: float
@@ -66,6 +68,7 @@ class RigidBody:
                 )
             object.__setattr__(self, label, value)
             moments.append(value)
+        _check_range(moments)
         if self.physical:
             total = sum(moments)
             for i, value in enumerate(moments):
@@ -940,3 +943,17 @@ PRESETS: Mapping[str, Preset] = MappingProxyType({
         _book_parts,
     ),
 })
+
+
+def _check_range(moments) -> None:
+    """Refuse moments whose products, which the kernels form (``I_j I_k`` in the Euler
+    coefficients, ``I1 I2 I3`` in Moser-Veselov), underflow or overflow a double."""
+    I1, I2, I3 = moments
+    low, high = sys.float_info.min, sys.float_info.max
+    products = (I1 * I2, I2 * I3, I3 * I1, I1 * I2 * I3)
+    if not all(low <= x <= high for x in products):
+        raise ValueError(
+            f"moments {tuple(moments)} kg m^2 are out of a double's range: the kernels form "
+            f"products of two and of three moments, which must lie between {low:.3g} and "
+            f"{high:.3g}; w(t) depends only on the ratios of the moments, so divide all three "
+            "by one factor (by I2, say)")

@@ -142,8 +142,10 @@ def check(config: dict, source: str) -> dict:
         )
     try:
         _body(config)
-    except ValueError as exc:
-        raise ConfigError(str(exc), source, "body") from None
+    except ValueError as exc:  # "[body] moments (1, 2, 4) violate ...", naming the key
+        key = "moments" if "moments" in body else ""
+        text = str(exc).removeprefix("moments ") if key else str(exc)
+        raise ConfigError(text, source, "body", key) from None
     if carries_attitude(integ["scene"]):
         if integ["method"] not in attitude_methods():
             raise ConfigError(
