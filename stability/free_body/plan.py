@@ -242,12 +242,7 @@ def plan_ensemble(body, axis, spin=None, epsilon=None, members=None, *, h, t_end
     # --- starts -----------------------------------------------------------------------------
     if w0 is None and (direction is not None or not defer_starts):
         w0 = perturbed_starts(axis, spin, epsilon, members, ss, direction)
-    if starts is not None:
-        given = (f"starts of up to {np.abs(w0).max():.3g} rad/s", "smaller starts")
-    elif epsilon <= 1:
-        given = (f"spin = {spin:.3g} rad/s", "a smaller spin")
-    else:
-        given = (f"epsilon = {epsilon:.3g} (of spin = {spin:.3g} rad/s)", "a smaller epsilon")
+    given = _given(w0 if starts is not None else None, spin, epsilon)
     if w0 is not None:
         step_angle = _step_angles(body, spec, w0, h, t_end, given)
     else:  # drawn per chunk; refuse up front if the first block of starts is hopeless
@@ -305,12 +300,43 @@ def chunk_plan(plan: EnsemblePlan, lo: int, hi: int) -> EnsemblePlan:
 MAX_STEPS = 2**53
 
 
+class OutOfRange(ValueError):
+    """Starts that no step can follow to ``t_end``: ``argument`` (``"spin"``, ``"epsilon"`` or
+    ``"starts"``) is out of range; ``reason`` says why, without the value."""
+
+    def __init__(self, message: str, argument: str, reason: str):
+        super().__init__(message)
+        self.argument = argument
+        self.reason = reason
+
+
+def check_random_starts(body, axis, spin, epsilon, members, *, h, t_end, seed=0,
+                        method="lp2") -> None:
+    """Refuse, as :func:`plan_ensemble` does, random starts that no step of ``method`` can
+    follow to ``t_end`` (:class:`OutOfRange`), for values already checked one by one (a study
+    file's), drawing only the first block of starts."""
+    a = axis_index(axis)
+    starts = random_starts(a, spin, epsilon, seed_sequence(seed), 0, min(members, RNG_CHUNK))
+    _step_angles(body, method_spec(method), starts, h, t_end, _given(None, spin, epsilon))
+
+
+def _given(starts, spin, epsilon) -> tuple[str, str, str]:
+    """What set the starts, what to change and the argument that is at fault, for the message
+    of :func:`_step_angles` (``starts`` given, or None for random ones)."""
+    if starts is not None:
+        return f"starts of up to {np.abs(starts).max():.3g} rad/s", "smaller starts", "starts"
+    if epsilon <= 1:
+        return f"spin = {spin:.3g} rad/s", "a smaller spin", "spin"
+    return (f"epsilon = {epsilon:.3g} (of spin = {spin:.3g} rad/s)", "a smaller epsilon",
+            "epsilon")
+
+
 def _step_angles(body, spec, w0, h, t_end, given) -> np.ndarray:
     """Each member's step angle ``h max|w|`` in rad; ValueError if all exceed the bound.
 
-    ``given`` is what set the starts and what to change, ``("spin = 1e+30 rad/s", "a smaller
-    spin")``, for the message when no step could do: the spin is then out of range, and the
-    step it would need is no advice.
+    ``given`` is what set the starts, what to change and the argument (:func:`_given`), for the
+    message when no step could do: that argument is then out of range (:class:`OutOfRange`),
+    and the step it would need is no advice.
     """
     angle = h * max_angular_speed(body.moments, w0)
     bound = spec.max_step_angle
@@ -318,12 +344,12 @@ def _step_angles(body, spec, w0, h, t_end, given) -> np.ndarray:
         smallest = float(np.nanmin(angle)) if not np.isnan(angle).all() else math.inf
         if not smallest * t_end / (h * bound) <= MAX_STEPS:  # inf or nan included
             moments = ", ".join(f"{I:.3g}" for I in body.moments)
-            raise ValueError(
-                f"{given[0]} is out of range: {spec.name} needs h max|w| <= {bound:g} rad, so "
-                f"more than 2^53 steps (the most a run can count) to t_end = {t_end:g} s; use "
-                f"{given[1]}" + ("" if np.isfinite(angle).any() else
-                                  f", or moments closer together than ({moments}) kg m^2")
-            )
+            reason = (f"{spec.name} needs h max|w| <= {bound:g} rad, so more than 2^53 steps "
+                      f"(the most a run can count) to t_end = {t_end:g} s")
+            raise OutOfRange(
+                f"{given[0]} is out of range: {reason}; use {given[1]}"
+                + ("" if np.isfinite(angle).any() else
+                   f", or moments closer together than ({moments}) kg m^2"), given[2], reason)
         raise ValueError(
             f"h = {h:g} s is too large for {spec.name} at these spins: every member would turn "
             f"by {smallest:.3g} rad or more per step (h max|w|), above the {bound:g} rad up to "

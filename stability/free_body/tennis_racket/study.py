@@ -30,7 +30,7 @@ import numpy as np
 from ..model import MOMENT_NAMES, spin_axis
 from ..attitude import FREE_BODY_SCENES, attitude_methods, carries_attitude
 from ...core.body import RigidBody
-from ..plan import ensemble_memory
+from ..plan import OutOfRange, check_random_starts, ensemble_memory
 from ..streamed import run_streamed
 from .analysis import analyse_ensemble, analysis_headline
 from . import figures as tennis
@@ -141,11 +141,12 @@ def check(config: dict, source: str) -> dict:
             source, "analysis", "fit_below",
         )
     try:
-        _body(config)
+        rigid = _body(config)
     except ValueError as exc:  # "[body] moments (1, 2, 4) violate ...", naming the key
         key = "moments" if "moments" in body else ""
         text = str(exc).removeprefix("moments ") if key else str(exc)
         raise ConfigError(text, source, "body", key) from None
+    _check_spin_range(config, rigid, source)
     if carries_attitude(integ["scene"]):
         if integ["method"] not in attitude_methods():
             raise ConfigError(
@@ -165,6 +166,20 @@ def check(config: dict, source: str) -> dict:
         "larger [integration] save_every")
     check_run(config, source)
     return config
+
+
+def _check_spin_range(config: dict, body, source: str) -> None:
+    """Refuse a spin (or a nudge) that no step can follow to t_end, naming its key."""
+    spin, ens, integ = config["spin"]["rate"], config["ensemble"], config["integration"]
+    try:
+        check_random_starts(body, spin_axis(body, config["spin"]["axis"]), spin,
+                            ens["epsilon"], ens["members"], h=integ["h"], t_end=integ["t_end"],
+                            seed=ens["seed"], method=integ["method"])
+    except OutOfRange as exc:
+        section, key, value = (("spin", "rate", f"{spin:g} rad/s") if exc.argument == "spin"
+                               else ("ensemble", "epsilon", f"{ens['epsilon']:g}"))
+        raise ConfigError(f"= {value} is out of range: {exc.reason}; use a smaller {key}",
+                          source, section, key) from None
 
 
 def expected_bytes(config: dict) -> int:
