@@ -16,6 +16,7 @@ Notation, used everywhere in the package:
 
 import importlib
 
+from .util import numba_env  # noqa: F401  (first: readies Numba's environment, see there)
 from .version import __version__
 from . import moved
 from .free_body.model import axis_stability, growth_rate, omega_squared, oscillation_frequency

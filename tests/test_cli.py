@@ -1,5 +1,6 @@
 """The ``stability`` command: run (quick, end to end), methods, studies, bench, user errors."""
 
+import os
 import subprocess
 import sys
 import tomllib
@@ -270,3 +271,25 @@ def test_heavy_top_errors_against_the_exact_motion_fall_at_each_methods_order():
     lp4 = [rows["lp4", a] for a in (0.8, 0.4)]
     slope, points = bench_module.measured_order([r.h for r in lp4], [r.error for r in lp4])
     assert points == 2 and slope == pytest.approx(4.0, abs=0.3)
+
+
+@pytest.mark.parametrize("value", ["0", "abc"])
+def test_a_bad_numba_num_threads_is_one_line_naming_it(value, tmp_path):
+    """Numba stopped the import on 0 (ValueError: Number of threads specified must be > 0) and
+    warned with a traceback on abc; the command is now one usage line, and a run of the
+    Python API the same ValueError, from stability's check, before Numba runs anything."""
+    line = (f"NUMBA_NUM_THREADS must be a whole number of threads >= 1 (this machine has "
+            f"{os.cpu_count()} cores), got {value!r}; set it so, or unset it to use all cores")
+    env = {**os.environ, "NUMBA_NUM_THREADS": value}
+    done = subprocess.run([sys.executable, "-m", "stability", "run", str(TENNIS), "--quick",
+                           "--out", str(tmp_path / "o"), "--no-progress"], env=env, cwd=ROOT,
+                          capture_output=True, text=True, timeout=120)
+    assert done.returncode == 2, done.stderr
+    assert done.stderr.strip().splitlines() == [f"stability run: error: {line}"]
+    assert not (tmp_path / "o").exists()
+    api = subprocess.run([sys.executable, "-c", "import stability\nstability.run_ensemble("
+                          "stability.RigidBody(1.0, 2.0, 3.0), 2, 1.0, 0.1, 4, h=0.1, "
+                          "t_end=1.0, progress=False)"], env=env, cwd=ROOT,
+                         capture_output=True, text=True, timeout=120)
+    assert api.stderr.strip().splitlines()[-1] == f"ValueError: {line}", api.stderr
+    assert "site-packages/numba" not in api.stderr and "Warning" not in api.stderr

@@ -15,6 +15,7 @@ import shutil
 import signal
 import subprocess
 import sys
+import tempfile
 import threading
 import time
 from pathlib import Path
@@ -498,6 +499,7 @@ def test_one_piece_study_stopped_while_integrating_keeps_the_earlier_result(tmp_
 #: it into the store sys.argv[1].
 SCENE_RUN = '''
 import sys
+import tempfile
 import numpy as np
 import stability
 from stability.registry import SCENES
@@ -542,3 +544,44 @@ def test_a_scene_run_killed_then_resumed_is_bitwise_an_uninterrupted_run(tmp_pat
         assert np.array_equal(whole[name].values, resumed[name].values,
                               equal_nan=whole[name].dtype.kind == "f"), name
     assert temporaries(store) == []
+
+
+# --- a read-only install, a user without a home ------------------------------------------------
+
+#: nobody, given CAP_DAC_READ_SEARCH so that it reaches the interpreter under /root; it reads
+#: past permissions but writes nothing it may not.
+NOBODY = ["setpriv", "--reuid=65534", "--regid=65534", "--clear-groups",
+          "--inh-caps=+dac_read_search", "--ambient-caps=+dac_read_search"]
+
+
+def test_a_read_only_install_run_by_a_user_without_a_home_caches_in_a_private_folder(request):
+    """The package copied to root's folder (0755, no __pycache__), imported by nobody with
+    HOME=/nonexistent: Numba had no folder to cache the package's own njit(cache=True)
+    functions in and the import ended in "RuntimeError: cannot cache function 'agm': no
+    locator available". Now one warning names the private folder they go to, and they run."""
+    if os.geteuid() != 0 or shutil.which("setpriv") is None:
+        pytest.skip("needs root and setpriv to run a process as another user")
+    install = Path(tempfile.mkdtemp(prefix="stability-install-"))
+    temp = Path(tempfile.mkdtemp(prefix="stability-tmp-"))
+    request.addfinalizer(lambda: [shutil.rmtree(p, ignore_errors=True) for p in (install, temp)])
+    shutil.copytree(ROOT / "stability", install / "stability",
+                    ignore=shutil.ignore_patterns("__pycache__"))
+    os.chmod(install, 0o755)
+    os.chmod(temp, 0o1777)
+    done = subprocess.run(
+        [*NOBODY, sys.executable, "-c", "import stability\n"
+         "from stability.core.elliptic import agm\nprint(agm(1.0, 2.0))"],
+        cwd=temp, capture_output=True, text=True, timeout=120,
+        env={**{k: v for k, v in os.environ.items() if not k.startswith("NUMBA_")},
+             "HOME": "/nonexistent", "PYTHONPATH": str(install), "TMPDIR": str(temp)})
+    if "Operation not permitted" in done.stderr and done.returncode != 0:
+        pytest.skip(f"setpriv cannot run nobody here: {done.stderr.strip()}")
+    assert done.returncode == 0, done.stderr
+    assert float(done.stdout) == pytest.approx(1.4567910310469068, rel=1e-15)
+    private = temp / "stability-65534" / "numba"
+    assert done.stderr.strip().splitlines() == [
+        "stability: Numba cannot write its cache beside the package, in NUMBA_CACHE_DIR or in "
+        f"~/.cache; the compiled functions are cached in {private} (set NUMBA_CACHE_DIR to a "
+        "folder of yours to choose)"]
+    assert any(p.suffix == ".nbi" for p in private.rglob("*"))  # agm's index, kept there
+    assert not any((install / "stability").rglob("__pycache__"))

@@ -57,6 +57,7 @@ COVERED_ELSEWHERE = {
     "stability.free_body.results": "tests/free_body/test_ensemble.py, tests/test_status.py",
     "stability.free_body.streamed": "tests/output/test_stream.py",
     "stability.cli.main": "tests/test_cli.py",
+    "stability.util.numba_env": "tests/test_faults.py, tests/test_cli.py (NUMBA_NUM_THREADS)",
     "stability.ensemble.chunks": "tests/test_scene_ensemble.py",
     "stability.analysis.members": "tests/analysis/test_estimates.py",
     "stability.analysis.fits": "tests/analysis/test_estimates.py (growth_line, richardson_bias)",

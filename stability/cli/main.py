@@ -26,6 +26,8 @@ import os
 import shlex
 import sys
 
+from ..util.numba_env import check_threads_variable
+
 EXIT_USAGE = 2
 EXIT_INTERRUPTED = 130
 EXIT_TERMINATED = 143
@@ -205,6 +207,7 @@ def main(argv=None) -> int:
     args.argv = list(sys.argv[1:] if argv is None else argv)
     terminated = _terminate_as_interrupt()
     try:
+        check_threads_variable()
         return args.func(args) or 0
     except KeyboardInterrupt as exc:
         if args.debug:

@@ -12,6 +12,7 @@ import contextlib
 import numba
 
 from .checks import positive_int
+from .numba_env import check_threads_variable
 
 
 def checked_threads(threads):
@@ -31,8 +32,10 @@ def checked_threads(threads):
     ------
     ValueError
         Unless ``threads`` is a whole number from 1 to ``NUMBA_NUM_THREADS`` (the cores Numba
-        was started with), or None.
+        was started with), or None; or where ``NUMBA_NUM_THREADS`` itself is not a whole
+        number >= 1.
     """
+    check_threads_variable()
     if threads is None:
         return None
     threads = positive_int("threads", threads)
@@ -53,7 +56,13 @@ def numba_threads(threads):
     threads : int or None
         Threads to use; ``None`` leaves Numba's setting alone. More than the
         ``NUMBA_NUM_THREADS`` Numba was started with are clamped to that number.
+
+    Raises
+    ------
+    ValueError
+        Where ``NUMBA_NUM_THREADS`` is not a whole number >= 1.
     """
+    check_threads_variable()
     if threads is None:
         yield
         return
