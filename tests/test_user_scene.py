@@ -181,6 +181,73 @@ def test_the_chunks_run_on_dask_workers_that_import_the_users_module(home, tmp_p
     assert_bitwise(there, whole)
 
 
+def leave_path(folder):
+    """Take ``folder`` off this process's path (run on a worker: ``sys.path.remove`` itself
+    would be pickled with a copy of the caller's list)."""
+    sys.path.remove(folder)
+
+
+def test_a_worker_that_cannot_import_the_users_module_is_named_in_one_line(home, tmp_path):
+    """The module is on this process's path, not on the worker's: the worker failed to read
+    each task, died and was started again, and the run waited for good. One line now, naming
+    the module, the worker and where it must be importable, before any task is sent."""
+    distributed = pytest.importorskip("distributed")
+    folder, scene = home
+    with distributed.LocalCluster(n_workers=1, threads_per_worker=1, processes=True,
+                                  dashboard_address=None) as cluster, \
+            distributed.Client(cluster) as client:
+        client.run(leave_path, str(folder))  # the worker inherited this process's path
+        (worker,) = client.scheduler_info()["workers"]
+        with pytest.raises(ValueError) as info:
+            propagate_stored(oscillator_run(scene), tmp_path / "store", chunk_members=6,
+                             scheduler=client, progress=False)
+    assert str(info.value) == (
+        f"the dask worker {worker} cannot import module 'user_oscillator' (No module named "
+        "'user_oscillator'), which the run needs: it must be importable on the scheduler and "
+        "on every worker; put its folder on their PYTHONPATH, or install it there")
+    assert not list((tmp_path / "store").glob("chunk-*"))
+
+
+#: A script that defines its scene in itself (``__main__``) and runs it on a local cluster.
+MAIN_SCRIPT = """
+import sys
+import numpy as np
+from stability import define_scene
+from stability.ensemble.chunks import GroupedRun, propagate_stored
+
+
+def rhs(x, v, p):
+    return v, -p[0] ** 2 * x
+
+
+SCENE = define_scene("script_oscillator", ["x", "v"], ["m", "m s-1"], rhs, ["omega"])
+
+if __name__ == "__main__":
+    spec = SCENE.method("rk4")
+    run = GroupedRun(SCENE, "rk4", np.ones((8, 2)), [spec.params([1.0], 0.05)], [8], [0.05],
+                     [40])
+    propagate_stored(run, sys.argv[1], chunk_members=4, scheduler="dask", progress=False)
+"""
+
+
+def test_a_scene_of_the_script_itself_is_refused_before_a_cluster_starts(tmp_path):
+    """Workers cannot import ``__main__``: the run ended in dask's "Could not serialize object
+    of type LLGExpr" after the cluster had started; now one line up front, no store made."""
+    script = tmp_path / "mine.py"
+    script.write_text(MAIN_SCRIPT)
+    store = tmp_path / "store"
+    done = subprocess.run([sys.executable, str(script), str(store)], capture_output=True,
+                          text=True, cwd=tmp_path, timeout=300,
+                          env={**os.environ, "PYTHONPATH": str(ROOT)})
+    assert done.returncode == 1
+    assert done.stderr.strip().splitlines()[-1] == (
+        "ValueError: scene 'script_oscillator' cannot be sent to another process: it is "
+        "defined in __main__ (the script being run), which "
+        "other processes cannot import; move define_scene and the scene's functions into a "
+        "module of their own and import the scene from there"), done.stderr
+    assert "distributed" not in done.stderr and not store.exists()
+
+
 def test_a_run_of_the_users_scene_is_a_dataset_named_and_labelled_from_it(home, tmp_path):
     """run_scene gives one variable per component, in the scene's units, the parameters by
     name, each member's status and drift; in one piece or stored in chunks, bitwise alike; the

@@ -137,7 +137,13 @@ class Scene:
             return super().__reduce_ex__(protocol)
         home = sys.modules.get(self.module)
         names = [key for key, value in vars(home).items() if value is self] if home else []
-        if self.module == "__main__" or not names:
+        if self.module == "__main__":
+            raise pickle.PicklingError(
+                f"scene {self.name!r} cannot be sent to another process: it is defined in "
+                "__main__ (the script being run), which other processes cannot import; move "
+                "define_scene and the scene's functions into a module of their own and import "
+                "the scene from there")
+        if not names:
             raise pickle.PicklingError(
                 f"scene {self.name!r} cannot be sent to another process: it is not bound to a "
                 f"name at the top level of an importable module ({self.module}); define it in "
@@ -214,7 +220,7 @@ def imported_scene(module: str, name: str, scene: str = "") -> Scene:
         raise ImportError(
             f"scene {scene or name!r} is defined in module {module!r}, which this process "
             f"cannot import ({exc}): put the module's folder on its path (PYTHONPATH), on "
-            "every dask worker too"
+            "every dask worker too", name=module
         ) from None
     return getattr(home, name)
 

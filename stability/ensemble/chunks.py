@@ -50,7 +50,7 @@ from ..engine.run import Propagation
 from ..util.interrupts import deferred_interrupt
 from ..output.io import READ
 from ..output.store import ChunkStore, read_manifest
-from ..output.stream import stream_chunks
+from ..output.stream import sendable, stream_chunks
 from ..output.untrusted import opened, read_dataset
 from ..engine.scene import Scene
 from ..registry import scene as registered_scene
@@ -342,6 +342,8 @@ def propagate_stored(run: GroupedRun, store=None, *, measure=None, resume=False,
                     **({"measurement": type(measure).__qualname__} if measure is not None
                        else {}),
                     "software": f"stability {__version__}"}
+    if scheduler is not None:
+        sendable(ChunkJob(run, measure))  # before the store is made: a scene in __main__
     chunks = ChunkStore(store, identity, n, chunk_members, resume=resume)
     try:
         streamed = stream_chunks(ChunkJob(run, measure), chunks, scheduler=scheduler,

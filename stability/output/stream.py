@@ -32,6 +32,7 @@ another (dask's own scheduling), and a chunk is done only when its file and chec
 from __future__ import annotations
 
 import logging
+import pickle
 import time
 from pathlib import Path
 from typing import NamedTuple
@@ -153,6 +154,7 @@ def _run_on_dask(job, chunks, todo, scheduler, progress, compress) -> float:
     except ImportError:
         raise ValueError("scheduler needs dask.distributed: pip install 'stability[distributed]'"
                          ) from None
+    payload = sendable(job)  # before a cluster is started
     cluster = None
     own = True
     if hasattr(scheduler, "submit"):  # a distributed.Client the caller made
@@ -165,6 +167,14 @@ def _run_on_dask(job, chunks, todo, scheduler, progress, compress) -> float:
             raise ValueError(f"scheduler must be 'dask' (a local cluster) or a scheduler "
                              f"address such as 'tcp://host:8786', got {scheduler!r}")
         client = scheduler_client(scheduler)
+    try:
+        _check_loadable(client, payload)
+    except BaseException:
+        if own:
+            client.close()
+        if cluster is not None:
+            cluster.close()
+        raise
     tracker = _Tracker(chunks, todo, progress)
     try:
         futures = []
@@ -191,6 +201,60 @@ def _run_on_dask(job, chunks, todo, scheduler, progress, compress) -> float:
         if cluster is not None:
             cluster.close()
     return tracker.elapsed
+
+
+def sendable(job) -> bytes:
+    """``job`` pickled, as dask sends it to the scheduler and the workers; ValueError in one
+    line where it cannot be (a scene defined in ``__main__``, a function that is not at the top
+    level of its module)."""
+    try:
+        return pickle.dumps(job)
+    except pickle.PicklingError as exc:  # says what cannot be sent, and why
+        raise ValueError(" ".join(str(exc).split())) from None
+    except (TypeError, AttributeError) as exc:
+        raise ValueError("the run cannot be sent to dask workers: "
+                         + " ".join(str(exc).split())) from None
+
+
+def loading_problem(payload: bytes):
+    """Why ``payload`` (:func:`sendable`) cannot be unpickled in this process: ``(module,
+    reason)`` for a module it cannot import, ``(None, reason)`` otherwise, or None if it can.
+    Run on the scheduler and on each worker before a run's tasks go there."""
+    try:
+        pickle.loads(payload)
+    except ImportError as exc:
+        root = exc  # the first error, under the one that named the scene
+        while isinstance(root.__context__, ImportError):
+            root = root.__context__
+        return root.name or exc.name, " ".join(str(root).split())
+    except Exception as exc:
+        return None, f"{type(exc).__name__}: {' '.join(str(exc).split())}"
+    return None
+
+
+def _check_loadable(client, payload: bytes) -> None:
+    """ValueError in one line unless the scheduler and every worker can load the run's job: a
+    worker that cannot import the user's module fails to read each task it is sent, dies and
+    is started again, and the run waits for good."""
+    try:
+        found = {"scheduler": client.run_on_scheduler(loading_problem, payload)}
+        found.update((f"worker {address}", problem)
+                     for address, problem in client.run(loading_problem, payload).items())
+    except Exception as exc:
+        raise ValueError(f"the dask cluster cannot run stability ({type(exc).__name__}: "
+                         f"{' '.join(str(exc).split())}); install it on the scheduler and on "
+                         "every worker") from None
+    for where, problem in found.items():
+        if problem is None:
+            continue
+        module, reason = problem
+        if module is not None:
+            raise ValueError(
+                f"the dask {where} cannot import module {module!r} ({reason}), which the run "
+                "needs: it must be importable on the scheduler and on every worker; put its "
+                "folder on their PYTHONPATH, or install it there")
+        raise ValueError(f"the dask {where} cannot load the run ({reason}); the scheduler and "
+                         "every worker need the same code as this process")
 
 
 #: Seconds to reach a dask scheduler (its connection is retried that long) ...
