@@ -38,7 +38,6 @@ The directory is ``$STABILITY_CACHE_DIR`` if set, else ``$XDG_CACHE_HOME/stabili
 from __future__ import annotations
 
 import contextlib
-import getpass
 import hashlib
 import io
 import logging
@@ -57,6 +56,7 @@ from numba.core.caching import (CompileResultCacheImpl, FunctionCache, IndexData
                                 InTreeCacheLocator)
 from numba.core.dispatcher import Dispatcher
 
+from ..util.private import private_folder
 from ..util.trust import (TrustRule, UntrustedPath, chain_problem, open_flags,
                           private_folder_problem, read_trusted)
 from .sources import digest
@@ -104,10 +104,12 @@ class Place:
     rule: TrustRule
     #: A folder of this user's alone: it and its ``loops`` made 0700 and held to that.
     private: bool = False
+    #: The folder of rendered loops in the root ("": the root itself).
+    loops: str = "loops"
 
     @property
     def folder(self) -> Path:
-        return self.root / "loops"
+        return self.root / self.loops if self.loops else self.root
 
     def take(self, filename: str, text: bytes) -> Path:
         """The loop file ``filename`` holding ``text`` in :attr:`folder` (written if needed).
@@ -162,33 +164,14 @@ def private_dirs() -> Iterator[Place]:
     """Where a process keeps the loops :func:`cache_dir` cannot hold, in the order tried.
 
     The user's own cache (when ``$STABILITY_CACHE_DIR`` names another folder), then a folder of
-    the user's own in the temporary directory (a home may be missing or read-only), created with
-    mode 0700 when reached. A folder there that is a link, another user's or open to others is
-    passed over for a fresh private one of this process (``tempfile.mkdtemp``).
+    the user's own in the temporary directory (a home may be missing or read-only):
+    :func:`stability.util.private.private_folder`, which passes over a folder there that is a
+    link, another user's or open to others for a fresh one of this process.
     """
     own = Path(os.path.realpath(_user_cache()))
     if own != cache_root():
         yield Place(own, TrustRule.private())
-    user = os.getuid() if hasattr(os, "getuid") else getpass.getuser()
-    temp = Path(tempfile.gettempdir()) / f"stability-{user}"
-    with contextlib.suppress(OSError):
-        temp.mkdir(mode=0o700)
-    loops = temp / "loops"
-    if private_folder_problem(temp) is None and (
-            not os.path.lexists(loops) or private_folder_problem(loops) is None):
-        yield Place(temp, TrustRule.private(), private=True)
-    else:
-        yield Place(_fresh_private(), TrustRule.private(), private=True)
-
-
-_FRESH: list[Path] = []
-
-
-def _fresh_private() -> Path:
-    """A private folder of this process's own, made once (``tempfile.mkdtemp``: mode 0700)."""
-    if not _FRESH:
-        _FRESH.append(Path(tempfile.mkdtemp(prefix=f"stability-{os.getuid()}-")))
-    return _FRESH[0]
+    yield Place(private_folder("loops"), TrustRule.private(), private=True, loops="")
 
 
 def _folder_mode(rule: TrustRule) -> int:

@@ -6,12 +6,14 @@ import tempfile
 
 import pytest
 
+from stability.util import private
 from stability.util.private import private_folder
 
 
 @pytest.fixture
 def temp(tmp_path, monkeypatch):
     monkeypatch.setattr(tempfile, "tempdir", str(tmp_path))
+    monkeypatch.setattr(private, "_FRESH", {})  # the fresh folder is made once a process
     return tmp_path
 
 
@@ -36,3 +38,4 @@ def test_a_folder_in_the_way_gives_a_fresh_one(temp, planted):
     assert folder.parent == temp and folder.name.startswith(f"stability-{os.getuid()}-")
     assert os.lstat(folder).st_mode & 0o777 == 0o700
     assert list(other.iterdir()) == []
+    assert private_folder("numba") == folder  # one fresh folder, not one a call
