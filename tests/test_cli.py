@@ -14,6 +14,7 @@ from stability.cli import bench as bench_module
 from stability.cli import main
 from stability.free_body.propagate import propagate
 from stability.study import STUDIES, load_study
+from stability.study.config import toml_text
 from stability.free_body.tennis_racket.study import FIGURES
 
 from .helpers import assert_cf_compliant, assert_declared, one_line
@@ -44,6 +45,24 @@ def test_studies_lists_kinds_and_their_keys(capsys):
     err = capsys.readouterr().err.strip()
     assert err == ("stability studies: error: unknown study kind 'nope'; known kinds: "
                    + ", ".join(STUDIES))
+
+
+def test_studies_kind_lists_every_quick_override(capsys):
+    """Each kind's ``--quick`` keys are listed with the defaults they replace; the Explorer
+    study's (whose quick run changes the physics) says so and why."""
+    for name, kind in STUDIES.items():
+        assert main(["studies", name]) == 0
+        out = " ".join(capsys.readouterr().out.replace("#", " ").split())
+        for section, values in kind.quick.items():
+            for key, value in values.items():
+                default = kind.schema.section(section).key(key).default
+                assert f"{section}.{key} = {toml_text(value)} (default: {toml_text(default)})" \
+                    in out, (name, section, key)
+    assert main(["studies", "explorer"]) == 0
+    out = " ".join(capsys.readouterr().out.split())
+    assert "damper.inertia = 0.001 (default: 0.0001)" in out
+    assert "whips.mass = 0.4 (default: 0.02)" in out
+    assert "the physics changes too" in out and "not Explorer 1's" in out
 
 
 def test_usage_errors_are_one_line(capsys, tmp_path):
@@ -108,6 +127,9 @@ def test_quick_run_writes_dataset_and_figures(tmp_path, capsys):
                 "median flip interval, exact 2K/nu", "max |relative energy error|",
                 "member-steps per second"):
         assert row in printed
+    assert "--quick sets" in printed  # what quick changed, and what --members made of it
+    assert "ensemble.members = 256 (the file: 10000), then 64 by the options" in printed
+    assert "integration.t_end = 5.0 (the file: 10.0)" in printed
     written = sorted(p.name for p in out.iterdir())
     expected = ["config.toml", "tennis_racket.nc"] + [
         f"{stem}.{fmt}" for stem in FIGURES for fmt in ("png", "pdf")

@@ -102,7 +102,9 @@ def build_parser() -> argparse.ArgumentParser:
                      "a scheduler address such as tcp://host:8786")
     run.add_argument(
         "--quick", action="store_true",
-        help="small, fast version of the study (fewer members, shorter horizon) for tests",
+        help="small, fast version of the study for tests and a first look (fewer members or "
+        "cells, a shorter run; `stability studies KIND` lists what it sets, and the summary "
+        "repeats it)",
     )
     run.add_argument(
         "--set", dest="overrides", action="append", default=[], type=_assignment,
@@ -320,6 +322,10 @@ def _cmd_run(args) -> int:
         history=history,
         source=source,
     )
+    if args.quick:
+        from ..study import quick_notes, read
+
+        summary.notes += quick_notes(kind, read(args.study), config)
     print(f"\nsummary of the {kind.name} study ({kind.title})")
     print(summary.table())
     print(f"\nwrote {len(summary.files)} files to {summary.out_dir}/:")
@@ -351,7 +357,7 @@ def _cmd_status(args) -> int:
 
 
 def _cmd_studies(args) -> int:
-    from ..study import STUDIES, study_kind
+    from ..study import STUDIES, quick_notes, study_kind
 
     if args.kind is None:
         width = max(len(name) for name in STUDIES)
@@ -362,6 +368,7 @@ def _cmd_studies(args) -> int:
     kind = study_kind(args.kind)
     print(f'study = "{kind.name}"  # {kind.title}\n')
     print(kind.schema.describe())
+    print("\n" + "\n".join(f"# {line}" for line in quick_notes(kind)))
     return 0
 
 

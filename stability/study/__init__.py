@@ -269,7 +269,23 @@ def run_study(
     lock.release()
     summary.out_dir = out
     summary.files = [out / Path(p).name for p in summary.files]
+    if quick and not isinstance(study, dict):
+        summary.notes += quick_notes(kind, read(study), config)
     return summary
+
+
+def quick_notes(kind: StudyKind, raw: dict | None = None, config: dict | None = None
+                ) -> list[str]:
+    """The lines saying what ``--quick`` sets for ``kind`` (:meth:`StudyKind.quick_lines`):
+    printed by ``stability studies KIND`` and after a quick run's summary."""
+    import textwrap
+
+    if not kind.quick:
+        return ["--quick changes nothing in this kind"]
+    lines = ["--quick sets (a small, fast run):"]
+    for line in kind.quick_lines(raw, config):
+        lines += textwrap.wrap(line, 94, initial_indent="  ", subsequent_indent="    ")
+    return lines
 
 
 def _make_folder(out: Path) -> None:
@@ -383,6 +399,7 @@ __all__ = [
     "StudyKind",
     "StudySummary",
     "load_study",
+    "quick_notes",
     "resolve",
     "run_study",
     "study_kind",

@@ -39,6 +39,9 @@ class StudyKind:
         key replaces).
     quick : dict
         ``{section: {key: value}}`` overrides for ``--quick``: a small run for tests and demos.
+    quick_note : str
+        Where ``--quick`` changes more than the run's size and length (the physics, a part
+        left out), and why; empty if it does not.
     members_key : tuple of str, optional
         ``(section, key)`` that ``--members`` sets; None if the kind has no such count.
     expected_bytes : callable, optional
@@ -56,6 +59,7 @@ class StudyKind:
     outputs: Callable
     check: Callable | None = None
     quick: dict = field(default_factory=dict)
+    quick_note: str = ""
     members_key: tuple[str, str] | None = None
     expected_bytes: Callable | None = None
     resumable: bool = False
@@ -72,6 +76,27 @@ class StudyKind:
         if self.check is not None:
             config = self.check(config, source)
         return config
+
+    def quick_lines(self, raw: dict | None = None, config: dict | None = None) -> list[str]:
+        """What ``--quick`` sets, one line a key beside the value it replaces (that of ``raw``,
+        a parsed study file, or else the default) and, where the resolved ``config`` holds
+        another (``--set``, ``--members``), that one; then :attr:`quick_note`."""
+        lines = []
+        for section, values in self.quick.items():
+            given = (raw or {}).get(section, {})
+            for key, value in values.items():
+                if isinstance(given, dict) and key in given:
+                    before, where = given[key], "the file"
+                else:
+                    before, where = self.schema.section(section).key(key).default, "default"
+                line = f"{section}.{key} = {toml_text(value)} ({where}: {toml_text(before)})"
+                now = (config or {}).get(section, {}).get(key, value)
+                if now != value:
+                    line += f", then {toml_text(now)} by the options"
+                lines.append(line)
+        if self.quick_note:
+            lines.append(f"note: {self.quick_note}")
+        return lines
 
 
 @dataclass
@@ -90,6 +115,10 @@ class StudySummary:
         ``(quantity, value, unit)`` for the summary table printed at the end of a run.
     values : dict
         The same numbers as floats, keyed by short names (for tests and scripts).
+    tables : list of SummaryTable
+        Tables printed after the rows.
+    notes : list of str
+        Lines printed last (what ``--quick`` set, :meth:`StudyKind.quick_lines`).
     """
 
     study: str
@@ -98,9 +127,10 @@ class StudySummary:
     rows: list = field(default_factory=list)
     values: dict = field(default_factory=dict)
     tables: list = field(default_factory=list)
+    notes: list = field(default_factory=list)
 
     def table(self) -> str:
-        """The rows as an aligned plain-text table, then each of ``tables``."""
+        """The rows as an aligned plain-text table, then each of ``tables``, then ``notes``."""
         parts = []
         if self.rows:
             w0 = max(len(r[0]) for r in self.rows)
@@ -108,6 +138,8 @@ class StudySummary:
             parts.append("\n".join(f"{q:<{w0}}  {v:>{w1}}  {u}".rstrip()
                                    for q, v, u in self.rows))
         parts += [table.text() for table in self.tables]
+        if self.notes:
+            parts.append("\n".join(self.notes))
         return "\n\n".join(parts)
 
 

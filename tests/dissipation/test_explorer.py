@@ -35,6 +35,14 @@ def test_study_meets_its_claims(quick):
     assert "growth rate vs linear eigenvalue" in summary.table()
 
 
+def test_quick_summary_says_the_physics_changed(quick):
+    """The quick run's heavier sphere and whips are printed with the values they replace."""
+    text = " ".join(quick[0].table().split())
+    assert "damper.inertia = 0.001 (the file: 0.0001)" in text
+    assert "whips.mass = 0.4 (the file: 0.02)" in text
+    assert "the physics changes too" in text
+
+
 def test_dataset_has_units_everywhere_and_records_its_study(quick):
     summary, out = quick
     assert sorted(p.name for p in summary.files) == [

@@ -160,6 +160,8 @@ STUDY = StudyKind(
     outputs=outputs,
     check=check,
     quick=QUICK,
+    quick_note="the averaged model's long run for a full turn of the axis is left out "
+               "(cycle_years = 0): the quick run measures the rate, not the 26,000-year period",
     members_key=("run", "members"),
     resumable=True,
 )
