@@ -283,6 +283,9 @@ API_MODULES = (
                                      "free_body.work_precision.sweeps",
                                      "free_body.stability_map.shapes",
                                      "free_body.tennis_racket.flipsweep", "free_body.polhodes")),
+    ("Energy dissipation: damped bodies and dual spin", (
+        "dissipation.model", "dissipation.measure", "dissipation.explorer",
+        "dissipation.gyrostat", "dissipation.dual_spin", "dissipation.figures")),
     ("Figures and animations", ("plotting.animation", "free_body.animation",
                                 "heavy_top.animation", "free_body.figures")),
 )

@@ -105,7 +105,13 @@ class DualSpinBody:
 
 
 def body_of(ds) -> DualSpinBody:
-    """The gyrostat family of a dual-spin Dataset, from its attributes."""
+    """The gyrostat family of a dual-spin Dataset, from its attributes.
+
+    Parameters
+    ----------
+    ds : xarray.Dataset
+        The dual-spin study's Dataset.
+    """
     a = ds.attrs
     return DualSpinBody(float(a["transverse_moment"]), float(a["rotor_moment"]),
                         float(a["damper_moment"]), float(a["platform_spin"]),
@@ -114,7 +120,19 @@ def body_of(ds) -> DualSpinBody:
 
 def linear_map(body, placement, ratios, speeds):
     """``(linear, sink)`` (R, S): the growth rate (s-1) by the eigenvalues and by the energy
-    sink at every inertia ratio and relative speed, the dampers of ``placement``."""
+    sink at every inertia ratio and relative speed, the dampers of ``placement``.
+
+    Parameters
+    ----------
+    body : DualSpinBody
+        The gyrostat family.
+    placement : str
+        Where the dampers sit, one of PLACEMENTS.
+    ratios : array_like
+        Inertia ratios A3 / A_t.
+    speeds : array_like
+        Relative speeds of the rotor, rad s-1.
+    """
     ratios, speeds = np.asarray(ratios, dtype=float), np.asarray(speeds, dtype=float)
     linear, sink = np.empty((ratios.size, speeds.size)), np.empty((ratios.size, speeds.size))
     for i, ratio in enumerate(ratios):

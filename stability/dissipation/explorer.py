@@ -33,9 +33,10 @@ from ..util import conventions as cv
 from ..ensemble.chunks import GroupedRun, propagate_stored, sub_store
 from ..engine.scene import Scene
 from .measure import (decay_window, exponential_rate, growth_window, largest_rise,
-                      nutation_angle, relative_drift)
-from .model import (energy_lost, energy_sink_optimum, energy_sink_rate, moving_eigenvalues,
-                    optimum_damping, sphere_eigenvalues, tilted_rotation, whip_eigenvalues)
+                      nutation_amplitude, nutation_angle, relative_drift)
+from .model import (best_damping, energy_lost, energy_sink_optimum, energy_sink_rate,
+                    equivalent_transverse_moment, moving_eigenvalues, sphere_eigenvalues,
+                    tilted_rotation, whip_eigenvalues)
 from .scene import (SPHERE_DAMPER, WHIP_DAMPER, sphere_energy, sphere_moments,
                     sphere_momentum, sphere_rigid_state, whip_energy, whip_momentum,
                     whip_moments, whip_rigid_state)
@@ -219,11 +220,16 @@ def _measured(damper, group_values, kept, t, theory, angles, fit_top, flat_angle
     energy = np.stack([damper.energy(kept[g], group_values[g]) for g in range(G)])
     growth, decay = np.full((G, K), np.nan), np.full((G, K), np.nan)
     for g in range(G):
+        A = damper.moments(group_values[g])
+        major = A.size - 1 - int(np.argmax(A[::-1]))
+        # the angles a rigid motion keeps (the angles themselves swing on unequal moments)
+        nutation = np.arcsin(np.minimum(nutation_amplitude(H[g], A, 0), 1.0))
+        departures = nutation_amplitude(H[g], A, major)  # |cos theta| on a symmetric body
         for k in range(K):
             settle = SETTLE_EFOLDS / abs(theory["fast"][g, k])
             growth[g, k] = exponential_rate(
-                t[g], theta[g, k], growth_window(t[g], theta[g, k], settle, fit_top))
-            departure = np.abs(H[g, k, :, 0]) / norm[g, k]
+                t[g], nutation[k], growth_window(t[g], nutation[k], settle, fit_top))
+            departure = departures[k]
             decay[g, k] = exponential_rate(
                 t[g], departure, decay_window(t[g], departure, fit_top, DECAY_FLOOR, settle))
     with np.errstate(invalid="ignore", divide="ignore"):
@@ -272,12 +278,15 @@ def measure_explorer(body, J, factors, angles, *, method="lp2", step_angle=0.5, 
 
     Parameters
     ----------
-    body : Cylinder
-        The body (:data:`~stability.dissipation.model.EXPLORER_1`): its moments and spin.
+    body : Cylinder or Spinner
+        The body (:data:`~stability.dissipation.model.EXPLORER_1`, a cylinder, or measured
+        moments, :class:`~stability.dissipation.model.Spinner`): its moments, the spin axis's
+        first, and its spin.
     J : float
         The sphere's moment of inertia, kg m2.
     factors : array_like, shape (D,)
-        Dampings c in units of the energy sink's optimum ``c* = J W I_s / I_t``.
+        Dampings c in units of the energy sink's optimum ``c* = J W I_s / I_t`` (I_t the
+        :func:`~stability.dissipation.model.equivalent_transverse_moment` of unequal ones).
     angles : array_like, shape (K,)
         Initial nutation angles, rad.
     method : str
@@ -311,7 +320,8 @@ def measure_explorer(body, J, factors, angles, *, method="lp2", step_angle=0.5, 
     W = float(body.spin)
     angles = np.asarray(angles, dtype=float)
     factors = np.asarray(factors, dtype=float)
-    c_sink = energy_sink_optimum(I[0], I[1], J, W)
+    I_t = equivalent_transverse_moment(I)
+    c_sink = energy_sink_optimum(I[0], I_t, J, W)
     options = dict(spin=W, samples=samples, fit_top=fit_top, flat_angle=flat_angle, seed=seed,
                    progress=progress)
     sphere = run_damped(SPHERE, method, [np.array([*I, J, f * c_sink]) for f in factors],
@@ -328,7 +338,7 @@ def measure_explorer(body, J, factors, angles, *, method="lp2", step_angle=0.5, 
         "step": ((DAMPING,), sphere["step"]),
         "t_end": ((DAMPING,), sphere["t_end"]),
         "growth_rate_energy_sink": (dims, energy_sink_rate(  # the spin of |H| about axis 1
-            I[0], I[1], J, factors[:, None] * c_sink, W / np.cos(angles)[None, :])),
+            I[0], I_t, J, factors[:, None] * c_sink, W / np.cos(angles)[None, :])),
         "major_axis_end": (dims, _major(sphere["end_angle"], end_tolerance)),
     })
     data["status"] = (dims, sphere["status"].astype(np.int8))
@@ -370,10 +380,11 @@ def measure_explorer(body, J, factors, angles, *, method="lp2", step_angle=0.5, 
         if name.startswith("whip_"):
             ds[name].attrs["long_name"] = "whip antennas: " + ds[name].attrs["long_name"]
     ds.attrs.update({
-        "body": body.name, "body_sources": body.sources, "length": body.length,
-        "diameter": body.diameter, "mass": body.mass, "spin": W, "moments": I,
+        "body": body.name, "body_sources": body.sources,
+        **{k: getattr(body, k) for k in ("length", "diameter", "mass") if hasattr(body, k)},
+        "spin": W, "moments": I, "transverse_moment": I_t,
         "J": J, "c_energy_sink_optimum": c_sink,
-        "c_linear_optimum": optimum_damping(I[0], I[1], J, W), "method": method,
+        "c_linear_optimum": best_damping(I, J, W), "method": method,
         "step_angle": step_angle, "tail": tail, "fit_top": fit_top,
         "flat_angle": math.degrees(flat_angle), "end_tolerance": math.degrees(end_tolerance),
         **attrs})

@@ -27,7 +27,7 @@ from ..plotting.style import (
     AXIS_COLORS, EXACT_COLOR, label, new_figure, place_legend, plain_log_ticks, styled,
 )
 from .dual_spin import DECAYS, GROWS, body_of, linear_map
-from .model import axisymmetric_eigenvalues, energy_sink_rate, growth_rate
+from .model import energy_sink_rate, nutation_growth_rate
 
 #: Minutes per second, for time axes.
 MINUTE = 60.0
@@ -105,12 +105,12 @@ def flat_time_figure(ds):
     """
     fig = new_figure(7.5, 7.5)
     rate_ax, time_ax = fig.subplots(2, 1, sharex=True)
-    I_s, I_t = ds.attrs["moments"][:2]
+    I = np.asarray(ds.attrs["moments"], dtype=float)
+    I_s, I_t = I[0], float(ds.attrs.get("transverse_moment", I[1]))
     J, W = ds.attrs["J"], ds.attrs["spin"]
     c_star = ds.attrs["c_energy_sink_optimum"]
     dense = np.geomspace(ds.damping.values.min() / 2, ds.damping.values.max() * 2, 200)
-    linear = np.array([growth_rate(axisymmetric_eigenvalues(I_s, I_t, J, f * c_star, W))
-                       for f in dense])
+    linear = np.array([nutation_growth_rate(I, J, f * c_star, W) for f in dense])
     sink = energy_sink_rate(I_s, I_t, J, dense * c_star, W)
     rate_ax.loglog(dense, linear, color=EXACT_COLOR, lw=1.2, label="linear eigenvalue")
     rate_ax.loglog(dense, sink, color=AXIS_COLORS[1], ls="--", lw=1.2,

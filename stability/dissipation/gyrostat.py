@@ -116,13 +116,33 @@ _ROTOR_SPHERE = (7, 8)
 def steady_spin(values, platform_spin: float, relative_spin: float) -> np.ndarray:
     """The state (10,) of a steady spin: the platform at ``platform_spin`` (rad s-1) about e3,
     the rotor at ``relative_spin`` relative to it, each damper's sphere turning with its body;
-    ``values`` = (A1, A2, A3, Jr, Jp, cp, Jq, cq)."""
+    ``values`` = (A1, A2, A3, Jr, Jp, cp, Jq, cq).
+
+    Parameters
+    ----------
+    values : array_like
+        ``(A1, A2, A3, Jr, Jp, cp, Jq, cq)``: the whole body's moments (kg m2), the rotor's axial moment, each damper's J (kg m2) and c (N m s).
+    platform_spin : float or array_like
+        The platform's spin w_p about e3, rad s-1.
+    relative_spin : float or array_like
+        The rotor's speed relative to the platform, rad s-1.
+    """
     return gyrostat_rigid_state(values, [[0.0, 0.0, platform_spin]], relative_spin)[0]
 
 
 def axial_momentum(values, platform_spin, relative_spin):
     """``h = A3 w_p + Jr Omega`` (kg m2 s-1): the axial momentum of platform and rotor in a
-    steady spin (the spheres' not included). Arrays broadcast."""
+    steady spin (the spheres' not included). Arrays broadcast.
+
+    Parameters
+    ----------
+    values : array_like
+        ``(A1, A2, A3, Jr, Jp, cp, Jq, cq)``: the whole body's moments (kg m2), the rotor's axial moment, each damper's J (kg m2) and c (N m s).
+    platform_spin : float or array_like
+        The platform's spin w_p about e3, rad s-1.
+    relative_spin : float or array_like
+        The rotor's speed relative to the platform, rad s-1.
+    """
     A3, Jr = float(values[2]), float(values[3])
     return A3 * np.asarray(platform_spin, dtype=float) + Jr * np.asarray(relative_spin,
                                                                           dtype=float)
@@ -131,7 +151,17 @@ def axial_momentum(values, platform_spin, relative_spin):
 def nutation_frequencies(values, platform_spin, relative_spin):
     """Equation (3): ``(h, lambda_p, lambda_r)``, the axial momentum and the nutation's
     frequencies (rad s-1) seen by the platform and by the rotor, ``A_t = (A1 + A2) / 2``.
-    Arrays broadcast."""
+    Arrays broadcast.
+
+    Parameters
+    ----------
+    values : array_like
+        ``(A1, A2, A3, Jr, Jp, cp, Jq, cq)``: the whole body's moments (kg m2), the rotor's axial moment, each damper's J (kg m2) and c (N m s).
+    platform_spin : float or array_like
+        The platform's spin w_p about e3, rad s-1.
+    relative_spin : float or array_like
+        The rotor's speed relative to the platform, rad s-1.
+    """
     A_t = 0.5 * (float(values[0]) + float(values[1]))
     h = axial_momentum(values, platform_spin, relative_spin)
     lam_p = h / A_t - np.asarray(platform_spin, dtype=float)
@@ -141,7 +171,19 @@ def nutation_frequencies(values, platform_spin, relative_spin):
 def jacobian(values, platform_spin: float, relative_spin: float,
              step: float = 1e-30) -> np.ndarray:
     """The Jacobian (10, 10) of equations (2) at :func:`steady_spin`, by complex-step
-    differentiation, ``M_ij = Im f_i(x + i eps e_j) / eps`` (exact to round-off)."""
+    differentiation, ``M_ij = Im f_i(x + i eps e_j) / eps`` (exact to round-off).
+
+    Parameters
+    ----------
+    values : array_like
+        ``(A1, A2, A3, Jr, Jp, cp, Jq, cq)``: the whole body's moments (kg m2), the rotor's axial moment, each damper's J (kg m2) and c (N m s).
+    platform_spin : float or array_like
+        The platform's spin w_p about e3, rad s-1.
+    relative_spin : float or array_like
+        The rotor's speed relative to the platform, rad s-1.
+    step : float
+        The complex step eps.
+    """
     p = gyrostat_params(values)
     x = steady_spin(values, platform_spin, relative_spin).astype(complex)
     out = np.empty((WIDTH, WIDTH))
@@ -165,7 +207,17 @@ def _present(values) -> list:
 
 def eigenvalues(values, platform_spin: float, relative_spin: float) -> np.ndarray:
     """The nutation's eigenvalues (s-1): those of the Jacobian's block across e3 (the absent
-    dampers' spheres left out), by decreasing real part. Any platform, triaxial too."""
+    dampers' spheres left out), by decreasing real part. Any platform, triaxial too.
+
+    Parameters
+    ----------
+    values : array_like
+        ``(A1, A2, A3, Jr, Jp, cp, Jq, cq)``: the whole body's moments (kg m2), the rotor's axial moment, each damper's J (kg m2) and c (N m s).
+    platform_spin : float or array_like
+        The platform's spin w_p about e3, rad s-1.
+    relative_spin : float or array_like
+        The rotor's speed relative to the platform, rad s-1.
+    """
     rows = _present(np.asarray(values, dtype=float))
     lam = np.linalg.eigvals(jacobian(values, platform_spin, relative_spin)[np.ix_(rows, rows)])
     return lam[np.argsort(-lam.real, kind="stable")]
@@ -173,7 +225,17 @@ def eigenvalues(values, platform_spin: float, relative_spin: float) -> np.ndarra
 
 def axisymmetric_matrix(values, platform_spin: float, relative_spin: float) -> np.ndarray:
     """The complex matrix of (4) on ``(xi, eta_p, eta_q)``, without the rows and columns of an
-    absent damper (c = 0); ``A_t = A1`` (the platform must be axisymmetric, ``A1 = A2``)."""
+    absent damper (c = 0); ``A_t = A1`` (the platform must be axisymmetric, ``A1 = A2``).
+
+    Parameters
+    ----------
+    values : array_like
+        ``(A1, A2, A3, Jr, Jp, cp, Jq, cq)``: the whole body's moments (kg m2), the rotor's axial moment, each damper's J (kg m2) and c (N m s).
+    platform_spin : float or array_like
+        The platform's spin w_p about e3, rad s-1.
+    relative_spin : float or array_like
+        The rotor's speed relative to the platform, rad s-1.
+    """
     A_t, _, _, _, Jp, cp, Jq, cq = (float(v) for v in values)
     w_p = float(platform_spin)
     w_r = w_p + float(relative_spin)
@@ -187,7 +249,17 @@ def axisymmetric_matrix(values, platform_spin: float, relative_spin: float) -> n
 
 def axisymmetric_eigenvalues(values, platform_spin: float, relative_spin: float) -> np.ndarray:
     """The eigenvalues of (4) and their conjugates (s-1), by decreasing real part: those of the
-    Jacobian's transverse block for an axisymmetric platform."""
+    Jacobian's transverse block for an axisymmetric platform.
+
+    Parameters
+    ----------
+    values : array_like
+        ``(A1, A2, A3, Jr, Jp, cp, Jq, cq)``: the whole body's moments (kg m2), the rotor's axial moment, each damper's J (kg m2) and c (N m s).
+    platform_spin : float or array_like
+        The platform's spin w_p about e3, rad s-1.
+    relative_spin : float or array_like
+        The rotor's speed relative to the platform, rad s-1.
+    """
     lam = np.linalg.eigvals(axisymmetric_matrix(values, platform_spin, relative_spin))
     lam = np.concatenate([lam, lam.conj()])
     return lam[np.argsort(-lam.real, kind="stable")]
@@ -197,7 +269,27 @@ def one_damper_eigenvalues(transverse_moment, axial_moment, rotor_moment, J, c, 
                            relative_spin, on_rotor: bool) -> np.ndarray:
     """Equation (5): the four nutation eigenvalues (s-1) of an axisymmetric gyrostat with one
     spherical damper (J, c) on the platform or (``on_rotor``) in the rotor, in closed form:
-    the roots of the quadratic and their conjugates, by decreasing real part."""
+    the roots of the quadratic and their conjugates, by decreasing real part.
+
+    Parameters
+    ----------
+    transverse_moment : float
+        The transverse moment A_t, kg m2.
+    axial_moment : float
+        The axial moment A3 (rotor included), kg m2.
+    rotor_moment : float
+        The rotor's axial moment Jr, kg m2.
+    J : float or array_like
+        The sphere's moment of inertia, kg m2.
+    c : float
+        The sphere's viscous coefficient, N m s.
+    platform_spin : float or array_like
+        The platform's spin w_p about e3, rad s-1.
+    relative_spin : float or array_like
+        The rotor's speed relative to the platform, rad s-1.
+    on_rotor : bool
+        The damper is in the rotor (else on the platform).
+    """
     A_t, A3, Jr = float(transverse_moment), float(axial_moment), float(rotor_moment)
     w_p, omega = float(platform_spin), float(relative_spin)
     lam_p = (A3 * w_p + Jr * omega) / A_t - w_p
@@ -213,14 +305,34 @@ def one_damper_eigenvalues(transverse_moment, axial_moment, rotor_moment, J, c, 
 
 def first_order_rate(values, platform_spin, relative_spin):
     """Equation (6) summed over the dampers: ``-(cp lambda_p + cq lambda_r) / h`` (s-1), the
-    growth rate at first order in the damping. Arrays broadcast."""
+    growth rate at first order in the damping. Arrays broadcast.
+
+    Parameters
+    ----------
+    values : array_like
+        ``(A1, A2, A3, Jr, Jp, cp, Jq, cq)``: the whole body's moments (kg m2), the rotor's axial moment, each damper's J (kg m2) and c (N m s).
+    platform_spin : float or array_like
+        The platform's spin w_p about e3, rad s-1.
+    relative_spin : float or array_like
+        The rotor's speed relative to the platform, rad s-1.
+    """
     h, lam_p, lam_r = nutation_frequencies(values, platform_spin, relative_spin)
     return -(float(values[5]) * lam_p + float(values[7]) * lam_r) / h
 
 
 def energy_sink_rate(values, platform_spin, relative_spin):
     """Equation (7): the nutation's growth rate (s-1) by the energy-sink estimate,
-    ``-h sum_i c_i lambda_i / (h^2 + (c_i A_t / J_i)^2)``. Arrays broadcast."""
+    ``-h sum_i c_i lambda_i / (h^2 + (c_i A_t / J_i)^2)``. Arrays broadcast.
+
+    Parameters
+    ----------
+    values : array_like
+        ``(A1, A2, A3, Jr, Jp, cp, Jq, cq)``: the whole body's moments (kg m2), the rotor's axial moment, each damper's J (kg m2) and c (N m s).
+    platform_spin : float or array_like
+        The platform's spin w_p about e3, rad s-1.
+    relative_spin : float or array_like
+        The rotor's speed relative to the platform, rad s-1.
+    """
     A_t = 0.5 * (float(values[0]) + float(values[1]))
     Jp, cp, Jq, cq = (float(v) for v in values[4:8])
     h, lam_p, lam_r = nutation_frequencies(values, platform_spin, relative_spin)
@@ -230,18 +342,44 @@ def energy_sink_rate(values, platform_spin, relative_spin):
 
 def energy_sink_stable(values, platform_spin, relative_spin):
     """Likins' criterion: True where ``D_p / lambda_p + D_r / lambda_r > 0`` (the energy sink
-    says the nutation decays). Arrays broadcast."""
+    says the nutation decays). Arrays broadcast.
+
+    Parameters
+    ----------
+    values : array_like
+        ``(A1, A2, A3, Jr, Jp, cp, Jq, cq)``: the whole body's moments (kg m2), the rotor's axial moment, each damper's J (kg m2) and c (N m s).
+    platform_spin : float or array_like
+        The platform's spin w_p about e3, rad s-1.
+    relative_spin : float or array_like
+        The rotor's speed relative to the platform, rad s-1.
+    """
     return np.asarray(energy_sink_rate(values, platform_spin, relative_spin)) < 0.0
 
 
 def energy_sink_optimum(J, transverse_moment, h):
     """``c* = J h / A_t`` (N m s): the damping of a sphere of moment J that drains the nutation
-    fastest by (7). Arrays broadcast."""
+    fastest by (7). Arrays broadcast.
+
+    Parameters
+    ----------
+    J : float or array_like
+        The sphere's moment of inertia, kg m2.
+    transverse_moment : float
+        The transverse moment A_t, kg m2.
+    h : float or array_like
+        The axial momentum h, kg m2 s-1.
+    """
     return np.asarray(J, dtype=float) * np.asarray(h, dtype=float) / float(transverse_moment)
 
 
 def growth_rate(eigenvalues) -> float:
-    """The largest real part (s-1) of ``eigenvalues``: > 0 the nutation grows."""
+    """The largest real part (s-1) of ``eigenvalues``: > 0 the nutation grows.
+
+    Parameters
+    ----------
+    eigenvalues : array_like
+        Eigenvalues, s-1.
+    """
     return float(np.max(np.real(eigenvalues)))
 
 
@@ -250,7 +388,21 @@ def tilted_spin(values, platform_spin, relative_spin, angles, azimuths) -> np.nd
     the rotor at ``Omega`` relative to it, each damper's sphere with its body) with its angular
     momentum tilted by ``angles`` (rad) from e3 towards ``cos(phi) e1 + sin(phi) e2``:
     ``H = (A1 w1 + S w1, A2 w2 + S w2, h + Jp w_p + Jq w_r)`` (S the spheres' moments that
-    turn), ``tan(theta) = |H_t| / H_3``."""
+    turn), ``tan(theta) = |H_t| / H_3``.
+
+    Parameters
+    ----------
+    values : array_like
+        ``(A1, A2, A3, Jr, Jp, cp, Jq, cq)``: the whole body's moments (kg m2), the rotor's axial moment, each damper's J (kg m2) and c (N m s).
+    platform_spin : float or array_like
+        The platform's spin w_p about e3, rad s-1.
+    relative_spin : float or array_like
+        The rotor's speed relative to the platform, rad s-1.
+    angles : array_like, shape (N,)
+        Tilts of H from e3, rad.
+    azimuths : array_like, shape (N,)
+        Their azimuths about e3, rad.
+    """
     values = np.asarray(values, dtype=float)
     A1, A2, _, _, Jp, cp, Jq, cq = values
     spheres = (Jp if cp > 0 else 0.0) + (Jq if cq > 0 else 0.0)

@@ -5,8 +5,9 @@ makes the nutation decay).
 **explorer** (:data:`STUDY`).
 
 An Explorer-1-like body (a uniform cylinder of the length, diameter and mass of the file; by
-default Explorer 1's, :data:`~stability.dissipation.model.EXPLORER_1`) spins about its long axis
-and carries a spherical damper (moment J; viscous coefficient c, a list of them in units of the
+default Explorer 1's, :data:`~stability.dissipation.model.EXPLORER_1`) spins about its long axis,
+or a body of measured ``[body] moments`` (a :class:`~stability.dissipation.model.Spinner`,
+``studies/spinner.toml``) about the axis of least moment, and carries a spherical damper (moment J; viscous coefficient c, a list of them in units of the
 energy sink's optimum ``c* = J W I_s / I_t``) and, beside it, four whip antennas (two pairs of
 tip masses on springs). Members start at each initial nutation angle of a list;
 :func:`~stability.dissipation.explorer.measure_explorer` runs them past the flat spin and
@@ -32,7 +33,8 @@ from pathlib import Path
 
 import numpy as np
 
-from ..study.config import ConfigError, Key, Schema, Section
+from ..free_body.model import MOMENT_NAMES
+from ..study.config import UNSET, ConfigError, Key, Schema, Section
 from ..study.kind import StudyKind, StudySummary, SummaryTable, run_rows
 from ..study.outputs import output_files, write_outputs
 from ..study.sections import check_memory, check_run, output_section, run_section, stored_run
@@ -42,7 +44,8 @@ from .explorer import Whips, measure_explorer
 from .figures import (dual_spin_map_figure, dual_spin_rate_figure, end_state_figure,
                       flat_time_figure, nutation_figure)
 from .methods import SPHERE_METHODS
-from .model import EXPLORER_1, Cylinder
+from .model import (EXPLORER_1, Cylinder, Spinner, energy_sink_optimum,
+                    equivalent_transverse_moment)
 
 NAME = "explorer"
 #: Figure stems: the nutation angle, the flat-spin time against damping, the end state.
@@ -59,12 +62,23 @@ SCHEMA = Schema(
     top=(Key("title", "str", "Why Explorer 1 tumbled: energy dissipation turns a minor-axis "
              "spin over", "one line describing the run (the Dataset's title)"),),
     sections=(
-        Section("body", "the satellite: a uniform solid cylinder spun about its long axis", (
-            _positive("length", EXPLORER_1.length, "length", "m"),
-            _positive("diameter", EXPLORER_1.diameter, "diameter", "m"),
-            _positive("mass", EXPLORER_1.mass, "mass", "kg"),
-            _positive("spin", 750.0, "spin about the long axis at release", "rpm"),
-        )),
+        Section("body", "the satellite: a uniform solid cylinder spun about its long axis, or "
+                "measured principal moments spun about the smallest", (
+            _positive("length", EXPLORER_1.length, "length of the cylinder", "m"),
+            _positive("diameter", EXPLORER_1.diameter, "diameter of the cylinder", "m"),
+            _positive("mass", EXPLORER_1.mass, "mass of the cylinder", "kg"),
+            Key("moments", "floats", UNSET, "measured principal moments I1, I2, I3 (instead "
+                "of length, diameter and mass)", unit="kg m2", minimum=0.0,
+                exclusive_minimum=True, length=3),
+            Key("axis", ("int", "str"), "smallest", "the spin axis of a body given by "
+                "moments: 1, 2, 3 or the name of its moment; the smallest's (a damper turns "
+                "a minor-axis spin over)", choices=(1, 2, 3) + MOMENT_NAMES),
+            Key("name", "str", UNSET, "label of a body given by moments"),
+            _positive("spin", 750.0, "spin about the spin axis at release", "rpm"),
+            Key("rate", "float", UNSET, "spin about the spin axis at release (instead of "
+                "spin)", unit="rad/s", minimum=0.0, exclusive_minimum=True),
+        ), exclusive=(("moments", "length"), ("moments", "diameter"), ("moments", "mass"),
+                      ("spin", "rate"))),
         Section("damper", "the spherical damper (standing for what flexes and dissipates)", (
             _positive("inertia", 1e-4, "moment of inertia J of the sphere", "kg m2"),
             Key("dampings", "floats", [0.1, 0.3, 1.0, 3.0, 10.0],
@@ -135,16 +149,21 @@ QUICK_NOTE = ("the physics changes too: a sphere 10 times and whips 20 times hea
               "Explorer 1's (12 to 20 min, not 119 to 200)")
 
 
-def body(config) -> Cylinder:
-    """The study's body from its ``[body]`` section."""
+def body(config) -> Cylinder | Spinner:
+    """The study's body from its ``[body]`` section: measured moments (a
+    :class:`~.model.Spinner`, the spin axis's first) or a cylinder."""
     b = config["body"]
-    return Cylinder(b["length"], b["diameter"], b["mass"], b["spin"] * RPM,
+    spin = b["rate"] if "rate" in b else b["spin"] * RPM
+    if "moments" in b:
+        return Spinner.about(b["moments"], b["axis"], spin, name=b.get("name", "body"),
+                             sources="measured moments from the study file")
+    return Cylinder(b["length"], b["diameter"], b["mass"], spin,
                     name=EXPLORER_1.name if _is_explorer(b) else "cylinder",
                     sources=EXPLORER_1.sources if _is_explorer(b) else "the study file")
 
 
 def _is_explorer(b) -> bool:
-    return (b["length"], b["diameter"], b["mass"], b["spin"]) == (
+    return (b["length"], b["diameter"], b["mass"], b.get("spin")) == (
         EXPLORER_1.length, EXPLORER_1.diameter, EXPLORER_1.mass, 750.0)
 
 
@@ -159,12 +178,23 @@ def whips(config) -> Whips | None:
 def check(config: dict, source: str) -> dict:
     """A long body (spun about its minor axis), angles below the flat-spin angle, a damping."""
     b = config["body"]
-    if b["length"] ** 2 <= 0.75 * b["diameter"] ** 2:
-        raise ConfigError(f"must exceed sqrt(3)/2 times the diameter ({b['diameter']:g} m) for "
-                          f"the long axis to be the minor axis, got {b['length']:g}", source,
-                          "body", "length")
+    if "moments" in b:
+        try:
+            body(config)
+        except ValueError as exc:
+            raise ConfigError(f"are refused: {exc}", source, "body", "moments") from None
+    else:
+        for key in ("name", "axis"):
+            if key in b and (key == "name" or b[key] not in (1, "smallest")):
+                raise ConfigError("is for a body given by moments; a cylinder spins about its "
+                                  "long axis: drop it or give moments", source, "body", key)
+        if b["length"] ** 2 <= 0.75 * b["diameter"] ** 2:
+            raise ConfigError(f"must exceed sqrt(3)/2 times the diameter ({b['diameter']:g} m) "
+                              "for the long axis to be the minor axis, got "
+                              f"{b['length']:g}", source, "body", "length")
     if not config["damper"]["dampings"]:
         raise ConfigError("must list at least one damping", source, "damper", "dampings")
+    _check_step(config, source)
     flat = config["analysis"]["flat_angle"]
     for section in ("start", "whips"):
         angles = config[section]["angles"]
@@ -176,6 +206,34 @@ def check(config: dict, source: str) -> dict:
     _check_memory(config, source)
     check_run(config, source)
     return config
+
+
+#: The largest ``h r`` (the step times the damper's fastest relaxation rate ``r = c (1/J +
+#: 1/I_s)``) of each method: the splittings' error grows as ``(h r)^2`` (0.15 (h r)^2 in the
+#: rates), RK4 blows up past 2.8.
+RELAXATION_STEP = {"lp2": 0.08, "lp4": 0.08, "dmv": 0.08, "rk4": 2.0}
+
+
+def _check_step(config: dict, source: str) -> None:
+    """Refuse a step that does not resolve the damper's relaxation. On a long body (Explorer,
+    ``I_s / I_t = 0.008``) the sphere relaxes at ``r = c*/J = W I_s / I_t``, far slower than
+    the spin; on a body nearly round it relaxes about as fast as it spins."""
+    integ, d = config["integration"], config["damper"]
+    the = body(config)
+    I = np.asarray(the.moments, dtype=float)
+    c = max(d["dampings"]) * energy_sink_optimum(I[0], equivalent_transverse_moment(I),
+                                                 d["inertia"], the.spin)
+    hr = integ["step_angle"] * c * (1.0 / d["inertia"] + 1.0 / I[0]) / the.spin
+    top = RELAXATION_STEP[integ["method"]]
+    if hr > top:
+        fix = (f"lower it to {integ['step_angle'] * top / hr:.2g}" if integ["method"] == "rk4"
+               else f"lower it to {integ['step_angle'] * top / hr:.2g}, or set method = "
+               f"\"rk4\" with step_angle <= {min(0.1, 2.0 * integ['step_angle'] / hr):.2g}")
+        raise ConfigError(
+            f"makes h times the damper's fastest relaxation rate c (1/J + 1/I_s) {hr:.2g} at "
+            f"c = {max(d['dampings']):g} c* (above {top:g} for {integ['method']}: the sphere "
+            f"relaxes about as fast as the body spins); {fix}", source, "integration",
+            "step_angle")
 
 
 def _check_memory(config: dict, source: str) -> None:

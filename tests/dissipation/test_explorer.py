@@ -1,16 +1,20 @@
 """The Explorer study: quick run, its Dataset (CF, units), figures, summary and bad input."""
 
 import tomllib
+from pathlib import Path
 
 import numpy as np
 import pytest
 import xarray as xr
 
+from stability.dissipation import model
 from stability.dissipation.figures import end_state_figure, flat_time_figure, nutation_figure
 
 from ..helpers import (
     assert_cf_compliant, assert_declared, assert_readable, bad_study_line, quick_study,
 )
+
+ROOT = Path(__file__).resolve().parents[2]
 
 
 @pytest.fixture(scope="module")
@@ -87,8 +91,37 @@ def test_figures_carry_units_and_clear_legends(quick):
     ("[integration]\nstep_angle = 3.0\n", "[integration] step_angle must be a number > 0"),
     ("[analysis]\nflat_angle = 90.0\n", "[analysis] flat_angle must be a number > 0"),
     ("[run]\nscheduler = \"somewhere\"\n", "[run] scheduler must be ''"),
+    ("[body]\nmoments = [120.0, 135.0, 150.0]\nlength = 2.0\n",
+     "[body] give only one of moments, length"),
+    ("[body]\nmoments = [120.0, 135.0, 150.0]\naxis = 3\n",
+     "[body] moments are refused: the spin axis's moment 150 kg m2 must be the smallest"),
+    ("[body]\nmoments = [120.0, 135.0, 300.0]\n", "violate the triangle inequality"),
+    ("[body]\naxis = 2\n", "[body] axis is for a body given by moments"),
+    ("[body]\nmoments = [120.0, 135.0, 150.0]\nrate = 2.0\n[damper]\ninertia = 1.0\n",
+     "[integration] step_angle makes h times the damper's fastest relaxation rate"),
     ("[integration]\nsamples = 10000000000000\n", "TiB in memory"),
 ])
 def test_bad_study_files_are_one_line_and_run_nothing(tmp_path, capsys, text, fragment):
     line = bad_study_line(tmp_path, capsys, "explorer", text)
     assert fragment in line, line
+
+
+def test_measured_moments_turn_over_as_their_eigenvalues_say(tmp_path):
+    """studies/spinner.toml: measured moments (120, 135, 150 kg m2) spun at 2 rad/s about the
+    least, a damper; the fitted rates meet the eigenvalues (fitted to the angle the rigid motion
+    keeps: the angle itself swings on unequal moments) and every member ends in the flat spin."""
+    from stability.study import run_study
+
+    summary = run_study(ROOT / "studies" / "spinner.toml", tmp_path, progress=False, overrides=[
+        ("damper.dampings", "[1.0]"), ("start.angles", "[0.02, 1.0]"),
+        ("integration.samples", "600"), ("output.formats", "['png']")])
+    v = summary.values
+    assert v["members_fitted"] == 1 and v["max_growth_rate_error"] <= v["claim"]
+    assert v["max_decay_rate_error"] <= v["claim"] and v["members_major_axis"] == 2
+    with xr.open_dataset(tmp_path / "explorer.nc") as ds:
+        assert list(ds.attrs["moments"]) == [120.0, 135.0, 150.0] and ds.attrs["spin"] == 2.0
+        assert "length" not in ds.attrs and ds.attrs["body"].startswith("satellite")
+        linear = model.nutation_growth_rate(ds.attrs["moments"], 1.0, float(ds.c[0]), 2.0)
+        assert float(ds.growth_rate_linear[0, 0]) == pytest.approx(linear, rel=1e-3)
+        assert ds.attrs["c_linear_optimum"] == pytest.approx(model.best_damping(
+            ds.attrs["moments"], 1.0, 2.0))

@@ -146,3 +146,47 @@ def test_energy_lost_to_the_flat_spin_and_the_systems_moments():
 def test_bad_parameter_sets_are_refused_in_one_line(make, values, message):
     with pytest.raises(ValueError, match=message):
         make(values)
+
+
+def test_a_spinner_of_measured_moments_puts_its_spin_axis_first_and_refuses_another():
+    body = model.Spinner.about([150.0, 120.0, 135.0], "smallest", 2.0)
+    assert body.moments == (120.0, 150.0, 135.0) and body.spin == 2.0
+    with pytest.raises(ValueError, match="must be the smallest"):
+        model.Spinner.about([150.0, 120.0, 135.0], 1, 2.0)
+
+
+def test_the_general_linear_theory_is_the_symmetric_one_on_a_symmetric_shell():
+    """best_damping and nutation_growth_rate take any moments; on Explorer they are the closed
+    form's, and the equivalent transverse moment is I_t itself."""
+    I, W, J = EXPLORER.moments, EXPLORER.spin, 1e-4
+    assert model.equivalent_transverse_moment(I) == pytest.approx(I[1], rel=1e-12)
+    assert model.best_damping(I, J, W) == model.optimum_damping(I[0], I[1], J, W)
+    c = model.energy_sink_optimum(I[0], I[1], J, W)
+    assert model.nutation_growth_rate(I, J, c, W) == pytest.approx(model.growth_rate(
+        model.axisymmetric_eigenvalues(I[0], I[1], J, c, W)), rel=1e-9)
+    # on unequal transverse moments: the best damping is the eigenvalues' largest growth
+    I = [120.0, 135.0, 150.0]
+    best = model.best_damping(I, 1.0, 2.0)
+    rates = [model.nutation_growth_rate(I, 1.0, f * best, 2.0) for f in (0.9, 1.0, 1.1)]
+    assert rates[1] > max(rates[0], rates[2]) and best == pytest.approx(1.704, rel=1e-3)
+    assert float(model.flat_spin_time(rates[1], np.radians(1.0))) / 60 == pytest.approx(
+        87.5, rel=1e-2)
+
+
+def test_the_nutation_amplitude_is_kept_by_a_rigid_motion_where_the_angle_swings():
+    """On unequal transverse moments the angle of H from the spin axis swings twice a nutation;
+    the amplitude the rates are fitted to does not, and on equal ones it is the angle's sine."""
+    import stability
+    from stability.dissipation.measure import nutation_amplitude, nutation_angle
+
+    I = np.array([120.0, 135.0, 150.0])
+    w0 = np.array([2.0, 0.01, 0.0])
+    H = np.array([I * stability.exact_omega(stability.RigidBody(*I), w0, t)
+                  for t in np.linspace(0.0, 30.0, 200)])
+    angle = nutation_angle(H, 0)
+    amplitude = nutation_amplitude(H, I, 0)
+    assert angle.max() / angle.min() > 1.3
+    assert np.ptp(amplitude) < 1e-9 * amplitude.max()
+    symmetric = np.array([[2.0, 0.01, 0.02]])
+    assert nutation_amplitude(symmetric, [1.0, 2.0, 2.0], 0)[0] == pytest.approx(
+        np.sin(nutation_angle(symmetric, 0)[0]), rel=1e-12)
