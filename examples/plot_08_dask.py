@@ -17,13 +17,22 @@ import stability
 body = stability.RigidBody.preset("tennis_racket")
 kwargs = dict(axis=2, spin=10.0, epsilon=1e-4, members=400, h=2e-3, t_end=4.0, save_every=50,
               method="rk4", seed=1, chunk_members=100, progress=False)
-local = stability.run_ensemble(body, **kwargs)
+
+# %%
+# A script that starts a local cluster runs its work under ``if __name__ == "__main__":``: the
+# cluster's worker processes import the script to find what the tasks refer to, and without
+# the guard each would run it again (a script without it is refused in one line, naming the
+# line to guard). First the ensemble on this process's cores:
+
+if __name__ == "__main__":
+    local = stability.run_ensemble(body, **kwargs)
 
 # %%
 # The same ensemble, its four chunks run as tasks of a local dask.distributed cluster and
 # written to a store: bitwise the run in this process.
 
-store = Path(tempfile.mkdtemp()) / "store"
-on_dask = stability.run_ensemble(body, store=store, scheduler="dask", **kwargs)
-print(f"{len(list(store.glob('*.nc')))} chunk files")
-print("bitwise equal:", bool(np.array_equal(local.w.values, on_dask.w.values)))
+if __name__ == "__main__":
+    store = Path(tempfile.mkdtemp()) / "store"
+    on_dask = stability.run_ensemble(body, store=store, scheduler="dask", **kwargs)
+    print(f"{len(list(store.glob('*.nc')))} chunk files")
+    print("bitwise equal:", bool(np.array_equal(local.w.values, on_dask.w.values)))

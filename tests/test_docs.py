@@ -389,3 +389,33 @@ def test_the_own_spinner_recipe_runs_as_a_script_and_prints_what_the_guide_says(
     assert "best damping 1.704 N m s (energy sink: c* = 1.702 N m s)" in done.stdout
     assert "flat spin after 88 min" in done.stdout and "flat spin after 441 min" in done.stdout
     assert "1.704" in recipe and "88 min" in recipe and "441" in recipe
+
+
+def _run_as_script(folder, name, env_extra=None):
+    env = {**os.environ, "PYTHONPATH": os.pathsep.join([str(ROOT), str(folder)]),
+           "MPLBACKEND": "Agg", **(env_extra or {})}
+    done = subprocess.run([sys.executable, name], cwd=folder, env=env, capture_output=True,
+                          text=True, timeout=600)
+    assert done.returncode == 0, done.stderr[-3000:]
+    return done
+
+
+@pytest.mark.parametrize("source", ["examples/plot_08_dask.py", "docs/developers.md"])
+def test_the_dask_examples_run_as_scripts_in_a_fresh_folder(tmp_path, source):
+    """The examples that start a local dask cluster, copied as printed and run with
+    ``python file.py`` in a fresh folder: the cluster's workers import the script again, which
+    started the run once more in each ("Nanny failed to start worker process", then "store is
+    in use by another run") before the examples were guarded."""
+    path = ROOT / source
+    if path.suffix == ".py":
+        (tmp_path / "example.py").write_text(path.read_text())
+        done = _run_as_script(tmp_path, "example.py")
+        assert "bitwise equal: True" in done.stdout
+        return
+    module, script = re.findall(r"```python\n(.*?)```", path.read_text(), re.S)[:2]
+    assert module.startswith("# spring.py") and 'scheduler="dask"' in script
+    (tmp_path / "spring.py").write_text(module)
+    (tmp_path / "run.py").write_text(script + "    print(sorted(ds.sizes.items()))\n")
+    done = _run_as_script(tmp_path, "run.py")
+    assert "('member', 1000)" in done.stdout
+    assert "Nanny" not in done.stderr and "FolderBusy" not in done.stderr

@@ -39,6 +39,7 @@ from typing import NamedTuple
 
 from .store import ChunkStore, chunk_name, write_chunk
 from ..util.threads import checked_threads, numba_threads
+from ..util.scripts import unguarded_script
 
 log = logging.getLogger(__name__)
 
@@ -160,6 +161,8 @@ def _run_on_dask(job, chunks, todo, scheduler, progress, compress) -> float:
     if hasattr(scheduler, "submit"):  # a distributed.Client the caller made
         client, own = scheduler, False
     elif scheduler == "dask":
+        if (problem := unguarded_script()) is not None:
+            raise ValueError(problem)
         cluster = LocalCluster(processes=True, threads_per_worker=1, dashboard_address=None)
         client = Client(cluster)
     else:

@@ -1,0 +1,76 @@
+"""Whether starting worker processes now would run the user's script again.
+
+A dask ``LocalCluster`` starts its workers as new Python processes (multiprocessing's *spawn*),
+and each imports the script being run, as ``__mp_main__``, to find what the tasks refer to: the
+script's top-level code runs again in every worker, which starts the run again (and another
+cluster) there. Python's advice is the guard ``if __name__ == "__main__":`` around the code that
+runs things; :func:`unguarded_script` says where it is missing.
+"""
+
+from __future__ import annotations
+
+import ast
+import sys
+
+
+def unguarded_script() -> str | None:
+    """Why a local cluster started now would run the user's script again, or None.
+
+    Two cases: this process is itself a worker importing the script (run as ``__mp_main__``);
+    or the call comes from the top level of the script being run, outside an
+    ``if __name__ == "__main__":`` block (read from the script's source), directly or through
+    functions it calls. A notebook or ``python -c`` is never in the way.
+    """
+    frame = sys._getframe(1)
+    while frame is not None:  # the script run again by multiprocessing, as __mp_main__
+        if frame.f_code.co_name == "<module>" and frame.f_globals.get(
+                "__name__") == "__mp_main__":
+            return (f"this process is a worker importing the script {frame.f_code.co_filename} "
+                    "again, and reached its run: put the code that runs it under "
+                    "`if __name__ == \"__main__\":`")
+        frame = frame.f_back
+    main = sys.modules.get("__main__")
+    script = getattr(main, "__file__", None)
+    if not isinstance(script, str) or not script.endswith(".py"):
+        return None
+    frame, top = sys._getframe(1), None
+    while frame is not None:  # the script's own top-level frame: the statement it runs now
+        if frame.f_globals is main.__dict__ and frame.f_code.co_name == "<module>":
+            top = frame
+        frame = frame.f_back
+    if top is None:
+        return None
+    frame = top
+    try:
+        with open(script, "rb") as f:
+            tree = ast.parse(f.read(), script)
+    except (OSError, SyntaxError, ValueError):
+        return None
+    if _guarded(tree, frame.f_lineno):
+        return None
+    return (f"the worker processes of a local dask cluster import the script {script} again, "
+            f"so its top-level code (line {frame.f_lineno}) would start this run again in each: "
+            "put the code that runs it under `if __name__ == \"__main__\":`")
+
+
+def _guarded(tree: ast.Module, line: int) -> bool:
+    """Whether ``line`` of the module lies inside an ``if __name__ == "__main__":`` block."""
+    for node in ast.walk(tree):
+        if isinstance(node, ast.If) and _is_main_test(node.test) and node.body and (
+                node.body[0].lineno <= line <= max(getattr(n, "end_lineno", n.lineno)
+                                                   for n in node.body)):
+            return True
+    return False
+
+
+def _is_main_test(test) -> bool:
+    if not (isinstance(test, ast.Compare) and len(test.ops) == 1
+            and isinstance(test.ops[0], ast.Eq)):
+        return False
+    sides = [test.left, test.comparators[0]]
+    names = [s for s in sides if isinstance(s, ast.Name) and s.id == "__name__"]
+    mains = [s for s in sides if isinstance(s, ast.Constant) and s.value == "__main__"]
+    return len(names) == 1 and len(mains) == 1
+
+
+__all__ = ["unguarded_script"]
