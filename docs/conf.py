@@ -81,8 +81,8 @@ sphinx_gallery_conf = {
     # a cell's last expression is shown only where it has an HTML view (a Dataset), not as
     # "<matplotlib.legend.Legend object at 0x...>"
     "capture_repr": ("_repr_html_",),
-    # names of the families whose old module became the package (stability.rolling, ...): link
-    # them where they live, not through the old path the package still serves for a release
+    # the names of these families link to the module that defines them
+    # (stability.rolling.model.launch_formulas), with no search for a shorter path
     "prefer_full_module": {r"^stability\.(earth|struck|rolling)\."},
 }
 

@@ -18,7 +18,6 @@ import importlib
 
 from .util import numba_env  # noqa: F401  (first: readies Numba's environment, see there)
 from .version import __version__
-from . import moved
 from .free_body.model import axis_stability, growth_rate, omega_squared, oscillation_frequency
 from .core.body import Part, RigidBody
 from .free_body.exact import exact_omega, flip_interval, full_period
@@ -44,8 +43,6 @@ __all__ += ["animate_flip", "animate_top", "define_scene", "ensemble_memory", "l
             "run_ensemble", "run_ensembles", "run_scene", "save"]
 __all__ += ["flip_statistics", "measured_frequency", "measured_growth_rate", "measured_omega_squared", "member_regimes"]  # noqa: E501
 
-moved.install()  # a moved module's old path still imports, with a warning
-
 #: Names whose modules load matplotlib, imported when first used: ``import stability`` stays
 #: free of matplotlib (start-up time, and no font cache where the home folder is read-only).
 ON_FIRST_USE = {"animate_flip": "stability.free_body.animation",
@@ -53,10 +50,9 @@ ON_FIRST_USE = {"animate_flip": "stability.free_body.animation",
 
 
 def __getattr__(name):
-    """A name of :data:`ON_FIRST_USE`, or ``stability.<old module name>``
-    (:mod:`stability.moved`)."""
-    if name in ON_FIRST_USE:
-        value = getattr(importlib.import_module(ON_FIRST_USE[name]), name)
-        globals()[name] = value
-        return value
-    return moved.old_attribute(name)
+    """A name of :data:`ON_FIRST_USE`, imported from its module on first use."""
+    if name not in ON_FIRST_USE:
+        raise AttributeError(f"module 'stability' has no attribute {name!r}")
+    value = getattr(importlib.import_module(ON_FIRST_USE[name]), name)
+    globals()[name] = value
+    return value

@@ -57,9 +57,7 @@ def test_every_declaration_is_complete_and_names_the_code_that_writes_it():
 
 
 def test_the_register_imports_nothing_of_the_package_but_the_conventions():
-    """It sits low in the import order: every module may import it. (:mod:`stability.moved`,
-    which serves the declarations that went to the families under their old path, imports
-    nothing of the package.)"""
+    """It sits low in the import order: every module may import it."""
     tree = ast.parse((ROOT / "stability" / "ensemble" / "schema.py").read_text(encoding="utf-8"))
     inside = []
     for node in ast.walk(tree):
@@ -69,7 +67,7 @@ def test_the_register_imports_nothing_of_the_package_but_the_conventions():
             inside.append(node.module)
         elif isinstance(node, ast.Import):
             inside += [a.name for a in node.names if a.name.startswith("stability")]
-    assert sorted(inside) == ["moved", "util.conventions"]
+    assert sorted(inside) == ["util.conventions"]
 
 
 def test_the_dataset_reference_shows_every_declared_variable():

@@ -389,20 +389,7 @@ def escape_bars(app, what, name, obj, options, lines) -> None:
     lines[:] = [_escape_bars(line) for line in lines]
 
 
-def quiet_shortest_name_probes() -> None:
-    """Silence the old-path warnings of sphinx-gallery's search for the shortest path of each
-    name an example uses: for ``from stability.rolling.model import launch_formulas`` it asks
-    ``stability.rolling`` for ``launch_formulas``, an old name that package serves for a release
-    (:mod:`stability.moved`). The examples use the new paths; their own use of an old one still
-    warns."""
-    import warnings
-
-    warnings.filterwarnings("ignore", r"stability\..* moved to stability\.", FutureWarning,
-                            r"sphinx_gallery\.backreferences")
-
-
 def setup(app):
-    quiet_shortest_name_probes()
     app.connect("config-inited", lambda app, config: generate(app))  # before any page is read
     app.connect("autodoc-process-docstring", escape_bars, priority=400)
     return {"parallel_read_safe": True, "parallel_write_safe": True}

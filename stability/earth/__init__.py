@@ -27,14 +27,8 @@ MethodSpec), :mod:`stability.engine.scene` (the scene contract), the scene-gener
 :mod:`stability.study` (the study framework) and :mod:`stability.plotting`.
 
 This package's ``__init__`` imports nothing of the family, so that the scene registry
-(:mod:`stability.registry`) can import :mod:`.scene` without the rest. ``stability.earth`` was the
-module that is now :mod:`.model`: its names (``stability.earth.earth_moments``, ...) still
-import from here, with a warning, for one release (:func:`stability.moved.old_names`).
+(:mod:`stability.registry`) can import :mod:`.scene` without the rest.
 """
-
-from ..moved import old_names
-
-__getattr__ = old_names(__name__)
 
 #: What the family registers (:mod:`stability.registry`): its scenes, its study kinds and the
 #: declarations of the Datasets they write, each as ``"module:name"`` inside this package.

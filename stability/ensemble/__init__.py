@@ -6,12 +6,4 @@ dask; the memory a run may hold; the register of every Dataset the package write
 - :mod:`.memory`: the one memory check every run makes before any work;
 - :mod:`.chunks`: grouped runs of any scene, in chunks, stored, resumable and distributed;
 - :mod:`.run`: ``run_scene``.
-
-``stability.ensemble`` was the free body's module of ``run_ensemble``, now
-:mod:`stability.free_body.ensemble`: its names are served from there, with a warning, for one
-release (:mod:`stability.moved`).
 """
-
-from .. import moved
-
-__getattr__ = moved.old_names("stability.ensemble")

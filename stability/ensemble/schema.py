@@ -22,7 +22,7 @@ A declaration::
     xr.Dataset(BAT.entries({"angular_velocity": w, ...}))  # dims and attributes from here
 
 This module imports only :mod:`stability.util.conventions` (and NumPy for the flag arrays), so that
-every module may import it, and :mod:`stability.moved` for the names that moved to the families.
+every module may import it.
 """
 
 from __future__ import annotations
@@ -36,7 +36,6 @@ from types import MappingProxyType
 
 import numpy as np
 
-from .. import moved
 from ..util import conventions as cv
 
 #: Type letters of :attr:`Variable.kind`: what the file may store.
@@ -712,7 +711,3 @@ __all__ = [
     "register",
     "schema",
 ]
-
-#: The family declarations that were here are served from their families, with a warning, for
-#: one release (:mod:`stability.moved`).
-__getattr__ = moved.old_names("stability.ensemble.schema")

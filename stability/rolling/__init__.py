@@ -19,15 +19,9 @@ It builds on the shared layers: :mod:`stability.util` (conventions, threads),
 (:mod:`stability.ensemble.chunks`), the Dataset register (:mod:`stability.ensemble.schema`),
 :mod:`stability.study` (the study framework) and :mod:`stability.plotting`.
 
-``stability.rolling`` was the module now :mod:`.model`: its names still come from here, for one
-release, with a ``FutureWarning`` (:func:`stability.moved.old_names`). Otherwise this package's
-``__init__`` imports nothing, so that the scene registry (:mod:`stability.registry`) can import
+This package's ``__init__`` imports nothing, so that the scene registry (:mod:`stability.registry`) can import
 :mod:`.scene` without the rest.
 """
-
-from ..moved import old_names
-
-__getattr__ = old_names(__name__)
 
 #: What the family registers (:mod:`stability.registry`): its scenes, its study kinds and the
 #: declarations of the Datasets they write, each as ``"module:name"`` inside this package.

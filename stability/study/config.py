@@ -30,7 +30,6 @@ from typing import Any, Callable
 
 from ..output.dataset import config_toml
 from ..util.checks import did_you_mean
-from .. import moved
 
 #: Default of a key that has no default: the file must set it.
 REQUIRED = object()
@@ -499,7 +498,3 @@ def to_toml(config: dict) -> str:
 
     return config_toml(config)
 
-
-#: The sections, output writing and study protocol that were here are served from their modules
-#: (:mod:`.sections`, :mod:`.outputs`, :mod:`.kind`), with a warning, for one release.
-__getattr__ = moved.old_names("stability.study.config")

@@ -23,10 +23,6 @@ difference is an ulp per step; over n steps they add up like the method's own ro
 from .device import NO_GPU_MESSAGE, NoGPUError, real_gpu
 from .methods import GPU_METHODS, NOT_ON_GPU, THREADS_PER_BLOCK, gpu_method, gpu_methods
 from .run import propagate_groups_gpu
-from ... import moved
 
 __all__ = ["GPU_METHODS", "NOT_ON_GPU", "NO_GPU_MESSAGE", "NoGPUError", "THREADS_PER_BLOCK",
            "gpu_method", "gpu_methods", "propagate_groups_gpu", "real_gpu"]
-
-# The free body's GPU runs, which this package held as stability.gpu, are the free body's now.
-__getattr__ = moved.old_names("stability.engine.gpu")
