@@ -164,7 +164,7 @@ def circles(edges):
 def test_the_package_modules_import_each_other_without_a_circle():
     """Imports run one way, down the layers: a module imported back by a module it imports,
     however far round, is a circle; so is a submodule importing its own package's
-    ``__init__``, which imports it. The fix is never an import moved into a function (those
+    ``__init__``, which imports it. The fix is never an import put inside a function (those
     count): move the shared code down, or pass it in."""
     edges = {}
     for module, imported, *_ in internal_imports():

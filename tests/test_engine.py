@@ -286,4 +286,4 @@ def test_the_speed_reference_loop_is_rk4_on_every_member():
                               steps, progress=False)
     scale = np.abs(m0).max()
     assert np.abs(m - engine.x_final).max() < 1e-12 * scale
-    assert np.abs(m - m0).max() > 1e-3 * scale  # the members moved
+    assert np.abs(m - m0).max() > 1e-3 * scale  # the members changed

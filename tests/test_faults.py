@@ -191,7 +191,7 @@ def test_publication_killed_half_way_is_completed_by_the_next_run(tmp_path):
     stage.path("a.nc").write_text("new a")
     stage.path("b.png").write_text("new b")
     (stage.dir / JOURNAL).write_text(journal_text(["a.nc", "b.png"]))  # the journal ...
-    os.replace(stage.path("a.nc"), out / "a.nc")  # ... and one file moved, then the kill
+    os.replace(stage.path("a.nc"), out / "a.nc")  # ... and one file renamed, then the kill
     stage.dir.rename(out / f"{STAGE_PREFIX}otherhost-1-abcdef01")  # any host: it was whole
     assert clean_leftovers(out) == [f"completed the publication of {STAGE_PREFIX}"
                                     "otherhost-1-abcdef01"]

@@ -158,10 +158,10 @@ def rounding_sensitivity(body, w0):
     L^2 - 2 E I2 is added to D2, by moving w3 from 0 to sqrt(u L^2 / (I3 (I3 - I2)))."""
     I1, I2, I3 = body.moments
     w0 = np.asarray(w0, float)
-    moved = w0.copy()
-    moved[2] = math.sqrt(2.0**-53 * np.sum((body.moments * w0) ** 2) / (I3 * (I3 - I2)))
+    nudged = w0.copy()
+    nudged[2] = math.sqrt(2.0**-53 * np.sum((body.moments * w0) ** 2) / (I3 * (I3 - I2)))
     t = flip_interval(body, w0)
-    return abs(flip_interval(body, moved) - t) / t
+    return abs(flip_interval(body, nudged) - t) / t
 
 
 @pytest.fixture(scope="module")

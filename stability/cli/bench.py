@@ -234,7 +234,7 @@ def engine_costs(repeat=3, workload=None) -> list[BenchRow]:
     so the four are interleaved, one of each per round, and each row keeps its best of
     ``max(repeat, ENGINE_ROUNDS)`` rounds: a change in the machine's speed during the bench
     then reaches every row alike, and the ratios between them hold (best of 3 in a row each,
-    the ensemble's ratio to the plain loop moved between 0.42 and 0.62 from one bench to the
+    the ensemble's ratio to the plain loop ranged from 0.42 to 0.62 from one bench to the
     next; interleaved over 7 rounds, 0.61 and 0.61).
     """
     import numba

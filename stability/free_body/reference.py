@@ -72,10 +72,10 @@ def conditioning_floor(body: RigidBody, w0, t_end: float, w_ref, seed: int = 0) 
 
     A method rounds its state at every step, by about one ulp of |m| in each component; far
     from the saddle (during a flip) that changes D2 by about u L^2, u = 2^-53, and the flip
-    times by u L^2 / (nu |D2|). Here each start m0 is moved along the sphere |m| = L, in the
+    times by u L^2 / (nu |D2|). Here each start m0 is shifted along the sphere |m| = L, in the
     direction of the tangential energy gradient, by just enough to change D2 by u L^2 (random
     sign), and the exact solution from there is compared with ``w_ref``, the exact solution
-    from the unmoved start: the error one rounding of the whole state at the level of ulp(|m|)
+    from the unshifted start: the error one rounding of the whole state at the level of ulp(|m|)
     causes (each stage of a composition makes one; the driver's compensated update of a
     one-stage method rounds only the increment).
 
@@ -101,9 +101,9 @@ def conditioning_floor(body: RigidBody, w0, t_end: float, w_ref, seed: int = 0) 
     signs = np.random.default_rng(np.random.SeedSequence(seed)).choice([-1.0, 1.0], len(w0))
     intermediate = np.sort(moments)[1]
     d_energy = -signs * 2.0**-53 * L2 / (2.0 * intermediate)  # dD2 = -2 I2 dE at fixed L
-    moved = m0 + np.where(g2 > 0, d_energy / np.where(g2 > 0, g2, 1.0), 0.0)[:, None] * g
-    w_moved = exact_final_w(body, moved / moments, t_end)
-    return np.linalg.norm(w_moved - w_ref, axis=1) / np.linalg.norm(w_ref, axis=1)
+    shifted = m0 + np.where(g2 > 0, d_energy / np.where(g2 > 0, g2, 1.0), 0.0)[:, None] * g
+    w_shifted = exact_final_w(body, shifted / moments, t_end)
+    return np.linalg.norm(w_shifted - w_ref, axis=1) / np.linalg.norm(w_ref, axis=1)
 
 
 def attitude_reference(body: RigidBody, w0, t_end: float):

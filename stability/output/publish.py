@@ -329,7 +329,7 @@ def _finish_publishing(out: Path, stage_name: str) -> None:
                 try:
                     staged_file = os.stat(name, dir_fd=stage_fd, follow_symlinks=False)
                 except FileNotFoundError:
-                    continue  # moved before the run was killed
+                    continue  # renamed into place before the run was killed
                 if not stat.S_ISREG(staged_file.st_mode):
                     raise UnsafeLeftover(f"its journal names {name!r}, which is not a plain "
                                          "file of the stage")

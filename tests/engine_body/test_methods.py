@@ -100,11 +100,11 @@ def test_rescaling_keeps_its_invariant_and_drifts_toward_the_separatrix():
     """Near the major axis, 2 E I2 < L^2; both rescalings bring it up to L^2 (the separatrix):
     keeping |L|, the energy grows; keeping the energy, |L| shrinks."""
     near_major = np.array([0.2, 0.3, 3.0])
-    for rule, kept, moved, sign in (("rescaled_momentum", momentum, energy, 1),
+    for rule, kept, drifting, sign in (("rescaled_momentum", momentum, energy, 1),
                                     ("rescaled_energy", energy, momentum, -1)):
         x = run(rule, near_major, 1 / 60, 150.0, save_every=900).saved[0]
         assert np.abs(relative(kept, x, near_major)).max() < 1e-12, rule
-        drift = relative(moved, x, near_major)
+        drift = relative(drifting, x, near_major)
         assert np.all(sign * drift > 1e-6), (rule, drift)
         gap = np.abs(2.0 * energy(x) * I[1] - momentum(x) ** 2)
         gap0 = abs(2.0 * at_start(energy, near_major) * I[1] - at_start(momentum, near_major) ** 2)

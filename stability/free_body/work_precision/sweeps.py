@@ -62,7 +62,7 @@ def step_grid(t_end: float, h_max: float, h_min: float, per_octave: int) -> np.n
 
 
 def jittered_starts(w0, members: int, seed: int) -> np.ndarray:
-    """``members`` starts (members, 3): w0 moved by a random relative 1e-3 (member 0 is w0).
+    """``members`` starts (members, 3): w0 perturbed by a random relative 1e-3 (member 0 is w0).
 
     Parameters
     ----------

@@ -27,8 +27,8 @@ def test_jittered_starts_keep_the_first_member_and_move_the_rest_a_little():
     w0 = np.array([0.3, 1.0, 0.9])
     starts = jittered_starts(w0, 5, seed=3)
     np.testing.assert_array_equal(starts[0], w0)
-    moved = np.linalg.norm(starts[1:] - w0, axis=1) / np.linalg.norm(w0)
-    assert np.all(moved > 0) and np.all(moved < 1e-2)
+    offset = np.linalg.norm(starts[1:] - w0, axis=1) / np.linalg.norm(w0)
+    assert np.all(offset > 0) and np.all(offset < 1e-2)
     np.testing.assert_array_equal(jittered_starts(w0, 5, seed=3), starts)
 
 
