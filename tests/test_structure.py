@@ -171,6 +171,24 @@ def test_each_layer_imports_only_the_layers_below_it():
     assert wrong == [], "\n".join(wrong)
 
 
+def test_no_module_serves_names_from_elsewhere():
+    """A name is imported from the module that defines it or re-exports it: no module-level
+    ``__getattr__`` hands out another module's names, but the package's own, which imports the
+    matplotlib names of ``ON_FIRST_USE`` when first used; and no module puts a finder on
+    ``sys.meta_path``."""
+    serving = []
+    for module, _, tree in modules():
+        for node in tree.body:
+            names = ([node.name] if isinstance(node, ast.FunctionDef) else
+                     [t.id for t in node.targets if isinstance(t, ast.Name)]
+                     if isinstance(node, ast.Assign) else [])
+            if "__getattr__" in names and module != "stability":
+                serving.append(f"{module} has a module __getattr__")
+        serving += [f"{module} uses sys.meta_path" for node in ast.walk(tree)
+                    if isinstance(node, ast.Attribute) and node.attr == "meta_path"]
+    assert serving == [], "\n".join(serving)
+
+
 def test_no_module_is_longer_than_one_idea_but_those_listed():
     lines = {module: len(path.read_text(encoding="utf-8").splitlines())
              for module, path, _ in modules()}
