@@ -37,7 +37,7 @@ from .free_body.ensemble import run_ensemble, run_ensembles  # noqa: E402
 from .free_body.plan import ensemble_memory  # noqa: E402
 from .output.io import load, save  # noqa: E402
 from .engine.user_scene import define_scene  # noqa: E402
-from .ensemble.run import run_scene  # noqa: E402
+from .api import run_scene  # noqa: E402
 
 __all__ += ["animate_flip", "animate_top", "define_scene", "ensemble_memory", "load",
             "run_ensemble", "run_ensembles", "run_scene", "save"]

@@ -13,6 +13,7 @@ registered here) and is passed as it is.
 import importlib
 
 from .engine.scene import Scene
+from .engine.user_scene import RESERVED_NAMES
 from .ensemble.schema import DatasetSchema, register
 from .util.checks import registered
 
@@ -66,6 +67,7 @@ def load(where):
 SCENES: dict[str, Scene] = {
     s.name: s for s in (load(where) for family in FAMILIES
                         for where in declared(family, "SCENES").values())}
+RESERVED_NAMES.update(SCENES)  # define_scene refuses them
 
 #: Each family's Dataset declarations by name, added to the register
 #: (:data:`stability.ensemble.schema.SCHEMAS`).

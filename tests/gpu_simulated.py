@@ -14,7 +14,7 @@ import numpy as np
 import stability
 from stability.free_body.propagate import propagate
 from stability.free_body.exact import exact_omega_of_starts
-from stability.engine.gpu import GPU_METHODS
+from stability.free_body.propagate_gpu import GPU_METHODS
 
 #: A body in non-canonical axis order (body axis 0 is the intermediate one), spun about it.
 MOMENTS = np.array([2.0, 1.0, 3.0])
@@ -199,7 +199,7 @@ def stored_on_gpu():
     scene = SCENES["heavy_top"]
     x0, tops = scene.example(10, seed=4)
     spec = scene.method("lp2")
-    run = GroupedRun(scene.name, "lp2", x0, [spec.params(t, 0.01) for t in tops[:2]], [6, 4],
+    run = GroupedRun(scene, "lp2", x0, [spec.params(t, 0.01) for t in tops[:2]], [6, 4],
                      0.01, [40, 30], save_every=10, axes=[2, 0, 1], levels=[0.3, 0.5])
     gpu = GroupedRun(**{**run.__dict__, "device": "gpu"})
     cpu = run.propagate(progress=False)

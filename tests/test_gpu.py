@@ -25,7 +25,9 @@ import sys
 
 import pytest
 
-from stability.engine.gpu import GPU_METHODS, NO_GPU_MESSAGE, NOT_ON_GPU, gpu_method, gpu_methods
+from stability.engine.gpu import NO_GPU_MESSAGE, NOT_ON_GPU, gpu_method, gpu_methods
+from stability.free_body.propagate_gpu import GPU_METHODS
+from stability.heavy_top.scene import HEAVY_TOP
 
 from .helpers import once_per_run
 
@@ -92,8 +94,8 @@ def test_a_method_the_scene_has_not_is_named_with_those_it_has(simulated, monkey
     monkeypatch.setitem(NOT_ON_GPU, ("heavy_top", "lp4"), "a reason")
     with pytest.raises(ValueError, match=r"'lp4' of scene 'heavy_top' has no GPU kernel "
                                          r"\(a reason\); methods with one: rk4, lp2$"):
-        gpu_method("lp4", "heavy_top")
-    assert gpu_methods("heavy_top") == ("rk4", "lp2")
+        gpu_method("lp4", HEAVY_TOP)
+    assert gpu_methods(HEAVY_TOP) == ("rk4", "lp2")
     assert set(GPU_METHODS) >= {"rk4", "lp2", "exact"}
 
 
@@ -127,7 +129,7 @@ def test_no_gpu_and_no_simulator_says_what_to_do():
 def test_bench_without_gpu_skips():
     env = {k: v for k, v in os.environ.items() if k != "NUMBA_ENABLE_CUDASIM"}
     env["PYTHONPATH"] = os.pathsep.join(filter(None, [str(ROOT), env.get("PYTHONPATH")]))
-    done = subprocess.run([sys.executable, "-m", "stability.engine.gpu.bench"], env=env, cwd=ROOT,
+    done = subprocess.run([sys.executable, "-m", "stability.cli.gpu_bench"], env=env, cwd=ROOT,
                           capture_output=True, text=True, timeout=300)
     assert done.returncode == 0, done.stderr[-4000:]
     if "member-steps/s" in done.stdout:
@@ -166,7 +168,8 @@ def test_a_stored_run_on_the_gpu_in_chunks_is_the_cpu_run(simulated):
 
 def test_grouped_run_refuses_an_unknown_device():
     from stability.ensemble.chunks import GroupedRun
+    from stability.free_body.scene import FREE_BODY
 
     with pytest.raises(ValueError, match="device must be 'cpu' or 'gpu', got 'tpu'"):
-        GroupedRun("free_body", "rk4", [[0.0, 1.0, 0.0]], [[1.0] * 9], [1], 0.1, 1,
+        GroupedRun(FREE_BODY, "rk4", [[0.0, 1.0, 0.0]], [[1.0] * 9], [1], 0.1, 1,
                    device="tpu")

@@ -29,7 +29,7 @@ def grouped(scene_name: str, method: str) -> GroupedRun:
     hs = [0.05, 0.02, 0.04]
     x0 = np.concatenate([scene.example(n, seed=k)[0] for k, n in enumerate(sizes)])
     params = np.array([spec.params(p, h) for p, h in zip(scene.example(1)[1], hs)])
-    return GroupedRun(scene_name, method, x0, params, sizes, hs, [40, 60, 25], save_every=10,
+    return GroupedRun(scene, method, x0, params, sizes, hs, [40, 60, 25], save_every=10,
                       axes=[[1, 0, 2]] * 3, levels=[[1e-2, 5e-2, 0.3]] * 3)
 
 
@@ -59,7 +59,7 @@ def test_ctrl_c_during_a_run_in_memory_keeps_the_member_chunks_finished_before_i
     scene = SCENES["free_body"]
     spec = scene.method("rk4")
     x0, params = scene.example(6 * 500, seed=3)
-    run = GroupedRun("free_body", "rk4", x0, spec.params(params[0], 0.01), [x0.shape[0]], 0.01,
+    run = GroupedRun(scene, "rk4", x0, spec.params(params[0], 0.01), [x0.shape[0]], 0.01,
                      300_000, axes=[[1, 0, 2]], levels=[[1e-2, 0.1]])
     propagate_stored(replace(run, n_steps=10), progress=False)  # compiled before the timing
     timer = threading.Timer(0.45, os.kill, (os.getpid(), signal.SIGINT))
@@ -92,7 +92,7 @@ def test_ctrl_c_while_the_first_member_chunk_is_set_up_stops_the_run_at_once(mon
     chunk ran first), and without ``partial`` it raises KeyboardInterrupt."""
     scene = SCENES["free_body"]
     x0, params = scene.example(6 * 50, seed=3)
-    run = GroupedRun("free_body", "rk4", x0, scene.method("rk4").params(params[0], 0.01),
+    run = GroupedRun(scene, "rk4", x0, scene.method("rk4").params(params[0], 0.01),
                      [x0.shape[0]], 0.01, 300_000, axes=[[1, 0, 2]], levels=[[1e-2, 0.1]])
     propagate_stored(replace(run, n_steps=10), progress=False)  # compiled before
     part = GroupedRun.part

@@ -30,9 +30,6 @@ LAYERS = {
 
 #: Imports against the layer order still in the code, each with its reason, until it goes.
 UPWARD = {
-    ("engine", "registry"): "the loop and define_scene take a registered scene's name as well "
-                            "as a Scene; the name is looked up in the families' table",
-    ("ensemble", "registry"): "the same: a scene's name, looked up",
     ("integrators", "free_body"): "the exact flow is a method of the free body, registered in "
                                   "METHODS with the others",
 }
@@ -90,6 +87,7 @@ COVERED_ELSEWHERE = {
     "stability.free_body.exact_attitude": "tests/free_body/twisting_racket/test_geometric_phase.py",
     "stability.free_body.twisting_racket.figures": "tests/free_body/twisting_racket/test_geometric_phase.py",
     "stability.engine.gpu.bench": "tests/test_gpu.py",
+    "stability.cli.gpu_bench": "tests/test_gpu.py (python -m stability.cli.gpu_bench)",
     "stability.engine.gpu.device": "tests/test_gpu.py",
     "stability.engine.gpu.kernels": "tests/test_gpu.py",
     "stability.engine.gpu.methods": "tests/test_gpu.py",

@@ -160,6 +160,7 @@ def sphere_example(n, seed=0):
 
 SPHERE_DAMPER = Scene(
     name="sphere_damper",
+    module=__name__,
     title="rigid body with a viscous spherical damper (shell and sphere angular momenta)",
     equations="m' = m x w + c (w_s - w), s' = s x w - c (w_s - w) (m = I w, s = J w_s)",
     latex=(r"\dot m = m \times \omega + c\, (\omega_s - \omega), \qquad"
@@ -239,6 +240,7 @@ def whip_example(n, seed=0):
 
 WHIP_DAMPER = Scene(
     name="whip_damper",
+    module=__name__,
     title="rigid body with four whip antennas (two pairs of spring-mass dampers)",
     equations="H' = H x w, z2' = p2 / mu + b w3, z3' = p3 / mu - b w2, "
               "p_k' = mu (z_k (w2^2 + w3^2) - b w1 w_k) - k z_k - c z_k'",
@@ -323,6 +325,7 @@ def gyrostat_example(n, seed=0):
 
 GYROSTAT = Scene(
     name="gyrostat",
+    module=__name__,
     title="gyrostat (dual-spin body): platform, rotor on a free bearing, a spherical damper on "
           "each",
     equations="m' = m x w + cp u_p + cq u_q, hr' = cq u_q3, p' = p x w - cp u_p, "

@@ -33,8 +33,7 @@ import numpy as np
 from .model import ARCSEC, DAY, DYNAMICAL_ELLIPTICITY, EQUATORIAL_RADIUS, MASS, POLAR_MOMENT_FACTOR
 from .methods import N_ORBIT, O_E, O_I, O_K, O_M0, O_N, O_NODE0, O_NODEDOT, O_W0, O_WDOT
 from ..ensemble.chunks import GroupedRun, propagate_stored, sub_store
-from ..registry import SCENES
-from .scene import figure_axes
+from .scene import LUNISOLAR_EARTH, PRECESSING_AXIS, figure_axes
 from .schema import EQUINOXES
 
 #: The Julian year (s) and century, the units of the rates.
@@ -457,7 +456,7 @@ def measure_equinoxes(*, years=100.0, members=4, steps_per_day=4, method="lp4",
 
 
     orbits = member_orbits(members, seed)
-    full, averaged = SCENES["lunisolar_earth"], SCENES["precessing_axis"]
+    full, averaged = LUNISOLAR_EARTH, PRECESSING_AXIS
     spec, avg_spec = full.method(method), averaged.method("rk4")
     h = DAY / steps_per_day
     n_steps = int(round(years * 365.25 * steps_per_day))
@@ -474,7 +473,7 @@ def measure_equinoxes(*, years=100.0, members=4, steps_per_day=4, method="lp4",
             n_rows.append(n_steps if step == h else n_steps // 2)
     t0 = _time.perf_counter()
     run = propagate_stored(
-        GroupedRun(full.name, spec.name, np.array(rows), np.array(p_rows), np.ones(len(rows)),
+        GroupedRun(full, spec.name, np.array(rows), np.array(p_rows), np.ones(len(rows)),
                    np.array(h_rows), np.array(n_rows), save_every=steps_per_day,
                    label=f"Earth under Sun and Moon ({method})"),
         progress=progress, **sub_store(stored, "full"))
@@ -491,7 +490,7 @@ def measure_equinoxes(*, years=100.0, members=4, steps_per_day=4, method="lp4",
           for torque in TORQUES for k in range(members)]
     t1 = _time.perf_counter()
     run_a = propagate_stored(
-        GroupedRun(averaged.name, avg_spec.name, xa, np.array(pa), np.ones(len(pa)), ha, na,
+        GroupedRun(averaged, avg_spec.name, xa, np.array(pa), np.ones(len(pa)), ha, na,
                    save_every=1, label="orbit-averaged Earth (rk4)"),
         progress=progress, **sub_store(stored, "averaged"))
     wall_averaged = _time.perf_counter() - t1
@@ -526,7 +525,7 @@ def measure_equinoxes(*, years=100.0, members=4, steps_per_day=4, method="lp4",
         nc = int(round(cycle_years * 365.25 / averaged_step_days))
         every = max(1, int(round(365.25 / averaged_step_days)))
         run_c = propagate_stored(
-            GroupedRun(averaged.name, avg_spec.name, xa[:1],
+            GroupedRun(averaged, avg_spec.name, xa[:1],
                        np.array(pa[2 * members:2 * members + 1]), [1], ha, nc,
                        save_every=every, label="orbit-averaged Earth, full cycle (rk4)"),
             progress=progress, **sub_store(stored, "cycle"))

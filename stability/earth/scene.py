@@ -93,6 +93,7 @@ def example(n, seed=0):
 
 LUNISOLAR_EARTH = Scene(
     name="lunisolar_earth",
+    module=__name__,
     title="oblate Earth torqued by the Sun and the Moon (angular momentum, attitude, time)",
     equations="m' = m x I^-1 m + sum_j 3 G M_j / r_j^3 s_j x I s_j, q' = q (0, I^-1 m) / 2, t' = 1",
     latex=(r"\dot m = m \times I^{-1} m + \sum_j \frac{3 G M_j}{r_j^3}\, s_j \times I s_j, \qquad"
@@ -144,6 +145,7 @@ def axis_example(n, seed=0):
 
 PRECESSING_AXIS = Scene(
     name="precessing_axis",
+    module=__name__,
     title="orbit-averaged figure axis of the Earth (precession and nutation)",
     equations="k' = sum_j 3 k_j / (2 (1 - e_j^2)^(3/2)) (H / W) (n_j . k) (k x n_j), t' = 1",
     latex=(r"\dot k = \sum_j \frac{3 k_j}{2 (1 - e_j^2)^{3/2}}\, \frac{H}{W}\, (n_j \cdot k)\,"

@@ -25,12 +25,12 @@ from dataclasses import dataclass, field
 import numba
 import numpy as np
 
-from ..registry import scene as registered_scene
 from ..util.interrupts import deferred_interrupt
 from .cache import compiling, load_module
 from .loop import BLOCK, CHECK_EVERY, N_TRACK, T_FIRST_A, T_FIRST_B, T_LAST_A, T_LAST_B
 from .loop import T_MAX_AMP2, T_NEXT_LEVEL, T_PREV_A, T_PREV_AMP2, T_PREV_B, T_COUNT_A
 from .loop import T_COUNT_B, level_thresholds, render
+from .scene import checked_scene
 
 #: Wall time a chunk of steps aims at (s): short enough for a live progress bar and a prompt
 #: Ctrl-C, long enough that the call overhead is negligible.
@@ -50,7 +50,7 @@ def compiled_loop(scene, spec, compensated=True):
     Parameters
     ----------
     scene : Scene
-        A registered scene (``stability.registry.SCENES``).
+        A scene: a family's, or one of the user's own.
     spec : MethodSpec
         A method of the scene.
     compensated : bool, default True
@@ -327,8 +327,9 @@ def propagate_groups(
 
     Parameters
     ----------
-    scene : str or Scene
-        A name from ``stability.registry.SCENES`` (or a Scene).
+    scene : Scene
+        A family's scene (``stability.registry.scene(name)`` finds one by name) or one of the
+        user's own.
     method : str or MethodSpec
         A method of the scene.
     x0 : array_like, shape (N, n)
@@ -371,7 +372,7 @@ def propagate_groups(
     KeyboardInterrupt
         When Ctrl-C stopped the run (without ``partial``).
     """
-    scene = registered_scene(scene)
+    scene = checked_scene(scene, "propagate_groups")
     spec = scene.method(method)
     advance = compiled_loop(scene, spec, compensated)
     arrays = member_arrays(scene, x0, params, sizes, h, n_steps, save_every, axes, levels)

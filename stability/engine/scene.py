@@ -22,7 +22,8 @@ for a new scene (copy ``stability/free_body/scene.py``):
    second, with at least one set the exact solution covers. The order test runs them to
    ``t = 4`` with steps ``4 / 2^k``: put anything that happens at a set time (the end of a
    contact) on a dyadic time, where a step ends.
-5. Add the scene to ``_ALL`` in ``stability/registry.py``. The generic tests then check
+5. Name it in its family's ``SCENES`` (the family's ``__init__.py``, which
+   :mod:`stability.registry` reads). The generic tests then check
    every method of it: ``tests/test_scenes_generic.py`` the order against the exact solution
    and the invariants as declared, ``tests/test_engine.py`` bitwise reproducibility across
    groups, chunks and thread counts. Tests of what is particular to the scene go in a file of
@@ -200,6 +201,32 @@ class Scene:
             ) from None
 
 
+def checked_scene(scene, taker: str) -> Scene:
+    """``scene`` if it is a Scene; else a TypeError, in one line, saying how to get one.
+
+    The engine and the ensembles take scenes, never names: a registered scene's name is looked
+    up at the door (the command line, the study runner, :func:`stability.run_scene`), or by the
+    caller with :func:`stability.registry.scene`.
+
+    Parameters
+    ----------
+    scene : Scene
+        What was passed.
+    taker : str
+        The function or class it was passed to, for the message.
+
+    Returns
+    -------
+    Scene
+    """
+    if isinstance(scene, Scene):
+        return scene
+    if isinstance(scene, str):
+        raise TypeError(f"{taker} takes a Scene, got the name {scene!r}: "
+                        f"stability.registry.scene({scene!r}) is the registered one")
+    raise TypeError(f"{taker} takes a Scene, got {type(scene).__name__}")
+
+
 def imported_scene(module: str, name: str, scene: str = "") -> Scene:
     """The scene bound to ``name`` in ``module``, imported: how a pickled scene comes back.
 
@@ -225,4 +252,4 @@ def imported_scene(module: str, name: str, scene: str = "") -> Scene:
     return getattr(home, name)
 
 
-__all__ = ["Scene", "imported_scene"]
+__all__ = ["Scene", "checked_scene", "imported_scene"]

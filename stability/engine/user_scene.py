@@ -32,9 +32,12 @@ from numba.core.errors import NumbaError
 from .cache import load_module
 from ..integrators.rk4 import RK4, rk4_source
 from ..integrators.spec import MethodSpec, body_params
-from ..registry import SCENES
 from ..util.checks import real_array, real_number
 from .scene import Scene
+
+#: Names :func:`define_scene` refuses: those of the package's own scenes, added by
+#: :mod:`stability.registry` as it reads the families (the engine knows no family).
+RESERVED_NAMES: set[str] = set()
 
 #: The step at which a method's ``params`` and kernels are tried at definition time.
 PROBE_H = 0.01
@@ -317,7 +320,7 @@ def _check_name(name):
     if not isinstance(name, str) or not _NAME.match(name):
         raise ValueError(f"define_scene: the name must be lowercase letters, digits and _ "
                          f"(starting with a letter), got {name!r}")
-    if name in SCENES:
+    if name in RESERVED_NAMES:
         raise ValueError(f"define_scene: {name!r} is a registered scene's name; give yours "
                          "another")
 

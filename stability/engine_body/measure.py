@@ -20,7 +20,7 @@ import numpy as np
 import xarray as xr
 
 from ..free_body.model import growth_rate, omega_squared
-from ..free_body.attitude import IDENTITY, spatial_angular_momentum
+from ..free_body.attitude import FREE_BODY_SCENES, IDENTITY, spatial_angular_momentum
 from ..core.body import RigidBody
 from ..analysis.estimates import flip_estimate, omega_squared_estimate
 from ..analysis.members import tracked_members
@@ -29,7 +29,8 @@ from ..free_body.exact import exact_omega
 from ..integrators import METHODS
 from ..output.dataset import storable_attrs
 from ..ensemble.chunks import GroupedRun, propagate_stored, sub_store
-from ..registry import SCENES
+from ..engine.scene import Scene
+from .scene import ENGINE_BODY
 from .schema import ENGINE_ARTEFACTS
 from ..util import conventions as cv
 from .methods import ENGINE_RULES, body_state, world_state
@@ -45,7 +46,7 @@ LEVELS = np.geomspace(1e-3, 0.3, 12)
 GROWTH_WINDOW = (10.0, 0.03)
 
 
-def rule_scene(rule: str) -> str:
+def rule_scene(rule: str) -> Scene:
     """The scene a rule runs on: ``engine_body`` for the engine rules, the attitude scene for
     the package's methods that carry it, ``free_body`` for the exact flow.
 
@@ -56,12 +57,11 @@ def rule_scene(rule: str) -> str:
 
     Returns
     -------
-    str
-        The scene's name.
+    Scene
     """
     if rule in ENGINE_RULES:
-        return "engine_body"
-    return "free_body" if rule == "exact" else "free_body_attitude"
+        return ENGINE_BODY
+    return FREE_BODY_SCENES["free_body" if rule == "exact" else "free_body_attitude"]
 
 
 def run_rule(rule, moments, w0, h, t_end, *, save_every=0, progress=None, stored=None):
@@ -108,7 +108,7 @@ def run_rule(rule, moments, w0, h, t_end, *, save_every=0, progress=None, stored
     KeyboardInterrupt
         If Ctrl-C stopped the run.
     """
-    scene = SCENES[rule_scene(rule)]
+    scene = rule_scene(rule)
     spec = scene.method(rule)
     m0 = moments * w0
     q0 = np.tile(IDENTITY, (w0.shape[0], 1))
@@ -117,7 +117,7 @@ def run_rule(rule, moments, w0, h, t_end, *, save_every=0, progress=None, stored
     n_steps = int(round(t_end / h))
     spin = float(np.median(np.abs(w0[:, 1])))
     prop = propagate_stored(
-        GroupedRun(scene.name, spec.name, x0, spec.params(moments, h)[None, :], [w0.shape[0]],
+        GroupedRun(scene, spec.name, x0, spec.params(moments, h)[None, :], [w0.shape[0]],
                    h, n_steps, save_every=save_every, axes=_AXES,
                    levels=(LEVELS * spin)[None, :], label=f"{rule}, h = {h:.3g} s"),
         progress=progress, **(stored or {}))

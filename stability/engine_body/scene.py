@@ -60,6 +60,7 @@ def example(n, seed=0):
 
 ENGINE_BODY = Scene(
     name="engine_body",
+    module=__name__,
     title="free rigid body stepped as physics engines step it",
     equations="I w' = I w x w with w = R(q)^T omega_w, q' = (0, omega_w) q / 2",
     latex=(r"I \dot w = I w \times w \text{ with } w = R(q)^T \omega_w, \qquad"

@@ -52,8 +52,7 @@ from ..output.io import READ
 from ..output.store import ChunkStore, read_manifest
 from ..output.stream import sendable, stream_chunks
 from ..output.untrusted import opened, read_dataset
-from ..engine.scene import Scene
-from ..registry import scene as registered_scene
+from ..engine.scene import Scene, checked_scene
 from ..util import conventions as cv
 from ..util.checks import checked_progress, positive_int
 from ..util.threads import checked_threads, numba_threads
@@ -78,9 +77,9 @@ class GroupedRun:
 
     Parameters
     ----------
-    scene : str or Scene
-        A registered scene's name, or a scene (one of the user's own is pickled by reference:
-        its module is imported where a chunk runs).
+    scene : Scene
+        A family's scene or one of the user's own (pickled by reference: its module is
+        imported where a chunk runs).
     method : str or MethodSpec
         A method of the scene (a spec it does not register is taken as it is).
     x0 : ndarray, shape (N, n), or None
@@ -112,7 +111,7 @@ class GroupedRun:
         fingerprint unless a measurement gives the run's identity.
     """
 
-    scene: str | Scene
+    scene: Scene
     method: object
     x0: np.ndarray
     params: np.ndarray
@@ -128,6 +127,7 @@ class GroupedRun:
     starts: object = None
 
     def __post_init__(self):
+        checked_scene(self.scene, "GroupedRun")
         if self.device not in ("cpu", "gpu"):
             raise ValueError(f"device must be 'cpu' or 'gpu', got {self.device!r}")
         if (self.x0 is None) == (self.starts is None):
@@ -152,7 +152,7 @@ class GroupedRun:
     @property
     def width(self) -> int:
         """Numbers per member in the scene's state."""
-        return registered_scene(self.scene).width
+        return self.scene.width
 
     @property
     def n_saved(self) -> int:
@@ -163,15 +163,14 @@ class GroupedRun:
         """What makes the run what it is, for a store's fingerprint: names and array digests."""
         arrays = {name: getattr(self, name) for name in
                   ("x0", "params", "sizes", "h", "n_steps", "axes", "levels")}
-        name, source = ((self.scene, "") if isinstance(self.scene, str)
-                        else (self.scene.name, self.scene.source))
         if self.starts is not None:
             rule = getattr(self.starts, "identity", None)
             if rule is None:
                 raise ValueError("a run whose starts come from a rule needs the rule's "
                                  "identity() for its store's fingerprint")
             arrays.pop("x0")
-        return {"scene": name, **({"scene_source": source} if source else {}),  # user's code
+        source = self.scene.source  # the user's code; the version stands for the package's
+        return {"scene": self.scene.name, **({"scene_source": source} if source else {}),
                 **({"starts": rule()} if self.starts is not None else {}),
                 **({"device": self.device} if self.device != "cpu" else {}),
                 "method": getattr(self.method, "name", self.method),

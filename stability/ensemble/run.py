@@ -26,8 +26,7 @@ from ..engine.loop import N_TRACK
 from .memory import DEFAULT_MAX_MEMORY, memory_problem
 from ..output.dataset import header_attrs, method_attrs, storable_attrs
 from .chunks import GroupedRun, default_chunk_members, propagate_stored, summed_attrs
-from ..registry import SCENES
-from ..registry import scene as registered_scene
+from ..engine.scene import Scene, checked_scene
 from ..engine.user_scene import ParameterRow, tracked_components
 from .schema import LEVEL, SCENE_RUN, UNITS_SEPARATOR
 from ..util import conventions as cv
@@ -53,8 +52,9 @@ def run_scene(scene, method, x0, parameters, *, h, n_steps, sizes=None, save_eve
     Parameters
     ----------
     scene : str or Scene
-        A registered scene's name (``stability.registry.SCENES``) or a scene of the user's own
-        (:func:`stability.define_scene`).
+        A registered scene's name (``stability.registry.SCENES``, looked up by
+        :func:`stability.run_scene`), or a scene: a family's or one of the user's own
+        (:func:`stability.define_scene`). This function itself takes the Scene alone.
     method : str
         A method of the scene.
     x0 : array_like, shape (N, n)
@@ -132,7 +132,7 @@ def run_scene(scene, method, x0, parameters, *, h, n_steps, sizes=None, save_eve
     >>> ds.g3.shape  # the cosine of the tilt of axis 3, per member over time
     (4, 101)
     """
-    scene = registered_scene(scene)
+    scene = checked_scene(scene, "stability.ensemble.run.run_scene")
     spec = scene.method(method)
     width = scene.width
     progress = checked_progress(progress)
@@ -170,7 +170,7 @@ def run_scene(scene, method, x0, parameters, *, h, n_steps, sizes=None, save_eve
         chunk_members = positive_int("chunk_members", chunk_members)
     named = bool(scene.parameters) and numbers.shape[1] == len(scene.parameters)
     measure = SceneMeasure(
-        scene=_by_name(scene), method=spec.name, sets=sets, numbers=numbers,
+        scene=scene, method=spec.name, sets=sets, numbers=numbers,
         named=named, sizes=sizes, h=hs, n_steps=steps, save_every=save_every, axes=axes,
         levels=levels, tracked_units=tracked_units or "")
     measure.declaration()  # two variables of one name: refused before any work
@@ -193,7 +193,7 @@ def run_scene(scene, method, x0, parameters, *, h, n_steps, sizes=None, save_eve
     if not np.all(np.isfinite(x0)):
         row = int(np.flatnonzero(~np.all(np.isfinite(x0), axis=1))[0])
         raise ValueError(f"x0 must be finite; its row {row} is not")
-    run = GroupedRun(_by_name(scene), spec.name, x0, rows, sizes, hs, steps,
+    run = GroupedRun(scene, spec.name, x0, rows, sizes, hs, steps,
                      save_every=save_every, axes=axes, levels=levels,
                      label=label or f"{scene.name} ({spec.name})")
     return propagate_stored(run, store, measure=measure, resume=resume, scheduler=scheduler,
@@ -222,8 +222,8 @@ class SceneMeasure:
 
     Parameters
     ----------
-    scene : str or Scene
-        A registered scene's name, or a scene of the user's own.
+    scene : Scene
+        The scene run.
     method : str
     sets : list
         Each group's parameter set as given (what the scene's invariants take).
@@ -239,7 +239,7 @@ class SceneMeasure:
         Units of the tracked amplitude ("" without tracking).
     """
 
-    scene: object
+    scene: Scene
     method: str
     sets: list
     numbers: np.ndarray
@@ -258,7 +258,7 @@ class SceneMeasure:
 
     def declaration(self):
         """The register's declaration of this run's Dataset (:meth:`SceneSchema.of`)."""
-        scene = registered_scene(self.scene)
+        scene = self.scene
         return SCENE_RUN.of(
             scene.name, scene.components, scene.units,
             scene.parameters if self.named else (),
@@ -275,7 +275,7 @@ class SceneMeasure:
 
     def __call__(self, part: GroupedRun, run, lo: int, hi: int, threads=None) -> xr.Dataset:
         """The Dataset of members ``lo ... hi - 1`` from their propagation ``run``."""
-        scene = registered_scene(self.scene)
+        scene = self.scene
         spec = scene.method(self.method)
         declared = self.declaration()
         n = hi - lo
@@ -392,11 +392,6 @@ class SceneMeasure:
 
 
 # --- the arguments, each refused in one line ---------------------------------------------------
-
-
-def _by_name(scene):
-    """A registered scene by its name (so it is pickled as a name), another as it is."""
-    return scene.name if SCENES.get(scene.name) is scene else scene
 
 
 def _shown(value) -> str:

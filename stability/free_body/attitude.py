@@ -38,19 +38,20 @@ from ..core.quaternions import (
     quaternion_conjugate, quaternion_multiply, quaternion_to_matrix, spatial_angular_momentum,
 )
 from ..ensemble.chunks import GroupedRun, propagate_stored
-from ..registry import SCENES
+from .scene import FREE_BODY
+from .scene_attitude import FREE_BODY_ATTITUDE
 
 # --- which methods carry the attitude ----------------------------------------------------------
 
 
 def attitude_methods() -> tuple[str, ...]:
     """Names of the registered methods that can carry the attitude."""
-    return tuple(SCENES["free_body_attitude"].methods)
+    return tuple(FREE_BODY_ATTITUDE.methods)
 
 
 #: The free body's scenes, picked by name (``run_ensemble``, ``integrate``, the tennis study):
 #: w alone, or w and the body-to-space attitude q.
-FREE_BODY_SCENES = ("free_body", "free_body_attitude")
+FREE_BODY_SCENES = {"free_body": FREE_BODY, "free_body_attitude": FREE_BODY_ATTITUDE}
 
 
 def carries_attitude(scene) -> bool:
@@ -139,7 +140,7 @@ def propagate_attitude(
     ValueError
         If the method cannot carry the attitude, or q0 has the wrong shape.
     """
-    scene = SCENES["free_body_attitude"]
+    scene = FREE_BODY_ATTITUDE
     spec = attitude_spec(method)
     moments = real_array("moments", moments, "kg m^2")
     perm, signs = canonical_frame(moments)
@@ -237,7 +238,7 @@ class AttitudeRuns:
 
     def _advance(self, x, h, n_steps, sizes):
         params = np.array([self.spec.params(I, hh) for I, hh in zip(self.moments, h)])
-        prop = propagate_groups(SCENES["free_body_attitude"], self.spec, x, params, sizes,
+        prop = propagate_groups(FREE_BODY_ATTITUDE, self.spec, x, params, sizes,
                                 h, n_steps, progress=False)
         return prop.x_final
 
@@ -299,7 +300,7 @@ def propagate_attitudes(method, moments, m0, q0, h, n_steps, save_every=1, progr
     x = np.concatenate([m0, q0], axis=1)
     params = np.array([spec.params(I, hh) for I, hh in zip(moments, h)])
     sizes = np.ones(x.shape[0], dtype=np.int64)
-    run = propagate_stored(GroupedRun("free_body_attitude", spec.name, x, params, sizes, h,
+    run = propagate_stored(GroupedRun(FREE_BODY_ATTITUDE, spec.name, x, params, sizes, h,
                                       n_steps, save_every=save_every, label=label),
                            progress=progress, **(stored or {}))
     saved = np.concatenate([x[:, None, :], run.saved], axis=1)

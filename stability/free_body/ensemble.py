@@ -182,8 +182,8 @@ def run_ensemble(
         scheduler address such as ``"tcp://host:8786"``, or a client.
     device : {"cpu", "gpu"}, default "cpu"
         ``"gpu"``: run the member loop on a CUDA GPU (:mod:`stability.engine.gpu`; methods
-        ``stability.engine.gpu.GPU_METHODS``). Same members, agreeing with the CPU run to about
-        1e-12 relative, not bitwise (fused multiply-adds, the device's libm).
+        ``stability.free_body.propagate_gpu.GPU_METHODS``). Same members, agreeing with the
+        CPU run to about 1e-12 relative, not bitwise (fused multiply-adds, the device's libm).
 
     Returns
     -------

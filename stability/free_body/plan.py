@@ -9,7 +9,7 @@ from dataclasses import dataclass, replace
 
 import numpy as np
 
-from .attitude import attitude_spec, carries_attitude
+from .attitude import FREE_BODY_SCENES, attitude_spec, carries_attitude
 from ..core.body import RigidBody
 from ..integrators import method_spec
 from ..ensemble.memory import DEFAULT_MAX_MEMORY, limit_words, machine_memory
@@ -136,7 +136,7 @@ def plan_ensemble(body, axis, spin=None, epsilon=None, members=None, *, h, t_end
         from ..engine.gpu import NoGPUError, gpu_method
         from ..engine.gpu.device import cuda_module
 
-        gpu_method(spec.name, scene)  # ValueError naming the methods the GPU has
+        gpu_method(spec.name, FREE_BODY_SCENES[scene])  # ValueError naming the GPU's methods
         try:
             cuda_module()
         except NoGPUError as exc:  # before anything runs, as a user's error

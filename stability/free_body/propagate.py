@@ -16,7 +16,8 @@ from ..core.body import canonical_frame, from_canonical, to_canonical
 from ..util.checks import real_array, real_number
 from ..engine import BLOCK, CHECK_EVERY, Propagation, propagate_groups, untrusted
 from ..ensemble.chunks import GroupedRun
-from ..registry import SCENES
+from .scene import FREE_BODY
+from .scene_attitude import FREE_BODY_ATTITUDE
 
 __all__ = ["BLOCK", "CHECK_EVERY", "Propagation", "propagate", "propagate_many", "grouped_run",
            "tracking_axes", "untrusted"]
@@ -134,7 +135,7 @@ def grouped_run(method, moments, m0, sizes, h, n_steps, save_every=0, chunk_step
     its :class:`CanonicalGroups`, whose :meth:`CanonicalGroups.from_kernels` turns the run's
     :class:`~stability.engine.Propagation` back into the bodies' frames.
     """
-    scene = SCENES["free_body" if q0 is None else "free_body_attitude"]
+    scene = FREE_BODY if q0 is None else FREE_BODY_ATTITUDE
     spec = scene.method(method)
     moments = np.atleast_2d(np.asarray(moments, dtype=float))
     sizes = np.asarray(sizes, dtype=np.int64).reshape(-1)
@@ -151,7 +152,7 @@ def grouped_run(method, moments, m0, sizes, h, n_steps, save_every=0, chunk_step
     else:
         levels = None
     registered = scene.methods.get(spec.name) is spec
-    run = GroupedRun(scene.name, spec.name if registered else spec, x0, groups.params, sizes, hs,
+    run = GroupedRun(scene, spec.name if registered else spec, x0, groups.params, sizes, hs,
                      n_steps, save_every=save_every, axes=axes, levels=levels, device=device,
                      chunk_steps=chunk_steps)
     return run, groups

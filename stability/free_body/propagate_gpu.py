@@ -15,8 +15,13 @@ import functools
 import numpy as np
 
 from .propagate import propagate_many
-from ..engine.gpu.methods import gpu_method
+from .scene import FREE_BODY
+from .scene_attitude import FREE_BODY_ATTITUDE
+from ..engine.gpu.methods import gpu_method, gpu_methods
 from ..engine.gpu.run import propagate_groups_gpu
+
+#: Methods with a GPU kernel for the free body.
+GPU_METHODS = gpu_methods(FREE_BODY)
 
 
 def propagate_gpu(method, moments, m0, h, n_steps, axis=None, *, levels=None, save_every=0,
@@ -26,7 +31,7 @@ def propagate_gpu(method, moments, m0, h, n_steps, axis=None, *, levels=None, sa
     Parameters
     ----------
     method : str or MethodSpec
-        One of :data:`stability.engine.gpu.GPU_METHODS` (``"rk4"``, ``"lp2"``, ``"exact"``, ...).
+        One of :data:`GPU_METHODS` (``"rk4"``, ``"lp2"``, ``"exact"``, ...).
     moments : array_like, shape (3,)
         Principal moments (I1, I2, I3) in kg m^2, any order.
     m0 : array_like, shape (N, 3)
@@ -85,7 +90,7 @@ def propagate_many_gpu(method, moments, m0, sizes, h, n_steps, save_every=0, tra
     ``chunk_steps`` and ``threads_per_block`` of :func:`propagate_gpu`. Returns a
     body-frame :class:`~stability.engine.Propagation` with ``steps_done`` per group.
     """
-    gpu_method(method, "free_body" if q0 is None else "free_body_attitude")
+    gpu_method(method, FREE_BODY if q0 is None else FREE_BODY_ATTITUDE)
     return propagate_many(
         method, moments, m0, sizes, h, n_steps, save_every=save_every, progress=progress,
         chunk_steps=chunk_steps, track_axes=track_axes, levels=levels, q0=q0, partial=partial,

@@ -74,6 +74,7 @@ def example(n, seed=0):
 
 FREE_BODY = Scene(
     name="free_body",
+    module=__name__,
     title="free rigid body (angular velocity only)",
     equations="I1 w1' = (I2 - I3) w2 w3 and cyclic (m' = m x I^-1 m)",
     latex=(r"I_1 \dot w_1 = (I_2 - I_3)\, w_2 w_3 \text{ and cyclic}, \qquad"

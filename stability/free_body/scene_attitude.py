@@ -46,6 +46,7 @@ def example(n, seed=0):
 
 FREE_BODY_ATTITUDE = Scene(
     name="free_body_attitude",
+    module=__name__,
     title="free rigid body with attitude",
     equations="m' = m x I^-1 m, q' = q (0, I^-1 m) / 2",
     latex=r"\dot m = m \times I^{-1} m, \qquad \dot q = \tfrac12\, q\, (0, I^{-1} m)",

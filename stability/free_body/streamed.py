@@ -6,7 +6,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from .attitude import IDENTITY
+from .attitude import FREE_BODY_SCENES, IDENTITY
 from .propagate import CanonicalGroups, group_levels
 from ..output.dataset import history_line
 from ..output.store import ChunkStore, read_progress
@@ -115,7 +115,8 @@ class EnsembleChunks:
         plan = self.plan
         groups = self._groups(plan.members)
         return GroupedRun(
-            "free_body_attitude" if plan.attitude else "free_body", plan.spec.name, None,
+            FREE_BODY_SCENES["free_body_attitude" if plan.attitude else "free_body"],
+            plan.spec.name, None,
             groups.params, [plan.members], plan.h, plan.n_steps,
             save_every=0 if plan.summaries_only else plan.save_every,
             axes=groups.tracking_axes([plan.a]), levels=group_levels([plan.levels], 1),

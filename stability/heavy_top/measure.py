@@ -56,7 +56,7 @@ import xarray as xr
 from ..analysis.estimates import measured_growth_rate
 from ..analysis.periodic import extrema, level_crossings, mean_period, weighted_mean
 from ..ensemble.chunks import GroupedRun, propagate_stored
-from ..registry import SCENES
+from .scene import HEAVY_TOP
 from .schema import GYROSCOPE, SLEEPING_TOP
 from ..util import conventions as cv
 from . import exact as exact_top
@@ -125,7 +125,7 @@ def measure_sleeping_tops(tops, spins, *, members=64, tilt=1e-9, method="lp4",
     """
     tops = list(tops)
     spins = np.asarray(spins, dtype=float)
-    scene = SCENES["heavy_top"]
+    scene = HEAVY_TOP
     spec = scene.method(method)
     levels = np.logspace(math.log10(10.0 * tilt), -0.5,
                          int(round((-0.5 - math.log10(10.0 * tilt)) * levels_per_decade)) + 1)
@@ -149,7 +149,7 @@ def measure_sleeping_tops(tops, spins, *, members=64, tilt=1e-9, method="lp4",
     x0 = np.concatenate(x0)
     sizes = np.full(hs.size, members)
     t0 = time.perf_counter()
-    run = propagate_stored(GroupedRun(scene.name, spec.name, x0, np.array(params), sizes, hs,
+    run = propagate_stored(GroupedRun(scene, spec.name, x0, np.array(params), sizes, hs,
                                       steps, axes=np.tile([2, 0, 1], (hs.size, 1)),
                                       levels=np.tile(levels, (hs.size, 1)),
                                       label=f"sleeping tops ({method})"),
@@ -279,7 +279,7 @@ def measure_gyroscopes(top, spins, tilts, releases=(-1.0, 0.0, 0.5), *, method="
     spins = np.asarray(spins, dtype=float)
     tilts = np.asarray(tilts, dtype=float)
     releases = np.asarray(releases, dtype=float)
-    scene = SCENES["heavy_top"]
+    scene = HEAVY_TOP
     spec = scene.method(method)
     A, _, C = top.pivot_moments
     mgl = top.mgl
@@ -308,7 +308,7 @@ def measure_gyroscopes(top, spins, tilts, releases=(-1.0, 0.0, 0.5), *, method="
     fastest = (2.0 * np.pi / exact["frequency"]).reshape(hs.size, n_rel).min(axis=1)
     save_every = max(1, int(np.min(fastest / hs) // samples_per_period))
     t0 = time.perf_counter()
-    run = propagate_stored(GroupedRun(scene.name, spec.name, x0, np.array(params), sizes, hs,
+    run = propagate_stored(GroupedRun(scene, spec.name, x0, np.array(params), sizes, hs,
                                       steps, save_every=save_every,
                                       label=f"gyroscopes ({method})"),
                            progress=progress, **(stored or {}))

@@ -93,6 +93,7 @@ def example(n, seed=0):
 
 HEAVY_TOP = Scene(
     name="heavy_top",
+    module=__name__,
     title="heavy top on a fixed pivot (angular momentum and vertical)",
     equations="m' = m x I^-1 m + g x c, g' = g x I^-1 m (c = M g l chi)",
     latex=(r"\dot m = m \times I^{-1} m + g \times c, \qquad \dot g = g \times I^{-1} m"

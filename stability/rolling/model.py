@@ -33,7 +33,7 @@ from .methods import (
     track_row,
 )
 from ..ensemble.chunks import GroupedRun, propagate_stored
-from ..registry import SCENES
+from .scene import ROLLING_BODY
 from .schema import ROLLING
 
 #: I / (M R^2) of the shapes by name.
@@ -255,7 +255,7 @@ def measure_incline(shapes, angles, mu_s, *, members=4, mu_ratio=0.8, mu_scatter
     KeyboardInterrupt
         If the run was interrupted.
     """
-    scene = SCENES["rolling_body"]
+    scene = ROLLING_BODY
     spec = scene.method("exact")
     rng = np.random.default_rng(seed)
     names = list(shapes)
@@ -272,7 +272,7 @@ def measure_incline(shapes, angles, mu_s, *, members=4, mu_ratio=0.8, mu_scatter
     rows[:, P_TRACK + 1], rows[:, P_TRACK + 2] = np.sin(theta).ravel(), np.cos(theta).ravel()
     x0 = start_states(0.0, 0.0, rows)
     t0 = time.perf_counter()
-    run = propagate_stored(GroupedRun(scene.name, spec.name, x0, rows,
+    run = propagate_stored(GroupedRun(scene, spec.name, x0, rows,
                                       np.ones(rows.shape[0], int), duration, 1,
                                       label="inclines"),
                            progress=progress, **(stored or {}))
@@ -370,7 +370,7 @@ def measure_launches(*, radius, mass, k, mu_k, speeds, spin_ratios, members, mu_
     KeyboardInterrupt
         If the run was interrupted.
     """
-    scene = SCENES["rolling_body"]
+    scene = ROLLING_BODY
     spec = scene.method("exact")
     rng = np.random.default_rng(seed)
     v0 = rng.uniform(*speeds, members)
@@ -384,7 +384,7 @@ def measure_launches(*, radius, mass, k, mu_k, speeds, spin_ratios, members, mu_
     x0 = start_states(v0, w0, rows)
     h = duration / samples
     t0 = time.perf_counter()
-    run = propagate_stored(GroupedRun(scene.name, spec.name, x0, rows, np.ones(members, int),
+    run = propagate_stored(GroupedRun(scene, spec.name, x0, rows, np.ones(members, int),
                                       h, samples, label="launches"),
                            progress=progress, **(stored or {}))
     wall = time.perf_counter() - t0

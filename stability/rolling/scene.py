@@ -69,6 +69,7 @@ def example(n, seed=0):
 
 ROLLING_BODY = Scene(
     name="rolling_body",
+    module=__name__,
     title="round body rolling or slipping along straight sections (Coulomb friction)",
     equations="rolling: v' = g sin(theta) / (1 + k); slipping: v' = g (sin(theta) - s mu_k "
               "cos(theta)), w' = s mu_k g cos(theta) / (k R)",

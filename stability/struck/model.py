@@ -30,7 +30,7 @@ from ..core.body import PRESETS, Part, RigidBody
 from ..analysis.members import zero_crossings
 from .methods import J_ACROSS, J_ALONG, PHI, VX, VY, W, X, strike_params
 from ..ensemble.chunks import GroupedRun, propagate_stored
-from ..registry import SCENES
+from .scene import STRUCK_BODY
 from .schema import BAT
 from ..util.checks import positive_float, real_number
 
@@ -299,7 +299,7 @@ def measure_strikes(body: StruckBody, pivots, strikes, impulse=12.0, contact_tim
     KeyboardInterrupt
         If the run was interrupted.
     """
-    scene = SCENES["struck_body"]
+    scene = STRUCK_BODY
     spec = scene.method(method)
     impulse = positive_float("impulse", impulse, "N s")
     contact_time = positive_float("contact_time", contact_time, "s")
@@ -319,7 +319,7 @@ def measure_strikes(body: StruckBody, pivots, strikes, impulse=12.0, contact_tim
     x0[:, X] = body.centre - grid[:, 1]
     h = contact_time / steps_per_contact
     t0 = time.perf_counter()
-    run = propagate_stored(GroupedRun(scene.name, spec.name, x0, np.array(rows),
+    run = propagate_stored(GroupedRun(scene, spec.name, x0, np.array(rows),
                                       np.ones(grid.shape[0], int), h, steps_per_contact,
                                       label=f"strikes ({method})"),
                            progress=progress, **(stored or {}))

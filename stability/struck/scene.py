@@ -74,6 +74,7 @@ def example(n, seed=0):
 
 STRUCK_BODY = Scene(
     name="struck_body",
+    module=__name__,
     title="bat or racket struck across its axis, held at the hands or free (planar)",
     equations="held: I_P w' = s F, R = M d (w' n - w^2 e) - F n; free: I_cm w' = (s - d) F, "
               "M v' = F n",

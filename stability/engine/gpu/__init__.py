@@ -21,8 +21,8 @@ difference is an ulp per step; over n steps they add up like the method's own ro
 """
 
 from .device import NO_GPU_MESSAGE, NoGPUError, real_gpu
-from .methods import GPU_METHODS, NOT_ON_GPU, THREADS_PER_BLOCK, gpu_method, gpu_methods
+from .methods import NOT_ON_GPU, THREADS_PER_BLOCK, gpu_method, gpu_methods
 from .run import propagate_groups_gpu
 
-__all__ = ["GPU_METHODS", "NOT_ON_GPU", "NO_GPU_MESSAGE", "NoGPUError", "THREADS_PER_BLOCK",
+__all__ = ["NOT_ON_GPU", "NO_GPU_MESSAGE", "NoGPUError", "THREADS_PER_BLOCK",
            "gpu_method", "gpu_methods", "propagate_groups_gpu", "real_gpu"]

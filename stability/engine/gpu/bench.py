@@ -1,10 +1,8 @@
-"""Member-steps per second of the GPU kernels, and how far they are from the hardware's bounds.
+"""Member-steps per second of the GPU kernels, and how far they are from the hardware's bounds:
+the timing behind ``python -m stability.cli.gpu_bench`` (:mod:`stability.cli.gpu_bench`).
 
-``python -m stability.engine.gpu.bench [--members N ...] [--steps N] [--methods NAME ...]
-[--scenes]`` times the free-body kernels of ``rk4`` and ``lp2`` (with and without tracking) on the
-CUDA GPU, and with ``--scenes`` every scene's every method, with CUDA events around launches made
-after a warm-up launch, and prints member-steps/s, the fraction of the issue's target for RK4 on
-one H100 (1e11 member-steps/s) and two bounds:
+:func:`time_kernel` times one scene's method with CUDA events around launches made after a
+warm-up launch; :func:`device_bounds` gives two bounds to compare with:
 
 - compute: the device's FP64 instruction rate (SMs x clock x FP64 lanes per SM) over the FP64
   instructions one step issues (a fused multiply-add counts once), counted in the PTX of the
@@ -13,22 +11,15 @@ one H100 (1e11 member-steps/s) and two bounds:
   once per launch and lives in registers in between, so the traffic per member is
   :data:`BYTES_PER_MEMBER` whatever the number of steps, and the bound is bandwidth x steps /
   bytes; at 1000 steps it is two orders of magnitude above the compute bound.
-
-Without a GPU (or under the simulator, which measures nothing useful) it prints
-``no CUDA GPU: skipped`` and exits 0.
 """
 
 from __future__ import annotations
 
-import argparse
-import sys
+import time
 
 import numpy as np
 
 from ..run import member_arrays
-from ...registry import SCENES
-from ...registry import scene as registered_scene
-from .device import real_gpu
 from .kernels import member_kernel
 from .methods import THREADS_PER_BLOCK, gpu_method, gpu_methods
 from .run import DeviceMembers
@@ -66,14 +57,13 @@ STEP = 0.01
 TRACK_AXES = {"free_body": (1, 0, 2)}
 
 
-def time_kernel(cuda, method, members, steps, tracked, repeat=3, scene="free_body"):
-    """Best member-steps/s of ``repeat`` timed launches (after one warm-up launch).
+def time_kernel(cuda, scene, method, members, steps, tracked, repeat=3):
+    """Best member-steps/s of ``repeat`` timed launches of ``method`` on ``scene`` (a Scene),
+    after one warm-up launch.
 
     The members are ``scene.example``'s starts (for the free body: near a spin about the middle
     axis of I = 1, 2, 3) with its first parameter set, step :data:`STEP`.
     """
-
-    scene = registered_scene(scene)
     spec = gpu_method(method, scene)
     x0, parameter_sets = scene.example(members, seed=0)
     params = spec.params(parameter_sets[0], STEP)[None, :]
@@ -103,64 +93,22 @@ def time_kernel(cuda, method, members, steps, tracked, repeat=3, scene="free_bod
     return best
 
 
-def scene_table(cuda, members, steps):
-    """Print member-steps/s (untracked and tracked) and compile seconds of every scene and
-    method with a GPU kernel."""
-    import time
-
-
+def scene_table(cuda, scenes, members, steps):
+    """Print member-steps/s (untracked and tracked) and compile seconds of each of ``scenes``
+    and each of its methods with a GPU kernel."""
     print(f"\nevery scene, {members:.0e} members, {steps} steps (member-steps/s)")
     print(f"{'scene':<20} {'method':<20} {'width':>5} {'compile s':>10} {'untracked':>11} "
           f"{'tracked':>11}")
-    for scene in SCENES.values():
+    for scene in scenes:
         for method in gpu_methods(scene):
             t0 = time.perf_counter()
             try:
-                plain = time_kernel(cuda, method, members, steps, False, 2, scene)
+                plain = time_kernel(cuda, scene, method, members, steps, False, 2)
             except Exception as error:  # a kernel the device compiler refuses: say which
                 print(f"{scene.name:<20} {method:<20} failed: {type(error).__name__}: "
                       f"{str(error).splitlines()[0][:200]}")
                 continue
             compile_s = time.perf_counter() - t0
-            tracked = time_kernel(cuda, method, members, steps, True, 2, scene)
+            tracked = time_kernel(cuda, scene, method, members, steps, True, 2)
             print(f"{scene.name:<20} {method:<20} {scene.width:>5} {compile_s:>10.2f} "
                   f"{plain:>11.3e} {tracked:>11.3e}", flush=True)
-
-
-def main(argv=None) -> int:
-    parser = argparse.ArgumentParser(prog="python -m stability.engine.gpu.bench", description=__doc__
-                                     .split("\n")[0])
-    parser.add_argument("--members", type=float, nargs="+", default=[1e6, 1e7])
-    parser.add_argument("--steps", type=int, default=1000)
-    parser.add_argument("--methods", nargs="+", default=["rk4", "lp2"])
-    parser.add_argument("--repeat", type=int, default=3)
-    parser.add_argument("--scenes", action="store_true",
-                        help="also time every scene and method (1e6 members, 200 steps)")
-    args = parser.parse_args(argv)
-
-    if not real_gpu():
-        print("no CUDA GPU: skipped")
-        return 0
-    from numba import cuda
-
-    name, fp64_rate, bandwidth = device_bounds(cuda)
-    print(f"{name}: FP64 {fp64_rate:.3g} instructions/s, memory {bandwidth / 1e9:.0f} GB/s, "
-          f"{args.steps} steps")
-    print(f"{'method':<6} {'tracked':<8} {'members':>9} {'member-steps/s':>15} "
-          f"{'of 1e11':>8} {'compute bound':>14} {'of bound':>9} {'memory bound':>13}")
-    for method in args.methods:
-        compute = fp64_rate / FP64_PER_STEP.get(method, np.nan)
-        memory = bandwidth * args.steps / BYTES_PER_MEMBER
-        for tracked in (False, True):
-            for members in (int(m) for m in args.members):
-                rate = time_kernel(cuda, method, members, args.steps, tracked, args.repeat)
-                print(f"{method:<6} {str(tracked):<8} {members:>9.0e} {rate:>15.3e} "
-                      f"{rate / TARGET_RK4_H100:>8.2f} {compute:>14.3e} {rate / compute:>9.2f} "
-                      f"{memory:>13.3e}", flush=True)
-    if args.scenes:
-        scene_table(cuda, 10**6, 200)
-    return 0
-
-
-if __name__ == "__main__":
-    sys.exit(main())

@@ -2,7 +2,7 @@
 
 from __future__ import annotations
 
-from ...registry import scene as registered_scene
+from ..scene import checked_scene
 
 #: (scene, method) pairs whose stage kernel cannot be compiled for the device, with the reason.
 #: Every other method of every scene, the user's own included, runs on the GPU: its kernels are
@@ -14,20 +14,16 @@ NOT_ON_GPU: dict = {}
 THREADS_PER_BLOCK = 128
 
 
-def gpu_methods(scene="free_body") -> tuple:
-    """Names of the methods of ``scene`` (a name or a Scene) with a GPU kernel."""
-    scene = registered_scene(scene)
+def gpu_methods(scene) -> tuple:
+    """Names of the methods of ``scene`` (a Scene) with a GPU kernel."""
+    scene = checked_scene(scene, "gpu_methods")
     return tuple(name for name in scene.methods if (scene.name, name) not in NOT_ON_GPU)
 
 
-#: Methods with a GPU kernel for the free body (``gpu_methods("free_body")``).
-GPU_METHODS = gpu_methods("free_body")
-
-
-def gpu_method(method, scene="free_body"):
-    """The spec of ``method`` in ``scene`` if it has a GPU kernel, else ValueError naming those
-    that do."""
-    scene = registered_scene(scene)
+def gpu_method(method, scene):
+    """The spec of ``method`` in ``scene`` (a Scene) if it has a GPU kernel, else ValueError
+    naming those that do."""
+    scene = checked_scene(scene, "gpu_method")
     spec = scene.method(method)
     if (scene.name, spec.name) in NOT_ON_GPU:
         raise ValueError(

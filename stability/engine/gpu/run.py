@@ -18,7 +18,7 @@ import numpy as np
 
 from ..loop import N_TRACK
 from ..run import member_arrays, run_in_chunks
-from ...registry import scene as registered_scene
+from ..scene import checked_scene
 from .device import cuda_module
 from .methods import THREADS_PER_BLOCK, gpu_method
 
@@ -62,7 +62,7 @@ def propagate_groups_gpu(
     KeyboardInterrupt
         When Ctrl-C stopped the run (without ``partial``).
     """
-    scene = registered_scene(scene)
+    scene = checked_scene(scene, "propagate_groups_gpu")
     spec = gpu_method(method, scene)
     a = member_arrays(scene, x0, params, sizes, h, n_steps, save_every, axes, levels)
     cuda = cuda_module()

@@ -1,0 +1,21 @@
+"""The top-level functions that take a registered scene by its name: the door where a name
+becomes a :class:`~stability.engine.scene.Scene`.
+
+Below the families, the engine and the ensembles take scenes alone; a name such as
+``"heavy_top"`` is looked up here, in :mod:`stability.registry`, before the layer below runs.
+"""
+
+from __future__ import annotations
+
+import functools
+
+from .ensemble import run as scene_run
+from .registry import scene as registered_scene
+
+
+@functools.wraps(scene_run.run_scene)
+def run_scene(scene, method, x0, parameters, **options):
+    return scene_run.run_scene(registered_scene(scene), method, x0, parameters, **options)
+
+
+__all__ = ["run_scene"]
