@@ -7,10 +7,10 @@ variable's data from external files the file names, allocates whatever size a fi
 (a 6 kB file can declare 1e12 members), and reports a damaged chunk as "NetCDF: HDF error",
 naming no file. So before the netCDF library opens a file: it must be a regular file (a FIFO,
 a device or a folder is refused without being opened for reading; the check opens nothing
-that blocks), and its HDF5 objects are walked (h5py, without following any link) for external
-links, user-defined links, external storage and virtual datasets, each refused. Then the
-declared size of its variables is checked against the memory limit before any is read, and
-every read error names the file. Each refusal is one line: what is wrong and what to do.
+that blocks), and its HDF5 objects are walked (:mod:`stability.output.hdf5_links`, without
+following any link) for external links, user-defined links, external storage and virtual
+datasets, each refused. Then the declared size of its variables is checked against the memory
+limit before any is read, and every read error names the file. Each refusal is one line: what is wrong and what to do.
 """
 
 from __future__ import annotations
@@ -21,12 +21,13 @@ import os
 import stat
 from pathlib import Path
 
-import h5py
 import netCDF4
 import numpy as np
 import xarray as xr
+from xarray.backends.locks import HDF5_LOCK
 
 from ..ensemble.memory import DEFAULT_MAX_MEMORY, memory_problem
+from .hdf5_links import DamagedHDF5, outside
 
 #: Bytes a string element of a variable is counted in memory (a Python str of a short label).
 STRING_BYTES = 64
@@ -76,17 +77,15 @@ def regular_file(path) -> Path:
 
 def check_links(path) -> None:
     """ValueError if the HDF5 file ``path`` reaches outside itself: an external or
-    user-defined link, a variable with external storage, or a virtual dataset. A file that
-    is not HDF5 (netCDF classic, or no netCDF file at all) passes: it has none of these."""
+    user-defined link, a variable with external storage, or a virtual dataset
+    (:func:`stability.output.hdf5_links.outside`). A file that is not HDF5 (netCDF classic, or
+    no netCDF file at all) passes: it has none of these."""
     path = Path(path)
-    if not h5py.is_hdf5(path):
-        return
     try:
-        with h5py.File(path, "r") as f:
-            problem = _outside(f, set())
-    except (OSError, RuntimeError, ValueError, KeyError) as exc:
-        raise ValueError(f"{path} is a damaged HDF5 file ({first_line(exc)}); give a .nc "
-                         "file written by stability.save") from None
+        problem = outside(path)
+    except DamagedHDF5 as exc:
+        raise ValueError(f"{path} is a damaged HDF5 file ({exc}); give a .nc file written by "
+                         "stability.save") from None
     if problem:
         raise ValueError(f"{path} {problem}, {NOT_OURS}")
 
@@ -112,7 +111,8 @@ def declared_bytes(path, indexes_only: bool = False, drop=()) -> int:
         If ``path`` is not a netCDF file (one line naming it).
     """
     try:
-        with netCDF4.Dataset(path, "r") as nc:
+        with HDF5_LOCK, netCDF4.Dataset(path, "r") as nc:  # xarray's lock: HDF5 is not
+            # thread-safe, and a Dataset may be written in another thread meanwhile
             total = 0
             for name, var in nc.variables.items():
                 if name in drop or (indexes_only and var.dimensions != (name,)):
@@ -198,38 +198,6 @@ def first_line(exc: BaseException) -> str:
     """The first line of an exception's message, for the middle of a one-line refusal."""
     text = str(exc).strip().splitlines()
     return (text[0] if text else type(exc).__name__)[:160]
-
-
-def _outside(group, seen: set) -> str:
-    """What in ``group`` (and the groups under it, reached by hard links) reaches outside
-    the file, as the middle of a line; "" if nothing. Links are never followed."""
-    for name in group.id:  # the link names, none resolved
-        where = f"{group.name.rstrip('/')}/{name.decode('utf-8', 'replace')}"
-        kind = group.id.links.get_info(name).type
-        if kind == h5py.h5l.TYPE_EXTERNAL:
-            target, obj = group.id.links.get_val(name)
-            return (f"holds an external link {where} to "
-                    f"{target.decode('utf-8', 'replace')!r}:{obj.decode('utf-8', 'replace')}")
-        if kind == h5py.h5l.TYPE_SOFT:
-            continue  # a path in this file, whose hard links are walked anyway
-        if kind != h5py.h5l.TYPE_HARD:
-            return f"holds a user-defined link {where}"
-        obj = h5py.h5o.open(group.id, name)
-        if isinstance(obj, h5py.h5g.GroupID):
-            if obj in seen:
-                continue
-            seen.add(obj)
-            problem = _outside(h5py.Group(obj), seen)
-            if problem:
-                return problem
-        elif isinstance(obj, h5py.h5d.DatasetID):
-            plist = obj.get_create_plist()
-            if plist.get_external_count():
-                files = plist.get_external(0)[0].decode("utf-8", "replace")
-                return f"stores its variable {where} in external files (first {files!r})"
-            if plist.get_layout() == h5py.h5d.VIRTUAL:
-                return f"holds a virtual dataset {where}, made of other files"
-    return ""
 
 
 def _kind(mode: int) -> str:

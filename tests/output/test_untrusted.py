@@ -1,6 +1,7 @@
 """A netCDF file handed in is untrusted: real hostile files, each refused in one line.
 
-Each case builds the file for real (an HDF5 external link made with h5py, a variable stored in
+Each case builds the file for real (an HDF5 external link made with h5py, in a process of its
+own, since h5py's HDF5 beside netCDF's in one process breaks the netCDF library; a variable stored in
 an external file, a virtual dataset, a file declaring 1e12 members in a few kB, a data chunk
 damaged by flipped bytes, a FIFO, a device or a folder at the path) and checks that
 ``stability.load`` and the readers of a run's chunk folder refuse it with one line that names
@@ -9,11 +10,14 @@ and never open a FIFO (a thread beside each such case releases a reader that wai
 and counts it).
 """
 
+import json
 import os
+import subprocess
+import sys
+import textwrap
 import threading
 from pathlib import Path
 
-import h5py
 import netCDF4
 import numpy as np
 import pytest
@@ -37,11 +41,25 @@ def one_line(exc_info, path) -> str:
     return message
 
 
+def with_h5py(code: str, **names):
+    """Run ``code`` with h5py and NumPy in a new process, ``names`` (paths) bound as strings;
+    what it prints as JSON, if anything. h5py carries an HDF5 library of its own, which must
+    not meet the netCDF library's in one process (the netCDF library then fails or crashes)."""
+    pytest.importorskip("h5py")
+    bound = "".join(f"{key} = {str(value)!r}\n" for key, value in names.items())
+    done = subprocess.run([sys.executable, "-c", "import json, h5py, numpy as np\n" + bound
+                           + textwrap.dedent(code)], capture_output=True, text=True, timeout=120)
+    assert done.returncode == 0, done.stderr
+    return json.loads(done.stdout) if done.stdout.strip() else None
+
+
 def with_external_link(path: Path, target: Path) -> Path:
     """``path``: a file stability.save wrote, with an external link to ``target``'s /data."""
     stability.save(small_dataset(), path)
-    with h5py.File(path, "a") as f:
-        f["stolen"] = h5py.ExternalLink(str(target), "/data")
+    with_h5py("""
+        with h5py.File(path, "a") as f:
+            f["stolen"] = h5py.ExternalLink(target, "/data")
+        """, path=path, target=target)
     return path
 
 
@@ -76,8 +94,10 @@ def refused_beside(fifo: Path, call):
 
 def test_an_external_link_is_refused_and_the_other_file_never_read(tmp_path):
     secret = tmp_path / "secret.h5"
-    with h5py.File(secret, "w") as f:
-        f["data"] = np.array([3.14, 2.72])
+    with_h5py("""
+        with h5py.File(secret, "w") as f:
+            f["data"] = np.array([3.14, 2.72])
+        """, secret=secret)
     path = with_external_link(tmp_path / "linked.nc", secret)
     with pytest.raises(ValueError) as caught:
         stability.load(path)
@@ -101,8 +121,10 @@ def test_a_variable_in_external_storage_is_refused(tmp_path):
     path = tmp_path / "external.nc"
     with netCDF4.Dataset(path, "w") as nc:
         nc.createDimension("n", 10)
-    with h5py.File(path, "a") as f:
-        f.create_dataset("v", shape=(10,), dtype="f8", external=[(str(raw), 0, 80)])
+    with_h5py("""
+        with h5py.File(path, "a") as f:
+            f.create_dataset("v", shape=(10,), dtype="f8", external=[(raw, 0, 80)])
+        """, path=path, raw=raw)
     with pytest.raises(ValueError) as caught:
         stability.load(path)
     message = one_line(caught, path)
@@ -111,13 +133,15 @@ def test_a_variable_in_external_storage_is_refused(tmp_path):
 
 def test_a_virtual_dataset_made_of_other_files_is_refused(tmp_path):
     source = tmp_path / "source.h5"
-    with h5py.File(source, "w") as f:
-        f["data"] = np.arange(4.0)
-    layout = h5py.VirtualLayout(shape=(4,), dtype="f8")
-    layout[:] = h5py.VirtualSource(str(source), "data", shape=(4,))
     path = tmp_path / "virtual.nc"
-    with h5py.File(path, "w") as f:
-        f.create_virtual_dataset("v", layout)
+    with_h5py("""
+        with h5py.File(source, "w") as f:
+            f["data"] = np.arange(4.0)
+        layout = h5py.VirtualLayout(shape=(4,), dtype="f8")
+        layout[:] = h5py.VirtualSource(source, "data", shape=(4,))
+        with h5py.File(path, "w") as f:
+            f.create_virtual_dataset("v", layout)
+        """, source=source, path=path)
     with pytest.raises(ValueError) as caught:
         stability.load(path)
     assert "virtual dataset /v" in one_line(caught, path)
@@ -126,8 +150,10 @@ def test_a_virtual_dataset_made_of_other_files_is_refused(tmp_path):
 def test_a_link_inside_a_group_is_found_too(tmp_path):
     path = tmp_path / "grouped.nc"
     stability.save(small_dataset(), path)
-    with h5py.File(path, "a") as f:
-        f.create_group("inner/deeper")["link"] = h5py.ExternalLink("/etc/hostname", "/")
+    with_h5py("""
+        with h5py.File(path, "a") as f:
+            f.create_group("inner/deeper")["link"] = h5py.ExternalLink("/etc/hostname", "/")
+        """, path=path)
     with pytest.raises(ValueError) as caught:
         stability.load(path)
     assert "external link /inner/deeper/link" in one_line(caught, path)
@@ -166,11 +192,14 @@ def damaged_file(path: Path) -> Path:
     """A saved file whose first compressed chunk of ``w`` has 100 bytes flipped."""
     values = np.random.default_rng(0).normal(size=20000)
     stability.save(xr.Dataset({"w": (("member",), values)}), path)
-    with h5py.File(path, "r") as f:
-        chunk = f["w"].id.get_chunk_info(0)
-    assert chunk.size > 1000
+    offset, size = with_h5py("""
+        with h5py.File(path, "r") as f:
+            chunk = f["w"].id.get_chunk_info(0)
+        print(json.dumps([chunk.byte_offset, chunk.size]))
+        """, path=path)
+    assert size > 1000
     data = bytearray(path.read_bytes())
-    for i in range(chunk.byte_offset + 200, chunk.byte_offset + 300):
+    for i in range(offset + 200, offset + 300):
         data[i] ^= 0xFF
     path.write_bytes(bytes(data))
     return path
@@ -222,9 +251,11 @@ def store_of_two_chunks(folder: Path) -> ChunkStore:
 def test_a_store_whose_chunk_links_outside_is_refused_naming_the_chunk(tmp_path):
     store = store_of_two_chunks(tmp_path / "store")
     assert open_store(store.dir).w.shape == (4, 3)
-    with h5py.File(store.path(1), "a") as f:
-        f["stolen"] = h5py.ExternalLink("/etc/hostname", "/")
-    for read in (open_store, lambda _: summed_attrs(store)):
+    with_h5py("""
+        with h5py.File(path, "a") as f:
+            f["stolen"] = h5py.ExternalLink("/etc/hostname", "/")
+        """, path=store.path(1))
+    for read in (open_store, lambda _: summed_attrs(store, 0.0)):
         with pytest.raises(ValueError) as caught:
             read(store.dir)
         assert "external link /stolen" in one_line(caught, store.path(1))
