@@ -43,6 +43,12 @@ def reference_omega(body, w0, t_end):
     return dop853_omega(body.moments, w0, t_end)
 
 
+#: Seconds a signalled or killed run may take to end, as a guard against a hang, not a measure:
+#: a compile under way finishes before Ctrl-C or SIGTERM takes effect (about 10 s quiet, and
+#: several times that on a machine loaded by other work, past the 60 s once allowed).
+STOP_GUARD_S = 600.0
+
+
 def wait_until(predicate, proc, timeout=180.0, show_stderr=False):
     """Poll ``predicate()`` until it holds while the subprocess ``proc`` runs.
 

@@ -29,7 +29,7 @@ from stability.output.publish import JOURNAL, STAGE_PREFIX, Stage, clean_leftove
 from stability.output.store import find_stores, read_progress
 from stability.study import STUDIES
 
-from .helpers import once_per_run, wait_until
+from .helpers import STOP_GUARD_S, once_per_run, wait_until
 
 ROOT = Path(__file__).resolve().parents[1]
 TENNIS = ROOT / "studies" / "tennis_racket.toml"
@@ -120,7 +120,7 @@ def test_signal_at_each_phase_loses_nothing_and_leaves_nothing(earlier, tmp_path
     wait_until(lambda: in_phase(out, lines), proc)
     time.sleep(delay)
     proc.send_signal(getattr(signal, sig))
-    proc.wait(timeout=60)
+    proc.wait(timeout=STOP_GUARD_S)
     err = lines.wait_done()
     if proc.returncode == 0:  # the signal came as the run was publishing: it finished whole
         assert snapshot(out).keys() == before.keys() and temporaries(out) == []
@@ -307,7 +307,7 @@ def test_sigterm_stops_a_run_started_with_ctrl_c_ignored(earlier, tmp_path, phas
     wait_until(lambda: in_phase(out, lines), proc)
     time.sleep(delay)
     proc.send_signal(signal.SIGTERM)
-    proc.wait(timeout=60)
+    proc.wait(timeout=STOP_GUARD_S)
     err = lines.wait_done()
     assert proc.returncode == 143, err
     assert err[-1].startswith("stability run: SIGTERM: interrupted; nothing was published"), err
@@ -431,7 +431,7 @@ def test_a_study_killed_then_resumed_is_bitwise_an_uninterrupted_run(tmp_path, n
                             cwd=ROOT, stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, text=True)
     wait_until(lambda: chunks_done(work)[0] >= 2, proc, show_stderr=True)
     proc.kill()
-    proc.wait(timeout=60)
+    proc.wait(timeout=STOP_GUARD_S)
     done, total = chunks_done(work)
     assert done < total or not (out / f"{name}.nc").exists(), "the run ended first"
     other = "rolling" if name != "rolling" else "bat"
@@ -485,7 +485,7 @@ def test_one_piece_study_stopped_while_integrating_keeps_the_earlier_result(tmp_
     else:
         wait_until(lambda: lines.seen(label), proc)  # its progress bar: integrating
     proc.send_signal(getattr(signal, sig))
-    proc.wait(timeout=60)
+    proc.wait(timeout=STOP_GUARD_S)
     err = lines.wait_done()
     assert proc.returncode == (130 if sig == "SIGINT" else 143), err
     assert err[-1].startswith(f"stability run: {'Ctrl-C' if sig == 'SIGINT' else 'SIGTERM'}: "
@@ -525,7 +525,7 @@ def test_a_scene_run_killed_then_resumed_is_bitwise_an_uninterrupted_run(tmp_pat
     wait_until(lambda: (read_progress(store) or {}).get("chunks_done", 0) >= 2, proc,
                show_stderr=True)
     proc.kill()
-    proc.wait(timeout=60)
+    proc.wait(timeout=STOP_GUARD_S)
     done, total = chunks_done(tmp_path)
     assert 2 <= done < total, "the run ended first"
     kept = {p.name: p.stat().st_mtime_ns for p in store.glob("chunk-*.nc")}

@@ -32,7 +32,7 @@ from stability.output.publish import (
 )
 from stability.output.store import LOCK, ChunkStore, read_progress
 
-from .helpers import wait_until
+from .helpers import STOP_GUARD_S, wait_until
 from .test_faults import LONG, QUICK, Lines, snapshot, start, stability_cmd
 
 ROOT = Path(__file__).resolve().parents[1]
@@ -231,7 +231,7 @@ def test_a_second_run_into_a_busy_folder_is_refused_and_destroys_nothing(tmp_pat
     assert shown[0].startswith(f"{out}: in use by a run (process {first.pid} on host"), shown
     assert shown[1].startswith(f"{out / WORK}: 8192 members in 128 chunks"), shown
     first.send_signal(signal.SIGINT)  # the first run stops cleanly, its chunks kept
-    first.wait(timeout=60)
+    first.wait(timeout=STOP_GUARD_S)
     assert first.returncode == 130, lines.wait_done()
     assert ChunkStore.verify_path(out / WORK, 0, json.loads(
         (out / WORK / "manifest.json").read_text())["fingerprint"])

@@ -25,7 +25,7 @@ import pytest
 
 WAIT_NOTICE_S = 3.0  # stability.engine.cache.WAIT_NOTICE_S
 
-from .helpers import once_per_run, wait_until
+from .helpers import STOP_GUARD_S, once_per_run, wait_until
 from .test_engine import KERNEL, SCRIPT
 from .test_faults import Lines
 
@@ -258,7 +258,7 @@ def test_a_run_waiting_for_a_compile_says_so_then_loads_it(work, warm, tmp_path)
         time.sleep(1.0)  # it goes on waiting
         assert proc.poll() is None
         aside.rename(machine_code)  # the holder's compile, saved
-    proc.wait(timeout=60)
+    proc.wait(timeout=STOP_GUARD_S)
     err = lines.wait_done()
     assert proc.returncode == 0, err
     assert waited >= WAIT_NOTICE_S

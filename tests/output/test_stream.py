@@ -20,7 +20,7 @@ import xarray as xr
 import stability
 from stability.output.store import open_store, read_progress
 
-from ..helpers import wait_until
+from ..helpers import STOP_GUARD_S, wait_until
 
 ROOT = Path(__file__).resolve().parents[2]
 BODY = stability.RigidBody(1.0, 2.0, 3.0)
@@ -117,7 +117,7 @@ def test_resume_after_a_real_kill_is_bitwise_the_uninterrupted_run(tmp_path, how
     wait_until(lambda: (read_progress(store) or {}).get("chunks_done", 0) >= 2, proc,
                show_stderr=True)
     proc.send_signal(getattr(signal, how))
-    proc.wait(timeout=60)
+    proc.wait(timeout=STOP_GUARD_S)
     progress = read_progress(store)
     assert 2 <= progress["chunks_done"] < chunks, progress  # killed mid-run
     if how == "SIGINT":  # stopped cleanly: says what it kept and how to continue
