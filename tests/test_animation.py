@@ -197,3 +197,90 @@ def test_the_command_writes_the_animation_and_reports_mistakes_in_one_line(tmp_p
     assert main(["animate", "racket", str(tmp_path / "flip.png")]) == 2
     err = capsys.readouterr().err
     assert err.count("\n") == 1 and "path must end in .gif or .mp4" in err
+
+
+PHONE = stability.RigidBody.preset("phone")
+
+
+def test_the_command_takes_a_preset_or_moments_a_spin_and_a_nudge():
+    from stability.cli.main import build_parser
+
+    parse = build_parser().parse_args
+    args = parse(["animate", "phone", "p.gif", "--spin", "8", "--epsilon", "0.02", "--axis", "2"])
+    assert (args.what, args.spin, args.epsilon, args.axis) == ("phone", 8.0, 0.02, 2)
+    assert parse(["animate", "book", "b.gif"]).what == "book"
+    args = parse(["animate", "body", "b.gif", "--moments", "1", "2", "2.5"])
+    assert (args.what, args.moments) == ("body", [1.0, 2.0, 2.5])
+
+
+@pytest.mark.parametrize("argv, message", [
+    (["phon"], "invalid choice: 'phon'"),
+    (["phone", "--spin", "-1"], "--spin: must be a finite number > 0, got '-1'"),
+    (["phone", "--epsilon", "nan"], "--epsilon: must be a finite number > 0"),
+    (["phone", "--axis", "4"], "--axis: invalid choice: 4"),
+    (["body", "--moments", "1", "2"], "--moments: expected 3 arguments"),
+    (["body"], "--moments I1 I2 I3 goes with WHAT = body"),
+    (["phone", "--moments", "1", "2", "3"], "--moments I1 I2 I3 goes with WHAT = body"),
+    (["body", "--moments", "1", "2", "4"], "--moments (1.0, 2.0, 4.0) violate the triangle"),
+    (["top", "--epsilon", "0.1"], "--epsilon is for a flipping body, not the top"),
+])
+def test_bad_animate_options_are_one_line(argv, message, tmp_path, capsys):
+    out = tmp_path / "x.gif"
+    assert main(["animate", argv[0], str(out), *argv[1:]]) == 2
+    err = capsys.readouterr().err
+    assert err.count("\n") == 1 and message in err and "physical=False" not in err
+    assert not out.exists()
+
+
+def test_the_command_writes_the_phone(tmp_path, capsys):
+    out = tmp_path / "phone.gif"
+    assert main(["animate", "phone", str(out), "--spin", "8", "--epsilon", "0.1",
+                 "--duration", "0.4", "--fps", "10", "--size", "160"]) == 0
+    assert "wrote" in capsys.readouterr().out and _gif(out) == ("GIF", 4, (160, 160))
+
+
+def _pixels_near(rgb, color, alpha=0.9, tolerance=40.0):
+    """Pixels of ``rgb`` (h, w, 3) within ``tolerance`` of ``color`` drawn at ``alpha`` on white."""
+    from matplotlib.colors import to_rgb
+
+    target = 255.0 * (alpha * np.array(to_rgb(color)) + (1.0 - alpha))
+    return int((np.linalg.norm(rgb - target, axis=-1) < tolerance).sum())
+
+
+def test_the_phones_screen_and_back_have_two_colours_and_turn_over():
+    """Drawn to an array: where the screen (+3 side) faces the camera its colour covers the
+    frame and the back's hardly shows, and the other way round half a turn later."""
+    from matplotlib.backends.backend_agg import FigureCanvasAgg
+    from stability.free_body.animation import LARGE_FACE_COLORS
+
+    frames = flip_frames(PHONE, spin=8.0, epsilon=0.1, duration=1.0, fps=10)
+    scene = FlipScene(frames, 200)
+    assert [t.get_text() for t in scene.legend.get_texts()] == ["screen (+3 side)",
+                                                                "back (−3 side)"]
+    elev, azim = np.radians(scene.ax.elev), np.radians(scene.ax.azim)
+    camera = np.array([np.cos(elev) * np.cos(azim), np.cos(elev) * np.sin(azim), np.sin(elev)])
+    facing = frames.rotation[:, :, 2] @ camera  # the screen's normal towards the camera
+    canvas = FigureCanvasAgg(scene.figure)
+    counts = {}
+    for k in (int(np.argmax(facing)), int(np.argmin(facing))):
+        scene.draw(k)
+        canvas.draw()
+        rgb = np.asarray(canvas.buffer_rgba())[..., :3].astype(float)
+        counts[k] = [_pixels_near(rgb, color) for color in LARGE_FACE_COLORS]
+    (screen_up, back_up), (screen_down, back_down) = counts.values()
+    assert facing.max() > 0.5 and facing.min() < -0.5
+    assert screen_up > 1000 and screen_up > 5 * back_up
+    assert back_down > 1000 and back_down > 5 * screen_down
+
+
+def test_text_grows_with_the_frame():
+    frames = flip_frames(PHONE, duration=0.4, fps=10)
+    small, large = FlipScene(frames, 160), FlipScene(frames, 640)
+    sizes = [(s.title.get_fontsize(), s.ax.xaxis.label.get_fontsize(),
+              s.names[0].get_fontsize(), s.legend.get_texts()[0].get_fontsize(),
+              s.ax.xaxis.get_major_ticks()[0].label1.get_fontsize()) for s in (small, large)]
+    np.testing.assert_allclose(np.array(sizes[1]) / np.array(sizes[0]), 4.0)
+    default = FlipScene(frames, 320)
+    assert default.title.get_fontsize() >= 8 and min(sizes[0]) * 2 >= 6  # readable at 320 px
+    top = top_frames(duration=0.1, speed=0.25, fps=10)
+    assert TopScene(top, 640).title.get_fontsize() == 4 * TopScene(top, 160).title.get_fontsize()

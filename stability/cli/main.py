@@ -10,7 +10,8 @@
     stability methods                 # the integrator registry as a table
     stability bench [--members N] [--steps N] [--threads N ...] [--methods NAME ...] [--repeat N]
                     [--scene free_body|heavy_top|all] [--top-members N]
-    stability animate racket|top OUT.gif [--duration S] [--fps N] [--speed X] [--size PX]
+    stability animate racket|top|PRESET|body OUT.gif [--moments I1 I2 I3] [--spin W] [--epsilon E]
+                      [--axis 1|2|3] [--duration S] [--fps N] [--speed X] [--size PX]
 
 A mistake by the user (a bad study file, a bad option, an output that exists) is reported as one
 line on stderr with exit status 2, never a traceback; ``--debug`` shows the traceback instead.
@@ -56,6 +57,25 @@ def _scheduler(text: str) -> str:
             f"must be 'dask' (a local cluster) or a scheduler address such as tcp://host:8786, "
             f"got {text!r}; leave --scheduler out to run on this machine")
     return text.strip()
+
+
+def _positive_float(text: str) -> float:
+    import math
+
+    try:
+        value = float(text)
+    except ValueError:
+        value = math.nan
+    if not (math.isfinite(value) and value > 0.0):
+        raise argparse.ArgumentTypeError(f"must be a finite number > 0, got {text!r}")
+    return value
+
+
+def _animated() -> tuple:
+    """What ``stability animate`` draws: the racket, the top, a preset, or a body by moments."""
+    from ..core.body import RigidBody
+
+    return ("racket", "top", *RigidBody.presets(), "body")
 
 
 def _assignment(text: str) -> tuple[str, str]:
@@ -173,25 +193,41 @@ def build_parser() -> argparse.ArgumentParser:
     bench.set_defaults(func=_cmd_bench)
 
     animate = sub.add_parser(
-        "animate", help="write an animation of the exact motion: the racket flipping, or a "
-        "heavy top nutating (.gif, or .mp4 where ffmpeg is installed)",
-        description="Write an animation from the exact solution: 'racket', the tennis racket "
-        "spun about its intermediate axis turning over while L stays fixed "
+        "animate", help="write an animation of the exact motion: a body flipping (the racket, "
+        "a preset such as the phone, or given moments), or a heavy top nutating (.gif, or .mp4 "
+        "where ffmpeg is installed)",
+        description="Write an animation from the exact solution: 'racket' (or any preset of "
+        "RigidBody.presets(), such as 'phone'; or 'body' with --moments) spun about its "
+        "intermediate axis and nudged, turning over while L stays fixed "
         "(stability.animate_flip); 'top', a disk top released at a tilt, nutating and "
-        "precessing (stability.animate_top). The suffix of OUT picks GIF or MP4.",
+        "precessing (stability.animate_top). A body other than the racket is drawn as its box "
+        "of inertia, its two large faces in two colours (the phone's screen and back). The "
+        "suffix of OUT picks GIF or MP4.",
     )
-    animate.add_argument("what", choices=("racket", "top"), help="what to animate")
+    animate.add_argument("what", choices=_animated(), metavar="WHAT",
+                         help="racket, top, a preset (" + ", ".join(_animated()[2:-1])
+                         + ") or body (with --moments)")
     animate.add_argument("out", metavar="OUT.gif", help="output file, .gif or .mp4")
+    animate.add_argument("--moments", type=_positive_float, nargs=3, metavar=("I1", "I2", "I3"),
+                         help="principal moments in kg m^2 of the body (WHAT = body)")
+    animate.add_argument("--spin", type=_positive_float, metavar="W",
+                         help="spin in rad/s (default 6 for a body, 200 for the top)")
+    animate.add_argument("--epsilon", type=_positive_float, metavar="E",
+                         help="the nudge across the spin, relative to it (default 0.05; smaller: "
+                         "longer between flips); not for the top")
+    animate.add_argument("--axis", type=int, choices=(1, 2, 3),
+                         help="the body axis spun about (default the intermediate one, the "
+                         "flip); not for the top")
     animate.add_argument("--duration", type=float, metavar="S",
-                         help="seconds of motion shown (default: the racket's two flips, one "
+                         help="seconds of motion shown (default: a body's two flips, one "
                          "turn of the top's precession)")
     animate.add_argument("--fps", type=float, default=20.0, metavar="N",
                          help="frames per second (default 20)")
     animate.add_argument("--speed", type=float, metavar="X",
-                         help="seconds of motion per second shown (default 1 for the racket, "
+                         help="seconds of motion per second shown (default 1 for a body, "
                          "0.25 for the top)")
     animate.add_argument("--size", type=_positive_int, default=320, metavar="PX",
-                         help="width and height in pixels (default 320)")
+                         help="width and height in pixels (default 320); the text grows with it")
     animate.set_defaults(func=_cmd_animate)
     return parser
 
@@ -286,14 +322,36 @@ def _one_line(exc: BaseException, command: str) -> str:
 
 
 def _cmd_animate(args) -> int:
+    from ..core.body import RigidBody
     from ..free_body.animation import animate_flip
     from ..heavy_top.animation import animate_top
 
-    make = animate_flip if args.what == "racket" else animate_top
+    if (args.moments is None) == (args.what == "body"):
+        raise ValueError("--moments I1 I2 I3 goes with WHAT = body: give both, or name a "
+                         "preset (racket, top, " + ", ".join(_animated()[2:-1]) + ")")
     options = {"duration": args.duration, "fps": args.fps, "size": args.size}
     if args.speed is not None:
         options["speed"] = args.speed
-    path = make(path=args.out, **options)
+    if args.spin is not None:
+        options["spin"] = args.spin
+    if args.what == "top":
+        given = [f"--{name}" for name in ("epsilon", "axis") if getattr(args, name) is not None]
+        if given:
+            raise ValueError(f"{' and '.join(given)} is for a flipping body, not the top: drop "
+                             "it (the top takes --spin)")
+        path = animate_top(path=args.out, **options)
+    else:
+        if args.what == "body":
+            try:
+                body = RigidBody(*args.moments, name="body")
+            except ValueError as exc:  # physical=False is no option here
+                text = str(exc).replace(", or pass physical=False for a mathematical body", "")
+                raise ValueError(f"--{text}") from None
+        else:
+            body = RigidBody.preset("tennis_racket" if args.what == "racket" else args.what)
+        if args.epsilon is not None:
+            options["epsilon"] = args.epsilon
+        path = animate_flip(body, path=args.out, axis=args.axis, **options)
     print(f"wrote {path} ({path.stat().st_size / 1024:.0f} KiB)")
     return 0
 

@@ -20,8 +20,8 @@ import numpy as np
 
 from ..core.body import PRESETS, RigidBody
 from ..core.quaternions import frame_along, matrix_to_quaternion, quaternion_to_matrix
-from ..plotting.animation import (DEFAULT_FPS, DEFAULT_SIZE, Scene3D, check_size, frame_times,
-                                  output_path, write_animation)
+from ..plotting.animation import (DEFAULT_FPS, DEFAULT_SIZE, Scene3D, TITLE_WIDTH, check_size,
+                                  frame_times, output_path, write_animation)
 from ..plotting.style import AXIS_COLORS
 from ..util.checks import positive_float
 from .exact import exact_omega, full_period
@@ -30,6 +30,10 @@ from .model import intermediate_axis, moment_name
 from .twisting_racket.figures import BACK_COLOR, FRONT_COLOR, racket_outline
 
 _HANDLE_COLOR = "#7a5a2a"
+#: Colours of a box's two large faces (normal to its largest-moment axis): + side, - side.
+LARGE_FACE_COLORS = ("#7b2cbf", "#e6ab02")
+#: What a preset's two large faces are (+ side, - side of its largest-moment axis).
+LARGE_FACE_NAMES = {"phone": ("screen", "back"), "book": ("front cover", "back cover")}
 
 
 @dataclass(frozen=True, eq=False)
@@ -152,6 +156,13 @@ def _inertia_box(body, mass):
     return np.array(faces), np.array(normals)
 
 
+def large_face_names(name, axis) -> tuple[str, str]:
+    """Legend entries of a box's two large faces, normal to body axis ``axis`` (1-based): what
+    they are on preset ``name`` (the phone's screen and back), and the side of the axis."""
+    plus, minus = LARGE_FACE_NAMES.get(name, ("face", "face"))
+    return f"{plus} (+{axis} side)", f"{minus} (−{axis} side)"
+
+
 def _preset_of(body):
     """(name, mass in kg) of the preset ``body`` equals (the same moments), else None."""
 
@@ -201,29 +212,49 @@ class FlipScene(Scene3D):
         self.reach = reach
         ax = self._start(frames, size, fig, reach)
         self.heading = textwrap.fill(f"{shape} spun about axis {axis} "
-                                     f"({moment_name(body, axis)} moment)", 60)
+                                     f"({moment_name(body, axis)} moment)", TITLE_WIDTH)
         length = 0.9 * reach
         ax.plot([0.0, 0.0], [0.0, 0.0], [0.0, length], color="black", lw=2.2)
-        ax.text(0.0, 0.0, 1.04 * length, "L", fontsize=8, fontweight="bold")
+        ax.text(0.0, 0.0, 1.04 * length, "L", fontsize=self.fonts["name"], fontweight="bold")
         if self.racket:
             self.strings = Poly3DCollection([self.head], alpha=0.45, linewidths=0.0)
             ax.add_collection3d(self.strings)
             (self.rim,) = ax.plot([], [], [], color="black", lw=1.2)
             (self.grip,) = ax.plot([], [], [], color=_HANDLE_COLOR, lw=3.5)
         else:
-            colors = [AXIS_COLORS[i] for i in self.normals]
-            self.box = Poly3DCollection(list(self.faces), facecolors=colors, alpha=0.35,
-                                        edgecolors="0.2", linewidths=0.5)
-            ax.add_collection3d(self.box)
+            self._add_box(ax, preset[0] if preset is not None else None)
         self.arrows, self.names = [], []
         for i in range(3):
             (line,) = ax.plot([], [], [], color=AXIS_COLORS[i], lw=1.6)
             self.arrows.append(line)
             self.names.append(ax.text(0.0, 0.0, 0.0, str(i + 1), color=AXIS_COLORS[i],
-                                      fontsize=7, fontweight="bold"))
+                                      fontsize=self.fonts["name"], fontweight="bold"))
         (self.path,) = ax.plot([], [], [], color=AXIS_COLORS[axis - 1], lw=0.8, alpha=0.6)
         self.length = length
         self.rotations = frames.rotation
+
+    def _add_box(self, ax, preset):
+        """The box of inertia: its two large faces opaque in :data:`LARGE_FACE_COLORS`, named
+        in a legend (the phone's screen and back), the four others pale in their axes'
+        colours."""
+        from matplotlib.colors import to_rgba
+        from matplotlib.patches import Patch
+        from mpl_toolkits.mplot3d.art3d import Poly3DCollection
+
+        largest = int(np.argmax(self.data.body.moments))
+        colors = [to_rgba(AXIS_COLORS[i], 0.3) for i in self.normals]
+        large = np.flatnonzero(self.normals == largest)  # its + side first (_inertia_box)
+        for face, color in zip(large, LARGE_FACE_COLORS):
+            colors[face] = to_rgba(color, 0.9)
+        self.box = Poly3DCollection(list(self.faces), facecolors=colors, edgecolors="0.2",
+                                    linewidths=0.5)
+        ax.add_collection3d(self.box)
+        names = large_face_names(preset, largest + 1)
+        self.legend = self.figure.legend(
+            handles=[Patch(facecolor=c, alpha=0.9, label=n)
+                     for c, n in zip(LARGE_FACE_COLORS, names)],
+            loc="upper left", bbox_to_anchor=(0.0, 0.87), fontsize=self.fonts["legend"],
+            frameon=False, handlelength=1.2, borderaxespad=0.2)
 
     def draw(self, k):
         """Draw frame k (0 <= k < frames)."""
@@ -253,7 +284,9 @@ def animate_flip(body=None, *, path, spin=6.0, epsilon=0.05, axis=None, duration
 
     The tennis racket preset is drawn as a racket (strings red on the side facing L, blue on
     the other), any other body as its box of inertia: the uniform box with its principal
-    moments, edges ``a_i = sqrt(6 (I_j + I_k - I_i) / M)``, for the preset's mass or 1 kg.
+    moments, edges ``a_i = sqrt(6 (I_j + I_k - I_i) / M)``, for the preset's mass or 1 kg,
+    its two large faces in two colours named in a legend (the phone's screen and back), so
+    that its turning over shows. Text grows with ``size``.
     Its body axes 1, 2, 3 are drawn, the path of the spin axis' tip, and L, fixed along Z.
     The motion is exact (:func:`flip_frames`).
 

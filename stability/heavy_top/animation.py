@@ -18,7 +18,7 @@ import numpy as np
 
 from ..core.quaternions import frame_along
 from ..plotting.animation import (DEFAULT_FPS, DEFAULT_SIZE, Scene3D, check_size, frame_times,
-                                  output_path, write_animation)
+                                  TITLE_WIDTH, output_path, write_animation)
 from ..plotting.style import AXIS_COLORS
 from ..util.checks import positive_float, real_number
 from .exact import figure_axis_path, mean_precession_rate, nutation_roots
@@ -159,7 +159,7 @@ class TopScene(Scene3D):
         ax = self._start(frames, size, fig, reach, bottom=bottom, top=top_z)
         self.heading = textwrap.fill(
             f"{top.name}, spin {frames.spin:g} rad/s, released at a tilt of "
-            f"{np.degrees(np.arccos(frames.axis[0, 2])):.0f}°", 58)
+            f"{np.degrees(np.arccos(frames.axis[0, 2])):.0f}°", TITLE_WIDTH)
         ax.plot([0.0, 0.0], [0.0, 0.0], [bottom, top_z], color="0.4", lw=0.8, ls=":")
         ax.scatter([0.0], [0.0], [0.0], color="black", s=12, depthshade=False)
         turn = np.linspace(0.0, 2.0 * np.pi, 121)

@@ -33,6 +33,11 @@ MAX_FRAMES = 1000
 SUFFIXES = (".gif", ".mp4")
 #: Dots per inch of the animation figures; their size is given in pixels.
 DPI = 100
+#: Font sizes in points on a frame of :data:`DEFAULT_SIZE` pixels; they grow with the frame
+#: (:func:`font_sizes`), so that text takes the same share of any frame.
+FONT_POINTS = {"title": 8.5, "label": 7.5, "ticks": 6.5, "name": 8.5, "legend": 7.5}
+#: Characters per line of a title at these sizes (any frame: the fonts grow with it).
+TITLE_WIDTH = 46
 
 
 def frame_times(duration, fps, speed) -> np.ndarray:
@@ -144,21 +149,30 @@ def check_size(size) -> int:
     return size - size % 2  # even: what H.264 needs
 
 
+def font_sizes(fig) -> dict:
+    """:data:`FONT_POINTS` scaled to ``fig``: times its smaller side over :data:`DEFAULT_SIZE`
+    pixels."""
+    side = min(fig.get_size_inches()) * fig.dpi
+    return {name: points * side / DEFAULT_SIZE for name, points in FONT_POINTS.items()}
+
+
 def axes3d(fig, reach, bottom=None, top=None):
     """3-D axes with one scale on all three axes, labelled in m: x and y in [-reach, reach],
-    z in [bottom, top] (default the same as x and y)."""
+    z in [bottom, top] (default the same as x and y); fonts scaled to the figure
+    (:func:`font_sizes`)."""
+    fonts = font_sizes(fig)
     ax = fig.add_axes((0.0, 0.0, 1.0, 0.87), projection="3d")
     lo = -reach if bottom is None else bottom
     hi = reach if top is None else top
     ax.set_xlim(-reach, reach)
     ax.set_ylim(-reach, reach)
     ax.set_zlim(lo, hi)
-    ax.set_box_aspect((2.0 * reach, 2.0 * reach, hi - lo), zoom=0.95)
+    ax.set_box_aspect((2.0 * reach, 2.0 * reach, hi - lo), zoom=0.88)
     for name, setter in zip("XYZ", (ax.set_xlabel, ax.set_ylabel, ax.set_zlabel)):
-        setter(label(name, "m"), fontsize=6, labelpad=-7)
+        setter(label(name, "m"), fontsize=fonts["label"], labelpad=fonts["label"] - 10.5)
     for axis in (ax.xaxis, ax.yaxis, ax.zaxis):
         axis.set_major_locator(MaxNLocator(3))
-    ax.tick_params(labelsize=5, pad=-3)
+    ax.tick_params(labelsize=fonts["ticks"], pad=-0.3 * fonts["ticks"])
     ax.zaxis.set_tick_params(pad=0)  # closer, a minus sign hid under its tick mark
     return ax
 
@@ -172,13 +186,15 @@ def scene_figure(size, fig=None):
 
 
 class Scene3D:
-    """What both scenes share: the frames, a square figure, its 3-D axes and a title."""
+    """What both scenes share: the frames, a square figure, its 3-D axes, a title and the
+    font sizes of its text (``fonts``, :func:`font_sizes`)."""
 
     def _start(self, frames, size, fig, reach, bottom=None, top=None):
         self.data, self.dpi, self.frames = frames, DPI, frames.t.size
         self.figure = scene_figure(size, fig)
+        self.fonts = font_sizes(self.figure)
         self.ax = axes3d(self.figure, reach, bottom, top)
-        self.title = self.figure.suptitle("", fontsize=7, y=0.985)
+        self.title = self.figure.suptitle("", fontsize=self.fonts["title"], y=0.99)
         return self.ax
 
 
