@@ -22,6 +22,7 @@ from stability.ensemble.schema import KINDS, SCHEMAS
 from stability.study import STUDIES
 
 from .helpers import assert_declared
+from .test_study_config import default_dataset
 
 ROOT = Path(__file__).resolve().parents[1]
 BODY = stability.RigidBody(1.0, 2.0, 3.0, physical=False)
@@ -30,7 +31,7 @@ BODY = stability.RigidBody(1.0, 2.0, 3.0, physical=False)
 def test_every_study_kind_declares_the_dataset_it_writes():
     for name, kind in STUDIES.items():
         assert name in SCHEMAS, f"study kind {name!r} has no declaration in stability.ensemble.schema"
-        assert SCHEMAS[name].file == kind.schema.section("output").key("dataset").default, name
+        assert SCHEMAS[name].file == default_dataset(kind), name
 
 
 def test_every_study_kinds_written_file_is_held_to_its_declaration():

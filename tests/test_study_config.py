@@ -16,6 +16,13 @@ ROOT = Path(__file__).resolve().parents[1]
 TENNIS = ROOT / "studies" / "tennis_racket.toml"
 
 
+def default_dataset(kind) -> str:
+    """The Dataset's file name of ``kind``'s default study (the tennis study's is named from
+    the body)."""
+    default = kind.schema.section("output").key("dataset").default
+    return default if default is not None else kind.outputs(kind.resolve({}))[0]
+
+
 def write_study(tmp_path, text, name="x.toml"):
     """A tennis-racket study file with ``text`` whose output folder is ``tmp_path/out``."""
     path = tmp_path / name
@@ -210,7 +217,7 @@ def test_every_kind_has_its_dataset_checked_against_cf():
                       for path in sorted(Path(__file__).parent.rglob("test_*.py")))
     checked = set(re.findall(r'assert_cf_compliant\([^,\n]*"([^"\n]+\.nc)"', sources))
     for name, kind in STUDIES.items():
-        assert kind.schema.section("output").key("dataset").default in checked, name
+        assert default_dataset(kind) in checked, name
 
 
 def test_summary_table_aligns_names_over_units_and_cells():
@@ -263,3 +270,52 @@ def test_a_kind_imported_first_in_a_fresh_process_is_complete_in_the_registry():
                          text=True, timeout=300)
     assert run.returncode == 0, (run.stdout[-500:], run.stderr[-4000:])
     assert run.stdout.strip() == "failed: []"
+
+
+@pytest.mark.parametrize("overrides, title, dataset", [
+    ([], "Tennis-racket flips of a perturbed spin about the intermediate axis",
+     "tennis_racket.nc"),
+    ([("body.preset", '"phone"')],
+     "Phone flips of a perturbed spin about the intermediate axis", "phone.nc"),
+    ([("body.preset", '"t_handle"'), ("spin.axis", "1")],
+     "T handle flips of a perturbed spin about axis 1", "t_handle.nc"),
+    ([("body.preset", '"phone"'), ("output.dataset", '"toss.nc"')],
+     "Phone flips of a perturbed spin about the intermediate axis", "toss.nc"),
+])
+def test_the_tennis_studys_title_and_dataset_are_named_from_the_body(overrides, title, dataset):
+    """A phone run of the shipped file was titled "Tennis-racket ..." in tennis_racket.nc."""
+    kind, config, _ = load_study(TENNIS, overrides=overrides)
+    assert (config["title"], config["output"]["dataset"]) == (title, dataset)
+    assert kind.outputs(config)[0] == dataset
+    assert kind.resolve(config) == config  # a resolved configuration resolves to itself
+    assert tomllib.loads(to_toml(config))["title"] == title
+
+
+@pytest.mark.parametrize("name, title, dataset", [
+    ('name = "my box"\n', "My box flips of a perturbed spin about the intermediate axis",
+     "my_box.nc"),
+    ("", "Flips of a perturbed spin about the intermediate axis", "tennis_racket.nc"),
+])
+def test_a_body_by_moments_is_named_from_its_name(name, title, dataset, tmp_path):
+    path, _ = write_study(tmp_path, f"[body]\nmoments = [1, 2, 2.5]\n{name}")
+    _, config, _ = load_study(path)
+    assert (config["title"], config["output"]["dataset"]) == (title, dataset)
+
+
+def test_a_title_the_file_sets_is_kept(tmp_path):
+    path, _ = write_study(tmp_path, 'title = "my toss"\n[body]\npreset = "phone"\n')
+    _, config, _ = load_study(path)
+    assert config["title"] == "my toss" and config["output"]["dataset"] == "phone.nc"
+
+
+def test_a_phone_runs_checks_before_the_run_use_its_own_file_names(tmp_path, capsys):
+    out = tmp_path / "out"
+    out.mkdir()
+    (out / "phone.nc").write_bytes(b"x")
+    phone = ["run", str(TENNIS), "--set", "body.preset=phone", "--out", str(out), "--quick"]
+    assert main(phone) == 2
+    assert "phone.nc already exists; pass --overwrite" in capsys.readouterr().err
+    assert main([*phone, "--resume"]) == 2
+    err = capsys.readouterr().err
+    assert "its run there is finished (phone.nc exists)" in err
+    assert sorted(p.name for p in out.iterdir()) == ["phone.nc"]

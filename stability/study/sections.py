@@ -97,15 +97,17 @@ def _growth(schema: Schema, config: dict, section: str, key: str) -> float:
     return value / default
 
 
-def output_section(name: str, figures, extra=()) -> Section:
+def output_section(name: str, figures, extra=(), dataset: Key | None = None) -> Section:
     """The ``[output]`` section of a study: its folder ``results/<name>``, the Dataset
-    ``<name>.nc``, the ``extra`` keys (more files), whether to draw ``figures`` (their stems)
-    and in which formats."""
+    (``dataset``, default the key of the file name ``<name>.nc``), the ``extra`` keys (more
+    files), whether to draw ``figures`` (their stems) and in which formats."""
     what = "draw the figure" if len(figures) == 1 else f"draw the {len(figures)} figures"
+    if dataset is None:
+        dataset = Key("dataset", "str", f"{name}.nc", "file name of the Dataset (netCDF)",
+                      suffix=".nc")
     return Section("output", "where the results go", (
         Key("dir", "str", f"results/{name}", "output folder (relative to the current directory)"),
-        Key("dataset", "str", f"{name}.nc", "file name of the Dataset (netCDF)",
-            suffix=".nc"),
+        dataset,
         *extra,
         Key("figures", "bool", True, what),
         Key("formats", "strs", ["png", "pdf"], "figure formats", choices=FIGURE_FORMATS),

@@ -21,6 +21,7 @@ the slope is about ``(a / rate)^2 / 2``), and the mean over members.
 from __future__ import annotations
 
 import math
+import re
 import sys
 import time
 from pathlib import Path
@@ -53,8 +54,10 @@ FIGURES = ("fig1_flips", "fig2_polhodes", "fig3_growth", "fig4_flip_intervals")
 
 
 SCHEMA = Schema(
-    top=(Key("title", "str", "Tennis-racket flips of a perturbed spin about the intermediate axis",
-             "one line describing the run (the Dataset's title)"),),
+    top=(Key("title", "str", UNSET,
+             "one line describing the run (the Dataset's title); unset: named from the body, "
+             "'Tennis-racket flips of a perturbed spin about the intermediate axis' for the "
+             "racket, 'Phone flips ...' for the phone"),),
     sections=(
         Section("body", "the rigid body: a preset, or its principal moments", (
             Key("preset", "str", "tennis_racket", "a body from RigidBody.presets()",
@@ -107,7 +110,10 @@ SCHEMA = Schema(
                        "where the member loop runs: 'cpu', or 'gpu' (a CUDA GPU, the gpu extra)",
                        choices=("cpu", "gpu")),),
             title="how the ensemble is cut into chunks, and where they run"),
-        output_section(NAME, FIGURES),
+        output_section(NAME, FIGURES, dataset=Key(
+            "dataset", "str", UNSET, "file name of the Dataset (netCDF); unset: named from the "
+            f"body, {NAME}.nc for the racket (or a body by moments without a name), phone.nc "
+            "for the phone", suffix=".nc")),
     ),
 )
 
@@ -115,12 +121,37 @@ SCHEMA = Schema(
 QUICK = {"ensemble": {"members": 256}, "integration": {"t_end": 5.0}}
 
 
+def named_from_body(config: dict) -> tuple[str, str]:
+    """The title and the Dataset's file name of a run whose file sets neither: from the preset
+    (or the ``[body] name`` of moments), the tennis racket's own for the racket.
+
+    Returns
+    -------
+    title, dataset : str
+        E.g. ``"Phone flips of a perturbed spin about the intermediate axis"``, ``"phone.nc"``.
+    """
+    body, axis = config["body"], config["spin"]["axis"]
+    label = body.get("name") if "moments" in body else body.get("preset", NAME)
+    about = f"axis {axis}" if isinstance(axis, int) else f"the {axis} axis"
+    if label is None or label == NAME:
+        head = "Tennis-racket flips" if label == NAME else "Flips"
+        return f"{head} of a perturbed spin about {about}", f"{NAME}.nc"
+    words = label.replace("_", " ").strip()
+    stem = re.sub(r"[^A-Za-z0-9_.-]+", "_", label).strip("_.") or NAME
+    return f"{words[:1].upper()}{words[1:]} flips of a perturbed spin about {about}", f"{stem}.nc"
+
+
 def check(config: dict, source: str) -> dict:
-    """Checks across keys: body given once, a whole number of samples, a non-empty fit window."""
+    """Checks across keys: body given once, a whole number of samples, a non-empty fit window;
+    the title and the Dataset's file named from the body where the file sets neither
+    (:func:`named_from_body`)."""
     body, integ, analysis = config["body"], config["integration"], config["analysis"]
     if "moments" not in body and "name" in body:
         raise ConfigError("name labels a body given by moments; a preset has its own name",
                           source, "body", "name")
+    title, dataset = named_from_body(config)
+    config.setdefault("title", title)
+    config["output"].setdefault("dataset", dataset)
     n_steps = integ["t_end"] / integ["h"]
     if abs(n_steps - round(n_steps)) > 1e-9 * n_steps or round(n_steps) < 1:
         raise ConfigError(
