@@ -21,6 +21,7 @@ import numpy as np
 from ..model import moment_name, perpendicular_axes
 from ...analysis.members import sign_change_times
 from ..exact import exact_omega
+from ..measure import complementary_moduli
 from ...output.dataset import body_from_attrs
 from ...plotting.style import (
     AXIS_COLORS, ENSEMBLE_COLOR, EXACT_COLOR, label, new_figure, place_legend, styled,
@@ -41,6 +42,44 @@ def _body_and_axis(ds, body, axis):
 
     return (body_from_attrs(ds.attrs) if body is None else body,
             int(ds.attrs["axis"]) if axis is None else int(axis))
+
+
+def nudge_for_modulus(body, axis):
+    """``(to_epsilon, to_x, b)``: the size epsilon (relative to the spin) of a nudge across a
+    spin about ``axis`` that gives the complementary modulus k', as a function of
+    x = ln(4/k'), and back; the nudge is along the perpendicular axis ``b`` whose nudge gives
+    the largest k' (a nudge of that size in any other direction gives a smaller k', so a
+    member of an ensemble of one epsilon lies at or below it). k' depends on epsilon alone
+    (Euler's equations are homogeneous in w) and grows with it.
+    """
+    eps = np.logspace(-100.0, np.log10(0.5), 600)
+    best = None
+    for b in perpendicular_axes(axis):
+        w0 = np.zeros((eps.size, 3))
+        w0[:, axis - 1], w0[:, b - 1] = 1.0, eps
+        x = np.log(4.0 / complementary_moduli(body, w0))
+        if best is None or x[0] < best[1][0]:  # the larger k' at the smallest nudge
+            best = (b, x)
+    b, x = best
+    log_eps = np.log(eps)
+    to_epsilon = lambda v: np.exp(np.interp(v, x[::-1], log_eps[::-1]))
+    to_x = lambda e: np.interp(np.log(np.maximum(e, 1e-300)), log_eps, x)
+    return to_epsilon, to_x, b
+
+
+def _epsilon_axis(ax, body, axis, epsilon=None):
+    """A top axis in epsilon over an axis in ln(4/k') (:func:`nudge_for_modulus`)."""
+    from matplotlib.ticker import LogFormatterSciNotation, LogLocator, NullFormatter
+
+    to_epsilon, to_x, b = nudge_for_modulus(body, axis)
+    top = ax.secondary_xaxis("top", functions=(to_epsilon, to_x))
+    top.set_xscale("log")
+    top.xaxis.set_major_locator(LogLocator(numticks=8))
+    top.xaxis.set_major_formatter(LogFormatterSciNotation())
+    top.xaxis.set_minor_formatter(NullFormatter())
+    text = f"ε along axis {b} giving k′" + ("" if epsilon is None else f" (run: {epsilon:.3g})")
+    top.set_xlabel(label(text, cv.UNITS_DIMENSIONLESS))
+    return top
 
 
 def typical_member(ds) -> int:
@@ -325,6 +364,9 @@ def flip_interval_figure(ds, body=None, axis=None, max_points=3000):
         right.axhline(0.0, color=EXACT_COLOR, lw=1.0)
         right.ticklabel_format(axis="y", style="sci", scilimits=(-2, 2))
     middle.set_xlabel(label("ln(4/k′), k′ = complementary modulus ∝ ε", cv.UNITS_DIMENSIONLESS))
+    if rate > 0:  # k' is the modulus of a flip: an axis in epsilon beside ln(4/k')
+        for ax in (middle, right):
+            _epsilon_axis(ax, body, axis, ds.attrs.get("epsilon"))
     middle.set_ylabel(label("flip interval", cv.UNITS_TIME))
     middle.set_title("The ln(1/ε) law")
     right.set_xlabel(label("ln(4/k′)", cv.UNITS_DIMENSIONLESS))

@@ -129,3 +129,27 @@ def test_covered_data_finds_a_legend_over_the_lines_and_place_legend_clears_it()
     assert covered_data(fig) == []
     inside, legend = ax.get_window_extent(), ax.get_legend().get_window_extent()
     assert inside.x0 <= legend.x0 and legend.x1 <= inside.x1  # in the room left inside
+
+
+def test_the_flip_interval_panels_have_an_axis_in_epsilon_that_gives_their_k_prime(analysed):
+    """Beside ln(4/k') alone: a top axis in the nudge epsilon; a member nudged along the axis
+    it names sits at the run's epsilon, every other member at or below it."""
+    from stability.free_body.measure import complementary_moduli
+
+    ds, body, axis = analysed
+    fig = tennis.flip_interval_figure(ds, body, axis)
+    middle, right = fig.axes[1], fig.axes[2]
+    tops = [child for ax in (middle, right) for child in ax.child_axes]
+    assert len(tops) == 2
+    to_epsilon, to_x, b = tennis.nudge_for_modulus(body, axis)
+    for top in tops:
+        assert top.get_xscale() == "log"
+        assert f"ε along axis {b} giving k′ (run: 0.0001)" in top.get_xlabel()
+        assert "(dimensionless)" in top.get_xlabel()
+    w0 = np.zeros((1, 3))
+    w0[0, axis - 1], w0[0, b - 1] = SPIN, EPSILON * SPIN
+    x = np.log(4.0 / complementary_moduli(body, w0))
+    assert to_epsilon(x)[0] == pytest.approx(EPSILON, rel=1e-3)
+    assert to_x(EPSILON) == pytest.approx(x[0], rel=1e-4)
+    members = np.log(4.0 / ds.complementary_modulus.values)
+    assert np.all(to_epsilon(members) <= EPSILON * (1 + 1e-3))
