@@ -15,6 +15,7 @@ from html.parser import HTMLParser
 from pathlib import Path
 from urllib.parse import unquote, urldefrag
 
+import numpy as np
 import pytest
 
 ROOT = Path(__file__).resolve().parents[1]
@@ -414,3 +415,26 @@ def test_the_dask_examples_run_as_scripts_in_a_fresh_folder(tmp_path, source):
     done = _run_as_script(tmp_path, "run.py")
     assert "('member', 1000)" in done.stdout
     assert "Nanny" not in done.stderr and "FolderBusy" not in done.stderr
+
+
+def test_the_flip_and_the_toss_example_runs_as_a_script_and_measures_the_exact_interval(
+        tmp_path):
+    """The gallery's answer to "how does the flip depend on the toss?" (the phone by default)
+    runs as a reader downloads it, in a fresh folder, and each toss's measured interval is its
+    exact 2K/nu; the interval halves when the spin doubles and grows by steps in ln(1/epsilon)."""
+    script = ROOT / "examples" / "plot_14_flip_and_the_toss.py"
+    done = subprocess.run([sys.executable, str(script)], cwd=tmp_path, capture_output=True,
+                          text=True, timeout=300,
+                          env=dict(os.environ, MPLBACKEND="Agg", PYTHONPATH=str(ROOT)))
+    assert done.returncode == 0, done.stderr[-2000:]
+    rows = re.findall(r"spin +([\d.]+) rad/s, epsilon ([\de.+-]+): flip interval +([\d.]+) s "
+                      r"\(exact +([\d.]+) s\)", done.stdout)
+    assert len(rows) == 11, done.stdout
+    spin, eps, measured, exact = np.array(rows, dtype=float).T
+    np.testing.assert_allclose(measured, exact, rtol=1e-3)
+    by_spin, by_eps = exact[:5], exact[5:]  # spins 2 ... 32 rad/s; epsilons 1e-1 ... 1e-6
+    assert np.all(np.diff(spin[:5]) > 0) and np.all(np.diff(eps[5:]) < 0)
+    np.testing.assert_allclose(by_spin[:-1] / by_spin[1:], 2.0, rtol=1e-3)  # as 1/W
+    steps = np.diff(by_eps)[1:]  # each decade of epsilon adds the same time, near 0
+    assert np.all(steps > 0) and np.ptp(steps) < 0.01 * steps.mean()
+    assert list(tmp_path.iterdir()) == []
