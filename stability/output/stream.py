@@ -207,9 +207,24 @@ def _run_on_dask(job, chunks, todo, scheduler, progress, compress) -> float:
 
 
 def sendable(job) -> bytes:
-    """``job`` pickled, as dask sends it to the scheduler and the workers; ValueError in one
-    line where it cannot be (a scene defined in ``__main__``, a function that is not at the top
-    level of its module)."""
+    """``job`` pickled, as dask sends it to the scheduler and the workers.
+
+    Parameters
+    ----------
+    job : object
+        What each task runs (a chunk job: the run and its measurement).
+
+    Returns
+    -------
+    bytes
+        Its pickle.
+
+    Raises
+    ------
+    ValueError
+        In one line, where it cannot be pickled (a scene defined in ``__main__``, a function
+        that is not at the top level of its module).
+    """
     try:
         return pickle.dumps(job)
     except pickle.PicklingError as exc:  # says what cannot be sent, and why
@@ -220,9 +235,20 @@ def sendable(job) -> bytes:
 
 
 def loading_problem(payload: bytes):
-    """Why ``payload`` (:func:`sendable`) cannot be unpickled in this process: ``(module,
-    reason)`` for a module it cannot import, ``(None, reason)`` otherwise, or None if it can.
-    Run on the scheduler and on each worker before a run's tasks go there."""
+    """Why ``payload`` cannot be unpickled in this process; run on the scheduler and on each
+    worker before a run's tasks go there.
+
+    Parameters
+    ----------
+    payload : bytes
+        A job pickled by :func:`sendable`.
+
+    Returns
+    -------
+    tuple or None
+        ``(module, reason)`` for a module it cannot import, ``(None, reason)`` for another
+        failure, None if it loads.
+    """
     try:
         pickle.loads(payload)
     except ImportError as exc:
