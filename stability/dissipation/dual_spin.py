@@ -238,7 +238,7 @@ def measure_dual_spin(body, ratios, speeds, angles, *, placements=PLACEMENTS, st
     x0 = np.concatenate(x0)
     t0 = time.perf_counter()
     run = propagate_stored(GroupedRun(
-        GYROSTAT.name, spec.name, x0, np.array(rows), np.full(G, K), hs, steps,
+        GYROSTAT, spec.name, x0, np.array(rows), np.full(G, K), hs, steps,
         save_every=save_every, label="dual-spin map (rk4)"), progress=progress,
         **(stored or {}))
     wall = time.perf_counter() - t0

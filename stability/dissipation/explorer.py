@@ -195,7 +195,7 @@ def run_damped(damper, method, group_values, angles, *, spin, step_angle=0.5, ta
     x0 = np.concatenate(x0)
     t0 = time.perf_counter()
     run = propagate_stored(GroupedRun(
-        damper.scene.name, spec.name, x0, np.array(rows), np.full(G, K), hs, steps,
+        damper.scene, spec.name, x0, np.array(rows), np.full(G, K), hs, steps,
         save_every=save_every, axes=[0, 1, 2], levels=[[math.sin(flat_angle)]],
         label=label or f"{damper.scene.name} ({method})"), progress=progress, **(stored or {}))
     wall = time.perf_counter() - t0

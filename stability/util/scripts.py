@@ -19,7 +19,8 @@ def unguarded_script() -> str | None:
     Two cases: this process is itself a worker importing the script (run as ``__mp_main__``);
     or the call comes from the top level of the script being run, outside an
     ``if __name__ == "__main__":`` block (read from the script's source), directly or through
-    functions it calls. A notebook or ``python -c`` is never in the way.
+    functions it calls. A notebook, ``python -c`` or ``python -m package`` (the command line
+    ``stability``) is never in the way.
     """
     frame = sys._getframe(1)
     while frame is not None:  # the script run again by multiprocessing, as __mp_main__
@@ -33,6 +34,9 @@ def unguarded_script() -> str | None:
     script = getattr(main, "__file__", None)
     if not isinstance(script, str) or not script.endswith(".py"):
         return None
+    spec = getattr(main, "__spec__", None)
+    if spec is not None and (spec.name == "__main__" or spec.name.endswith(".__main__")):
+        return None  # python -m package: multiprocessing never runs a package's __main__ again
     frame, top = sys._getframe(1), None
     while frame is not None:  # the script's own top-level frame: the statement it runs now
         if frame.f_globals is main.__dict__ and frame.f_code.co_name == "<module>":

@@ -42,6 +42,19 @@ def test_a_guarded_script_is_not_in_the_way(tmp_path, text):
     assert run_script(tmp_path, text)[0] == "None"
 
 
+def test_a_packages_main_run_with_python_m_is_not_in_the_way(tmp_path):
+    """``python -m package`` (as ``python -m stability run ... --scheduler dask``): a package's
+    ``__main__`` is never run again by the workers, guard or not."""
+    package = tmp_path / "tool"
+    package.mkdir()
+    (package / "__init__.py").write_text("")
+    (package / "__main__.py").write_text(PROBE + "print(unguarded_script())\n")
+    env = {**os.environ, "PYTHONPATH": os.pathsep.join([str(ROOT), str(tmp_path)])}
+    done = subprocess.run([sys.executable, "-m", "tool"], capture_output=True, text=True,
+                          cwd=tmp_path, env=env, timeout=120)
+    assert done.stdout.strip() == "None", done.stderr
+
+
 def test_a_worker_process_importing_the_script_again_knows_it(tmp_path):
     """A spawned process (as a dask worker is) imports the script as ``__mp_main__`` and runs
     its top level again: there, the check says this is a worker reaching the run."""
