@@ -121,7 +121,8 @@ def steady_spin(values, platform_spin: float, relative_spin: float) -> np.ndarra
     Parameters
     ----------
     values : array_like
-        ``(A1, A2, A3, Jr, Jp, cp, Jq, cq)``: the whole body's moments (kg m2), the rotor's axial moment, each damper's J (kg m2) and c (N m s).
+        ``(A1, A2, A3, Jr, Jp, cp, Jq, cq)``: the whole body's moments (kg m2), the rotor's axial
+        moment, each damper's J (kg m2) and c (N m s).
     platform_spin : float or array_like
         The platform's spin w_p about e3, rad s-1.
     relative_spin : float or array_like
@@ -137,7 +138,8 @@ def axial_momentum(values, platform_spin, relative_spin):
     Parameters
     ----------
     values : array_like
-        ``(A1, A2, A3, Jr, Jp, cp, Jq, cq)``: the whole body's moments (kg m2), the rotor's axial moment, each damper's J (kg m2) and c (N m s).
+        ``(A1, A2, A3, Jr, Jp, cp, Jq, cq)``: the whole body's moments (kg m2), the rotor's axial
+        moment, each damper's J (kg m2) and c (N m s).
     platform_spin : float or array_like
         The platform's spin w_p about e3, rad s-1.
     relative_spin : float or array_like
@@ -156,7 +158,8 @@ def nutation_frequencies(values, platform_spin, relative_spin):
     Parameters
     ----------
     values : array_like
-        ``(A1, A2, A3, Jr, Jp, cp, Jq, cq)``: the whole body's moments (kg m2), the rotor's axial moment, each damper's J (kg m2) and c (N m s).
+        ``(A1, A2, A3, Jr, Jp, cp, Jq, cq)``: the whole body's moments (kg m2), the rotor's axial
+        moment, each damper's J (kg m2) and c (N m s).
     platform_spin : float or array_like
         The platform's spin w_p about e3, rad s-1.
     relative_spin : float or array_like
@@ -176,7 +179,8 @@ def jacobian(values, platform_spin: float, relative_spin: float,
     Parameters
     ----------
     values : array_like
-        ``(A1, A2, A3, Jr, Jp, cp, Jq, cq)``: the whole body's moments (kg m2), the rotor's axial moment, each damper's J (kg m2) and c (N m s).
+        ``(A1, A2, A3, Jr, Jp, cp, Jq, cq)``: the whole body's moments (kg m2), the rotor's axial
+        moment, each damper's J (kg m2) and c (N m s).
     platform_spin : float or array_like
         The platform's spin w_p about e3, rad s-1.
     relative_spin : float or array_like
@@ -212,7 +216,8 @@ def eigenvalues(values, platform_spin: float, relative_spin: float) -> np.ndarra
     Parameters
     ----------
     values : array_like
-        ``(A1, A2, A3, Jr, Jp, cp, Jq, cq)``: the whole body's moments (kg m2), the rotor's axial moment, each damper's J (kg m2) and c (N m s).
+        ``(A1, A2, A3, Jr, Jp, cp, Jq, cq)``: the whole body's moments (kg m2), the rotor's axial
+        moment, each damper's J (kg m2) and c (N m s).
     platform_spin : float or array_like
         The platform's spin w_p about e3, rad s-1.
     relative_spin : float or array_like
@@ -230,7 +235,8 @@ def axisymmetric_matrix(values, platform_spin: float, relative_spin: float) -> n
     Parameters
     ----------
     values : array_like
-        ``(A1, A2, A3, Jr, Jp, cp, Jq, cq)``: the whole body's moments (kg m2), the rotor's axial moment, each damper's J (kg m2) and c (N m s).
+        ``(A1, A2, A3, Jr, Jp, cp, Jq, cq)``: the whole body's moments (kg m2), the rotor's axial
+        moment, each damper's J (kg m2) and c (N m s).
     platform_spin : float or array_like
         The platform's spin w_p about e3, rad s-1.
     relative_spin : float or array_like
@@ -254,7 +260,8 @@ def axisymmetric_eigenvalues(values, platform_spin: float, relative_spin: float)
     Parameters
     ----------
     values : array_like
-        ``(A1, A2, A3, Jr, Jp, cp, Jq, cq)``: the whole body's moments (kg m2), the rotor's axial moment, each damper's J (kg m2) and c (N m s).
+        ``(A1, A2, A3, Jr, Jp, cp, Jq, cq)``: the whole body's moments (kg m2), the rotor's axial
+        moment, each damper's J (kg m2) and c (N m s).
     platform_spin : float or array_like
         The platform's spin w_p about e3, rad s-1.
     relative_spin : float or array_like
@@ -310,7 +317,8 @@ def first_order_rate(values, platform_spin, relative_spin):
     Parameters
     ----------
     values : array_like
-        ``(A1, A2, A3, Jr, Jp, cp, Jq, cq)``: the whole body's moments (kg m2), the rotor's axial moment, each damper's J (kg m2) and c (N m s).
+        ``(A1, A2, A3, Jr, Jp, cp, Jq, cq)``: the whole body's moments (kg m2), the rotor's axial
+        moment, each damper's J (kg m2) and c (N m s).
     platform_spin : float or array_like
         The platform's spin w_p about e3, rad s-1.
     relative_spin : float or array_like
@@ -327,7 +335,8 @@ def energy_sink_rate(values, platform_spin, relative_spin):
     Parameters
     ----------
     values : array_like
-        ``(A1, A2, A3, Jr, Jp, cp, Jq, cq)``: the whole body's moments (kg m2), the rotor's axial moment, each damper's J (kg m2) and c (N m s).
+        ``(A1, A2, A3, Jr, Jp, cp, Jq, cq)``: the whole body's moments (kg m2), the rotor's axial
+        moment, each damper's J (kg m2) and c (N m s).
     platform_spin : float or array_like
         The platform's spin w_p about e3, rad s-1.
     relative_spin : float or array_like
@@ -347,7 +356,8 @@ def energy_sink_stable(values, platform_spin, relative_spin):
     Parameters
     ----------
     values : array_like
-        ``(A1, A2, A3, Jr, Jp, cp, Jq, cq)``: the whole body's moments (kg m2), the rotor's axial moment, each damper's J (kg m2) and c (N m s).
+        ``(A1, A2, A3, Jr, Jp, cp, Jq, cq)``: the whole body's moments (kg m2), the rotor's axial
+        moment, each damper's J (kg m2) and c (N m s).
     platform_spin : float or array_like
         The platform's spin w_p about e3, rad s-1.
     relative_spin : float or array_like
@@ -393,7 +403,8 @@ def tilted_spin(values, platform_spin, relative_spin, angles, azimuths) -> np.nd
     Parameters
     ----------
     values : array_like
-        ``(A1, A2, A3, Jr, Jp, cp, Jq, cq)``: the whole body's moments (kg m2), the rotor's axial moment, each damper's J (kg m2) and c (N m s).
+        ``(A1, A2, A3, Jr, Jp, cp, Jq, cq)``: the whole body's moments (kg m2), the rotor's axial
+        moment, each damper's J (kg m2) and c (N m s).
     platform_spin : float or array_like
         The platform's spin w_p about e3, rad s-1.
     relative_spin : float or array_like

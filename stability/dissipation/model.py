@@ -82,7 +82,8 @@ def sphere_steady_spin(values, axis: int, spin: float) -> np.ndarray:
     Parameters
     ----------
     values : array_like
-        The scene's parameter set: ``(I1, I2, I3, J, c)`` for the sphere, ``(I1, I2, I3, mu, b, k, c)`` for the whips.
+        The scene's parameter set: ``(I1, I2, I3, J, c)`` for the sphere,
+        ``(I1, I2, I3, mu, b, k, c)`` for the whips.
     axis : int
         The spin's body axis, 0, 1 or 2.
     spin : float
@@ -100,7 +101,8 @@ def sphere_jacobian(values, axis: int, spin: float) -> np.ndarray:
     Parameters
     ----------
     values : array_like
-        The scene's parameter set: ``(I1, I2, I3, J, c)`` for the sphere, ``(I1, I2, I3, mu, b, k, c)`` for the whips.
+        The scene's parameter set: ``(I1, I2, I3, J, c)`` for the sphere,
+        ``(I1, I2, I3, mu, b, k, c)`` for the whips.
     axis : int
         The spin's body axis, 0, 1 or 2.
     spin : float
@@ -123,7 +125,8 @@ def sphere_eigenvalues(values, axis: int, spin: float) -> np.ndarray:
     Parameters
     ----------
     values : array_like
-        The scene's parameter set: ``(I1, I2, I3, J, c)`` for the sphere, ``(I1, I2, I3, mu, b, k, c)`` for the whips.
+        The scene's parameter set: ``(I1, I2, I3, J, c)`` for the sphere,
+        ``(I1, I2, I3, mu, b, k, c)`` for the whips.
     axis : int
         The spin's body axis, 0, 1 or 2.
     spin : float
@@ -171,7 +174,8 @@ def whip_steady_spin(values, axis: int, spin: float) -> np.ndarray:
     Parameters
     ----------
     values : array_like
-        The scene's parameter set: ``(I1, I2, I3, J, c)`` for the sphere, ``(I1, I2, I3, mu, b, k, c)`` for the whips.
+        The scene's parameter set: ``(I1, I2, I3, J, c)`` for the sphere,
+        ``(I1, I2, I3, mu, b, k, c)`` for the whips.
     axis : int
         The spin's body axis, 0, 1 or 2.
     spin : float
@@ -190,7 +194,8 @@ def whip_jacobian(values, axis: int, spin: float, step: float = 1e-30) -> np.nda
     Parameters
     ----------
     values : array_like
-        The scene's parameter set: ``(I1, I2, I3, J, c)`` for the sphere, ``(I1, I2, I3, mu, b, k, c)`` for the whips.
+        The scene's parameter set: ``(I1, I2, I3, J, c)`` for the sphere,
+        ``(I1, I2, I3, mu, b, k, c)`` for the whips.
     axis : int
         The spin's body axis, 0, 1 or 2.
     spin : float
@@ -215,7 +220,8 @@ def whip_eigenvalues(values, axis: int, spin: float) -> np.ndarray:
     Parameters
     ----------
     values : array_like
-        The scene's parameter set: ``(I1, I2, I3, J, c)`` for the sphere, ``(I1, I2, I3, mu, b, k, c)`` for the whips.
+        The scene's parameter set: ``(I1, I2, I3, J, c)`` for the sphere,
+        ``(I1, I2, I3, mu, b, k, c)`` for the whips.
     axis : int
         The spin's body axis, 0, 1 or 2.
     spin : float
