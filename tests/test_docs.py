@@ -438,3 +438,48 @@ def test_the_flip_and_the_toss_example_runs_as_a_script_and_measures_the_exact_i
     steps = np.diff(by_eps)[1:]  # each decade of epsilon adds the same time, near 0
     assert np.all(steps > 0) and np.ptp(steps) < 0.01 * steps.mean()
     assert list(tmp_path.iterdir()) == []
+
+
+#: The pages' Python blocks that another test runs as a script, or that need what CI lacks.
+BLOCKS_RUN_ELSEWHERE = {
+    ("docs/developers.md", 0): "the user's module of the next block",
+    ("docs/developers.md", 1): "test_the_dask_examples_run_as_scripts_in_a_fresh_folder",
+    ("docs/guide/dissipation.md", 0): "test_the_own_spinner_recipe_runs_as_a_script_...",
+}
+#: What a block reads, made first in its folder: the study run quick (its Dataset there).
+BLOCK_FILES = {("docs/dataset.md", 0): ("bat.toml", "bat.nc"),
+               ("docs/dataset.md", 1): ("tennis_racket.toml", "tennis_racket.nc")}
+
+
+def _doc_blocks():
+    pages = [*sorted((ROOT / "docs").glob("*.md")),
+             *sorted((ROOT / "docs" / "guide").glob("*.md"))]
+    for page in pages:
+        name = str(page.relative_to(ROOT))
+        for k, block in enumerate(re.findall(r"```python\n(.*?)```", page.read_text(), re.S)):
+            if (name, k) not in BLOCKS_RUN_ELSEWHERE:
+                yield pytest.param(name, k, block, id=f"{name}[{k}]")
+
+
+@pytest.mark.parametrize("page, k, block", list(_doc_blocks()))
+def test_every_python_block_of_the_docs_runs_as_a_script(tmp_path, page, k, block):
+    """Each Python block of the documentation's pages, copied as printed into a file and run
+    with ``python file.py`` in a fresh folder (the file it reads made first by the study that
+    writes it): the developer page's read a variable its run never kept, and two blocks were
+    fragments (``...`` for the arguments, ``body`` never defined)."""
+    if "stability.engine.gpu" in block:
+        pytest.importorskip("numba.cuda")
+        from numba import cuda
+        if not cuda.is_available():
+            pytest.skip("the GPU's block needs a CUDA GPU")
+    if (page, k) in BLOCK_FILES:
+        study, dataset = BLOCK_FILES[page, k]
+        done = subprocess.run(
+            [sys.executable, "-m", "stability", "run", str(ROOT / "studies" / study), "--quick",
+             "--out", str(tmp_path / "made"), "--no-progress", "--set", "output.figures=false"],
+            cwd=tmp_path, capture_output=True, text=True, timeout=600,
+            env={**os.environ, "PYTHONPATH": str(ROOT)})
+        assert done.returncode == 0, done.stderr[-2000:]
+        (tmp_path / "made" / dataset).rename(tmp_path / dataset)
+    (tmp_path / "example.py").write_text(block)
+    _run_as_script(tmp_path, "example.py")
