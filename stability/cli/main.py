@@ -27,6 +27,7 @@ import os
 import shlex
 import sys
 
+from ..core.body import RigidBody  # loaded with the package already: no start-up cost
 from ..util.numba_env import check_threads_variable
 
 EXIT_USAGE = 2
@@ -73,8 +74,6 @@ def _positive_float(text: str) -> float:
 
 def _animated() -> tuple:
     """What ``stability animate`` draws: the racket, the top, a preset, or a body by moments."""
-    from ..core.body import RigidBody
-
     return ("racket", "top", *RigidBody.presets(), "body")
 
 
@@ -322,7 +321,6 @@ def _one_line(exc: BaseException, command: str) -> str:
 
 
 def _cmd_animate(args) -> int:
-    from ..core.body import RigidBody
     from ..free_body.animation import animate_flip
     from ..heavy_top.animation import animate_top
 

@@ -17,6 +17,7 @@ from __future__ import annotations
 
 import ctypes
 import functools
+import gc
 from pathlib import Path
 
 import netCDF4
@@ -33,6 +34,7 @@ _L_TYPE_HARD, _L_TYPE_SOFT, _L_TYPE_EXTERNAL = 0, 1, 64
 _O_TYPE_DATASET = 1
 _O_INFO_BASIC = 1
 _D_VIRTUAL = 3
+_T_VLEN = 9
 #: Offsets in H5L_info2_t (type: int at 0; u.val_size: size_t at 24) and H5O_info2_t
 #: (type: int after fileno and the 16-byte token), for LP64 platforms.
 _LINK_TYPE, _LINK_VAL_SIZE, _OBJECT_TYPE = 0, 24, 24
@@ -52,6 +54,7 @@ def _library():
         "H5Fopen": (_hid, [ctypes.c_char_p, ctypes.c_uint, _hid]),
         "H5Fclose": (_herr, [_hid]),
         "H5Lvisit2": (_herr, [_hid, ctypes.c_int, ctypes.c_int, _VISIT, ctypes.c_void_p]),
+        "H5Lget_info2": (_herr, [_hid, ctypes.c_char_p, ctypes.c_void_p, _hid]),
         "H5Lget_val": (_herr, [_hid, ctypes.c_char_p, ctypes.c_void_p, ctypes.c_size_t, _hid]),
         "H5Lunpack_elink_val": (_herr, [ctypes.c_void_p, ctypes.c_size_t,
                                         ctypes.POINTER(ctypes.c_uint),
@@ -63,6 +66,10 @@ def _library():
         "H5Dclose": (_herr, [_hid]),
         "H5Dget_create_plist": (_hid, [_hid]),
         "H5Pclose": (_herr, [_hid]),
+        "H5Dget_type": (_hid, [_hid]),
+        "H5Tget_class": (ctypes.c_int, [_hid]),
+        "H5Tis_variable_str": (ctypes.c_int, [_hid]),
+        "H5Tclose": (_herr, [_hid]),
         "H5Pget_layout": (ctypes.c_int, [_hid]),
         "H5Pget_external_count": (ctypes.c_int, [_hid]),
         "H5Pget_external": (_herr, [_hid, ctypes.c_uint, ctypes.c_size_t, ctypes.c_char_p,
@@ -99,37 +106,52 @@ def outside(path) -> str:
         file_id = lib.H5Fopen(name, _F_ACC_RDONLY, _P_DEFAULT)
         if file_id < 0:
             raise DamagedHDF5("its superblock or root group cannot be read")
-        found: list[str] = []
         try:
-            visit = _VISIT(functools.partial(_visit, lib, found))
-            if lib.H5Lvisit2(file_id, _INDEX_NAME, _ITER_NATIVE, visit, None) < 0 and not found:
-                raise DamagedHDF5("its links cannot be read")
+            return _first_outside(lib, file_id)
         finally:
             lib.H5Fclose(file_id)
-    return found[0] if found else ""
 
 
-def _visit(lib, found: list, group: int, name: bytes, info: int, _data) -> int:
-    """``H5Lvisit2``'s callback: 1 (stop) once ``found`` names what reaches outside."""
+def _first_outside(lib, file_id: int) -> str:
+    """:func:`outside` of the open file ``file_id``. The links are listed first, the callback
+    only noting each (no HDF5 call from inside HDF5's iteration, and no garbage collection,
+    whose finalizers may close a netCDF file, which would enter HDF5 again), then looked at."""
+    links: list[tuple[bytes, int]] = []
+
+    def note(_group, link, info, _data):
+        links.append((link, ctypes.c_int.from_address(info + _LINK_TYPE).value))
+        return 0
+
+    visit = _VISIT(note)
+    collecting = gc.isenabled()
+    gc.disable()
     try:
-        where = "/" + name.decode("utf-8", "replace")
-        kind = ctypes.c_int.from_address(info + _LINK_TYPE).value
+        failed = lib.H5Lvisit2(file_id, _INDEX_NAME, _ITER_NATIVE, visit, None) < 0
+    finally:
+        if collecting:
+            gc.enable()
+    if failed:
+        raise DamagedHDF5("its links cannot be read")
+    for link, kind in links:
+        where = "/" + link.decode("utf-8", "replace")
         if kind == _L_TYPE_EXTERNAL:
-            found.append(f"holds an external link {where}{_target(lib, group, name, info)}")
-        elif kind not in (_L_TYPE_HARD, _L_TYPE_SOFT):
-            found.append(f"holds a user-defined link {where}")
-        elif kind == _L_TYPE_HARD:
-            problem = _dataset_problem(lib, group, name, where)
+            return f"holds an external link {where}{_target(lib, file_id, link)}"
+        if kind not in (_L_TYPE_HARD, _L_TYPE_SOFT):
+            return f"holds a user-defined link {where}"
+    for link, kind in links:
+        if kind == _L_TYPE_HARD:
+            problem = _dataset_problem(lib, file_id, link, "/" + link.decode("utf-8", "replace"))
             if problem:
-                found.append(problem)
-        return 1 if found else 0
-    except Exception:  # noqa: BLE001 - never let an exception cross the C callback
-        return -1
+                return problem
+    return ""
 
 
-def _target(lib, group: int, name: bytes, info: int) -> str:
+def _target(lib, group: int, name: bytes) -> str:
     """`` to 'file':object`` of an external link, or "" where it cannot be read."""
-    size = ctypes.c_size_t.from_address(info + _LINK_VAL_SIZE).value
+    info = ctypes.create_string_buffer(_INFO_BYTES)
+    if lib.H5Lget_info2(group, name, info, _P_DEFAULT) < 0:
+        return ""
+    size = ctypes.c_size_t.from_buffer(info, _LINK_VAL_SIZE).value
     if not 0 < size < 1 << 16:
         return ""
     buffer = ctypes.create_string_buffer(size)
@@ -139,6 +161,19 @@ def _target(lib, group: int, name: bytes, info: int) -> str:
         return ""
     return (f" to {(filename.value or b'').decode('utf-8', 'replace')!r}:"
             f"{(obj.value or b'').decode('utf-8', 'replace')}")
+
+
+def _variable_length(lib, dataset: int) -> bool:
+    """Whether the dataset holds variable-length data (netCDF strings): HDF5 keeps it in the
+    file's global heap, and copying such a dataset's creation properties (its fill value) while
+    the netCDF library has the same file open crashes the library."""
+    dtype = lib.H5Dget_type(dataset)
+    if dtype < 0:
+        return False
+    try:
+        return lib.H5Tget_class(dtype) == _T_VLEN or lib.H5Tis_variable_str(dtype) > 0
+    finally:
+        lib.H5Tclose(dtype)
 
 
 def _dataset_problem(lib, group: int, name: bytes, where: str) -> str:
@@ -152,6 +187,8 @@ def _dataset_problem(lib, group: int, name: bytes, where: str) -> str:
     if dataset < 0:
         raise DamagedHDF5(f"its variable {where} cannot be opened")
     try:
+        if _variable_length(lib, dataset):
+            return ""  # stored in the file's heap: never external, never virtual
         plist = lib.H5Dget_create_plist(dataset)
         try:
             if lib.H5Pget_external_count(plist) > 0:

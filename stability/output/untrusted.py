@@ -21,10 +21,8 @@ import os
 import stat
 from pathlib import Path
 
-import netCDF4
-import numpy as np
 import xarray as xr
-from xarray.backends.locks import HDF5_LOCK
+from xarray.backends import NetCDF4DataStore
 
 from ..ensemble.memory import DEFAULT_MAX_MEMORY, memory_problem
 from .hdf5_links import DamagedHDF5, outside
@@ -110,21 +108,37 @@ def declared_bytes(path, indexes_only: bool = False, drop=()) -> int:
     ValueError
         If ``path`` is not a netCDF file (one line naming it).
     """
+    with _store(path) as store:
+        return _declared(store, indexes_only, drop)
+
+
+@contextlib.contextmanager
+def _store(path):
+    """xarray's netCDF4 store of ``path``, open for the ``with`` block; an error while
+    opening names the file. One handle serves a whole read: a netCDF handle of the file
+    opened and closed beside another one open on it left the netCDF library (4.10 with HDF5
+    2.2) to crash at the next open."""
     try:
-        with HDF5_LOCK, netCDF4.Dataset(path, "r") as nc:  # xarray's lock: HDF5 is not
-            # thread-safe, and a Dataset may be written in another thread meanwhile
-            total = 0
-            for name, var in nc.variables.items():
-                if name in drop or (indexes_only and var.dimensions != (name,)):
-                    continue
-                dtype = var.dtype
-                size = STRING_BYTES if not isinstance(dtype, np.dtype) else dtype.itemsize
-                total += size * math.prod(var.shape)
-            return total
+        store = NetCDF4DataStore.open(str(path), mode="r")
     except PermissionError:
         raise
     except (OSError, RuntimeError, ValueError) as exc:  # "Unknown file format", HDF error ...
         raise not_netcdf(path, exc) from None
+    try:
+        yield store
+    finally:
+        store.close()
+
+
+def _declared(store, indexes_only: bool = False, drop=()) -> int:
+    """:func:`declared_bytes` of an open store."""
+    total = 0
+    for name, var in store.get_variables().items():
+        if name in drop or (indexes_only and var.dims != (name,)):
+            continue
+        size = STRING_BYTES if var.dtype.kind in "OSU" else var.dtype.itemsize
+        total += size * math.prod(var.shape)
+    return total
 
 
 def lazy_file(path, drop=(), max_memory: float = DEFAULT_MAX_MEMORY) -> Path:
@@ -145,14 +159,18 @@ def opened(path, **kwargs):
     """``xr.open_dataset(path, **kwargs)`` of a :func:`checked_file`, lazily, closed at the
     end of the ``with`` block; an error while opening names the file."""
     path = checked_file(path)
+    with _store(path) as store:
+        with _dataset(path, store, kwargs) as ds:
+            yield ds
+
+
+def _dataset(path, store, kwargs) -> xr.Dataset:
+    """The Dataset of an open store, as ``xr.open_dataset(path, **kwargs)`` opens it."""
+    options = {k: v for k, v in kwargs.items() if k != "engine"}  # the store is the engine
     try:
-        ds = xr.open_dataset(path, **kwargs)
-    except PermissionError:
-        raise
-    except (OSError, RuntimeError, ValueError) as exc:  # netCDF4's "Unknown file format", ...
+        return xr.open_dataset(store, **options)
+    except (OSError, RuntimeError, ValueError) as exc:
         raise not_netcdf(path, exc) from None
-    with ds:
-        yield ds
 
 
 def read_dataset(path, max_memory: float = DEFAULT_MAX_MEMORY, **kwargs) -> xr.Dataset:
@@ -168,24 +186,25 @@ def read_dataset(path, max_memory: float = DEFAULT_MAX_MEMORY, **kwargs) -> xr.D
         memory than ``max_memory`` (or the machine's memory), not netCDF, or damaged.
     """
     path = checked_file(path)
-    problem = memory_problem(
-        declared_bytes(path), f"the variables of {path}",
-        "open it lazily instead, a variable at a time (xarray.open_dataset(path, "
-        "engine='netcdf4'); a stored run's folder: stability.output.store.open_store), or "
-        "raise max_memory", max_memory, holder="a file read into memory")
-    if problem is not None:
-        raise ValueError(problem)
-    with opened(path, **kwargs) as ds:
-        for name, var in ds.variables.items():
-            try:
-                var.load()
-            except MemoryError:
-                raise
-            except (OSError, RuntimeError, ValueError) as exc:  # "NetCDF: HDF error" ...
-                raise ValueError(
-                    f"{path} is damaged: its variable {name!r} cannot be read "
-                    f"({first_line(exc)}); write it again, or use an intact copy") from None
-        return ds.load()
+    with _store(path) as store:
+        problem = memory_problem(
+            _declared(store), f"the variables of {path}",
+            "open it lazily instead, a variable at a time (xarray.open_dataset(path, "
+            "engine='netcdf4'); a stored run's folder: stability.output.store.open_store), or "
+            "raise max_memory", max_memory, holder="a file read into memory")
+        if problem is not None:
+            raise ValueError(problem)
+        with _dataset(path, store, kwargs) as ds:
+            for name, var in ds.variables.items():
+                try:
+                    var.load()
+                except MemoryError:
+                    raise
+                except (OSError, RuntimeError, ValueError) as exc:  # "NetCDF: HDF error" ...
+                    raise ValueError(
+                        f"{path} is damaged: its variable {name!r} cannot be read "
+                        f"({first_line(exc)}); write it again, or use an intact copy") from None
+            return ds.load()
 
 
 def not_netcdf(path, exc: BaseException) -> ValueError:
