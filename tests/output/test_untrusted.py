@@ -29,8 +29,6 @@ from stability.ensemble.chunks import summed_attrs
 from stability.free_body.stability_map.measure import read_batch
 from stability.output.store import ChunkStore, open_store
 
-ROOT = Path(__file__).resolve().parents[2]
-
 
 def small_dataset(members=4) -> xr.Dataset:
     return xr.Dataset({"w": (("member", "axis"), np.arange(3.0 * members).reshape(members, 3))},
