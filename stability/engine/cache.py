@@ -44,6 +44,7 @@ import logging
 import os
 import pickle
 import secrets
+import stat
 import sys
 import tempfile
 import time
@@ -143,9 +144,7 @@ class Place:
             except FileNotFoundError:
                 continue
             why = self.rule.problem(st)
-            if why is None and path != machine_code and st.st_nlink != 1:
-                why = f"has {st.st_nlink} hard links"
-            if why is None and path == machine_code and not os.path.isdir(path):
+            if why is None and path == machine_code and not stat.S_ISDIR(st.st_mode):
                 why = "is not a folder"
             if why is not None:
                 return f"{path} {why}"
@@ -259,13 +258,21 @@ def _rendered(path: Path, text: bytes, rule: TrustRule) -> Path:
 
 
 def _write_new(path: Path, data: bytes) -> None:
-    """``data`` as the file ``path``: written to a new temporary file beside it (created
-    exclusively, mode 0644, never through a link), then renamed over it."""
+    """``data`` as the file ``path`` (:func:`_new_file`)."""
+    with _new_file(path) as f:
+        f.write(data)
+
+
+@contextlib.contextmanager
+def _new_file(path: Path):
+    """A file to write ``path`` through: a new temporary file beside it (created exclusively,
+    mode 0644, never through a link), renamed over ``path`` once the block ends, and removed
+    if it fails."""
     tmp = path.with_name(f".{path.name}.{secrets.token_hex(6)}.tmp")
     fd = os.open(tmp, os.O_WRONLY | os.O_CREAT | os.O_EXCL | open_flags(), 0o644)
     try:
         with os.fdopen(fd, "wb") as f:
-            f.write(data)
+            yield f
         os.replace(tmp, path)
     except BaseException:
         tmp.unlink(missing_ok=True)
@@ -350,18 +357,8 @@ class _LoopCacheFile(IndexDataCacheFile):
         except Exception as exc:
             raise _DamagedEntry(self._data_path(name)) from exc
 
-    @contextlib.contextmanager
     def _open_for_write(self, filepath):
-        tmp = f"{filepath}.tmp.{secrets.token_hex(8)}"
-        fd = os.open(tmp, os.O_WRONLY | os.O_CREAT | os.O_EXCL | open_flags(), 0o644)
-        try:
-            with os.fdopen(fd, "wb") as f:
-                yield f
-            os.replace(tmp, filepath)
-        except BaseException:
-            with contextlib.suppress(OSError):
-                os.unlink(tmp)
-            raise
+        return _new_file(Path(filepath))
 
 
 class LoopCache(FunctionCache):
@@ -479,7 +476,7 @@ class _CompileLock:
         else:
             return None
         st = os.fstat(fd)
-        if TrustRule.from_environment().problem(st) is not None or st.st_nlink != 1:
+        if TrustRule.from_environment().problem(st) is not None:
             os.close(fd)
             return None
         return fd

@@ -68,7 +68,8 @@ class TrustRule:
         return cls(frozenset({os.getuid(), 0}))
 
     def problem(self, st: os.stat_result) -> str | None:
-        """Why a file or folder of status ``st`` (``lstat``'s) is not trusted, or None."""
+        """Why a file or folder of status ``st`` (``lstat``'s or ``fstat``'s) is not trusted,
+        or None; a regular file must also have one name (no hard link to it elsewhere)."""
         mode = st.st_mode
         if stat.S_ISLNK(mode):
             return "is a symbolic link"
@@ -82,6 +83,8 @@ class TrustRule:
             return "is writable by every user"
         if mode & stat.S_IWGRP and not by_group:
             return f"is writable by its group {_group(st.st_gid)}"
+        if stat.S_ISREG(mode) and st.st_nlink != 1:  # a second name of a file elsewhere
+            return f"has {st.st_nlink} hard links"
         return None
 
 
@@ -124,10 +127,7 @@ def read_trusted(path: Path, rule: TrustRule) -> bytes:
             raise UntrustedPath(f"{path} is a symbolic link") from None
         raise
     try:
-        st = os.fstat(fd)
-        why = rule.problem(st)
-        if why is None and st.st_nlink != 1:
-            why = f"has {st.st_nlink} hard links"
+        why = rule.problem(os.fstat(fd))
         if why is not None:
             raise UntrustedPath(f"{path} {why}")
         chunks = []
