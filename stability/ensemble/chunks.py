@@ -341,12 +341,13 @@ def propagate_stored(run: GroupedRun, store=None, *, measure=None, resume=False,
                     **({"measurement": type(measure).__qualname__} if measure is not None
                        else {}),
                     "software": f"stability {__version__}"}
-    if scheduler is not None:
-        sendable(ChunkJob(run, measure))  # before the store is made: a scene in __main__
+    job = ChunkJob(run, measure)
+    # pickled before the store is made (a scene in __main__ is refused first), and only once
+    payload = sendable(job) if scheduler is not None else None
     chunks = ChunkStore(store, identity, n, chunk_members, resume=resume)
     try:
-        streamed = stream_chunks(ChunkJob(run, measure), chunks, scheduler=scheduler,
-                                 threads=threads, progress=progress,
+        streamed = stream_chunks(job, chunks, scheduler=scheduler, threads=threads,
+                                 progress=progress, payload=payload,
                                  compress=measure is not None if compress is None else compress)
         if measure is not None:
             if not streamed.todo and read_manifest(chunks.dir)["complete"]:

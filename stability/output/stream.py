@@ -60,7 +60,7 @@ class Streamed(NamedTuple):
 
 
 def stream_chunks(job, chunks: ChunkStore, *, scheduler=None, threads=None, progress=None,
-                  compress=True) -> Streamed:
+                  compress=True, payload: bytes | None = None) -> Streamed:
     """Run the chunks of ``chunks`` that are not done with ``job``.
 
     Parameters
@@ -72,6 +72,9 @@ def stream_chunks(job, chunks: ChunkStore, *, scheduler=None, threads=None, prog
         The store; each finished chunk is written into it at once.
     scheduler, threads, progress, compress
         As in :func:`stability.free_body.streamed.run_streamed`.
+    payload : bytes, optional
+        ``job`` already pickled by :func:`sendable` (a caller that checked it so before making
+        the store), so that it is not pickled again for the scheduler.
 
     Returns
     -------
@@ -89,7 +92,7 @@ def stream_chunks(job, chunks: ChunkStore, *, scheduler=None, threads=None, prog
         if scheduler is None:
             elapsed = _run_here(job, chunks, todo, threads, progress, compress)
         else:
-            elapsed = _run_on_dask(job, chunks, todo, scheduler, progress, compress)
+            elapsed = _run_on_dask(job, chunks, todo, scheduler, progress, compress, payload)
     return Streamed(todo, elapsed)
 
 
@@ -147,7 +150,7 @@ def run_chunk(job, directory, k: int, lo: int, hi: int, compress: bool,
     return k
 
 
-def _run_on_dask(job, chunks, todo, scheduler, progress, compress) -> float:
+def _run_on_dask(job, chunks, todo, scheduler, progress, compress, payload=None) -> float:
     """The missing chunks as tasks of a dask.distributed cluster; the seconds from their
     submission to the last one's end."""
     try:
@@ -155,7 +158,7 @@ def _run_on_dask(job, chunks, todo, scheduler, progress, compress) -> float:
     except ImportError:
         raise ValueError("scheduler needs dask.distributed: pip install 'stability[distributed]'"
                          ) from None
-    payload = sendable(job)  # before a cluster is started
+    payload = payload or sendable(job)  # before a cluster is started
     cluster = None
     own = True
     if hasattr(scheduler, "submit"):  # a distributed.Client the caller made
