@@ -13,6 +13,10 @@ import ast
 import sys
 
 
+#: What to do, said by each refusal.
+_GUARD = 'put the code that runs it under `if __name__ == "__main__":`'
+
+
 def unguarded_script() -> str | None:
     """Why a local cluster started now would run the user's script again, or None.
 
@@ -22,14 +26,16 @@ def unguarded_script() -> str | None:
     functions it calls. A notebook, ``python -c`` or ``python -m package`` (the command line
     ``stability``) is never in the way.
     """
+    modules = []  # the frames running a module's top level, innermost first
     frame = sys._getframe(1)
-    while frame is not None:  # the script run again by multiprocessing, as __mp_main__
-        if frame.f_code.co_name == "<module>" and frame.f_globals.get(
-                "__name__") == "__mp_main__":
-            return (f"this process is a worker importing the script {frame.f_code.co_filename} "
-                    "again, and reached its run: put the code that runs it under "
-                    "`if __name__ == \"__main__\":`")
+    while frame is not None:
+        if frame.f_code.co_name == "<module>":
+            modules.append(frame)
         frame = frame.f_back
+    for frame in modules:  # the script run again by multiprocessing, as __mp_main__
+        if frame.f_globals.get("__name__") == "__mp_main__":
+            return (f"this process is a worker importing the script {frame.f_code.co_filename} "
+                    f"again, and reached its run: {_GUARD}")
     main = sys.modules.get("__main__")
     script = getattr(main, "__file__", None)
     if not isinstance(script, str) or not script.endswith(".py"):
@@ -37,24 +43,19 @@ def unguarded_script() -> str | None:
     spec = getattr(main, "__spec__", None)
     if spec is not None and (spec.name == "__main__" or spec.name.endswith(".__main__")):
         return None  # python -m package: multiprocessing never runs a package's __main__ again
-    frame, top = sys._getframe(1), None
-    while frame is not None:  # the script's own top-level frame: the statement it runs now
-        if frame.f_globals is main.__dict__ and frame.f_code.co_name == "<module>":
-            top = frame
-        frame = frame.f_back
-    if top is None:
+    top = next((f for f in reversed(modules) if f.f_globals is main.__dict__), None)
+    if top is None:  # the statement the script runs now
         return None
-    frame = top
     try:
         with open(script, "rb") as f:
             tree = ast.parse(f.read(), script)
     except (OSError, SyntaxError, ValueError):
         return None
-    if _guarded(tree, frame.f_lineno):
+    if _guarded(tree, top.f_lineno):
         return None
     return (f"the worker processes of a local dask cluster import the script {script} again, "
-            f"so its top-level code (line {frame.f_lineno}) would start this run again in each: "
-            "put the code that runs it under `if __name__ == \"__main__\":`")
+            f"so its top-level code (line {top.f_lineno}) would start this run again in each: "
+            f"{_GUARD}")
 
 
 def _guarded(tree: ast.Module, line: int) -> bool:
