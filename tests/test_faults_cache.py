@@ -35,9 +35,11 @@ NOBODY = 65534
 EXPECTED = [0.95 ** 10] * 3
 
 
-def start(work, cache, *, umask=None, prefix=(), home=None):
-    """The decay loop's script in a new process on the cache folder ``cache``."""
-    env = {**os.environ, "STABILITY_CACHE_DIR": str(cache), "PYTHONPATH": str(ROOT)}
+def start(work, cache, *, umask=None, prefix=(), home=None, env=None):
+    """The decay loop's script in a new process on the cache folder ``cache`` (``env``: more
+    environment variables)."""
+    env = {**os.environ, **(env or {}), "STABILITY_CACHE_DIR": str(cache),
+           "PYTHONPATH": str(ROOT)}
     env.pop("XDG_CACHE_HOME", None)
     if home is not None:
         env["HOME"] = str(home)
@@ -367,22 +369,14 @@ def test_a_group_or_an_owner_named_by_the_user_is_trusted_with_a_shared_cache(wo
         give_to_nobody(path)
     result, err = run(work, cache, home=seeded_home(warm, tmp_path))
     assert len(err) == 1 and "belongs to user nobody" in err[0], err
-    os.environ["STABILITY_CACHE_OWNER"] = "nobody"
-    try:
-        result, err = run(work, cache)
-    finally:
-        del os.environ["STABILITY_CACHE_OWNER"]
+    result, err = run(work, cache, env={"STABILITY_CACHE_OWNER": "nobody"})
     assert (result["misses"], result["hits"], err) == (0, 1, [])
 
     shared = copy_of(warm, tmp_path / "group")
     for path in [shared, *shared.rglob("*")]:
         os.chown(path, os.getuid(), 0)
         path.chmod(path.stat().st_mode | 0o020)
-    os.environ["STABILITY_CACHE_GROUP"] = "0"
-    try:
-        result, err = run(work, shared)
-    finally:
-        del os.environ["STABILITY_CACHE_GROUP"]
+    result, err = run(work, shared, env={"STABILITY_CACHE_GROUP": "0"})
     assert (result["misses"], result["hits"], err) == (0, 1, [])
 
 
