@@ -10,6 +10,7 @@ copy the first cache, and only those that must compile again do (about 10 s each
 import contextlib
 import fcntl
 import json
+import logging
 import os
 import pickle
 import pwd
@@ -383,8 +384,10 @@ def test_a_group_or_an_owner_named_by_the_user_is_trusted_with_a_shared_cache(wo
 def test_a_rendered_loop_swapped_after_its_check_is_not_what_runs(tmp_path, monkeypatch,
                                                                   caplog):
     """Another process replaces the rendered file again and again while loops are loaded: the
-    module run is always the one rendered. The file was read twice (checked, then imported),
-    and about 5 % of loads ran the planted one."""
+    module run is always the one rendered. Loads go on until 30 of them have met the planted
+    file at their check (each is a warning, and the file written again), so the race is run
+    however the threads are scheduled. The file was read twice (checked, then imported), and
+    15 of 1,000 loads ran the planted one."""
     from stability.engine import cache as loop_cache
     from stability.engine.sources import digest
 
@@ -404,16 +407,20 @@ def test_a_rendered_loop_swapped_after_its_check_is_not_what_runs(tmp_path, monk
                 swaps[0] += 1
 
     swapper = threading.Thread(target=swap, daemon=True)
-    swapper.start()
-    try:
-        seen = set()
-        for _ in range(300):
-            sys.modules.pop(name)
-            seen.add(loop_cache.load_module("race", source, ()).WHO)
-    finally:
-        stop.set()
-        swapper.join()
-    assert swaps[0] > 100
+    seen, loads = set(), 0
+    with caplog.at_level(logging.WARNING, logger="stability.engine.cache"):
+        swapper.start()
+        try:
+            while len(caplog.records) < 30 and loads < 20_000:
+                sys.modules.pop(name)
+                seen.add(loop_cache.load_module("race", source, ()).WHO)
+                loads += 1
+        finally:
+            stop.set()
+            swapper.join()
+    met = [r for r in caplog.records
+           if "discarded the damaged compiled-loop file" in r.getMessage()]
+    assert len(met) == len(caplog.records) >= 30, (loads, swaps[0])
     assert seen == {"rendered"}
 
 
