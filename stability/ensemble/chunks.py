@@ -280,11 +280,14 @@ def propagate_stored(run: GroupedRun, store=None, *, measure=None, resume=False,
         missing). Without it the run is :func:`propagate_groups` in this process.
     measure : callable, optional
         The measurement each chunk is kept as (:class:`ChunkJob`); the result is then the
-        measured Dataset. It may also have ``identity(run) -> dict``, what makes the run what it
-        is for the store's fingerprint (default: the run's :meth:`GroupedRun.identity` and the
+        measured Dataset. It may also have ``combine(paths, members) -> (Dataset, chunk
+        attributes)``, the whole run in memory from its chunk files (:func:`measured_whole`);
+        ``identity(run) ->
+        dict``, what makes the run what it is for the store's fingerprint (default: the run's :meth:`GroupedRun.identity` and the
         measurement's class), and ``whole_attrs(chunks, todo, elapsed) -> dict``, the
         attributes of the whole Dataset from the store, the chunks this call ran and the
-        seconds they took (default :func:`summed_attrs`).
+        seconds they took (keyword ``chunk_attrs``: the chunks' attributes where they were
+        read; default :func:`summed_attrs`).
     resume : bool, default False
         Finish a run of the same members stopped earlier (only the missing chunks run).
     scheduler : str or distributed.Client, optional
@@ -350,12 +353,8 @@ def propagate_stored(run: GroupedRun, store=None, *, measure=None, resume=False,
                                  progress=progress, payload=payload,
                                  compress=measure is not None if compress is None else compress)
         if measure is not None:
-            if not streamed.todo and read_manifest(chunks.dir)["complete"]:
-                return small_loaded(chunks.open())  # finished before: its attributes then
-            whole = getattr(measure, "whole_attrs", None)
-            chunks.complete(whole(chunks, *streamed) if whole is not None
-                            else summed_attrs(chunks, streamed.elapsed))
-            return small_loaded(chunks.open())
+            finished_before = not streamed.todo and read_manifest(chunks.dir)["complete"]
+            return measured_whole(measure, chunks, None if finished_before else streamed)
         parts = []
         for k in range(chunks.n_chunks):
             # the run's own memory check came first: a chunk is held to the machine's
@@ -364,6 +363,31 @@ def propagate_stored(run: GroupedRun, store=None, *, measure=None, resume=False,
     finally:
         chunks.close()
     return _propagation(run, parts)
+
+
+def measured_whole(measure, chunks: ChunkStore, streamed=None) -> xr.Dataset:
+    """The Dataset of a measured store whose chunks are all done, its whole attributes
+    recorded (the measurement's ``whole_attrs``, else :func:`summed_attrs`) unless a call
+    before finished it (``streamed`` None: its attributes then).
+
+    With the measurement's own ``combine(paths, members) -> (Dataset, chunk attributes)`` (a
+    measurement that keeps summaries and a sample, :mod:`stability.ensemble.combine`), the
+    chunks joined in memory, each file read once; else the Dataset over the chunk files
+    (:func:`small_loaded`)."""
+    combine = getattr(measure, "combine", None)
+    ds = chunk_attrs = None
+    if combine is not None:
+        ds, chunk_attrs = combine([chunks.path(k) for k in range(chunks.n_chunks)],
+                                  chunks.members)
+    if streamed is not None:
+        whole = getattr(measure, "whole_attrs", None)
+        read = {} if chunk_attrs is None else {"chunk_attrs": chunk_attrs}
+        chunks.complete(whole(chunks, *streamed, **read) if whole is not None
+                        else summed_attrs(chunks, streamed.elapsed, chunk_attrs))
+    if ds is None:
+        return small_loaded(chunks.open())
+    ds.attrs = dict(read_manifest(chunks.dir)["attrs"])
+    return ds
 
 
 def _in_chunks(run: GroupedRun, chunk_members, progress, partial) -> Propagation:
@@ -426,22 +450,29 @@ def small_loaded(ds: xr.Dataset) -> xr.Dataset:
     return ds
 
 
-def summed_attrs(chunks: ChunkStore, elapsed: float) -> dict:
+def summed_attrs(chunks: ChunkStore, elapsed: float, chunk_attrs=None) -> dict:
     """The attributes of a whole stored run from its chunks': the first chunk's, with
     ``wall_time`` the ``elapsed`` seconds of the call that finished it, ``chunk_time`` the
     chunks' own ``wall_time`` summed over every chunk (more than the elapsed time where chunks
-    ran side by side) and ``compile_time`` summed too."""
-    wall = compile_time = 0.0
+    ran side by side), ``compile_time`` summed too, and ``measure_time`` (the seconds each
+    chunk's measurement took where it ran) where the chunks record it. ``chunk_attrs``: the
+    chunks' attributes in order, when they were read already (else they are read here)."""
+    wall = compile_time = measure_time = 0.0
     first = None
     for k in range(chunks.n_chunks):
-        with opened(chunks.path(k), **READ) as ds:
-            attrs = dict(ds.attrs)
+        if chunk_attrs is not None:
+            attrs = chunk_attrs[k]
+        else:
+            with opened(chunks.path(k), **READ) as ds:
+                attrs = dict(ds.attrs)
         wall += float(attrs.get("wall_time", 0.0))
         compile_time += float(attrs.get("compile_time", 0.0))
+        measure_time += float(attrs.get("measure_time", 0.0))
         if first is None:
             first = attrs
     return {**first, "wall_time": float(elapsed), "chunk_time": wall,
-            "compile_time": compile_time}
+            "compile_time": compile_time,
+            **({"measure_time": measure_time} if "measure_time" in first else {})}
 
 
 def default_chunk_members(members: int, member_steps: float) -> int:

@@ -8,6 +8,8 @@ elsewhere imports these constants instead of spelling the strings again.
 # Dimensions.
 MEMBER = "member"
 TIME = "time"
+#: Dimension of the members whose time series a measured ensemble keeps (its series sample).
+SERIES_MEMBER = "series_member"
 AXIS = "axis"
 QUATERNION = "quaternion_component"
 
