@@ -223,6 +223,9 @@ class CanonicalGroups:
                          zip(self.frames, np.broadcast_to(track_axes, (n_groups,)))])
 
     def _each(self, x, convert) -> np.ndarray:
+        if len(self.frames) == 1:  # one group: converted at once, without a second copy
+            perm, signs = self.frames[0]
+            return convert(x, perm, signs)
         out = np.empty_like(x)
         bounds = self.bounds
         for g, (perm, signs) in enumerate(self.frames):

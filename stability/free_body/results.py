@@ -123,6 +123,9 @@ class RunPart:
     mine: slice
     steps_done: int
     share: float = 1.0
+    #: ``(perm, signs)`` when the saved states are still in that canonical frame
+    #: (:func:`stability.core.body.canonical_frame`): converted as they are copied into ``w``.
+    frame: tuple | None = None
 
 
 def finish_run(plan, parts, done, steps_done, interrupted) -> MemberRun:
@@ -158,7 +161,13 @@ def finish_run(plan, parts, done, steps_done, interrupted) -> MemberRun:
         if w_all is not None:
             w = w_all[mine]
             w[:, 0] = w0[mine]
-            np.divide(prop.saved[rows, : n_kept_time - 1, :3], moments, out=w[:, 1:])
+            saved = prop.saved[rows, : n_kept_time - 1, :3]
+            if part.frame is None:
+                np.divide(saved, moments, out=w[:, 1:])
+            else:  # one pass: from the canonical frame (from_canonical) and divided
+                perm, signs = part.frame
+                _canonical_to_w(saved, np.asarray(perm, dtype=np.int64),
+                                np.asarray(signs, dtype=float), moments, w[:, 1:])
             w[bad] = np.nan
         if q_all is not None:
             q = q_all[mine]
@@ -181,6 +190,17 @@ def finish_run(plan, parts, done, steps_done, interrupted) -> MemberRun:
         wall_time=wall,
         compile_time=compile_time,
     )
+
+
+@numba.njit(cache=True, parallel=True)
+def _canonical_to_w(m, perm, signs, moments, out):
+    """``out[..., perm[i]] = (m[..., i] signs[i]) / moments[perm[i]]``: canonical m to
+    body-frame w, the operations of :func:`stability.core.body.from_canonical` and the
+    division, in the same order (bitwise the same numbers)."""
+    for j in numba.prange(m.shape[0]):
+        for k in range(m.shape[1]):
+            for i in range(3):
+                out[j, k, perm[i]] = (m[j, k, i] * signs[i]) / moments[perm[i]]
 
 
 def _member_status(loop_status, fail_step, m, w0, moments, h, tolerance, steps_done,

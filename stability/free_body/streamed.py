@@ -19,7 +19,7 @@ from .results import RunPart, finish_run, members_dataset
 __all__ = ["run_streamed", "EnsembleChunks"]
 
 def run_streamed(kwargs: dict, store, *, resume=False, scheduler=None, threads=None,
-                 progress=None, compress=True):
+                 progress=None, compress=True, measurement=None):
     """Run the ensemble ``run_ensemble(**kwargs)`` chunk by chunk into the folder ``store``.
 
     Returns the Dataset over the chunk files, its time series dask arrays. See :func:`stability.run_ensemble`
@@ -48,12 +48,17 @@ def run_streamed(kwargs: dict, store, *, resume=False, scheduler=None, threads=N
         ``False`` shows none.
     compress : bool, default True
         zlib-compress the chunk files (:func:`stability.output.io.save`).
+    measurement : callable, optional
+        ``measurement(kwargs, plan) -> EnsembleChunks``: a study's own measurement of each
+        chunk (a subclass of :class:`EnsembleChunks`; the tennis-racket study's keeps summaries
+        and a sample, and combines its chunks in memory). Default :class:`EnsembleChunks`.
 
     Returns
     -------
     xarray.Dataset
         The whole run over the chunk files: the time series dask arrays, the summaries
-        loaded (:func:`~stability.ensemble.chunks.small_loaded`).
+        loaded (:func:`~stability.ensemble.chunks.small_loaded`); or the measurement's
+        ``combine`` of them, in memory.
 
     Raises
     ------
@@ -68,7 +73,7 @@ def run_streamed(kwargs: dict, store, *, resume=False, scheduler=None, threads=N
     kwargs = dict(kwargs)
     plan = plan_ensemble(**kwargs, defer_starts=True)
     kwargs["chunk_members"] = plan.chunk_members
-    ensemble = EnsembleChunks(kwargs, plan)
+    ensemble = (measurement or EnsembleChunks)(kwargs, plan)
     return propagate_stored(ensemble.grouped_run(), store, measure=ensemble, resume=resume,
                             scheduler=scheduler, chunk_members=plan.chunk_members,
                             threads=threads, progress=progress, compress=compress)
@@ -135,17 +140,23 @@ class EnsembleChunks:
 
     def __call__(self, part, run, lo: int, hi: int, threads):
         """The measurement: the Dataset of members lo to hi - 1 from their propagation."""
+        sub, measured = self.member_run(run, lo, hi)
+        return numbered(members_dataset(sub, measured, threads), lo)
+
+    def member_run(self, run, lo: int, hi: int):
+        """The plan of members lo to hi - 1 and their :class:`~stability.free_body.results.MemberRun`
+        (status, summaries and time series in the body frame) from their propagation."""
         sub = self._drawn.pop((lo, hi), None) or chunk_plan(self.plan, lo, hi)
         n = hi - lo
         groups = self._groups(n)
         run.x_final = groups.from_canonical_state(run.x_final)
-        run.saved = groups.from_canonical_state(run.saved)
-        part = RunPart(run, slice(0, n), slice(0, n), int(run.steps_done[0]))
-        measured = finish_run(sub, [part], n, sub.n_steps, False)
-        ds = members_dataset(sub, measured, threads)
-        member = ds[cv.MEMBER]
-        return ds.assign_coords({cv.MEMBER: (cv.MEMBER, np.arange(lo, lo + member.size),
-                                             member.attrs)})
+        frame = None
+        if sub.attitude:
+            run.saved = groups.from_canonical_state(run.saved)
+        else:  # w alone: converted out of the canonical frame as it is copied (one pass)
+            frame = groups.frames[0]
+        part = RunPart(run, slice(0, n), slice(0, n), int(run.steps_done[0]), frame=frame)
+        return sub, finish_run(sub, [part], n, sub.n_steps, False)
 
     def identity(self, run) -> dict:
         """What decides the members' numbers, for the store's fingerprint (not the caller's
@@ -153,9 +164,10 @@ class EnsembleChunks:
         return {"run_ensemble": {k: v for k, v in self.plan.resolved.items() if k != "threads"},
                 "software": f"stability {__version__}"}
 
-    def whole_attrs(self, chunks: ChunkStore, todo, elapsed) -> dict:
-        """The whole Dataset's attributes, with a ``history`` line for this call."""
-        attrs = _whole_attrs(chunks, todo, elapsed)
+    def whole_attrs(self, chunks: ChunkStore, todo, elapsed, chunk_attrs=None) -> dict:
+        """The whole Dataset's attributes, with a ``history`` line for this call
+        (``chunk_attrs``: the chunks' own, where they were read)."""
+        attrs = _whole_attrs(chunks, todo, elapsed, chunk_attrs)
         progress = read_progress(chunks.dir) or {}
         attrs["history"] = attrs.get("history", "") + "\n" + history_line(
             f"streamed to {chunks.dir}: {chunks.n_chunks} chunks of {chunks.chunk_members} "
@@ -170,10 +182,17 @@ class EnsembleChunks:
                                np.array([plan.h]))
 
 
-def _whole_attrs(chunks: ChunkStore, todo, elapsed) -> dict:
+def numbered(ds, lo: int):
+    """A chunk's Dataset with its members numbered from ``lo``."""
+    member = ds[cv.MEMBER]
+    return ds.assign_coords({cv.MEMBER: (cv.MEMBER, np.arange(lo, lo + member.size),
+                                         member.attrs)})
+
+
+def _whole_attrs(chunks: ChunkStore, todo, elapsed, chunk_attrs=None) -> dict:
     """The attributes of the whole run from those of its chunks (:func:`summed_attrs`), its
     rate that of the chunks ``todo`` this call ran in ``elapsed`` seconds."""
-    attrs = summed_attrs(chunks, elapsed)
+    attrs = summed_attrs(chunks, elapsed, chunk_attrs)
     n = chunks.members
     ran = sum(hi - lo for lo, hi in map(chunks.bounds, todo))
     title = attrs.get("title", "")
