@@ -32,8 +32,9 @@ from .untrusted import read_dataset
 from ..ensemble.memory import DEFAULT_MAX_MEMORY
 from ..ensemble.schema import file_order, held_order
 
-#: zlib compression level (1 fastest ... 9 smallest); 4 is near the knee of size against time.
-COMPLEVEL = 4
+#: zlib compression level (1 fastest ... 9 smallest), with the shuffle filter: on the summaries of
+#: a million-member ensemble (260 MB) level 1 writes 72 MB/s into 144 MB, level 4 51 MB/s into 142.
+COMPLEVEL = 1
 
 #: Target size of one netCDF chunk in bytes (a chunk holds whole members).
 CHUNK_BYTES = 4 * 2**20
