@@ -94,6 +94,15 @@ CLI = {
         [], ["[long] samples", "keep fewer samples"]),
     "time series too large": ('study = "tennis_racket"\n[ensemble]\nmembers = 1000000000000\n',
                               [], ["would take", "TiB", "save_every"]),
+    "series sample named by a word other than all": (
+        'study = "tennis_racket"\n[output]\nseries_members = "some"\n', [],
+        ["[output] series_members", "'all'", "'some'"]),
+    "negative series sample": ('study = "tennis_racket"\n[output]\nseries_members = -1\n', [],
+                               ["[output] series_members", ">= 0", "-1"]),
+    "series of every member of a huge ensemble": (
+        'study = "tennis_racket"\n[ensemble]\nmembers = 100000000\n'
+        '[output]\nseries_members = "all"\n', [],
+        ["the series of 100000000 of them", "fewer [output] series_members"]),
     "asymmetric sleeping top": (
         'study = "sleeping_top"\n[top]\ncentral_moments = [2e-5, 3e-5, 4.5e-5]\n', [],
         ["[top] central_moments must have I1 = I2"]),

@@ -1,7 +1,8 @@
 """The members of an ensemble, as the estimators take them: from a Dataset or from the loop.
 
 An ensemble's Dataset (one body, one spin axis) comes in either of the two forms the package
-writes:
+writes (a study that keeps the series of a sample of its members, along ``series_member``, is
+read from its series when the sample holds every member, else from its summaries):
 
 - a **time series**: ``w`` (member, time, axis) in rad s-1 (or (time, axis) for one trajectory,
   as ``integrate`` returns);
@@ -167,6 +168,12 @@ def members(ds: xr.Dataset, axis=None, spin=None) -> Members:
         return ds
     if not isinstance(ds, xr.Dataset):
         raise ValueError(f"expected an xarray.Dataset, got {type(ds).__name__}")
+    if "w" in ds and cv.SERIES_MEMBER in ds["w"].dims:  # the series of a sample of members
+        kept = ds[cv.SERIES_MEMBER].values
+        if cv.MEMBER in ds.dims and np.array_equal(kept, ds[cv.MEMBER].values):
+            return _members_from_series(_sample_as_members(ds), axis, spin)
+        if PASSAGE in ds:
+            return _members_from_summaries(ds, axis, spin)
     if "w" in ds and cv.TIME in ds["w"].dims:
         return _members_from_series(ds, axis, spin)
     if PASSAGE in ds:
@@ -176,6 +183,13 @@ def members(ds: xr.Dataset, axis=None, spin=None) -> Members:
         f"('{PASSAGE}' (member, level) and the crossing counts); run the ensemble with saved "
         "samples or with summaries"
     )
+
+
+def _sample_as_members(ds: xr.Dataset) -> xr.Dataset:
+    """A Dataset whose series sample holds every member, its series along ``member``."""
+    series = [name for name, var in ds.data_vars.items() if cv.SERIES_MEMBER in var.dims]
+    moved = ds[series].drop_vars(cv.SERIES_MEMBER).rename({cv.SERIES_MEMBER: cv.MEMBER})
+    return ds.drop_vars(series + [cv.SERIES_MEMBER]).assign(moved)
 
 
 def _spin_axis(ds, axis, w0):

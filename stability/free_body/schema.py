@@ -8,7 +8,7 @@ from ..util import conventions as cv
 from ..ensemble.schema import (
     ATTITUDE_NOTE, AXIS, ENSEMBLE, ESTIMATES, KG_M2, LEVEL, MEMBER, ONE, PER_SECOND, PER_SECOND2,
     QUATERNION, RADIAN, RAD_PER_S, RAD_PER_S2, SECOND, TIME, Variable, coordinate, declare,
-    status_variable, time_coordinate, variable,
+    member_coordinate, status_variable, time_coordinate, variable,
 )
 
 __all__ = ["TRAJECTORY", "TENNIS_RACKET", "STABILITY_MAP", "WORK_PRECISION", "TWISTING_RACKET"]
@@ -40,12 +40,13 @@ TRAJECTORY = declare(
 
 # The tennis racket: the ensemble, its exact answers and amplitude quantiles -------------------
 
+_AMPLITUDE_BIN, SERIES_MEMBER = "amplitude_bin", cv.SERIES_MEMBER
 _QUANTILE = "{quantile} over ok members of the amplitude perpendicular to axis {axis}"
 TENNIS_RACKET = ENSEMBLE.extend(
     "tennis_racket",
     "the tennis-racket ensemble with its exact flip intervals and the "
     "quantiles of its perpendicular amplitude",
-    "stability.free_body.tennis_racket.analysis.analyse_ensemble",
+    "stability.free_body.tennis_racket.analysis.finish_analysis",
     "tennis_racket.nc",
     {
         "exact_flip_interval": variable(
@@ -57,11 +58,36 @@ TENNIS_RACKET = ENSEMBLE.extend(
         "complementary_modulus": variable(
             MEMBER, ONE, "complementary modulus k' of the member's Jacobi functions"
         ),
+        "member_growth_rate": variable(
+            MEMBER, PER_SECOND, "growth rate of the member's perpendicular amplitude fitted "
+            "over its linear phase", comment=(
+                "the slope of ln sqrt(w_b^2 + w_c^2) against time over the window "
+                "[growth_window_low_factor x its start, growth_window_high_fraction x "
+                "min(spin, saturation)); NaN where the member's departure is not exponential "
+                "(stability.measured_growth_rate, member by member)")),
+        "attitude_error_max": variable(
+            MEMBER, RADIAN, "largest angle of the rotation from the exact attitude over the run",
+            optional=ATTITUDE_NOTE),
+        SERIES_MEMBER: member_coordinate("ensemble member whose time series is kept",
+                                         dim=SERIES_MEMBER),
+        _AMPLITUDE_BIN: coordinate(_AMPLITUDE_BIN, RAD_PER_S,
+                                   "perpendicular amplitude at the geometric centre of the bin"),
+        "amplitude_bin_bounds": variable(
+            (_AMPLITUDE_BIN, "bound"), RAD_PER_S, "edges of the perpendicular-amplitude bins",
+            comment="lower and upper edge; the bins are log-spaced, 0.002 decades wide"),
+        "perp_amplitude_count": variable(
+            (TIME, _AMPLITUDE_BIN), ONE, "ok members whose amplitude perpendicular to axis "
+            "{axis} lies in the bin", kind="i", comment=(
+                "log-spaced bins; the quantiles perp_amplitude_p10, _median and _p90 are "
+                "taken from these counts, within one bin of the exact ones")),
         "perp_amplitude_p10": variable(TIME, RAD_PER_S, _QUANTILE),
         "perp_amplitude_median": variable(TIME, RAD_PER_S, _QUANTILE),
         "perp_amplitude_p90": variable(TIME, RAD_PER_S, _QUANTILE),
     },
-    **{name: replace(ENSEMBLE[name], optional="") for name in (TIME, "w")},
+    **{name: replace(ENSEMBLE[name], optional="") for name in (TIME,)},
+    **{name: replace(ENSEMBLE[name].on((SERIES_MEMBER,) + ENSEMBLE[name].dims[1:]),
+                     optional=ENSEMBLE[name].optional or "")
+       for name in ("w", "q", "q_norm_error", "attitude_error")},
 )
 
 # The stability map (stability.free_body.stability_map.measure.map_dataset)

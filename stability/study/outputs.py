@@ -3,6 +3,8 @@ run leaves each whole or absent."""
 
 from __future__ import annotations
 
+import time
+
 from ..output.dataset import append_history, config_toml, software_attrs
 from ..output.io import saving
 from ..plotting.style import save
@@ -24,7 +26,7 @@ def output_files(config: dict, figures, extra=()) -> list[str]:
 
 
 def write_outputs(ds, config: dict, out_dir, name: str, figures: dict, *, overwrite=False,
-                  history=None, attrs=None, threads=None, texts=None):
+                  history=None, attrs=None, threads=None, texts=None, timings=None):
     """Label ``ds`` and write what ``[output]`` asks for: the Dataset, ``config.toml`` and the
     figures, published together (:func:`stability.output.io.saving`: the write runs while the
     figures draw; an interruption publishes nothing).
@@ -56,6 +58,9 @@ def write_outputs(ds, config: dict, out_dir, name: str, figures: dict, *, overwr
         does not record them.
     texts : dict, optional
         ``{file name: text}``: more files written beside ``config.toml`` (a report, say).
+    timings : dict, optional
+        Filled with the seconds spent: ``figures`` (drawn and saved, while the Dataset is
+        written beside them) and ``dataset`` (the wait for the write after the figures).
 
     Returns
     -------
@@ -73,7 +78,9 @@ def write_outputs(ds, config: dict, out_dir, name: str, figures: dict, *, overwr
         ds = append_history(ds, history or f"stability run ({name})")
     out = config["output"]
     files = [out_dir / out["dataset"]]
+    spent = timings if timings is not None else {}
     with deferred_interrupt() as stop, saving(ds, files[0], overwrite=overwrite):
+        started = time.perf_counter()
         for file, text in {**(texts or {}), "config.toml": to_toml(config)}.items():
             (out_dir / file).write_text(text, encoding="utf-8")
             files.append(out_dir / file)
@@ -83,4 +90,7 @@ def write_outputs(ds, config: dict, out_dir, name: str, figures: dict, *, overwr
             files += save(draw(ds), out_dir, stem, out["formats"])
         if stop.requested:  # the Dataset's write ends first (leaving the block waits for it)
             raise KeyboardInterrupt
+        drawn = time.perf_counter()
+        spent["figures"] = drawn - started
+    spent["dataset"] = time.perf_counter() - drawn
     return ds, files

@@ -3,6 +3,8 @@ device), the output folder, and the one memory check before any work."""
 
 from __future__ import annotations
 
+import math
+
 
 from ..core.body import RigidBody
 from ..integrators import METHODS
@@ -89,11 +91,14 @@ def check_memory(schema: Schema, config: dict, source: str, nbytes: float, keys,
 
 
 def _growth(schema: Schema, config: dict, section: str, key: str) -> float:
-    """How many times its default a numeric key is (1 where there is no default to compare)."""
+    """How many times its default a numeric key is (1 where there is no default or no number to
+    compare; ``"all"`` of a count that allows it: without bound)."""
     value = config[section][key]
     default = schema.section(section).key(key).default
     if not isinstance(default, (int, float)) or isinstance(default, bool) or default <= 0:
         return 1.0
+    if isinstance(value, str):
+        return math.inf if value == "all" else 1.0
     return value / default
 
 

@@ -83,11 +83,13 @@ def _epsilon_axis(ax, body, axis, epsilon=None):
 
 
 def typical_member(ds) -> int:
-    """Index of an ok member whose mean flip interval is the median one (member 0 if none)."""
-    ok = (ds.status == cv.STATUS_OK).values & np.isfinite(ds.mean_flip_interval.values)
+    """An ok member whose series is kept (``series_member``) and whose mean flip interval is
+    the median one among those; the first kept member if none is ok."""
+    kept = ds[cv.SERIES_MEMBER].values
+    ok = ((ds.status == cv.STATUS_OK).values & np.isfinite(ds.mean_flip_interval.values))[kept]
     if not ok.any():
-        return 0
-    candidates = np.flatnonzero(ok)
+        return int(kept[0])
+    candidates = kept[ok]
     intervals = ds.mean_flip_interval.values[candidates]
     return int(candidates[np.argsort(intervals, kind="stable")[len(candidates) // 2]])
 
@@ -99,21 +101,26 @@ def flips_figure(ds, body=None, axis=None, member=None, samples=2000):
     Parameters
     ----------
     ds : xarray.Dataset
-        The study's Dataset (``w`` (member, time, axis) in rad/s, ``w0``).
+        The study's Dataset (``w`` (series_member, time, axis) in rad/s, ``w0``).
     body : RigidBody, optional
         Default: the body the Dataset records.
     axis : int, optional
         Spin axis (1, 2, 3); its sign changes (flips) are marked. Default: the Dataset's.
     member : int, optional
-        Member to show; default :func:`typical_member`.
+        Member to show, one whose series is kept; default :func:`typical_member`.
     samples : int
         Points of the exact curve.
     """
 
     body, axis = _body_and_axis(ds, body, axis)
     j = typical_member(ds) if member is None else int(member)
+    kept = ds[cv.SERIES_MEMBER].values
+    if j not in kept:
+        raise ValueError(f"member {j}'s time series is not kept: choose one of the "
+                         f"{kept.size} series_member values ({', '.join(map(str, kept[:5]))}, "
+                         "...), or run with more [output] series_members")
     t = ds[cv.TIME].values
-    w = ds.w.isel({cv.MEMBER: j}).values
+    w = ds.w.sel({cv.SERIES_MEMBER: j}).values
     t_fine = np.linspace(t[0], t[-1], samples)
     exact = np.asarray(exact_omega(body, ds.w0.values[j], t_fine), dtype=float)
     flips = sign_change_times(t_fine, exact[:, axis - 1])
@@ -305,6 +312,18 @@ def growth_figure(ds, body=None, axis=None):
     return fig
 
 
+def _cloud(ax, x, y, dense, label, what="measured"):
+    """One dot per member (``label``), or (``dense``) the members per cell of a hexagonal grid
+    on a log colour scale: a figure whose cost does not grow with the member count."""
+    if not dense:
+        ax.plot(x, y, "o", ms=2.5, color=ENSEMBLE_COLOR, alpha=0.6, zorder=2, label=label)
+        return
+    ax.hexbin(x, y, gridsize=(60, 30), bins="log", mincnt=1, cmap="Blues", zorder=2,
+              linewidths=0.0)
+    ax.plot([], [], "h", ms=6, color=ENSEMBLE_COLOR,
+            label=f"{what}: density of {x.size} members (log colour)")
+
+
 @styled
 def flip_interval_figure(ds, body=None, axis=None, max_points=3000):
     """Figure 4: measured flip intervals against the exact 2K/nu and the ln(4/k') asymptote.
@@ -313,7 +332,9 @@ def flip_interval_figure(ds, body=None, axis=None, max_points=3000):
     each member's start. Middle: flip interval against ln(4/k') (k' is proportional to epsilon
     for a given direction, so the axis is ln(1/epsilon) up to a constant): measured (dots),
     exact 2K/nu, and the asymptote (2/lambda) ln(4/k') (literature notes 1.5). Right: the
-    relative differences from 2K/nu of the measured intervals and of the asymptote.
+    relative differences from 2K/nu of the measured intervals and of the asymptote. With more
+    than ``max_points`` members the measured ones are drawn as a density and the curves
+    through ``max_points`` of them, so the figure costs the same for any member count.
     """
     body, axis = _body_and_axis(ds, body, axis)
     ok = (ds.status == cv.STATUS_OK).values
@@ -346,21 +367,23 @@ def flip_interval_figure(ds, body=None, axis=None, max_points=3000):
         if idx.size > max_points:
             idx = np.random.default_rng(0).choice(idx, max_points, replace=False)
         order = np.flatnonzero(good)[np.argsort(x[good])]
-        middle.plot(x[idx], measured[idx], "o", ms=2.5, color=ENSEMBLE_COLOR, alpha=0.6,
-                    label="measured (one dot per member)")
-        middle.plot(x[order], exact[order], "-", color=EXACT_COLOR, lw=1.2, label="exact 2K/ν")
-        middle.plot(x[order], asymptote[order], "--", color="crimson", lw=1.5,
+        line = order[np.unique(np.linspace(0, order.size - 1, min(order.size, max_points))
+                               .astype(np.int64))]  # the curves at most max_points long
+        dense = n_good > max_points  # a cloud of more members is drawn as a density
+        _cloud(middle, x[good], measured[good], dense, "measured (one dot per member)")
+        middle.plot(x[line], exact[line], "-", color=EXACT_COLOR, lw=1.2, label="exact 2K/ν")
+        middle.plot(x[line], asymptote[line], "--", color="crimson", lw=1.5,
                     label=f"asymptote (2/λ) ln(4/k′), λ ≈ {rate:.4f} 1/s")
 
         rel_measured = (measured - exact) / exact
         rel_asymptote = (asymptote - exact) / exact
         # the asymptote's difference depends on each member's start, not on ln(4/k') alone:
-        # one marker per member, under the measured ones
+        # one marker per member (of at most max_points), under the measured ones
         right.plot(x[idx], rel_asymptote[idx], "s", ms=2.0, color="crimson", zorder=1,
                    label=f"asymptote (max |·| = {np.max(np.abs(rel_asymptote[good])):.1e})")
-        right.plot(x[idx], rel_measured[idx], "o", ms=2.5, color=ENSEMBLE_COLOR, alpha=0.6,
-                   zorder=2,
-                   label=f"measured (max |·| = {np.max(np.abs(rel_measured[good])):.1e})")
+        worst = f"max |·| = {np.max(np.abs(rel_measured[good])):.1e}"
+        _cloud(right, x[good], rel_measured[good], dense, f"measured ({worst})",
+               f"measured ({worst})")
         right.axhline(0.0, color=EXACT_COLOR, lw=1.0)
         right.ticklabel_format(axis="y", style="sci", scilimits=(-2, 2))
     middle.set_xlabel(label("ln(4/k′), k′ = complementary modulus ∝ ε", cv.UNITS_DIMENSIONLESS))

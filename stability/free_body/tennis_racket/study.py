@@ -8,6 +8,14 @@ with :func:`stability.run_ensemble`, adds the analytic answers (Omega^2, the gro
 (2/lambda) ln(4/k'), literature notes 1.5 and 2.1) and the measured growth rate, saves the
 Dataset and draws the four figures of :mod:`stability.free_body.tennis_racket.figures`.
 
+The ensemble is measured chunk by chunk where each chunk ran
+(:mod:`stability.free_body.tennis_racket.measure`): every member's summaries and numbers are
+kept, the time series only of ``[output] series_members`` members (256 by default, evenly
+spread; ``"all"`` keeps every member's), and the amplitude quantiles come from histograms summed
+over the chunks, so a run of a million members holds their summaries and one chunk's series.
+The summary ends with where the time went (integration, measuring, chunk files, joining,
+figures, the Dataset's write, compiling).
+
 The measured growth rate is :func:`stability.measured_growth_rate` of the saved Dataset, which
 records its window (``[analysis] fit_above`` and ``fit_below`` as the attributes
 ``growth_window_low_factor`` and ``growth_window_high_fraction``), so that
@@ -31,9 +39,12 @@ import numpy as np
 from ..model import MOMENT_NAMES, spin_axis
 from ..attitude import FREE_BODY_SCENES, attitude_methods, carries_attitude
 from ...core.body import RigidBody
-from ..plan import OutOfRange, check_random_starts, ensemble_memory
+from ..plan import DEFAULT_LEVELS, PEAK_COPIES, OutOfRange, check_random_starts, ensemble_memory
 from ..streamed import run_streamed
-from .analysis import analyse_ensemble, analysis_headline
+from .analysis import analysis_headline, finish_analysis
+from .measure import STUDY_MEMBER_NUMBERS, TennisChunks
+from ...ensemble.combine import DEFAULT_SERIES_MEMBERS
+from ...output.dataset import summary_bytes
 from . import figures as tennis
 from ...util import conventions as cv
 from ...util.formatting import format_bytes
@@ -103,9 +114,10 @@ SCHEMA = Schema(
                 minimum=0.0, exclusive_minimum=True, maximum=1.0),
         )),
         run_section(
-            Key("chunk_members", "int", 4096,
-                "members per chunk: each finished chunk is kept at once, so a stopped run "
-                "continues from there (stability run --resume)", minimum=1),
+            Key("chunk_members", "int", 32768,
+                "members per chunk: each finished chunk is measured and kept at once, so a "
+                "stopped run continues from there (stability run --resume); a chunk's time "
+                "series are held while it is measured", minimum=1),
             extra=(Key("device", "str", "cpu",
                        "where the member loop runs: 'cpu', or 'gpu' (a CUDA GPU, the gpu extra)",
                        choices=("cpu", "gpu")),),
@@ -113,7 +125,10 @@ SCHEMA = Schema(
         output_section(NAME, FIGURES, dataset=Key(
             "dataset", "str", UNSET, "file name of the Dataset (netCDF); unset: named from the "
             f"body, {NAME}.nc for the racket (or a body by moments without a name), phone.nc "
-            "for the phone", suffix=".nc")),
+            "for the phone", suffix=".nc"), extra=(Key(
+                "series_members", ("int", "str"), DEFAULT_SERIES_MEMBERS,
+                "members whose time series w are kept, evenly spread over the ensemble "
+                "('all': every member's); every member's summaries are kept whatever this is"),)),
     ),
 )
 
@@ -188,15 +203,55 @@ def check(config: dict, source: str) -> dict:
             raise ConfigError("must be 'cpu' with scene = 'free_body_attitude' (the GPU loop "
                               "carries w alone)", source, "run", "device")
 
+    kept = config["output"]["series_members"]
+    if isinstance(kept, str) and kept != "all" or not isinstance(kept, str) and kept < 0:
+        raise ConfigError(f"must be a count of members >= 0 or 'all', got {kept!r}",
+                          source, "output", "series_members")
     members = config["ensemble"]["members"]
-    check_memory(  # the analysis and figures hold the whole time series
-        SCHEMA, config, source,
-        ensemble_memory(members, n_steps // integ["save_every"], scene=integ["scene"]),
-        [("ensemble", "members"), ("integration", "t_end")],
-        f"the time series of {members} members", "use fewer members, a shorter t_end or a "
-        "larger [integration] save_every")
+    check_memory(  # every member's summaries, one chunk's series, the sample's
+        SCHEMA, config, source, held_bytes(config),
+        [("ensemble", "members"), ("output", "series_members"), ("run", "chunk_members")],
+        f"the summaries of {members} members with the series of "
+        f"{_kept_count(config)} of them", "use fewer members, fewer [output] series_members, "
+        "fewer [run] chunk_members or a larger [integration] save_every")
     check_run(config, source)
     return config
+
+
+def _kept_count(config: dict) -> int:
+    """Members whose series the run keeps."""
+    members, kept = config["ensemble"]["members"], config["output"]["series_members"]
+    return members if kept == "all" else min(int(kept), members)
+
+
+def _series_bytes(config: dict, members: int) -> int:
+    """Bytes of the time series of ``members`` members (``w``, and ``q`` with the attitude)."""
+    integ = config["integration"]
+    saved = round(integ["t_end"] / integ["h"]) // integ["save_every"]
+    return ensemble_memory(members, saved, scene=integ["scene"]) - members * summary_bytes(
+        DEFAULT_LEVELS.size)
+
+
+def _summaries_bytes(config: dict) -> int:
+    """Bytes of every member's summaries, with the study's own per-member numbers."""
+    return config["ensemble"]["members"] * (summary_bytes(DEFAULT_LEVELS.size)
+                                            + 8 * STUDY_MEMBER_NUMBERS)
+
+
+#: Every member's summaries held while the run is joined and written, in copies (the joined
+#: arrays, and the few the analysis and figures derive from them).
+SUMMARY_COPIES = 1.25
+
+
+def held_bytes(config: dict) -> int:
+    """Memory a run holds at its peak, at most: the larger of its two phases (each chunk's
+    series in their working copies while it runs and is measured, then every member's
+    summaries while the chunks are joined, analysed, drawn and written), and the series of
+    the sample in both."""
+    chunk = min(config["run"]["chunk_members"], config["ensemble"]["members"])
+    running = PEAK_COPIES * _series_bytes(config, chunk)
+    joined = SUMMARY_COPIES * _summaries_bytes(config)
+    return int(max(running, joined) + 2 * _series_bytes(config, _kept_count(config)))
 
 
 def _check_spin_range(config: dict, body, source: str) -> None:
@@ -214,11 +269,9 @@ def _check_spin_range(config: dict, body, source: str) -> None:
 
 
 def expected_bytes(config: dict) -> int:
-    """Disk space of a run at most: the chunks of its ensemble and the Dataset (uncompressed)."""
-
-    integ = config["integration"]
-    saved = round(integ["t_end"] / integ["h"]) // integ["save_every"]
-    return 2 * ensemble_memory(config["ensemble"]["members"], saved, scene=integ["scene"])
+    """Disk space of a run at most: its chunk files and the Dataset (uncompressed), each with
+    every member's summaries and the sample's series."""
+    return 2 * (_summaries_bytes(config) + _series_bytes(config, _kept_count(config)))
 
 
 def outputs(config: dict) -> list[str]:
@@ -250,27 +303,29 @@ def run(config: dict, out_dir: Path, *, overwrite=False, threads=None, progress=
     spin = config["spin"]["rate"]
     ens, integ = config["ensemble"], config["integration"]
     steps = round(integ["t_end"] / integ["h"])
-    memory = ensemble_memory(ens["members"], steps // integ["save_every"],
-                                       scene=integ["scene"])
     say(f"{body.name}: {ens['members']} members x {steps} steps of {integ['method']} "
-        f"(h = {integ['h']:g} s), w kept every {integ['save_every']} steps: "
-        f"{format_bytes(memory)} of results")
+        f"(h = {integ['h']:g} s), measured chunk by chunk; w kept every "
+        f"{integ['save_every']} steps for {_kept_count(config)} members: "
+        f"{format_bytes(_summaries_bytes(config) + _series_bytes(config, _kept_count(config)))}"
+        " of results")
     ds = _ensemble(config, body, axis, work or out_dir / ".ensemble", resume,
                    scheduler or config["run"]["scheduler"] or None, threads, progress,
                    history or f"stability run ({NAME})")
     t_ensemble = time.perf_counter() - t_start
-    say("exact flip intervals and the growth-rate fit ...")
-    ds = analyse_ensemble(ds, body, axis, spin, ens["epsilon"],
-                          low_factor=config["analysis"]["fit_above"],
-                          high_fraction=config["analysis"]["fit_below"])
+    ds = finish_analysis(ds, body, axis, spin, ens["epsilon"],
+                         low_factor=config["analysis"]["fit_above"],
+                         high_fraction=config["analysis"]["fit_below"])
+    t_analysis = time.perf_counter() - t_start - t_ensemble
 
     say(f"writing {config['output']['dataset']} and drawing the figures ...")
     figures = (tennis.flips_figure, tennis.polhode_figure, tennis.growth_figure,
                tennis.flip_interval_figure)
+    stages = {"analysis": t_analysis}
     ds, files = write_outputs(ds, config, out_dir, NAME, dict(zip(FIGURES, figures)),
-                              overwrite=overwrite, history=False, threads=threads)
+                              overwrite=overwrite, history=False, threads=threads,
+                              timings=stages)
     wall = time.perf_counter() - t_start
-    return summarize(ds, out_dir, files, wall, t_ensemble)
+    return summarize(ds, out_dir, files, wall, t_ensemble, stages=stages)
 
 
 def _ensemble(config, body, axis, work, resume, scheduler, threads, progress, command):
@@ -284,13 +339,14 @@ def _ensemble(config, body, axis, work, resume, scheduler, threads, progress, co
         chunk_members=config["run"]["chunk_members"], config=config, command=command,
         device=config["run"]["device"], scene=integ["scene"],
     )
-    lazy = run_streamed(kwargs, work, resume=resume, scheduler=scheduler, threads=threads,
-                        progress=progress, compress=False)
-    ds = lazy.compute()
-    lazy.close()
-    member = ds[cv.MEMBER]  # an ordinary index in memory, as run_ensemble's own Datasets have
-    return ds.drop_indexes(cv.MEMBER).assign_coords(
-        {cv.MEMBER: (cv.MEMBER, np.arange(member.size, dtype=np.int64), member.attrs)})
+    window = (config["analysis"]["fit_above"], config["analysis"]["fit_below"])
+    kept = config["output"]["series_members"]
+    started = time.perf_counter()
+    ds = run_streamed(kwargs, work, resume=resume, scheduler=scheduler, threads=threads,
+                      progress=progress, compress=False,
+                      measurement=lambda kw, plan: TennisChunks(kw, window, kept, plan))
+    ds.attrs["combine_time"] = time.perf_counter() - started - float(ds.attrs["wall_time"])
+    return ds
 
 
 def _reporter(progress):
@@ -308,19 +364,41 @@ def _body(config: dict):
     return RigidBody.preset(b["preset"])
 
 
-def summarize(ds, out_dir, files, wall, t_ensemble) -> StudySummary:
+def summarize(ds, out_dir, files, wall, t_ensemble, stages=None) -> StudySummary:
     """The summary table of a finished run: the analysis
-    (:func:`stability.free_body.tennis_racket.analysis.analysis_headline`), then its cost."""
+    (:func:`stability.free_body.tennis_racket.analysis.analysis_headline`), then where its
+    time went.
+
+    ``stages``: seconds of the stages after the ensemble (``analysis``; ``figures`` and
+    ``dataset`` as :func:`~stability.study.outputs.write_outputs` times them)."""
     rows, values = analysis_headline(ds)
-    n, steps, loop = values["members"], int(ds.attrs["steps_done"]), float(ds.attrs["wall_time"])
+    stages = stages or {}
+    attrs = ds.attrs
+    n, steps = values["members"], int(attrs["steps_done"])
+    loop = float(attrs.get("chunk_time", attrs["wall_time"]))  # summed over the chunks
+    streamed = float(attrs["wall_time"])  # the chunks' run: loop, measurement, chunk files
+    measuring = float(attrs.get("measure_time", 0.0))
+    compiling = float(attrs["compile_time"])
+    figures = stages.get("figures", 0.0)
     values.update({
         "wall_time": wall, "ensemble_time": t_ensemble, "integration_time": loop,
-        "compile_time": float(ds.attrs["compile_time"]),
+        "compile_time": compiling, "measure_time": measuring,
+        "chunk_files_time": max(0.0, streamed - loop - measuring - compiling),
+        "combine_time": float(attrs.get("combine_time", 0.0)),
+        "analysis_time": stages.get("analysis", 0.0), "figures_time": figures,
+        "write_time": stages.get("dataset", 0.0),
         "member_steps_per_s": n * steps / loop if loop > 0 else math.nan,
     })
+    v = values
     rows += [
         ("wall time (all: compile, run, analysis, files)", f"{wall:.1f}", "s"),
-        ("  integration / Numba compile", f"{loop:.2f} / {values['compile_time']:.1f}", "s"),
+        ("  integration (member loop) / Numba compile", f"{loop:.2f} / {compiling:.1f}", "s"),
+        ("  measuring, per chunk where it ran", f"{measuring:.2f}", "s"),
+        ("  chunk files and launch", f"{v['chunk_files_time']:.2f}", "s"),
+        ("  joining the chunks / the ensemble's numbers",
+         f"{v['combine_time']:.2f} / {v['analysis_time']:.2f}", "s"),
+        ("  figures / the Dataset's write after them",
+         f"{figures:.2f} / {v['write_time']:.2f}", "s"),
         (f"member-steps per second ({n} x {steps} steps)",
          f"{values['member_steps_per_s']:.3g}", "s-1"),
     ]
