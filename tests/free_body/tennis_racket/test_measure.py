@@ -91,3 +91,31 @@ def test_the_measurement_travels_to_a_worker():
     assert back.identity(None)["tennis_racket"] == own == {"window": [10.0, 0.03],
                                                              "series_members": 9}
     assert TennisChunks(kwargs, (10.0, 0.02), 9).identity(None)["tennis_racket"] != own
+
+
+def test_on_a_dask_cluster_only_the_sample_leaves_the_workers(both, tmp_path):
+    """Two worker processes run the chunks: each chunk file they write (all that comes back)
+    holds the members' summaries and the sample's series alone, and the joined Dataset is the
+    local one, bitwise."""
+    distributed = pytest.importorskip("distributed")
+    import xarray as xr
+
+    _, _, local = both
+    store = tmp_path / "store"
+    with distributed.LocalCluster(n_workers=2, threads_per_worker=1, processes=True,
+                                  dashboard_address=None) as cluster, \
+            distributed.Client(cluster) as client:
+        remote = run_streamed(dict(RUN, chunk_members=256), store, scheduler=client,
+                              progress=False, compress=False,
+                              measurement=lambda kw, plan: TennisChunks(kw, WINDOW, 9, plan))
+    for path in sorted(store.glob("chunk-*.nc")):
+        with xr.open_dataset(path, engine="netcdf4", decode_times=False) as chunk:
+            for name, var in chunk.variables.items():
+                assert not {cv.MEMBER, cv.TIME} <= set(var.dims), (path.name, name)
+            assert chunk.sizes[cv.SERIES_MEMBER] <= 3  # of the 9, at most 3 in a chunk
+    remote = finish_analysis(remote, BODY, 2, 10.0, 1e-4, low_factor=WINDOW[0],
+                             high_fraction=WINDOW[1])
+    assert set(remote.variables) == set(local.variables)
+    for name in local.variables:
+        np.testing.assert_array_equal(remote[name].values, local[name].values, err_msg=name)
+    assert remote.attrs["growth_rate_fitted"] == local.attrs["growth_rate_fitted"]
