@@ -22,7 +22,7 @@ from numba import njit, prange
 from ..util import conventions as cv
 from .regimes import DEPARTURE_FACTOR, MIN_CROSSINGS, MIN_POINTS, WINDOW_HIGH_FRACTION
 
-__all__ = ["series_growth_rates"]
+__all__ = ["series_growth_rates", "canonical_growth_rates"]
 
 
 @njit(cache=True, error_model="numpy")
@@ -115,58 +115,117 @@ def _crossings(x):
     return count
 
 
+@njit(cache=True, error_model="numpy")
+def _member(t, w, valid, a, b, c, spin, low_factor, high_fraction, exponential, algebraic,
+            oscillation, neutral, undetermined, amp):
+    """One member's (rate, regime) from its samples ``w`` (T, 3); its amplitudes into ``amp``."""
+    n_times = w.shape[0]
+    tt = np.empty(n_times)  # the sample times, NaN where the amplitude is not finite
+    scratch = np.empty(n_times)
+    ones = np.ones(n_times)
+    max_perp = -math.inf
+    finite = True
+    for k in range(n_times):
+        amp[k] = math.hypot(w[k, b], w[k, c])
+        for j in range(3):
+            if not math.isfinite(w[k, j]):
+                finite = False
+        if math.isfinite(amp[k]) and amp[k] > max_perp:
+            max_perp = amp[k]
+    for k in range(n_times):  # NaN samples leave every window
+        tt[k] = t[k] if math.isfinite(amp[k]) else math.nan
+    a0 = amp[0]
+    flipped = _crossings(w[:, a]) >= 1
+    oscillating = (not flipped) and _crossings(w[:, b]) >= MIN_CROSSINGS
+    departed = flipped or max_perp > DEPARTURE_FACTOR * a0
+    saturation = min(spin, max_perp) if flipped else spin
+
+    first, end = _window(amp, DEPARTURE_FACTOR * a0, WINDOW_HIGH_FRACTION * saturation)
+    _, exp_rms, n_pts = _exponential(tt, amp, first, end, scratch, ones)
+    drift, lin_rms = _linear(tt, amp, first, end, scratch)
+    regime = undetermined
+    if departed and not oscillating and n_pts >= MIN_POINTS:
+        if exp_rms <= lin_rms:
+            regime = exponential
+        elif lin_rms < exp_rms and drift > 0.0:
+            regime = algebraic
+    if oscillating:
+        regime = oscillation
+    if not departed and not oscillating:
+        regime = neutral
+    if not (valid and finite):
+        regime = undetermined
+    rate = math.nan
+    if regime == exponential:
+        first, end = _window(amp, low_factor * a0, high_fraction * saturation)
+        r, _, n = _exponential(tt, amp, first, end, scratch, ones)
+        if n >= MIN_POINTS:
+            rate = r
+    if not valid:
+        amp[:] = math.nan
+    return rate, regime
+
+
 @njit(cache=True, parallel=True, error_model="numpy")
 def _rates(t, w, valid, a, b, c, spin, low_factor, high_fraction, exponential, algebraic,
            oscillation, neutral, undetermined, amplitudes):
-    n_members, n_times = w.shape[0], w.shape[1]
-    rates = np.full(n_members, np.nan)
+    n_members = w.shape[0]
+    rates = np.empty(n_members)
     regimes = np.empty(n_members, dtype=np.int8)
     for i in prange(n_members):
-        amp = amplitudes[i]
-        tt = np.empty(n_times)  # the sample times, NaN where the amplitude is not finite
-        scratch = np.empty(n_times)
-        ones = np.ones(n_times)
-        max_perp = -math.inf
-        finite = True
-        for k in range(n_times):
-            amp[k] = math.hypot(w[i, k, b], w[i, k, c])
-            for j in range(3):
-                if not math.isfinite(w[i, k, j]):
-                    finite = False
-            if math.isfinite(amp[k]) and amp[k] > max_perp:
-                max_perp = amp[k]
-        for k in range(n_times):  # NaN samples leave every window
-            tt[k] = t[k] if math.isfinite(amp[k]) else math.nan
-        a0 = amp[0]
-        flipped = _crossings(w[i, :, a]) >= 1
-        oscillating = (not flipped) and _crossings(w[i, :, b]) >= MIN_CROSSINGS
-        departed = flipped or max_perp > DEPARTURE_FACTOR * a0
-        saturation = min(spin, max_perp) if flipped else spin
-
-        first, end = _window(amp, DEPARTURE_FACTOR * a0, WINDOW_HIGH_FRACTION * saturation)
-        _, exp_rms, n_pts = _exponential(tt, amp, first, end, scratch, ones)
-        drift, lin_rms = _linear(tt, amp, first, end, scratch)
-        regime = undetermined
-        if departed and not oscillating and n_pts >= MIN_POINTS:
-            if exp_rms <= lin_rms:
-                regime = exponential
-            elif lin_rms < exp_rms and drift > 0.0:
-                regime = algebraic
-        if oscillating:
-            regime = oscillation
-        if not departed and not oscillating:
-            regime = neutral
-        if not (valid[i] and finite):
-            regime = undetermined
-        regimes[i] = regime
-        if regime == exponential:
-            first, end = _window(amp, low_factor * a0, high_fraction * saturation)
-            r, _, n = _exponential(tt, amp, first, end, scratch, ones)
-            if n >= MIN_POINTS:
-                rates[i] = r
-        if not valid[i]:
-            amp[:] = math.nan
+        rates[i], regimes[i] = _member(
+            t, w[i], valid[i], a, b, c, spin, low_factor, high_fraction, exponential,
+            algebraic, oscillation, neutral, undetermined, amplitudes[i])
     return rates, regimes
+
+
+@njit(cache=True, parallel=True, error_model="numpy")
+def _rates_canonical(t, w0, m, perm, signs, moments, valid, a, b, c, spin, low_factor,
+                     high_fraction, exponential, algebraic, oscillation, neutral, undetermined,
+                     amplitudes):
+    """:func:`_rates` of the samples ``w0`` then ``m`` (canonical angular momenta, (N, T - 1,
+    3)) each turned into body-frame w as it is read: ``w[perm[j]] = (m[j] signs[j]) /
+    moments[perm[j]]``, the operations of :func:`stability.core.body.from_canonical` and the
+    division in the same order, so the same numbers as from the series built first."""
+    n_members, n_times = w0.shape[0], t.size
+    rates = np.empty(n_members)
+    regimes = np.empty(n_members, dtype=np.int8)
+    for i in prange(n_members):
+        w = np.empty((n_times, 3))
+        for j in range(3):
+            w[0, j] = w0[i, j]
+        for k in range(1, n_times):
+            for j in range(3):
+                w[k, perm[j]] = (m[i, k - 1, j] * signs[j]) / moments[perm[j]]
+        rates[i], regimes[i] = _member(
+            t, w, valid[i], a, b, c, spin, low_factor, high_fraction, exponential,
+            algebraic, oscillation, neutral, undetermined, amplitudes[i])
+    return rates, regimes
+
+
+def _codes():
+    return (cv.REGIME_EXPONENTIAL, cv.REGIME_ALGEBRAIC, cv.REGIME_OSCILLATION, cv.REGIME_NEUTRAL,
+            cv.REGIME_UNDETERMINED)
+
+
+def canonical_growth_rates(t, w0, m, frame, moments, axis: int, spin: float,
+                           low_factor: float, high_fraction: float, valid=None):
+    """:func:`series_growth_rates` of members whose samples after the start are the member
+    loop's canonical angular momenta ``m`` (N, >= T - 1, 3) in the frame ``frame = (perm,
+    signs)`` (:func:`stability.core.body.canonical_frame`) of a body of ``moments``: the body-
+    frame series is never built (the same numbers as from it)."""
+    t = np.ascontiguousarray(t, dtype=np.float64)
+    w0 = np.ascontiguousarray(w0, dtype=np.float64)
+    n = w0.shape[0]
+    valid = np.ones(n, dtype=np.bool_) if valid is None else np.asarray(valid, dtype=np.bool_)
+    perm, signs = frame
+    b, c = cv.perpendicular_axes(int(axis))
+    amplitudes = np.empty((n, t.size))
+    rates, regimes = _rates_canonical(
+        t, w0, m, np.asarray(perm, dtype=np.int64), np.asarray(signs, dtype=np.float64),
+        np.asarray(moments, dtype=np.float64), valid, int(axis) - 1, b - 1, c - 1,
+        abs(float(spin)), float(low_factor), float(high_fraction), *_codes(), amplitudes)
+    return rates, regimes, amplitudes
 
 
 def series_growth_rates(t, w, axis: int, spin: float, low_factor: float, high_fraction: float,
@@ -207,6 +266,5 @@ def series_growth_rates(t, w, axis: int, spin: float, low_factor: float, high_fr
     amplitudes = np.empty(w.shape[:2])
     rates, regimes = _rates(
         t, w, valid, int(axis) - 1, b - 1, c - 1, abs(float(spin)), float(low_factor),
-        float(high_fraction), cv.REGIME_EXPONENTIAL, cv.REGIME_ALGEBRAIC, cv.REGIME_OSCILLATION,
-        cv.REGIME_NEUTRAL, cv.REGIME_UNDETERMINED, amplitudes)
+        float(high_fraction), *_codes(), amplitudes)
     return rates, regimes, amplitudes

@@ -165,9 +165,7 @@ def finish_run(plan, parts, done, steps_done, interrupted) -> MemberRun:
             if part.frame is None:
                 np.divide(saved, moments, out=w[:, 1:])
             else:  # one pass: from the canonical frame (from_canonical) and divided
-                perm, signs = part.frame
-                _canonical_to_w(saved, np.asarray(perm, dtype=np.int64),
-                                np.asarray(signs, dtype=float), moments, w[:, 1:])
+                canonical_to_w(saved, part.frame, moments, w[:, 1:])
             w[bad] = np.nan
         if q_all is not None:
             q = q_all[mine]
@@ -190,6 +188,14 @@ def finish_run(plan, parts, done, steps_done, interrupted) -> MemberRun:
         wall_time=wall,
         compile_time=compile_time,
     )
+
+
+def canonical_to_w(m, frame, moments, out) -> None:
+    """Canonical angular momenta ``m`` (N, T, 3) in ``frame = (perm, signs)`` to body-frame w
+    into ``out`` (N, T, 3), in one compiled pass (:func:`_canonical_to_w`)."""
+    perm, signs = frame
+    _canonical_to_w(m, np.asarray(perm, dtype=np.int64), np.asarray(signs, dtype=float),
+                    np.asarray(moments, dtype=float), out)
 
 
 @numba.njit(cache=True, parallel=True)

@@ -3,6 +3,7 @@
 
 from __future__ import annotations
 
+from dataclasses import replace
 
 import numpy as np
 
@@ -143,9 +144,14 @@ class EnsembleChunks:
         sub, measured = self.member_run(run, lo, hi)
         return numbered(members_dataset(sub, measured, threads), lo)
 
-    def member_run(self, run, lo: int, hi: int):
+    def member_run(self, run, lo: int, hi: int, series: bool = True):
         """The plan of members lo to hi - 1 and their :class:`~stability.free_body.results.MemberRun`
-        (status, summaries and time series in the body frame) from their propagation."""
+        (status, summaries and time series in the body frame) from their propagation.
+
+        ``series=False`` (w alone, not the attitude): the MemberRun without ``w``, its ``time``
+        set; the series stay in ``run.saved`` as the loop left them, canonical angular momenta
+        in the frame :meth:`frame` (for a measurement that reads them so, and builds the w of
+        the members it keeps)."""
         sub = self._drawn.pop((lo, hi), None) or chunk_plan(self.plan, lo, hi)
         n = hi - lo
         groups = self._groups(n)
@@ -155,8 +161,17 @@ class EnsembleChunks:
             run.saved = groups.from_canonical_state(run.saved)
         else:  # w alone: converted out of the canonical frame as it is copied (one pass)
             frame = groups.frames[0]
-        part = RunPart(run, slice(0, n), slice(0, n), int(run.steps_done[0]), frame=frame)
-        return sub, finish_run(sub, [part], n, sub.n_steps, False)
+        steps = int(run.steps_done[0])
+        part = RunPart(run, slice(0, n), slice(0, n), steps, frame=frame)
+        if series or sub.attitude:
+            return sub, finish_run(sub, [part], n, sub.n_steps, False)
+        members = finish_run(replace(sub, summaries_only=True), [part], n, sub.n_steps, False)
+        members.time = np.arange(steps // sub.save_every + 1) * sub.save_every * sub.h
+        return sub, members
+
+    def frame(self):
+        """The canonical frame ``(perm, signs)`` the member loop ran the body in."""
+        return self._groups(1).frames[0]
 
     def identity(self, run) -> dict:
         """What decides the members' numbers, for the store's fingerprint (not the caller's

@@ -21,7 +21,7 @@ import time
 import numpy as np
 import xarray as xr
 
-from ...analysis.growth_fit import series_growth_rates
+from ...analysis.growth_fit import canonical_growth_rates, series_growth_rates
 from ...ensemble.combine import (SERIES_MEMBER, SUMMED, combine_chunks, log_edges,
                                  log_histogram, sampled_in, series_sample)
 from ...util import conventions as cv
@@ -29,7 +29,7 @@ from ..measure import complementary_moduli, exact_flip_intervals
 from ...ensemble.schema import ENSEMBLE
 from ..attitude import IDENTITY, attitude_error
 from ..exact_attitude import exact_attitudes
-from ..results import members_dataset
+from ..results import canonical_to_w, members_dataset
 from ..schema import TENNIS_RACKET
 from ..streamed import EnsembleChunks, numbered
 
@@ -84,20 +84,24 @@ def measure_series(time, w, ok, w0, body, axis: int, spin: float, window, edges)
         The ok members' perpendicular amplitudes per time in the bins ``edges``.
     """
     rate, _, amp = series_growth_rates(time, w, axis, spin, *window, valid=ok)
-    exact, asymptote = exact_flip_intervals(body, None, w0)
-    numbers = {"member_growth_rate": rate, "exact_flip_interval": exact,
-               "flip_interval_asymptote": asymptote,
-               "complementary_modulus": complementary_moduli(body, w0)}
+    numbers = {"member_growth_rate": rate, **_exact_numbers(body, w0)}
     return numbers, log_histogram(amp, edges)  # of the ok members (amp NaN for the others)
+
+
+def _exact_numbers(body, w0) -> dict:
+    """Each start's exact flip interval 2K/nu, its asymptote and k'."""
+    exact, asymptote = exact_flip_intervals(body, None, w0)
+    return {"exact_flip_interval": exact, "flip_interval_asymptote": asymptote,
+            "complementary_modulus": complementary_moduli(body, w0)}
 
 
 def kept_chunk(summaries: xr.Dataset, time, numbers: dict, counts, edges, axis: int,
                sample: np.ndarray, series: dict) -> xr.Dataset:
     """A chunk as the study keeps it: its members' ``summaries`` (a Dataset along ``member``,
     without time series) with the study's ``numbers``, the amplitude histogram ``counts``
-    (summed over chunks) and the time series ``series`` (name to an array over the chunk's
-    members: ``w``, and ``q``, ``q_norm_error``, ``attitude_error`` with the attitude) of
-    the members at positions ``sample``, along ``series_member``."""
+    (summed over chunks) and the time series ``series`` (name to an array over the members
+    at positions ``sample``, in that order: ``w``, and ``q``, ``q_norm_error``,
+    ``attitude_error`` with the attitude), along ``series_member``."""
     out = summaries.assign(TENNIS_RACKET.entries(numbers))
     out.coords[cv.TIME] = TENNIS_RACKET.entry(cv.TIME, np.asarray(time, dtype=float))
     out.coords[AMPLITUDE_BIN] = TENNIS_RACKET.entry(AMPLITUDE_BIN, np.sqrt(edges[:-1] * edges[1:]))
@@ -110,7 +114,7 @@ def kept_chunk(summaries: xr.Dataset, time, numbers: dict, counts, edges, axis: 
     if "q" in series:
         out.coords[cv.QUATERNION] = TENNIS_RACKET.entry(cv.QUATERNION, np.arange(4))
     for name, value in series.items():
-        out[name] = TENNIS_RACKET.entry(name, value[sample])
+        out[name] = TENNIS_RACKET.entry(name, value)
     return out
 
 
@@ -128,6 +132,7 @@ def measure_chunk(ds: xr.Dataset, body, axis: int, spin: float, window, sample: 
               for name in names}
     if "attitude_error" in series:
         numbers["attitude_error_max"] = series["attitude_error"].max(axis=1)
+    series = {name: value[sample] for name, value in series.items()}
     summaries = ds.drop_vars(names + [cv.TIME] + ([cv.QUATERNION] if "q" in ds else []))
     return kept_chunk(summaries, ds[cv.TIME].values, numbers, counts, edges, axis, sample,
                       series)
@@ -162,28 +167,44 @@ class TennisChunks(EnsembleChunks):
     def __call__(self, part, run, lo: int, hi: int, threads):
         """The chunk of members lo to hi - 1 measured (:func:`measure_series`) and kept
         (:func:`kept_chunk`): its series go no further than the sample's."""
-        sub, members = self.member_run(run, lo, hi)
-        started = time.perf_counter()
         plan = self.plan
+        sub, members = self.member_run(run, lo, hi, series=plan.attitude)
+        started = time.perf_counter()
         edges = amplitude_edges(plan.body, plan.spin, plan.epsilon)
         axis = plan.a + 1
-        numbers, counts = measure_series(members.time, members.w,
-                                         members.status == cv.STATUS_OK, members.w0, plan.body,
-                                         axis, plan.spin, self.window, edges)
-        series = {"w": members.w}
+        ok = members.status == cv.STATUS_OK
+        sample = sampled_in(series_sample(plan.members, self.series_members), lo, hi)
+        if members.w is None:  # read from the loop's canonical m: only the sample's w built
+            t = members.time
+            m = run.saved[:, : t.size - 1, :3]
+            rate, _, amp = canonical_growth_rates(
+                t, members.w0, m, self.frame(), plan.body.moments, axis, plan.spin,
+                *self.window, valid=ok)
+            numbers = {"member_growth_rate": rate, **_exact_numbers(plan.body, members.w0)}
+            counts = log_histogram(amp, edges)
+            w = np.empty((sample.size, t.size, 3))  # the sample's alone
+            w[:, 0] = members.w0[sample]
+            canonical_to_w(np.ascontiguousarray(m[sample]), self.frame(), plan.body.moments,
+                           w[:, 1:])
+            w[~ok[sample]] = np.nan  # as finish_run masks a member that failed
+        else:
+            numbers, counts = measure_series(members.time, members.w, ok, members.w0,
+                                             plan.body, axis, plan.spin, self.window, edges)
+            w = members.w[sample]
+        series = {"w": w}
         if members.q is not None:  # the attitude against the exact one, as run_ensemble's
             norm = np.linalg.norm(members.q, axis=-1)
             q = members.q / norm[..., None]
             error = attitude_error(q, exact_attitudes(plan.body.moments, members.w0,
                                                       members.time, IDENTITY))
-            series.update(q=q, q_norm_error=norm - 1.0, attitude_error=error)
+            series.update(q=q[sample], q_norm_error=(norm - 1.0)[sample],
+                          attitude_error=error[sample])
             numbers["attitude_error_max"] = error.max(axis=1)
         measuring = time.perf_counter() - started
         t = members.time
         members.w = members.q = None  # the summaries' Dataset: no member's series
         summaries = numbered(members_dataset(sub, members, threads), lo)
         started = time.perf_counter()
-        sample = sampled_in(series_sample(plan.members, self.series_members), lo, hi)
         out = kept_chunk(summaries, t, numbers, counts, edges, axis, sample, series)
         out.attrs["measure_time"] = measuring + time.perf_counter() - started
         return out
