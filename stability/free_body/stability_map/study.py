@@ -209,10 +209,12 @@ def run(config: dict, out_dir: Path, *, overwrite=False, threads=None, progress=
     compute_time = time.perf_counter() - t_start
     draw = (figures.map_figure, figures.scatter_figure, figures.flip_interval_figure,
             figures.edges_figure)
+    stages = {}
     ds, files = write_outputs(ds, config, out_dir, NAME, dict(zip(FIGURES, draw)),
-                              overwrite=overwrite, history=history, threads=threads)
+                              overwrite=overwrite, history=history, threads=threads,
+                              timings=stages)
     wall = time.perf_counter() - t_start
-    return summarize(ds, out_dir, files, wall, compute_time, work)
+    return summarize(ds, out_dir, files, wall, compute_time, work, stages)
 
 
 def compute(config: dict, progress=None, work_dir=None, resume=False, scheduler=None):
@@ -289,18 +291,28 @@ def compute(config: dict, progress=None, work_dir=None, resume=False, scheduler=
     return ds, work
 
 
-def summarize(ds, out_dir, files, wall, compute_time, work) -> StudySummary:
-    """The map's headline (:func:`stability.free_body.stability_map.measure.headline`), then its cost."""
+def summarize(ds, out_dir, files, wall, compute_time, work, stages=None) -> StudySummary:
+    """The map's headline (:func:`stability.free_body.stability_map.measure.headline`), then
+    where its time went (``stages``: ``figures`` and ``dataset`` as
+    :func:`~stability.study.outputs.write_outputs` times them)."""
     rows, values = smap.headline(ds)
+    stages = stages or {}
     peak = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024.0  # KiB on Linux
     rate = work["member_steps"] / work["loop_time"] if work["loop_time"] > 0 else math.nan
     rows.append(("wall time (all, with compile, figures and files)", f"{wall:.1f}", "s"))
     rows.append(("  of which the runs", f"{compute_time:.1f}", "s"))
+    rows.append(("    integration (member loops, summed) / the rest of the runs",
+                 f"{work['loop_time']:.1f} / {max(0.0, compute_time - work['loop_time']):.1f}",
+                 "s"))
+    rows.append(("  figures / the Dataset's write after them",
+                 f"{stages.get('figures', 0.0):.1f} / {stages.get('dataset', 0.0):.1f}", "s"))
     rows.append(("member-steps in the map, per second in compiled code",
                  f"{work['member_steps']:.3g}, {rate:.3g}", "s-1"))
     rows.append(("peak memory (resident set, getrusage)", f"{peak:.0f}", "MiB"))
     values.update({"wall_time": wall, "compute_time": compute_time, "peak_memory_mib": peak,
-                   "member_steps": work["member_steps"]})
+                   "member_steps": work["member_steps"], "integration_time": work["loop_time"],
+                   "figures_time": stages.get("figures", 0.0),
+                   "write_time": stages.get("dataset", 0.0)})
     return StudySummary(NAME, Path(out_dir), files, rows, values)
 
 
