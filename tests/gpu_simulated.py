@@ -189,6 +189,38 @@ def every_scene():
     return out
 
 
+def tennis_on_gpu():
+    """The tennis-racket study's measurement of chunks run on the GPU (the loop's canonical
+    series read as they come back) against the same chunks on the CPU."""
+    import tempfile
+
+    from stability.free_body.streamed import run_streamed
+    from stability.free_body.tennis_racket.measure import TennisChunks
+
+    body = stability.RigidBody.preset("tennis_racket")
+    run = dict(body=body, axis=2, spin=10.0, epsilon=1e-5, members=10, h=0.02, t_end=3.0,
+               seed=2, method="rk4", save_every=5, chunk_members=4)
+    measured = {}
+    with tempfile.TemporaryDirectory() as folder:
+        for device in ("cpu", "gpu"):
+            measured[device] = run_streamed(
+                dict(run, device=device), f"{folder}/{device}", progress=False,
+                compress=False, measurement=lambda kw, plan: TennisChunks(kw, (3.0, 0.1), 3,
+                                                                          plan))
+    cpu, gpu = measured["cpu"], measured["gpu"]
+    names = ("member_growth_rate", "mean_flip_interval", "w", "perp_amplitude_count")
+    worst = 0.0
+    for name in names:
+        a, b = cpu[name].values.astype(float), gpu[name].values.astype(float)
+        if not np.array_equal(np.isnan(a), np.isnan(b)):
+            return {"worst": float("inf"), "variable": name}
+        ok = ~np.isnan(a)
+        scale = np.maximum(np.abs(a[ok]), 1e-300)
+        worst = max(worst, float(np.max(np.abs(a[ok] - b[ok]) / scale, initial=0.0)))
+    return {"worst": worst, "rates": int(np.isfinite(cpu.member_growth_rate.values).sum()),
+            "kept": int(gpu.sizes["series_member"])}
+
+
 def stored_on_gpu():
     """A heavy-top run on the GPU streamed to a store in chunks, against the CPU in one piece."""
     import tempfile
@@ -276,6 +308,7 @@ def main():
     results["ensemble"] = ensemble_on_gpu()
     results["every_scene"] = every_scene()
     results["stored"] = stored_on_gpu()
+    results["tennis"] = tennis_on_gpu()
     print(json.dumps(results))
 
 

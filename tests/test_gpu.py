@@ -166,6 +166,14 @@ def test_a_stored_run_on_the_gpu_in_chunks_is_the_cpu_run(simulated):
     assert r["identity_differs"]  # a store written on one device is not resumed on the other
 
 
+@needs_numba_cuda
+def test_the_tennis_studys_measurement_of_gpu_chunks_is_the_cpus(simulated):
+    """Chunks run on the GPU come back as the loop's canonical series, which the tennis study
+    measures without building every member's w: the same rates, flips, histograms and sample."""
+    r = simulated["tennis"]
+    assert r["worst"] <= TOLERANCE and r["rates"] == 10 and r["kept"] == 3
+
+
 def test_grouped_run_refuses_an_unknown_device():
     from stability.ensemble.chunks import GroupedRun
     from stability.free_body.scene import FREE_BODY
