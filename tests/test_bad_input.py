@@ -183,7 +183,7 @@ CLI = {
         ["[body] moments (1e-300, 2e-300, 3e-300) kg m^2 are out of a double's range"]),
     "step hopeless for the spin": (
         'study = "tennis_racket"\n[spin]\nrate = 1e6\n[integration]\nmethod = "lp2"\n',
-        [], ["h = 0.002 s is too large for lp2", "choose h <="]),
+        [], ["[integration] h = 0.002 s is too large for lp2", "choose h <="]),
 }
 
 

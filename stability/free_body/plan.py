@@ -301,8 +301,9 @@ MAX_STEPS = 2**53
 
 
 class OutOfRange(ValueError):
-    """Starts that no step can follow to ``t_end``: ``argument`` (``"spin"``, ``"epsilon"`` or
-    ``"starts"``) is out of range; ``reason`` says why, without the value."""
+    """Starts that no step can follow to ``t_end``, or a step too large for every start:
+    ``argument`` (``"spin"``, ``"epsilon"``, ``"starts"`` or ``"h"``) is out of range;
+    ``reason`` says why, without the value."""
 
     def __init__(self, message: str, argument: str, reason: str):
         super().__init__(message)
@@ -350,11 +351,11 @@ def _step_angles(body, spec, w0, h, t_end, given) -> np.ndarray:
                 f"{given[0]} is out of range: {reason}; use {given[1]}"
                 + ("" if np.isfinite(angle).any() else
                    f", or moments closer together than ({moments}) kg m^2"), given[2], reason)
-        raise ValueError(
-            f"h = {h:g} s is too large for {spec.name} at these spins: every member would turn "
-            f"by {smallest:.3g} rad or more per step (h max|w|), above the {bound:g} rad up to "
-            f"which {spec.name}'s results can be trusted; choose h <= {h * bound / smallest:.3g} s"
-        )
+        reason = (f"too large for {spec.name} at these spins: every member would turn by "
+                  f"{smallest:.3g} rad or more per step (h max|w|), above the {bound:g} rad up "
+                  f"to which {spec.name}'s results can be trusted; choose h <= "
+                  f"{h * bound / smallest:.3g} s")
+        raise OutOfRange(f"h = {h:g} s is {reason}", "h", reason)
     return angle
 
 

@@ -263,6 +263,9 @@ def _check_spin_range(config: dict, body, source: str) -> None:
                             ens["epsilon"], ens["members"], h=integ["h"], t_end=integ["t_end"],
                             seed=ens["seed"], method=integ["method"])
     except OutOfRange as exc:
+        if exc.argument == "h":  # the step, not the spin: named as the key to change
+            raise ConfigError(f"= {integ['h']:g} s is {exc.reason}", source, "integration",
+                              "h") from None
         section, key, value = (("spin", "rate", f"{spin:g} rad/s") if exc.argument == "spin"
                                else ("ensemble", "epsilon", f"{ens['epsilon']:g}"))
         raise ConfigError(f"= {value} is out of range: {exc.reason}; use a smaller {key}",
