@@ -282,12 +282,12 @@ def propagate_stored(run: GroupedRun, store=None, *, measure=None, resume=False,
         The measurement each chunk is kept as (:class:`ChunkJob`); the result is then the
         measured Dataset. It may also have ``combine(paths, members) -> (Dataset, chunk
         attributes)``, the whole run in memory from its chunk files (:func:`measured_whole`);
-        ``identity(run) ->
-        dict``, what makes the run what it is for the store's fingerprint (default: the run's :meth:`GroupedRun.identity` and the
-        measurement's class), and ``whole_attrs(chunks, todo, elapsed) -> dict``, the
-        attributes of the whole Dataset from the store, the chunks this call ran and the
-        seconds they took (keyword ``chunk_attrs``: the chunks' attributes where they were
-        read; default :func:`summed_attrs`).
+        ``identity(run) -> dict``, what makes the run what it is for the store's fingerprint
+        (default: the run's :meth:`GroupedRun.identity` and the measurement's class); and
+        ``whole_attrs(chunks, todo, elapsed, chunk_attrs=None) -> dict``, the attributes of
+        the whole Dataset from the store, the chunks this call ran and the seconds they took
+        (``chunk_attrs``: the chunks' attributes where ``combine`` read them; default
+        :func:`summed_attrs`).
     resume : bool, default False
         Finish a run of the same members stopped earlier (only the missing chunks run).
     scheduler : str or distributed.Client, optional
@@ -381,8 +381,7 @@ def measured_whole(measure, chunks: ChunkStore, streamed=None) -> xr.Dataset:
                                   chunks.members)
     if streamed is not None:
         whole = getattr(measure, "whole_attrs", None)
-        read = {} if chunk_attrs is None else {"chunk_attrs": chunk_attrs}
-        chunks.complete(whole(chunks, *streamed, **read) if whole is not None
+        chunks.complete(whole(chunks, *streamed, chunk_attrs=chunk_attrs) if whole is not None
                         else summed_attrs(chunks, streamed.elapsed, chunk_attrs))
     if ds is None:
         return small_loaded(chunks.open())

@@ -317,10 +317,11 @@ class SceneMeasure:
         return xr.Dataset(declared.entries(data), coords=declared.entries(coords),
                           attrs=storable_attrs(self._attrs(scene, spec, part, run)))
 
-    def whole_attrs(self, chunks, todo, elapsed) -> dict:
-        """The whole stored run's attributes (:func:`summed_attrs`), its rate that of the
-        chunks ``todo`` this call ran in ``elapsed`` seconds."""
-        attrs = summed_attrs(chunks, elapsed)
+    def whole_attrs(self, chunks, todo, elapsed, chunk_attrs=None) -> dict:
+        """The whole stored run's attributes (:func:`summed_attrs`, from ``chunk_attrs`` where
+        the chunks' attributes were read), its rate that of the chunks ``todo`` this call ran
+        in ``elapsed`` seconds."""
+        attrs = summed_attrs(chunks, elapsed, chunk_attrs)
         steps = np.repeat(self.n_steps, self.sizes)
         ran = sum(float(steps[slice(*chunks.bounds(k))].sum()) for k in todo)
         attrs["member_steps_per_second"] = ran / elapsed if elapsed > 0 else 0.0
