@@ -39,8 +39,28 @@ LOG_BIN_WIDTH = 0.002
 #: The attribute that marks a variable as an additive reduction: summed over chunks.
 SUMMED = "summed_over_chunks"
 
-__all__ = ["SERIES_MEMBER", "DEFAULT_SERIES_MEMBERS", "series_sample", "sampled_in",
+__all__ = ["SERIES_MEMBER", "DEFAULT_SERIES_MEMBERS", "series_count", "series_sample", "sampled_in",
            "log_edges", "log_histogram", "histogram_quantiles", "combine_chunks"]
+
+
+def series_count(members: int, count) -> int:
+    """How many of ``members`` members keep their series for ``[output] series_members =
+    count``: ``count`` (at most ``members``), or every member for ``"all"``.
+
+    Raises
+    ------
+    ValueError
+        For a word other than ``"all"`` or a negative count.
+    """
+    if isinstance(count, str):
+        if count != "all":
+            raise ValueError(f"series_members must be a count of members >= 0 or 'all', "
+                             f"got {count!r}")
+        return members
+    if count < 0:
+        raise ValueError(f"series_members must be a count of members >= 0 or 'all', "
+                         f"got {count!r}")
+    return min(int(count), members)
 
 
 def series_sample(members: int, count) -> np.ndarray:
@@ -54,14 +74,8 @@ def series_sample(members: int, count) -> np.ndarray:
     -------
     ndarray of int64, ascending, unique
     """
-    if isinstance(count, str):
-        if count != "all":
-            raise ValueError(f"series_members must be a count or 'all', got {count!r}")
-        count = members
-    count = int(count)
-    if count < 0:
-        raise ValueError(f"series_members must be >= 0 (a count of members), got {count}")
-    if count >= members:
+    count = series_count(members, count)
+    if count == members:
         return np.arange(members, dtype=np.int64)
     if count == 0:
         return np.empty(0, dtype=np.int64)

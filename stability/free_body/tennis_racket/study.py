@@ -43,7 +43,7 @@ from ..plan import DEFAULT_LEVELS, PEAK_COPIES, OutOfRange, check_random_starts,
 from ..streamed import run_streamed
 from .analysis import analysis_headline, finish_analysis
 from .measure import STUDY_MEMBER_NUMBERS, TennisChunks
-from ...ensemble.combine import DEFAULT_SERIES_MEMBERS
+from ...ensemble.combine import DEFAULT_SERIES_MEMBERS, series_count
 from ...output.dataset import summary_bytes
 from . import figures as tennis
 from ...util import conventions as cv
@@ -203,10 +203,11 @@ def check(config: dict, source: str) -> dict:
             raise ConfigError("must be 'cpu' with scene = 'free_body_attitude' (the GPU loop "
                               "carries w alone)", source, "run", "device")
 
-    kept = config["output"]["series_members"]
-    if isinstance(kept, str) and kept != "all" or not isinstance(kept, str) and kept < 0:
-        raise ConfigError(f"must be a count of members >= 0 or 'all', got {kept!r}",
-                          source, "output", "series_members")
+    try:
+        _kept_count(config)
+    except ValueError as exc:  # "series_members must be ...", naming the key
+        raise ConfigError(str(exc).removeprefix("series_members "), source, "output",
+                          "series_members") from None
     members = config["ensemble"]["members"]
     check_memory(  # every member's summaries, one chunk's series, the sample's
         SCHEMA, config, source, held_bytes(config),
@@ -219,9 +220,8 @@ def check(config: dict, source: str) -> dict:
 
 
 def _kept_count(config: dict) -> int:
-    """Members whose series the run keeps."""
-    members, kept = config["ensemble"]["members"], config["output"]["series_members"]
-    return members if kept == "all" else min(int(kept), members)
+    """Members whose series the run keeps (:func:`~stability.ensemble.combine.series_count`)."""
+    return series_count(config["ensemble"]["members"], config["output"]["series_members"])
 
 
 def _series_bytes(config: dict, members: int) -> int:
