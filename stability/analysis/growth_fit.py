@@ -15,10 +15,10 @@ from __future__ import annotations
 
 import math
 
-import numba
 import numpy as np
 from numba import njit, prange
 
+from ..core.body import canonical_m_to_w
 from ..util import conventions as cv
 from .regimes import DEPARTURE_FACTOR, MIN_CROSSINGS, MIN_POINTS, WINDOW_HIGH_FRACTION
 
@@ -184,28 +184,31 @@ def _rates_canonical(t, w0, m, perm, signs, moments, valid, a, b, c, spin, low_f
                      high_fraction, exponential, algebraic, oscillation, neutral, undetermined,
                      amplitudes):
     """:func:`_rates` of the samples ``w0`` then ``m`` (canonical angular momenta, (N, T - 1,
-    3)) each turned into body-frame w as it is read: ``w[perm[j]] = (m[j] signs[j]) /
-    moments[perm[j]]``, the operations of :func:`stability.core.body.from_canonical` and the
-    division in the same order, so the same numbers as from the series built first."""
+    3)) each turned into body-frame w as it is read
+    (:func:`stability.core.body.canonical_m_to_w`: the same numbers as from the series built
+    first)."""
     n_members, n_times = w0.shape[0], t.size
     rates = np.empty(n_members)
     regimes = np.empty(n_members, dtype=np.int8)
     for i in prange(n_members):
         w = np.empty((n_times, 3))
-        for j in range(3):
-            w[0, j] = w0[i, j]
-        for k in range(1, n_times):
-            for j in range(3):
-                w[k, perm[j]] = (m[i, k - 1, j] * signs[j]) / moments[perm[j]]
+        w[0] = w0[i]
+        canonical_m_to_w(m[i, : n_times - 1], perm, signs, moments, w[1:])
         rates[i], regimes[i] = _member(
             t, w, valid[i], a, b, c, spin, low_factor, high_fraction, exponential,
             algebraic, oscillation, neutral, undetermined, amplitudes[i])
     return rates, regimes
 
 
-def _codes():
-    return (cv.REGIME_EXPONENTIAL, cv.REGIME_ALGEBRAIC, cv.REGIME_OSCILLATION, cv.REGIME_NEUTRAL,
-            cv.REGIME_UNDETERMINED)
+def _arguments(t, n, axis, spin, low_factor, high_fraction, valid):
+    """The kernels' arguments shared by both entries: the times, the valid members, the spin
+    axis and the two perpendicular to it (0-based), the spin, the window, the regime codes."""
+    t = np.ascontiguousarray(t, dtype=np.float64)
+    valid = np.ones(n, dtype=np.bool_) if valid is None else np.asarray(valid, dtype=np.bool_)
+    b, c = cv.perpendicular_axes(int(axis))
+    return (t, valid, int(axis) - 1, b - 1, c - 1, abs(float(spin)), float(low_factor),
+            float(high_fraction), cv.REGIME_EXPONENTIAL, cv.REGIME_ALGEBRAIC,
+            cv.REGIME_OSCILLATION, cv.REGIME_NEUTRAL, cv.REGIME_UNDETERMINED)
 
 
 def canonical_growth_rates(t, w0, m, frame, moments, axis: int, spin: float,
@@ -214,17 +217,13 @@ def canonical_growth_rates(t, w0, m, frame, moments, axis: int, spin: float,
     loop's canonical angular momenta ``m`` (N, >= T - 1, 3) in the frame ``frame = (perm,
     signs)`` (:func:`stability.core.body.canonical_frame`) of a body of ``moments``: the body-
     frame series is never built (the same numbers as from it)."""
-    t = np.ascontiguousarray(t, dtype=np.float64)
     w0 = np.ascontiguousarray(w0, dtype=np.float64)
-    n = w0.shape[0]
-    valid = np.ones(n, dtype=np.bool_) if valid is None else np.asarray(valid, dtype=np.bool_)
+    t, valid, *rest = _arguments(t, w0.shape[0], axis, spin, low_factor, high_fraction, valid)
     perm, signs = frame
-    b, c = cv.perpendicular_axes(int(axis))
-    amplitudes = np.empty((n, t.size))
+    amplitudes = np.empty((w0.shape[0], t.size))
     rates, regimes = _rates_canonical(
         t, w0, m, np.asarray(perm, dtype=np.int64), np.asarray(signs, dtype=np.float64),
-        np.asarray(moments, dtype=np.float64), valid, int(axis) - 1, b - 1, c - 1,
-        abs(float(spin)), float(low_factor), float(high_fraction), *_codes(), amplitudes)
+        np.asarray(moments, dtype=np.float64), valid, *rest, amplitudes)
     return rates, regimes, amplitudes
 
 
@@ -258,13 +257,8 @@ def series_growth_rates(t, w, axis: int, spin: float, low_factor: float, high_fr
         The perpendicular amplitude ``sqrt(w_b^2 + w_c^2)`` of each sample, rad/s; NaN for the
         members not ``valid``.
     """
-    t = np.ascontiguousarray(t, dtype=np.float64)
     w = np.ascontiguousarray(w, dtype=np.float64)
-    n = w.shape[0]
-    valid = np.ones(n, dtype=np.bool_) if valid is None else np.asarray(valid, dtype=np.bool_)
-    b, c = cv.perpendicular_axes(int(axis))
+    t, valid, *rest = _arguments(t, w.shape[0], axis, spin, low_factor, high_fraction, valid)
     amplitudes = np.empty(w.shape[:2])
-    rates, regimes = _rates(
-        t, w, valid, int(axis) - 1, b - 1, c - 1, abs(float(spin)), float(low_factor),
-        float(high_fraction), *_codes(), amplitudes)
+    rates, regimes = _rates(t, w, valid, *rest, amplitudes)
     return rates, regimes, amplitudes

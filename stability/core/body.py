@@ -23,6 +23,7 @@ from types import MappingProxyType
 from typing import NamedTuple
 
 import numpy as np
+from numba import njit
 
 from ..util.checks import positive_float, real_array, real_number
 
@@ -493,6 +494,32 @@ def from_canonical(y, perm, signs) -> np.ndarray:
     for i in range(3):
         np.multiply(y[..., i], signs[i], out=x[..., perm[i]])
     return x
+
+
+@njit(cache=True, error_model="numpy")
+def canonical_m_to_w(m, perm, signs, moments, out) -> None:
+    """Canonical angular momenta ``m`` (K, 3) to body-frame angular velocities ``out`` (K, 3):
+    ``out[k, perm[i]] = (m[k, i] signs[i]) / moments[perm[i]]``, compiled.
+
+    The operations of :func:`from_canonical` and then the division by the body's moments, in
+    that order, so the numbers are bitwise those of the two steps.
+
+    Parameters
+    ----------
+    m : ndarray, shape (K, 3)
+        Angular momenta along the canonical axes, kg m2 s-1.
+    perm : ndarray of int64, shape (3,)
+        Body axis (0-based) of each canonical axis, from :func:`canonical_frame`.
+    signs : ndarray of float, shape (3,)
+        +1 or -1 per canonical axis, from :func:`canonical_frame`.
+    moments : ndarray, shape (3,)
+        Principal moments in the body's order, kg m2.
+    out : ndarray, shape (K, 3)
+        Filled with the body-frame angular velocities, rad/s.
+    """
+    for k in range(m.shape[0]):
+        for i in range(3):
+            out[k, perm[i]] = (m[k, i] * signs[i]) / moments[perm[i]]
 
 
 # ---------------------------------------------------------------------------------- tolerances

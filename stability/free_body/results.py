@@ -9,6 +9,7 @@ from dataclasses import dataclass
 import numba
 import numpy as np
 
+from ..core.body import canonical_m_to_w
 from .attitude import IDENTITY, attitude_error
 from .exact_attitude import exact_attitudes
 from ..output.dataset import (
@@ -85,11 +86,17 @@ def members_dataset(plan: EnsemblePlan, run, threads):
         time=run.time, w=run.w,
     )
     if run.q is not None:
-        norm = np.linalg.norm(run.q, axis=-1)
-        q = run.q / norm[..., None]
-        exact = exact_attitudes(body.moments, run.w0, run.time, IDENTITY)
-        add_attitude(ds, q, norm - 1.0, attitude_error(q, exact))
+        add_attitude(ds, *carried_attitude(body.moments, run.w0, run.time, run.q))
     return ds
+
+
+def carried_attitude(moments, w0, time, q):
+    """The attitudes ``q`` (N, T, 4) an ensemble carried, normalised; their norm error
+    ``|q| - 1``; and their angle from the exact attitude of each start ``w0`` (N, 3) at
+    ``time`` (T,) from the identity (:func:`~stability.free_body.attitude.attitude_error`)."""
+    norm = np.linalg.norm(q, axis=-1)
+    unit = q / norm[..., None]
+    return unit, norm - 1.0, attitude_error(unit, exact_attitudes(moments, w0, time, IDENTITY))
 
 
 @dataclass
@@ -200,13 +207,10 @@ def canonical_to_w(m, frame, moments, out) -> None:
 
 @numba.njit(cache=True, parallel=True)
 def _canonical_to_w(m, perm, signs, moments, out):
-    """``out[..., perm[i]] = (m[..., i] signs[i]) / moments[perm[i]]``: canonical m to
-    body-frame w, the operations of :func:`stability.core.body.from_canonical` and the
-    division, in the same order (bitwise the same numbers)."""
+    """:func:`stability.core.body.canonical_m_to_w` of each member, members on Numba's
+    threads."""
     for j in numba.prange(m.shape[0]):
-        for k in range(m.shape[1]):
-            for i in range(3):
-                out[j, k, perm[i]] = (m[j, k, i] * signs[i]) / moments[perm[i]]
+        canonical_m_to_w(m[j], perm, signs, moments, out[j])
 
 
 def _member_status(loop_status, fail_step, m, w0, moments, h, tolerance, steps_done,

@@ -49,8 +49,9 @@ def analyse_ensemble(ds: xr.Dataset, body, axis: int, spin: float, epsilon: floa
 def finish_analysis(ds: xr.Dataset, body, axis: int, spin: float, epsilon: float, *,
                     low_factor=WINDOW_LOW_FACTOR,
                     high_fraction=WINDOW_HIGH_FRACTION) -> xr.Dataset:
-    """The measured chunks of an ensemble, joined (:mod:`stability.free_body.tennis_racket.measure`),
-    with the ensemble's numbers: the reductions over members, no pass over their series.
+    """The measured chunks of an ensemble, joined
+    (:mod:`stability.free_body.tennis_racket.measure`), with the ensemble's numbers: the
+    reductions over members, no pass over their series.
 
     Adds ``perp_amplitude_median`` / ``_p10`` / ``_p90`` (time, rad/s over members with status
     ok: from the summed histograms ``perp_amplitude_count``, within one bin of 0.46 % of the

@@ -5,7 +5,8 @@ measurement) is measured while its time series are in memory: every member's gro
 fitted over its linear phase (the fit of :func:`stability.measured_growth_rate`, member by
 member), its exact flip interval 2K/nu, the asymptote (2/lambda) ln(4/k') and k', its largest
 attitude error where the attitude is carried, and the histogram over the chunk's ok members of
-the perpendicular amplitude at each time (log bins, :func:`stability.ensemble.combine.log_histogram`).
+the perpendicular amplitude at each time (log bins,
+:func:`stability.ensemble.combine.log_histogram`).
 The chunk keeps these and the time series of its members in the study's series sample
 (:func:`stability.ensemble.combine.series_sample`), nothing more: a study of a million members
 holds their summaries, never their series. :meth:`TennisChunks.combine` joins the chunks;
@@ -27,9 +28,7 @@ from ...ensemble.combine import (SERIES_MEMBER, SUMMED, combine_chunks, log_edge
 from ...util import conventions as cv
 from ..measure import complementary_moduli, exact_flip_intervals
 from ...ensemble.schema import ENSEMBLE
-from ..attitude import IDENTITY, attitude_error
-from ..exact_attitude import exact_attitudes
-from ..results import canonical_to_w, members_dataset
+from ..results import canonical_to_w, carried_attitude, members_dataset
 from ..schema import TENNIS_RACKET
 from ..streamed import EnsembleChunks, numbered
 
@@ -177,14 +176,15 @@ class TennisChunks(EnsembleChunks):
         if members.w is None:  # read from the loop's canonical m: only the sample's w built
             t = members.time
             m = run.saved[:, : t.size - 1, :3]
+            frame = self.frame()
             rate, _, amp = canonical_growth_rates(
-                t, members.w0, m, self.frame(), plan.body.moments, axis, plan.spin,
-                *self.window, valid=ok)
+                t, members.w0, m, frame, plan.body.moments, axis, plan.spin, *self.window,
+                valid=ok)
             numbers = {"member_growth_rate": rate, **_exact_numbers(plan.body, members.w0)}
             counts = log_histogram(amp, edges)
             w = np.empty((sample.size, t.size, 3))  # the sample's alone
             w[:, 0] = members.w0[sample]
-            canonical_to_w(np.ascontiguousarray(m[sample]), self.frame(), plan.body.moments,
+            canonical_to_w(np.ascontiguousarray(m[sample]), frame, plan.body.moments,
                            w[:, 1:])
             w[~ok[sample]] = np.nan  # as finish_run masks a member that failed
         else:
@@ -193,11 +193,9 @@ class TennisChunks(EnsembleChunks):
             w = members.w[sample]
         series = {"w": w}
         if members.q is not None:  # the attitude against the exact one, as run_ensemble's
-            norm = np.linalg.norm(members.q, axis=-1)
-            q = members.q / norm[..., None]
-            error = attitude_error(q, exact_attitudes(plan.body.moments, members.w0,
-                                                      members.time, IDENTITY))
-            series.update(q=q[sample], q_norm_error=(norm - 1.0)[sample],
+            q, norm_error, error = carried_attitude(plan.body.moments, members.w0,
+                                                    members.time, members.q)
+            series.update(q=q[sample], q_norm_error=norm_error[sample],
                           attitude_error=error[sample])
             numbers["attitude_error_max"] = error.max(axis=1)
         measuring = time.perf_counter() - started
