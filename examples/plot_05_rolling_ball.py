@@ -11,10 +11,12 @@ step) against the formulas.
 import matplotlib.pyplot as plt
 import numpy as np
 
+import stability
 from stability.rolling.model import launch_formulas, measure_launches
 
 ds = measure_launches(radius=0.0286, mass=0.17, k=0.4, mu_k=0.2, speeds=(0.5, 4.0),
-                      spin_ratios=(-1.5, 2.5), members=200, progress=False)
+                      spin_ratios=(-1.5, 2.5), members=200,
+                      options=stability.RunOptions(progress=False))
 formula = launch_formulas(ds.v0.values, ds.w0.values, 0.4, 0.0286, ds.mu_k.values, 0.17)
 for name in ("t_roll", "x_roll", "v_final"):
     error = np.max(np.abs(ds[name].values / formula[name] - 1.0))

@@ -69,7 +69,7 @@ rng = np.random.default_rng(1)
 n = 200
 w = np.column_stack([np.ones(n), 0.05 * rng.standard_normal((n, 2))])
 ds = stability.run_scene(DAMPED_BODY, "rk4", np.hstack([w, w]), values, h=0.05, n_steps=6000,
-                         save_every=20, progress=False)
+                         save_every=20, options=stability.RunOptions(progress=False))
 x = np.stack([ds[c].values for c in DAMPED_BODY.components], axis=-1)  # (member, time, 6)
 t, numbers = ds.time.values, np.array(list(values.values()))
 E, H = energy(x, numbers), angular_momentum(x, numbers)

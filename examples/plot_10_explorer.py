@@ -17,6 +17,7 @@ whole turn with the splitting ``lp2``, which keeps :math:`|H|` to round-off.
 import matplotlib.pyplot as plt
 import numpy as np
 
+import stability
 from stability.dissipation import model
 from stability.dissipation.explorer import measure_explorer
 
@@ -51,7 +52,7 @@ ax.legend()
 # the end state is the major axis and the energy lost is the formula's. Solid: 0.02 degree,
 # dashed: 1 degree.
 ds = measure_explorer(body, J, [0.3, 1.0, 3.0], np.radians([0.02, 1.0]), samples=600,
-                      progress=False)
+                      options=stability.RunOptions(progress=False))
 print("growth rate, measured / linear - 1:", ds.growth_rate_error.values.round(6).tolist())
 print("end angle (degree):", ds.end_angle.values.round(4).tolist())
 print(f"largest relative change of |H|: {float(ds.angular_momentum_drift.max()):.1e}")

@@ -19,6 +19,7 @@ with RK4 and its nutation's rate measured against the eigenvalue.
 import matplotlib.pyplot as plt
 import numpy as np
 
+import stability
 from stability.dissipation import gyrostat
 from stability.dissipation.dual_spin import DualSpinBody, measure_dual_spin
 from stability.dissipation.figures import dual_spin_map_figure
@@ -43,7 +44,8 @@ print(f"h = {h:g} kg m2/s, lambda_p = {lam_p:+.3f} rad/s, lambda_r = {lam_r:+.3f
 body = DualSpinBody(transverse_moment=100.0, rotor_moment=25.0, damper_moment=5.0,
                     platform_spin=1.0, platform_damping=1.0, rotor_damping=0.3)
 ds = measure_dual_spin(body, np.linspace(0.55, 1.45, 5), np.linspace(-1.4, 4.4, 5),
-                       np.radians([0.001]), samples=300, progress=False)
+                       np.radians([0.001]), samples=300,
+                       options=stability.RunOptions(progress=False))
 for placement in ds.placement.values:
     d = ds.sel(placement=placement)
     agree = int((d.verdict_measured == d.verdict_linear).sum())

@@ -14,8 +14,8 @@ from .registry import scene as registered_scene
 
 
 @functools.wraps(scene_run.run_scene)
-def run_scene(scene, method, x0, parameters, **options):
-    return scene_run.run_scene(registered_scene(scene), method, x0, parameters, **options)
+def run_scene(scene, method, x0, parameters, **kwargs):
+    return scene_run.run_scene(registered_scene(scene), method, x0, parameters, **kwargs)
 
 
 __all__ = ["run_scene"]

@@ -204,8 +204,9 @@ def tennis_on_gpu():
     with tempfile.TemporaryDirectory() as folder:
         for device in ("cpu", "gpu"):
             measured[device] = run_streamed(
-                dict(run, device=device), f"{folder}/{device}", progress=False,
-                compress=False, measurement=lambda kw, plan: TennisChunks(kw, (3.0, 0.1), 3,
+                dict(run, device=device),
+                stability.RunOptions(store=f"{folder}/{device}", progress=False), compress=False,
+                measurement=lambda kw, plan: TennisChunks(kw, (3.0, 0.1), 3,
                                                                           plan))
     cpu, gpu = measured["cpu"], measured["gpu"]
     names = ("member_growth_rate", "mean_flip_interval", "w", "perp_amplitude_count")
@@ -225,19 +226,22 @@ def stored_on_gpu():
     """A heavy-top run on the GPU streamed to a store in chunks, against the CPU in one piece."""
     import tempfile
 
-    from stability.ensemble.chunks import GroupedRun, propagate_stored
+    from stability import RunOptions
+    from stability.ensemble.chunks import run_plan
+    from stability.ensemble.plan import Plan
     from stability.registry import SCENES
 
     scene = SCENES["heavy_top"]
     x0, tops = scene.example(10, seed=4)
     spec = scene.method("lp2")
-    run = GroupedRun(scene, "lp2", x0, [spec.params(t, 0.01) for t in tops[:2]], [6, 4],
-                     0.01, [40, 30], save_every=10, axes=[2, 0, 1], levels=[0.3, 0.5])
-    gpu = GroupedRun(**{**run.__dict__, "device": "gpu"})
+    run = Plan(scene, "lp2", x0, [spec.params(t, 0.01) for t in tops[:2]], [6, 4],
+               0.01, [40, 30], save_every=10, axes=[2, 0, 1], levels=[0.3, 0.5])
+    gpu = Plan(**{**run.__dict__, "device": "gpu"})
     cpu = run.propagate(progress=False)
     with tempfile.TemporaryDirectory() as folder:
-        streamed = propagate_stored(gpu, folder + "/store", chunk_members=3, threads=1,
-                                    progress=False)
+        streamed = run_plan(gpu,
+                            RunOptions(store=folder + "/store", chunk_members=3, threads=1,
+                                       progress=False))
     return {
         "bitwise": bool(np.array_equal(streamed.x_final, cpu.x_final)
                         and np.array_equal(streamed.saved, cpu.saved, equal_nan=True)

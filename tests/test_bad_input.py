@@ -363,7 +363,8 @@ API = {
                               progress="no"),
         "progress must be True, False or None"),
     "progress as a number (scene)": (
-        lambda: stability.run_scene("heavy_top", "lp2", TOP_STARTS, TOP, progress=1,
+        lambda: stability.run_scene("heavy_top", "lp2", TOP_STARTS, TOP,
+                                    options=stability.RunOptions(progress=1),
                                     **SCENE_RUN),
         "progress must be True, False or None"),
     # the estimators' options (the Dataset accessor and the functions behind it)

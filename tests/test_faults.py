@@ -508,9 +508,11 @@ scene = SCENES["heavy_top"]
 x0 = np.concatenate([scene.example(24, seed=k)[0] for k in range(2)])
 tops = scene.example(1)[1][:2]
 kwargs = dict(sizes=[24, 24], h=[0.01, 0.02], n_steps=[40000, 20000], axes=[2, 0, 1],
-              levels=[0.1, 0.5], tracked_units="1", chunk_members=4, progress=False)
+              levels=[0.1, 0.5], tracked_units="1")
+stored = dict(chunk_members=4, progress=False)
 if __name__ == "__main__":
-    stability.run_scene("heavy_top", "lp2", x0, tops, store=sys.argv[1], **kwargs)
+    stability.run_scene("heavy_top", "lp2", x0, tops, **kwargs,
+                        options=stability.RunOptions(store=sys.argv[1], **stored))
 '''
 
 
@@ -535,10 +537,13 @@ def test_a_scene_run_killed_then_resumed_is_bitwise_an_uninterrupted_run(tmp_pat
 
     args = ("heavy_top", "lp2", setup["x0"], setup["tops"])
     with pytest.raises(ValueError, match="resume"):
-        stability.run_scene(*args, store=store, **setup["kwargs"])
-    resumed = stability.run_scene(*args, store=store, resume=True, **setup["kwargs"])
+        stability.run_scene(*args, **setup["kwargs"],
+                            options=stability.RunOptions(store=store, **setup["stored"]))
+    resumed = stability.run_scene(*args, **setup["kwargs"], options=stability.RunOptions(
+        store=store, resume=True, **setup["stored"]))
     assert all(store.joinpath(name).stat().st_mtime_ns == t for name, t in kept.items())
-    whole = stability.run_scene(*args, **{**setup["kwargs"], "chunk_members": None})
+    whole = stability.run_scene(*args, **setup["kwargs"],
+                                options=stability.RunOptions(progress=False))
     assert set(whole.variables) == set(resumed.variables)
     for name in whole.variables:
         assert np.array_equal(whole[name].values, resumed[name].values,

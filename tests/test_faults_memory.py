@@ -40,7 +40,7 @@ def test_a_broadcast_x0_of_1e8_rows_is_refused_before_it_is_copied():
         with pytest.raises(ValueError, match=r"a run of 100000000 members of scene 'heavy_top' "
                                              r"would take about .* GiB in memory"):
             stability.run_scene("heavy_top", "lp2", x0, TOP.parameters, h=1e-4, n_steps=10,
-                                progress=False)
+                                options=stability.RunOptions(progress=False))
         peak = tracemalloc.get_traced_memory()[1]
     finally:
         tracemalloc.stop()
@@ -92,7 +92,7 @@ def test_max_memory_above_the_machine_is_refused_naming_the_machine(cgroup_of_1_
     x0 = np.broadcast_to(tilted_starts(150.0, np.radians(60.0), 1, top=TOP)[0], (10**4, 6))
     with pytest.raises(ValueError, match="this machine has 1.0 MiB for this process"):
         stability.run_scene("heavy_top", "lp2", x0, TOP.parameters, h=1e-4, n_steps=10,
-                            progress=False, max_memory=10**15)
+                            options=stability.RunOptions(progress=False, max_memory=10**15))
 
 
 def test_1e9_members_with_max_memory_1e15_is_one_line_not_a_memory_error():

@@ -175,9 +175,9 @@ def test_the_tennis_studys_measurement_of_gpu_chunks_is_the_cpus(simulated):
 
 
 def test_grouped_run_refuses_an_unknown_device():
-    from stability.ensemble.chunks import GroupedRun
+    from stability.ensemble.plan import Plan
     from stability.free_body.scene import FREE_BODY
 
     with pytest.raises(ValueError, match="device must be 'cpu' or 'gpu', got 'tpu'"):
-        GroupedRun(FREE_BODY, "rk4", [[0.0, 1.0, 0.0]], [[1.0] * 9], [1], 0.1, 1,
-                   device="tpu")
+        Plan(FREE_BODY, "rk4", [[0.0, 1.0, 0.0]], [[1.0] * 9], [1], 0.1, 1,
+             device="tpu")

@@ -11,7 +11,9 @@ import numpy as np
 import pytest
 
 import stability
-from stability.ensemble.chunks import GroupedRun, propagate_stored
+from stability import RunOptions
+from stability.ensemble.chunks import run_plan
+from stability.ensemble.plan import Plan
 from stability.registry import SCENES
 
 from .helpers import assert_declared
@@ -21,7 +23,7 @@ from .helpers import assert_declared
 CASES = [(scene.name, next(iter(scene.methods))) for scene in SCENES.values()]
 
 
-def grouped(scene_name: str, method: str) -> GroupedRun:
+def grouped(scene_name: str, method: str) -> Plan:
     """Three groups of unequal sizes, steps and horizons, with tracking and saved samples."""
     scene = SCENES[scene_name]
     spec = scene.method(method)
@@ -29,8 +31,8 @@ def grouped(scene_name: str, method: str) -> GroupedRun:
     hs = [0.05, 0.02, 0.04]
     x0 = np.concatenate([scene.example(n, seed=k)[0] for k, n in enumerate(sizes)])
     params = np.array([spec.params(p, h) for p, h in zip(scene.example(1)[1], hs)])
-    return GroupedRun(scene, method, x0, params, sizes, hs, [40, 60, 25], save_every=10,
-                      axes=[[1, 0, 2]] * 3, levels=[[1e-2, 5e-2, 0.3]] * 3)
+    return Plan(scene, method, x0, params, sizes, hs, [40, 60, 25], save_every=10,
+                axes=[[1, 0, 2]] * 3, levels=[[1e-2, 5e-2, 0.3]] * 3)
 
 
 def assert_bitwise(a, b):
@@ -44,11 +46,11 @@ def assert_bitwise(a, b):
 @pytest.mark.parametrize("scene,method", CASES, ids=[f"{s}-{m}" for s, m in CASES])
 def test_a_stored_run_cut_into_chunks_is_bitwise_the_run_in_one_piece(tmp_path, scene, method):
     run = grouped(scene, method)
-    whole = propagate_stored(run, progress=False)
-    stored = propagate_stored(run, tmp_path / "store", chunk_members=3, progress=False)
+    whole = run_plan(run, RunOptions(progress=False))
+    stored = run_plan(run, RunOptions(store=tmp_path / "store", chunk_members=3, progress=False))
     assert_bitwise(stored, whole)
     assert stored.saved.shape == whole.saved.shape == (16, 6, SCENES[scene].width)
-    here = propagate_stored(run, chunk_members=3, progress=False)  # in memory, in chunks
+    here = run_plan(run, RunOptions(chunk_members=3, progress=False))  # in memory, in chunks
     assert_bitwise(here, whole)
 
 
@@ -59,13 +61,13 @@ def test_ctrl_c_during_a_run_in_memory_keeps_the_member_chunks_finished_before_i
     scene = SCENES["free_body"]
     spec = scene.method("rk4")
     x0, params = scene.example(6 * 500, seed=3)
-    run = GroupedRun(scene, "rk4", x0, spec.params(params[0], 0.01), [x0.shape[0]], 0.01,
-                     300_000, axes=[[1, 0, 2]], levels=[[1e-2, 0.1]])
-    propagate_stored(replace(run, n_steps=10), progress=False)  # compiled before the timing
+    run = Plan(scene, "rk4", x0, spec.params(params[0], 0.01), [x0.shape[0]], 0.01,
+               300_000, axes=[[1, 0, 2]], levels=[[1e-2, 0.1]])
+    run_plan(replace(run, n_steps=10), RunOptions(progress=False))  # compiled before the timing
     timer = threading.Timer(0.45, os.kill, (os.getpid(), signal.SIGINT))
     timer.start()
     try:
-        kept = propagate_stored(run, chunk_members=500, partial=True, progress=False)
+        kept = run_plan(run, RunOptions(chunk_members=500, progress=False), partial=True)
     finally:
         timer.cancel()
     n = kept.x_final.shape[0]
@@ -78,12 +80,12 @@ def test_ctrl_c_during_a_run_in_memory_keeps_the_member_chunks_finished_before_i
     alone = replace(run.part(0, n), n_steps=steps).propagate()
     assert_bitwise(kept, alone)
     with pytest.raises(ValueError, match="needs a store"):
-        propagate_stored(run, scheduler="dask")
+        run_plan(run, RunOptions(scheduler="dask"))
     for bad, message in ((0, "chunk_members must be >= 1, got 0"),
                          (-3, "chunk_members must be >= 1, got -3"),
                          (2.5, "chunk_members must be a whole number, got 2.5")):
         with pytest.raises(ValueError, match=message):
-            propagate_stored(run, chunk_members=bad)
+            run_plan(run, RunOptions(chunk_members=bad))
 
 
 def test_ctrl_c_while_the_first_member_chunk_is_set_up_stops_the_run_at_once(monkeypatch):
@@ -92,36 +94,36 @@ def test_ctrl_c_while_the_first_member_chunk_is_set_up_stops_the_run_at_once(mon
     chunk ran first), and without ``partial`` it raises KeyboardInterrupt."""
     scene = SCENES["free_body"]
     x0, params = scene.example(6 * 50, seed=3)
-    run = GroupedRun(scene, "rk4", x0, scene.method("rk4").params(params[0], 0.01),
-                     [x0.shape[0]], 0.01, 300_000, axes=[[1, 0, 2]], levels=[[1e-2, 0.1]])
-    propagate_stored(replace(run, n_steps=10), progress=False)  # compiled before
-    part = GroupedRun.part
+    run = Plan(scene, "rk4", x0, scene.method("rk4").params(params[0], 0.01),
+               [x0.shape[0]], 0.01, 300_000, axes=[[1, 0, 2]], levels=[[1e-2, 0.1]])
+    run_plan(replace(run, n_steps=10), RunOptions(progress=False))  # compiled before
+    part = Plan.part
 
     def part_and_ctrl_c(self, lo, hi):
         if lo == 0:
             os.kill(os.getpid(), signal.SIGINT)  # handled here, in the main thread
         return part(self, lo, hi)
 
-    monkeypatch.setattr(GroupedRun, "part", part_and_ctrl_c)
-    kept = propagate_stored(run, chunk_members=50, partial=True, progress=False)
+    monkeypatch.setattr(Plan, "part", part_and_ctrl_c)
+    kept = run_plan(run, RunOptions(chunk_members=50, progress=False), partial=True)
     assert kept.interrupted and kept.x_final.shape[0] == 50
     assert int(kept.steps_done[0]) == 0
     assert np.array_equal(kept.x_final, x0[:50])
     with pytest.raises(KeyboardInterrupt):
-        propagate_stored(run, chunk_members=50, progress=False)
+        run_plan(run, RunOptions(chunk_members=50, progress=False))
 
 
 def test_a_resumed_run_runs_only_what_is_missing_and_is_bitwise_the_same(tmp_path):
     run = grouped("heavy_top", next(iter(SCENES["heavy_top"].methods)))
-    whole = propagate_stored(run, progress=False)
+    whole = run_plan(run, RunOptions(progress=False))
     store = tmp_path / "store"
-    propagate_stored(run, store, chunk_members=4, progress=False)
+    run_plan(run, RunOptions(store=store, chunk_members=4, progress=False))
     kept = {p.name: p.stat().st_mtime_ns for p in store.glob("chunk-*.nc")}
     for name in ("chunk-000001.nc", "chunk-000001.nc.sha256"):  # as a stopped run leaves it
         (store / name).unlink()
     with pytest.raises(ValueError, match="pass --resume"):
-        propagate_stored(run, store, chunk_members=4, progress=False)
-    again = propagate_stored(run, store, chunk_members=4, resume=True, progress=False)
+        run_plan(run, RunOptions(store=store, chunk_members=4, progress=False))
+    again = run_plan(run, RunOptions(store=store, chunk_members=4, resume=True, progress=False))
     assert_bitwise(again, whole)
     rerun = {p.name for p in store.glob("chunk-*.nc")
              if kept.get(p.name) != p.stat().st_mtime_ns}
@@ -130,21 +132,24 @@ def test_a_resumed_run_runs_only_what_is_missing_and_is_bitwise_the_same(tmp_pat
 
 def test_a_changed_run_is_refused_by_its_store(tmp_path):
     run = grouped("heavy_top", next(iter(SCENES["heavy_top"].methods)))
-    propagate_stored(run, tmp_path / "store", chunk_members=4, progress=False)
+    run_plan(run, RunOptions(store=tmp_path / "store", chunk_members=4, progress=False))
     run.x0[0, 0] += 1e-12
     with pytest.raises(ValueError, match="the settings changed since the run kept in"):
-        propagate_stored(run, tmp_path / "store", chunk_members=4, resume=True, progress=False)
+        run_plan(run,
+                 RunOptions(store=tmp_path / "store", chunk_members=4, resume=True,
+                            progress=False))
 
 
 def test_the_chunks_run_on_a_dask_cluster_bitwise_as_here(tmp_path):
     distributed = pytest.importorskip("distributed")
     run = grouped("heavy_top", next(iter(SCENES["heavy_top"].methods)))
-    whole = propagate_stored(run, progress=False)
+    whole = run_plan(run, RunOptions(progress=False))
     with distributed.LocalCluster(n_workers=2, threads_per_worker=1, processes=True,
                                   dashboard_address=None) as cluster, \
             distributed.Client(cluster) as client:
-        there = propagate_stored(run, tmp_path / "store", chunk_members=5, scheduler=client,
-                                 progress=False)
+        there = run_plan(run,
+                         RunOptions(store=tmp_path / "store", chunk_members=5, scheduler=client,
+                                    progress=False))
     assert_bitwise(there, whole)
 
 
@@ -157,9 +162,10 @@ def test_a_scenes_dataset_made_on_a_dask_cluster_is_bitwise_the_one_made_here(tm
     x0 = np.concatenate([scene.example(n, seed=k)[0] for k, n in enumerate(sizes)])
     tops = scene.example(1)[1]
     kwargs = dict(sizes=sizes, h=[0.05, 0.02, 0.04], n_steps=[40, 60, 25], axes=[1, 0, 2],
-                  levels=[1e-2, 5e-2, 0.3], tracked_units="1", progress=False)
-    here = stability.run_scene("heavy_top", "lp2", x0, tops, **kwargs)
-    raw = propagate_stored(grouped("heavy_top", "lp2"), progress=False)
+                  levels=[1e-2, 5e-2, 0.3], tracked_units="1")
+    here = stability.run_scene("heavy_top", "lp2", x0, tops, **kwargs,
+                               options=RunOptions(progress=False))
+    raw = run_plan(grouped("heavy_top", "lp2"), RunOptions(progress=False))
     assert np.array_equal(np.column_stack([here[f"{c}_final"] for c in scene.components]),
                           raw.x_final)
     assert np.array_equal(here.passage_time, raw.extras["passage_time"], equal_nan=True)
@@ -167,8 +173,11 @@ def test_a_scenes_dataset_made_on_a_dask_cluster_is_bitwise_the_one_made_here(tm
     with distributed.LocalCluster(n_workers=2, threads_per_worker=1, processes=True,
                                   dashboard_address=None) as cluster, \
             distributed.Client(cluster) as client:
-        there = stability.run_scene("heavy_top", "lp2", x0, tops, store=tmp_path / "store",
-                                    chunk_members=5, scheduler=client, **kwargs)
+        there = stability.run_scene("heavy_top", "lp2", x0, tops,
+                                    options=stability.RunOptions(store=tmp_path / "store",
+                                                                 chunk_members=5,
+                                                                 scheduler=client,
+                                                                 progress=False), **kwargs)
     assert there.attrs["wall_time"] > 0 and there.attrs["chunk_time"] > 0  # elapsed, summed
     for name in here.variables:
         assert np.array_equal(there[name].values, here[name].values, equal_nan=True), name
@@ -181,7 +190,7 @@ def test_a_registered_scene_takes_its_parameters_by_name_as_a_users_scene_does()
     scene = SCENES["sphere_damper"]
     x0, sets = scene.example(3)
     by_name = dict(zip(scene.parameters, sets[0]))
-    kwargs = dict(h=0.05, n_steps=20, progress=False)
+    kwargs = dict(h=0.05, n_steps=20, options=RunOptions(progress=False))
     named = stability.run_scene(scene, "rk4", x0, by_name, **kwargs)
     ordered = stability.run_scene(scene, "rk4", x0, sets[0], **kwargs)
     for name in ordered.variables:
@@ -202,7 +211,8 @@ def test_the_level_coordinate_of_a_scenes_run_holds_the_levels(tmp_path):
     are all of them, a member's passage times NaN at the other groups' levels."""
     scene = SCENES["heavy_top"]
     x0, tops = scene.example(5)
-    kwargs = dict(h=0.05, n_steps=40, axes=[1, 0, 2], tracked_units="1", progress=False)
+    kwargs = dict(h=0.05, n_steps=40, axes=[1, 0, 2], tracked_units="1",
+                  options=RunOptions(progress=False))
     one = stability.run_scene(scene, "lp2", x0, tops[0], levels=[1e-2, 5e-2, 0.3], **kwargs)
     assert one.level.values.tolist() == [1e-2, 5e-2, 0.3]
     assert one.level.attrs["units"] == "1" and "levels" not in one
@@ -231,9 +241,9 @@ def test_a_stored_runs_wall_time_is_its_elapsed_time_and_chunk_time_the_chunks_s
     if kind == "scene":
         scene = SCENES["heavy_top"]
         x0, tops = scene.example(12)
-        run = lambda **more: stability.run_scene(  # noqa: E731
-            scene, "lp2", x0, tops[0], h=0.05, n_steps=200, store=store, chunk_members=3,
-            progress=False, **more)
+        run = lambda resume=False: stability.run_scene(  # noqa: E731
+            scene, "lp2", x0, tops[0], h=0.05, n_steps=200, options=stability.RunOptions(
+                store=store, chunk_members=3, progress=False, resume=resume))
         steps = 12 * 200
     else:
         body = stability.RigidBody(1.0, 2.0, 3.0)
@@ -263,6 +273,6 @@ def test_every_registered_scene_declares_what_it_tracks_and_a_tracked_run_takes_
     scene = SCENES["sphere_damper"]
     x0, sets = scene.example(3)
     ds = stability.run_scene(scene, "rk4", x0, sets[0], h=0.05, n_steps=20, axes=[0, 1, 2],
-                             levels=[0.1], progress=False)
+                             levels=[0.1], options=stability.RunOptions(progress=False))
     assert ds.max_perp_amplitude.attrs["units"] == ds.level.attrs["units"] == "1"
     assert ds.attrs["tracked_units"] == "1"

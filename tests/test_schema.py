@@ -162,7 +162,8 @@ def test_a_scene_runs_declaration_is_the_scenes_and_the_check_reads_which_scene_
 
     scene = SCENES["heavy_top"]
     ds = stability.run_scene("heavy_top", "lp2", scene.example(4)[0], scene.example(1)[1][0],
-                             h=0.01, n_steps=20, save_every=5, progress=False)
+                             h=0.01, n_steps=20, save_every=5,
+                             options=stability.RunOptions(progress=False))
     declared = SCENE_RUN.of(scene.name, scene.components, scene.units,
                             invariants=scene.invariants)
     assert declared["g3"].dims == ("member", "time") and declared["g3"].units == "1"

@@ -19,7 +19,9 @@ import pytest
 import stability
 from stability import define_scene
 from stability.engine import propagate_groups
-from stability.ensemble.chunks import GroupedRun, propagate_stored
+from stability import RunOptions
+from stability.ensemble.chunks import run_plan
+from stability.ensemble.plan import Plan
 from stability.output.store import status_lines
 
 from .helpers import assert_cf_compliant, assert_declared
@@ -103,14 +105,14 @@ def home(tmp_path_factory):
         sys.modules.pop("user_oscillator", None)
 
 
-def oscillator_run(scene) -> GroupedRun:
+def oscillator_run(scene) -> Plan:
     """Three groups of unequal sizes, steps and horizons, saving samples and tracking v."""
     spec = scene.method("rk4")
     sizes, hs = [7, 5, 4], [0.05, 0.02, 0.04]
     x0 = np.concatenate([scene.example(n, seed=k)[0] for k, n in enumerate(sizes)])
     params = [spec.params(values, h) for values, h in zip([[1.0], [2.5], {"omega": 0.7}], hs)]
-    return GroupedRun(scene, "rk4", x0, params, sizes, hs, [40, 60, 25], save_every=10,
-                      axes=[[1, 0, 1]] * 3, levels=[[0.5, 1.0]] * 3)
+    return Plan(scene, "rk4", x0, params, sizes, hs, [40, 60, 25], save_every=10,
+                axes=[[1, 0, 1]] * 3, levels=[[0.5, 1.0]] * 3)
 
 
 def assert_bitwise(a, b):
@@ -153,12 +155,12 @@ def test_a_method_of_the_users_own_runs_with_the_scenes_parameters(home):
 def test_a_stored_run_in_chunks_and_resumed_is_bitwise_the_run_in_one_piece(home, tmp_path):
     _, scene = home
     run = oscillator_run(scene)
-    whole = propagate_stored(run, progress=False)
+    whole = run_plan(run, RunOptions(progress=False))
     store = tmp_path / "store"
-    assert_bitwise(propagate_stored(run, store, chunk_members=3, progress=False), whole)
+    assert_bitwise(run_plan(run, RunOptions(store=store, chunk_members=3, progress=False)), whole)
     for name in ("chunk-000002.nc", "chunk-000002.nc.sha256"):  # as a stopped run leaves it
         (store / name).unlink()
-    again = propagate_stored(run, store, chunk_members=3, resume=True, progress=False)
+    again = run_plan(run, RunOptions(store=store, chunk_members=3, resume=True, progress=False))
     assert_bitwise(again, whole)
     assert whole.saved.shape == (16, 6, 2)
     assert any("complete" in line for line in status_lines(store))
@@ -171,13 +173,14 @@ def test_the_chunks_run_on_dask_workers_that_import_the_users_module(home, tmp_p
     folder, scene = home
     assert pickle.loads(pickle.dumps(scene)) is scene
     run = oscillator_run(scene)
-    whole = propagate_stored(run, progress=False)
+    whole = run_plan(run, RunOptions(progress=False))
     with distributed.LocalCluster(n_workers=2, threads_per_worker=1, processes=True,
                                   dashboard_address=None) as cluster, \
             distributed.Client(cluster) as client:
         client.run(sys.path.insert, 0, str(folder))  # what a user's remote workers need too
-        there = propagate_stored(run, tmp_path / "store", chunk_members=6, scheduler=client,
-                                 progress=False)
+        there = run_plan(run,
+                         RunOptions(store=tmp_path / "store", chunk_members=6, scheduler=client,
+                                    progress=False))
     assert_bitwise(there, whole)
 
 
@@ -199,8 +202,9 @@ def test_a_worker_that_cannot_import_the_users_module_is_named_in_one_line(home,
         client.run(leave_path, str(folder))  # the worker inherited this process's path
         (worker,) = client.scheduler_info()["workers"]
         with pytest.raises(ValueError) as info:
-            propagate_stored(oscillator_run(scene), tmp_path / "store", chunk_members=6,
-                             scheduler=client, progress=False)
+            run_plan(oscillator_run(scene),
+                     RunOptions(store=tmp_path / "store", chunk_members=6, scheduler=client,
+                                progress=False))
     assert str(info.value) == (
         f"the dask worker {worker} cannot import module 'user_oscillator' (No module named "
         "'user_oscillator'), which the run needs: it must be importable on the scheduler and "
@@ -213,7 +217,9 @@ MAIN_SCRIPT = """
 import sys
 import numpy as np
 from stability import define_scene
-from stability.ensemble.chunks import GroupedRun, propagate_stored
+from stability import RunOptions
+from stability.ensemble.chunks import run_plan
+from stability.ensemble.plan import Plan
 
 
 def rhs(x, v, p):
@@ -224,9 +230,10 @@ SCENE = define_scene("script_oscillator", ["x", "v"], ["m", "m s-1"], rhs, ["ome
 
 if __name__ == "__main__":
     spec = SCENE.method("rk4")
-    run = GroupedRun(SCENE, "rk4", np.ones((8, 2)), [spec.params([1.0], 0.05)], [8], [0.05],
-                     [40])
-    propagate_stored(run, sys.argv[1], chunk_members=4, scheduler="dask", progress=False)
+    run = Plan(SCENE, "rk4", np.ones((8, 2)), [spec.params([1.0], 0.05)], [8], [0.05],
+               [40])
+    run_plan(run, RunOptions(store=sys.argv[1], chunk_members=4, scheduler="dask",
+                             progress=False))
 """
 
 
@@ -257,7 +264,7 @@ def test_a_run_of_the_users_scene_is_a_dataset_named_and_labelled_from_it(home, 
     x0 = scene.example(9, seed=2)[0]
     sets, steps = [[1.0], {"omega": 2.5}], [40, 60]
     kwargs = dict(sizes=[5, 4], h=0.05, n_steps=steps, save_every=10, axes=[0, 1, 1],
-                  levels=[0.5, 1.0], progress=False)
+                  levels=[0.5, 1.0], options=stability.RunOptions(progress=False))
     ds = stability.run_scene(scene, "rk4", x0, sets, **kwargs)
     for name, unit in zip(scene.components, scene.units):
         assert ds[name].dims == ("member", "time") and ds[name].attrs["units"] == unit
@@ -267,15 +274,15 @@ def test_a_run_of_the_users_scene_is_a_dataset_named_and_labelled_from_it(home, 
     assert ds.status.attrs["flag_meanings"].split()[0] == "ok" and (ds.status == 0).all()
     assert ds.max_perp_amplitude.attrs["units"] == "m s-1" and ds.passage_time.shape == (9, 2)
     assert float(np.abs(ds.energy_drift).max()) < 1e-5
-    # the numbers are the loop's: the same groups through propagate_stored
+    # the numbers are the loop's: the same groups through run_plan
     rows = [spec.params(values, 0.05) for values in sets]
-    raw = propagate_stored(GroupedRun(scene, "rk4", x0, rows, [5, 4], 0.05, steps,
-                                      save_every=10), progress=False)
+    raw = run_plan(Plan(scene, "rk4", x0, rows, [5, 4], 0.05, steps,
+                                      save_every=10), RunOptions(progress=False))
     assert np.array_equal(np.column_stack([ds.x_final, ds.v_final]), raw.x_final)
     assert np.array_equal(ds.x.values[:, 1:], raw.saved[:, :, 0], equal_nan=True)
     assert np.isnan(ds.x.values[:5, -2:]).all()  # past the end of the shorter group
-    stored = stability.run_scene(scene, "rk4", x0, sets, store=tmp_path / "store",
-                                 chunk_members=2, **kwargs)
+    stored = stability.run_scene(scene, "rk4", x0, sets, **{**kwargs, "options": RunOptions(
+        store=tmp_path / "store", chunk_members=2, progress=False)})
     assert set(stored.variables) == set(ds.variables)
     for name in ds.variables:
         assert np.array_equal(stored[name].values, ds[name].values, equal_nan=True), name
@@ -308,7 +315,7 @@ def run_in_new_process(folder, env=None):
 def test_a_run_of_the_users_scene_refuses_nonsense_in_one_line(home, change, message):
     _, scene = home
     args = dict(x0=np.ones((3, 2)), parameters={"omega": 1.0}, h=0.01, n_steps=10,
-                progress=False)
+                options=stability.RunOptions(progress=False))
     args.update(change)
     with pytest.raises(ValueError, match=message.replace("(", r"\(")) as caught:
         stability.run_scene(scene, "rk4", args.pop("x0"), args.pop("parameters"), **args)

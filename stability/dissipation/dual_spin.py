@@ -34,7 +34,8 @@ import numpy as np
 import xarray as xr
 
 from .schema import DUAL_SPIN
-from ..ensemble.chunks import GroupedRun, propagate_stored
+from ..ensemble.chunks import run_plan
+from ..ensemble.plan import Plan
 from .gyrostat import (axial_momentum, axisymmetric_eigenvalues, energy_sink_optimum,
                        energy_sink_rate, first_order_rate, tilted_spin)
 from .measure import (MIN_FIT_SAMPLES, exponential_rate, largest_rise, nutation_angle,
@@ -153,7 +154,7 @@ def _fastest(values, w_p, speed, lam) -> float:
 
 def measure_dual_spin(body, ratios, speeds, angles, *, placements=PLACEMENTS, step_angle=0.2,
                       efolds=4.0, max_time=3000.0, fit_top=0.02, samples=600, seed=0,
-                      progress=None, stored=None) -> xr.Dataset:
+                      options=None) -> xr.Dataset:
     """The dual-spin map: every cell and start run, measured, and set beside the theory.
 
     Parameters
@@ -183,10 +184,10 @@ def measure_dual_spin(body, ratios, speeds, angles, *, placements=PLACEMENTS, st
         least :data:`MIN_SAMPLES`: a short cell's step shrinks to keep them).
     seed : int
         Seed of the members' azimuths (irrelevant to an axisymmetric platform's physics).
-    progress : bool, optional
-    stored : dict, optional
-        Keyword arguments of :func:`~stability.ensemble.chunks.propagate_stored` (a store,
-        resume, a scheduler).
+    options : RunOptions, optional
+        How and where the members run (:class:`~stability.ensemble.options.RunOptions`): by
+        default in one piece here; with a ``store``, chunk by chunk into it, resumable and on
+        dask. The result is the same, bitwise.
 
     Returns
     -------
@@ -237,10 +238,9 @@ def measure_dual_spin(body, ratios, speeds, angles, *, placements=PLACEMENTS, st
     rows = [spec.params(values, h) for values, h in zip(group_values, hs)]
     x0 = np.concatenate(x0)
     t0 = time.perf_counter()
-    run = propagate_stored(GroupedRun(
+    run = run_plan(Plan(
         GYROSTAT, spec.name, x0, np.array(rows), np.full(G, K), hs, steps,
-        save_every=save_every, label="dual-spin map (rk4)"), progress=progress,
-        **(stored or {}))
+        save_every=save_every, label="dual-spin map (rk4)"), options)
     wall = time.perf_counter() - t0
     kept = np.concatenate([x0[:, None, :], run.saved], axis=1).reshape(G, K, -1, x0.shape[1])
     index = np.arange(kept.shape[2])

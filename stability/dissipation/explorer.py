@@ -30,7 +30,9 @@ import numpy as np
 import xarray as xr
 
 from ..util import conventions as cv
-from ..ensemble.chunks import GroupedRun, propagate_stored, sub_store
+from ..ensemble.chunks import run_plan
+from ..ensemble.options import run_options
+from ..ensemble.plan import Plan
 from ..engine.scene import Scene
 from .measure import (decay_window, exponential_rate, growth_window, largest_rise,
                       nutation_amplitude, nutation_angle, relative_drift)
@@ -124,7 +126,7 @@ class Whips:
 
 def run_damped(damper, method, group_values, angles, *, spin, step_angle=0.5, tail=6.0,
                samples=2000, fit_top=0.02, flat_angle=math.radians(80.0), seed=0,
-               label=None, progress=None, stored=None) -> dict:
+               label=None, options=None) -> dict:
     """Groups of one damped body, each with its parameter set, every initial nutation angle a
     member; run and measured (module docstring).
 
@@ -153,11 +155,10 @@ def run_damped(damper, method, group_values, angles, *, spin, step_angle=0.5, ta
         Seed of the members' azimuths (irrelevant to the physics of a symmetric body).
     label : str, optional
         The progress bar's label.
-    progress : bool, optional
-        Progress bar.
-    stored : dict, optional
-        Keyword arguments of :func:`~stability.ensemble.chunks.propagate_stored` (a store,
-        resume, a scheduler).
+    options : RunOptions, optional
+        How and where the members run (:class:`~stability.ensemble.options.RunOptions`): by
+        default in one piece here; with a ``store``, chunk by chunk into it, resumable and on
+        dask. The result is the same, bitwise.
 
     Returns
     -------
@@ -194,10 +195,10 @@ def run_damped(damper, method, group_values, angles, *, spin, step_angle=0.5, ta
     save_every = max(1, int(steps.max()) // samples)
     x0 = np.concatenate(x0)
     t0 = time.perf_counter()
-    run = propagate_stored(GroupedRun(
+    run = run_plan(Plan(
         damper.scene, spec.name, x0, np.array(rows), np.full(G, K), hs, steps,
         save_every=save_every, axes=[0, 1, 2], levels=[[math.sin(flat_angle)]],
-        label=label or f"{damper.scene.name} ({method})"), progress=progress, **(stored or {}))
+        label=label or f"{damper.scene.name} ({method})"), options)
     wall = time.perf_counter() - t0
     kept = np.concatenate([x0[:, None, :], run.saved], axis=1).reshape(G, K, -1, x0.shape[1])
     t = np.arange(kept.shape[2])[None, :] * save_every * hs[:, None]
@@ -271,8 +272,7 @@ def _end_state(damper, group_values, start, end, H) -> dict:
 def measure_explorer(body, J, factors, angles, *, method="lp2", step_angle=0.5, tail=6.0,
                      samples=2000, fit_top=0.02, flat_angle=math.radians(80.0),
                      end_tolerance=math.radians(1.0), whips=None, whip_angles=None,
-                     whip_step_angle=0.06, whip_tail=25.0, seed=0, progress=None,
-                     stored=None) -> xr.Dataset:
+                     whip_step_angle=0.06, whip_tail=25.0, seed=0, options=None) -> xr.Dataset:
     """An Explorer-like body with a spherical damper at each damping, and with whip antennas:
     rates, times to the flat spin and end states against the theory.
 
@@ -304,11 +304,10 @@ def measure_explorer(body, J, factors, angles, *, method="lp2", step_angle=0.5, 
     whip_tail : float
         Their run past the flat spin, in e-folds of their linear growth: their approach to the
         major axis is algebraic, not exponential (no linear decay there).
-    progress : bool, optional
-        Progress bars.
-    stored : dict, optional
-        Keyword arguments of :func:`~stability.ensemble.chunks.propagate_stored`: each damper
-        runs in its own store inside it.
+    options : RunOptions, optional
+        How and where the members run (:class:`~stability.ensemble.options.RunOptions`): by
+        default in one piece here; with a ``store``, chunk by chunk into it, resumable and on
+        dask. The result is the same, bitwise.
 
     Returns
     -------
@@ -322,11 +321,11 @@ def measure_explorer(body, J, factors, angles, *, method="lp2", step_angle=0.5, 
     factors = np.asarray(factors, dtype=float)
     I_t = equivalent_transverse_moment(I)
     c_sink = energy_sink_optimum(I[0], I_t, J, W)
-    options = dict(spin=W, samples=samples, fit_top=fit_top, flat_angle=flat_angle, seed=seed,
-                   progress=progress)
+    options = run_options(options)
+    shared = dict(spin=W, samples=samples, fit_top=fit_top, flat_angle=flat_angle, seed=seed)
     sphere = run_damped(SPHERE, method, [np.array([*I, J, f * c_sink]) for f in factors],
                         angles, step_angle=step_angle, tail=tail,
-                        stored=sub_store(stored, "sphere"), **options)
+                        options=options.within("sphere"), **shared)
     dims, samples_dims = (DAMPING, ANGLE), (DAMPING, ANGLE, SAMPLE)
     data = {name: (dims, sphere[name]) for name in VARIABLES if name in sphere
             and np.ndim(sphere[name]) == 2 and name not in ("sample_time",)}
@@ -353,7 +352,7 @@ def measure_explorer(body, J, factors, angles, *, method="lp2", step_angle=0.5, 
         values = whips.values(I, W)
         whip_angles = angles if whip_angles is None else np.asarray(whip_angles, dtype=float)
         run = run_damped(WHIPS, "rk4", [values], whip_angles, step_angle=whip_step_angle,
-                         tail=whip_tail, stored=sub_store(stored, "whips"), **options)
+                         tail=whip_tail, options=options.within("whips"), **shared)
         for name in WHIP_VARIABLES:
             data[f"whip_{name}"] = ((WHIP_ANGLE,), run[name][0])
         data["whip_status"] = ((WHIP_ANGLE,), run["status"][0].astype(np.int8))

@@ -37,7 +37,8 @@ from ..free_body.model import MOMENT_NAMES
 from ..study.config import UNSET, ConfigError, Key, Schema, Section
 from ..study.kind import StudyKind, StudySummary, SummaryTable, run_rows
 from ..study.outputs import output_files, write_outputs
-from ..study.sections import check_memory, check_run, output_section, run_section, stored_run
+from ..study.sections import (check_memory, check_run, output_section, run_section,
+                               study_run_options)
 from ..util.threads import numba_threads
 from .dual_spin import PLACEMENTS, DualSpinBody, measure_dual_spin
 from .explorer import Whips, measure_explorer
@@ -269,8 +270,8 @@ def run(config: dict, out_dir: Path, *, overwrite=False, threads=None, progress=
             flat_angle=math.radians(a["flat_angle"]),
             end_tolerance=math.radians(a["end_tolerance"]), whips=whips(config),
             whip_angles=np.radians(w["angles"]), whip_step_angle=w["step_angle"],
-            whip_tail=w["tail"], seed=s["seed"], progress=progress,
-            stored=stored_run(config, work, resume, scheduler, threads))
+            whip_tail=w["tail"], seed=s["seed"],
+            options=study_run_options(config, work, resume, scheduler, threads, progress))
     claim = a["claim"]
     ds, files = write_outputs(
         ds, config, out_dir, NAME,
@@ -525,8 +526,8 @@ def dual_spin_run(config: dict, out_dir: Path, *, overwrite=False, threads=None,
             dual_spin_body(config), ratios, speeds, np.radians(s["angles"]),
             placements=config["dampers"]["placements"], step_angle=integ["step_angle"],
             efolds=integ["efolds"], max_time=integ["max_time"], fit_top=a["fit_top"],
-            samples=integ["samples"], seed=s["seed"], progress=progress,
-            stored=stored_run(config, work, resume, scheduler, threads))
+            samples=integ["samples"], seed=s["seed"],
+            options=study_run_options(config, work, resume, scheduler, threads, progress))
     claim = a["claim"]
     ds, files = write_outputs(
         ds, config, out_dir, DUAL_SPIN_NAME,

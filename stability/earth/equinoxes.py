@@ -32,7 +32,9 @@ import numpy as np
 
 from .model import ARCSEC, DAY, DYNAMICAL_ELLIPTICITY, EQUATORIAL_RADIUS, MASS, POLAR_MOMENT_FACTOR
 from .methods import N_ORBIT, O_E, O_I, O_K, O_M0, O_N, O_NODE0, O_NODEDOT, O_W0, O_WDOT
-from ..ensemble.chunks import GroupedRun, propagate_stored, sub_store
+from ..ensemble.chunks import run_plan
+from ..ensemble.options import run_options
+from ..ensemble.plan import Plan
 from .scene import LUNISOLAR_EARTH, PRECESSING_AXIS, figure_axes
 from .schema import EQUINOXES
 
@@ -414,7 +416,7 @@ def nutation_frequencies(model):
 
 def measure_equinoxes(*, years=100.0, members=4, steps_per_day=4, method="lp4",
                       averaged_step_days=5.0, cycle_years=30000.0, seed=0,
-                      progress=None, stored=None):
+                      options=None):
     """Precession and nutation of the Earth's axis, full and orbit-averaged, with the shares.
 
     Parameters
@@ -436,13 +438,10 @@ def measure_equinoxes(*, years=100.0, members=4, steps_per_day=4, method="lp4",
     seed : int, default 0
         Seed of the members' orbital phases (:func:`member_orbits`) and spin phases
         (:func:`full_start`); member 0 starts at the J2000 phases whatever the seed.
-    progress : bool, optional
-        Progress bars.
-    stored : dict, optional
-        Keyword arguments of :func:`stability.ensemble.chunks.propagate_stored` (``store``,
-        ``resume``, ``scheduler`` ...): the three runs go chunk by chunk into their own
-        folders of that store, resumable and on dask; by default in one piece here. The
-        result is the same, bitwise.
+    options : RunOptions, optional
+        How and where the members run (:class:`~stability.ensemble.options.RunOptions`): by
+        default in one piece here; with a ``store``, chunk by chunk into it, resumable and on
+        dask. The result is the same, bitwise.
 
     Returns
     -------
@@ -454,7 +453,7 @@ def measure_equinoxes(*, years=100.0, members=4, steps_per_day=4, method="lp4",
 
     import xarray as xr
 
-
+    options = run_options(options)
     orbits = member_orbits(members, seed)
     full, averaged = LUNISOLAR_EARTH, PRECESSING_AXIS
     spec, avg_spec = full.method(method), averaged.method("rk4")
@@ -472,11 +471,11 @@ def measure_equinoxes(*, years=100.0, members=4, steps_per_day=4, method="lp4",
             h_rows.append(step)
             n_rows.append(n_steps if step == h else n_steps // 2)
     t0 = _time.perf_counter()
-    run = propagate_stored(
-        GroupedRun(full, spec.name, np.array(rows), np.array(p_rows), np.ones(len(rows)),
-                   np.array(h_rows), np.array(n_rows), save_every=steps_per_day,
-                   label=f"Earth under Sun and Moon ({method})"),
-        progress=progress, **sub_store(stored, "full"))
+    run = run_plan(
+        Plan(full, spec.name, np.array(rows), np.array(p_rows), np.ones(len(rows)),
+             np.array(h_rows), np.array(n_rows), save_every=steps_per_day,
+             label=f"Earth under Sun and Moon ({method})"),
+        options.within("full"))
     wall = _time.perf_counter() - t0
     samples = np.concatenate([np.array(rows)[:, None, :], run.saved], axis=1)
     t_full = np.arange(samples.shape[1]) * DAY
@@ -489,10 +488,10 @@ def measure_equinoxes(*, years=100.0, members=4, steps_per_day=4, method="lp4",
     pa = [avg_spec.params(averaged_parameters(*_switched(orbits[k], torque)), ha)
           for torque in TORQUES for k in range(members)]
     t1 = _time.perf_counter()
-    run_a = propagate_stored(
-        GroupedRun(averaged, avg_spec.name, xa, np.array(pa), np.ones(len(pa)), ha, na,
-                   save_every=1, label="orbit-averaged Earth (rk4)"),
-        progress=progress, **sub_store(stored, "averaged"))
+    run_a = run_plan(
+        Plan(averaged, avg_spec.name, xa, np.array(pa), np.ones(len(pa)), ha, na,
+             save_every=1, label="orbit-averaged Earth (rk4)"),
+        options.within("averaged"))
     wall_averaged = _time.perf_counter() - t1
     samples_a = np.concatenate([xa[:, None, :], run_a.saved], axis=1)
     t_avg = np.arange(samples_a.shape[1]) * ha
@@ -524,11 +523,11 @@ def measure_equinoxes(*, years=100.0, members=4, steps_per_day=4, method="lp4",
     if cycle_years > 0:
         nc = int(round(cycle_years * 365.25 / averaged_step_days))
         every = max(1, int(round(365.25 / averaged_step_days)))
-        run_c = propagate_stored(
-            GroupedRun(averaged, avg_spec.name, xa[:1],
-                       np.array(pa[2 * members:2 * members + 1]), [1], ha, nc,
-                       save_every=every, label="orbit-averaged Earth, full cycle (rk4)"),
-            progress=progress, **sub_store(stored, "cycle"))
+        run_c = run_plan(
+            Plan(averaged, avg_spec.name, xa[:1],
+                 np.array(pa[2 * members:2 * members + 1]), [1], ha, nc,
+                 save_every=every, label="orbit-averaged Earth, full cycle (rk4)"),
+            options.within("cycle"))
         cycle = np.concatenate([xa[:1, None, :], run_c.saved], axis=1)[0]
         t_cycle = np.arange(cycle.shape[0]) * every * ha
 

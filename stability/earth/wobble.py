@@ -13,6 +13,7 @@ about the fixed angular momentum).
 from __future__ import annotations
 
 import math
+from dataclasses import replace
 
 import numpy as np
 import xarray as xr
@@ -24,6 +25,7 @@ from ..free_body.ensemble import completed, run_ensemble
 from ..analysis.estimates import measured_frequency
 from ..free_body.integrate import integrate
 from ..ensemble.chunks import default_chunk_members
+from ..ensemble.options import run_options
 from .schema import EARTH_WOBBLE
 
 #: Dimension of the cone member's samples.
@@ -36,8 +38,7 @@ def _angle(u, v):
 
 
 def measure_free_wobble(body, spin, offset, *, members=16, periods=3.0, steps_per_turn=20,
-                        method="lp4", seed=0, cone_samples=1000, progress=None,
-                        stored=None) -> xr.Dataset:
+                        method="lp4", seed=0, cone_samples=1000, options=None) -> xr.Dataset:
     """Measured free-wobble period of a body spun about its largest axis, and its cones.
 
     Parameters
@@ -60,13 +61,10 @@ def measure_free_wobble(body, spin, offset, *, members=16, periods=3.0, steps_pe
         Seed of the random directions of the offset (:func:`stability.run_ensemble`).
     cone_samples : int, default 1000
         Samples of the cone member over one period (about).
-    progress : bool, optional
-        Progress bars of the ensemble and of the cone member's run.
-    stored : dict, optional
-        ``store``, ``resume``, ``scheduler``, ``chunk_members`` and ``threads`` of
-        :func:`stability.run_ensemble` for the ensemble: it then runs chunk by chunk into
-        that store (chunked as :func:`~stability.ensemble.chunks.default_chunk_members` says
-        unless ``chunk_members`` does), resumable and on dask, bitwise the run in one piece.
+    options : RunOptions, optional
+        How and where the members run (:class:`~stability.ensemble.options.RunOptions`): by
+        default in one piece here; with a ``store``, chunk by chunk into it, resumable and on
+        dask. The result is the same, bitwise.
 
     Returns
     -------
@@ -78,11 +76,12 @@ def measure_free_wobble(body, spin, offset, *, members=16, periods=3.0, steps_pe
     h = 2.0 * math.pi / (spin * steps_per_turn)
     t_euler = euler_period(moments, spin)
     steps = int(math.ceil(periods * t_euler / h))
-    stored = dict(stored or {})
-    if stored.get("store") is not None and stored.get("chunk_members") is None:
-        stored["chunk_members"] = default_chunk_members(members, members * steps)
+    options = run_options(options)
+    if options.store is not None and options.chunk_members is None:
+        options = replace(options, chunk_members=default_chunk_members(members, members * steps))
     ens = run_ensemble(body, 3, spin, offset, members, h=h, t_end=steps * h, seed=seed,
-                       method=method, summaries_only=True, progress=progress, **stored)
+                       method=method, summaries_only=True, **options.stored(),
+                       progress=options.progress)
     completed(ens)
     freq = measured_frequency(ens)
     period = 2.0 * math.pi / float(freq.oscillation_frequency)
@@ -95,7 +94,7 @@ def measure_free_wobble(body, spin, offset, *, members=16, periods=3.0, steps_pe
     save_every = max(1, one // cone_samples)
     one = (one // save_every + 1) * save_every
     cone = integrate(body, w0, one * h, h, method=method, save_every=save_every,
-                     scene="free_body_attitude", progress=progress)
+                     scene="free_body_attitude", progress=options.progress)
     completed(cone)
     w_body = cone.w.values
     R = quaternion_to_matrix(cone.q.values)

@@ -9,8 +9,8 @@ unless the user gives one, an ``observe`` that tracks components by number. It c
 the user's functions there once (cached like the loops; what Numba cannot compile is one line
 too) and returns a :class:`~stability.engine.scene.Scene` that runs wherever a registered one
 does: :func:`stability.engine.propagate_groups`, and
-:class:`~stability.ensemble.chunks.GroupedRun` with
-:func:`~stability.ensemble.chunks.propagate_stored` (chunks in a store, resume, dask workers,
+:class:`~stability.ensemble.plan.Plan` run by
+:func:`~stability.ensemble.chunks.run_plan` (chunks in a store, resume, dask workers,
 which import the user's module to find the scene).
 """
 

@@ -28,7 +28,9 @@ from ..free_body.measure import exact_flip_intervals
 from ..free_body.exact import exact_omega
 from ..integrators import METHODS
 from ..output.dataset import storable_attrs
-from ..ensemble.chunks import GroupedRun, propagate_stored, sub_store
+from ..ensemble.chunks import run_plan
+from ..ensemble.options import RunOptions, run_options
+from ..ensemble.plan import Plan
 from ..engine.scene import Scene
 from .scene import ENGINE_BODY
 from .schema import ENGINE_ARTEFACTS
@@ -64,7 +66,7 @@ def rule_scene(rule: str) -> Scene:
     return FREE_BODY_SCENES["free_body" if rule == "exact" else "free_body_attitude"]
 
 
-def run_rule(rule, moments, w0, h, t_end, *, save_every=0, progress=None, stored=None):
+def run_rule(rule, moments, w0, h, t_end, *, save_every=0, options=None):
     """Run the members ``w0`` (N, 3, rad/s, canonical) of the body ``moments`` (canonical) with
     ``rule`` from the identity attitude, tracking flips; returns the Propagation, the final
     body angular momenta (N, 3) and attitudes (N, 4), and the saved body angular velocities
@@ -85,12 +87,10 @@ def run_rule(rule, moments, w0, h, t_end, *, save_every=0, progress=None, stored
     save_every : int, default 0
         Store the state every ``save_every`` steps; 0 stores only the final state (and no
         angular velocities are returned).
-    progress : bool or None, optional
-        Progress bar; ``None`` shows one when the run is expected to take long.
-    stored : dict, optional
-        Keyword arguments of :func:`stability.ensemble.chunks.propagate_stored` (``store``,
-        ``resume``, ``scheduler`` ...): the run goes chunk by chunk into that store, resumable
-        and on dask; by default in one piece here. The result is the same, bitwise.
+    options : RunOptions, optional
+        How and where the members run (:class:`~stability.ensemble.options.RunOptions`): by
+        default in one piece here; with a ``store``, chunk by chunk into it, resumable and on
+        dask. The result is the same, bitwise.
 
     Returns
     -------
@@ -116,11 +116,11 @@ def run_rule(rule, moments, w0, h, t_end, *, save_every=0, progress=None, stored
           "free_body_attitude": lambda: np.concatenate([m0, q0], axis=1)}[scene.name]()
     n_steps = int(round(t_end / h))
     spin = float(np.median(np.abs(w0[:, 1])))
-    prop = propagate_stored(
-        GroupedRun(scene, spec.name, x0, spec.params(moments, h)[None, :], [w0.shape[0]],
-                   h, n_steps, save_every=save_every, axes=_AXES,
-                   levels=(LEVELS * spin)[None, :], label=f"{rule}, h = {h:.3g} s"),
-        progress=progress, **(stored or {}))
+    prop = run_plan(
+        Plan(scene, spec.name, x0, spec.params(moments, h)[None, :], [w0.shape[0]],
+             h, n_steps, save_every=save_every, axes=_AXES,
+             levels=(LEVELS * spin)[None, :], label=f"{rule}, h = {h:.3g} s"),
+        options)
 
     def body(x):
         if scene.name == "engine_body":
@@ -135,7 +135,7 @@ def run_rule(rule, moments, w0, h, t_end, *, save_every=0, progress=None, stored
     return prop, m, q, saved_w
 
 
-def measure_rule(rule, moments, w0, h, t_end, progress=None, stored=None) -> dict:
+def measure_rule(rule, moments, w0, h, t_end, options=None) -> dict:
     """The numbers of one rule at one step (see the module docstring); scalars.
 
     Parameters
@@ -150,10 +150,10 @@ def measure_rule(rule, moments, w0, h, t_end, progress=None, stored=None) -> dic
         Time step in s.
     t_end : float
         Horizon in s.
-    progress : bool or None, optional
-        The engine's progress bar (:func:`run_rule`); ``False`` shows none.
-    stored : dict, optional
-        The run's store (:func:`run_rule`).
+    options : RunOptions, optional
+        How and where the members run (:class:`~stability.ensemble.options.RunOptions`): by
+        default in one piece here; with a ``store``, chunk by chunk into it, resumable and on
+        dask. The result is the same, bitwise.
 
     Returns
     -------
@@ -164,7 +164,7 @@ def measure_rule(rule, moments, w0, h, t_end, progress=None, stored=None) -> dic
     """
     body = RigidBody(*moments, physical=False)
     spin = float(np.median(np.abs(w0[:, 1])))
-    prop, m, q, _ = run_rule(rule, moments, w0, h, t_end, progress=progress, stored=stored)
+    prop, m, q, _ = run_rule(rule, moments, w0, h, t_end, options=options)
     ok = prop.status == cv.STATUS_OK
     mem = tracked_members(prop.extras, w0, 2, spin, LEVELS * spin, prop.status)
     exact, asymptote = exact_flip_intervals(body, 2, w0)
@@ -256,7 +256,8 @@ def steps_for_accuracy(rule, moments, w0, t_end, h_max, tolerance=0.01, halvings
     found = dict.fromkeys(quantities, math.nan)
     for k in range(2 * halvings + 1):
         steps = int(round(t_end * 2.0 ** (0.5 * k) / h_max))
-        result = measure_rule(rule, moments, w0, t_end / steps, t_end, progress)
+        result = measure_rule(rule, moments, w0, t_end / steps, t_end,
+                              RunOptions(progress=progress))
         for quantity in quantities:
             if math.isnan(found[quantity]) and abs(result[quantity]) <= tolerance:
                 found[quantity] = t_end / steps
@@ -266,7 +267,7 @@ def steps_for_accuracy(rule, moments, w0, t_end, h_max, tolerance=0.01, halvings
 
 
 def measure_artefacts(rules, moments, w0, steps, t_end, *, tolerance=0.01, search_members=64,
-                      halvings=12, trace_member=0, progress=None, stored=None) -> xr.Dataset:
+                      halvings=12, trace_member=0, options=None) -> xr.Dataset:
     """Every rule at every step, the step each needs, and one member's spin-axis trace.
 
     Parameters
@@ -290,14 +291,10 @@ def measure_artefacts(rules, moments, w0, steps, t_end, *, tolerance=0.01, searc
     trace_member : int, default 0
         Index of the member whose spin-axis angular velocity w2 is stored, run at
         ``steps[0]``, beside its exact w2.
-    progress : bool or None, optional
-        The engine's progress bars (shown for runs expected to take more than a few seconds);
-        ``False`` shows none.
-    stored : dict, optional
-        Keyword arguments of :func:`stability.ensemble.chunks.propagate_stored`: the run of
-        every rule at every step, and each rule's trace, goes into a folder of its own of that
-        store, resumable and on dask (the step searches, many short runs of a few members, run
-        here in one piece); by default all in one piece here. The result is the same, bitwise.
+    options : RunOptions, optional
+        How and where the members run (:class:`~stability.ensemble.options.RunOptions`): by
+        default in one piece here; with a ``store``, chunk by chunk into it, resumable and on
+        dask. The result is the same, bitwise.
 
     Returns
     -------
@@ -305,22 +302,23 @@ def measure_artefacts(rules, moments, w0, steps, t_end, *, tolerance=0.01, searc
     """
     moments = np.asarray(moments, dtype=float)
     w0 = np.atleast_2d(np.asarray(w0, dtype=float))
+    options = run_options(options)
     table = {name: np.full((len(rules), len(steps)), np.nan) for name in _TABLE}
     for i, rule in enumerate(rules):
         for j, h in enumerate(steps):
-            for name, value in measure_rule(rule, moments, w0, h, t_end, progress,
-                                            sub_store(stored, f"{rule}-{j}")).items():
+            for name, value in measure_rule(rule, moments, w0, h, t_end,
+                                            options.within(f"{rule}-{j}")).items():
                 table[name][i, j] = value
     searches = [steps_for_accuracy(rule, moments, w0[:search_members], t_end, steps[0],
-                                   tolerance, halvings, progress=progress) for rule in rules]
+                                   tolerance, halvings, progress=options.progress)
+                for rule in rules]
     needed = np.array([[found[quantity] for found in searches]
                        for quantity in ("flip_interval_error", "energy_drift")])
     trace_h = steps[0]
     traces = []
     for rule in rules:
         saved = run_rule(rule, moments, w0[trace_member:trace_member + 1], trace_h, t_end,
-                         save_every=1, progress=progress,
-                         stored=sub_store(stored, f"{rule}-trace"))[3]
+                         save_every=1, options=options.within(f"{rule}-trace"))[3]
         traces.append(np.concatenate([w0[trace_member:trace_member + 1, 1], saved[0, :, 1]]))
     exact = exact_flip_intervals(RigidBody(*moments, physical=False), 2, w0)[0]
     spin = float(np.median(np.abs(w0[:, 1])))

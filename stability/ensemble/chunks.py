@@ -1,15 +1,18 @@
-"""Grouped runs of any scene, streamed to disk, resumable and distributed like the free body's.
+"""The one way every run goes: :func:`run_plan`, a :class:`~stability.ensemble.plan.Plan`
+run in this process or chunk by chunk into a store, resumed, on dask.distributed, measured where
+each chunk ran.
 
-A study of a scene (a heavy top, a struck bat, a rolling body ...) lays its members out in groups,
-each group with its own parameter row, step and step count, and runs them with the one member
-loop (:func:`stability.engine.propagate_groups`). :class:`GroupedRun` holds such a run;
-:func:`propagate_stored` runs it, by default in this process exactly as before, and with a
-``store`` folder chunk by chunk through the same machinery as the free body's streamed ensembles
+Every family's study, :func:`stability.run_scene` and :func:`stability.run_ensemble` hand a
+plan (its scene and method, the members' starts, each group's parameter row, step and step
+count, what the loop keeps) and their run options
+(:class:`~stability.ensemble.options.RunOptions`) to :func:`run_plan`. By default the plan runs
+in this process, with the member loop (:func:`stability.engine.propagate_groups`); with a
+``store`` folder, chunk by chunk through the streaming machinery
 (:mod:`stability.output.stream`): each finished chunk of members is kept at once, a stopped run
 resumes with ``resume`` and only the missing chunks run, and the chunks run on dask.distributed
-with ``scheduler``. The result is the same :class:`~stability.engine.Propagation`, bitwise,
-however the run was cut or wherever it ran: members are independent, and a chunk that holds a
-part of a group runs that part with the group's own row, step and step count.
+with ``scheduler``. The result is the same, bitwise, however the run was cut or wherever it
+ran: members are independent, and a chunk that holds a part of a group runs that part with the
+group's own row, step and step count.
 
 A scene of the user's own (:func:`stability.define_scene`) runs the same way. A dask worker
 finds it by reference: it imports the module that defines the scene, so that module must be
@@ -19,40 +22,36 @@ cache when the workers share it (``STABILITY_CACHE_DIR``).
 
 A stored run is cut into chunks, and each chunk is one job (:class:`ChunkJob`): its members
 propagated, then *measured*. Without a measurement the chunk is the raw
-:class:`~stability.engine.Propagation` and :func:`propagate_stored` gives the whole run's back
-(what the studies measure afterwards); with one (``measure=``, a picklable
-``measure(part, propagation, lo, hi, threads) -> xarray.Dataset``) each chunk is kept as the
-measurement's Dataset of its members and the result is the Dataset over the chunk files: the
-free body's :func:`stability.run_ensemble` with ``store=`` is that path, with its own start rule
+:class:`~stability.engine.Propagation` and :func:`run_plan` gives the whole run's back (for a
+family whose per-member results are small: final states and tracked events); with one
+(``measure=``, a picklable ``measure(part, propagation, lo, hi, threads) -> xarray.Dataset``)
+each chunk is kept as the measurement's Dataset of its members and the result is the
+measurement's combination of the chunks (``combine``), or the Dataset over the chunk files: the
+free body's :func:`stability.run_ensemble` with a store is that path, with its own start rule
 and measurement, and so is :func:`stability.run_scene`, every scene's Dataset. The starts are
-the run's ``x0``, or a rule that makes any members' starts alone (``starts=``: the free body
+the plan's ``x0``, or a rule that makes any members' starts alone (``starts=``: the free body
 draws each chunk's from its seed, so that memory is one chunk's).
 
 Without a store, a raw run stays in this process, cut into chunks of members only when asked
-(``chunk_members``, what bounds its memory), and Ctrl-C may keep what was done (``partial``):
-the free body's :func:`stability.run_ensemble` and
-:func:`stability.free_body.ensemble.run_ensembles` in memory are that path, with the ensembles'
-starts as ``x0``.
+(``chunk_members``, what bounds its memory), and Ctrl-C may keep what was done (``partial``).
 """
 
 from __future__ import annotations
 
-import hashlib
 import math
-from dataclasses import dataclass, replace
-from pathlib import Path
+from dataclasses import dataclass
 
 import numpy as np
 import xarray as xr
 
-from ..engine import propagate_groups
 from ..engine.run import Propagation
 from ..util.interrupts import deferred_interrupt
 from ..output.io import READ
 from ..output.store import ChunkStore, read_manifest
 from ..output.stream import sendable, stream_chunks
 from ..output.untrusted import opened, read_dataset
-from ..engine.scene import Scene, checked_scene
+from .options import run_options
+from .plan import Plan
 from ..util import conventions as cv
 from ..util.checks import checked_progress, positive_int
 from ..util.threads import checked_threads, numba_threads
@@ -70,158 +69,23 @@ SAMPLE = "sample"
 
 
 @dataclass(eq=False)
-class GroupedRun:
-    """Groups of members of one scene and method, as :func:`propagate_groups` takes them.
-
-    The fields are the constructor's parameters and the instance's attributes.
-
-    Parameters
-    ----------
-    scene : Scene
-        A family's scene or one of the user's own (pickled by reference: its module is
-        imported where a chunk runs).
-    method : str or MethodSpec
-        A method of the scene (a spec it does not register is taken as it is).
-    x0 : ndarray, shape (N, n), or None
-        Initial states, group after group; None with ``starts``.
-    params : ndarray, shape (G, p)
-        Each group's parameter row.
-    sizes : ndarray of int, shape (G,)
-        Members per group.
-    h : ndarray, shape (G,)
-        Each group's step.
-    n_steps : ndarray of int, shape (G,)
-        Each group's step count.
-    save_every : int, default 0
-        Keep the state every ``save_every`` steps (0: only the final state).
-    axes, levels : ndarray, optional
-        Tracking, as :func:`propagate_groups` takes it.
-    label : str, optional
-        The progress bar's label.
-    device : {"cpu", "gpu"}, default "cpu"
-        Where the member loop runs: ``"gpu"`` on a CUDA GPU
-        (:func:`stability.engine.gpu.propagate_groups_gpu`; the results agree with the CPU's to
-        round-off, not bitwise, so the device is part of a stored run's identity).
-    chunk_steps : int, optional
-        Steps per call of the loop (:func:`propagate_groups`); never changes the result.
-    starts : callable, optional
-        The start rule, instead of ``x0``: ``starts(lo, hi)`` gives the initial states of
-        members ``lo ... hi - 1`` alone (the same whichever members are asked with them);
-        picklable where the chunks run on dask, and with ``identity()`` (a dict) for a store's
-        fingerprint unless a measurement gives the run's identity.
-    """
-
-    scene: Scene
-    method: object
-    x0: np.ndarray
-    params: np.ndarray
-    sizes: np.ndarray
-    h: np.ndarray
-    n_steps: np.ndarray
-    save_every: int = 0
-    axes: np.ndarray | None = None
-    levels: np.ndarray | None = None
-    label: str | None = None
-    device: str = "cpu"
-    chunk_steps: int | None = None
-    starts: object = None
-
-    def __post_init__(self):
-        checked_scene(self.scene, "GroupedRun")
-        if self.device not in ("cpu", "gpu"):
-            raise ValueError(f"device must be 'cpu' or 'gpu', got {self.device!r}")
-        if (self.x0 is None) == (self.starts is None):
-            raise ValueError("give the starts as x0 or as a rule, starts=, not both")
-        if self.x0 is not None:
-            self.x0 = np.ascontiguousarray(self.x0, dtype=float)
-        self.params = np.ascontiguousarray(np.atleast_2d(self.params), dtype=float)
-        self.sizes = np.asarray(self.sizes, dtype=np.int64).reshape(-1)
-        groups = self.sizes.size
-        self.h = np.broadcast_to(np.asarray(self.h, dtype=float), (groups,)).copy()
-        self.n_steps = np.broadcast_to(np.asarray(self.n_steps, dtype=np.int64), (groups,)).copy()
-        if self.axes is not None:
-            self.axes = np.broadcast_to(np.asarray(self.axes, dtype=np.int64), (groups, 3)).copy()
-        if self.levels is not None:
-            levels = np.atleast_2d(np.asarray(self.levels, dtype=float))
-            self.levels = np.broadcast_to(levels, (groups, levels.shape[-1])).copy()
-
-    @property
-    def members(self) -> int:
-        return int(self.sizes.sum())
-
-    @property
-    def width(self) -> int:
-        """Numbers per member in the scene's state."""
-        return self.scene.width
-
-    @property
-    def n_saved(self) -> int:
-        """Samples kept per member in the whole run (NaN past a group's own last one)."""
-        return int(self.n_steps.max()) // self.save_every if self.save_every > 0 else 0
-
-    def identity(self) -> dict:
-        """What makes the run what it is, for a store's fingerprint: names and array digests."""
-        arrays = {name: getattr(self, name) for name in
-                  ("x0", "params", "sizes", "h", "n_steps", "axes", "levels")}
-        if self.starts is not None:
-            rule = getattr(self.starts, "identity", None)
-            if rule is None:
-                raise ValueError("a run whose starts come from a rule needs the rule's "
-                                 "identity() for its store's fingerprint")
-            arrays.pop("x0")
-        source = self.scene.source  # the user's code; the version stands for the package's
-        return {"scene": self.scene.name, **({"scene_source": source} if source else {}),
-                **({"starts": rule()} if self.starts is not None else {}),
-                **({"device": self.device} if self.device != "cpu" else {}),
-                "method": getattr(self.method, "name", self.method),
-                "save_every": self.save_every,
-                "arrays": {name: None if a is None else _digest(a) for name, a in arrays.items()}}
-
-    def part(self, lo: int, hi: int) -> "GroupedRun":
-        """Members ``lo ... hi - 1``: the groups they fall in, each with its own row and step."""
-        ends = np.cumsum(self.sizes)
-        starts = ends - self.sizes
-        sizes = np.clip(np.minimum(ends, hi) - np.maximum(starts, lo), 0, None)
-        keep = sizes > 0
-        pick = (lambda a: None if a is None else a[keep])
-        x0 = self.x0[lo:hi] if self.starts is None else self.starts(lo, hi)
-        return replace(self, x0=x0, params=self.params[keep], sizes=sizes[keep],
-                       h=self.h[keep], n_steps=self.n_steps[keep], axes=pick(self.axes),
-                       levels=pick(self.levels), starts=None)
-
-    def propagate(self, progress=None, partial=False) -> Propagation:
-        """The run in this process (:func:`propagate_groups`, or its GPU twin); with
-        ``partial``, Ctrl-C returns the steps done (``interrupted``) instead of raising."""
-        if self.starts is not None:
-            return self.part(0, self.members).propagate(progress, partial)
-        propagator = propagate_groups
-        if self.device == "gpu":
-            from ..engine.gpu import propagate_groups_gpu as propagator  # numba-cuda: optional
-
-        return propagator(self.scene, self.method, self.x0, self.params, self.sizes, self.h,
-                          self.n_steps, save_every=self.save_every, axes=self.axes,
-                          levels=self.levels, progress=progress, chunk_steps=self.chunk_steps,
-                          label=self.label, partial=partial)
-
-
-@dataclass(eq=False)
 class ChunkJob:
     """The chunk job of a stored run (:func:`stability.output.stream.stream_chunks`): members
-    ``lo ... hi - 1`` of ``run`` propagated (:meth:`GroupedRun.part`), then measured.
+    ``lo ... hi - 1`` of ``run`` propagated (:meth:`Plan.part`), then measured.
 
     Parameters
     ----------
-    run : GroupedRun
+    run : Plan
         The whole run.
     measure : callable, optional
         ``measure(part, propagation, lo, hi, threads) -> xarray.Dataset``: the chunk's Dataset
-        from its part of the run (a :class:`GroupedRun`) and that part's
+        from its part of the run (a :class:`Plan`) and that part's
         :class:`~stability.engine.Propagation`, members numbered from ``lo``; ``threads`` is
         what the chunk was asked to run with. Default: :class:`RawChunk`, the propagation as
         it is.
     """
 
-    run: GroupedRun
+    run: Plan
     measure: object = None
 
     def __post_init__(self):
@@ -236,18 +100,18 @@ class ChunkJob:
 @dataclass(frozen=True)
 class RawChunk:
     """The measurement that keeps a chunk raw: its members' :class:`Propagation` as a Dataset,
-    which :func:`propagate_stored` reads back into the whole run's.
+    which :func:`run_plan` reads back into the whole run's.
 
     Parameters
     ----------
     n_saved : int
-        Samples per member of the whole run (:attr:`GroupedRun.n_saved`): a chunk's saved
+        Samples per member of the whole run (:attr:`Plan.n_saved`): a chunk's saved
         states are padded with NaN to them, whichever groups it holds.
     """
 
     n_saved: int
 
-    def __call__(self, part: GroupedRun, run: Propagation, lo: int, hi: int,
+    def __call__(self, part: Plan, run: Propagation, lo: int, hi: int,
                  threads=None) -> xr.Dataset:
         data = {
             "x_final": ((cv.MEMBER, COMPONENT), run.x_final),
@@ -267,41 +131,34 @@ class RawChunk:
                           attrs={"wall_time": run.wall_time, "compile_time": run.compile_time})
 
 
-def propagate_stored(run: GroupedRun, store=None, *, measure=None, resume=False,
-                     scheduler=None, chunk_members=None, threads=None, progress=None,
-                     compress=None, partial=False):
-    """Run ``run``: in this process, or chunk by chunk into the folder ``store``.
+def run_plan(plan: Plan, options=None, *, measure=None, compress=None, partial=False):
+    """Run ``plan``: in this process, or chunk by chunk into the folder ``options.store``.
 
     Parameters
     ----------
-    run : GroupedRun
-    store : path-like, optional
-        Folder of the chunk files (a :class:`~stability.output.store.ChunkStore`, created if
-        missing). Without it the run is :func:`propagate_groups` in this process.
+    plan : Plan
+    options : RunOptions, optional
+        How and where it runs (:class:`~stability.ensemble.options.RunOptions`): ``store``, the
+        folder of the chunk files (a :class:`~stability.output.store.ChunkStore`, created if
+        missing; without it the run is :func:`propagate_groups` in this process); ``resume``,
+        finish a run of the same members stopped earlier (only the missing chunks run);
+        ``scheduler``, run the chunks on dask.distributed (needs ``store``);
+        ``chunk_members``, members per chunk (default: the run in :data:`DEFAULT_CHUNKS`
+        chunks, fewer where a chunk would hold less than :data:`MIN_CHUNK_WORK` member-steps;
+        without a store and a measurement the run is cut into chunks only when this is given,
+        each run in turn: what bounds the memory of a run kept in memory); ``threads``, Numba
+        threads for chunks run in this process; ``progress``, the progress bar. Its
+        ``chunk_steps`` and ``device`` are the plan's own.
     measure : callable, optional
         The measurement each chunk is kept as (:class:`ChunkJob`); the result is then the
         measured Dataset. It may also have ``combine(paths, members) -> (Dataset, chunk
         attributes)``, the whole run in memory from its chunk files (:func:`measured_whole`);
         ``identity(run) -> dict``, what makes the run what it is for the store's fingerprint
-        (default: the run's :meth:`GroupedRun.identity` and the measurement's class); and
+        (default: the run's :meth:`Plan.identity` and the measurement's class); and
         ``whole_attrs(chunks, todo, elapsed, chunk_attrs=None) -> dict``, the attributes of
         the whole Dataset from the store, the chunks this call ran and the seconds they took
         (``chunk_attrs``: the chunks' attributes where ``combine`` read them; default
         :func:`summed_attrs`).
-    resume : bool, default False
-        Finish a run of the same members stopped earlier (only the missing chunks run).
-    scheduler : str or distributed.Client, optional
-        Run the chunks on dask.distributed (needs ``store``;
-        :func:`stability.free_body.ensemble.run_streamed`).
-    chunk_members : int, optional
-        Members per chunk; default: the run in :data:`DEFAULT_CHUNKS` chunks, fewer where a
-        chunk would hold less than :data:`MIN_CHUNK_WORK` member-steps. Without a store (and
-        a measurement) the run is cut into chunks only when this is given, each run in turn:
-        what bounds the memory of a run kept in memory.
-    threads : int, optional
-        Numba threads for chunks run in this process (and for a measured run without a store).
-    progress : bool, optional
-        Progress bar.
     compress : bool, optional
         zlib-compress the chunk files; default: only a measured run's (a raw run's are read
         back at once).
@@ -324,8 +181,12 @@ def propagate_stored(run: GroupedRun, store=None, *, measure=None, resume=False,
     stability.output.stream.RunInterrupted
         Ctrl-C or SIGTERM stopped a stored run; its finished chunks are kept.
     """
+    options = run_options(options)
+    run = plan
     n = run.members
-    progress = checked_progress(progress)
+    store, resume, scheduler = options.store, options.resume, options.scheduler
+    chunk_members, threads = options.chunk_members, options.threads
+    progress = checked_progress(options.progress)
     if chunk_members is not None:
         chunk_members = positive_int("chunk_members", chunk_members)
     if store is None:
@@ -389,9 +250,9 @@ def measured_whole(measure, chunks: ChunkStore, streamed=None) -> xr.Dataset:
     return ds
 
 
-def _in_chunks(run: GroupedRun, chunk_members, progress, partial) -> Propagation:
+def _in_chunks(run: Plan, chunk_members, progress, partial) -> Propagation:
     """``run`` in this process, ``chunk_members`` members at a time (all at once by default);
-    see :func:`propagate_stored`'s ``partial`` for Ctrl-C."""
+    see :func:`run_plan`'s ``partial`` for Ctrl-C."""
     n = run.members
     if chunk_members is None or chunk_members >= n:
         return run.propagate(progress, partial)
@@ -481,19 +342,7 @@ def default_chunk_members(members: int, member_steps: float) -> int:
     return max(1, math.ceil(members / chunks))
 
 
-def sub_store(stored: dict | None, name: str) -> dict:
-    """``stored`` (keyword arguments of :func:`propagate_stored`) for one of several runs of a
-    study: its own store, the folder ``name`` inside the study's (nothing if there is none)."""
-    stored = dict(stored or {})
-    if stored.get("store") is not None:
-        stored["store"] = Path(stored["store"]) / name
-        if stored["store"].is_symlink():
-            raise ValueError(f"{stored['store']} is a symbolic link; a run keeps its chunks "
-                             "only in a real folder inside the output folder: remove the link")
-    return stored
-
-
-def _propagation(run: GroupedRun, parts: list) -> Propagation:
+def _propagation(run: Plan, parts: list) -> Propagation:
     """The :class:`Propagation` of a whole run from the Datasets of its chunks, in order."""
     ds = xr.concat(parts, cv.MEMBER)
     first = np.cumsum(run.sizes) - run.sizes
@@ -509,10 +358,3 @@ def _propagation(run: GroupedRun, parts: list) -> Propagation:
         steps_done=steps.astype(np.int64),
         wall_time=sum(float(p.attrs["wall_time"]) for p in parts),
         compile_time=sum(float(p.attrs["compile_time"]) for p in parts), extras=extras)
-
-
-def _digest(a: np.ndarray) -> str:
-    a = np.ascontiguousarray(a)
-    h = hashlib.sha256(f"{a.dtype.str}{a.shape}".encode())
-    h.update(a.tobytes())
-    return h.hexdigest()

@@ -2,7 +2,7 @@
 
 Any scene, registered (``"heavy_top"``) or of the user's own (:func:`stability.define_scene`),
 runs its members in groups (each with its own parameter set, step and step count) through the
-one stored path above the member loop (:func:`stability.ensemble.chunks.propagate_stored`): in
+one pipeline above the member loop (:func:`stability.ensemble.chunks.run_plan`): in
 this process, or chunk by chunk into a store, resumable after a crash and runnable on
 dask.distributed, bitwise the same however it was cut or wherever it ran. What the run would
 hold is checked before any work, and the result is an xarray Dataset declared in the register
@@ -17,15 +17,17 @@ from __future__ import annotations
 
 import hashlib
 from collections.abc import Mapping
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 
 import numpy as np
 import xarray as xr
 
 from ..engine.loop import N_TRACK
-from .memory import DEFAULT_MAX_MEMORY, memory_problem
+from .memory import memory_problem
 from ..output.dataset import header_attrs, method_attrs, storable_attrs
-from .chunks import GroupedRun, default_chunk_members, propagate_stored, summed_attrs
+from .chunks import default_chunk_members, run_plan, summed_attrs
+from .options import run_options
+from .plan import Plan
 from ..engine.scene import Scene, checked_scene
 from ..engine.user_scene import ParameterRow, tracked_components
 from .schema import LEVEL, SCENE_RUN, UNITS_SEPARATOR
@@ -44,9 +46,8 @@ TRACKED = ("axis_crossings", "first_axis_crossing", "last_axis_crossing", "perp_
 
 
 def run_scene(scene, method, x0, parameters, *, h, n_steps, sizes=None, save_every=0,
-              axes=None, levels=None, tracked_units=None, store=None, resume=False,
-              scheduler=None, chunk_members=None, threads=None, progress=None,
-              max_memory=DEFAULT_MAX_MEMORY, label=None) -> xr.Dataset:
+              axes=None, levels=None, tracked_units=None, options=None,
+              label=None) -> xr.Dataset:
     """Run members of ``scene`` with ``method`` in groups and return their labelled Dataset.
 
     Parameters
@@ -86,27 +87,18 @@ def run_scene(scene, method, x0, parameters, *, h, n_steps, sizes=None, save_eve
         scene declares (``Scene.tracked_units``: every registered scene, and a scene of the
         user's given ``tracked_units=``), else those of the components read, for a scene that
         tracks its components (a scene of the user's without an ``observe`` of its own).
-    store : path-like, optional
-        Run chunk by chunk into this folder (:class:`~stability.output.store.ChunkStore`) and return
-        the Dataset over its files: memory is one chunk's, and a stopped run is finished with
-        ``resume``. The time series are dask arrays, read as they are used (``.load()`` reads
-        one into memory); the rest comes back loaded
-        (:func:`~stability.ensemble.chunks.small_loaded`).
-    resume : bool, default False
-        With ``store``: finish a run of the same members stopped earlier (only the missing
-        chunks run; bitwise the uninterrupted run).
-    scheduler : str or distributed.Client, optional
-        With ``store``: run the chunks on dask.distributed (``"dask"`` for a local cluster, a
-        scheduler address, or a client); a scene of the user's own must be importable there.
-    chunk_members : int, optional
-        Members per chunk of a stored run (default
-        :func:`~stability.ensemble.chunks.default_chunk_members`). Never changes the result.
-    threads : int, optional
-        Numba threads in this process.
-    progress : bool, optional
-        Progress bar.
-    max_memory : float, default 4 GiB
-        Refuse a run that would hold more than this many bytes (or more than the machine has).
+    options : RunOptions, optional
+        How and where it runs (:class:`~stability.ensemble.options.RunOptions`). With a
+        ``store`` the members run chunk by chunk into that folder
+        (:class:`~stability.output.store.ChunkStore`) and the Dataset is over its files: memory
+        is one chunk's, and a stopped run is finished with ``resume``; the time series are dask
+        arrays, read as they are used (``.load()`` reads one into memory), the rest comes back
+        loaded (:func:`~stability.ensemble.chunks.small_loaded`). ``scheduler`` (with a store)
+        runs the chunks on dask.distributed (a scene of the user's own must be importable
+        there); ``chunk_members`` (default
+        :func:`~stability.ensemble.chunks.default_chunk_members`) never changes the result;
+        ``max_memory`` refuses a run that would hold more than that many bytes (or more than
+        the machine has).
     label : str, optional
         The progress bar's label.
 
@@ -128,14 +120,17 @@ def run_scene(scene, method, x0, parameters, *, h, n_steps, sizes=None, save_eve
     >>> top = HeavyTop.disk(mass=0.1, radius=0.03, length=0.04)
     >>> x0 = tilted_starts(150.0, np.radians(60.0), 4, top=top)  # 4 tops at 150 rad/s, 60 deg
     >>> ds = stability.run_scene("heavy_top", "lp2", x0, top.parameters, h=1e-4,
-    ...                          n_steps=1000, save_every=10, progress=False)
+    ...                          n_steps=1000, save_every=10,
+    ...                          options=stability.RunOptions(progress=False))
     >>> ds.g3.shape  # the cosine of the tilt of axis 3, per member over time
     (4, 101)
     """
     scene = checked_scene(scene, "stability.ensemble.run.run_scene")
     spec = scene.method(method)
     width = scene.width
-    progress = checked_progress(progress)
+    options = run_options(options)
+    store, chunk_members = options.store, options.chunk_members
+    checked_progress(options.progress)
     # Only the shape of x0 until the memory check (a broadcast array of 1e9 rows copies to GiB)
     x0 = real_array("x0", x0, "the scene's units", copy=False)
     if x0.ndim != 2 or x0.shape[1] != width:
@@ -185,19 +180,18 @@ def run_scene(scene, method, x0, parameters, *, h, n_steps, sizes=None, save_eve
             f" keeping {n_saved + 1} states of {width} numbers each" if n_saved else ""),
         "use fewer members" + (", a larger save_every (or 0: the final states only)"
                                if n_saved else "")
-        + ("" if store is not None else ", or pass store= (a chunk of members at a time in "
-                                         "memory)"), max_memory)
+        + ("" if store is not None else ", or give RunOptions(store=...) (a chunk of members "
+                                         "at a time in memory)"), options.max_memory)
     if problem is not None:
         raise ValueError(problem)
     x0 = np.array(x0, dtype=float)
     if not np.all(np.isfinite(x0)):
         row = int(np.flatnonzero(~np.all(np.isfinite(x0), axis=1))[0])
         raise ValueError(f"x0 must be finite; its row {row} is not")
-    run = GroupedRun(scene, spec.name, x0, rows, sizes, hs, steps,
-                     save_every=save_every, axes=axes, levels=levels,
-                     label=label or f"{scene.name} ({spec.name})")
-    return propagate_stored(run, store, measure=measure, resume=resume, scheduler=scheduler,
-                            chunk_members=chunk_members, threads=threads, progress=progress)
+    plan = Plan(scene, spec.name, x0, rows, sizes, hs, steps, save_every=save_every, axes=axes,
+                levels=levels, label=label or f"{scene.name} ({spec.name})",
+                device=options.device, chunk_steps=options.chunk_steps)
+    return run_plan(plan, replace(options, chunk_members=chunk_members), measure=measure)
 
 
 def member_bytes(width: int, n_saved: int, n_invariants: int = 0, tracked: int = 0) -> int:
@@ -265,7 +259,7 @@ class SceneMeasure:
             scene.parameter_units if self.named else (), tuple(scene.invariants),
             self.tracked_units or cv.UNITS_DIMENSIONLESS)
 
-    def identity(self, run: GroupedRun) -> dict:
+    def identity(self, run: Plan) -> dict:
         """What makes the stored run what it is: the grouped run and what the measurement
         reads besides (the parameter sets' numbers, the units of what is tracked)."""
         digest = hashlib.sha256(np.ascontiguousarray(self.numbers).tobytes()).hexdigest()
@@ -273,7 +267,7 @@ class SceneMeasure:
                 "scene_run": {"parameters": digest, "tracked_units": self.tracked_units},
                 "software": f"stability {__version__}"}
 
-    def __call__(self, part: GroupedRun, run, lo: int, hi: int, threads=None) -> xr.Dataset:
+    def __call__(self, part: Plan, run, lo: int, hi: int, threads=None) -> xr.Dataset:
         """The Dataset of members ``lo ... hi - 1`` from their propagation ``run``."""
         scene = self.scene
         spec = scene.method(self.method)

@@ -37,7 +37,8 @@ from ..core.quaternions import (
     IDENTITY, attitude_error, canonical_quaternion, frame_along, matrix_to_quaternion,
     quaternion_conjugate, quaternion_multiply, quaternion_to_matrix, spatial_angular_momentum,
 )
-from ..ensemble.chunks import GroupedRun, propagate_stored
+from ..ensemble.chunks import run_plan
+from ..ensemble.plan import Plan
 from .scene import FREE_BODY
 from .scene_attitude import FREE_BODY_ATTITUDE
 
@@ -243,8 +244,8 @@ class AttitudeRuns:
         return prop.x_final
 
 
-def propagate_attitudes(method, moments, m0, q0, h, n_steps, save_every=1, progress=None,
-                        label=None, stored=None):
+def propagate_attitudes(method, moments, m0, q0, h, n_steps, save_every=1, *, label=None,
+                        options=None):
     """Advance members each of its own body and step, with their attitudes, canonical frame.
 
     Parameters
@@ -265,10 +266,10 @@ def propagate_attitudes(method, moments, m0, q0, h, n_steps, save_every=1, progr
     progress : bool or None
     label : str, optional
         Progress bar label.
-    stored : dict, optional
-        Keyword arguments of :func:`stability.ensemble.chunks.propagate_stored` (``store``,
-        ``resume``, ``scheduler`` ...): the run goes chunk by chunk into a store, resumable and
-        on dask; by default in one piece here. The result is the same, bitwise.
+    options : RunOptions, optional
+        How and where the members run (:class:`~stability.ensemble.options.RunOptions`): by
+        default in one piece here; with a ``store``, chunk by chunk into it, resumable and on
+        dask. The result is the same, bitwise.
 
     Returns
     -------
@@ -300,8 +301,8 @@ def propagate_attitudes(method, moments, m0, q0, h, n_steps, save_every=1, progr
     x = np.concatenate([m0, q0], axis=1)
     params = np.array([spec.params(I, hh) for I, hh in zip(moments, h)])
     sizes = np.ones(x.shape[0], dtype=np.int64)
-    run = propagate_stored(GroupedRun(FREE_BODY_ATTITUDE, spec.name, x, params, sizes, h,
-                                      n_steps, save_every=save_every, label=label),
-                           progress=progress, **(stored or {}))
+    run = run_plan(Plan(FREE_BODY_ATTITUDE, spec.name, x, params, sizes, h,
+                        n_steps, save_every=save_every, label=label),
+                   options)
     saved = np.concatenate([x[:, None, :], run.saved], axis=1)
     return AttitudeRuns(spec, moments, h, save_every, saved, run)

@@ -3,7 +3,7 @@
 Member j starts at steady spin ``W`` about a principal axis plus a perturbation of size
 ``epsilon W`` perpendicular to it, in a random direction (or a fixed one, or from starts the
 caller gives), and the members are one grouped run of the ensemble layer
-(:mod:`stability.ensemble.chunks`, built by :func:`stability.free_body.propagate.grouped_run`),
+(:mod:`stability.ensemble.chunks`, built by :func:`stability.free_body.propagate.loop_plan`),
 advanced by the one parallel member loop. The result is an xarray Dataset (schema in
 :mod:`stability.output.dataset`): the time series ``w`` (unless ``summaries_only``) and
 per-member summaries: flips (sign changes of the spin-axis component), crossings of a
@@ -37,8 +37,9 @@ import numpy as np
 
 from .attitude import IDENTITY
 from ..core.body import RigidBody
-from .propagate import grouped_run
-from ..ensemble.chunks import propagate_stored
+from .propagate import loop_plan
+from ..ensemble.chunks import run_plan
+from ..ensemble.options import RunOptions
 from ..analysis.members import summary_members
 from ..ensemble.memory import DEFAULT_MAX_MEMORY
 from .timescales import (
@@ -279,8 +280,8 @@ def _run_ensemble(body, axis, spin, epsilon, members, *, h, t_end, seed, method,
             chunk_members=chunk_members, chunk_steps=chunk_steps, config=config,
             command=command, device=device, scene=scene,
         )
-        return run_streamed(kwargs, store, resume=resume, scheduler=scheduler, threads=threads,
-                            progress=progress)
+        return run_streamed(kwargs, RunOptions(store=store, resume=resume, scheduler=scheduler,
+                                               threads=threads, progress=progress))
     if resume or scheduler is not None:
         raise ValueError("resume and scheduler need store= (the folder the chunks go to)")
     plan = plan_ensemble(
@@ -459,15 +460,15 @@ def _summary(plan: EnsemblePlan, run) -> EnsembleSummary:
 def _run(plans, progress) -> list:
     """Propagate the members of ``plans`` (one method), tracking their summaries.
 
-    The plans are one grouped run of the ensemble layer (:func:`grouped_run`), run in this
-    process by :func:`stability.ensemble.chunks.propagate_stored`: one plan in chunks of its
+    The plans are one plan of the ensemble layer (:func:`loop_plan`), run in this process by
+    :func:`stability.ensemble.chunks.run_plan`: one plan in chunks of its
     ``chunk_members``; several plans together, one group each, in one call of the member loop.
     If Ctrl-C stops a single plan's chunk, the result holds the chunks completed before it; if
     it stopped the first chunk, that chunk up to the steps it completed. A stopped batch keeps
     the steps every ensemble completed.
     """
     first = plans[0]
-    run, groups = grouped_run(
+    run, groups = loop_plan(
         first.spec, [plan.body.moments for plan in plans],
         np.concatenate([plan.w0 * plan.body.moments for plan in plans]),
         [plan.w0.shape[0] for plan in plans], [plan.h for plan in plans],
@@ -478,9 +479,9 @@ def _run(plans, progress) -> list:
             if first.attitude else None),
         device=first.device,
     )
-    prop = groups.from_kernels(propagate_stored(
-        run, chunk_members=first.chunk_members if len(plans) == 1 else None,
-        progress=progress,
+    prop = groups.from_kernels(run_plan(
+        run, RunOptions(chunk_members=first.chunk_members if len(plans) == 1 else None,
+                        progress=progress),
         partial=True,  # Ctrl-C: the chunks done are kept, the Dataset marked interrupted
     ))
     if len(plans) == 1:

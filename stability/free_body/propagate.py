@@ -15,11 +15,11 @@ from ..core.quaternions import canonical_quaternion, quaternion_conjugate, quate
 from ..core.body import canonical_frame, from_canonical, to_canonical
 from ..util.checks import real_array, real_number
 from ..engine import BLOCK, CHECK_EVERY, Propagation, propagate_groups, untrusted
-from ..ensemble.chunks import GroupedRun
+from ..ensemble.plan import Plan
 from .scene import FREE_BODY
 from .scene_attitude import FREE_BODY_ATTITUDE
 
-__all__ = ["BLOCK", "CHECK_EVERY", "Propagation", "propagate", "propagate_many", "grouped_run",
+__all__ = ["BLOCK", "CHECK_EVERY", "Propagation", "propagate", "propagate_many", "loop_plan",
            "tracking_axes", "untrusted"]
 
 
@@ -116,7 +116,7 @@ def propagate_many(
         Body frame; ``steps_done`` per group. With ``q0`` the states are (m, q), q the carried
         (unnormalised) body-to-space quaternion.
     """
-    grouped, groups = grouped_run(method, moments, m0, sizes, h, n_steps, save_every,
+    grouped, groups = loop_plan(method, moments, m0, sizes, h, n_steps, save_every,
                                   chunk_steps, track_axes, levels, q0)
     run = propagator(
         grouped.scene, grouped.method, grouped.x0, grouped.params, grouped.sizes, grouped.h,
@@ -126,9 +126,9 @@ def propagate_many(
     return groups.from_kernels(run)
 
 
-def grouped_run(method, moments, m0, sizes, h, n_steps, save_every=0, chunk_steps=None,
+def loop_plan(method, moments, m0, sizes, h, n_steps, save_every=0, chunk_steps=None,
                 track_axes=None, levels=None, q0=None, device="cpu"):
-    """Several ensembles as one :class:`~stability.ensemble.chunks.GroupedRun` of the
+    """Several ensembles as one :class:`~stability.ensemble.plan.Plan` of the
     ``free_body`` scene (``free_body_attitude`` with ``q0``), in the kernels' canonical frame.
 
     The arguments are :func:`propagate_many`'s, and ``device`` the run's. Returns the run and
@@ -152,9 +152,9 @@ def grouped_run(method, moments, m0, sizes, h, n_steps, save_every=0, chunk_step
     else:
         levels = None
     registered = scene.methods.get(spec.name) is spec
-    run = GroupedRun(scene, spec.name if registered else spec, x0, groups.params, sizes, hs,
-                     n_steps, save_every=save_every, axes=axes, levels=levels, device=device,
-                     chunk_steps=chunk_steps)
+    run = Plan(scene, spec.name if registered else spec, x0, groups.params, sizes, hs, n_steps,
+               save_every=save_every, axes=axes, levels=levels, device=device,
+               chunk_steps=chunk_steps)
     return run, groups
 
 
@@ -210,7 +210,7 @@ class CanonicalGroups:
         return np.concatenate([m, self.attitudes(x[..., 3:], to_canonical=False)], axis=-1)
 
     def from_kernels(self, run: Propagation) -> Propagation:
-        """``run`` (of :func:`grouped_run`) with its final and saved states in the body frames;
+        """``run`` (of :func:`loop_plan`) with its final and saved states in the body frames;
         a run cut short by Ctrl-C may hold only its first members."""
         run.x_final = self.from_canonical_state(run.x_final)
         run.saved = self.from_canonical_state(run.saved)

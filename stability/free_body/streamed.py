@@ -11,7 +11,8 @@ from .attitude import FREE_BODY_SCENES, IDENTITY
 from .propagate import CanonicalGroups, group_levels
 from ..output.dataset import history_line
 from ..output.store import ChunkStore, read_progress
-from ..ensemble.chunks import GroupedRun, propagate_stored, summed_attrs
+from ..ensemble.chunks import run_plan, summed_attrs
+from ..ensemble.plan import Plan
 from ..util import conventions as cv
 from ..version import __version__
 from .plan import EnsemblePlan, chunk_plan, plan_ensemble
@@ -19,9 +20,8 @@ from .results import RunPart, finish_run, members_dataset
 
 __all__ = ["run_streamed", "EnsembleChunks"]
 
-def run_streamed(kwargs: dict, store, *, resume=False, scheduler=None, threads=None,
-                 progress=None, compress=True, measurement=None):
-    """Run the ensemble ``run_ensemble(**kwargs)`` chunk by chunk into the folder ``store``.
+def run_streamed(kwargs: dict, options, *, compress=True, measurement=None):
+    """Run the ensemble ``run_ensemble(**kwargs)`` chunk by chunk into ``options.store``.
 
     Returns the Dataset over the chunk files, its time series dask arrays. See :func:`stability.run_ensemble`
     for ``kwargs``; ``chunk_members`` there is the members per chunk file here
@@ -30,23 +30,14 @@ def run_streamed(kwargs: dict, store, *, resume=False, scheduler=None, threads=N
     Parameters
     ----------
     kwargs : dict
-        Keyword arguments of :func:`stability.run_ensemble` (without ``threads``,
-        ``progress``, ``store``, ``resume`` and ``scheduler``).
-    store : str or path-like
-        Folder of the chunk files; created if missing.
-    resume : bool, default False
-        Finish a run of the same arguments stopped earlier: only the chunks not on disk are
-        run. Without it, a store that already has chunks done is refused.
-    scheduler : str or distributed.Client, optional
-        Run the chunks on dask.distributed: ``"dask"`` for a local cluster, a scheduler
-        address such as ``"tcp://host:8786"``, or a client. By default they run in this
-        process.
-    threads : int, optional
-        Numba threads when the chunks run in this process; default: Numba's current setting.
-        Dask workers use their own threads.
-    progress : bool, optional
-        Progress bar: over members when several chunks are run, else the chunk's own;
-        ``False`` shows none.
+        Keyword arguments of :func:`stability.free_body.plan.plan_ensemble` for the whole run.
+    options : RunOptions
+        Where the chunks go and run (:class:`~stability.ensemble.options.RunOptions`): its
+        ``store``, the folder of the chunk files (created if missing); ``resume``, finish a run
+        of the same arguments stopped earlier (only the chunks not on disk are run; without
+        it, a store that already has chunks done is refused); ``scheduler``, dask.distributed
+        (by default the chunks run in this process); ``threads``, Numba threads when the
+        chunks run in this process (dask workers use their own); ``progress``, the bar.
     compress : bool, default True
         zlib-compress the chunk files (:func:`stability.output.io.save`).
     measurement : callable, optional
@@ -75,16 +66,15 @@ def run_streamed(kwargs: dict, store, *, resume=False, scheduler=None, threads=N
     plan = plan_ensemble(**kwargs, defer_starts=True)
     kwargs["chunk_members"] = plan.chunk_members
     ensemble = (measurement or EnsembleChunks)(kwargs, plan)
-    return propagate_stored(ensemble.grouped_run(), store, measure=ensemble, resume=resume,
-                            scheduler=scheduler, chunk_members=plan.chunk_members,
-                            threads=threads, progress=progress, compress=compress)
+    return run_plan(ensemble.loop_plan(), replace(options, chunk_members=plan.chunk_members),
+                    measure=ensemble, compress=compress)
 
 
 class EnsembleChunks:
     """A free-body ensemble as a stored grouped run (:mod:`stability.ensemble.chunks`): its
     start rule and its measurement.
 
-    :meth:`grouped_run` is the run, one group, whose starts come from :meth:`starts`: members
+    :meth:`loop_plan` is the run, one group, whose starts come from :meth:`starts`: members
     ``lo ... hi - 1`` of :func:`stability.run_ensemble` drawn for those members alone, in each
     body's canonical frame. Called as a measurement, the object turns a chunk's propagation
     into the Dataset ``run_ensemble`` gives those members, numbered from ``lo``
@@ -115,12 +105,12 @@ class EnsembleChunks:
             self._plan = plan_ensemble(**self.kwargs, defer_starts=True)
         return self._plan
 
-    def grouped_run(self):
-        """The ensemble as a :class:`~stability.ensemble.chunks.GroupedRun`: the arguments
+    def loop_plan(self) -> Plan:
+        """The ensemble as the member loop's :class:`~stability.ensemble.plan.Plan`: the arguments
         :func:`stability.free_body.propagate.propagate_many` gives the member loop for it."""
         plan = self.plan
         groups = self._groups(plan.members)
-        return GroupedRun(
+        return Plan(
             FREE_BODY_SCENES["free_body_attitude" if plan.attitude else "free_body"],
             plan.spec.name, None,
             groups.params, [plan.members], plan.h, plan.n_steps,

@@ -55,7 +55,8 @@ import xarray as xr
 
 from ..analysis.estimates import measured_growth_rate
 from ..analysis.periodic import extrema, level_crossings, mean_period, weighted_mean
-from ..ensemble.chunks import GroupedRun, propagate_stored
+from ..ensemble.chunks import run_plan
+from ..ensemble.plan import Plan
 from .scene import HEAVY_TOP
 from .schema import GYROSCOPE, SLEEPING_TOP
 from ..util import conventions as cv
@@ -83,8 +84,7 @@ def _horizon(rate, tilt, high, t_stable):
 
 def measure_sleeping_tops(tops, spins, *, members=64, tilt=1e-9, method="lp4",
                           step_angle=0.02, t_stable=2.0, low_factor=1e3, high_fraction=1e-2,
-                          levels_per_decade=8, seed=0, progress=None,
-                          stored=None) -> xr.Dataset:
+                          levels_per_decade=8, seed=0, options=None) -> xr.Dataset:
     """Measured and analytic growth rates of sleeping tops over tops and spins.
 
     Parameters
@@ -111,12 +111,10 @@ def measure_sleeping_tops(tops, spins, *, members=64, tilt=1e-9, method="lp4",
         Density of the ladder of tilt levels.
     seed : int
         Seed of the members' azimuths (member k of every ensemble has the same azimuth).
-    progress : bool, optional
-        Progress bar (default: for runs longer than a few seconds).
-    stored : dict, optional
-        Keyword arguments of :func:`stability.ensemble.chunks.propagate_stored` (``store``,
-        ``resume``, ``scheduler`` ...): the tops run chunk by chunk into a store, resumable and
-        on dask; by default in one piece here. The result is the same, bitwise.
+    options : RunOptions, optional
+        How and where the members run (:class:`~stability.ensemble.options.RunOptions`): by
+        default in one piece here; with a ``store``, chunk by chunk into it, resumable and on
+        dask. The result is the same, bitwise.
 
     Returns
     -------
@@ -149,11 +147,11 @@ def measure_sleeping_tops(tops, spins, *, members=64, tilt=1e-9, method="lp4",
     x0 = np.concatenate(x0)
     sizes = np.full(hs.size, members)
     t0 = time.perf_counter()
-    run = propagate_stored(GroupedRun(scene, spec.name, x0, np.array(params), sizes, hs,
-                                      steps, axes=np.tile([2, 0, 1], (hs.size, 1)),
-                                      levels=np.tile(levels, (hs.size, 1)),
-                                      label=f"sleeping tops ({method})"),
-                           progress=progress, **(stored or {}))
+    run = run_plan(Plan(scene, spec.name, x0, np.array(params), sizes, hs,
+                        steps, axes=np.tile([2, 0, 1], (hs.size, 1)),
+                        levels=np.tile(levels, (hs.size, 1)),
+                        label=f"sleeping tops ({method})"),
+                   options)
     wall = time.perf_counter() - t0
     out = {name: np.full(hs.size, np.nan) for name in
            ("growth_rate_measured", "growth_rate_stderr", "amplification", "n_fitted",
@@ -234,7 +232,7 @@ def _measure_member(t, u, du, phi_rate):
 def measure_gyroscopes(top, spins, tilts, releases=(-1.0, 0.0, 0.5), *, method="lp4",
                        step_angle=0.02, periods=40, samples_per_period=64, seed=0,
                        path_tilt=None, path_spin=None, path_periods=3.0,
-                       progress=None, stored=None) -> xr.Dataset:
+                       options=None) -> xr.Dataset:
     """Measured nutation and precession of released gyroscopes, with the exact values.
 
     Parameters
@@ -263,12 +261,10 @@ def measure_gyroscopes(top, spins, tilts, releases=(-1.0, 0.0, 0.5), *, method="
         tilt, the lowest spin).
     path_periods : float
         Length of the kept paths, in nutation periods.
-    progress : bool, optional
-        Progress bar.
-    stored : dict, optional
-        Keyword arguments of :func:`stability.ensemble.chunks.propagate_stored` (``store``,
-        ``resume``, ``scheduler`` ...): the tops run chunk by chunk into a store, resumable and
-        on dask; by default in one piece here. The result is the same, bitwise.
+    options : RunOptions, optional
+        How and where the members run (:class:`~stability.ensemble.options.RunOptions`): by
+        default in one piece here; with a ``store``, chunk by chunk into it, resumable and on
+        dask. The result is the same, bitwise.
 
     Returns
     -------
@@ -308,10 +304,10 @@ def measure_gyroscopes(top, spins, tilts, releases=(-1.0, 0.0, 0.5), *, method="
     fastest = (2.0 * np.pi / exact["frequency"]).reshape(hs.size, n_rel).min(axis=1)
     save_every = max(1, int(np.min(fastest / hs) // samples_per_period))
     t0 = time.perf_counter()
-    run = propagate_stored(GroupedRun(scene, spec.name, x0, np.array(params), sizes, hs,
-                                      steps, save_every=save_every,
-                                      label=f"gyroscopes ({method})"),
-                           progress=progress, **(stored or {}))
+    run = run_plan(Plan(scene, spec.name, x0, np.array(params), sizes, hs,
+                        steps, save_every=save_every,
+                        label=f"gyroscopes ({method})"),
+                   options)
     wall = time.perf_counter() - t0
     samples = np.concatenate([x0[:, None, :], run.saved], axis=1)
     u, du, phi_rate = _observables(samples, A, C)

@@ -32,7 +32,8 @@ from .methods import (
     HEAT, MODE, P_K, P_MU_K, P_MU_S, P_R, P_SECTIONS, P_TRACK, SWITCHES, T_ROLL, V, W, X, X_ROLL,
     track_row,
 )
-from ..ensemble.chunks import GroupedRun, propagate_stored
+from ..ensemble.chunks import run_plan
+from ..ensemble.plan import Plan
 from .scene import ROLLING_BODY
 from .schema import ROLLING
 
@@ -207,8 +208,7 @@ def start_states(v0, w0, rows, x0=0.0) -> np.ndarray:
 
 
 def measure_incline(shapes, angles, mu_s, *, members=4, mu_ratio=0.8, mu_scatter=0.05,
-                    shape_scatter=0.02, duration=1.0, seed=0, progress=None,
-                    stored=None) -> xr.Dataset:
+                    shape_scatter=0.02, duration=1.0, seed=0, options=None) -> xr.Dataset:
     """Release bodies at rest on inclines over a grid of angles (rad) and mu_s, each member
     with its own mu_s, mu_k = mu_ratio mu_s and k scattered (relative, uniform) about the
     cell's; measure the regime, the acceleration and the spin rate from the runs.
@@ -233,12 +233,10 @@ def measure_incline(shapes, angles, mu_s, *, members=4, mu_ratio=0.8, mu_scatter
         Length of each run in s (one exact step).
     seed : int, default 0
         Seed of the random scatter.
-    progress : bool or None, optional
-        Progress bar; ``None`` shows one when the run is expected to take more than 2 s.
-    stored : dict, optional
-        Keyword arguments of :func:`stability.ensemble.chunks.propagate_stored` (``store``,
-        ``resume``, ``scheduler`` ...): the runs go chunk by chunk into a store, resumable and
-        on dask; by default in one piece here. The result is the same, bitwise.
+    options : RunOptions, optional
+        How and where the members run (:class:`~stability.ensemble.options.RunOptions`): by
+        default in one piece here; with a ``store``, chunk by chunk into it, resumable and on
+        dask. The result is the same, bitwise.
 
     Returns
     -------
@@ -272,10 +270,10 @@ def measure_incline(shapes, angles, mu_s, *, members=4, mu_ratio=0.8, mu_scatter
     rows[:, P_TRACK + 1], rows[:, P_TRACK + 2] = np.sin(theta).ravel(), np.cos(theta).ravel()
     x0 = start_states(0.0, 0.0, rows)
     t0 = time.perf_counter()
-    run = propagate_stored(GroupedRun(scene, spec.name, x0, rows,
-                                      np.ones(rows.shape[0], int), duration, 1,
-                                      label="inclines"),
-                           progress=progress, **(stored or {}))
+    run = run_plan(Plan(scene, spec.name, x0, rows,
+                        np.ones(rows.shape[0], int), duration, 1,
+                        label="inclines"),
+                   options)
     wall = time.perf_counter() - t0
     xf = run.x_final
     slipped = (xf[:, HEAT] > 0.0).reshape(shape)
@@ -320,7 +318,7 @@ def measure_incline(shapes, angles, mu_s, *, members=4, mu_ratio=0.8, mu_scatter
 
 
 def measure_launches(*, radius, mass, k, mu_k, speeds, spin_ratios, members, mu_scatter=0.1,
-                     samples=200, seed=0, paths=5, progress=None, stored=None) -> xr.Dataset:
+                     samples=200, seed=0, paths=5, options=None) -> xr.Dataset:
     """Launch ``members`` balls along a level floor, speed uniform in ``speeds`` (m s-1), spin
     ``w0 = ratio v0 / R`` with the ratio uniform in ``spin_ratios`` (negative: backspin), mu_k
     scattered (relative, uniform); the time, place and speed of the start of pure rolling and
@@ -351,12 +349,10 @@ def measure_launches(*, radius, mass, k, mu_k, speeds, spin_ratios, members, mu_
         Seed of the random draws.
     paths : int, default 5
         Members (spread over the spin ratios) whose every sample is kept.
-    progress : bool or None, optional
-        Progress bar; ``None`` shows one when the run is expected to take more than 2 s.
-    stored : dict, optional
-        Keyword arguments of :func:`stability.ensemble.chunks.propagate_stored` (``store``,
-        ``resume``, ``scheduler`` ...): the runs go chunk by chunk into a store, resumable and
-        on dask; by default in one piece here. The result is the same, bitwise.
+    options : RunOptions, optional
+        How and where the members run (:class:`~stability.ensemble.options.RunOptions`): by
+        default in one piece here; with a ``store``, chunk by chunk into it, resumable and on
+        dask. The result is the same, bitwise.
 
     Returns
     -------
@@ -384,9 +380,9 @@ def measure_launches(*, radius, mass, k, mu_k, speeds, spin_ratios, members, mu_
     x0 = start_states(v0, w0, rows)
     h = duration / samples
     t0 = time.perf_counter()
-    run = propagate_stored(GroupedRun(scene, spec.name, x0, rows, np.ones(members, int),
-                                      h, samples, label="launches"),
-                           progress=progress, **(stored or {}))
+    run = run_plan(Plan(scene, spec.name, x0, rows, np.ones(members, int),
+                        h, samples, label="launches"),
+                   options)
     wall = time.perf_counter() - t0
     xf = run.x_final
     e0 = 0.5 * mass * (v0**2 + k * radius**2 * w0**2)

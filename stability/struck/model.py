@@ -29,7 +29,8 @@ import xarray as xr
 from ..core.body import PRESETS, Part, RigidBody
 from ..analysis.members import zero_crossings
 from .methods import J_ACROSS, J_ALONG, PHI, VX, VY, W, X, strike_params
-from ..ensemble.chunks import GroupedRun, propagate_stored
+from ..ensemble.chunks import run_plan
+from ..ensemble.plan import Plan
 from .scene import STRUCK_BODY
 from .schema import BAT
 from ..util.checks import positive_float, real_number
@@ -248,8 +249,7 @@ def hand_velocity(body: StruckBody, pivot, strike, impulse):
 
 
 def measure_strikes(body: StruckBody, pivots, strikes, impulse=12.0, contact_time=7e-4,
-                    steps_per_contact=64, sting=0.1, method="rk4", progress=None,
-                    stored=None) -> xr.Dataset:
+                    steps_per_contact=64, sting=0.1, method="rk4", options=None) -> xr.Dataset:
     """Strike ``body`` at each point of ``strikes`` for hands at each of ``pivots`` (m from the
     end held), held and free; the state at the end of the contact against the formulas.
 
@@ -275,12 +275,10 @@ def measure_strikes(body: StruckBody, pivots, strikes, impulse=12.0, contact_tim
         Edge of the sweet zone: the reaction impulse across the hands as a fraction of J.
     method : str, default "rk4"
         Name of a method that runs scene ``struck_body``.
-    progress : bool or None, optional
-        Progress bar; ``None`` shows one when the run is expected to take more than 2 s.
-    stored : dict, optional
-        Keyword arguments of :func:`stability.ensemble.chunks.propagate_stored` (``store``,
-        ``resume``, ``scheduler`` ...): the strikes run chunk by chunk into a store, resumable
-        and on dask; by default in one piece here. The result is the same, bitwise.
+    options : RunOptions, optional
+        How and where the members run (:class:`~stability.ensemble.options.RunOptions`): by
+        default in one piece here; with a ``store``, chunk by chunk into it, resumable and on
+        dask. The result is the same, bitwise.
 
     Returns
     -------
@@ -319,10 +317,10 @@ def measure_strikes(body: StruckBody, pivots, strikes, impulse=12.0, contact_tim
     x0[:, X] = body.centre - grid[:, 1]
     h = contact_time / steps_per_contact
     t0 = time.perf_counter()
-    run = propagate_stored(GroupedRun(scene, spec.name, x0, np.array(rows),
-                                      np.ones(grid.shape[0], int), h, steps_per_contact,
-                                      label=f"strikes ({method})"),
-                           progress=progress, **(stored or {}))
+    run = run_plan(Plan(scene, spec.name, x0, np.array(rows),
+                        np.ones(grid.shape[0], int), h, steps_per_contact,
+                        label=f"strikes ({method})"),
+                   options)
     wall = time.perf_counter() - t0
     shape = (holds.size, pivots.size, strikes.size)
     xf = run.x_final

@@ -11,6 +11,7 @@ from ..integrators import METHODS
 from ..ensemble.memory import memory_problem
 
 from .config import ConfigError, Key, Schema, Section, toml_text
+from ..ensemble.options import RunOptions
 
 
 #: Figure formats a study can write.
@@ -156,9 +157,12 @@ def check_run(config: dict, source: str) -> None:
             f"as 'tcp://host:8786', got {scheduler!r}", source, "run", "scheduler")
 
 
-def stored_run(config: dict, work, resume: bool, scheduler, threads) -> dict:
-    """Keyword arguments of :func:`stability.ensemble.chunks.propagate_stored` for a study's
-    run: its chunks in ``work``, the scheduler given (``--scheduler``) or the file's."""
-    return {"store": work, "resume": resume,
-            "scheduler": scheduler or config["run"]["scheduler"] or None,
-            "chunk_members": config["run"]["chunk_members"] or None, "threads": threads}
+def study_run_options(config: dict, work, resume: bool, scheduler, threads,
+               progress=None) -> RunOptions:
+    """The run options (:class:`~stability.ensemble.options.RunOptions`) of a study's run: its
+    chunks in ``work``, the scheduler given (``--scheduler``) or the file's, its
+    ``[run] chunk_members``."""
+    return RunOptions(store=work, resume=resume,
+                      scheduler=scheduler or config["run"]["scheduler"] or None,
+                      chunk_members=config["run"]["chunk_members"] or None, threads=threads,
+                      progress=progress)

@@ -6,6 +6,7 @@ import numpy as np
 import pytest
 from scipy.integrate import solve_ivp
 
+import stability
 from stability.dissipation import gyrostat as model
 from stability.dissipation.dual_spin import DualSpinBody, linear_map, measure_dual_spin
 from stability.dissipation.measure import exponential_rate, nutation_angle
@@ -205,7 +206,7 @@ def test_measured_rates_are_the_eigenvalues_within_1e3_for_every_placement():
     cell's measured verdict is the eigenvalues'."""
     body = DualSpinBody(100.0, 25.0, 5.0, 1.0, 1.0, 0.3)
     ds = measure_dual_spin(body, [0.6, 1.0, 1.4], [-1.0, 1.0, 3.0], np.radians([1e-3, 2e-3]),
-                           fit_top=1e-3, samples=300, progress=False)
+                           fit_top=1e-3, samples=300, options=stability.RunOptions(progress=False))
     error = ds.rate_error.values
     assert np.isfinite(error).sum() >= 0.9 * error.size
     assert np.nanmax(np.abs(error)) < 1e-4

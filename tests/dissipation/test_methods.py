@@ -5,6 +5,7 @@ import numpy as np
 import pytest
 from scipy.integrate import solve_ivp
 
+import stability
 from stability.dissipation import model
 from stability.dissipation.explorer import SPHERE, WHIPS, Whips, run_damped
 from stability.dissipation.scene import (SPHERE_DAMPER, WHIP_DAMPER, sphere_energy,
@@ -107,11 +108,12 @@ def runs():
     star = model.energy_sink_optimum(I[0], I[1], 1e-2, W)
     values = np.array([*I, 1e-2, star])
     angles = np.radians([0.01, 1.0])
-    out = {m: run_damped(SPHERE, m, [values], angles, spin=W, samples=800, progress=False)
+    out = {m: run_damped(SPHERE, m, [values], angles, spin=W, samples=800,
+                         options=stability.RunOptions(progress=False))
            for m in ("lp2", "lp4", "dmv")}
     whips = Whips(0.4, 0.5, frequency_ratio=0.3, damping_ratio=0.5).values(I, W)
     out["whips"] = run_damped(WHIPS, "rk4", [whips], angles, spin=W, step_angle=0.06, tail=25.0,
-                              samples=800, progress=False)
+                              samples=800, options=stability.RunOptions(progress=False))
     return out
 
 

@@ -6,6 +6,7 @@ from pathlib import Path
 import pytest
 import xarray as xr
 
+import stability
 from stability.earth.model import (
     ARCSEC, DYNAMICAL_ELLIPTICITY, SIDEREAL_DAY, earth, earth_moments, euler_period,
     oblate_euler_period,
@@ -32,7 +33,7 @@ def test_moments_reproduce_the_published_ratios():
 @pytest.fixture(scope="module")
 def wobble():
     return measure_free_wobble(earth(), SPIN, 0.3 * ARCSEC, members=6, periods=2.0,
-                               progress=False)
+                               options=stability.RunOptions(progress=False))
 
 
 def test_measured_period_is_eulers_to_1e_9(wobble):

@@ -132,7 +132,8 @@ import stability
 x0 = np.tile([1.0, 0.5, 0.25], (8, 1))
 try:
     ds = stability.run_scene(DAMPED, "rk4", x0, {"c": 0.5}, h=0.01, n_steps=100,
-                             store=sys.argv[2], chunk_members=2, resume=True, progress=False)
+                             options=stability.RunOptions(store=sys.argv[2], chunk_members=2,
+                                                          resume=True, progress=False))
 except ValueError as exc:
     print(json.dumps({"refused": str(exc)}))
 else:

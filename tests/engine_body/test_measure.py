@@ -69,7 +69,9 @@ def test_progress_false_silences_every_bar_of_the_study(capfd):
     from stability.engine_body.measure import measure_artefacts
 
     args = (["rk4", "semi_implicit_euler"], RACKET, STARTS[:4], [1 / 60], 1.0)
-    measure_artefacts(*args, halvings=1, search_members=4, progress=True)
+    measure_artefacts(*args, halvings=1, search_members=4,
+                      options=stability.RunOptions(progress=True))
     assert "step" in capfd.readouterr().err  # bars with units of steps, when asked for
-    measure_artefacts(*args, halvings=1, search_members=4, progress=False)
+    measure_artefacts(*args, halvings=1, search_members=4,
+                      options=stability.RunOptions(progress=False))
     assert capfd.readouterr().err == ""

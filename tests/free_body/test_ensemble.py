@@ -9,7 +9,7 @@ import pytest
 
 import stability
 from stability.util import conventions as cv
-from stability.ensemble.chunks import GroupedRun
+from stability.ensemble.plan import Plan
 from stability.output.dataset import LEVEL, SUMMARIES, summary_bytes
 from stability.free_body.ensemble import run_ensemble
 from stability.output.dataset import LOOP_THREADS
@@ -320,14 +320,14 @@ def test_passage_times_are_zero_below_the_start_and_increase_above(reference):
 
 
 def test_interrupted_run_is_marked_partial(monkeypatch):
-    real = GroupedRun.propagate
+    real = Plan.propagate
 
     def stopped_halfway(run, progress=None, partial=False):
         result = real(replace(run, n_steps=run.n_steps // 2), progress, partial)
         result.interrupted = True
         return result
 
-    monkeypatch.setattr(GroupedRun, "propagate", stopped_halfway)
+    monkeypatch.setattr(Plan, "propagate", stopped_halfway)
     ds = run_ensemble(BODY, 2, 1.0, 1e-3, 10, **RUN)
     assert ds.attrs["interrupted"] == 1 and ds.attrs["steps_done"] == 1000
     assert "partial" in ds.attrs["title"]
@@ -336,7 +336,7 @@ def test_interrupted_run_is_marked_partial(monkeypatch):
 
 
 def test_interrupted_chunked_run_keeps_the_completed_chunks(monkeypatch):
-    real = GroupedRun.propagate
+    real = Plan.propagate
     calls = []
 
     def stopped_in_second_chunk(run, progress=None, partial=False):
@@ -345,7 +345,7 @@ def test_interrupted_chunked_run_keeps_the_completed_chunks(monkeypatch):
         result.interrupted = len(calls) > 1
         return result
 
-    monkeypatch.setattr(GroupedRun, "propagate", stopped_in_second_chunk)
+    monkeypatch.setattr(Plan, "propagate", stopped_in_second_chunk)
     ds = run_ensemble(BODY, 2, 1.0, 1e-3, 25, chunk_members=10, summaries_only=True, **RUN)
     assert calls == [10, 10]
     assert ds.attrs["interrupted"] == 1 and ds.attrs["steps_done"] == 2000

@@ -7,6 +7,7 @@ import numpy as np
 import pytest
 import xarray as xr
 
+import stability
 from stability.heavy_top import exact as exact_top
 from stability.heavy_top.figures import gyroscope_paths_figure, gyroscope_rates_figure
 from stability.heavy_top.measure import measure_gyroscopes
@@ -140,7 +141,7 @@ def test_the_worked_example_of_the_notes():
 def grid():
     spins = np.array([150.0, 400.0, 1200.0])
     return measure_gyroscopes(DISK, spins, np.radians([35.0, 90.0]), (-1.0, 0.0, 0.5),
-                              progress=False)
+                              options=stability.RunOptions(progress=False))
 
 
 def test_runs_measure_precession_and_nutation_to_the_exact_motion(grid):

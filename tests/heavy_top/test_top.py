@@ -6,6 +6,7 @@ import numpy as np
 import pytest
 from scipy.integrate import solve_ivp
 
+import stability
 from stability.engine import propagate_groups
 from stability.heavy_top.measure import measure_sleeping_tops
 from stability.heavy_top.methods import METHODS
@@ -124,7 +125,8 @@ def test_sleeping_top_growth_matches_the_analytic_rate_on_both_sides():
     top = HeavyTop.disk(0.1, 0.03, 0.04)
     wc = critical_spin(top)
     spins = wc * np.array([0.0, 0.5, 0.9, 1.2, 2.0])
-    ds = measure_sleeping_tops([top], spins, members=8, progress=False)
+    ds = measure_sleeping_tops([top], spins, members=8,
+                               options=stability.RunOptions(progress=False))
     below = spins < wc
     err = ds.relative_error.values[0, below]
     assert np.all(np.abs(err) < 1e-4), err

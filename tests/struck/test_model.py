@@ -5,6 +5,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
+import stability
 from stability.core.body import Part
 from stability.engine import propagate_groups
 from stability.registry import SCENES
@@ -94,14 +95,16 @@ def test_measured_centre_of_percussion_and_sweet_zone():
     falls as tau^2."""
     pivots = [0.1, 6 * INCH, 0.2]
     points = np.linspace(0.05, BAT.length, 41)
-    ds = measure_strikes(BAT, pivots, points, contact_time=TAU, progress=False)
+    ds = measure_strikes(BAT, pivots, points, contact_time=TAU,
+                         options=stability.RunOptions(progress=False))
     q = ds.percussion_centre_formula.values
     np.testing.assert_allclose(ds.percussion_centre_measured.sel(hold="held"), q, atol=1e-12)
     np.testing.assert_allclose(ds.sweet_zone_measured, ds.sweet_zone_formula, atol=1e-9)
     np.testing.assert_allclose(ds.hand_velocity_across.sel(hold="held"), 0.0, atol=1e-9)
     errors = []
     for tau in (TAU, TAU / 2):
-        ds = measure_strikes(BAT, pivots, points, contact_time=tau, progress=False)
+        ds = measure_strikes(BAT, pivots, points, contact_time=tau,
+                             options=stability.RunOptions(progress=False))
         errors.append(np.abs(ds.percussion_centre_measured.sel(hold="free").values - q))
     assert errors[0].max() < 1e-4
     ratio = errors[0] / errors[1]
@@ -115,7 +118,7 @@ def test_bad_strikes_are_refused():
     with pytest.raises(ValueError, match="no centre of percussion"):
         centre_of_percussion(BAT, BAT.centre)
     with pytest.raises(ValueError, match="off the baseball bat"):
-        measure_strikes(BAT, [0.15], [0.2, 0.9], progress=False)
+        measure_strikes(BAT, [0.15], [0.2, 0.9], options=stability.RunOptions(progress=False))
 
 
 def test_bat_study_meets_its_claim_with_units_everywhere(tmp_path):

@@ -23,7 +23,8 @@ from ..wobble import measure_free_wobble
 from ...study.config import ConfigError, Key, Schema, Section
 from ...study.kind import StudyKind, StudySummary
 from ...study.outputs import output_files, write_outputs
-from ...study.sections import check_memory, check_run, output_section, run_section, stored_run
+from ...study.sections import (check_memory, check_run, output_section, run_section,
+                                study_run_options)
 
 NAME = "earth_wobble"
 FIGURE = "earth_wobble"
@@ -112,8 +113,9 @@ def run(config: dict, out_dir: Path, *, overwrite=False, threads=None, progress=
     with numba_threads(threads):
         ds = measure_free_wobble(body, spin, w["offset"] * ARCSEC, members=w["members"],
                                  periods=w["periods"], steps_per_turn=integ["steps_per_turn"],
-                                 method=integ["method"], seed=w["seed"], progress=progress,
-                                 stored=stored_run(config, work, resume, scheduler, threads))
+                                 method=integ["method"], seed=w["seed"],
+                                 options=study_run_options(config, work, resume,
+                                                           scheduler, threads, progress))
     ds, files = write_outputs(ds, config, out_dir, NAME, {FIGURE: wobble_cones_figure},
                               overwrite=overwrite, history=history, threads=threads,
                               attrs={"sidereal_day": e["sidereal_day"]})

@@ -21,7 +21,7 @@ from ...util.threads import numba_threads
 from ...study.config import Key, Schema, Section
 from ...study.kind import StudyKind, StudySummary
 from ...study.outputs import output_files, write_outputs
-from ...study.sections import check_run, output_section, run_keys, stored_run
+from ...study.sections import check_run, output_section, run_keys, study_run_options
 
 NAME = "equinoxes"
 FIGURE = "equinoxes"
@@ -91,8 +91,8 @@ def run(config: dict, out_dir: Path, *, overwrite=False, threads=None, progress=
                                steps_per_day=integ["steps_per_day"], method=integ["method"],
                                averaged_step_days=integ["averaged_step"],
                                cycle_years=integ["cycle_years"], seed=r["seed"],
-                               progress=progress,
-                               stored=stored_run(config, work, resume, scheduler, threads))
+                               options=study_run_options(config, work, resume,
+                                                         scheduler, threads, progress))
     ds, files = write_outputs(ds, config, out_dir, NAME, {FIGURE: equinoxes_figure},
                               overwrite=overwrite, history=history, threads=threads,
                               attrs={"claim": config["analysis"]["claim"]})

@@ -23,7 +23,7 @@ from ...study.config import ConfigError, Key, Schema, Section
 from ...study.kind import StudyKind, StudySummary, SummaryTable
 from ...study.outputs import output_files, write_outputs
 from ...study.sections import (
-    MEMBER_BYTES, check_memory, check_run, output_section, run_section, stored_run,
+    MEMBER_BYTES, check_memory, check_run, output_section, run_section, study_run_options,
     tossed_body_sections
 )
 from ...util.threads import numba_threads
@@ -134,8 +134,9 @@ def run(config: dict, out_dir: Path, *, overwrite=False, threads=None, progress=
         ds = measure_artefacts(rules["engine"] + rules["methods"], moments, w0, steps,
                                rules["t_end"], tolerance=analysis["tolerance"],
                                search_members=min(analysis["search_members"], ens["members"]),
-                               halvings=analysis["halvings"], progress=progress,
-                               stored=stored_run(config, work, resume, scheduler, threads))
+                               halvings=analysis["halvings"],
+                               options=study_run_options(config, work, resume,
+                                                         scheduler, threads, progress))
     ds, files = write_outputs(ds, config, out_dir, NAME, {FIGURE: artefacts_figure},
                               overwrite=overwrite, history=history, threads=threads,
                               attrs={"body": body.name})

@@ -44,6 +44,7 @@ from ..streamed import run_streamed
 from .analysis import analysis_headline, finish_analysis
 from .measure import STUDY_MEMBER_NUMBERS, TennisChunks
 from ...ensemble.combine import DEFAULT_SERIES_MEMBERS, series_count
+from ...ensemble.options import RunOptions
 from ...output.dataset import summary_bytes
 from . import figures as tennis
 from ...util import conventions as cv
@@ -346,8 +347,8 @@ def _ensemble(config, body, axis, work, resume, scheduler, threads, progress, co
     window = (config["analysis"]["fit_above"], config["analysis"]["fit_below"])
     kept = config["output"]["series_members"]
     started = time.perf_counter()
-    ds = run_streamed(kwargs, work, resume=resume, scheduler=scheduler, threads=threads,
-                      progress=progress, compress=False,
+    ds = run_streamed(kwargs, RunOptions(store=work, resume=resume, scheduler=scheduler,
+                                         threads=threads, progress=progress), compress=False,
                       measurement=lambda kw, plan: TennisChunks(kw, window, kept, plan))
     ds.attrs["combine_time"] = time.perf_counter() - started - float(ds.attrs["wall_time"])
     return ds

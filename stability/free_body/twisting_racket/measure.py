@@ -69,7 +69,7 @@ def tossed_members(moments, members, spin, epsilon_range, shape_scatter, seed=0)
 
 
 def measure_twisting(moments, w0, *, method="lp8", steps_per_period=2000, save_every=4,
-                     epsilon=None, progress=None, stored=None) -> xr.Dataset:
+                     epsilon=None, options=None) -> xr.Dataset:
     """Montgomery's angle and the twist of each member, from a run and exactly.
 
     Parameters
@@ -86,12 +86,10 @@ def measure_twisting(moments, w0, *, method="lp8", steps_per_period=2000, save_e
         Saved states every so many steps (the twist follows psi along them).
     epsilon : array_like, shape (N,), optional
         The nudges, stored with the members.
-    progress : bool or None, optional
-        Progress bar; ``None`` shows one when the run is expected to take long.
-    stored : dict, optional
-        Keyword arguments of :func:`stability.ensemble.chunks.propagate_stored` (``store``,
-        ``resume``, ``scheduler`` ...): the run goes chunk by chunk into a store, resumable and
-        on dask; by default in one piece here. The result is the same, bitwise.
+    options : RunOptions, optional
+        How and where the members run (:class:`~stability.ensemble.options.RunOptions`): by
+        default in one piece here; with a ``store``, chunk by chunk into it, resumable and on
+        dask. The result is the same, bitwise.
 
     Returns
     -------
@@ -109,8 +107,8 @@ def measure_twisting(moments, w0, *, method="lp8", steps_per_period=2000, save_e
     t_start = time.perf_counter()
     runs = propagate_attitudes(method, moments, moments * w0, np.tile(IDENTITY, (n, 1)),
                                period / steps_per_period, 2 * steps_per_period,
-                               save_every=save_every, progress=progress,
-                               label=f"tossed bodies ({method})", stored=stored)
+                               save_every=save_every, label=f"tossed bodies ({method})",
+                               options=options)
     run_wall = time.perf_counter() - t_start
     exact = exact_angles(motions, period)
     ran = run_angles(runs, period, exact["flip_time"])  # the same flip: nearest the exact one

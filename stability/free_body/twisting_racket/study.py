@@ -25,7 +25,7 @@ from ...study.config import ConfigError, Key, Schema, Section
 from ...study.kind import StudyKind, StudySummary
 from ...study.outputs import output_files, write_outputs
 from ...study.sections import (
-    MEMBER_BYTES, check_memory, check_run, output_section, run_section, stored_run,
+    MEMBER_BYTES, check_memory, check_run, output_section, run_section, study_run_options,
     tossed_body_sections
 )
 
@@ -119,8 +119,8 @@ def run(config: dict, out_dir: Path, *, overwrite=False, threads=None, progress=
         ds = measure_twisting(moments, w0, method=integration["method"],
                               steps_per_period=integration["steps_per_period"],
                               save_every=integration["save_every"], epsilon=epsilon,
-                              progress=progress,
-                              stored=stored_run(config, work, resume, scheduler, threads))
+                              options=study_run_options(config, work, resume,
+                                                        scheduler, threads, progress))
     ds, files = write_outputs(ds, config, out_dir, NAME,
                               {"twist": twist_figure, "flip": flip_figure},
                               overwrite=overwrite, history=history, threads=threads,

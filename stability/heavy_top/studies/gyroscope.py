@@ -21,7 +21,8 @@ import numpy as np
 from ...study.config import ConfigError, Key, Schema, Section
 from ...study.kind import StudyKind, StudySummary, run_rows
 from ...study.outputs import output_files, write_outputs
-from ...study.sections import check_memory, check_run, output_section, run_section, stored_run
+from ...study.sections import (check_memory, check_run, output_section, run_section,
+                                study_run_options)
 from .common import check_spins, symmetric_top, top_keys, top_methods
 from ..figures import gyroscope_paths_figure, gyroscope_rates_figure
 from ..measure import measure_gyroscopes
@@ -149,8 +150,8 @@ def run(config: dict, out_dir: Path, *, overwrite=False, threads=None, progress=
             step_angle=integ["step_angle"], periods=integ["periods"],
             samples_per_period=integ["samples_per_period"], seed=r["seed"],
             path_tilt=math.radians(paths["tilt"]), path_spin=paths["spin"],
-            path_periods=paths["periods"], progress=progress,
-            stored=stored_run(config, work, resume, scheduler, threads))
+            path_periods=paths["periods"],
+            options=study_run_options(config, work, resume, scheduler, threads, progress))
     claim = config["analysis"]["claim"]
     ds, files = write_outputs(
         ds, config, out_dir, NAME,

@@ -21,7 +21,7 @@ from ...study.config import ConfigError, Key, Schema, Section
 from ...study.kind import StudyKind, StudySummary
 from ...study.outputs import output_files, write_outputs
 from ...study.sections import (
-    MEMBER_BYTES, check_memory, check_run, output_section, run_section, stored_run
+    MEMBER_BYTES, check_memory, check_run, output_section, run_section, study_run_options
 )
 from .common import check_spins, symmetric_top, top_keys, top_methods
 from ..figures import sleeping_top_figure
@@ -123,7 +123,7 @@ def run(config: dict, out_dir: Path, *, overwrite=False, threads=None, progress=
             tops, spins, members=ens["members"], tilt=ens["tilt"], method=integ["method"],
             step_angle=integ["step_angle"], t_stable=integ["t_stable"],
             low_factor=an["fit_above"], high_fraction=an["fit_below"], seed=ens["seed"],
-            progress=progress, stored=stored_run(config, work, resume, scheduler, threads))
+            options=study_run_options(config, work, resume, scheduler, threads, progress))
     t = config["top"]
     ds, files = write_outputs(
         ds, config, out_dir, NAME, {FIGURE: lambda ds: sleeping_top_figure(ds, an["claim"])},

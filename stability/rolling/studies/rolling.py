@@ -17,12 +17,11 @@ from pathlib import Path
 
 import numpy as np
 
-from ...ensemble.chunks import sub_store
 from ...study.config import ConfigError, Key, Schema, Section
 from ...study.kind import StudyKind, StudySummary
 from ...study.outputs import output_files, write_outputs
 from ...study.sections import (
-    MEMBER_BYTES, check_memory, check_run, output_section, run_section, stored_run
+    MEMBER_BYTES, check_memory, check_run, output_section, run_section, study_run_options
 )
 from ...util.threads import numba_threads
 from ..figures import rolling_launch_figure, rolling_map_figure
@@ -152,7 +151,7 @@ def run(config: dict, out_dir: Path, *, overwrite=False, threads=None, progress=
     import xarray as xr
 
 
-    stored = stored_run(config, work, resume, scheduler, threads)
+    options = study_run_options(config, work, resume, scheduler, threads, progress)
 
     t_start = time.perf_counter()
     inc, launch = config["incline"], config["launch"]
@@ -163,13 +162,13 @@ def run(config: dict, out_dir: Path, *, overwrite=False, threads=None, progress=
             np.linspace(inc["mu_s_min"], inc["mu_s_max"], inc["mu_s_count"]),
             members=inc["members"], mu_ratio=inc["mu_k_ratio"], mu_scatter=inc["mu_scatter"],
             shape_scatter=inc["shape_scatter"], duration=inc["duration"], seed=inc["seed"],
-            progress=progress, stored=sub_store(stored, "incline"))
+            options=options.within("incline"))
         launches = measure_launches(
             radius=launch["radius"], mass=launch["mass"], k=SHAPES[launch["shape"]],
             mu_k=launch["mu_k"], speeds=(launch["speed_min"], launch["speed_max"]),
             spin_ratios=(launch["spin_min"], launch["spin_max"]), members=launch["members"],
             mu_scatter=launch["mu_scatter"], samples=launch["samples"], seed=launch["seed"],
-            progress=progress, stored=sub_store(stored, "launches"))
+            options=options.within("launches"))
     ds = xr.merge([incline, launches], combine_attrs="override")  # variables keep theirs
     ds.attrs = {}
     ds.attrs.update({f"incline_{k}": v for k, v in incline.attrs.items()})

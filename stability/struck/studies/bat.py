@@ -20,7 +20,7 @@ from ...study.config import ConfigError, Key, Schema, Section
 from ...study.kind import StudyKind, StudySummary
 from ...study.outputs import output_files, write_outputs
 from ...study.sections import (
-    MEMBER_BYTES, check_memory, check_run, output_section, run_section, stored_run
+    MEMBER_BYTES, check_memory, check_run, output_section, run_section, study_run_options
 )
 from ...util.threads import numba_threads
 from ..figures import bat_figure
@@ -133,8 +133,9 @@ def run(config: dict, out_dir: Path, *, overwrite=False, threads=None, progress=
         ds = measure_strikes(body, config["hands"]["pivots"],
                              np.linspace(s["first"], last, s["count"]), hit["impulse"],
                              hit["contact_time"], hit["steps_per_contact"],
-                             sting=analysis["sting"], progress=progress,
-                             stored=stored_run(config, work, resume, scheduler, threads))
+                             sting=analysis["sting"],
+                             options=study_run_options(config, work, resume, scheduler, threads,
+                                                       progress))
     ds, files = write_outputs(ds, config, out_dir, NAME, {FIGURE: bat_figure},
                               overwrite=overwrite, history=history, threads=threads,
                               attrs={"claim": analysis["claim"]})

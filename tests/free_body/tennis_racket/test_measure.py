@@ -8,6 +8,7 @@ import numpy as np
 import pytest
 
 import stability
+from stability import RunOptions
 from stability.ensemble.combine import LOG_BIN_WIDTH, series_sample
 from stability.analysis.members import perpendicular_amplitude
 from stability.free_body.tennis_racket.analysis import analyse_ensemble, finish_analysis
@@ -28,7 +29,8 @@ def both(tmp_path_factory):
     analysed = analyse_ensemble(whole, BODY, 2, 10.0, 1e-4, low_factor=WINDOW[0],
                                 high_fraction=WINDOW[1])
     store = tmp_path_factory.mktemp("tennis") / "store"
-    chunked = run_streamed(dict(RUN, chunk_members=256), store, progress=False, compress=False,
+    chunked = run_streamed(dict(RUN, chunk_members=256), RunOptions(store=store, progress=False),
+                           compress=False,
                            measurement=lambda kw, plan: TennisChunks(kw, WINDOW, 9, plan))
     chunked = finish_analysis(chunked, BODY, 2, 10.0, 1e-4, low_factor=WINDOW[0],
                               high_fraction=WINDOW[1])
@@ -105,8 +107,9 @@ def test_on_a_dask_cluster_only_the_sample_leaves_the_workers(both, tmp_path):
     with distributed.LocalCluster(n_workers=2, threads_per_worker=1, processes=True,
                                   dashboard_address=None) as cluster, \
             distributed.Client(cluster) as client:
-        remote = run_streamed(dict(RUN, chunk_members=256), store, scheduler=client,
-                              progress=False, compress=False,
+        remote = run_streamed(dict(RUN, chunk_members=256),
+                              RunOptions(store=store, scheduler=client, progress=False),
+                              compress=False,
                               measurement=lambda kw, plan: TennisChunks(kw, WINDOW, 9, plan))
     for path in sorted(store.glob("chunk-*.nc")):
         with xr.open_dataset(path, engine="netcdf4", decode_times=False) as chunk:

@@ -68,7 +68,8 @@ def test_montgomery_and_twist_hold_for_random_bodies_from_runs_and_exactly():
                               - exact["montgomery"]))) > 0.1
     n = 1000
     runs = propagate_attitudes("lp8", moments, moments * w0, np.tile([1.0, 0, 0, 0], (12, 1)),
-                               period / n, 2 * n, save_every=5, progress=False)
+                               period / n, 2 * n, save_every=5,
+                               options=stability.RunOptions(progress=False))
     ran = run_angles(runs, period, exact["flip_time"])
     assert np.max(np.abs(wrap(ran["montgomery"] - exact["montgomery_formula"]))) < 1e-8
     flip, half = exact["flip_time"], exact["half_window"]
@@ -87,7 +88,8 @@ def test_exact_precession_angle_matches_the_attitude_of_a_run():
     motions = [free_motion(I, w) for I, w in zip(moments, w0)]
     period = np.array([fm.period for fm in motions])
     runs = propagate_attitudes("lp8", moments, moments * w0, np.tile([1.0, 0, 0, 0], (4, 1)),
-                               period / 800, 800, save_every=100, progress=False)
+                               period / 800, 800, save_every=100,
+                               options=stability.RunOptions(progress=False))
     for j, fm in enumerate(motions):  # R(t) R(0)^T of the run, against the exact attitude
         t = runs.times[j]
         q = exact_attitude(stability.RigidBody(*moments[j], physical=False), w0[j], t)
@@ -107,7 +109,8 @@ def test_the_racket_twists_by_nearly_a_half_turn():
 def test_run_continued_between_saved_steps_is_continuous_and_lands_on_the_steps():
     moments, w0 = random_members(2, 5)
     runs = propagate_attitudes("rk4", moments, moments * w0, np.tile([1.0, 0, 0, 0], (2, 1)),
-                               [0.01, 0.013], 40, save_every=8, progress=False)
+                               [0.01, 0.013], 40, save_every=8,
+                               options=stability.RunOptions(progress=False))
     k = np.array([3, 5])  # a saved state, reached by continuing from the one before it
     t = runs.h * 8 * k
     np.testing.assert_allclose(runs.state_at(t - runs.h * 8 * 1e-12), runs.saved[[0, 1], k],
@@ -126,8 +129,9 @@ def test_attitude_run_bad_input_says_what_is_wrong():
         args = dict(method="lp2", moments=moments, m0=moments * w0, q0=q0, h=[0.01, 0.01],
                     n_steps=10, save_every=1)
         with pytest.raises(ValueError, match=message):
-            propagate_attitudes(**{**args, **kwargs}, progress=False)
-    runs = propagate_attitudes("lp2", moments, moments * w0, q0, 0.01, 10, progress=False)
+            propagate_attitudes(**{**args, **kwargs}, options=stability.RunOptions(progress=False))
+    runs = propagate_attitudes("lp2", moments, moments * w0, q0, 0.01, 10,
+                               options=stability.RunOptions(progress=False))
     with pytest.raises(ValueError, match="period T at a saved step"):
         run_angles(runs, [1.0, 1.0], [0.5, 0.5])
 
