@@ -26,6 +26,7 @@ LAYERS = {
     "analysis": {"util", "core", "ensemble"},
     "output": {"util", "core", "ensemble", "version"},
     "plotting": {"util", "core", "output"},
+    "uncertainty": {"util", "core", "ensemble", "analysis", "plotting"},
 }
 
 #: Imports against the layer order still in the code, each with its reason, until it goes.

@@ -10,15 +10,7 @@ only the layers below):
 - :mod:`.inertia`: the inertia tensor dispersed as a tensor (a small rotation of the axes);
 - :mod:`.sobol`, :mod:`.morris`: Sobol' indices and Morris screening by SALib, as Datasets over
   (output, parameter) (:mod:`.schema`); :mod:`.figures`: their figures.
+
+This package's ``__init__`` imports nothing, so that the registry can read :mod:`.schema`
+without SALib and SciPy (the command line's start-up time).
 """
-
-from .designs import DESIGNS, unit_design
-from .dispersions import Dispersions, dispersions
-from .distributions import Distribution, distribution
-from .inertia import dispersed_tensor, physical
-from .morris import morris_design, morris_indices
-from .sobol import sobol_design, sobol_indices
-
-__all__ = ["DESIGNS", "Dispersions", "Distribution", "dispersed_tensor", "dispersions",
-           "distribution", "morris_design", "morris_indices", "physical", "sobol_design",
-           "sobol_indices", "unit_design"]

@@ -19,7 +19,7 @@ _AXES = {
 
 SOBOL_INDICES = declare("sobol_indices", "first-order and total Sobol' indices of per-member "
                         "outputs over the dispersed parameters",
-                        "uncertainty.sobol.sobol_indices", {
+                        "stability.uncertainty.sobol.sobol_indices", {
     **_AXES,
     "first_order": variable(_DIMS, ONE, "first-order Sobol' index S_i = Var(E[Y | X_i]) / Var(Y)"),
     "first_order_conf": variable(_DIMS, ONE, "half-width of the bootstrap confidence interval "
@@ -30,7 +30,7 @@ SOBOL_INDICES = declare("sobol_indices", "first-order and total Sobol' indices o
 }, file="")
 
 MORRIS_SCREENING = declare("morris_screening", "Morris elementary effects of per-member outputs "
-                           "over the dispersed parameters", "uncertainty.morris.morris_indices", {
+                           "over the dispersed parameters", "stability.uncertainty.morris.morris_indices", {
     **_AXES,
     "mu_star": variable(_DIMS, ONE, "mean absolute elementary effect mu*, over the standard "
                         "deviation of the output"),
