@@ -10,11 +10,17 @@ from ..plotting.style import label, new_figure, place_legend, styled
 
 
 @styled
-def indices_figure(ds):
+def indices_figure(ds, fig=None):
     """One panel per output: S_i and S_Ti of each parameter, bars with their confidence
-    intervals (``ds`` as :data:`stability.uncertainty.schema.SOBOL_INDICES`)."""
+    intervals (``ds`` as :data:`stability.uncertainty.schema.SOBOL_INDICES`), drawn into
+    ``fig`` where given (a pyplot figure, for the gallery)."""
     outputs = list(ds.output.values)
-    fig = new_figure(3.2 + 2.6 * len(outputs), 3.8)
+    size = (3.2 + 2.6 * len(outputs), 3.8)
+    if fig is None:
+        fig = new_figure(*size)
+    else:
+        fig.set_size_inches(*size)
+        fig.set_layout_engine("constrained")
     axes = np.atleast_1d(fig.subplots(1, len(outputs), sharey=True))
     x = np.arange(ds.parameter.size)
     for ax, name in zip(axes, outputs):
