@@ -15,6 +15,7 @@ import importlib
 from .engine.scene import Scene
 from .engine.user_scene import RESERVED_NAMES
 from .ensemble.schema import DatasetSchema, register
+from .uncertainty.schema import MORRIS_SCREENING, SOBOL_INDICES
 from .util.checks import registered
 
 #: The families, each a package ``stability.<name>``, in the order their scenes are listed.
@@ -75,6 +76,7 @@ DATASETS: dict[str, DatasetSchema] = {
     s.name: s for s in (load(where) for family in FAMILIES
                         for where in declared(family, "DATASETS").values())}
 register(*DATASETS.values())
+register(SOBOL_INDICES, MORRIS_SCREENING)  # the sensitivity analyses of stability.uncertainty
 
 #: Each study kind's name -> (module, attribute) of its StudyKind, imported when first used.
 STUDY_KINDS: dict[str, tuple] = dict(sorted(

@@ -16,7 +16,8 @@ The family's modules, each importing only downward:
   references to score a run against, the polhodes;
 - :mod:`.figures`: Poinsot's construction, drawn from a body and a start;
 - one sub-package per study, each with its measurements, its study kind and its figures:
-  :mod:`.tennis_racket`, :mod:`.stability_map`, :mod:`.work_precision`, :mod:`.twisting_racket`.
+  :mod:`.tennis_racket`, :mod:`.stability_map`, :mod:`.work_precision`, :mod:`.twisting_racket`,
+  :mod:`.dispersion` (a dispersed body, :mod:`stability.uncertainty`).
 
 Its methods (RK4, the Lie-Poisson splittings, DMV, LGVI, RKMK4, the midpoint rule and the exact
 flow) are the package's methods on Euler's equations, which other families build on: they live
@@ -34,6 +35,7 @@ STUDIES = {
     "stability_map": "stability_map.study:STUDY",
     "work_precision": "work_precision.study:STUDY",
     "twisting_racket": "twisting_racket.study:STUDY",
+    "dispersion": "dispersion.study:STUDY",
 }
 DATASETS = (
     "schema:TRAJECTORY",
@@ -41,4 +43,5 @@ DATASETS = (
     "schema:STABILITY_MAP",
     "schema:WORK_PRECISION",
     "schema:TWISTING_RACKET",
+    "dispersion.schema:DISPERSION",
 )

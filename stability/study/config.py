@@ -36,7 +36,7 @@ REQUIRED = object()
 #: Default of a key that may be left unset (it is then absent from the resolved configuration).
 UNSET = None
 
-_KINDS = ("int", "float", "str", "bool", "floats", "strs")
+_KINDS = ("int", "float", "str", "bool", "floats", "strs", "table")
 
 
 class ConfigError(ValueError):
@@ -65,8 +65,9 @@ class Key:
         The key as written in the file.
     kind : str or tuple of str
         ``"int"``, ``"float"`` (an integer is accepted and converted), ``"str"``, ``"bool"``,
-        ``"floats"`` (a list of numbers), ``"strs"`` (a list of strings), or a tuple of these
-        when more than one type is allowed.
+        ``"floats"`` (a list of numbers), ``"strs"`` (a list of strings), ``"table"`` (a TOML
+        table, whose keys the study kind's ``check`` reads), or a tuple of these when more
+        than one type is allowed.
     default : object
         Value used when the file does not set the key; :data:`REQUIRED` if it must be set;
         :data:`UNSET` (None) if it may stay unset.
@@ -131,6 +132,7 @@ class Key:
                     "bool": "true or false",
                     "floats": f"a list of {self.length or ''} numbers".replace("  ", " "),
                     "strs": f"a list of {self.length or ''} strings".replace("  ", " "),
+                    "table": "a table such as {distribution = \"uniform\", relative = 0.05}",
                 }[kind]
             )
         text = " or ".join(words)
@@ -188,6 +190,8 @@ def _convert(kind, value, length):
         return float(value)
     if kind == "str":
         return value if isinstance(value, str) else _MISMATCH
+    if kind == "table":
+        return dict(value) if isinstance(value, dict) else _MISMATCH
     if kind in ("floats", "strs"):
         if not isinstance(value, list) or (length is not None and len(value) != length):
             return _MISMATCH
