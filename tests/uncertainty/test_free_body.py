@@ -5,6 +5,7 @@ import numpy as np
 import tomli_w
 
 import stability
+from stability import RunOptions
 from stability.free_body.dispersion import measure as M
 from stability.free_body.dispersion.study import STUDY
 from stability.free_body.exact import flip_interval
@@ -14,7 +15,7 @@ from stability.uncertainty.dispersions import dispersions
 from stability.uncertainty.inertia import physical
 from stability.uncertainty.sobol import sobol_design, sobol_indices
 
-from ..helpers import assert_declared
+from ..helpers import assert_cf_compliant, assert_declared
 
 BODY = (1.0, 2.0, 2.5)
 
@@ -128,12 +129,13 @@ def test_the_stored_draws_are_bitwise_what_the_kernels_ran_with(tmp_path):
     want_I, want_m = draws["moments"], draws["w0"] * draws["moments"]
     whole = M.integrated(draws, 12, steps_per_flip=64, flips=2)
     store = tmp_path / "store"
-    chunked = M.integrated(draws, 12, steps_per_flip=64, flips=2, store=store, chunk_members=5)
+    chunked = M.integrated(draws, 12, steps_per_flip=64, flips=2,
+                           options=RunOptions(store=store, chunk_members=5, progress=False))
     chunks = sorted(p for p in store.rglob("*.nc"))
     assert len(chunks) >= 3
     chunks[1].unlink()
-    resumed = M.integrated(draws, 12, steps_per_flip=64, flips=2, store=store, chunk_members=5,
-                           resume=True)
+    resumed = M.integrated(draws, 12, steps_per_flip=64, flips=2, options=RunOptions(
+        store=store, chunk_members=5, resume=True, progress=False))
     for ds in (whole, chunked, resumed):
         assert np.array_equal(ds.parameters.values, want_I)
         got_m = np.column_stack([ds[f"m{k}_start"].values for k in (1, 2, 3)])
@@ -152,6 +154,7 @@ def test_the_study_writes_its_dataset_and_names_what_dominates(tmp_path):
     summary = run_study(study, progress=False)
     path = tmp_path / "out" / "dispersion.nc"
     assert_declared(path, "dispersion")
+    assert_cf_compliant(tmp_path / "out" / "dispersion.nc")
     ds = stability.load(path)
     n = 3
     assert np.array_equal(ds.run_parameters.values, ds.moments.values[:n])

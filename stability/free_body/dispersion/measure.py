@@ -25,6 +25,7 @@ import numpy as np
 import xarray as xr
 from numba import njit
 
+from ...ensemble.options import RunOptions
 from ...ensemble.run import run_scene
 from ...uncertainty.dispersions import AXES, Dispersions
 from ...uncertainty.inertia import dispersed_tensor
@@ -110,14 +111,14 @@ def closed_form(draws: dict) -> dict:
 
 
 def integrated(draws: dict, count: int, *, method="lp4", steps_per_flip=400, flips=3,
-               store=None, resume=False, scheduler=None, chunk_members=None, threads=None,
-               progress=False) -> xr.Dataset:
+               options=None) -> xr.Dataset:
     """The first ``count`` members integrated (:func:`stability.run_scene`, one group each,
     over ``flips`` + 1/2 of their exact flip intervals at ``steps_per_flip`` steps each), with
     ``flip_interval_run``: the mean spacing of the middle component's sign changes (s).
 
-    ``store``, ``resume``, ``scheduler`` and ``chunk_members`` go to :func:`stability.run_scene`
-    (a run chunk by chunk into a folder, resumed, on dask), which never changes the result."""
+    ``options`` (:class:`~stability.ensemble.options.RunOptions`; default: in one piece here,
+    no progress bar) go to :func:`stability.run_scene`: a run chunk by chunk into a folder,
+    resumed, on dask, which never changes the result."""
     moments = draws["moments"][:count]
     w0 = draws["w0"][:count]
     exact_t = flip_intervals(moments, w0)
@@ -128,8 +129,8 @@ def integrated(draws: dict, count: int, *, method="lp4", steps_per_flip=400, fli
     others = [k for k in range(3) if k != b]
     ds = run_scene(FREE_BODY, method, w0 * moments, list(moments), h=exact_t / steps_per_flip,
                    n_steps=int(steps_per_flip * (flips + 0.5)), sizes=np.ones(count, int),
-                   axes=[b, *others], store=store, resume=resume, scheduler=scheduler,
-                   chunk_members=chunk_members, threads=threads, progress=progress)
+                   axes=[b, *others],
+                   options=options if options is not None else RunOptions(progress=False))
     crossings = ds.axis_crossings.values
     with np.errstate(invalid="ignore", divide="ignore"):
         run_t = np.where(crossings >= 2, (ds.last_axis_crossing.values

@@ -24,7 +24,7 @@ from ...study.kind import StudyKind, StudySummary, SummaryTable
 from ...study.outputs import output_files, write_outputs
 from ...study.sections import (
     MEMBER_BYTES, check_memory, check_run, method_names, output_section, run_section,
-    stored_run, tossed_body_sections
+    study_run_options, tossed_body_sections
 )
 from ...uncertainty.dispersions import ALL_MOMENTS, AXES, MOMENTS, dispersions
 from ...uncertainty.figures import indices_figure
@@ -131,11 +131,10 @@ def run(config: dict, out_dir: Path, *, overwrite=False, threads=None, progress=
         out = closed_form(draws)
         run_ds = None
         if integ["members"]:
-            stored = stored_run(config, work, resume, scheduler, threads)
-            stored.pop("threads")
             run_ds = integrated(draws, integ["members"], method=integ["method"],
                                 steps_per_flip=integ["steps_per_flip"], flips=integ["flips"],
-                                threads=threads, progress=progress, **stored)
+                                options=study_run_options(config, work, resume, scheduler,
+                                                          threads, progress))
     described = {"flip_interval": (out["flip_interval"], "s", "exact flip interval 2K/nu"),
                  "growth_rate": (out["growth_rate"], "s-1", "linear growth rate")}
     indices = sobol_indices(design, described, resamples=sens["resamples"],
