@@ -18,7 +18,8 @@ from .ensemble.schema import DatasetSchema, register
 from .util.checks import registered
 
 #: The families, each a package ``stability.<name>``, in the order their scenes are listed.
-FAMILIES = ("free_body", "heavy_top", "earth", "rolling", "struck", "engine_body", "dissipation")
+FAMILIES = ("free_body", "heavy_top", "earth", "rolling", "struck", "engine_body", "dissipation",
+            "asteroid")
 
 
 def declared(family: str, kind: str) -> dict:

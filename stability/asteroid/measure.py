@@ -16,8 +16,13 @@ import numpy as np
 
 from ..core.quaternions import quaternion_to_matrix
 from ..free_body.exact_attitude import exact_attitude
-from .lightcurve import l_frame_start, lightcurve, spectral_peaks, spectrum
-from .spin_state import SpinState
+from ..util import conventions as cv
+from .lightcurve import (
+    ellipsoid_axes, ellipsoid_mesh, l_frame_start, lightcurve, main_frequencies, spectral_peaks,
+    spectrum,
+)
+from .schema import TUMBLER
+from .spin_state import SpinState, spin_states
 
 #: The reference axis (canonical, 0-based) of each mode: the short axis in SAM, the long in LAM.
 REFERENCE_AXIS = {"SAM": 2, "LAM": 0}
@@ -88,4 +93,70 @@ def lightcurve_peaks(state: SpinState, sun, observer, *, periods: float = 40.0,
     return spectral_peaks(f, a, count), 1.0 / span
 
 
-__all__ = ["REFERENCE_AXIS", "lightcurve_peaks", "measured_periods"]
+def draw_members(ratios, ratio_errors, periods, period_errors, members: int, seed: int
+                 ) -> np.ndarray:
+    """Normal draws of (I1/I3, I2/I3, P_psi, P_phi), shape (members, 4), member 0 the nominal."""
+    rng = np.random.default_rng(seed)
+    mean = np.array([*ratios, *periods], float)
+    sigma = np.array([*ratio_errors, *period_errors], float)
+    draws = mean + sigma * rng.standard_normal((members, 4))
+    draws[0] = mean
+    return draws
+
+
+def measure_tumblers(draws, mode: str, sun, observer, *, periods: float = 20.0,
+                     samples: int = 2048, rings: int = 12, law: str = "lommel-seeliger"):
+    """Each member's spin state of ``mode`` and light curve; the study's Dataset.
+
+    Parameters
+    ----------
+    draws : ndarray, shape (N, 4)
+        (I1/I3, I2/I3, P_psi, P_phi) per member (:func:`draw_members`), periods in hours.
+    mode : str
+        ``"SAM"`` or ``"LAM"``: the mode the paper gives (the lowest-energy state of that mode
+        when several fit).
+    sun, observer : array_like, shape (3,)
+        Directions in the frame of L (Z along L).
+    periods, samples, rings, law
+        Light-curve length in the longer period, samples, rings of the member's uniform
+        ellipsoid mesh (:func:`~stability.asteroid.lightcurve.ellipsoid_mesh`), scattering law.
+
+    Returns
+    -------
+    xarray.Dataset
+        As declared in :data:`stability.asteroid.schema.TUMBLER`.
+    """
+    import xarray as xr
+
+    n = len(draws)
+    out = {name: np.full(n, np.nan) for name in
+           ("energy_ratio", "momentum_per_i3", "frequency_predicted", "frequency_measured")}
+    fitted = np.zeros(n, np.int32)
+    for j, (r13, r23, p_psi, p_phi) in enumerate(draws):
+        try:
+            states = spin_states((r13, r23, 1.0), p_psi, p_phi, mode)
+        except ValueError:  # a draw outside the physical moments or periods
+            continue
+        if not states:
+            continue
+        s = states[0]
+        fitted[j] = 1
+        shape = ellipsoid_mesh(*ellipsoid_axes(s.moments), n=rings)
+        peaks, _ = lightcurve_peaks(s, sun, observer, periods=periods, samples=samples,
+                                    count=1, shape=shape, law=law)
+        out["energy_ratio"][j] = s.energy_ratio
+        out["momentum_per_i3"][j] = s.momentum
+        out["frequency_predicted"][j] = 24.0 * main_frequencies(s)[0]
+        out["frequency_measured"][j] = 24.0 * peaks[0]
+    data = {"moment_ratio_13": draws[:, 0], "moment_ratio_23": draws[:, 1],
+            "period_psi": draws[:, 2], "period_phi": draws[:, 3], **out, "fitted": fitted}
+    ds = xr.Dataset({k: (cv.MEMBER, np.asarray(v)) for k, v in data.items()},
+                    coords={cv.MEMBER: np.arange(n)})
+    for name, var in TUMBLER.variables.items():
+        ds[name].attrs.update(var.attrs())
+    ds.attrs["mode"] = mode
+    return ds
+
+
+__all__ = ["REFERENCE_AXIS", "draw_members", "lightcurve_peaks", "measure_tumblers",
+           "measured_periods"]
