@@ -19,7 +19,8 @@ from .uncertainty.schema import MORRIS_SCREENING, SOBOL_INDICES
 from .util.checks import registered
 
 #: The families, each a package ``stability.<name>``, in the order their scenes are listed.
-FAMILIES = ("free_body", "heavy_top", "earth", "rolling", "struck", "engine_body", "dissipation")
+FAMILIES = ("free_body", "heavy_top", "earth", "rolling", "struck", "engine_body", "dissipation",
+            "asteroid")
 
 
 def declared(family: str, kind: str) -> dict:

@@ -36,6 +36,7 @@ import pytest
 import stability
 from stability.free_body import model as analytic, attitude, propagate as driver, exact
 from stability.analysis.members import zero_crossings
+from stability.asteroid import shape as asteroid_shape, spin_state as asteroid
 from stability.core.body import Part
 from stability.free_body.ensemble import run_ensembles
 from stability.free_body.starts import perturbed_starts
@@ -231,7 +232,28 @@ def test_command_line_in_a_new_process_says_the_same_line(tmp_path, capsys):
 
 COMPLEX = np.array([1.0, 2.0, 3.0j])
 #: name -> (call, fragment of the ValueError's message).
+APOPHIS = (0.61, 0.965, 1.0)
+
 API = {
+    "tumbler mode neither SAM nor LAM": (
+        lambda: asteroid.spin_states(APOPHIS, 263.0, 27.38, "XAM"),
+        "mode must be 'SAM' (short-axis mode) or 'LAM' (long-axis mode), got 'XAM'"),
+    "tumbler period <= 0": (lambda: asteroid.spin_states(APOPHIS, -263.0, 27.38),
+                            "period_psi must be finite and > 0, got -263.0"),
+    "tumbler period not finite": (lambda: asteroid.spin_states(APOPHIS, 263.0, float("nan")),
+                                  "period_phi must be finite and > 0, got nan"),
+    "tumbler moment ratios out of order": (
+        lambda: asteroid.spin_states((0.965, 0.61, 1.0), 263.0, 27.38),
+        "moments must be distinct and ascending, I1 < I2 < I3"),
+    "tumbler moment ratios against the triangle inequality": (
+        lambda: asteroid.spin_states((0.3, 0.6, 1.0), 263.0, 27.38),
+        "violate the triangle inequality I3 <= I1 + I2"),
+    "shape model open": (
+        lambda: asteroid_shape.mass_properties(
+            (np.eye(3).tolist() + [[0.0, 0.0, 0.0]], [[0, 1, 2], [0, 3, 1], [1, 3, 2]])),
+        "mesh: the mesh is open or has edges shared by more than two facets"),
+    "shape model missing": (lambda: asteroid_shape.mass_properties("no/such/shape.obj"),
+                            "no/such/shape.obj: no such file"),
     "complex moment": (lambda: stability.RigidBody(1 + 0j, 2.0, 3.0), "I1 must be a number"),
     "boolean moment": (lambda: stability.RigidBody(True, 2.0, 3.0), "I1 must be a number"),
     "moment as a string": (lambda: stability.RigidBody("1", 2.0, 3.0), "I1 must be a number"),

@@ -28,6 +28,7 @@ ALSO_INSTALLS = {"matplotlib": ("mpl_toolkits",)}
 OPTIONAL = {
     "distributed": ("distributed", "stability.output.stream"),
     "numba.cuda": ("gpu", "stability.engine.gpu"),
+    "trimesh": ("shapes", "stability.asteroid.shape"),
 }
 
 

@@ -63,6 +63,8 @@ COVERED_ELSEWHERE = {
     "stability.analysis.regimes": "tests/analysis/test_estimates.py",
     "stability.free_body.measure": "tests/analysis/test_estimates.py (Omega^2 and flips measured against the exact)",
     "stability.free_body.tennis_racket.analysis": "tests/analysis/test_estimates.py, tests/free_body/tennis_racket/test_figures.py",
+    "stability.asteroid.figures": "tests/asteroid/test_tumbler.py",
+    "stability.asteroid.studies.tumbler": "tests/asteroid/test_tumbler.py",
     "stability.dissipation.figures": "tests/dissipation/test_explorer.py, tests/dissipation/test_dual_spin.py",
     "stability.earth.figures": "tests/earth/test_wobble.py, tests/earth/test_equinoxes.py",
     "stability.engine.reference": "tests/test_engine.py (the plain loop against the engine's rk4)",

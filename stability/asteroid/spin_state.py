@@ -1,0 +1,284 @@
+"""A tumbler's spin state from its two periods and moment ratios, and its periods from a state.
+
+Conventions (Samarasinha & A'Hearn, Icarus 93, 194 (1991); Kaasalainen, A&A 376, 302 (2001);
+Pravec et al., Icarus 173, 108 (2005) and Icarus 233, 48 (2014)): moments I1 <= I2 <= I3 (I1 about
+the long axis, I3 about the short axis), L the angular momentum, E the rotational kinetic
+energy and E0 = L^2 / (2 I3) the lowest energy at that |L|, so 1 <= E/E0 <= I3/I1. z-x-z Euler
+angles (phi, theta, psi) take space Z along L and body z along the reference axis:
+
+- SAM (short-axis mode, 1 < E/E0 < I3/I2, the package's regime "major"): the reference axis is
+  the short axis (I3). P_psi is the period of the rotation psi about it (psi turns backwards,
+  psi' < 0, and P_psi is taken positive), P_phi the mean period of the precession phi of that
+  axis about L. The long axis turns about L at 1/P_phi - 1/P_psi (Apophis: P1 of Pravec 2014).
+- LAM (long-axis mode, I3/I2 < E/E0 < I3/I1, regime "minor"): the reference axis is the long
+  axis (I1); P_psi is the period of the rotation about it (psi' > 0), P_phi the mean period of
+  the precession of the long axis about L.
+
+In both modes theta nutates with P_psi / 2. From the exact solution (:mod:`stability.free_body.
+exact`), P_psi = 4 K(m) / nu, the period of the body's angular momentum along the polhode, and
+the mean precession rate is, with Pi the complete integral of the third kind
+(Landau & Lifshitz, *Mechanics*, section 37; derived from phi' = L (2E - m_z^2 / I_z) /
+(L^2 - m_z^2) with m_z from the Jacobi solution):
+
+    SAM:  <phi'> = L / I3 + L (I3 - I1) / (I1 I3) Pi(-n | m) / K,   n = I3 (I2 - I1) / (I1 (I3 - I2))
+    LAM:  <phi'> = L / I1 - L (I3 - I1) / (I1 I3) Pi(-n | m) / K,   n = I1 (I3 - I2) / (I3 (I2 - I1))
+
+and P_phi = 2 pi / <phi'>. Pi(-n | m) = R_F(0, 1 - m, 1) - (n / 3) R_J(0, 1 - m, 1, 1 + n)
+(DLMF 19.25.2), R_F from :mod:`stability.core.elliptic`, R_J from SciPy.
+
+The ratio P_psi / P_phi depends on E/E0 alone (at given moment ratios); :func:`spin_states`
+solves it for E/E0 with brentq in each mode and returns every state the two periods fit (a
+pair of periods can fit a SAM and a LAM state both), or only that of the mode asked for; |L|
+then follows from P_psi.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+
+from ..core.body import RigidBody
+from ..core.elliptic import carlson_rf, ellipk
+from ..free_body.exact import MAJOR, MINOR, Q_K, Q_KIND, Q_M, Q_M1, Q_RATE, motion
+from ..util.checks import positive_float, vectors3
+
+#: The two modes of a tumbler, as the literature names them.
+MODES = ("SAM", "LAM")
+
+#: Grid of k'^2 = 1 - m on which the period ratio is scanned for its roots (log-spaced towards
+#: the separatrix, where K diverges as ln(4 / k')).
+_M1_GRID = np.unique(np.concatenate([np.logspace(-14, -1, 60), np.linspace(0.1, 0.9, 30),
+                                     1.0 - np.logspace(-1, -12, 40)]))
+
+
+@dataclass(frozen=True)
+class SpinState:
+    """A torque-free tumbling state, canonical frame (I1 <= I2 <= I3).
+
+    Attributes
+    ----------
+    mode : str
+        ``"SAM"`` or ``"LAM"`` (module docstring).
+    moments : ndarray, shape (3,)
+        Principal moments, ascending, in the units given (kg m^2, or ratios to I3).
+    energy_ratio : float
+        E/E0 = 2 E I3 / L^2.
+    momentum : float
+        |L| in (units of the moments) rad/s.
+    period_psi, period_phi : float
+        Rotation and mean precession periods, in the time unit of the input (s by default).
+    w0 : ndarray, shape (3,)
+        A body angular velocity of the state (at the phase where w2 = 0, w1, w3 > 0), canonical
+        frame, in rad per time unit.
+    """
+
+    mode: str
+    moments: np.ndarray
+    energy_ratio: float
+    momentum: float
+    period_psi: float
+    period_phi: float
+    w0: np.ndarray
+
+    @property
+    def body(self) -> RigidBody:
+        """The state's moments as a :class:`~stability.RigidBody` (axes canonical)."""
+        return RigidBody(*self.moments, physical=False, name=f"{self.mode} tumbler")
+
+    @property
+    def frequencies(self) -> tuple[float, float]:
+        """(f_phi, f_psi) = (1 / P_phi, 1 / P_psi), cycles per time unit."""
+        return 1.0 / self.period_phi, 1.0 / self.period_psi
+
+
+def _pi_minus(n: float, m: float, m1: float) -> float:
+    """Complete elliptic integral of the third kind Pi(-n | m), n > -1, via Carlson (DLMF 19.25.2)."""
+    from scipy.special import elliprj
+
+    return carlson_rf(0.0, m1, 1.0) - n / 3.0 * float(elliprj(0.0, m1, 1.0, 1.0 + n))
+
+
+def _mean_precession(mode, I1, I2, I3, L, m, m1, K) -> float:
+    """<phi'> of the reference axis about L (module docstring), rad per time unit."""
+    c = L * (I3 - I1) / (I1 * I3)
+    if mode == "SAM":
+        n = I3 * (I2 - I1) / (I1 * (I3 - I2))
+        return L / I3 + c * _pi_minus(n, m, m1) / K
+    n = I1 * (I3 - I2) / (I3 * (I2 - I1))
+    return L / I1 - c * _pi_minus(n, m, m1) / K
+
+
+def check_moments(moments) -> np.ndarray:
+    """Three distinct principal moments (or ratios) in ascending order, physical; else one line.
+
+    Parameters
+    ----------
+    moments : array_like, shape (3,)
+        I1 < I2 < I3, e.g. ``(I1/I3, I2/I3, 1)``.
+
+    Returns
+    -------
+    ndarray, shape (3,)
+    """
+    I = vectors3("moments", moments)
+    if I.ndim != 1 or not np.all(np.isfinite(I)) or np.any(I <= 0.0):
+        raise ValueError(f"moments must be three finite positive numbers I1 < I2 < I3, got "
+                         f"{np.asarray(moments).tolist()}")
+    if not (I[0] < I[1] < I[2]):
+        raise ValueError(f"moments must be distinct and ascending, I1 < I2 < I3 (I1 about the "
+                         f"long axis), got {I.tolist()}; sort them, or perturb equal ones")
+    if I[2] > I[0] + I[1]:
+        raise ValueError(f"moments {I.tolist()} violate the triangle inequality I3 <= I1 + I2 "
+                         "that every real body obeys (ratios I1/I3 + I2/I3 must be >= 1)")
+    return I
+
+
+def check_mode(mode) -> str:
+    """``"SAM"`` or ``"LAM"`` (any case); else ValueError."""
+    if not isinstance(mode, str) or mode.upper() not in MODES:
+        raise ValueError(f"mode must be 'SAM' (short-axis mode) or 'LAM' (long-axis mode), "
+                         f"got {mode!r}")
+    return mode.upper()
+
+
+def _elliptic(mode, I, e):
+    """(m, m1, nu / L) of the state E/E0 = e at |L| = 1 (module docstring of exact.py)."""
+    I1, I2, I3 = I
+    d1, d2, d3 = 1.0 - e * I1 / I3, 1.0 - e * I2 / I3, e - 1.0  # D1, D2, D3 over L^2
+    if mode == "SAM":
+        m = (I2 - I1) * d3 / ((I3 - I2) * d1)
+        m1 = (I3 - I1) * d2 / ((I3 - I2) * d1)
+        nu = math.sqrt((I3 - I2) * d1 / (I1 * I2 * I3))
+    else:
+        m = (I3 - I2) * d1 / ((I2 - I1) * d3)
+        m1 = (I3 - I1) * (-d2) / ((I2 - I1) * d3)
+        nu = math.sqrt((I2 - I1) * d3 / (I1 * I2 * I3))
+    return m, m1, nu
+
+
+def _energy_ratio(mode, I, m1) -> float:
+    """E/E0 of the state whose k'^2 is ``m1`` (the inverse of :func:`_elliptic`)."""
+    I1, I2, I3 = I
+    m = 1.0 - m1
+    if mode == "SAM":  # m (I3 - I2)(1 - e r1) = (I2 - I1)(e - 1)
+        a, b = (I3 - I2), (I2 - I1)
+        return (a * m + b) / (a * m * I1 / I3 + b)
+    a, b = (I2 - I1), (I3 - I2)  # m (I2 - I1)(e - 1) = (I3 - I2)(1 - e r1)
+    return (a * m + b) / (a * m + b * I1 / I3)
+
+
+def _ratio(mode, I, m1) -> float:
+    """P_psi / P_phi at k'^2 = m1 (independent of |L|)."""
+    m = 1.0 - m1
+    e = _energy_ratio(mode, I, m1)
+    _, _, nu = _elliptic(mode, I, e)
+    K = ellipk(m1)
+    return _mean_precession(mode, *I, 1.0, m, m1, K) * 4.0 * K / (2.0 * math.pi * nu)
+
+
+def _state(mode, I, e, period_psi) -> SpinState:
+    """The state of mode ``mode`` at E/E0 = e whose rotation period is ``period_psi``."""
+    I1, I2, I3 = I
+    m, m1, nu1 = _elliptic(mode, I, e)
+    K = ellipk(m1)
+    L = 4.0 * K / (period_psi * nu1)
+    phi = _mean_precession(mode, I1, I2, I3, L, m, m1, K)
+    w0 = np.array([math.sqrt(L * L * (e - 1.0) / (I1 * (I3 - I1))), 0.0,
+                   math.sqrt(L * L * (1.0 - e * I1 / I3) / (I3 * (I3 - I1)))])
+    return SpinState(mode, I.copy(), float(e), float(L), float(period_psi),
+                     float(2.0 * math.pi / phi), w0)
+
+
+def spin_states(moments, period_psi, period_phi, mode=None) -> list[SpinState]:
+    """Every torque-free state with these moment ratios and periods (module docstring).
+
+    Parameters
+    ----------
+    moments : array_like, shape (3,)
+        I1 < I2 < I3, any scale (ratios ``(I1/I3, I2/I3, 1)`` give |L| per unit I3).
+    period_psi, period_phi : float
+        Rotation period P_psi and mean precession period P_phi, > 0, one time unit.
+    mode : str, optional
+        ``"SAM"`` or ``"LAM"``: only that mode's states; default both.
+
+    Returns
+    -------
+    list of SpinState
+        SAM states first, each mode's by increasing E/E0; empty if none fits.
+    """
+    I = check_moments(moments)
+    p_psi = positive_float("period_psi", period_psi)
+    p_phi = positive_float("period_phi", period_phi)
+    modes = MODES if mode is None else (check_mode(mode),)
+    from scipy.optimize import brentq
+
+    target = p_psi / p_phi
+    out = []
+    for md in modes:
+        f = np.array([_ratio(md, I, x) for x in _M1_GRID]) - target
+        roots = []
+        for j in np.flatnonzero(np.sign(f[:-1]) * np.sign(f[1:]) < 0):
+            x = brentq(lambda x: _ratio(md, I, x) - target, _M1_GRID[j], _M1_GRID[j + 1],
+                       xtol=1e-300, rtol=4 * np.finfo(float).eps, maxiter=200)
+            roots.append(_energy_ratio(md, I, x))
+        out += [_state(md, I, e, p_psi) for e in sorted(roots)]
+    return out
+
+
+def spin_state(moments, period_psi, period_phi, mode) -> SpinState:
+    """The one state of ``mode`` these periods fit; ValueError if none or several.
+
+    Parameters are those of :func:`spin_states`, ``mode`` required.
+    """
+    states = spin_states(moments, period_psi, period_phi, mode)
+    if len(states) != 1:
+        what = "no" if not states else f"{len(states)}"
+        raise ValueError(f"{what} {check_mode(mode)} states fit P_psi = {period_psi:g} and "
+                         f"P_phi = {period_phi:g} at moments {np.asarray(moments).tolist()}; "
+                         "check which period is which, or use spin_states() for all")
+    return states[0]
+
+
+def state_of(moments, w) -> SpinState:
+    """The mode, E/E0, |L| and periods of the state ``w`` of a body (the inverse direction).
+
+    Parameters
+    ----------
+    moments : array_like, shape (3,)
+        I1 < I2 < I3 (canonical frame).
+    w : array_like, shape (3,)
+        Body angular velocity, canonical frame, rad per time unit; off the separatrix.
+
+    Returns
+    -------
+    SpinState
+        With ``w0 = w`` as given.
+    """
+    I = check_moments(moments)
+    w = vectors3("w", w)
+    if w.ndim != 1 or not np.all(np.isfinite(w)) or not np.any(w):
+        raise ValueError(f"w must be a finite, non-zero angular velocity of shape (3,), got "
+                         f"{np.asarray(w).tolist()}")
+    q = motion(*I, *w)
+    kind = int(q[Q_KIND])
+    if kind not in (MAJOR, MINOR):
+        raise ValueError("the state lies on the separatrix (L^2 = 2 E I2): it has no periods "
+                         "(neither SAM nor LAM); perturb it")
+    mode = "SAM" if kind == MAJOR else "LAM"
+    L = float(np.linalg.norm(I * w))
+    e = float(np.dot(I * w, w) * I[2] / L**2)
+    K, nu = float(q[Q_K]), abs(float(q[Q_RATE]))
+    phi = _mean_precession(mode, *I, L, float(q[Q_M]), float(q[Q_M1]), K)
+    return SpinState(mode, I, e, L, 4.0 * K / nu, 2.0 * math.pi / phi, w.copy())
+
+
+def energy_ratio_bounds(moments) -> tuple[float, float, float]:
+    """(1, I3/I2, I3/I1): the lowest E/E0, the SAM/LAM boundary (separatrix) and the highest."""
+    I = check_moments(moments)
+    return 1.0, float(I[2] / I[1]), float(I[2] / I[0])
+
+
+__all__ = ["MODES", "SpinState", "check_mode", "check_moments", "energy_ratio_bounds",
+           "spin_state", "spin_states", "state_of"]
