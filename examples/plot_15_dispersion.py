@@ -15,6 +15,10 @@ from stability.uncertainty.dispersions import dispersions
 from stability.uncertainty.figures import indices_figure
 from stability.uncertainty.sobol import sobol_design, sobol_indices
 
+# %%
+# The racket's moments, spin and nudge, each drawn over its range, and the exact flip interval
+# of every member of a Saltelli design:
+
 body = stability.RigidBody.preset("tennis_racket")
 disp = dispersions({"moments": {"distribution": "uniform", "relative": 0.02},
                     "rate": {"distribution": "uniform", "relative": 0.1},
@@ -22,6 +26,9 @@ disp = dispersions({"moments": {"distribution": "uniform", "relative": 0.02},
                    nominal(body.moments, 10.0, 1e-3), truncate=True)
 design = sobol_design(disp, 256, seed=1)
 out = closed_form(members(disp, design.unit))
+# %%
+# Their total Sobol' indices: which uncertainty the flip interval and the growth rate follow.
+
 ds = sobol_indices(design, {"flip_interval": (out["flip_interval"], "s", "flip interval 2K/nu"),
                             "growth_rate": (out["growth_rate"], "s-1", "growth rate")})
 print(ds.total.sel(output="flip_interval").to_series().round(3))

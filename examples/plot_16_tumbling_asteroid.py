@@ -22,6 +22,10 @@ for s in states:
     print(f"{s.mode}: E/E0 = {s.energy_ratio:.4f}, |L| / I3 = {s.momentum:.4f} rad/h")
 sam = states[0]
 
+# %%
+# Its light curve over twenty rotation periods, seen with the Sun and the observer off its
+# angular momentum, and the spectrum's lines against the frequency the theory gives the mode:
+
 t = np.linspace(0.0, 20 * 263.0, 2048)
 flux = lightcurve(sam, t, sun=(1.0, 0.0, 0.3), observer=(1.0, 0.2, 0.3))
 f, a = spectrum(t, flux)

@@ -386,6 +386,8 @@ def test_every_study_that_runs_in_one_piece_is_stopped_in_the_fault_suite():
 #: their own cases above.
 RESUMED = {
     "bat": (["--set", "run.chunk_members=10"], False),
+    "dispersion": (["--set", "integration.members=16", "--set", "integration.steps_per_flip=100000",
+                    "--set", "run.chunk_members=2"], False),
     "dual_spin": (["--set", "run.chunk_members=8"], True),
     "earth_wobble": (["--set", "wobble.members=16", "--set", "run.chunk_members=2"], False),
     "engine_artefacts": (["--set", "run.chunk_members=8"], False),
