@@ -503,7 +503,7 @@ def _kernels(name, caller, rhs, extra, observe, width, jacobian=None):
         calls["observe"] = f"user_observe({taken}, p, axes[0], axes[1], axes[2])"
     if jacobian is not None:
         functions["jacobian"] = jacobian
-        calls["jacobian"] = f"user_jacobian({taken}, {taken}, p)"
+        calls["jacobian"] = f"jacobian({taken}, {taken}, p)"
     python = {role: getattr(f, "py_func", f) for role, f in functions.items()}
     imports = [f"from {f.__module__} import {f.__name__} as user_{role}"
                for role, f in python.items()]
