@@ -107,7 +107,6 @@ class TangentWindows:
         ends = dt[:, None] * np.arange(1, self.windows + 1)
         running = np.cumsum(logs[:, :, 0], axis=1) / ends
         values = {
-            "group": group.astype(np.int64),
             "status": status,
             "ftle": running[:, -1],
             "ftle_running": running,
@@ -120,7 +119,7 @@ class TangentWindows:
             values["stm_log_singular_value"] = (
                 np.log(np.linalg.svd(product, compute_uv=False)[:, 0]) + scale)
         for name, value in values.items():
-            if name not in ("group", "status"):
+            if name != "status":
                 value[bad] = np.nan
         step = float(part.h[0] * part.n_steps[0]) if part.h.size else 0.0
         coords = {
@@ -179,6 +178,7 @@ def run_tangents(scene, x0, parameters, *, h, every, windows, vectors=1, sizes=N
     windows = positive_int("windows", windows)
     h = positive_float("h", h, "s")
     options = run_options(options)
+    tscene = tangent_scene(scene, vectors)
     n = scene.width
     x0 = real_array("x0", x0)
     if x0.ndim != 2 or x0.shape[1] != n or x0.shape[0] == 0:
@@ -186,13 +186,15 @@ def run_tangents(scene, x0, parameters, *, h, every, windows, vectors=1, sizes=N
                          f"got shape {x0.shape}")
     sets = _parameter_sets(parameters)
     sizes = _sizes(sizes, len(sets), x0.shape[0])
-    tscene = tangent_scene(scene, vectors)
     spec = tscene.method("rk4")
     rows = [np.asarray(spec.params(values, h), dtype=float).reshape(-1) for values in sets]
     first = _first_tangents(tangents, x0.shape[0], n, tscene.vectors)
     start = np.hstack([x0, first.transpose(0, 2, 1).reshape(x0.shape[0], -1)])
     plan = Plan(tscene, "rk4", start, np.array(rows), sizes, h, every, label="tangents")
     ds = run_plan(plan, options, measure=TangentWindows(windows)).load()
+    group = np.repeat(np.arange(sizes.size), sizes)  # a chunk knows only its own groups
+    ds = ds.assign({"group": TANGENTS.entry("group", group)})
+    ds = ds[[name for name in TANGENTS.variables if name in ds.data_vars]]  # declared order
     ds.attrs = {**header_attrs(f"finite-time Lyapunov exponents, scene {scene.name}",
                                f"stability.run_tangents(scene={scene.name!r}, h={h!r}, "
                                f"every={every}, windows={windows}, vectors={tscene.vectors})",
@@ -241,10 +243,12 @@ def _first_tangents(tangents, members: int, n: int, k: int) -> np.ndarray:
     if t.shape != (members, n, k):
         raise ValueError(f"tangents must be of shape ({n}, {k}) or ({members}, {n}, {k}), got "
                          f"{t.shape}")
+    lengths = np.linalg.norm(t, axis=1)
+    if not np.all(np.isfinite(t)) or np.any(lengths == 0.0):
+        raise ValueError("tangents must be finite and linearly independent for each member")
     q, r = np.linalg.qr(t)
     diagonal = np.diagonal(r, axis1=1, axis2=2)
-    if not np.all(np.isfinite(diagonal)) or np.any(np.abs(diagonal) < 1e-12 * np.abs(
-            diagonal).max(axis=1, keepdims=True)):
+    if np.any(np.abs(diagonal) <= 1e-12 * lengths):
         raise ValueError("tangents must be finite and linearly independent for each member")
     return q * np.sign(diagonal)[:, None, :]
 
