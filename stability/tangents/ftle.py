@@ -209,6 +209,8 @@ def _parameter_sets(parameters) -> list:
                                            and parameters.ndim <= 1):
         return [parameters]
     sets = list(parameters) if hasattr(parameters, "__len__") else []
+    if sets and all(isinstance(s, (int, float, np.number)) for s in sets):
+        return [np.asarray(sets, dtype=float)]  # a list of numbers is one set
     if not sets or not all(isinstance(s, (Mapping, np.ndarray, list, tuple)) for s in sets):
         raise ValueError(f"parameters must be a parameter set (an array or a mapping) or a "
                          f"list of them, one per group, got {parameters!r:.80}")
