@@ -15,6 +15,7 @@ import importlib
 from .engine.scene import Scene
 from .engine.user_scene import RESERVED_NAMES
 from .ensemble.schema import DatasetSchema, register
+from .tangents.schema import TANGENTS
 from .uncertainty.schema import MORRIS_SCREENING, SOBOL_INDICES
 from .util.checks import registered
 
@@ -78,6 +79,7 @@ DATASETS: dict[str, DatasetSchema] = {
                         for where in declared(family, "DATASETS").values())}
 register(*DATASETS.values())
 register(SOBOL_INDICES, MORRIS_SCREENING)  # the sensitivity analyses of stability.uncertainty
+register(TANGENTS)  # the finite-time Lyapunov exponents of stability.tangents
 
 #: Each study kind's name -> (module, attribute) of its StudyKind, imported when first used.
 STUDY_KINDS: dict[str, tuple] = dict(sorted(

@@ -27,6 +27,8 @@ LAYERS = {
     "output": {"util", "core", "ensemble", "version"},
     "plotting": {"util", "core", "output"},
     "uncertainty": {"util", "core", "ensemble", "analysis", "plotting"},
+    "tangents": {"util", "core", "integrators", "engine", "ensemble", "output", "plotting",
+                 "version"},
 }
 
 #: Imports against the layer order still in the code, each with its reason, until it goes.

@@ -489,7 +489,9 @@ def test_a_scene_declares_the_units_of_what_it_tracks(home, mistakes, monkeypatc
 
     _, oscillator = home
     kernels = types.SimpleNamespace(rk4_step=oscillator.method("rk4").step,
-                                    observe=oscillator.observe, SOURCES="")
+                                    observe=oscillator.observe, SOURCES="",
+                                    rhs=oscillator.linearisation.rhs,
+                                    __name__=oscillator.linearisation.module)
     monkeypatch.setattr(user_scene, "_kernels", lambda *args: kernels)
     monkeypatch.setattr(user_scene, "_compiles", lambda *args: None)
     spring = define_scene("spring", ["x", "v"], ["m", "m s-1"], mistakes.rhs, ["k"],

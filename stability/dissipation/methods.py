@@ -62,7 +62,7 @@ from numba import njit
 
 from ..integrators.composition import SUZUKI4, strang_table
 from ..integrators.moser_veselov import dmv_solve
-from ..integrators.rk4 import euler_rhs, rk4_source
+from ..integrators.rk4 import euler_jvp, euler_rhs, rk4_source
 from ..integrators.rotations import cayley_increment, carried_rotation
 from ..integrators.spec import (N_BODY_PARAMS, P_A1, P_A3, P_I1, P_I2, P_I3, P_INV1, P_INV2,
                                 P_INV3, MethodSpec, body_params)
@@ -121,6 +121,23 @@ def sphere_rhs(m1, m2, m3, s1, s2, s3, p):
     t1, t2, t3 = c * (s1 * inv_j - w1), c * (s2 * inv_j - w2), c * (s3 * inv_j - w3)
     return (e1 + t1, e2 + t2, e3 + t3,
             s2 * w3 - s3 * w2 - t1, s3 * w1 - s1 * w3 - t2, s1 * w2 - s2 * w1 - t3)
+
+
+@njit(forceinline=True, error_model="numpy")
+def sphere_jvp(m1, m2, m3, s1, s2, s3, v1, v2, v3, u1, u2, u3, p):
+    """The Jacobian of :func:`sphere_rhs` applied to ``(dm, ds) = (v, u)``, exactly:
+    ``dm' = dm x w + m x I^-1 dm + c du_rel``, ``ds' = ds x w + s x I^-1 dm - c du_rel`` with
+    ``du_rel = ds / J - I^-1 dm`` (equation (1) of :mod:`stability.dissipation.model` at any
+    state)."""
+    e1, e2, e3 = euler_jvp(m1, m2, m3, v1, v2, v3, p)
+    w1, w2, w3 = m1 * p[P_INV1], m2 * p[P_INV2], m3 * p[P_INV3]
+    d1, d2, d3 = v1 * p[P_INV1], v2 * p[P_INV2], v3 * p[P_INV3]
+    c, inv_j = p[P_C], p[P_INV_J]
+    t1, t2, t3 = c * (u1 * inv_j - d1), c * (u2 * inv_j - d2), c * (u3 * inv_j - d3)
+    return (e1 + t1, e2 + t2, e3 + t3,
+            u2 * w3 + s2 * d3 - u3 * w2 - s3 * d2 - t1,
+            u3 * w1 + s3 * d1 - u1 * w3 - s1 * d3 - t2,
+            u1 * w2 + s1 * d2 - u2 * w1 - s2 * d1 - t3)
 
 
 @njit(forceinline=True, error_model="numpy")

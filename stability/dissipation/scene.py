@@ -78,9 +78,10 @@ from numba import njit
 from ..util import conventions as cv
 from ..free_body.scene import component
 from ..engine.scene import Scene
+from ..engine.tangent import Linearisation
 from .methods import (B_B, B_I1, B_I2, B_I3, B_K, B_MU, B_MU_B, GYROSTAT_METHODS, P_INV1,
-                      P_INV2, P_INV3, P_INV_J, SPHERE_METHODS, WHIP_METHODS, sphere_params,
-                      whip_params, whip_rates)
+                      P_INV2, P_INV3, P_INV_J, SPHERE_METHODS, WHIP_METHODS, sphere_jvp,
+                      sphere_params, sphere_rhs, whip_params, whip_rates)
 
 
 @njit(forceinline=True, error_model="numpy")
@@ -175,6 +176,7 @@ SPHERE_DAMPER = Scene(
     example=sphere_example,
     parameters=("I1", "I2", "I3", "J", "c"),
     tracked_units=cv.UNITS_DIMENSIONLESS,
+    linearisation=Linearisation(sphere_rhs, sphere_jvp, sphere_params),
 )
 
 

@@ -29,6 +29,12 @@ for a new scene (copy ``stability/free_body/scene.py``):
    groups, chunks and thread counts. Tests of what is particular to the scene go in a file of
    its own.
 
+6. Optionally, its linearisation (:class:`~stability.engine.tangent.Linearisation`: the vector
+   field ``f(x, p)`` and the product ``J(x, p) v`` as ``@njit`` kernels, and the parameter row
+   they read): the scene then has tangent equations, :func:`stability.engine.tangent.
+   tangent_scene`, and finite-time Lyapunov exponents (:mod:`stability.tangents`). Test the
+   product against the scene's own linear theory or a complex step.
+
 A scene of the user's own, in a module outside the package, comes from
 :func:`stability.define_scene` (``stability/engine/user_scene.py``), which writes its RK4 kernel.
 """
@@ -110,6 +116,9 @@ class Scene:
     tracked_units : str, default ""
         UDUNITS unit of the amplitude ``observe`` tracks across the spin axis (and of the
         levels): what a tracked run's Dataset labels them with unless the run says otherwise.
+    linearisation : Linearisation or None, default None
+        Its vector field and Jacobian-vector product (:mod:`stability.engine.tangent`), where
+        it declares them: what its tangent scene integrates.
     """
 
     name: str
@@ -131,6 +140,7 @@ class Scene:
     source: str = field(repr=False, default="")
     latex: str = field(repr=False, default="")
     tracked_units: str = ""
+    linearisation: object = field(repr=False, default=None)
 
     def __reduce_ex__(self, protocol):
         """By reference, ``(module, name)``, for a scene that has a module; else by value."""

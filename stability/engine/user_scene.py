@@ -34,6 +34,7 @@ from ..integrators.rk4 import RK4, rk4_source
 from ..integrators.spec import MethodSpec, body_params
 from ..util.checks import real_array, real_number
 from .scene import Scene
+from .tangent import Linearisation
 
 #: Names :func:`define_scene` refuses: those of the package's own scenes, added by
 #: :mod:`stability.registry` as it reads the families (the engine knows no family).
@@ -58,7 +59,7 @@ from numba import njit
 SOURCES = "{{digest}}"
 
 {rhs_line}
-
+{jacobian_line}
 
 {rk4}
 
@@ -164,7 +165,7 @@ def tracked_components(x, p, axes):
 def define_scene(name, components, units, rhs, parameters=(), *, parameter_units=None,
                  params=None, title=None, equations=None, methods=(), observe=None,
                  tracked=None, tracked_units=None, invariants=None, exact=None,
-                 example=None) -> Scene:
+                 example=None, jacobian=None) -> Scene:
     """A scene from the user's own right-hand side ``x' = rhs(x, p)``, run as registered ones.
 
     Call it at the top level of a module of yours and bind the result to a name there
@@ -223,6 +224,12 @@ def define_scene(name, components, units, rhs, parameters=(), *, parameter_units
         ``example(n, seed=0) -> (x0, sets)``: ``n`` starts (n, n_components) and a list of
         parameter sets. Its first start and set are where the functions are tried at
         definition time (else a state and a set of ones).
+    jacobian : function, optional
+        ``jacobian(x_0, ..., x_{n-1}, v_0, ..., v_{n-1}, p) -> ((J v)_0, ..., (J v)_{n-1})``,
+        the Jacobian of ``rhs`` applied to ``v`` (plain or ``@njit``, top level), for the
+        scene's tangent equations (:func:`stability.engine.tangent.tangent_scene`). Without
+        it, ``J v`` comes from a complex step of ``rhs``, which needs ``rhs`` to compile for
+        complex numbers (arithmetic, ``cmath``; not ``math.sqrt``, ``abs`` or comparisons).
 
     Returns
     -------
@@ -272,9 +279,16 @@ def define_scene(name, components, units, rhs, parameters=(), *, parameter_units
             raise TypeError(f"scene {name!r}: {label} must be a function, "
                             f"got {type(function).__name__}")
 
+    if jacobian is not None:
+        _check_arguments(name, "jacobian", _top_level(name, "jacobian", jacobian,
+                                                      njit_only=False),
+                         [*components, *(f"v_{c}" for c in components), "p"])
     x, values, where = _probe(name, example, width, row)
     p = _row(name, row, values)
     _returned(name, "rhs", rhs_function, (*x, p), width, where)
+    if jacobian is not None:
+        _returned(name, "jacobian", getattr(jacobian, "py_func", jacobian), (*x, *x, p), width,
+                  where)
     for spec in extra.values():
         _returned(name, f"method {spec.name!r}'s kernel", spec.step.py_func,
                   (*x, PROBE_H, p, 0), width + 1, where)
@@ -285,8 +299,8 @@ def define_scene(name, components, units, rhs, parameters=(), *, parameter_units
     if exact is not None:
         _shaped(name, "exact", exact, (x[None, :], values, 0.0), (1, width), where)
 
-    kernels = _kernels(name, caller, rhs, extra, observe, width)
-    _compiles(name, kernels, rhs_function, extra, observe, x, p, where)
+    kernels = _kernels(name, caller, rhs, extra, observe, width, jacobian)
+    _compiles(name, kernels, rhs_function, extra, observe, x, p, where, jacobian)
     rk4 = MethodSpec(
         name="rk4", title=RK4.title, order=4, step=kernels.rk4_step, params=row,
         family=RK4.family, evaluations=4, reference=RK4.reference,
@@ -310,6 +324,8 @@ def define_scene(name, components, units, rhs, parameters=(), *, parameter_units
         module=caller,
         source=kernels.SOURCES,
         tracked_units=tracked_units or "",
+        linearisation=Linearisation(kernels.rhs, None if jacobian is None else kernels.jacobian,
+                                    row, module=kernels.__name__),
     )
 
 
@@ -472,9 +488,10 @@ def _shaped(scene, role, function, args, shape, where):
 # --- the kernels' module ------------------------------------------------------------------------
 
 
-def _kernels(name, caller, rhs, extra, observe, width):
+def _kernels(name, caller, rhs, extra, observe, width, jacobian=None):
     """Write and import the scene's kernels (:func:`load_module`): the RK4 step, the default
-    observe and one compile check per function of the user's."""
+    observe, the user's jacobian where given, and one compile check per function of the
+    user's."""
     state = ", ".join(f"x{i}" for i in range(width))
     taken = ", ".join(f"x[{i}]" for i in range(width))
     functions = {"rhs": rhs, **{f"kernel_{k}": spec.step for k, spec in enumerate(
@@ -484,6 +501,9 @@ def _kernels(name, caller, rhs, extra, observe, width):
     if observe is not None:
         functions["observe"] = observe
         calls["observe"] = f"user_observe({taken}, p, axes[0], axes[1], axes[2])"
+    if jacobian is not None:
+        functions["jacobian"] = jacobian
+        calls["jacobian"] = f"jacobian({taken}, {taken}, p)"
     python = {role: getattr(f, "py_func", f) for role, f in functions.items()}
     imports = [f"from {f.__module__} import {f.__name__} as user_{role}"
                for role, f in python.items()]
@@ -497,13 +517,16 @@ def _kernels(name, caller, rhs, extra, observe, width):
         imports="\n".join(imports),
         rhs_line=("rhs = user_rhs" if isinstance(rhs, Dispatcher)
                   else 'rhs = njit(inline="always")(user_rhs)'),
+        jacobian_line=("" if jacobian is None else "jacobian = user_jacobian"
+                       if isinstance(jacobian, Dispatcher)
+                       else 'jacobian = njit(inline="always")(user_jacobian)'),
         rk4=rk4_source(width), state=state, pick=pick, checks="\n".join(checks),
     )
     roots = dict.fromkeys([caller, *(f.__module__ for f in python.values())])
     return load_module(f"{name}__kernels", source, tuple(roots), tuple(python.values()))
 
 
-def _compiles(scene, kernels, rhs, extra, observe, x, p, where):
+def _compiles(scene, kernels, rhs, extra, observe, x, p, where, jacobian=None):
     """Compile (or load) and run each check of the kernels' module: Numba's complaint, or the
     exception the compiled function raised, in one line."""
     checks = [("rhs", "rhs", rhs)]
@@ -511,6 +534,8 @@ def _compiles(scene, kernels, rhs, extra, observe, x, p, where):
                for k, spec in enumerate(extra.values())]
     if observe is not None:
         checks.append(("observe", "observe", observe.py_func))
+    if jacobian is not None:
+        checks.append(("jacobian", "jacobian", getattr(jacobian, "py_func", jacobian)))
     axes = np.array([0, 1, 2], dtype=np.int64)
     for role, label, python in checks:
         try:

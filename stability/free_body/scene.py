@@ -16,8 +16,10 @@ from ..util import conventions as cv
 from ..core.body import RigidBody
 from .exact import exact_omega_of_starts
 from ..integrators import METHODS
-from ..integrators.spec import P_I1, P_INV1
+from ..integrators.rk4 import euler_jvp, euler_rhs
+from ..integrators.spec import P_I1, P_INV1, body_params
 from ..engine.scene import Scene
+from ..engine.tangent import Linearisation
 
 
 @njit(forceinline=True, error_model="numpy")
@@ -89,5 +91,6 @@ FREE_BODY = Scene(
     exact=exact,
     example=example,
     tracked_units=cv.UNITS_ANGULAR_VELOCITY,
+    linearisation=Linearisation(euler_rhs, euler_jvp, body_params),
 )
 

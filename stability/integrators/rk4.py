@@ -27,6 +27,14 @@ def euler_rhs(m1, m2, m3, p):
     return p[P_A1] * m2 * m3, p[P_A2] * m3 * m1, p[P_A3] * m1 * m2
 
 
+@njit(forceinline=True, error_model="numpy")
+def euler_jvp(m1, m2, m3, v1, v2, v3, p):
+    """The Jacobian of :func:`euler_rhs` applied to ``v``, exactly:
+    ``(A1 (v2 m3 + m2 v3), A2 (v3 m1 + m3 v1), A3 (v1 m2 + m1 v2))``."""
+    return (p[P_A1] * (v2 * m3 + m2 * v3), p[P_A2] * (v3 * m1 + m3 * v1),
+            p[P_A3] * (v1 * m2 + m1 * v2))
+
+
 @njit(inline="always")
 def rk4_step(m1, m2, m3, h, p, s):
     """One RK4 step (a single stage); returns the increment of m and 0 solver iterations."""
