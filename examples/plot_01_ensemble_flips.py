@@ -14,7 +14,8 @@ import stability
 
 body = stability.RigidBody.preset("tennis_racket")
 ds = stability.run_ensemble(body, axis=2, spin=10.0, epsilon=1e-4, members=200, h=2e-3,
-                            t_end=10.0, save_every=25, method="rk4", seed=1, progress=False)
+                            t_end=10.0, keep=stability.Keep(save_every=25), method="rk4", seed=1,
+                            options=stability.RunOptions(progress=False))
 flips = ds.stability.flip_statistics()
 print(f"flips per member: {np.unique(ds.flip_count.values)}")
 print(f"median flip interval {float(ds.mean_flip_interval.median()):.4f} s, exact "

@@ -15,7 +15,8 @@ import stability
 
 body = stability.RigidBody(1.0, 2.0, 3.0)
 ds = stability.run_ensemble(body, axis=2, spin=1.0, epsilon=1e-6, members=100, h=0.01,
-                            t_end=20.0, save_every=10, method="rk4", seed=2, progress=False)
+                            t_end=20.0, keep=stability.Keep(save_every=10), method="rk4", seed=2,
+                            options=stability.RunOptions(progress=False))
 measured = ds.stability.measured_growth_rate(low_factor=10.0, high_fraction=0.03)
 analytic = stability.growth_rate(body, axis=2, spin=1.0)
 print(f"Omega^2 = {stability.omega_squared(body, 2, 1.0):+.4f} s-2")

@@ -15,7 +15,8 @@ import stability
 
 ratios = np.linspace(1.2, 3.0, 7)  # I3 / I1 with I2 halfway: (1, (1 + r) / 2, r)
 calls = [dict(body=stability.RigidBody(1.0, (1.0 + r) / 2, r), axis=axis, spin=1.0,
-              epsilon=1e-4, members=16, h=0.01, t_end=30.0, summaries_only=True, seed=3)
+              epsilon=1e-4, members=16, h=0.01, t_end=30.0, keep=stability.Keep(save_every=0),
+              seed=3)
          for r in ratios for axis in (1, 2, 3)]
 runs = stability.run_ensembles(calls)
 measured = xr.DataArray(

@@ -16,7 +16,8 @@ import stability
 
 body = stability.RigidBody(1.0, 2.0, 3.0)
 ds = stability.run_ensemble(body, axis=2, spin=1.0, epsilon=1e-3, members=50, h=0.01,
-                            t_end=5.0, save_every=10, progress=False)
+                            t_end=5.0, keep=stability.Keep(save_every=10),
+                            options=stability.RunOptions(progress=False))
 path = Path(tempfile.mkdtemp()) / "ensemble.nc"
 stability.save(ds, path)
 back = stability.load(path)

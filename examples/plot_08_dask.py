@@ -15,8 +15,10 @@ import numpy as np
 import stability
 
 body = stability.RigidBody.preset("tennis_racket")
-kwargs = dict(axis=2, spin=10.0, epsilon=1e-4, members=400, h=2e-3, t_end=4.0, save_every=50,
-              method="rk4", seed=1, chunk_members=100, progress=False)
+kwargs = dict(axis=2, spin=10.0, epsilon=1e-4, members=400, h=2e-3, t_end=4.0,
+              keep=stability.Keep(save_every=50),
+              method="rk4", seed=1)
+here = stability.RunOptions(chunk_members=100, progress=False)
 
 # %%
 # A script that starts a local cluster runs its work under ``if __name__ == "__main__":``: the
@@ -25,7 +27,7 @@ kwargs = dict(axis=2, spin=10.0, epsilon=1e-4, members=400, h=2e-3, t_end=4.0, s
 # line to guard). First the ensemble on this process's cores:
 
 if __name__ == "__main__":
-    local = stability.run_ensemble(body, **kwargs)
+    local = stability.run_ensemble(body, **kwargs, options=here)
 
 # %%
 # The same ensemble, its four chunks run as tasks of a local dask.distributed cluster and
@@ -33,6 +35,7 @@ if __name__ == "__main__":
 
 if __name__ == "__main__":
     store = Path(tempfile.mkdtemp()) / "store"
-    on_dask = stability.run_ensemble(body, store=store, scheduler="dask", **kwargs)
+    on_dask = stability.run_ensemble(body, **kwargs, options=stability.RunOptions(
+        store=store, scheduler="dask", chunk_members=100, progress=False))
     print(f"{len(list(store.glob('*.nc')))} chunk files")
     print("bitwise equal:", bool(np.array_equal(local.w.values, on_dask.w.values)))

@@ -32,7 +32,7 @@ tosses = [(w, EPSILON) for w in SPINS] + [(SPIN, e) for e in EPSILONS]
 # (a step that resolves the spin, four exact flip intervals), every ensemble in one batch.
 runs = stability.run_ensembles(
     [dict(body=body, axis=axis, spin=w, epsilon=e, members=32, seed=1, method="rk4",
-          summaries_only=True) for w, e in tosses], progress=False)
+          keep=stability.Keep(save_every=0)) for w, e in tosses], progress=False)
 measured, exact = [], []
 for run in runs:
     flips = run.stability.flip_statistics()  # each member's interval and its exact 2K/nu

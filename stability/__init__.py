@@ -39,8 +39,9 @@ from .output.io import load, save  # noqa: E402
 from .engine.user_scene import define_scene  # noqa: E402
 from .api import run_scene  # noqa: E402
 from .ensemble.options import RunOptions  # noqa: E402
+from .free_body.keep import Keep  # noqa: E402
 
-__all__ += ["RunOptions", "animate_flip", "animate_top", "define_scene", "ensemble_memory",
+__all__ += ["Keep", "RunOptions", "animate_flip", "animate_top", "define_scene", "ensemble_memory",
             "load", "run_ensemble", "run_ensembles", "run_scene", "save"]
 __all__ += ["flip_statistics", "measured_frequency", "measured_growth_rate", "measured_omega_squared", "member_regimes"]  # noqa: E501
 

@@ -198,13 +198,16 @@ def tennis_on_gpu():
     from stability.free_body.tennis_racket.measure import TennisChunks
 
     body = stability.RigidBody.preset("tennis_racket")
+    from stability.free_body.ensemble import plan_arguments
+
     run = dict(body=body, axis=2, spin=10.0, epsilon=1e-5, members=10, h=0.02, t_end=3.0,
-               seed=2, method="rk4", save_every=5, chunk_members=4)
+               seed=2, method="rk4")
     measured = {}
     with tempfile.TemporaryDirectory() as folder:
         for device in ("cpu", "gpu"):
             measured[device] = run_streamed(
-                dict(run, device=device),
+                {**run, **plan_arguments(stability.Keep(save_every=5),
+                                         stability.RunOptions(chunk_members=4, device=device))},
                 stability.RunOptions(store=f"{folder}/{device}", progress=False), compress=False,
                 measurement=lambda kw, plan: TennisChunks(kw, (3.0, 0.1), 3,
                                                                           plan))
@@ -280,9 +283,9 @@ def ensemble_on_gpu():
     """run_ensemble(device="gpu") against the CPU run: the same members, every summary."""
     body = stability.RigidBody(1.0, 2.0, 3.0)
     run = dict(body=body, axis=2, spin=2.0, epsilon=0.05, members=12, h=0.05, t_end=6.0,
-               seed=5, method="lp2", save_every=10)
+               seed=5, method="lp2", keep=stability.Keep(save_every=10))
     cpu = stability.run_ensemble(**run)
-    gpu = stability.run_ensemble(**run, device="gpu")
+    gpu = stability.run_ensemble(**run, options=stability.RunOptions(device="gpu"))
     worst = 0.0
     for name in cpu.data_vars:
         a, b = cpu[name].values.astype(float), gpu[name].values.astype(float)

@@ -22,6 +22,7 @@ non-finite values, bad seeds, time-series runs above ``max_memory`` (``tests/cor
 (``tests/test_hard_cases.py``).
 """
 
+import dataclasses
 import contextlib
 import functools
 import os
@@ -57,7 +58,8 @@ SCENE_RUN = dict(h=0.01, n_steps=10)
 @functools.cache
 def small_run():
     """A time series of 4 members, for the estimators' options."""
-    return stability.run_ensemble(BODY, 2, 1.0, 0.1, 4, h=0.1, t_end=2.0, progress=False)
+    return stability.run_ensemble(BODY, 2, 1.0, 0.1, 4, h=0.1, t_end=2.0,
+                                  options=stability.RunOptions(progress=False))
 
 # --- the command line -------------------------------------------------------------------------
 
@@ -311,11 +313,15 @@ API = {
                                                       **RUN), "starts must be real numbers"),
     "object starts": (lambda: stability.run_ensemble(
         BODY, 2, starts=np.array([[1.0, 2.0, None]], dtype=object), **RUN), "it holds None"),
-    "complex direction": (lambda: stability.run_ensemble(BODY, 2, 1.0, 0.1, 3,
-                                                         direction=[1.0, 0.0, 1j], **RUN),
-                          "direction must be real numbers"),
+    "keep as a dict": (lambda: stability.run_ensemble(BODY, 2, 1.0, 0.1, 3, keep={"save_every": 2},
+                                                      **RUN), "keep must be a stability.Keep"),
+    "options as a dict": (lambda: stability.run_ensemble(BODY, 2, 1.0, 0.1, 3,
+                                                         options={"progress": False}),
+                          "options must be a stability.RunOptions"),
     "levels as strings": (lambda: stability.run_ensemble(BODY, 2, 1.0, 0.1, 3,
-                                                         levels=["1e-3", "1e-2"], **RUN),
+                                                         keep=stability.Keep(levels=["1e-3",
+                                                                                     "1e-2"]),
+                                                                                     **RUN),
                           "levels must be real numbers in rad/s, got strings"),
     "boolean epsilon": (lambda: stability.run_ensemble(BODY, 2, 1.0, True, 3, **RUN),
                         "epsilon must be a number"),
@@ -324,7 +330,8 @@ API = {
     "complex spin (ensemble)": (lambda: stability.run_ensemble(BODY, 2, 1j, 0.1, 3, **RUN),
                                 "spin must be a number"),
     "summaries too large": (lambda: stability.run_ensemble(BODY, 2, 1.0, 0.1, 10**12,
-                                                           summaries_only=True, **RUN),
+                                                           keep=stability.Keep(save_every=0),
+                                                           **RUN),
                             "the summaries of 1000000000000 members would take"),
     "hopeless step (the issue's lp2 case)": (
         lambda: stability.run_ensemble(RACKET, 2, 1e6, 1e-4, 10, h=2e-3, t_end=0.2,
@@ -372,13 +379,15 @@ API = {
     "complex signal": (lambda: zero_crossings([0.0, 1.0, 2.0], [1j, -1j, 1j]),
                        "x must be real numbers"),
     "store as a number": (
-        lambda: stability.run_ensemble(BODY, 2, 1.0, 0.1, 4, store=123, **RUN),
+        lambda: stability.run_ensemble(BODY, 2, 1.0, 0.1, 4,
+                                       options=stability.RunOptions(store=123), **RUN),
         "store must be a folder path (a str or pathlib.Path), got 123"),
     "starts without rows": (
         lambda: stability.run_ensemble(BODY, 2, starts=np.ones((0, 3))),
         "starts has no rows: give one start w0 (3 numbers, rad/s) per member"),
     "progress as a word": (
-        lambda: stability.run_ensemble(BODY, 2, 1.0, 0.1, 4, progress="yes", **RUN),
+        lambda: stability.run_ensemble(BODY, 2, 1.0, 0.1, 4,
+                                       options=stability.RunOptions(progress="yes"), **RUN),
         "progress must be True, False or None (shown for long runs), got 'yes'"),
     "progress as a word (batch)": (
         lambda: run_ensembles([dict(body=BODY, axis=2, spin=1.0, members=3, **RUN)],
@@ -477,7 +486,7 @@ def test_python_api(case):
 def test_save_to_a_folder_says_what_to_do(tmp_path):
     folder = tmp_path / "run.nc"
     folder.mkdir()
-    ds = stability.run_ensemble(BODY, 2, 1.0, 0.1, 2, summaries_only=True, **RUN)
+    ds = stability.run_ensemble(BODY, 2, 1.0, 0.1, 2, keep=stability.Keep(save_every=0), **RUN)
     for overwrite in (False, True):
         with pytest.raises(ValueError) as info:
             stability.save(ds, folder, overwrite=overwrite)
@@ -780,10 +789,12 @@ def test_scheduler_address_where_a_web_server_answers_is_one_line(tmp_path, caps
 def test_changed_spin_on_resume_leads_with_the_change(tmp_path):
     store = tmp_path / "s"
     run = dict(body=BODY, axis=2, epsilon=0.1, members=8, h=0.1, t_end=1.0, method="rk4",
-               summaries_only=True, store=store, chunk_members=4, progress=False)
+               keep=stability.Keep(save_every=0),
+               options=stability.RunOptions(store=store, chunk_members=4, progress=False))
     stability.run_ensemble(spin=1.0, **run)
     with pytest.raises(ValueError) as info:
-        stability.run_ensemble(spin=1.5, resume=True, **run)
+        stability.run_ensemble(spin=1.5, **{**run, "options": dataclasses.replace(
+            run["options"], resume=True)})
     message = str(info.value)
     assert message.startswith(f"the settings changed since the run kept in {store} was started: "
                               "run_ensemble.spin 1.0 there, 1.5 here; "), message

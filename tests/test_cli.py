@@ -313,7 +313,7 @@ def test_a_bad_numba_num_threads_is_one_line_naming_it(value, tmp_path):
     assert not (tmp_path / "o").exists()
     api = subprocess.run([sys.executable, "-c", "import stability\nstability.run_ensemble("
                           "stability.RigidBody(1.0, 2.0, 3.0), 2, 1.0, 0.1, 4, h=0.1, "
-                          "t_end=1.0, progress=False)"], env=env, cwd=ROOT,
+                          "t_end=1.0, options=stability.RunOptions(progress=False))"], env=env, cwd=ROOT,
                          capture_output=True, text=True, timeout=120)
     assert api.stderr.strip().splitlines()[-1] == f"ValueError: {line}", api.stderr
     assert "site-packages/numba" not in api.stderr and "Warning" not in api.stderr

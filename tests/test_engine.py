@@ -252,8 +252,9 @@ def test_a_forked_child_runs_the_loop_on_threads_of_its_own():
         import numpy as np
         import stability
         body = stability.RigidBody(1.0, 2.0, 3.0)
-        run = dict(axis=2, spin=1.0, members=500, h=0.01, t_end=2.0, summaries_only=True,
-                   threads=2, progress=False)
+        run = dict(axis=2, spin=1.0, members=500, h=0.01, t_end=2.0,
+                   keep=stability.Keep(save_every=0),
+                   options=stability.RunOptions(threads=2, progress=False))
         parent = stability.run_ensemble(body, **run)
         pid = os.fork()
         if pid == 0:

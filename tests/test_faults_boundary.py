@@ -8,6 +8,7 @@ touches nothing. Where rights matter, a case runs a process as an unprivileged u
 (``setpriv``), and is skipped with the reason where that is not possible.
 """
 
+import dataclasses
 import json
 import logging
 import os
@@ -38,6 +39,11 @@ from .test_faults import LONG, QUICK, Lines, snapshot, start, stability_cmd
 ROOT = Path(__file__).resolve().parents[1]
 WORK = ".stability-work-tennis_racket"
 
+
+
+def stored(kwargs: dict, **where) -> dict:
+    """``kwargs`` of run_ensemble with their run options placed ``where`` (a store, resume)."""
+    return {**kwargs, "options": dataclasses.replace(kwargs["options"], **where)}
 
 def tree(folder: Path) -> dict:
     """Every entry under ``folder`` (links as their targets' text, files as bytes)."""
@@ -184,9 +190,9 @@ def test_a_work_folder_that_is_a_link_is_refused_and_nothing_is_touched(victim, 
 def test_links_inside_a_store_are_never_written_through(tmp_path, body123):
     """A chunk file or checksum planted as a link is discarded (the link), never followed."""
     kwargs = dict(body=body123, axis=2, spin=1.0, epsilon=1e-3, members=64, h=0.01,
-                  t_end=0.1, method="rk4", seed=3, summaries_only=True, chunk_members=32,
-                  progress=False)
-    first = stability.run_ensemble(**kwargs, store=tmp_path / "a").load()
+                  t_end=0.1, method="rk4", seed=3, keep=stability.Keep(save_every=0),
+                  options=stability.RunOptions(chunk_members=32, progress=False))
+    first = stability.run_ensemble(**stored(kwargs, store=tmp_path / "a")).load()
     elsewhere = tmp_path / "elsewhere"
     elsewhere.mkdir()
     (elsewhere / "x.nc").write_text("someone's file")
@@ -195,7 +201,7 @@ def test_links_inside_a_store_are_never_written_through(tmp_path, body123):
         (store / name).unlink()
         (store / name).symlink_to(elsewhere / "x.nc")
     outside = tree(elsewhere)
-    again = stability.run_ensemble(**kwargs, store=store, resume=True).load()
+    again = stability.run_ensemble(**stored(kwargs, store=store, resume=True)).load()
     assert tree(elsewhere) == outside
     assert not any(p.is_symlink() for p in store.iterdir())
     xr.testing.assert_equal(again, first)
@@ -404,15 +410,15 @@ def test_a_dangling_link_at_an_output_name_is_an_existing_output(tmp_path):
 
 def test_a_chunk_of_another_run_is_not_taken_on_resume(tmp_path, body123, caplog):
     kwargs = dict(body=body123, axis=2, spin=1.0, epsilon=1e-3, members=64, h=0.01,
-                  t_end=0.1, method="rk4", summaries_only=True, chunk_members=32,
-                  progress=False)
-    mine = stability.run_ensemble(**kwargs, seed=1, store=tmp_path / "mine").load()
-    stability.run_ensemble(**kwargs, seed=2, store=tmp_path / "other")
+                  t_end=0.1, method="rk4", keep=stability.Keep(save_every=0),
+                  options=stability.RunOptions(chunk_members=32, progress=False))
+    mine = stability.run_ensemble(**stored(kwargs, store=tmp_path / "mine"), seed=1).load()
+    stability.run_ensemble(**stored(kwargs, store=tmp_path / "other"), seed=2)
     for name in ("chunk-000000.nc", "chunk-000000.nc.sha256"):  # with its own valid checksum
         shutil.copy(tmp_path / "other" / name, tmp_path / "mine" / name)
     with caplog.at_level(logging.WARNING, logger="stability.output.store"):
-        again = stability.run_ensemble(**kwargs, seed=1, store=tmp_path / "mine",
-                                       resume=True).load()
+        again = stability.run_ensemble(**stored(kwargs, store=tmp_path / "mine", resume=True),
+                                       seed=1).load()
     xr.testing.assert_equal(again, mine)
     assert any("is not a chunk of this run" in r.getMessage() for r in caplog.records)
     np.testing.assert_array_equal(again.w0.values, mine.w0.values)

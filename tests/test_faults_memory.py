@@ -49,7 +49,8 @@ def test_a_broadcast_x0_of_1e8_rows_is_refused_before_it_is_copied():
 
 def test_a_batch_is_checked_on_its_total_before_the_starts_of_its_last_calls_are_drawn():
     calls = [dict(body=BODY, axis=2, spin=1.0, epsilon=1e-3, members=1000, h=0.01, t_end=0.1,
-                  summaries_only=True, max_memory=500_000) for _ in range(3)]
+                  keep=stability.Keep(save_every=0),
+                  options=stability.RunOptions(max_memory=500_000)) for _ in range(3)]
     each = stability.ensemble_memory(1000, 0)
     assert each < 500_000 < 3 * each  # each call fits alone, the batch does not
     with pytest.raises(ValueError) as caught:
@@ -81,10 +82,11 @@ def test_a_cgroup_v1_limit_is_read_and_unlimited_is_none(tmp_path, monkeypatch):
 
 
 def test_max_memory_above_the_machine_is_refused_naming_the_machine(cgroup_of_1_mib):
-    for kind in ({"summaries_only": True}, {}):
+    for kind in ({"keep": stability.Keep(save_every=0)}, {}):
         with pytest.raises(ValueError) as caught:
             stability.run_ensemble(BODY, 2, 1.0, 1e-3, 10**4, h=0.01, t_end=0.1,
-                                   max_memory=10**15, progress=False, **kind)
+                                   options=stability.RunOptions(max_memory=10**15,
+                                                                progress=False), **kind)
         message = str(caught.value)
         assert ("above the memory of this machine (it has 1.0 MiB for this process (its "
                 "cgroup's limit); max_memory = 909.5 TiB is above it)") in message
@@ -102,4 +104,5 @@ def test_1e9_members_with_max_memory_1e15_is_one_line_not_a_memory_error():
     with pytest.raises(ValueError, match=r"^the summaries of 1000000000 members would take "
                                          r"209.5 GiB .* above the memory of this machine"):
         stability.run_ensemble(BODY, 2, 1.0, 1e-3, 10**9, h=0.01, t_end=0.1,
-                               summaries_only=True, max_memory=10**15, progress=False)
+                               keep=stability.Keep(save_every=0),
+                               options=stability.RunOptions(max_memory=10**15, progress=False))

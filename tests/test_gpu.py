@@ -149,12 +149,13 @@ def test_gpu_device_refuses_a_method_it_has_not():
 
     body = stability.RigidBody(1.0, 2.0, 3.0)
     with pytest.raises(ValueError, match="device must be 'cpu' or 'gpu', got 'tpu'"):
-        stability.run_ensemble(body, 2, 1.0, 0.01, 4, h=0.1, t_end=1.0, device="tpu")
+        stability.run_ensemble(body, 2, 1.0, 0.01, 4, h=0.1, t_end=1.0,
+                               options=stability.RunOptions(device="tpu"))
     NOT_ON_GPU["free_body", "midpoint"] = "a reason"
     try:
         with pytest.raises(ValueError, match="'midpoint' of scene 'free_body' has no GPU"):
             stability.run_ensemble(body, 2, 1.0, 0.01, 4, h=0.1, t_end=1.0, method="midpoint",
-                                   device="gpu")
+                                   options=stability.RunOptions(device="gpu"))
     finally:
         del NOT_ON_GPU["free_body", "midpoint"]
 

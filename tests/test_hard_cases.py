@@ -442,7 +442,8 @@ def test_step_far_too_large_is_flagged_not_returned(name):
     ok = run.status == cv.STATUS_OK
     slow = w0[:1] * 0.1 / (h * np.linalg.norm(body.moments * w0[0]))  # h max|w| < 0.1 rad
     ds = stability.run_ensemble(body, 2, starts=np.vstack([w0, slow]), h=h, t_end=n * h,
-                                method=name, save_every=n, progress=False)
+                                method=name, keep=stability.Keep(save_every=n),
+                                options=stability.RunOptions(progress=False))
     assert ds.status.values[-1] == cv.STATUS_OK
     ds = ds.isel(member=slice(0, -1))
     flagged = ds.status.values != cv.STATUS_OK

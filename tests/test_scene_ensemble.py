@@ -247,9 +247,10 @@ def test_a_stored_runs_wall_time_is_its_elapsed_time_and_chunk_time_the_chunks_s
         steps = 12 * 200
     else:
         body = stability.RigidBody(1.0, 2.0, 3.0)
-        run = lambda **more: stability.run_ensemble(  # noqa: E731
-            body, 2, 1.0, 0.1, 12, h=0.1, t_end=20.0, summaries_only=True, store=store,
-            chunk_members=3, progress=False, **more)
+        run = lambda resume=False: stability.run_ensemble(  # noqa: E731
+            body, 2, 1.0, 0.1, 12, h=0.1, t_end=20.0, keep=stability.Keep(save_every=0),
+            options=stability.RunOptions(store=store, chunk_members=3, progress=False,
+                                         resume=resume))
         steps = 12 * 200
     t0 = time.perf_counter()
     ds = run()

@@ -89,7 +89,8 @@ def test_the_dataset_reference_shows_every_declared_variable():
 @pytest.fixture(scope="module")
 def ensemble_file(tmp_path_factory):
     """A small time-series ensemble, saved."""
-    ds = stability.run_ensemble(BODY, 2, 1.0, 1e-3, 8, h=0.05, t_end=2.0, save_every=4)
+    ds = stability.run_ensemble(BODY, 2, 1.0, 1e-3, 8, h=0.05, t_end=2.0,
+                                keep=stability.Keep(save_every=4))
     return stability.save(ds, tmp_path_factory.mktemp("schema") / "ensemble.nc")
 
 
@@ -97,9 +98,10 @@ def test_the_ensemble_as_run_summaries_only_and_with_its_attitude_is_as_declared
         ensemble_file, tmp_path):
     assert_declared(ensemble_file, "ensemble")
     summaries = stability.run_ensemble(BODY, 2, 1.0, 1e-3, 8, h=0.05, t_end=2.0,
-                                       summaries_only=True)
-    attitude = stability.run_ensemble(BODY, 2, 1.0, 1e-3, 4, h=0.05, t_end=1.0, save_every=4,
-                                      method="rk4", scene="free_body_attitude")
+                                       keep=stability.Keep(save_every=0))
+    attitude = stability.run_ensemble(BODY, 2, 1.0, 1e-3, 4, h=0.05, t_end=1.0,
+                                      keep=stability.Keep(save_every=4, attitude=True),
+                                      method="rk4")
     assert "w" not in summaries and "q" in attitude  # the optional variables, absent and there
     assert_declared(stability.save(summaries, tmp_path / "summaries.nc"), "ensemble")
     assert_declared(stability.save(attitude, tmp_path / "attitude.nc"), "ensemble")

@@ -38,7 +38,8 @@ def test_absurd_step_is_never_ok_and_a_good_step_is(name):
     # times the bound.
     fast = np.vstack([STARTS * 2000.0 * 4.0 / bound, STARTS * 1.5 * 4.0])
     ds = run_ensemble(BODY, 2, starts=np.vstack([STARTS, fast]), h=h, t_end=n * h,
-                      method=name, save_every=n, progress=False)
+                      method=name, keep=stability.Keep(save_every=n),
+                      options=stability.RunOptions(progress=False))
     status = ds.status.values
     assert np.all(status[:2] == cv.STATUS_OK), status
     assert np.all(status[2:] != cv.STATUS_OK), status
@@ -56,7 +57,8 @@ def test_a_run_with_every_member_beyond_the_bound_is_refused():
 
 
 def test_step_bound_is_recorded_in_the_dataset():
-    ds = run_ensemble(BODY, 2, 1.0, 1e-3, 4, h=0.1, t_end=1.0, method="lp2", progress=False)
+    ds = run_ensemble(BODY, 2, 1.0, 1e-3, 4, h=0.1, t_end=1.0, method="lp2",
+                      options=stability.RunOptions(progress=False))
     assert ds.attrs["method_max_step_angle"] == stability.METHODS["lp2"].max_step_angle
     assert "step_too_large" in ds.status.attrs["comment"]
 

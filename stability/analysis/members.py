@@ -6,7 +6,7 @@ read from its series when the sample holds every member, else from its summaries
 
 - a **time series**: ``w`` (member, time, axis) in rad s-1 (or (time, axis) for one trajectory,
   as ``integrate`` returns);
-- **summaries only** (as ``run_ensemble(..., summaries_only=True)`` writes them): per-member
+- **summaries only** (as ``run_ensemble(..., keep=Keep(save_every=0))`` writes them): per-member
   ``passage_time`` (member, level), the first time the perpendicular amplitude
   ``sqrt(w_b^2 + w_c^2)`` reaches each ``level`` (rad s-1), the sign changes of the spin-axis
   component (``flip_count``, ``first_flip_time``, ``last_flip_time``) and of one perpendicular

@@ -21,7 +21,7 @@ solution, so that speeds are compared at a known accuracy.
 Then, on workload W1 (:data:`W1`: I = (1, 2, 3), 10,000 members near the intermediate axis,
 T = 100 s, h = 0.01), what the engine costs (:func:`engine_costs`): a plain uncompensated RK4
 loop blocked for SIMD (:mod:`stability.engine.reference`), the engine's RK4 loop without and
-with compensated summation, and ``run_ensemble(summaries_only=True)`` (the loop with its
+with compensated summation, and ``run_ensemble(keep=Keep(save_every=0))`` (the loop with its
 tracking), each as member-steps/s and as a fraction of the plain loop, all in one process.
 
 The heavy top (``--scene heavy_top``; :func:`top_work_precision`): a 0.1 kg disk of radius 3 cm
@@ -51,6 +51,8 @@ from ..free_body.propagate import propagate
 from ..engine import propagate_groups
 from ..engine.reference import plain_rk4
 from ..free_body.ensemble import run_ensemble
+from ..free_body.keep import Keep
+from ..ensemble.options import RunOptions
 from ..free_body.starts import perturbed_starts
 from ..free_body.exact import exact_omega_of_starts
 from ..heavy_top.exact import cos_theta, nutation_period
@@ -229,7 +231,7 @@ def engine_costs(repeat=3, workload=None) -> list[BenchRow]:
 
     Rows: the plain uncompensated loop (:func:`stability.engine.reference.plain_rk4`); the
     engine's RK4 loop with an uncompensated update; the engine's loop as every run uses it
-    (compensated); ``run_ensemble(summaries_only=True)`` (compensated, with tracking; its rate
+    (compensated); ``run_ensemble(keep=Keep(save_every=0))`` (compensated, with tracking; its rate
     is the loop's, from the Dataset's ``member_steps_per_second``). Each run takes about 0.1 s,
     so the four are interleaved, one of each per round, and each row keeps its best of
     ``max(repeat, ENGINE_ROUNDS)`` rounds: a change in the machine's speed during the bench
@@ -263,8 +265,8 @@ def engine_costs(repeat=3, workload=None) -> list[BenchRow]:
 
     def ensemble():
         ds = run_ensemble(RigidBody(*moments), w["axis"], w["spin"], w["epsilon"], members,
-                          h=h, t_end=w["t_end"], method="rk4", summaries_only=True,
-                          progress=False)
+                          h=h, t_end=w["t_end"], method="rk4", keep=Keep(save_every=0),
+                          options=RunOptions(progress=False))
         return work / ds.attrs["member_steps_per_second"]
 
     plain_rk4(m0.copy(), p, h, 1)  # compile or load once, outside the timings

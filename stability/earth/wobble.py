@@ -22,6 +22,7 @@ from ..util import conventions as cv
 from ..free_body.attitude import quaternion_to_matrix
 from .model import ARCSEC, CHANDLER_PERIOD_DAYS, DAY, euler_period, oblate_euler_period
 from ..free_body.ensemble import completed, run_ensemble
+from ..free_body.keep import Keep
 from ..analysis.estimates import measured_frequency
 from ..free_body.integrate import integrate
 from ..ensemble.chunks import default_chunk_members
@@ -80,8 +81,7 @@ def measure_free_wobble(body, spin, offset, *, members=16, periods=3.0, steps_pe
     if options.store is not None and options.chunk_members is None:
         options = replace(options, chunk_members=default_chunk_members(members, members * steps))
     ens = run_ensemble(body, 3, spin, offset, members, h=h, t_end=steps * h, seed=seed,
-                       method=method, summaries_only=True, **options.stored(),
-                       progress=options.progress)
+                       method=method, keep=Keep(save_every=0), options=options)
     completed(ens)
     freq = measured_frequency(ens)
     period = 2.0 * math.pi / float(freq.oscillation_frequency)

@@ -276,7 +276,7 @@ def declare(name, title, written_by, variables, file=None) -> DatasetSchema:
 # The free body's ensemble (stability.output.dataset.ensemble_dataset)
 # --------------------------------
 
-SUMMARY_ONLY_NOTE = "runs that save the time series (not summaries_only)"
+SUMMARY_ONLY_NOTE = "runs that save the time series (save_every >= 1)"
 ATTITUDE_NOTE = "the scene free_body_attitude (the attitude carried)"
 COUNT_NOTE = "a count stored as float64 so that masked members can be NaN"
 

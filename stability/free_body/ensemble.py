@@ -5,7 +5,7 @@ Member j starts at steady spin ``W`` about a principal axis plus a perturbation 
 caller gives), and the members are one grouped run of the ensemble layer
 (:mod:`stability.ensemble.chunks`, built by :func:`stability.free_body.propagate.loop_plan`),
 advanced by the one parallel member loop. The result is an xarray Dataset (schema in
-:mod:`stability.output.dataset`): the time series ``w`` (unless ``summaries_only``) and
+:mod:`stability.output.dataset`): the time series ``w`` (unless the summaries only are kept) and
 per-member summaries: flips (sign changes of the spin-axis component), crossings of a
 perpendicular component, the maximum perpendicular amplitude and the first passage of that
 amplitude through given levels (all tracked at every step inside the member loop, so also
@@ -31,7 +31,7 @@ from __future__ import annotations
 
 import inspect
 from collections.abc import Iterable, Mapping
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 
 import numpy as np
 
@@ -39,7 +39,8 @@ from .attitude import IDENTITY
 from ..core.body import RigidBody
 from .propagate import loop_plan
 from ..ensemble.chunks import run_plan
-from ..ensemble.options import RunOptions
+from ..ensemble.options import RunOptions, run_options
+from .keep import Keep, kept
 from ..analysis.members import summary_members
 from ..ensemble.memory import DEFAULT_MAX_MEMORY
 from .timescales import (
@@ -51,8 +52,7 @@ from .timescales import (
 from ..util import conventions as cv
 from ..util.checks import checked_progress, did_you_mean, positive_float, vectors3
 from ..util.threads import checked_threads, numba_threads
-from .plan import (DEFAULT_DIVERGENCE_TOLERANCE, NO_SPIN, NO_STARTS, EnsemblePlan,
-                   plan_ensemble)
+from .plan import NO_SPIN, NO_STARTS, EnsemblePlan, plan_ensemble
 from .model import spin_axis
 from .results import RunPart, finish_run, members_dataset
 from .starts import axis_index, nonnegative_float
@@ -70,32 +70,17 @@ def run_ensemble(
     t_end: float | None = None,
     seed=0,
     method: str = "lp2",
-    save_every: int = 1,
-    direction=None,
     starts=None,
-    summaries_only: bool = False,
-    scene: str = "free_body",
-    levels=None,
-    divergence_tolerance: float = DEFAULT_DIVERGENCE_TOLERANCE,
-    max_memory: float = DEFAULT_MAX_MEMORY,
-    threads: int | None = None,
-    progress: bool | None = None,
-    chunk_members: int | None = None,
-    chunk_steps: int | None = None,
-    config: dict | None = None,
-    command: str | None = None,
-    store=None,
-    resume: bool = False,
-    scheduler: str | None = None,
-    device: str = "cpu",
+    keep: Keep | None = None,
+    options: RunOptions | None = None,
 ):
     """Run an ensemble of perturbed steady spins and return it as a labelled Dataset.
 
     Every member is advanced by the parallel member loop
     (:func:`stability.free_body.propagate.propagate`) with the method ``method``; the members are
     independent, so the cost is ``members x t_end / h`` steps (of order 1e7 member-steps/s per core
-    for ``lp2``, a few times more for ``rk4``). The result does not depend on ``threads``,
-    ``chunk_members`` or ``chunk_steps``, bit for bit.
+    for ``lp2``, a few times more for ``rk4``). The result does not depend on the run options
+    (threads, chunks, a store, dask), bit for bit.
 
     Parameters
     ----------
@@ -110,7 +95,7 @@ def run_ensemble(
     epsilon : float, default 1e-3
         Perturbation size relative to the spin, >= 0: member j starts at
         ``W e_axis + epsilon W u_j`` with ``u_j`` a unit vector perpendicular to the axis, in a
-        random direction (see :func:`perturbed_starts`) or ``direction`` (not with ``starts``).
+        random direction (see :func:`perturbed_starts`; not with ``starts``).
     members : int, default 100
         Number of members N (with ``starts``: optional, must equal ``len(starts)``).
     h : float, optional
@@ -130,73 +115,41 @@ def run_ensemble(
         in the Dataset (``seed_entropy``), which is enough to repeat the run.
     method : str, default "lp2"
         A name from ``stability.METHODS``.
-    save_every : int, default 1
-        Keep w every ``save_every`` steps (time-series runs). The summaries do not depend on
-        it: they are tracked at every step inside the member loop.
-    direction : array_like, shape (3,), optional
-        Fixed perturbation direction perpendicular to ``axis`` (all members start alike).
     starts : array_like, shape (N, 3), optional
-        The initial angular velocities in rad/s, instead of ``spin``/``epsilon``/``direction``.
-    summaries_only : bool, default False
-        Keep only the per-member summaries (no ``w`` time series; memory about
-        ``ensemble_memory(members, 0)``, ~250 bytes a member): for ensembles of 1e6
-        members and more, and for many small ensembles. The summaries are bitwise those of the
-        time-series run.
-    scene : {"free_body", "free_body_attitude"}, default "free_body"
-        What is integrated: w alone, or w and each member's attitude (a method of
-        ``stability.free_body.attitude.attitude_methods()``, time series only, on the CPU; w is
-        bitwise the same): every member starts at the identity (body axes along the space axes),
-        and the Dataset gains ``q``, ``q_norm_error`` and ``attitude_error``, the angle to the
-        exact attitude (:mod:`stability.free_body.exact_attitude`) at each saved time.
-    levels : array_like, shape (n_levels,), optional
-        Ascending perpendicular-amplitude levels in rad/s for ``passage_time``; default
-        :data:`DEFAULT_LEVELS` times the spin (with ``starts``, times the median |w0|).
-    divergence_tolerance : float, default 1e-2
-        A member whose relative energy or |L| error at the end exceeds this is "diverged".
-    max_memory : float, default 4 GiB
-        Refuse a run whose Dataset (:func:`ensemble_memory`, with or without the time series)
-        would exceed this many bytes.
-    threads : int, optional
-        Numba threads for this run (restored afterwards); default: Numba's current setting.
-    progress : bool, optional
-        Progress bar; by default shown for runs expected to take more than 2 s.
-    chunk_members, chunk_steps : int, optional
-        Members per driver call and steps per kernel call. They change memory use and the
-        progress bar, never the result.
-    config : dict, optional
-        The caller's whole resolved configuration (e.g. a study file), stored as TOML in the
-        ``config_toml`` attribute; by default the resolved arguments of this call.
-    command : str, optional
-        The command recorded as the first ``history`` line; default: this call.
-    store : str or path-like, optional
-        Stream the run to this folder, one netCDF file per chunk of ``chunk_members``
-        (default 2**20) written as soon as it is done, and return the Dataset over those files:
-        memory is one chunk's (and the summaries'), and a stopped run can be resumed
-        (:mod:`stability.output.stream`). The time series (``w``) are dask arrays, read as they
-        are used (``ds.w.load()`` reads them into memory); the per-member summaries come back
-        loaded, as in memory (:func:`~stability.ensemble.chunks.small_loaded`).
-    resume : bool, default False
-        With ``store``: finish a run stopped earlier (only the missing chunks are run; the
-        result is bitwise that of an uninterrupted run). A store of a different run is refused.
-    scheduler : str or distributed.Client, optional
-        With ``store``: run the chunks on dask.distributed, ``"dask"`` for a local cluster, a
-        scheduler address such as ``"tcp://host:8786"``, or a client.
-    device : {"cpu", "gpu"}, default "cpu"
-        ``"gpu"``: run the member loop on a CUDA GPU (:mod:`stability.engine.gpu`; methods
-        ``stability.free_body.propagate_gpu.GPU_METHODS``). Same members, agreeing with the
-        CPU run to about 1e-12 relative, not bitwise (fused multiply-adds, the device's libm).
+        The initial angular velocities in rad/s, instead of ``spin``/``epsilon`` (one fixed
+        perturbation direction for every member: ``perturbed_starts(..., direction=u)``).
+    keep : Keep, optional
+        What the Dataset keeps (:class:`~stability.free_body.keep.Keep`): the time series of w
+        every ``save_every`` steps (default 1; 0: the per-member summaries only), the attitude,
+        the amplitude levels of the passage times, and the divergence tolerance of a trusted
+        member.
+    options : RunOptions, optional
+        How and where it runs (:class:`~stability.ensemble.options.RunOptions`), never what it
+        computes: ``threads``; ``progress`` (by default shown for runs expected to take more
+        than 2 s); ``chunk_members`` and ``chunk_steps`` (memory and the progress bar); a
+        ``store`` folder, the run streamed to it one netCDF file per chunk of
+        ``chunk_members`` (default 2**20) as soon as each is done and the Dataset over those
+        files returned (memory one chunk's and the summaries'; the time series ``w`` dask
+        arrays, ``ds.w.load()`` reads them; the summaries loaded, as in memory), which
+        ``resume`` finishes after a stop (only the missing chunks run, bitwise an
+        uninterrupted run; a store of a different run is refused) and whose chunks a
+        ``scheduler`` runs on dask.distributed; ``device="gpu"`` runs the member loop on a CUDA
+        GPU (:mod:`stability.engine.gpu`; methods
+        ``stability.free_body.propagate_gpu.GPU_METHODS``; agreeing with the CPU run to about
+        1e-12 relative, not bitwise); ``max_memory`` (4 GiB by default) refuses a run whose
+        Dataset (:func:`ensemble_memory`) would exceed it.
 
     Returns
     -------
     xarray.Dataset
         Dims ``member``, ``time``, ``axis``, ``level``; variables ``w`` (member, time, axis)
-        unless ``summaries_only``, ``w0``, ``status`` and the summaries (see
-        :mod:`stability.output.dataset`). ``status`` is 0 (ok) only for a member whose numbers can
-        be trusted; otherwise 1 non-finite, 2 diverged (energy or |L| left
-        ``divergence_tolerance``), 3 not converged (implicit solve) or 4 step too large (the
-        step angle exceeds the method's ``max_step_angle``), and the member's numbers are NaN.
-        If Ctrl-C stopped the run, ``interrupted`` is 1 and the
-        Dataset holds what was done (``steps_done``).
+        unless the summaries only are kept, ``w0``, ``status`` and the summaries (see
+        :mod:`stability.output.dataset`). ``status`` is 0 (ok) only for a member whose numbers
+        can be trusted; otherwise 1 non-finite, 2 diverged (energy or |L| left the divergence
+        tolerance), 3 not converged (implicit solve) or 4 step too large (the step angle
+        exceeds the method's ``max_step_angle``), and the member's numbers are NaN. If Ctrl-C
+        stopped the run, ``interrupted`` is 1 and the Dataset holds what was done
+        (``steps_done``).
 
     Raises
     ------
@@ -208,25 +161,40 @@ def run_ensemble(
     --------
     >>> body = stability.RigidBody(1.0, 2.0, 3.0)
     >>> ds = stability.run_ensemble(body, axis=2, spin=1.0, epsilon=1e-3, members=1000,
-    ...                             h=0.01, t_end=60.0, save_every=10)
+    ...                             h=0.01, t_end=60.0, keep=stability.Keep(save_every=10))
     >>> float(ds.mean_flip_interval.median())  # doctest: +SKIP
     28.7
     >>> ds = stability.run_ensemble(body, axis=2, spin=1.0)  # the step and horizon by default
     """
-    progress = checked_progress(progress)
+    keep, options = kept(keep), run_options(options)
+    options = replace(options, progress=checked_progress(options.progress))
     axis = _named_axis(body, axis)
     epsilon, members, h, t_end, rules = _with_defaults(body, axis, spin, epsilon, members,
-                                                       starts, h, t_end, save_every)
-    ds = _run_ensemble(
-        body, axis, spin, epsilon, members, h=h, t_end=t_end, seed=seed, method=method,
-        save_every=save_every, direction=direction, starts=starts,
-        summaries_only=summaries_only, scene=scene, levels=levels,
-        divergence_tolerance=divergence_tolerance, max_memory=max_memory, threads=threads,
-        progress=progress, chunk_members=chunk_members, chunk_steps=chunk_steps, config=config,
-        command=command, store=store, resume=resume, scheduler=scheduler, device=device,
-    )
+                                                       starts, h, t_end, keep.save_every or 1)
+    ds = _run_ensemble(body, axis, spin, epsilon, members, h=h, t_end=t_end, seed=seed,
+                       method=method, starts=starts, keep=keep, options=options)
     ds.attrs.update(rules)
     return ds
+
+
+def plan_arguments(keep: Keep, options: RunOptions) -> dict:
+    """What :func:`stability.free_body.plan.plan_ensemble` takes of an ensemble's choices.
+
+    Parameters
+    ----------
+    keep : Keep
+        What the ensemble keeps.
+    options : RunOptions
+        How it runs: of these, what shapes the plan (its memory limit, chunks and device).
+
+    Returns
+    -------
+    dict
+        Keyword arguments of :func:`~stability.free_body.plan.plan_ensemble`.
+    """
+    return {**keep.plan_arguments(), "max_memory": options.max_memory,
+            "chunk_members": options.chunk_members, "chunk_steps": options.chunk_steps,
+            "device": options.device}
 
 
 def _named_axis(body, axis):
@@ -266,34 +234,22 @@ def _default_timescales(body, axis, spin, epsilon, starts, h, t_end, save_every)
     return default_timescales(body, w0, h, t_end, save_every)
 
 
-def _run_ensemble(body, axis, spin, epsilon, members, *, h, t_end, seed, method, save_every,
-                  direction, starts, summaries_only, scene, levels, divergence_tolerance,
-                  max_memory, threads, progress, chunk_members, chunk_steps, config, command,
-                  store, resume, scheduler, device):
-    """:func:`run_ensemble` once its step and horizon are known."""
-    if store is not None:
-        kwargs = dict(
-            body=body, axis=axis, spin=spin, epsilon=epsilon, members=members, h=h,
-            t_end=t_end, seed=seed, method=method, save_every=save_every, direction=direction,
-            starts=starts, summaries_only=summaries_only, levels=levels,
-            divergence_tolerance=divergence_tolerance, max_memory=max_memory,
-            chunk_members=chunk_members, chunk_steps=chunk_steps, config=config,
-            command=command, device=device, scene=scene,
-        )
-        return run_streamed(kwargs, RunOptions(store=store, resume=resume, scheduler=scheduler,
-                                               threads=threads, progress=progress))
-    if resume or scheduler is not None:
-        raise ValueError("resume and scheduler need store= (the folder the chunks go to)")
-    plan = plan_ensemble(
-        body, axis, spin, epsilon, members, h=h, t_end=t_end, seed=seed, method=method,
-        save_every=save_every, direction=direction, starts=starts, summaries_only=summaries_only,
-        levels=levels, divergence_tolerance=divergence_tolerance, max_memory=max_memory,
-        chunk_members=chunk_members, chunk_steps=chunk_steps, config=config, command=command,
-        device=device, scene=scene,
-    )
-    with numba_threads(checked_threads(threads)):
-        (run,) = _run([plan], progress)
-        return members_dataset(plan, run, threads)
+def _run_ensemble(body, axis, spin, epsilon, members, *, h, t_end, seed, method, starts,
+                  keep, options, config=None, command=None):
+    """:func:`run_ensemble` once its step and horizon are known; ``config`` and ``command``:
+    what the Dataset records as made it (a study's; by default this call)."""
+    kwargs = dict(body=body, axis=axis, spin=spin, epsilon=epsilon, members=members, h=h,
+                  t_end=t_end, seed=seed, method=method, starts=starts, config=config,
+                  command=command, **plan_arguments(keep, options))
+    if options.store is not None:
+        return run_streamed(kwargs, options)
+    if options.resume or options.scheduler is not None:
+        raise ValueError("resume and scheduler need a store: RunOptions(store=...), the folder "
+                         "the chunks go to")
+    plan = plan_ensemble(**kwargs)
+    with numba_threads(checked_threads(options.threads)):
+        (run,) = _run([plan], options.progress)
+        return members_dataset(plan, run, options.threads)
 
 
 def run_ensembles(calls, *, threads=None, progress=None, datasets=True) -> list:
@@ -308,7 +264,8 @@ def run_ensembles(calls, *, threads=None, progress=None, datasets=True) -> list:
     ----------
     calls : sequence of dict
         Keyword arguments of :func:`run_ensemble`, one dict per ensemble (``body``, ``axis``,
-        ``spin``, ... ; not ``threads``, ``progress``, ``chunk_members``, ``chunk_steps``).
+        ``spin``, ``keep``, ... ; its ``options`` may set ``max_memory`` and ``device``, the
+        batch's ``threads``, ``progress``, ``chunk_members``, ``chunk_steps`` not).
         Summaries-only ensembles of one method run together; time-series ones one at a time.
         The batch holds every ensemble at once, so each call's ``max_memory`` (4 GiB by
         default; the machine's memory where that is less) bounds its ensemble together with
@@ -348,7 +305,8 @@ def run_ensembles(calls, *, threads=None, progress=None, datasets=True) -> list:
         plans.append(plan)
         rules.append(rule)
         if not (datasets or plan.summaries_only):
-            raise ValueError(f"calls[{k}]: datasets=False needs summaries_only=True")
+            raise ValueError(f"calls[{k}]: datasets=False needs the summaries only: "
+                             "keep=Keep(save_every=0)")
     batches: dict = {}
     for k, plan in enumerate(plans):
         # Time series run one ensemble at a time, so each stays within its max_memory.
@@ -372,10 +330,10 @@ def run_ensembles(calls, *, threads=None, progress=None, datasets=True) -> list:
 
 #: The arguments :func:`run_ensemble` takes, by name.
 _ARGUMENTS = tuple(inspect.signature(run_ensemble).parameters)
-#: run_ensemble's arguments that are the whole batch's in :func:`run_ensembles`.
-_BATCH_ARGUMENTS = ("threads", "progress", "chunk_members", "chunk_steps")
-#: run_ensemble's arguments of a streamed run, which :func:`run_ensembles` (in memory) has not.
-_STREAM_ARGUMENTS = ("store", "resume", "scheduler")
+#: Run options that are the whole batch's in :func:`run_ensembles`.
+_BATCH_OPTIONS = ("threads", "progress", "chunk_members", "chunk_steps")
+#: Run options of a streamed run, which :func:`run_ensembles` (in memory) has not.
+_STREAM_OPTIONS = ("store", "resume", "scheduler")
 
 
 def _check_call_keys(k, call) -> None:
@@ -384,13 +342,20 @@ def _check_call_keys(k, call) -> None:
         if name not in _ARGUMENTS:
             raise ValueError(f"calls[{k}]: unknown argument {name!r} of run_ensemble"
                              f"{did_you_mean(name, _ARGUMENTS)}")
-        if name in _BATCH_ARGUMENTS:
+    try:
+        options = run_options(call.get("options"))
+    except ValueError as exc:
+        raise ValueError(f"calls[{k}]: {exc}") from None
+    default = RunOptions()
+    for name in _BATCH_OPTIONS:
+        if getattr(options, name) != getattr(default, name):
             raise ValueError(f"calls[{k}]: {name} is set for the whole batch, not per "
                              "ensemble; pass it to run_ensembles")
-        if name in _STREAM_ARGUMENTS and call[name] not in (None, False):
+    for name in _STREAM_OPTIONS:
+        if getattr(options, name) not in (None, False):
             raise ValueError(f"calls[{k}]: {name} is for a streamed run of run_ensemble; "
-                             "run_ensembles runs in memory: call run_ensemble(store=...) for "
-                             "each ensemble instead")
+                             "run_ensembles runs in memory: call run_ensemble with "
+                             "RunOptions(store=...) for each ensemble instead")
     for name in ("body", "axis"):
         if name not in call:
             raise ValueError(f"calls[{k}]: give {name}, as run_ensemble needs it")
@@ -400,12 +365,13 @@ def _planned(call, held=0):
     """The plan of one call of :func:`run_ensembles` and the rules of its default step and
     horizon, with the defaults :func:`run_ensemble` applies; ``held``: bytes of the calls
     before it (:func:`~stability.free_body.plan.plan_ensemble`)."""
-    call = {name: value for name, value in call.items() if name not in _STREAM_ARGUMENTS}
+    call = dict(call)
+    keep, options = kept(call.pop("keep", None)), run_options(call.pop("options", None))
     call["axis"] = _named_axis(call["body"], call["axis"])
     call["epsilon"], call["members"], call["h"], call["t_end"], rules = _with_defaults(
         call["body"], call["axis"], call.get("spin"), call.get("epsilon"), call.get("members"),
-        call.get("starts"), call.get("h"), call.get("t_end"), call.get("save_every", 1))
-    return plan_ensemble(**call, held=held), rules
+        call.get("starts"), call.get("h"), call.get("t_end"), keep.save_every or 1)
+    return plan_ensemble(**call, **plan_arguments(keep, options), held=held), rules
 
 
 @dataclass(frozen=True)

@@ -11,6 +11,7 @@ import numpy as np
 
 from .attitude import FREE_BODY_SCENES, attitude_spec, carries_attitude
 from ..core.body import RigidBody
+from .keep import DEFAULT_DIVERGENCE_TOLERANCE
 from ..integrators import method_spec
 from ..ensemble.memory import DEFAULT_MAX_MEMORY, limit_words, machine_memory
 from ..output.dataset import config_toml, summary_bytes
@@ -25,11 +26,9 @@ __all__ = ["ensemble_memory"]
 
 log = logging.getLogger(__name__)
 
-#: Default members per chunk of a run streamed to disk (``store=``): a multiple of RNG_CHUNK.
+#: Default members per chunk of a run streamed to disk (``RunOptions(store=...)``): a multiple of RNG_CHUNK.
 STREAM_CHUNK_MEMBERS = 2**20
 
-#: Default relative energy / |L| error at the end above which a member is "diverged".
-DEFAULT_DIVERGENCE_TOLERANCE = 1e-2
 
 #: Runs whose stored data exceed this many bytes are announced with a logging warning.
 LARGE_RUN_BYTES = 2**30
@@ -162,8 +161,8 @@ def plan_ensemble(body, axis, spin=None, epsilon=None, members=None, *, h, t_end
     if starts is not None:
         if spin is not None or epsilon is not None or direction is not None:
             raise ValueError(
-                "starts= gives the initial angular velocities itself; leave spin, epsilon "
-                "and direction out (None) when you pass it"
+                "starts= gives the initial angular velocities itself; leave spin and "
+                "epsilon out (None) when you pass it"
             )
         w0 = vectors3("starts", starts, "rad/s")
         if w0.ndim != 2:
@@ -219,14 +218,14 @@ def plan_ensemble(body, axis, spin=None, epsilon=None, members=None, *, h, t_end
             f"{9 if attitude else 3} doubles would "
             f"take {format_bytes(stored)} (about {PEAK_COPIES}x that while the run builds it)"
             f"{beside}, above {limit_words(max_memory)}; raise save_every, use fewer "
-            f"members, pass summaries_only=True (per-member summaries only){more}"
+            f"members, keep the per-member summaries only (Keep(save_every=0)){more}"
         )
     if summaries_only and stored + held > limit:
         raise ValueError(
             f"the summaries of {members_held} members would take {format_bytes(stored)} "
             f"({format_bytes(stored / members_held)} a member){beside}, above "
             f"{limit_words(max_memory)}; use fewer members, stream the run to disk "
-            f"(store=, a chunk at a time in memory){more}"
+            f"(RunOptions(store=...), a chunk at a time in memory){more}"
         )
     chunk_members = min(chunk_members or n_members, n_members)
     level = logging.WARNING if stored > LARGE_RUN_BYTES else logging.INFO

@@ -272,11 +272,12 @@ def _summaries(track: dict, errors: dict) -> dict:
 
 def _call_repr(body, resolved) -> str:
     """The call that made the Dataset, for its first ``history`` line."""
-    keys = ("axis", "spin", "epsilon", "members", "seed", "method", "h", "t_end", "save_every",
-            "summaries_only")
+    keys = ("axis", "spin", "epsilon", "members", "seed", "method", "h", "t_end")
     args = ", ".join(f"{k}={resolved[k]!r}" for k in keys if resolved[k] is not None)
-    if resolved["start_kind"] == "given":
+    if resolved["start_kind"] != "random_perpendicular":
         args += ", starts=<given>"
-    if resolved["direction"] is not None:
-        args += f", direction={list(resolved['direction'])}"
+    every = 0 if resolved["summaries_only"] else resolved["save_every"]
+    attitude = ", attitude=True" if resolved["scene"] == "free_body_attitude" else ""
+    if every != 1 or attitude:
+        args += f", keep=Keep(save_every={every}{attitude})"
     return f"stability.run_ensemble({body!r}, {args})"

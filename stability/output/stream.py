@@ -8,7 +8,7 @@ of the process it is in. :func:`stream_chunks` runs the chunks of a
 none of them: every scene's grouped runs, raw or measured, the free body's ensembles among them
 (:class:`~stability.ensemble.chunks.ChunkJob`), and the stability map's batches.
 
-``run_ensemble(..., store=DIR)`` streams this way
+``run_ensemble(..., options=RunOptions(store=DIR))`` streams this way
 (:func:`stability.free_body.streamed.run_streamed`): the members are cut into chunks of
 ``chunk_members``; each chunk is run exactly as
 :func:`stability.run_ensemble` runs its members (its random starts are drawn for that chunk

@@ -269,11 +269,13 @@ def test_estimators_on_run_ensemble_datasets_series_and_summaries():
     # The same members, saved as time series or as summaries only, give the same Omega^2
     # (within the stderr of the passage-time interpolation) and match linear theory to 1e-4.
     body = stability.RigidBody(1.0, 2.0, 3.0)
-    common = dict(h=0.05, t_end=130.0, method="rk4", seed=3, progress=False)
+    common = dict(h=0.05, t_end=130.0, method="rk4", seed=3,
+                  options=stability.RunOptions(progress=False))
     levels = SPIN * 10.0 ** (np.arange(-56, 1) / 8)
-    series = stability.run_ensemble(body, 2, SPIN, 1e-7, 64, levels=levels, **common)
-    summaries = stability.run_ensemble(body, 2, SPIN, 1e-7, 64, levels=levels,
-                                       summaries_only=True, **common)
+    series = stability.run_ensemble(body, 2, SPIN, 1e-7, 64, keep=stability.Keep(levels=levels),
+                                    **common)
+    summaries = stability.run_ensemble(body, 2, SPIN, 1e-7, 64,
+                                       keep=stability.Keep(save_every=0, levels=levels), **common)
     assert "w" not in summaries
     analytic = float(stability.omega_squared(body, 2, SPIN))
     results = [measured_omega_squared(ds, low_factor=300) for ds in (series, summaries)]
@@ -291,7 +293,8 @@ def test_estimators_on_run_ensemble_datasets_series_and_summaries():
     assert np.all(np.isfinite(exact))
     np.testing.assert_allclose(flips.flip_interval_asymptote.values, exact, rtol=1e-6)
     # Stable axis 3 of the same body: oscillation at sqrt(Omega^2).
-    stable = stability.run_ensemble(body, 3, SPIN, 1e-4, 16, summaries_only=True, **common)
+    stable = stability.run_ensemble(body, 3, SPIN, 1e-4, 16, keep=stability.Keep(save_every=0),
+                                    **common)
     res = measured_omega_squared(stable)
     assert res.regime == REGIME_OSCILLATION
     assert abs(float(res.relative_error)) < 1e-5
@@ -362,7 +365,8 @@ def test_exact_flip_intervals_and_moduli_of_every_start():
 def test_analyse_ensemble_headline_is_what_the_accessor_gives():
     body = stability.RigidBody.preset("tennis_racket")
     ds = stability.run_ensemble(body, 2, 10.0, 1e-4, 32, h=2e-3, t_end=3.0, seed=3,
-                                method="rk4", save_every=25, progress=False)
+                                method="rk4", keep=stability.Keep(save_every=25),
+                                options=stability.RunOptions(progress=False))
     out = analyse_ensemble(ds, body, 2, 10.0, 1e-4, low_factor=10.0, high_fraction=0.03)
     headline = out.attrs["growth_rate_fitted"]
     assert headline == float(out.stability.measured_growth_rate().growth_rate)

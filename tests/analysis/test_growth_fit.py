@@ -18,7 +18,8 @@ RATE_RTOL = 1e-13
 def _ensemble(axis, epsilon, method="rk4", preset="tennis_racket"):
     body = stability.RigidBody.preset(preset)
     return stability.run_ensemble(body, axis, 10.0, epsilon, 300, h=2e-3, t_end=6.0, seed=5,
-                                  save_every=25, method=method, progress=False)
+                                  keep=stability.Keep(save_every=25), method=method,
+                                  options=stability.RunOptions(progress=False))
 
 
 @pytest.mark.parametrize("axis, epsilon, method, regime", [

@@ -11,7 +11,8 @@ import stability
 from stability.util import conventions as cv
 from stability.ensemble.plan import Plan
 from stability.output.dataset import LEVEL, SUMMARIES, summary_bytes
-from stability.free_body.ensemble import run_ensemble
+from stability import Keep, RunOptions
+from stability.free_body.ensemble import _run_ensemble, run_ensemble
 from stability.output.dataset import LOOP_THREADS
 from stability.free_body.plan import ensemble_memory
 from stability.free_body.starts import RNG_CHUNK, max_angular_speed, perturbed_starts
@@ -67,20 +68,25 @@ def test_fixed_direction_is_normalised():
 
 # --- reproducibility --------------------------------------------------------------------------
 
-RUN = dict(h=0.02, t_end=40.0, save_every=5, method="lp2")
+RUN = dict(h=0.02, t_end=40.0, method="lp2")
+#: The series those runs keep.
+SERIES = stability.Keep(save_every=5)
 
 
 @pytest.fixture(scope="module")
 def reference():
     """150 members (not a multiple of the 64-member block) on the unstable axis: two flips."""
-    return run_ensemble(BODY, 2, 1.0, 1e-3, 150, seed=11, threads=1, **RUN)
+    return run_ensemble(BODY, 2, 1.0, 1e-3, 150, seed=11, options=stability.RunOptions(threads=1),
+                        keep=SERIES, **RUN)
 
 
 @pytest.mark.skipif(numba.config.NUMBA_NUM_THREADS < 2, reason="needs 2 Numba threads")
 def test_bitwise_identical_across_threads_and_chunks(reference):
     before = numba.get_num_threads()
     other = run_ensemble(
-        BODY, 2, 1.0, 1e-3, 150, seed=11, threads=2, chunk_members=37, chunk_steps=15, **RUN
+        BODY, 2, 1.0, 1e-3, 150, seed=11,
+        options=stability.RunOptions(threads=2, chunk_members=37, chunk_steps=15), keep=SERIES,
+        **RUN
     )
     assert numba.get_num_threads() == before  # restored
     assert other.attrs["numba_num_threads"] == 2 and reference.attrs["numba_num_threads"] == 1
@@ -90,7 +96,8 @@ def test_bitwise_identical_across_threads_and_chunks(reference):
 
 def test_summaries_only_matches_the_time_series_run(reference):
     summaries = run_ensemble(
-        BODY, 2, 1.0, 1e-3, 150, seed=11, summaries_only=True, chunk_members=64, **RUN
+        BODY, 2, 1.0, 1e-3, 150, seed=11, keep=stability.Keep(save_every=0),
+        options=stability.RunOptions(chunk_members=64), **RUN
     )
     assert "w" not in summaries and "time" not in summaries.dims
     assert summaries.attrs["time_series"] == 0 and reference.attrs["time_series"] == 1
@@ -98,15 +105,16 @@ def test_summaries_only_matches_the_time_series_run(reference):
 
 
 def test_different_seeds_differ(reference):
-    other = run_ensemble(BODY, 2, 1.0, 1e-3, 150, seed=12, **RUN)
+    other = run_ensemble(BODY, 2, 1.0, 1e-3, 150, seed=12, keep=SERIES, **RUN)
     assert not np.any(np.all(other.w0.values == reference.w0.values, axis=1))
     assert not np.any(other.first_flip_time.values == reference.first_flip_time.values)
     assert other.attrs["seed_entropy"] == "12" and reference.attrs["seed_entropy"] == "11"
 
 
 def test_fresh_entropy_is_recorded_and_repeats_the_run():
-    first = run_ensemble(BODY, 2, 1.0, 1e-3, 20, seed=None, **RUN)
-    again = run_ensemble(BODY, 2, 1.0, 1e-3, 20, seed=int(first.attrs["seed_entropy"]), **RUN)
+    first = run_ensemble(BODY, 2, 1.0, 1e-3, 20, seed=None, keep=SERIES, **RUN)
+    again = run_ensemble(BODY, 2, 1.0, 1e-3, 20, seed=int(first.attrs["seed_entropy"]),
+                         keep=SERIES, **RUN)
     np.testing.assert_array_equal(first.w.values, again.w.values)
 
 
@@ -164,7 +172,9 @@ def test_caller_config_is_stored():
 
     study = {"study": {"kind": "tennis_racket", "members": 3, "epsilon": np.float64(1e-3)},
              "output": {"folder": "out", "figures": ["flips", "polhode"]}}
-    ds = run_ensemble(BODY, 3, 1.0, 1e-3, 3, config=study, command="stability run x.toml", **RUN)
+    ds = _run_ensemble(BODY, 3, 1.0, 1e-3, 3, h=0.01, t_end=1.0, seed=0, method="lp2",
+                       starts=None, keep=Keep(), options=RunOptions(progress=False),
+                       config=study, command="stability run x.toml")
     assert tomllib.loads(ds.attrs["config_toml"]) == {
         "study": {"kind": "tennis_racket", "members": 3, "epsilon": 1e-3},
         "output": {"folder": "out", "figures": ["flips", "polhode"]},
@@ -211,7 +221,8 @@ def test_mixed_ensemble_is_masked_per_member():
     # Spins from 0.1 to 20 rad/s at h = 0.3 s: h W from 0.03 (fine) to 6 (blows up).
     spins = np.geomspace(0.1, 20.0, 40)
     starts = np.column_stack([0.01 * spins, spins, 0.02 * spins])
-    ds = run_ensemble(BODY, 2, starts=starts, method="rk4", h=0.3, t_end=60.0, save_every=2)
+    ds = run_ensemble(BODY, 2, starts=starts, method="rk4", h=0.3, t_end=60.0,
+                      keep=stability.Keep(save_every=2))
     counts = np.bincount(ds.status.values, minlength=5)
     assert counts[cv.STATUS_OK] > 0 and counts[cv.STATUS_NONFINITE] > 0
     assert counts[cv.STATUS_OK] + counts[cv.STATUS_NONFINITE] + counts[cv.STATUS_DIVERGED] \
@@ -224,7 +235,7 @@ def test_mixed_ensemble_is_masked_per_member():
 
 def test_divergence_tolerance_is_a_keyword():
     strict = run_ensemble(BODY, 3, 1.0, 0.1, 4, method="rk4", h=0.5, t_end=500.0,
-                          divergence_tolerance=1e-6)
+                          keep=stability.Keep(divergence_tolerance=1e-6))
     loose = run_ensemble(BODY, 3, 1.0, 0.1, 4, method="rk4", h=0.5, t_end=500.0)
     assert np.all(strict.status.values == cv.STATUS_DIVERGED)
     assert np.all(loose.status.values == cv.STATUS_OK)
@@ -268,7 +279,7 @@ def test_flips_match_dop853_zero_crossings():
 def test_mean_flip_interval_matches_the_exact_2k_over_nu():
     # Random directions give each member its own k' and so its own 2K/nu (18.9 to 27.8 s here).
     ds = run_ensemble(BODY, 2, 1.0, 1e-2, 64, h=0.01, t_end=150.0, method="rk4", seed=5,
-                      summaries_only=True)
+                      keep=stability.Keep(save_every=0))
     exact = np.array([stability.flip_interval(BODY, w0) for w0 in ds.w0.values])
     assert np.ptp(exact) > 5.0 and np.all(ds.flip_count.values >= 5)
     np.testing.assert_allclose(ds.mean_flip_interval.values, exact, rtol=1e-8)
@@ -278,8 +289,8 @@ def test_perpendicular_amplitude_grows_at_the_linear_rate():
     # Amplitude from 1e-8 W: the passages of 1e-6 W and 1e-3 W lie in the linear phase, where
     # the amplitude grows like exp(lambda t); lp2's O(h^2) bias in the rate is ~2e-6 here.
     # A start near the stable eigendirection grows late: 40 s leave room for the slowest.
-    ds = run_ensemble(BODY, 2, 1.0, 1e-8, 128, h=0.01, t_end=40.0, summaries_only=True,
-                      levels=[1e-6, 1e-3])
+    ds = run_ensemble(BODY, 2, 1.0, 1e-8, 128, h=0.01, t_end=40.0,
+                      keep=stability.Keep(save_every=0, levels=[1e-6, 1e-3]))
     t = ds.passage_time.values
     rate = math.log(1e3) / (t[:, 1] - t[:, 0])
     np.testing.assert_allclose(rate, LAMBDA, rtol=1e-4)
@@ -291,8 +302,8 @@ def test_stable_axes_oscillate_at_omega_and_never_flip():
     # Omega^2 = (Ia - Ib)(Ia - Ic) W^2 / (Ib Ic) about axis a: 1/3 about axis 1, 1 about axis 3;
     # the perpendicular component crosses zero twice per period 2 pi / Omega.
     for axis, omega in ((1, math.sqrt(1.0 / 3.0)), (3, 1.0)):
-        ds = run_ensemble(BODY, axis, 1.0, 1e-3, 64, h=0.02, t_end=100.0, save_every=5,
-                          summaries_only=True, levels=[1e-4, 5e-3])
+        ds = run_ensemble(BODY, axis, 1.0, 1e-3, 64, h=0.02, t_end=100.0,
+                          keep=stability.Keep(save_every=0, levels=[1e-4, 5e-3]))
         assert np.all(ds.status.values == cv.STATUS_OK)
         assert np.all(ds.passage_time.values[:, 0] == 0.0)  # the start is above 1e-4
         assert np.all(np.isnan(ds.passage_time.values[:, 1]))  # never reaches 5e-3
@@ -328,7 +339,7 @@ def test_interrupted_run_is_marked_partial(monkeypatch):
         return result
 
     monkeypatch.setattr(Plan, "propagate", stopped_halfway)
-    ds = run_ensemble(BODY, 2, 1.0, 1e-3, 10, **RUN)
+    ds = run_ensemble(BODY, 2, 1.0, 1e-3, 10, keep=SERIES, **RUN)
     assert ds.attrs["interrupted"] == 1 and ds.attrs["steps_done"] == 1000
     assert "partial" in ds.attrs["title"]
     assert ds.time.values[-1] == pytest.approx(20.0) and ds.member.size == 10
@@ -346,7 +357,8 @@ def test_interrupted_chunked_run_keeps_the_completed_chunks(monkeypatch):
         return result
 
     monkeypatch.setattr(Plan, "propagate", stopped_in_second_chunk)
-    ds = run_ensemble(BODY, 2, 1.0, 1e-3, 25, chunk_members=10, summaries_only=True, **RUN)
+    ds = run_ensemble(BODY, 2, 1.0, 1e-3, 25, options=stability.RunOptions(chunk_members=10),
+                      keep=stability.Keep(save_every=0), **RUN)
     assert calls == [10, 10]
     assert ds.attrs["interrupted"] == 1 and ds.attrs["steps_done"] == 2000
     assert ds.member.size == 10 and ds.attrs["members_requested"] == 25
@@ -362,11 +374,12 @@ def test_ensemble_memory_counts_members_samples_and_summaries():
 
 
 def test_big_time_series_is_refused_but_summaries_only_is_not():
-    big = dict(h=0.01, t_end=100.0, save_every=1)  # 10**6 members x 10001 samples: 240 GB
-    with pytest.raises(ValueError, match="summaries_only=True"):
+    big = dict(h=0.01, t_end=100.0)  # 10**6 members x 10001 samples: 240 GB
+    with pytest.raises(ValueError, match=r"summaries only \(Keep\(save_every=0\)\)"):
         run_ensemble(BODY, 2, 1.0, 1e-3, 10**6, **big)
     with pytest.raises(ValueError, match="max_memory"):
-        run_ensemble(BODY, 2, 1.0, 1e-3, 1000, h=0.01, t_end=1.0, max_memory=1e5)
+        run_ensemble(BODY, 2, 1.0, 1e-3, 1000, h=0.01, t_end=1.0,
+                     options=stability.RunOptions(max_memory=1e5))
 
 
 # --- bad input --------------------------------------------------------------------------------
@@ -388,14 +401,11 @@ GOOD = dict(body=BODY, axis=2, spin=1.0, epsilon=1e-3, members=4, h=0.01, t_end=
         (dict(members=2.5), "members must be a whole number"),
         (dict(h=0.0), "h must be finite and > 0"),
         (dict(t_end=1.005), "whole number of steps"),
-        (dict(save_every=3), "not a multiple of save_every"),
+        (dict(keep=dict(save_every=3)), "not a multiple of save_every"),
         (dict(method="euler"), "unknown method 'euler'; known methods: rk4, lp2"),
         (dict(seed=-1), "seed must be an integer >= 0"),
         (dict(seed=1.5), "seed must be"),
-        (dict(direction=[0.0, 1.0, 0.0]), "not perpendicular to axis 2"),
-        (dict(direction=[0.0, 0.0, 0.0]), "nonzero"),
-        (dict(direction=[[1.0, 0.0, 0.0]]), r"direction must have shape \(3,\)"),
-        (dict(starts=[[0.0, 1.0, 0.0]]), "leave spin, epsilon and direction out"),
+        (dict(starts=[[0.0, 1.0, 0.0]]), "leave spin and epsilon out"),
         (dict(spin=None, epsilon=None, members=3, starts=[[0.0, 1.0, 0.0]]), "3 rows|1 rows"),
         (dict(spin=None, epsilon=None, starts=[0.0, 1.0, 0.0]), r"shape \(members, 3\)"),
         (dict(spin=None, epsilon=None, members=None, starts=[[0.0, 0.0, 0.0]]), "at rest"),
@@ -403,20 +413,34 @@ GOOD = dict(body=BODY, axis=2, spin=1.0, epsilon=1e-3, members=4, h=0.01, t_end=
         (dict(spin=None, h=None, t_end=None), "give spin, the spin rate in rad/s"),
         (dict(spin=-1.0, h=None), "spin must be finite and > 0"),
         (dict(axis=4, t_end=None), "axis must be the principal axis 1, 2 or 3"),
-        (dict(levels=[1e-3, 1e-4]), "strictly ascending"),
-        (dict(levels=[]), "levels must be"),
-        (dict(threads=0), "threads must be >= 1"),
-        (dict(threads=10**6), "threads must be between 1 and"),
-        (dict(summaries_only="yes"), "summaries_only must be True or False"),
-        (dict(divergence_tolerance=0.0), "divergence_tolerance must be finite and > 0"),
-        (dict(config=["not", "a", "table"]), "config must be a dict"),
-        (dict(chunk_members=0), "chunk_members must be >= 1"),
+        (dict(keep=dict(levels=[1e-3, 1e-4])), "strictly ascending"),
+        (dict(keep=dict(levels=[])), "levels must be"),
+        (dict(options=dict(threads=0)), "threads must be >= 1"),
+        (dict(options=dict(threads=10**6)), "threads must be between 1 and"),
+        (dict(keep=dict(attitude="yes")), "attitude must be True or False"),
+        (dict(keep=dict(save_every=-1)), "save_every must be >= 0"),
+        (dict(keep=dict(divergence_tolerance=0.0)), "divergence_tolerance must be finite and > 0"),
+        (dict(options=dict(chunk_members=0)), "chunk_members must be >= 1"),
     ],
 )
 def test_bad_input_is_one_clear_value_error(change, message):
-    kwargs = {**GOOD, **change}
+    """Each bad argument is one ValueError, the choices of what to keep and how to run
+    (Keep, RunOptions) refused as they are made."""
+    change = dict(change)
+    keep, options = change.pop("keep", None), change.pop("options", None)
     with pytest.raises(ValueError, match=message):
-        run_ensemble(**kwargs)
+        run_ensemble(**{**GOOD, **change}, keep=None if keep is None else stability.Keep(**keep),
+                     options=None if options is None else stability.RunOptions(**options))
+
+
+@pytest.mark.parametrize("direction, message", [
+    ([0.0, 1.0, 0.0], "not perpendicular to axis 2"),
+    ([0.0, 0.0, 0.0], "nonzero"),
+    ([[1.0, 0.0, 0.0]], r"direction must have shape \(3,\)"),
+])
+def test_a_fixed_direction_is_checked_where_the_starts_are_drawn(direction, message):
+    with pytest.raises(ValueError, match=message):
+        perturbed_starts(2, 1.0, 1e-3, 4, direction=direction)
 
 
 def test_one_line_start_chooses_step_and_horizon_from_the_physics():
@@ -425,7 +449,8 @@ def test_one_line_start_chooses_step_and_horizon_from_the_physics():
     from stability.free_body.exact import flip_interval
     from stability.free_body.timescales import DEFAULT_FLIPS, DEFAULT_STEP_ANGLE, nominal_start
 
-    ds = run_ensemble(BODY, axis=2, spin=1.0, progress=False, summaries_only=True)
+    ds = run_ensemble(BODY, axis=2, spin=1.0, options=stability.RunOptions(progress=False),
+                      keep=stability.Keep(save_every=0))
     h, t_end = ds.attrs["h"], ds.attrs["t_end"]
     w0 = nominal_start(2, 1.0, 1e-3)
     assert h * float(max_angular_speed(BODY.moments, w0[None])[0]) == pytest.approx(
@@ -439,14 +464,17 @@ def test_one_line_start_chooses_step_and_horizon_from_the_physics():
             f"{t_end:.6g} s") in ds.attrs["t_end_rule"]
     flips = ds.flip_count.values[ds.status.values == 0]
     assert flips.size == 100 and 3 <= np.median(flips) <= 5  # about one a flip interval
-    stable = run_ensemble(BODY, axis=3, spin=1.0, h=0.05, progress=False, summaries_only=True)
+    stable = run_ensemble(BODY, axis=3, spin=1.0, h=0.05,
+                          options=stability.RunOptions(progress=False),
+                          keep=stability.Keep(save_every=0))
     assert stable.attrs["h"] == 0.05 and "h_rule" not in stable.attrs
     assert np.all(stable.flip_count.values == 0)
     assert stable.attrs["t_end"] == pytest.approx(
         DEFAULT_FLIPS * flip_interval(BODY, nominal_start(3, 1.0, 1e-3)), abs=0.05)
     # a horizon given without a step: the default step, shortened so that the horizon is a
     # whole number of saved steps (it was refused as not a whole number of steps)
-    fitted = run_ensemble(BODY, axis=2, spin=1.0, t_end=7.0, save_every=3, progress=False)
+    fitted = run_ensemble(BODY, axis=2, spin=1.0, t_end=7.0, keep=stability.Keep(save_every=3),
+                          options=stability.RunOptions(progress=False))
     steps = round(7.0 / fitted.attrs["h"])
     assert steps % 3 == 0 and steps * fitted.attrs["h"] == pytest.approx(7.0, rel=1e-14)
     assert 1.0 <= h / fitted.attrs["h"] < 1.0 + 3 * h / 7.0  # no longer than the default
@@ -484,15 +512,16 @@ def test_ensembles_run_together_are_bitwise_the_ensembles_run_alone():
 
     calls = [
         dict(body=BODY, axis=2, spin=1.0, epsilon=1e-3, members=70, h=0.02, t_end=30.0,
-             summaries_only=True, method="rk4"),
+             keep=stability.Keep(save_every=0), method="rk4"),
         dict(body=stability.RigidBody(1.0, 1.5, 2.5), axis=1, spin=2.0, epsilon=1e-2,
-             members=9, h=0.01, t_end=12.0, summaries_only=True, method="rk4", seed=4),
+             members=9, h=0.01, t_end=12.0, keep=stability.Keep(save_every=0), method="rk4",
+             seed=4),
         dict(body=BODY, axis=3, starts=[[0.01, 0.0, 1.0], [0.0, 0.02, -1.0]], h=0.05,
-             t_end=40.0, summaries_only=True, method="rk4"),
+             t_end=40.0, keep=stability.Keep(save_every=0), method="rk4"),
         dict(body=BODY, axis=2, spin=1.0, epsilon=1e-3, members=5, h=0.02, t_end=2.0,
-             save_every=10, method="rk4"),  # a time series: run on its own
+             keep=stability.Keep(save_every=10), method="rk4"),  # a time series: run on its own
         dict(body=BODY, axis=2, spin=1.0, epsilon=1e-3, members=6, h=0.05, t_end=5.0,
-             summaries_only=True, method="lp2"),
+             keep=stability.Keep(save_every=0), method="lp2"),
     ]
     together = run_ensembles(calls)
     for call, ds in zip(calls, together):
@@ -515,11 +544,11 @@ def test_summaries_without_datasets_are_what_the_estimators_read_from_the_datase
 
     calls = [
         dict(body=BODY, axis=2, spin=1.0, epsilon=1e-3, members=70, h=0.02, t_end=30.0,
-             summaries_only=True, method="rk4"),
+             keep=stability.Keep(save_every=0), method="rk4"),
         dict(body=BODY, axis=3, starts=[[0.01, 0.0, 1.0], [0.0, 0.02, -1.0]], h=0.05,
-             t_end=40.0, summaries_only=True, method="rk4"),
+             t_end=40.0, keep=stability.Keep(save_every=0), method="rk4"),
         dict(body=BODY, axis=1, spin=2.0, epsilon=0.05, members=9, h=0.05, t_end=20.0,
-             summaries_only=True, method="rk4", seed=3),
+             keep=stability.Keep(save_every=0), method="rk4", seed=3),
     ]
     for call, ds, summary in zip(calls, run_ensembles(calls), run_ensembles(calls,
                                                                              datasets=False)):
@@ -540,8 +569,8 @@ def test_summaries_without_datasets_are_what_the_estimators_read_from_the_datase
         assert x.keys() == y.keys()
         for key in x:
             assert np.array_equal(x[key], y[key], equal_nan=True), key
-    with pytest.raises(ValueError, match=r"calls\[0\]: datasets=False needs summaries_only"):
-        run_ensembles([dict(calls[0], summaries_only=False)], datasets=False)
+    with pytest.raises(ValueError, match=r"calls\[0\]: datasets=False needs the summaries only"):
+        run_ensembles([dict(calls[0], keep=stability.Keep(save_every=1))], datasets=False)
 
 
 def test_run_ensembles_refuses_settings_of_the_whole_batch_per_call():
@@ -549,7 +578,7 @@ def test_run_ensembles_refuses_settings_of_the_whole_batch_per_call():
 
     with pytest.raises(ValueError, match="chunk_steps is set for the whole batch"):
         run_ensembles([dict(body=BODY, axis=2, spin=1.0, epsilon=1e-3, members=5, h=0.1,
-                            t_end=1.0, chunk_steps=3)])
+                            t_end=1.0, options=stability.RunOptions(chunk_steps=3))])
 
 
 def test_run_ensembles_takes_run_ensembles_defaults_and_names_the_call_it_refuses():
@@ -557,7 +586,7 @@ def test_run_ensembles_takes_run_ensembles_defaults_and_names_the_call_it_refuse
     Dataset, its rules included); a wrong call is refused by its index, before anything runs."""
     from stability.free_body.ensemble import run_ensembles
 
-    call = dict(body=BODY, axis=2, spin=1.0, members=4, summaries_only=True)
+    call = dict(body=BODY, axis=2, spin=1.0, members=4, keep=stability.Keep(save_every=0))
     (together,) = run_ensembles([call])
     alone = run_ensemble(**call)
     assert together.attrs["h_rule"] == alone.attrs["h_rule"]
@@ -575,25 +604,29 @@ def test_run_ensembles_takes_run_ensembles_defaults_and_names_the_call_it_refuse
                                     r"\(did you mean 'spin'\?\)"),
             ([ok, dict(ok, axis=7)], r"calls\[1\]: axis must be the principal axis 1, 2 or 3"),
             ([{k: v for k, v in ok.items() if k != "body"}], r"calls\[0\]: give body"),
-            ([dict(ok, store="somewhere")], r"calls\[0\]: store is for a streamed run"),
-            ([dict(ok, resume=True)], r"calls\[0\]: resume is for a streamed run")):
+            ([dict(ok, options=stability.RunOptions(store="somewhere"))],
+             r"calls\[0\]: store is for a streamed run"),
+            ([dict(ok, options=stability.RunOptions(resume=True))],
+             r"calls\[0\]: resume is for a streamed run"),
+            ([dict(ok, options=stability.RunOptions(threads=1))],
+             r"calls\[0\]: threads is set for the whole batch")):
         with pytest.raises(ValueError, match=message):
             run_ensembles(calls)
-    assert len(run_ensembles([dict(ok, store=None, resume=False)])) == 1
+    assert len(run_ensembles([dict(ok, options=stability.RunOptions(max_memory=1e9))])) == 1
 
 
 def test_run_ensemble_takes_the_spin_axis_by_the_name_of_its_moment():
     """As study files do ([spin] axis = "intermediate"): the same run as by its label, in
     run_ensemble and run_ensembles; a name not known is one line listing them."""
     racket = stability.RigidBody.preset("tennis_racket")
-    kwargs = dict(spin=10.0, members=4, h=0.01, t_end=1.0, summaries_only=True,
-                  progress=False)
+    kwargs = dict(spin=10.0, members=4, h=0.01, t_end=1.0, keep=stability.Keep(save_every=0),
+                  options=stability.RunOptions(progress=False))
     named = run_ensemble(racket, axis="intermediate", **kwargs)
     assert named.attrs["axis"] == 2
     numbered = run_ensemble(racket, axis=2, **kwargs)
     assert np.array_equal(named.flip_count.values, numbered.flip_count.values)
     (batch,) = stability.run_ensembles([dict(body=racket, axis="intermediate", **{
-        k: v for k, v in kwargs.items() if k != "progress"})], progress=False)
+        k: v for k, v in kwargs.items() if k != "options"})], progress=False)
     assert batch.attrs["axis"] == 2
     with pytest.raises(ValueError) as info:
         run_ensemble(racket, axis="middle", **kwargs)

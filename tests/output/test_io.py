@@ -31,7 +31,7 @@ def series():
 @pytest.fixture(scope="module")
 def summaries():
     return stability.run_ensemble(BODY, 2, 1.0, 1e-3, 300, h=0.05, t_end=50.0,
-                                  summaries_only=True, seed=None)
+                                  keep=stability.Keep(save_every=0), seed=None)
 
 
 @pytest.mark.parametrize("name", ["series", "summaries"])

@@ -8,8 +8,9 @@ import stability
 
 def test_a_plainly_opened_file_in_seconds_is_what_stability_load_reads(tmp_path):
     body = stability.RigidBody(1.0, 2.0, 3.0)
-    ds = stability.run_ensemble(body, 2, 1.0, 0.1, 4, h=0.01, t_end=1.0, save_every=10,
-                                progress=False)  # times 0.1 k, not whole nanoseconds
+    ds = stability.run_ensemble(body, 2, 1.0, 0.1, 4, h=0.01, t_end=1.0,
+                                keep=stability.Keep(save_every=10),
+                                options=stability.RunOptions(progress=False))  # times 0.1 k, not whole nanoseconds
     path = stability.save(ds, tmp_path / "run.nc")
     with xr.open_dataset(path) as plain:  # xarray's defaults: dates, the file's order
         assert plain.time.dtype.kind == "M" and str(plain.time.values[1]).startswith("1970")

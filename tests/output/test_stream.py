@@ -25,7 +25,7 @@ from ..helpers import STOP_GUARD_S, wait_until
 ROOT = Path(__file__).resolve().parents[2]
 BODY = stability.RigidBody(1.0, 2.0, 3.0)
 RUN = dict(body=BODY, axis=2, spin=1.0, epsilon=1e-3, members=700, h=0.01, t_end=30.0, seed=4,
-           method="rk4", summaries_only=True)
+           method="rk4", keep=stability.Keep(save_every=0))
 
 
 def assert_same_members(a: xr.Dataset, b: xr.Dataset):
@@ -43,10 +43,11 @@ def in_memory():
                          [(256, None, False), (700, None, False), (100, 50, False),
                           (300, 50, True)])
 def test_stored_run_is_the_in_memory_run(in_memory, tmp_path, chunk, save, attitude):
-    run = dict(RUN, summaries_only=save is None, save_every=save or 1,
-               scene="free_body_attitude" if attitude else "free_body")
+    run = dict(RUN, keep=stability.Keep(save_every=save or 0, attitude=attitude))
     reference = in_memory if save is None else stability.run_ensemble(**run)
-    ds = stability.run_ensemble(**run, store=tmp_path / "s", chunk_members=chunk)
+    ds = stability.run_ensemble(**run,
+                                options=stability.RunOptions(store=tmp_path / "s",
+                                                             chunk_members=chunk))
     assert ds.flip_count.chunks is None  # no time axis: loaded
     assert save is None or ds.w.chunks is not None  # dask arrays: read a chunk at a time
     assert_same_members(reference, ds.load())
@@ -59,33 +60,44 @@ def test_stored_run_is_the_in_memory_run(in_memory, tmp_path, chunk, save, attit
 
 
 def test_store_refuses_another_run_and_unasked_reuse(tmp_path):
-    stability.run_ensemble(**RUN, store=tmp_path / "s", chunk_members=256)
+    stability.run_ensemble(**RUN,
+                           options=stability.RunOptions(store=tmp_path / "s", chunk_members=256))
     with pytest.raises(ValueError, match=r"the settings changed since the run kept in .*s was "
                                          r"started: run_ensemble.h 0.01 there, 0.02 here; "):
-        stability.run_ensemble(**dict(RUN, h=0.02), store=tmp_path / "s", chunk_members=256)
+        stability.run_ensemble(**dict(RUN, h=0.02),
+                               options=stability.RunOptions(store=tmp_path / "s",
+                                                            chunk_members=256))
     with pytest.raises(ValueError, match="started: chunk_members 256 there, 128 here; "):
-        stability.run_ensemble(**RUN, store=tmp_path / "s", chunk_members=128)
+        stability.run_ensemble(**RUN,
+                               options=stability.RunOptions(store=tmp_path / "s",
+                                                            chunk_members=128))
     with pytest.raises(ValueError, match="already holds this run, complete"):
-        stability.run_ensemble(**RUN, store=tmp_path / "s", chunk_members=256)
-    with pytest.raises(ValueError, match="need store="):
-        stability.run_ensemble(**RUN, resume=True)
+        stability.run_ensemble(**RUN,
+                               options=stability.RunOptions(store=tmp_path / "s",
+                                                            chunk_members=256))
+    with pytest.raises(ValueError, match=r"need a store: RunOptions\(store=...\)"):
+        stability.run_ensemble(**RUN, options=stability.RunOptions(resume=True))
 
 
 def test_damaged_chunk_is_found_and_run_again(in_memory, tmp_path):
-    stability.run_ensemble(**RUN, store=tmp_path / "s", chunk_members=256)
+    stability.run_ensemble(**RUN,
+                           options=stability.RunOptions(store=tmp_path / "s", chunk_members=256))
     chunk = tmp_path / "s" / "chunk-000001.nc"
     data = bytearray(chunk.read_bytes())
     data[len(data) // 2] ^= 0xFF  # one flipped byte, as a bad disk or a partial copy gives
     chunk.write_bytes(bytes(data))
     others = {k: (tmp_path / "s" / f"chunk-00000{k}.nc").stat().st_mtime_ns for k in (0, 2)}
-    ds = stability.run_ensemble(**RUN, store=tmp_path / "s", chunk_members=256, resume=True)
+    ds = stability.run_ensemble(**RUN,
+                                options=stability.RunOptions(store=tmp_path / "s",
+                                                             chunk_members=256, resume=True))
     assert_same_members(in_memory, ds.load())
     for k, mtime in others.items():  # only the damaged chunk ran again
         assert (tmp_path / "s" / f"chunk-00000{k}.nc").stat().st_mtime_ns == mtime
 
 
 def test_unfinished_store_is_not_opened(tmp_path):
-    stability.run_ensemble(**RUN, store=tmp_path / "s", chunk_members=256)
+    stability.run_ensemble(**RUN,
+                           options=stability.RunOptions(store=tmp_path / "s", chunk_members=256))
     manifest = tmp_path / "s" / "manifest.json"
     m = json.loads(manifest.read_text())
     m["complete"] = False
@@ -98,8 +110,9 @@ KILLED = """
 import sys, numpy as np, stability
 body = stability.RigidBody(1.0, 2.0, 3.0)
 stability.run_ensemble(body, 2, 1.0, 1e-3, 4096 * {chunks}, h=0.01, t_end={t_end}, seed=4,
-                       method="rk4", summaries_only=True, store=sys.argv[1],
-                       chunk_members=4096, progress=False)
+                       method="rk4", keep=stability.Keep(save_every=0),
+                       options=stability.RunOptions(store=sys.argv[1], chunk_members=4096,
+                                                    progress=False))
 """
 
 
@@ -126,7 +139,9 @@ def test_resume_after_a_real_kill_is_bitwise_the_uninterrupted_run(tmp_path, how
     assert not list(store.glob(".*.tmp")) or how == "SIGKILL"
     kept = {p.name: p.stat().st_mtime_ns for p in store.glob("chunk-*.nc")}
     run = dict(RUN, members=4096 * chunks, t_end=t_end)
-    resumed = stability.run_ensemble(**run, store=store, chunk_members=4096, resume=True)
+    resumed = stability.run_ensemble(**run,
+                                     options=stability.RunOptions(store=store, chunk_members=4096,
+                                                                  resume=True))
     for name, mtime in kept.items():  # finished chunks were not run again
         assert (store / name).stat().st_mtime_ns == mtime
     assert_same_members(stability.run_ensemble(**run), resumed.load())
@@ -139,8 +154,10 @@ def test_dask_local_cluster_gives_the_local_result(in_memory, tmp_path):
                                   dashboard_address=None) as cluster, \
             distributed.Client(cluster) as client, \
             distributed.get_task_stream(client) as tasks:
-        ds = stability.run_ensemble(**RUN, store=tmp_path / "s", chunk_members=128,
-                                    scheduler=client)
+        ds = stability.run_ensemble(**RUN,
+                                    options=stability.RunOptions(store=tmp_path / "s",
+                                                                 chunk_members=128,
+                                                                 scheduler=client))
         assert_same_members(in_memory, ds.load())
         workers = set(cluster.scheduler.workers)  # the cluster's own worker addresses
     # every chunk (700 members in chunks of 128: 6) ran as a task on one of those workers,
@@ -157,15 +174,21 @@ def test_unreachable_scheduler_is_one_clear_error(tmp_path, monkeypatch):
     # user gets, which the test spent waiting (the error is the same)
     monkeypatch.setattr(stream.scheduler_client, "__defaults__", (1.0,))
     with pytest.raises(OSError, match="cannot reach the dask scheduler at tcp://127.0.0.1:9"):
-        stability.run_ensemble(**RUN, store=tmp_path / "s", scheduler="tcp://127.0.0.1:9")
+        stability.run_ensemble(**RUN,
+                               options=stability.RunOptions(store=tmp_path / "s",
+                                                            scheduler="tcp://127.0.0.1:9"))
     with pytest.raises(ValueError, match="scheduler must be 'dask'"):
-        stability.run_ensemble(**RUN, store=tmp_path / "t", scheduler="somewhere")
+        stability.run_ensemble(**RUN,
+                               options=stability.RunOptions(store=tmp_path / "t",
+                                                            scheduler="somewhere"))
 
 
 def test_a_stored_run_prints_and_numbers_its_members_without_an_array(tmp_path):
     import pandas as pd
 
-    ds = stability.run_ensemble(**RUN, store=tmp_path / "s", chunk_members=256)
+    ds = stability.run_ensemble(**RUN,
+                                options=stability.RunOptions(store=tmp_path / "s",
+                                                             chunk_members=256))
     text = repr(ds)  # as a notebook shows it: the repr sums every variable's bytes
     assert "member" in text and "700" in text
     assert "<div" in ds._repr_html_()
@@ -176,7 +199,9 @@ def test_a_stored_run_prints_and_numbers_its_members_without_an_array(tmp_path):
 
 
 def test_history_and_status_tell_how_the_run_went(tmp_path):
-    ds = stability.run_ensemble(**RUN, store=tmp_path / "s", chunk_members=256)
+    ds = stability.run_ensemble(**RUN,
+                                options=stability.RunOptions(store=tmp_path / "s",
+                                                             chunk_members=256))
     last = ds.attrs["history"].splitlines()[-1]
     assert f"streamed to {tmp_path / 's'}: 3 chunks of 256 members (3 run by this call)" in last
     assert "members/s" in last
@@ -209,7 +234,9 @@ def test_a_lost_worker_has_its_chunks_run_again(in_memory, tmp_path):
         killer = threading.Thread(target=kill_one_worker, daemon=True)
         killer.start()
         run = dict(RUN, members=700, t_end=300.0)
-        ds = stability.run_ensemble(**run, store=store, chunk_members=32, scheduler=client)
+        ds = stability.run_ensemble(**run,
+                                    options=stability.RunOptions(store=store, chunk_members=32,
+                                                                 scheduler=client))
         killer.join(timeout=5)
         with pytest.raises(ProcessLookupError):
             os.kill(pids[0], 0)  # it did die
@@ -217,7 +244,9 @@ def test_a_lost_worker_has_its_chunks_run_again(in_memory, tmp_path):
 
 
 def test_a_stored_run_saves_as_one_file(in_memory, tmp_path):
-    ds = stability.run_ensemble(**RUN, store=tmp_path / "s", chunk_members=256)
+    ds = stability.run_ensemble(**RUN,
+                                options=stability.RunOptions(store=tmp_path / "s",
+                                                             chunk_members=256))
     path = stability.save(ds, tmp_path / "whole.nc")  # dask arrays, range-indexed members
     assert_same_members(in_memory, stability.load(path))
 
@@ -227,14 +256,18 @@ def test_a_stored_runs_summaries_come_back_loaded_and_its_series_lazy(in_memory,
     inside dask), while the time series stay dask arrays over the chunk files."""
     import dask.array
 
-    stored = stability.run_ensemble(**{**RUN, "summaries_only": False, "save_every": 100},
-                                    store=tmp_path / "run", chunk_members=256, progress=False)
+    stored = stability.run_ensemble(**{**RUN, "keep": stability.Keep(save_every=100)},
+                                    options=stability.RunOptions(store=tmp_path / "run",
+                                                                 chunk_members=256,
+                                                                 progress=False))
     assert isinstance(stored.w.data, dask.array.Array)
     for name, variable in stored.variables.items():
         if "time" not in variable.dims:
             assert isinstance(variable.data, np.ndarray), name
     assert float(stored.max_perp_amplitude.median()) == float(
         in_memory.max_perp_amplitude.median())
-    summaries = stability.run_ensemble(**RUN, store=tmp_path / "summaries", chunk_members=256,
-                                       progress=False)
+    summaries = stability.run_ensemble(**RUN,
+                                       options=stability.RunOptions(store=tmp_path / "summaries",
+                                                                    chunk_members=256,
+                                                                    progress=False))
     assert isinstance(summaries.flip_count.data, np.ndarray)

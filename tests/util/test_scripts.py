@@ -83,8 +83,9 @@ def test_an_unguarded_script_on_a_local_cluster_is_refused_before_any_worker_sta
         import stability
         body = stability.RigidBody.preset("tennis_racket")
         ds = stability.run_ensemble(body, axis=2, spin=10.0, members=40, t_end=1.0,
-                                    chunk_members=20, store="store", scheduler="dask",
-                                    progress=False)
+                                    options=stability.RunOptions(
+                                        chunk_members=20, store="store", scheduler="dask",
+                                        progress=False))
         """)
     assert "exit 1" in out
     assert out[-1].startswith("ValueError: the worker processes of a local dask cluster import "

@@ -27,6 +27,7 @@ import xarray as xr
 from ...analysis.estimates import flip_estimate, omega_squared_estimates
 from ...analysis.members import members as gather_members
 from ..ensemble import completed, run_ensembles
+from ..keep import Keep
 from ..starts import perturbed_starts
 from ...output.stream import stream_chunks
 from ...output.untrusted import read_dataset
@@ -65,7 +66,7 @@ def ensemble_estimates(run, analytic: float, exact=None, asymptote=None, *,
     Parameters
     ----------
     run : xarray.Dataset or stability.free_body.ensemble.EnsembleSummary
-        :func:`stability.run_ensemble` with ``summaries_only=True``, or the same ensemble from
+        :func:`stability.run_ensemble` with ``keep=Keep(save_every=0)``, or the same ensemble from
         :func:`stability.free_body.ensemble.run_ensembles` with ``datasets=False``.
     analytic : float
         Analytic Omega^2, s-2.
@@ -289,8 +290,8 @@ class MapBatches:
             dict(body=self.bodies[s], axis=int(a), spin=self.spin, epsilon=self.epsilon,
                  members=self.members,
                  h=h, t_end=max(1, int(math.ceil(self.t_end[s, a - 1] / h - 1e-9))) * h,
-                 seed=self.seed, method=self.methods[i], summaries_only=True,
-                 levels=self.levels)
+                 seed=self.seed, method=self.methods[i],
+                 keep=Keep(save_every=0, levels=self.levels))
             for s, a in cells], progress=False, datasets=False)
         completed(*ensembles)  # Ctrl-C stopped the batch: stop the map
         estimates = batch_estimates(

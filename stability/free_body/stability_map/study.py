@@ -270,7 +270,7 @@ def compute(config: dict, progress=None, work_dir=None, resume=False, scheduler=
     pairs = config["flips"]["shapes"]
     sweep = flip_sweep(np.array([(I1, I2, 1.0) for I1, I2 in zip(pairs[::2], pairs[1::2])]),
                        config["flips"]["epsilons"], spin, [spec.name for spec in specs],
-                       integ["h"], command=f"stability run ({NAME})")
+                       integ["h"])
     edge = edge_series(spin, config["edges"]["epsilon"], config["edges"]["t_end"],
                        specs[0].name, integ["h"][0])
     attrs = {

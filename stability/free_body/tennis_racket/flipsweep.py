@@ -16,6 +16,7 @@ import numpy as np
 from ..model import growth_rate
 from ...core.body import RigidBody
 from ..ensemble import completed, run_ensembles
+from ..keep import Keep
 from ..measure import exact_flip_intervals
 
 
@@ -63,7 +64,7 @@ def exact_flip_curve(moments, epsilons, spin: float):
     return exact_flip_intervals(body, 2, flip_sweep_starts(epsilons, spin))
 
 
-def flip_sweep(moments, epsilons, spin: float, methods, steps, command=None) -> dict:
+def flip_sweep(moments, epsilons, spin: float, methods, steps) -> dict:
     """Flip intervals against epsilon for a few shapes, measured by each method.
 
     Each shape's starts (:func:`flip_sweep_starts`) run as one summaries-only ensemble per
@@ -78,8 +79,6 @@ def flip_sweep(moments, epsilons, spin: float, methods, steps, command=None) -> 
         W, rad/s.
     methods, steps : sequence of str and of float
         Registry names and their steps h, s.
-    command : str, optional
-        The command that ran it, for the ensembles' history.
 
     Returns
     -------
@@ -107,7 +106,7 @@ def flip_sweep(moments, epsilons, spin: float, methods, steps, command=None) -> 
         exact[f], asymptote[f] = exact_flip_curve(I, epsilons, spin)
         t_end = 2.6 * float(np.nanmax(exact[f]))
         calls += [(i, f, dict(body=body, axis=2, starts=w0, h=h, t_end=h * math.ceil(t_end / h),
-                              method=method, summaries_only=True, command=command))
+                              method=method, keep=Keep(save_every=0)))
                   for i, (method, h) in enumerate(zip(methods, steps))]
     # Every shape of a method in one parallel call, each ensemble bitwise what it gives alone.
     for (i, f, _), run in zip(calls, run_ensembles([c for _, _, c in calls], progress=False)):

@@ -18,7 +18,8 @@ SPIN, EPS = 1.0, 1e-7
 def summaries(axis, members=16, t_end=120.0, h=0.1):
     return stability.run_ensemble(
         BODY, axis, SPIN, EPS, members, h=h, t_end=t_end, seed=1, method="rk4",
-        summaries_only=True, levels=amplitude_levels(SPIN, EPS, 8), progress=False)
+        keep=stability.Keep(save_every=0, levels=amplitude_levels(SPIN, EPS, 8)),
+        options=stability.RunOptions(progress=False))
 
 
 def test_ensemble_estimates_of_an_unstable_axis():
@@ -48,15 +49,15 @@ def test_estimates_of_many_ensembles_are_bitwise_those_of_each_alone(monkeypatch
             [(2, 16, 8), (1, 16, 8), (3, 9, 8), (2, 20, 4), (1, 16, 4), (2, 16, 8)]):
         run = stability.run_ensemble(
             BODY, axis, SPIN, EPS, members, h=0.1, t_end=60.0, seed=k, method="rk4",
-            summaries_only=True, levels=amplitude_levels(SPIN, EPS, per_decade),
-            progress=False)
+            keep=stability.Keep(save_every=0, levels=amplitude_levels(SPIN, EPS, per_decade)),
+            options=stability.RunOptions(progress=False))
         runs.append(run)
         analytic.append(float(stability.omega_squared(BODY, axis, SPIN)))
         flips.append(exact_flip_intervals(BODY, axis, run.w0.values) if axis == 2
                      else (None, None))
     runs[0]["status"][3] = 2  # a member that failed
     runs.append(stability.run_ensemble(BODY, 2, SPIN, 1e-3, 8, h=0.1, t_end=40.0, seed=9,
-                                       method="rk4", progress=False))
+                                       method="rk4", options=stability.RunOptions(progress=False)))
     analytic.append(analytic[0])
     flips.append((None, None))
     kw = dict(low_factor=30.0, high_fraction=0.03)

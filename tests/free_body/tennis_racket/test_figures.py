@@ -25,7 +25,7 @@ def analysed():
     axis = int(intermediate_axis(body))
     ds = stability.run_ensemble(
         body, axis, SPIN, EPSILON, 96, h=2e-3, t_end=5.0, seed=3, method="rk4",
-        save_every=25, progress=False,
+        keep=stability.Keep(save_every=25), options=stability.RunOptions(progress=False),
     )
     ds = analyse_ensemble(ds, body, axis, SPIN, EPSILON, low_factor=10.0, high_fraction=0.03)
     return ds, body, axis

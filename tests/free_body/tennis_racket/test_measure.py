@@ -13,23 +13,27 @@ from stability.ensemble.combine import LOG_BIN_WIDTH, series_sample
 from stability.analysis.members import perpendicular_amplitude
 from stability.free_body.tennis_racket.analysis import analyse_ensemble, finish_analysis
 from stability.free_body.tennis_racket.measure import TennisChunks
+from stability.free_body.ensemble import plan_arguments
 from stability.free_body.streamed import run_streamed
 from stability.util import conventions as cv
 
 BODY = stability.RigidBody.preset("tennis_racket")
 RUN = dict(body=BODY, axis=2, spin=10.0, epsilon=1e-4, members=700, h=2e-3, t_end=4.0, seed=3,
-           method="rk4", save_every=25)
+           method="rk4", keep=stability.Keep(save_every=25))
+#: The same ensemble as the free body's plan takes it, in chunks of 256.
+PLANNED = {**{k: v for k, v in RUN.items() if k != "keep"},
+           **plan_arguments(RUN["keep"], RunOptions(chunk_members=256))}
 WINDOW = (10.0, 0.03)
 
 
 @pytest.fixture(scope="module")
 def both(tmp_path_factory):
     """The ensemble in memory, analysed whole; and streamed in chunks of 256, sample of 9."""
-    whole = stability.run_ensemble(**RUN, progress=False)
+    whole = stability.run_ensemble(**RUN, options=stability.RunOptions(progress=False))
     analysed = analyse_ensemble(whole, BODY, 2, 10.0, 1e-4, low_factor=WINDOW[0],
                                 high_fraction=WINDOW[1])
     store = tmp_path_factory.mktemp("tennis") / "store"
-    chunked = run_streamed(dict(RUN, chunk_members=256), RunOptions(store=store, progress=False),
+    chunked = run_streamed(PLANNED, RunOptions(store=store, progress=False),
                            compress=False,
                            measurement=lambda kw, plan: TennisChunks(kw, WINDOW, 9, plan))
     chunked = finish_analysis(chunked, BODY, 2, 10.0, 1e-4, low_factor=WINDOW[0],
@@ -85,14 +89,13 @@ def test_the_measurement_travels_to_a_worker():
     """Pickled for a dask worker: its window and sample go with it, its plan is made there."""
     from stability.free_body.plan import plan_ensemble
 
-    kwargs = dict(RUN, chunk_members=256)
-    chunks = TennisChunks(kwargs, WINDOW, 9, plan_ensemble(**kwargs, defer_starts=True))
+    chunks = TennisChunks(PLANNED, WINDOW, 9, plan_ensemble(**PLANNED, defer_starts=True))
     back = pickle.loads(pickle.dumps(chunks))
     assert back.window == WINDOW and back.series_members == 9 and back._plan is None
     own = chunks.identity(None)["tennis_racket"]
     assert back.identity(None)["tennis_racket"] == own == {"window": [10.0, 0.03],
                                                              "series_members": 9}
-    assert TennisChunks(kwargs, (10.0, 0.02), 9).identity(None)["tennis_racket"] != own
+    assert TennisChunks(PLANNED, (10.0, 0.02), 9).identity(None)["tennis_racket"] != own
 
 
 def test_on_a_dask_cluster_only_the_sample_leaves_the_workers(both, tmp_path):
@@ -107,7 +110,7 @@ def test_on_a_dask_cluster_only_the_sample_leaves_the_workers(both, tmp_path):
     with distributed.LocalCluster(n_workers=2, threads_per_worker=1, processes=True,
                                   dashboard_address=None) as cluster, \
             distributed.Client(cluster) as client:
-        remote = run_streamed(dict(RUN, chunk_members=256),
+        remote = run_streamed(PLANNED,
                               RunOptions(store=store, scheduler=client, progress=False),
                               compress=False,
                               measurement=lambda kw, plan: TennisChunks(kw, WINDOW, 9, plan))

@@ -155,15 +155,16 @@ def test_bracketed_newton_reaches_round_off_and_flags_bad_brackets():
 def test_ensemble_carries_the_attitude_with_its_exact_error():
     body = stability.RigidBody.preset("tennis_racket")
     kwargs = dict(axis=2, spin=10.0, epsilon=1e-3, members=8, h=0.002, t_end=2.0,
-                  save_every=50, method="lp4", progress=False)
-    ds = stability.run_ensemble(body, scene="free_body_attitude", **kwargs)
-    plain = stability.run_ensemble(body, **kwargs)
+                  method="lp4", options=stability.RunOptions(progress=False))
+    ds = stability.run_ensemble(body, keep=stability.Keep(save_every=50, attitude=True),
+                                **kwargs)
+    plain = stability.run_ensemble(body, keep=stability.Keep(save_every=50), **kwargs)
     assert ds.w.equals(plain.w) and ds.flip_count.equals(plain.flip_count)
     assert ds.q.dims == ("member", "time", "quaternion_component")
     assert float(ds.attitude_error.max()) < 1e-6  # lp4 at h |w| = 0.02
     assert float(abs(ds.q_norm_error).max()) < 1e-13
-    fine = stability.run_ensemble(body, scene="free_body_attitude",
-                                  **dict(kwargs, h=0.001, save_every=100))
+    fine = stability.run_ensemble(body, keep=stability.Keep(save_every=100, attitude=True),
+                                  **dict(kwargs, h=0.001))
     ratio = float(ds.attitude_error[:, -1].median() / fine.attitude_error[:, -1].median())
     assert 12.0 < ratio < 20.0  # order 4
     for name in ("q", "q_norm_error", "attitude_error"):
@@ -172,15 +173,16 @@ def test_ensemble_carries_the_attitude_with_its_exact_error():
 
 @pytest.mark.parametrize("kwargs, message", [
     (dict(method="exact"), "cannot carry the attitude"),
-    (dict(summaries_only=True), "time series"),
-    (dict(scene="heavy_top"), "scene must be one of 'free_body', 'free_body_attitude'"),
+    (dict(keep=dict(save_every=0, attitude=True)), "the attitude is kept with the time series"),
+    (dict(keep=dict(attitude="yes")), "attitude must be True or False, got 'yes'"),
 ])
 def test_ensemble_attitude_bad_input(kwargs, message):
     body = stability.RigidBody(1.0, 2.0, 3.0)
     base = dict(axis=2, spin=1.0, epsilon=1e-3, members=4, h=0.01, t_end=1.0,
-                scene="free_body_attitude")
+                keep=dict(attitude=True))
+    call = {**base, **kwargs}
     with pytest.raises(ValueError, match=message):
-        stability.run_ensemble(body, **{**base, **kwargs})
+        stability.run_ensemble(body, **{**call, "keep": stability.Keep(**call["keep"])})
 
 
 def test_study_twisting_racket_quick(tmp_path):
