@@ -46,6 +46,7 @@ import xarray as xr
 
 from ..engine.run import Propagation
 from ..util.interrupts import deferred_interrupt
+from ..util.ledger import book
 from ..output.io import READ
 from ..output.store import ChunkStore, read_manifest
 from ..output.stream import sendable, stream_chunks
@@ -181,7 +182,26 @@ def run_plan(plan: Plan, options=None, *, measure=None, compress=None, partial=F
     stability.output.stream.RunInterrupted
         Ctrl-C or SIGTERM stopped a stored run; its finished chunks are kept.
     """
-    options = run_options(options)
+    result = _run_plan(plan, run_options(options), measure, compress, partial)
+    _book(result)
+    return result
+
+
+def _book(result) -> None:
+    """Book a run's member loop, compilation and per-chunk measurement (a Propagation's
+    times, or a measured Dataset's from its chunks) in the open time ledger."""
+    if isinstance(result, Propagation):
+        book("integration", result.wall_time)
+        book("compile", result.compile_time)
+        return
+    attrs = result.attrs
+    book("integration", float(attrs.get("chunk_time", attrs.get("wall_time", 0.0))))
+    book("compile", float(attrs.get("compile_time", 0.0)))
+    book("measuring", float(attrs.get("measure_time", 0.0)))
+
+
+def _run_plan(plan: Plan, options, measure, compress, partial):
+    """:func:`run_plan` with its options checked."""
     run = plan
     n = run.members
     store, resume, scheduler = options.store, options.resume, options.scheduler

@@ -21,6 +21,7 @@ import contextlib
 import errno
 import os
 import stat
+import time
 from collections.abc import Mapping
 from pathlib import Path
 
@@ -35,6 +36,8 @@ from ..output.lock import FolderLock
 from ..output.publish import check_target, clean_leftovers, remove_folder, staged
 from ..output.store import ChunkStore, find_stores, read_manifest
 from ..util.checks import registered
+from ..util.ledger import time_ledger
+from .timing import add_time_table
 
 
 class StudyKinds(Mapping):
@@ -247,9 +250,11 @@ def run_study(
                 remove_folder(out, work.name)  # the user asked to start afresh
             made_work = not work.exists()
             extra = {"work": work, "resume": resume, "scheduler": scheduler}
-        with staged(out) as stage:
+        with staged(out) as stage, time_ledger() as spent:
+            started = time.perf_counter()
             summary = kind.run(config, stage.dir, overwrite=True, threads=threads,
                                progress=progress, history=history, **extra)
+            add_time_table(summary, time.perf_counter() - started, spent)
             _check_outputs(stage.dir, names, "wrote")
             stage.publish()
         _check_outputs(out, names, "published")

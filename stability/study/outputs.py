@@ -10,6 +10,7 @@ from ..output.io import saving
 from ..plotting.style import save
 from ..util import conventions as cv
 from ..util.interrupts import deferred_interrupt
+from ..util.ledger import book
 from ..util.threads import numba_threads
 
 from .config import to_toml
@@ -93,4 +94,6 @@ def write_outputs(ds, config: dict, out_dir, name: str, figures: dict, *, overwr
         drawn = time.perf_counter()
         spent["figures"] = drawn - started
     spent["dataset"] = time.perf_counter() - drawn
+    book("figures", spent["figures"])
+    book("write", spent["dataset"])
     return ds, files
