@@ -285,7 +285,7 @@ def edges_figure(ds):
 
 
 @styled
-def ftle_map_figure(ds, fine: int = 200):
+def ftle_map_figure(ds, fine: int = 200, fig=None):
     """Figure 5: the FTLE over the grid of inertia ratios (colour, s-1), the triangle of real
     bodies outlined; over it, contours of the analytic rate sqrt(-Omega^2) on a fine grid
     (about the intermediate axis), or of the linear bound log(rho) / T on the FTLE (about a
@@ -297,9 +297,16 @@ def ftle_map_figure(ds, fine: int = 200):
         Of :func:`~.ftle_map.ftle_map`.
     fine : int, default 200
         Points per side of the analytic contours' grid.
+    fig : matplotlib.figure.Figure, optional
+        Draw into this figure (e.g. one made by ``plt.figure``, which a notebook or the gallery
+        shows); by default a new one.
     """
     axis, spin, horizon = int(ds.attrs["axis"]), float(ds.attrs["spin"]), float(ds.attrs["horizon"])
-    fig = new_figure(6.4, 4.6)
+    if fig is None:
+        fig = new_figure(6.4, 4.6)
+    else:
+        fig.set_size_inches(6.4, 4.6)
+        fig.set_layout_engine("constrained")
     ax = fig.subplots()
     mesh = ax.pcolormesh(ds.I1.values, ds.I2.values, np.ma.masked_invalid(ds.ftle.values),
                          shading="nearest", cmap="magma", vmin=0.0, rasterized=True)
