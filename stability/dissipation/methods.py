@@ -328,6 +328,30 @@ def gyrostat_rhs(m1, m2, m3, hr, p1, p2, p3, q1, q2, q3, p):
             q2 * w3 - q3 * w2 - b1, q3 * w1 - q1 * w3 - b2, q1 * w2 - q2 * w1 - b3)
 
 
+@njit(forceinline=True, error_model="numpy")
+def gyrostat_jvp(m1, m2, m3, hr, p1, p2, p3, q1, q2, q3,
+                 dm1, dm2, dm3, dhr, dp1, dp2, dp3, dq1, dq2, dq3, p):
+    """The Jacobian of :func:`gyrostat_rhs` applied to ``(dm, dh_r, dp, dq)``, exactly:
+    equations (2) differentiated at any state, with ``dw = (dm1/A1, dm2/A2, (dm3 - dh_r) /
+    (A3 - Jr))``, ``du_p = dp/Jp - dw``, ``du_q = dq/Jq - (dw1, dw2, dh_r/Jr)`` and
+    ``d(a x w) = da x w + a x dw``."""
+    w1, w2, w3 = m1 * p[G_INV_A1], m2 * p[G_INV_A2], (m3 - hr) * p[G_INV_A3]
+    d1, d2, d3 = dm1 * p[G_INV_A1], dm2 * p[G_INV_A2], (dm3 - dhr) * p[G_INV_A3]
+    cp, cq, inv_p, inv_q = p[G_CP], p[G_CQ], p[G_INV_JP], p[G_INV_JQ]
+    a1, a2, a3 = cp * (dp1 * inv_p - d1), cp * (dp2 * inv_p - d2), cp * (dp3 * inv_p - d3)
+    b1, b2 = cq * (dq1 * inv_q - d1), cq * (dq2 * inv_q - d2)
+    b3 = cq * (dq3 * inv_q - dhr * p[G_INV_JR])
+    return (dm2 * w3 + m2 * d3 - dm3 * w2 - m3 * d2 + a1 + b1,
+            dm3 * w1 + m3 * d1 - dm1 * w3 - m1 * d3 + a2 + b2,
+            dm1 * w2 + m1 * d2 - dm2 * w1 - m2 * d1 + a3 + b3, b3,
+            dp2 * w3 + p2 * d3 - dp3 * w2 - p3 * d2 - a1,
+            dp3 * w1 + p3 * d1 - dp1 * w3 - p1 * d3 - a2,
+            dp1 * w2 + p1 * d2 - dp2 * w1 - p2 * d1 - a3,
+            dq2 * w3 + q2 * d3 - dq3 * w2 - q3 * d2 - b1,
+            dq3 * w1 + q3 * d1 - dq1 * w3 - q1 * d3 - b2,
+            dq1 * w2 + q1 * d2 - dq2 * w1 - q2 * d1 - b3)
+
+
 # --- RK4 of the right-hand sides: the package's one RK4 text ----------------------------------
 
 exec(rk4_source(6, "sphere_rhs", "sphere_rk4_step"))  # noqa: S102 (a fixed text of ours)

@@ -68,6 +68,10 @@ function. Tracking: the spin-axis component is :math:`H_a / |H|` (the cosine of 
 angle between body axis :math:`a` and :math:`H`: it changes sign when that axis turns
 perpendicular to :math:`H`) and the amplitude across it :math:`\sqrt{H_b^2 + H_c^2} / |H|`, its
 sine, returned as ``b`` with ``c = 0``.
+
+Tangent equations (:func:`stability.engine.tangent.tangent_scene`): the sphere damper and the
+gyrostat declare the exact products ``J v`` of their right-hand sides (:func:`~.methods.sphere_jvp`,
+:func:`~.methods.gyrostat_jvp`); the whip damper none.
 """
 
 import math
@@ -80,8 +84,9 @@ from ..free_body.scene import component
 from ..engine.scene import Scene
 from ..engine.tangent import Linearisation
 from .methods import (B_B, B_I1, B_I2, B_I3, B_K, B_MU, B_MU_B, GYROSTAT_METHODS, P_INV1,
-                      P_INV2, P_INV3, P_INV_J, SPHERE_METHODS, WHIP_METHODS, sphere_jvp,
-                      sphere_params, sphere_rhs, whip_params, whip_rates)
+                      P_INV2, P_INV3, P_INV_J, SPHERE_METHODS, WHIP_METHODS, gyrostat_jvp,
+                      gyrostat_params, gyrostat_rhs, sphere_jvp, sphere_params, sphere_rhs,
+                      whip_params, whip_rates)
 
 
 @njit(forceinline=True, error_model="numpy")
@@ -347,4 +352,5 @@ GYROSTAT = Scene(
     example=gyrostat_example,
     parameters=("A1", "A2", "A3", "Jr", "Jp", "cp", "Jq", "cq"),
     tracked_units=cv.UNITS_DIMENSIONLESS,
+    linearisation=Linearisation(gyrostat_rhs, gyrostat_jvp, gyrostat_params),
 )

@@ -98,7 +98,8 @@ def tangent_scene(scene: Scene, vectors: int = 1) -> TangentScene:
     ----------
     scene : Scene
         A scene with a ``linearisation`` (every scene of :func:`stability.define_scene`, and the
-        registered scenes that declare one: ``free_body``, ``sphere_damper``).
+        registered scenes that declare one: ``free_body``, ``heavy_top``, ``sphere_damper``,
+        ``gyrostat``).
     vectors : int, default 1
         Tangents carried, ``1 <= vectors <= n``; ``n``: the state-transition matrix.
 
@@ -127,7 +128,8 @@ def tangent_scene(scene: Scene, vectors: int = 1) -> TangentScene:
     if scene.linearisation is None:
         raise ValueError(f"scene {scene.name!r} declares no linearisation (its right-hand side "
                          "and Jacobian), so it has no tangent equations; scenes that do: "
-                         "free_body, sphere_damper and every scene of define_scene")
+                         "free_body, heavy_top, sphere_damper, gyrostat and every scene of "
+                         "define_scene")
     return _built(scene, int(vectors))
 
 

@@ -41,6 +41,7 @@ DATASETS = (
     "schema:TRAJECTORY",
     "schema:TENNIS_RACKET",
     "schema:STABILITY_MAP",
+    "schema:FTLE_MAP",
     "schema:WORK_PRECISION",
     "schema:TWISTING_RACKET",
     "dispersion.schema:DISPERSION",

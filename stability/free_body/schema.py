@@ -11,7 +11,8 @@ from ..ensemble.schema import (
     member_coordinate, status_variable, time_coordinate, variable,
 )
 
-__all__ = ["TRAJECTORY", "TENNIS_RACKET", "STABILITY_MAP", "WORK_PRECISION", "TWISTING_RACKET"]
+__all__ = ["TRAJECTORY", "TENNIS_RACKET", "STABILITY_MAP", "FTLE_MAP", "WORK_PRECISION",
+           "TWISTING_RACKET"]
 
 
 # One trajectory (stability.integrate)
@@ -230,6 +231,38 @@ STABILITY_MAP = declare(
         "edge_I3": _moment(_EDGE_CASE, 3),
         "edge_axis": coordinate(_EDGE_CASE, ONE, "spin axis of the edge case", kind="i"),
         _EDGE_TIME: coordinate(_EDGE_TIME, SECOND, "time since the start"),
+    },
+)
+
+# The stability map from tangents (stability.free_body.stability_map.ftle_map)
+# ----------------------------------------------------------------
+
+_RATIO_GRID = ("I2", "I1")
+_OUTSIDE = "NaN outside the triangle of real bodies"
+
+FTLE_MAP = declare(
+    "ftle_map",
+    "finite-time Lyapunov exponents of spin about one axis over a grid of inertia ratios, "
+    "beside the analytic growth rate",
+    "stability.free_body.stability_map.ftle_map.ftle_map",
+    {
+        "I1": coordinate("I1", ONE, "principal moment ratio I1 / I3 (cell centre)"),
+        "I2": coordinate("I2", ONE, "principal moment ratio I2 / I3 (cell centre)"),
+        "ftle": variable(_RATIO_GRID, PER_SECOND, "finite-time Lyapunov exponent over the "
+                         "horizon, log sigma_max(Phi(T)) / T, mean over the cell's members",
+                         comment=_OUTSIDE),
+        "ftle_spread": variable(_RATIO_GRID, PER_SECOND, "largest minus smallest member FTLE "
+                                "of the cell", comment=_OUTSIDE),
+        "growth_rate_analytic": variable(_RATIO_GRID, PER_SECOND, "analytic growth rate "
+                                         "sqrt(max(-Omega^2, 0))", comment=_OUTSIDE),
+        "omega_squared": variable(_RATIO_GRID, PER_SECOND2, "analytic Omega^2 = (Ia - Ib)"
+                                  "(Ia - Ic) W^2 / (Ib Ic)", comment=_OUTSIDE),
+        "eigenvector_aspect": variable(_RATIO_GRID, ONE, "aspect ratio rho >= 1 of the "
+                                       "linearisation's eigenvectors across the axis",
+                                       comment=_OUTSIDE),
+        "physical": variable(_RATIO_GRID, ONE, "the cell centre is a real body "
+                             "(I1 <= I2 <= I3 <= I1 + I2)", kind="i", flag_values=(0, 1),
+                             flag_meanings="no yes"),
     },
 )
 

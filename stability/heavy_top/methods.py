@@ -38,7 +38,7 @@ import numpy as np
 from numba import njit
 
 from ..integrators.composition import SUZUKI4, strang_table
-from ..integrators.rk4 import euler_rhs
+from ..integrators.rk4 import euler_jvp, euler_rhs
 from ..integrators.rotations import carried_rotation
 from ..integrators.spec import (
     N_BODY_PARAMS, P_A1, P_A3, P_INV1, P_INV2, P_INV3, MethodSpec, body_params,
@@ -78,6 +78,25 @@ def top_rhs(m1, m2, m3, g1, g2, g3, p):
         g2 * w3 - g3 * w2,
         g3 * w1 - g1 * w3,
         g1 * w2 - g2 * w1,
+    )
+
+
+@njit(forceinline=True, error_model="numpy")
+def top_jvp(m1, m2, m3, g1, g2, g3, v1, v2, v3, u1, u2, u3, p):
+    """The Jacobian of :func:`top_rhs` applied to ``(dm, dg) = (v, u)``, exactly:
+    ``dm' = dm x w + m x I^-1 dm + dg x c``, ``dg' = dg x w + g x I^-1 dm`` (equations (1)
+    differentiated at any state; the scene's tangent equations)."""
+    e1, e2, e3 = euler_jvp(m1, m2, m3, v1, v2, v3, p)  # dm x w + m x I^-1 dm
+    c1, c2, c3 = p[P_C1], p[P_C2], p[P_C3]
+    w1, w2, w3 = m1 * p[P_INV1], m2 * p[P_INV2], m3 * p[P_INV3]
+    d1, d2, d3 = v1 * p[P_INV1], v2 * p[P_INV2], v3 * p[P_INV3]
+    return (
+        e1 + u2 * c3 - u3 * c2,
+        e2 + u3 * c1 - u1 * c3,
+        e3 + u1 * c2 - u2 * c1,
+        u2 * w3 - u3 * w2 + g2 * d3 - g3 * d2,
+        u3 * w1 - u1 * w3 + g3 * d1 - g1 * d3,
+        u1 * w2 - u2 * w1 + g1 * d2 - g2 * d1,
     )
 
 

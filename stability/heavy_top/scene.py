@@ -11,6 +11,8 @@ energy :math:`m \cdot I^{-1} m / 2 + c \cdot g` and the Casimirs :math:`|g|` and
 :math:`g \cdot m` (the angular momentum about the vertical); exact solution for a symmetric top
 (:func:`exact`, from :func:`stability.heavy_top.exact.body_states`): the example's second top is
 one.
+Tangent equations: the exact product ``J v`` of equations (1) (:func:`~.methods.top_jvp`), for
+:func:`stability.engine.tangent.tangent_scene`.
 
 Tracking: the spin-axis component is :math:`g_a` (the cosine of the tilt of body axis :math:`a`
 from the vertical: it changes sign when that axis passes the horizontal) and the amplitude
@@ -26,9 +28,10 @@ from numba import njit
 
 from ..util import conventions as cv
 from .exact import body_states
-from .methods import METHODS, N_TOP
+from .methods import METHODS, N_TOP, top_jvp, top_params, top_rhs
 from ..free_body.scene import component
 from ..engine.scene import Scene
+from ..engine.tangent import Linearisation
 
 
 @njit(inline="always")
@@ -110,4 +113,5 @@ HEAVY_TOP = Scene(
     exact=exact,
     example=example,
     tracked_units=cv.UNITS_DIMENSIONLESS,
+    linearisation=Linearisation(top_rhs, top_jvp, top_params),
 )

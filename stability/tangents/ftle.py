@@ -138,8 +138,8 @@ def run_tangents(scene, x0, parameters, *, h, every, windows, vectors=1, sizes=N
     Parameters
     ----------
     scene : Scene
-        A scene with a linearisation (``free_body``, ``sphere_damper``, a scene of
-        :func:`stability.define_scene`).
+        A scene with a linearisation (``free_body``, ``heavy_top``, ``sphere_damper``,
+        ``gyrostat``, a scene of :func:`stability.define_scene`).
     x0 : array_like, shape (N, n)
         Initial states, group after group, in the scene's kernels' frame and units.
     parameters : parameter set, or sequence of them

@@ -150,5 +150,5 @@ def test_bad_input_is_one_line_before_any_work(change, message):
 
 def test_a_scene_without_a_linearisation_is_refused_in_one_line():
     with pytest.raises(ValueError, match="declares no linearisation"):
-        run_tangents(SCENES["heavy_top"], np.zeros((1, 6)), [1.0] * 6, h=0.01, every=10,
+        run_tangents(SCENES["whip_damper"], np.zeros((1, 7)), [1.0] * 7, h=0.01, every=10,
                      windows=2)

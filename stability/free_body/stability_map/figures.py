@@ -8,6 +8,8 @@
    curve and the ln(1/epsilon) law; below, the relative error of each method.
 4. :func:`edges_figure`: time series on the equal-moment edges and the sphere: a departure linear
    in t, the distinct-axis component constant, no flip.
+5. :func:`ftle_map_figure`: the map from tangents (:mod:`.ftle_map`), the FTLE of each cell as
+   a colour with the analytic rate's contours over it, like REBOUND's MEGNO maps.
 
 Each takes the study's Dataset and returns a ``matplotlib.figure.Figure`` whose every axis is
 labelled with its unit.
@@ -18,10 +20,11 @@ from __future__ import annotations
 import numpy as np
 
 from ...util.conventions import REGIME_ALGEBRAIC, REGIME_MEANINGS, REGIME_NEUTRAL
-from ..model import perpendicular_axes
+from ..model import growth_rate, perpendicular_axes
 from ...analysis.regimes import DEPARTURE_FACTOR, MIN_POINTS
 from ..tennis_racket.flipsweep import exact_flip_curve
 from ...plotting.style import AXIS_COLORS, EXACT_COLOR, label, new_figure, place_legend, styled
+from .ftle_map import eigenvector_aspect, physical
 from .shapes import analytic_omega_squared, shape_grid
 
 #: Marker of each method in the scatter and sweep figures (cycled).
@@ -278,6 +281,57 @@ def edges_figure(ds):
     fig.suptitle(f"Equal moments: Ω² = 0, departure linear in t ({ds.attrs['edge_method']}, "
                  f"h = {float(ds.attrs['edge_h']):g} s, ε = {ds.attrs['edge_epsilon']:g})",
                  fontsize=9.5)
+    return fig
+
+
+@styled
+def ftle_map_figure(ds, fine: int = 200, fig=None):
+    """Figure 5: the FTLE over the grid of inertia ratios (colour, s-1), the triangle of real
+    bodies outlined; over it, contours of the analytic rate sqrt(-Omega^2) on a fine grid
+    (about the intermediate axis), or of the linear bound log(rho) / T on the FTLE (about a
+    stable one, where the rate is 0).
+
+    Parameters
+    ----------
+    ds : xarray.Dataset
+        Of :func:`~.ftle_map.ftle_map`.
+    fine : int, default 200
+        Points per side of the analytic contours' grid.
+    fig : matplotlib.figure.Figure, optional
+        Draw into this figure (e.g. one made by ``plt.figure``, which a notebook or the gallery
+        shows); by default a new one.
+    """
+    axis, spin, horizon = int(ds.attrs["axis"]), float(ds.attrs["spin"]), float(ds.attrs["horizon"])
+    if fig is None:
+        fig = new_figure(6.4, 4.6)
+    else:
+        fig.set_size_inches(6.4, 4.6)
+        fig.set_layout_engine("constrained")
+    ax = fig.subplots()
+    mesh = ax.pcolormesh(ds.I1.values, ds.I2.values, np.ma.masked_invalid(ds.ftle.values),
+                         shading="nearest", cmap="magma", vmin=0.0, rasterized=True)
+    x, y = np.meshgrid(np.linspace(0.5 / fine, 1.0, fine), np.linspace(0.5, 1.0, fine))
+    moments = np.stack([x, y, np.ones_like(x)], axis=-1)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        if axis == 2:
+            theory, what = growth_rate(moments, axis, spin), "analytic √(−Ω²)"
+        else:
+            theory, what = np.log(eigenvector_aspect(moments, axis)) / horizon, "bound log ρ / T"
+    theory = np.where(physical(x[0], y[:, 0]), theory, np.nan)
+    levels = np.linspace(0.0, float(np.nanmax(ds.ftle.values)), 7)[1:]
+    lines = ax.contour(x, y, theory, levels=levels, colors="white", linewidths=0.8)
+    ax.clabel(lines, fmt="%.2f", fontsize=7)
+    ax.plot([], [], color="white", lw=0.8, label=f"{what} (s⁻¹)")
+    _triangle_outline(ax)
+    ax.set_facecolor("0.85")
+    ax.set_xlabel(label("I1 / I3", "1"))
+    ax.set_ylabel(label("I2 / I3", "1"))
+    ax.grid(False)
+    place_legend(ax, fontsize=7.5, facecolor="0.4", labelcolor="white")
+    cb = fig.colorbar(mesh, ax=ax, shrink=0.9)
+    cb.set_label(label("FTLE", "s-1"))
+    ax.set_title(f"FTLE of spin about axis {axis}, W = {spin:g} rad/s, T = {horizon:g} s, "
+                 f"ε = {float(ds.attrs['epsilon']):g}", fontsize=9)
     return fig
 
 
