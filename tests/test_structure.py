@@ -52,6 +52,7 @@ MAX_LOCAL_IMPORTS = 18
 
 #: Modules without a test module of their name, and the tests that exercise them.
 COVERED_ELSEWHERE = {
+    "stability.engine.events": "tests/engine/test_adaptive.py",
     "stability.output.hdf5_links": "tests/output/test_untrusted.py (hostile HDF5 files)",
     "stability.free_body.starts": "tests/free_body/test_ensemble.py",
     "stability.free_body.plan": "tests/free_body/test_ensemble.py, tests/test_bad_input.py",

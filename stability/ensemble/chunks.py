@@ -83,7 +83,8 @@ class ChunkJob:
         from its part of the run (a :class:`Plan`) and that part's
         :class:`~stability.engine.Propagation`, members numbered from ``lo``; ``threads`` is
         what the chunk was asked to run with. Default: :class:`RawChunk`, the propagation as
-        it is.
+        it is. A measurement with ``integrates = True`` runs its own loop on the part's starts
+        (:mod:`stability.ensemble.adaptive`) and is given None for the propagation.
     """
 
     run: Plan
@@ -95,6 +96,8 @@ class ChunkJob:
 
     def __call__(self, lo: int, hi: int, progress, threads) -> xr.Dataset:
         part = self.run.part(lo, hi)
+        if getattr(self.measure, "integrates", False):  # its own loop (adaptive steps)
+            return self.measure(part, None, lo, hi, threads)
         return self.measure(part, part.propagate(progress), lo, hi, threads)
 
 

@@ -583,7 +583,53 @@ SCENE_RUN = SceneSchema(
         "`stability.ensemble.schema.SCENE_RUN.of(...)` gives one scene's declaration"))
 
 
-_DECLARED: dict[str, DatasetSchema] = {s.name: s for s in (ENSEMBLE, SCENE_RUN)}
+_EVENTS = "runs with events"
+_OCCURRENCE = "occurrence"
+
+ADAPTIVE_RUN = SceneSchema(
+    "adaptive_run", "a run of any scene's members with adaptive Dormand-Prince 5(4) steps and "
+    "user events, per member and per group", "stability.run_adaptive", "", {
+        MEMBER: member_coordinate(),
+        _GROUP: coordinate(_GROUP, ONE, "group of members (one parameter set)", kind="i"),
+        "event": coordinate("event", ONE, "user event (the name of its function)", kind="U",
+                            optional=_EVENTS),
+        f"{COMPONENT}_start": variable(MEMBER, _OWN, f"{COMPONENT} (state component) at the "
+                                       "start"),
+        f"{COMPONENT}_final": variable(MEMBER, _OWN, f"{COMPONENT} (state component) at the end "
+                                       "of the member's run", comment="at t_final"),
+        "member_group": variable(MEMBER, ONE, "group of the member", kind="i"),
+        "t_end": variable(MEMBER, SECOND, "end time asked for the member"),
+        "t_final": variable(MEMBER, SECOND, "time the member's run ended", comment=(
+            "t_end, a stop event's located time, or where a failure stopped it")),
+        "accepted_steps": variable(MEMBER, ONE, "accepted steps", kind="i"),
+        "rejected_steps": variable(MEMBER, ONE, "rejected steps (redone shorter)", kind="i"),
+        "error_estimate": variable(MEMBER, ONE, "error estimate of the last accepted step, in "
+                                   "units of the tolerance atol + rtol |x|", comment=(
+                                       "the embedded order-4 solution's difference, RMS over "
+                                       "the components; at most 1")),
+        "h_last": variable(MEMBER, SECOND, "last accepted step h"),
+        "status": variable(MEMBER, ONE, "member status", kind="i",
+                           flag_values=(cv.STATUS_OK, cv.STATUS_NONFINITE, cv.STATUS_MAX_STEPS,
+                                        cv.STATUS_STEP_TOO_SMALL),
+                           flag_meanings="ok non_finite max_steps step_too_small"),
+        "stop_event": variable(MEMBER, ONE, "event that stopped the member (-1: none)",
+                               kind="i", optional=_EVENTS),
+        "event_count": variable((MEMBER, "event"), ONE, "crossings of the event found",
+                                kind="i", optional=_EVENTS),
+        "event_time": variable((MEMBER, "event", _OCCURRENCE), SECOND, "time of each crossing "
+                               "of the event, in order", optional=_EVENTS,
+                               comment="NaN past the crossings found or kept"),
+        "members": variable(_GROUP, ONE, "members of the group", kind="i"),
+        PARAMETER: variable(_GROUP, _OWN, f"parameter {PARAMETER} of the group",
+                            optional=_PARAMETERS_NAMED),
+        "parameters": variable((_GROUP, "parameter"), ONE, "the group's parameter set, as the "
+                               "scene's methods take it", optional="scenes that do not name their "
+                               "parameters", comment="in the scene's own units"),
+    }, note="Named from the scene as the scene_run Dataset; rtol, atol and max_steps are "
+            "global attributes")
+
+
+_DECLARED: dict[str, DatasetSchema] = {s.name: s for s in (ENSEMBLE, SCENE_RUN, ADAPTIVE_RUN)}
 
 #: Every Dataset kind, by name (read-only, live): the free body's ensemble and a run of any
 #: scene, declared here, then each family's (its ``schema.py``), which the registry adds
@@ -698,6 +744,7 @@ def schema(name: str) -> DatasetSchema:
 
 
 __all__ = [
+    "ADAPTIVE_RUN",
     "DatasetSchema",
     "ESTIMATES",
     "KINDS",

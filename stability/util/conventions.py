@@ -35,6 +35,10 @@ STATUS_NOT_CONVERGED = 3  #: an implicit step's nonlinear solver did not converg
 #: the step angle h max|w| exceeds what the method resolves (``MethodSpec.max_step_angle``):
 #: the numbers may look sane (|L| and energy kept) but are not trustworthy
 STATUS_STEP_TOO_LARGE = 4
+#: an adaptive member needed more than its run's ``max_steps`` steps (accepted and rejected)
+STATUS_MAX_STEPS = 5
+#: an adaptive member's step fell below round-off in t
+STATUS_STEP_TOO_SMALL = 6
 
 STATUS_MEANINGS = "ok non_finite diverged not_converged step_too_large"
 STATUS_FLAG_VALUES = (STATUS_OK, STATUS_NONFINITE, STATUS_DIVERGED, STATUS_NOT_CONVERGED,

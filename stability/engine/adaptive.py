@@ -1,0 +1,516 @@
+r"""Adaptive steps for any scene with a vector field: the Dormand-Prince 5(4) pair.
+
+The explicit embedded pair of Dormand & Prince (J. Comput. Appl. Math. 6, 19 (1980)), order 5
+propagated, order 4 for the error estimate, 7 stages of which the last is the next step's first
+(FSAL: 6 evaluations of ``f`` per step). Each member is integrated to its own end time with its
+own steps, chosen by the PI controller of Hairer, Norsett & Wanner (*Solving ODEs I*, II.4,
+Eq. (4.13) and the code DOPRI5: ``h_new = h err^{-0.17} err_old^{0.04} / 0.9``, bounded to
+``[h / 10, 5 h]``, no growth right after a rejection); a step with
+
+.. math::
+
+    \mathrm{err} = \Big(\frac1n \sum_i \Big(\frac{h \sum_j e_j k_{ji}}
+    {\mathrm{atol} + \mathrm{rtol} \max(|y_i|, |\hat y_i|)}\Big)^2\Big)^{1/2} > 1
+
+is rejected and redone with a smaller step. The first step is the rule of II.4 (p. 169): an
+explicit Euler probe of the second derivative. Dense output: the method's own continuous
+extension of order 4 (II.6, DOPRI5's ``CONTD5``), which the events (:mod:`stability.engine.events`)
+are located on.
+
+The loop is written once, as the template below, and rendered for each scene (its vector field
+``rhs(x_0, ..., x_{n-1}, p)``, the scene's :class:`~stability.engine.tangent.Linearisation`) and
+events (their ``g``), then kept in the disk cache (:func:`stability.engine.cache.load_module`).
+Members run in parallel (``prange``); each depends on nothing but its own start, row, end time and
+the tolerances, so the results are bitwise the same for any threads and any chunks. A member that
+needs more than ``max_steps`` steps (accepted and rejected) stops there with a status, and so does
+one whose step falls below round-off in ``t`` (non-finite where its error estimate had become
+NaN or inf): nothing hangs.
+"""
+
+from __future__ import annotations
+
+import functools
+import math
+import sys
+import time
+from dataclasses import dataclass
+
+import numpy as np
+
+from ..util import conventions as cv
+from .cache import compiling, load_module
+from .events import ACTIONS, DIRECTIONS, checked_events, located
+from .scene import Scene, checked_scene
+
+# Dormand & Prince (1980), Table 2 (DOPRI5): nodes c, stages a, weights b (= a7, FSAL), and the
+# error weights e = b - b_hat of the embedded order-4 solution.
+C2, C3, C4, C5 = 1 / 5, 3 / 10, 4 / 5, 8 / 9
+A21 = 1 / 5
+A31, A32 = 3 / 40, 9 / 40
+A41, A42, A43 = 44 / 45, -56 / 15, 32 / 9
+A51, A52, A53, A54 = 19372 / 6561, -25360 / 2187, 64448 / 6561, -212 / 729
+A61, A62, A63, A64, A65 = 9017 / 3168, -355 / 33, 46732 / 5247, 49 / 176, -5103 / 18656
+B1, B3, B4, B5, B6 = 35 / 384, 500 / 1113, 125 / 192, -2187 / 6784, 11 / 84
+E1, E3, E4, E5, E6, E7 = (71 / 57600, -71 / 16695, 71 / 1920, -17253 / 339200, 22 / 525,
+                          -1 / 40)
+# Dense output of order 4 (Hairer, Norsett & Wanner, II.6; DOPRI5's CONTD5).
+D1, D3, D4, D5, D6, D7 = (-12715105075 / 11282082432, 87487479700 / 32700410799,
+                          -10690763975 / 1880347072, 701980252875 / 199316789632,
+                          -1453857185 / 822651844, 69997945 / 29380423)
+# PI step control (II.4; DOPRI5's defaults): exponents, safety factor, step ratio bounds.
+BETA = 0.04
+EXPO1 = 0.2 - 0.75 * BETA
+SAFE = 0.9
+FAC_MIN = 0.2  # h_new >= h / 5 after a rejection ...
+FAC_MAX = 10.0  # ... and h_new <= 10 h
+#: Steps (accepted and rejected) a member may take by default.
+MAX_STEPS = 100_000
+
+#: Statuses of an adaptive member (:data:`stability.util.conventions`).
+STATUS_FLAGS = (cv.STATUS_OK, cv.STATUS_NONFINITE, cv.STATUS_MAX_STEPS,
+                cv.STATUS_STEP_TOO_SMALL)
+STATUS_MEANINGS = "ok non_finite max_steps step_too_small"
+
+_TEMPLATE = '''\
+"""Dormand-Prince 5(4) member loop of scene {scene!r}, {m} event(s).
+
+Rendered from the template in stability/engine/adaptive.py; do not edit (sources {{digest}}).
+"""
+
+import math
+
+import numpy as np
+from numba import njit, prange
+
+from stability.engine.adaptive import (
+    A21, A31, A32, A41, A42, A43, A51, A52, A53, A54, A61, A62, A63, A64, A65, B1, B3, B4, B5,
+    B6, BETA, C2, C3, C4, C5, D1, D3, D4, D5, D6, D7, E1, E3, E4, E5, E6, E7, EXPO1, FAC_MAX,
+    FAC_MIN, SAFE,
+)
+from stability.util.conventions import (
+    STATUS_MAX_STEPS, STATUS_NONFINITE, STATUS_OK, STATUS_STEP_TOO_SMALL,
+)
+from {rhs_module} import {rhs_name} as rhs
+{g_imports}
+
+
+@njit(forceinline=True, error_model="numpy")
+def _f(y, p, out):
+    {fs}, = rhs({ys}, p)
+{stores}
+
+
+@njit(forceinline=True, error_model="numpy")
+def _g(k, y, t, p):
+{g_calls}
+    return 0.0
+
+
+@njit(forceinline=True, error_model="numpy")
+def _dense(r, theta, out):
+    """y(t_old + theta h) = r0 + theta (r1 + (1 - theta) (r2 + theta (r3 + (1 - theta) r4)))."""
+    u = 1.0 - theta
+    for i in range(out.shape[0]):
+        out[i] = r[0, i] + theta * (r[1, i] + u * (r[2, i] + theta * (r[3, i] + u * r[4, i])))
+
+
+@njit(error_model="numpy")
+def _root(k, r, t0, h, ga, gb, p, y):
+    """The time of the sign change of event k in [t0, t0 + h], by Illinois on the dense output."""
+    a = t0
+    b = t0 + h
+    side = 0
+    best, gbest = (a, ga) if abs(ga) < abs(gb) else (b, gb)
+    for _ in range(200):
+        if b - a <= 4.0 * 2.220446049250313e-16 * max(abs(a), abs(b)):
+            break
+        c = b - gb * (b - a) / (gb - ga)
+        if not (a < c < b):
+            c = 0.5 * (a + b)
+        _dense(r, (c - t0) / h, y)
+        gc = _g(k, y, c, p)
+        if abs(gc) < abs(gbest):
+            best, gbest = c, gc
+        if gc == 0.0:
+            break
+        if (gc < 0.0) == (gb < 0.0):
+            b, gb = c, gc
+            if side == -1:
+                ga *= 0.5
+            side = -1
+        else:
+            a, ga = c, gc
+            if side == 1:
+                gb *= 0.5
+            side = 1
+    return best
+
+
+@njit(error_model="numpy")
+def _rms(v, y, z, rtol, atol):
+    total = 0.0
+    for i in range(v.shape[0]):
+        s = v[i] / (atol + rtol * max(abs(y[i]), abs(z[i])))
+        total += s * s
+    return math.sqrt(total / v.shape[0])
+
+
+@njit(error_model="numpy")
+def _member(i, x, rows, group, t_end, rtol, atol, max_steps, directions, stops, keep, t_final,
+            accepted, rejected, error, h_last, status, counts, times, stop_event):
+    p = rows[group[i]]
+    n = x.shape[1]
+    m = directions.shape[0]
+    y = x[i].copy()
+    z = np.empty(n)
+    s = np.empty(n)
+    k1 = np.empty(n)
+    k2 = np.empty(n)
+    k3 = np.empty(n)
+    k4 = np.empty(n)
+    k5 = np.empty(n)
+    k6 = np.empty(n)
+    k7 = np.empty(n)
+    r = np.empty((5, n))
+    g_old = np.empty(m)
+    g_new = np.empty(m)
+    t_hit = np.empty(m)
+    order = np.empty(m, dtype=np.int64)
+    tend = t_end[i]
+    t = 0.0
+    _f(y, p, k1)
+    for k in range(m):
+        g_old[k] = _g(k, y, t, p)
+    # the first step: Hairer, Norsett & Wanner, II.4, p. 169
+    scale0 = np.empty(n)
+    for j in range(n):
+        scale0[j] = atol + rtol * abs(y[j])
+    d0 = 0.0
+    d1 = 0.0
+    for j in range(n):
+        d0 += (y[j] / scale0[j]) ** 2
+        d1 += (k1[j] / scale0[j]) ** 2
+    d0 = math.sqrt(d0 / n)
+    d1 = math.sqrt(d1 / n)
+    h = 1e-6 if (d0 < 1e-5 or d1 < 1e-5) else 0.01 * d0 / d1
+    h = min(h, tend)
+    for j in range(n):
+        s[j] = y[j] + h * k1[j]
+    _f(s, p, k2)
+    d2 = 0.0
+    for j in range(n):
+        d2 += ((k2[j] - k1[j]) / scale0[j]) ** 2
+    d2 = math.sqrt(d2 / n) / h
+    top = max(d1, d2)
+    h1 = max(1e-6, 1e-3 * h) if top <= 1e-15 else (0.01 / top) ** 0.2
+    h = min(100.0 * h, h1, tend)
+    fac_old = 1e-4
+    was_rejected = False
+    bad = False
+    nacc = 0
+    nrej = 0
+    err = np.nan
+    used = np.nan
+    code = STATUS_OK
+    stopped = -1
+    while t < tend:
+        if nacc + nrej >= max_steps:
+            code = STATUS_MAX_STEPS
+            break
+        if not (t + h > t):
+            code = STATUS_NONFINITE if bad else STATUS_STEP_TOO_SMALL
+            break
+        last = t + 1.01 * h >= tend
+        if last:
+            h = tend - t
+        for j in range(n):
+            s[j] = y[j] + h * A21 * k1[j]
+        _f(s, p, k2)
+        for j in range(n):
+            s[j] = y[j] + h * (A31 * k1[j] + A32 * k2[j])
+        _f(s, p, k3)
+        for j in range(n):
+            s[j] = y[j] + h * (A41 * k1[j] + A42 * k2[j] + A43 * k3[j])
+        _f(s, p, k4)
+        for j in range(n):
+            s[j] = y[j] + h * (A51 * k1[j] + A52 * k2[j] + A53 * k3[j] + A54 * k4[j])
+        _f(s, p, k5)
+        for j in range(n):
+            s[j] = y[j] + h * (A61 * k1[j] + A62 * k2[j] + A63 * k3[j] + A64 * k4[j]
+                               + A65 * k5[j])
+        _f(s, p, k6)
+        for j in range(n):
+            z[j] = y[j] + h * (B1 * k1[j] + B3 * k3[j] + B4 * k4[j] + B5 * k5[j] + B6 * k6[j])
+        _f(z, p, k7)
+        for j in range(n):
+            s[j] = h * (E1 * k1[j] + E3 * k3[j] + E4 * k4[j] + E5 * k5[j] + E6 * k6[j]
+                        + E7 * k7[j])
+        e = _rms(s, y, z, rtol, atol)
+        if not (e < math.inf):  # NaN or inf: a much shorter step
+            bad = True
+            nrej += 1
+            h *= FAC_MIN
+            was_rejected = True
+            continue
+        bad = False
+        fac11 = e ** EXPO1
+        fac = max(1.0 / FAC_MAX, min(1.0 / FAC_MIN, fac11 / fac_old ** BETA / SAFE))
+        h_new = h / fac
+        if e > 1.0:
+            nrej += 1
+            h = h / min(1.0 / FAC_MIN, fac11 / SAFE)
+            was_rejected = True
+            continue
+        fac_old = max(e, 1e-4)
+        if was_rejected:
+            h_new = min(h_new, h)
+        was_rejected = False
+        nacc += 1
+        err = e
+        used = h
+        t_new = tend if last else t + h
+        hits = 0
+        for k in range(m):
+            g_new[k] = _g(k, z, t_new, p)
+            up = g_old[k] < 0.0 and g_new[k] >= 0.0
+            down = g_old[k] >= 0.0 and g_new[k] < 0.0
+            if (up and directions[k] >= 0) or (down and directions[k] <= 0):
+                order[hits] = k
+                hits += 1
+        if hits > 0:
+            for j in range(n):  # the continuous extension of the step
+                r[0, j] = y[j]
+                r[1, j] = z[j] - y[j]
+                r[2, j] = h * k1[j] - r[1, j]
+                r[3, j] = r[1, j] - h * k7[j] - r[2, j]
+                r[4, j] = h * (D1 * k1[j] + D3 * k3[j] + D4 * k4[j] + D5 * k5[j]
+                               + D6 * k6[j] + D7 * k7[j])
+            for q in range(hits):
+                k = order[q]
+                t_hit[k] = _root(k, r, t, t_new - t, g_old[k], g_new[k], p, s)
+            for q in range(1, hits):  # in the order of their times (then of the events)
+                k = order[q]
+                w = q
+                while w > 0 and t_hit[order[w - 1]] > t_hit[k]:
+                    order[w] = order[w - 1]
+                    w -= 1
+                order[w] = k
+            for q in range(hits):
+                k = order[q]
+                counts[i, k] += 1
+                if counts[i, k] <= keep[k]:
+                    times[i, k, counts[i, k] - 1] = t_hit[k]
+                if stops[k] and counts[i, k] == keep[k]:
+                    stopped = k
+                    break
+        if stopped >= 0:  # the state at the located time, from the continuous extension
+            _dense(r, (t_hit[stopped] - t) / (t_new - t), y)
+            t = t_hit[stopped]
+            break
+        for j in range(n):
+            y[j] = z[j]
+            k1[j] = k7[j]
+        for k in range(m):
+            g_old[k] = g_new[k]
+        t = t_new
+        h = h_new
+    x[i, :] = y
+    t_final[i] = t
+    accepted[i] = nacc
+    rejected[i] = nrej
+    error[i] = err
+    h_last[i] = used
+    status[i] = code
+    stop_event[i] = stopped
+
+
+@njit(parallel=True, error_model="numpy")
+def integrate(x, rows, group, t_end, rtol, atol, max_steps, directions, stops, keep, t_final,
+              accepted, rejected, error, h_last, status, counts, times, stop_event):
+    for i in prange(x.shape[0]):
+        _member(i, x, rows, group, t_end, rtol, atol, max_steps, directions, stops, keep,
+                t_final, accepted, rejected, error, h_last, status, counts, times, stop_event)
+'''
+
+
+@dataclass
+class AdaptiveRun:
+    """What :func:`integrate_adaptive` returns, members as rows.
+
+    Parameters
+    ----------
+    x_final : ndarray, shape (N, n)
+        State at ``t_final``.
+    t_final : ndarray, shape (N,)
+        The end time reached: the member's ``t_end``, a stop event's located time, or where a
+        failure stopped it.
+    accepted, rejected : ndarray of int, shape (N,)
+        Steps accepted and rejected (redone shorter).
+    error : ndarray, shape (N,)
+        The last accepted step's error estimate, in units of the tolerance (<= 1).
+    h_last : ndarray, shape (N,)
+        The last accepted step.
+    status : ndarray of int8, shape (N,)
+        :data:`STATUS_FLAGS` (``ok``, ``non_finite``, ``max_steps``, ``step_too_small``).
+    event_count : ndarray of int, shape (N, m)
+        Crossings of each event (up to the stop).
+    event_time : ndarray, shape (N, m, k)
+        The first ``count`` crossing times of each event (NaN past those found), ``k`` the
+        largest count.
+    stop_event : ndarray of int, shape (N,)
+        The event that stopped the member, -1 for none.
+    wall_time, compile_time : float
+        Seconds in the loop, and compiling or loading it.
+    """
+
+    x_final: np.ndarray
+    t_final: np.ndarray
+    accepted: np.ndarray
+    rejected: np.ndarray
+    error: np.ndarray
+    h_last: np.ndarray
+    status: np.ndarray
+    event_count: np.ndarray
+    event_time: np.ndarray
+    stop_event: np.ndarray
+    wall_time: float = 0.0
+    compile_time: float = 0.0
+
+
+def checked_tolerances(rtol, atol, max_steps=MAX_STEPS) -> tuple[float, float, int]:
+    """``(rtol, atol, max_steps)`` as numbers; a one-line ValueError where ``rtol`` is not a
+    finite number > 0, ``atol`` not a finite number >= 0, or ``max_steps`` not a whole number
+    >= 1."""
+    for name, value, low in (("rtol", rtol, "> 0"), ("atol", atol, ">= 0")):
+        ok = isinstance(value, (int, float, np.integer, np.floating)) and not isinstance(
+            value, bool) and math.isfinite(value) and (value > 0 if name == "rtol" else
+                                                      value >= 0)
+        if not ok:
+            raise ValueError(f"{name} must be a finite number {low}, got {value!r}")
+    if isinstance(max_steps, bool) or not isinstance(max_steps, (int, np.integer)) or \
+            max_steps < 1:
+        raise ValueError(f"max_steps must be a whole number >= 1, got {max_steps!r}")
+    return float(rtol), float(atol), int(max_steps)
+
+
+def integrate_adaptive(scene, x0, rows, group, t_end, *, rtol, atol, events=(),
+                       max_steps=MAX_STEPS) -> AdaptiveRun:
+    """Integrate each member of ``scene`` from time 0 to its own ``t_end`` with adaptive
+    Dormand-Prince 5(4) steps, locating its events; see the module docstring.
+
+    Parameters
+    ----------
+    scene : Scene
+        A scene with a vector field: every scene of :func:`stability.define_scene` and the
+        registered ones that declare a linearisation (``free_body``, ``sphere_damper``).
+    x0 : array_like, shape (N, n)
+        Starts, in the kernels' frame.
+    rows : array_like, shape (G, p)
+        Parameter rows, as the linearisation's ``params`` makes them.
+    group : array_like of int, shape (N,)
+        Each member's row.
+    t_end : float or array_like, shape (N,)
+        Each member's end time (s), > 0.
+    rtol, atol : float
+        Tolerances of the error per step: ``rtol > 0``, ``atol >= 0``.
+    events : Event or sequence of Event, optional
+        :class:`stability.engine.events.Event`.
+    max_steps : int, default MAX_STEPS
+        Steps a member may take (accepted and rejected) before it is flagged ``max_steps``.
+
+    Returns
+    -------
+    AdaptiveRun
+    """
+    scene = checked_scene(scene, "integrate_adaptive")
+    rtol, atol, max_steps = checked_tolerances(rtol, atol, max_steps)
+    if scene.linearisation is None:
+        raise ValueError(f"scene {scene.name!r} declares no vector field (a linearisation), so "
+                         "it has no adaptive steps; scenes that do: free_body, sphere_damper "
+                         "and every scene of define_scene")
+    x = np.array(x0, dtype=float, ndmin=2, copy=True)
+    rows = np.ascontiguousarray(np.atleast_2d(rows), dtype=float)
+    group = np.ascontiguousarray(group, dtype=np.int64).reshape(-1)
+    if x.shape[1:] != (scene.width,) or group.shape != (x.shape[0],):
+        raise ValueError(f"scene {scene.name!r}: x0 must have shape (N, {scene.width}) and group "
+                         f"(N,), got {x.shape} and {group.shape}")
+    if group.size and (group.min() < 0 or group.max() >= rows.shape[0]):
+        raise ValueError(f"group must number rows 0 to {rows.shape[0] - 1}")
+    t_end = np.ascontiguousarray(np.broadcast_to(np.asarray(t_end, dtype=float), group.shape))
+    if not np.all(np.isfinite(t_end) & (t_end > 0)):
+        raise ValueError("t_end must be finite and > 0 for every member")
+    events = checked_events(events, x[0] if x.shape[0] else np.ones(scene.width),
+                            rows[0] if rows.shape[0] else np.ones(1))
+    loop = adaptive_loop(scene, tuple((e.g, e.name) for e in events))
+    n, m = x.shape[0], len(events)
+    kept = max([e.count for e in events], default=0)
+    out = AdaptiveRun(
+        x_final=x, t_final=np.zeros(n), accepted=np.zeros(n, np.int64),
+        rejected=np.zeros(n, np.int64), error=np.zeros(n), h_last=np.zeros(n),
+        status=np.zeros(n, np.int8), event_count=np.zeros((n, m), np.int64),
+        event_time=np.full((n, m, kept), np.nan), stop_event=np.zeros(n, np.int64))
+    directions = np.array([DIRECTIONS[e.direction] for e in events], dtype=np.int64)
+    stops = np.array([ACTIONS[e.action] for e in events], dtype=np.bool_)
+    keep = np.array([e.count for e in events], dtype=np.int64)
+    arguments = (rows, group, t_end, rtol, atol, max_steps, directions, stops, keep,
+                 out.t_final, out.accepted, out.rejected, out.error, out.h_last, out.status,
+                 out.event_count, out.event_time, out.stop_event)
+    t0 = time.perf_counter()
+    if not loop.signatures:
+        with compiling(loop):
+            loop(np.ones((0, scene.width)), *arguments)
+    out.compile_time = time.perf_counter() - t0
+    t0 = time.perf_counter()
+    loop(x, *arguments)
+    out.wall_time = time.perf_counter() - t0
+    return out
+
+
+def adaptive_loop(scene: Scene, events: tuple = ()):
+    """The compiled loop of ``scene`` with the events ``((g, name), ...)``, made once a
+    process (from the disk cache after the first)."""
+    return _loop(scene, tuple(g for g, _ in events))
+
+
+@functools.lru_cache(maxsize=None)
+def _loop(scene: Scene, gs: tuple):
+    lin = scene.linearisation
+    rhs_module, rhs_name = _bound(lin.rhs, lin.module)
+    n = scene.width
+    ys = ", ".join(f"y[{i}]" for i in range(n))
+    fs = ", ".join(f"f{i}" for i in range(n))
+    g_imports, g_calls = [], []
+    for k, g in enumerate(gs):
+        module, name = located(g)
+        g_imports.append(f"from {module} import {name} as user_g{k}")
+        wrapped = "user_g{k}" if hasattr(g, "py_func") else \
+            'njit(inline="always", error_model="numpy")(user_g{k})'
+        g_imports.append(f"g{k} = {wrapped.format(k=k)}")
+        g_calls.append(f"    if k == {k}:\n        return float(g{k}(y, t, p))")
+    source = _TEMPLATE.format(
+        scene=scene.name, m=len(gs), rhs_module=rhs_module, rhs_name=rhs_name,
+        g_imports="\n".join(g_imports), fs=fs, ys=ys,
+        stores="\n".join(f"    out[{i}] = f{i}" for i in range(n)),
+        g_calls="\n".join(g_calls) or "    pass")
+    functions = [lin.rhs.py_func] + [getattr(g, "py_func", g) for g in gs]
+    roots = tuple(dict.fromkeys([rhs_module, "stability.engine.adaptive"]
+                                + [f.__module__ for f in functions]))
+    stem = f"{scene.name}__dopri5" + (f"__events{len(gs)}" if gs else "")
+    return load_module(stem, source, roots, tuple(functions)).integrate
+
+
+def _bound(function, module: str) -> tuple[str, str]:
+    """(module, name) of the ``@njit`` ``function`` at the top level of ``module`` (a user
+    scene's kernels module), else of its own function's module."""
+    home = module or function.py_func.__module__
+    found = sys.modules.get(home)
+    name = next((key for key, value in vars(found).items() if value is function), None) \
+        if found is not None else None
+    if name is None:
+        raise ValueError(f"the vector field {function.py_func.__qualname__} must be a "
+                         f"module-level @njit function bound to a name in {home}")
+    return home, name
+
+
+__all__ = ["AdaptiveRun", "MAX_STEPS", "STATUS_FLAGS", "STATUS_MEANINGS", "adaptive_loop",
+           "checked_tolerances", "integrate_adaptive"]

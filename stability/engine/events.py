@@ -1,0 +1,155 @@
+"""Events a user defines: a function ``g(x, t, p)`` whose sign changes are located and kept.
+
+An :class:`Event` names the function, which crossings count (``direction``: ``"up"``, g from
+negative to non-negative; ``"down"``, the reverse; ``"both"``), what a crossing does
+(``action``: ``"record"`` its time, or ``"stop"`` the member there) and how many times are kept
+(``count``; a stop event stops the member at its ``count``-th crossing). The adaptive loop
+(:mod:`stability.engine.adaptive`) compares ``g`` at the ends of each accepted step, and where its
+sign changed locates the root on the step's continuous extension (the Dormand-Prince dense
+output, Hairer, Norsett & Wanner, *Solving ODEs I*, II.6) with the Illinois variant of regula
+falsi (Dowell & Jarratt, BIT 11, 168 (1971)) down to round-off in ``t``; several crossings in one
+step are taken in the order of their times (Shampine & Thompson, *Event location for ordinary
+differential equations*, Comput. Math. Appl. 39, 43 (2000)). As there, a function that changes
+sign twice within one step is not seen; a tighter ``rtol`` gives shorter steps.
+
+:func:`checked_events` checks a run's events before any work: each mistake is one line.
+"""
+
+from __future__ import annotations
+
+import numbers
+import sys
+import types
+import warnings
+from dataclasses import dataclass
+
+import numpy as np
+from numba import njit
+from numba.core.dispatcher import Dispatcher
+from numba.core.errors import NumbaError
+
+#: Direction codes the compiled loop reads.
+DIRECTIONS = {"up": 1, "down": -1, "both": 0}
+#: Actions, and whether they stop the member.
+ACTIONS = {"record": False, "stop": True}
+
+
+@dataclass(frozen=True)
+class Event:
+    """One event: the sign changes of ``g(x, t, p)`` along each member's motion.
+
+    Parameters
+    ----------
+    g : function
+        ``g(x, t, p) -> float``: the state ``x`` (float64 array, shape (n,)), the time ``t`` and
+        the member's parameter row ``p``; a top-level function of an importable module, plain
+        or ``@njit`` (compiled by Numba either way).
+    direction : {"up", "down", "both"}, default "both"
+        Which crossings count: ``"up"`` where g goes from negative to >= 0, ``"down"`` the
+        reverse.
+    action : {"record", "stop"}, default "record"
+        Keep the crossing's time, or also stop the member there (at its ``count``-th crossing).
+    count : int, default 1
+        Crossing times kept per member (all crossings are counted).
+    name : str, optional
+        The event's name in the Dataset (default: ``g``'s own).
+    """
+
+    g: object
+    direction: str = "both"
+    action: str = "record"
+    count: int = 1
+    name: str = ""
+
+    def __post_init__(self):
+        if self.direction not in DIRECTIONS:
+            raise ValueError(f"event direction must be one of {', '.join(DIRECTIONS)}, got "
+                             f"{self.direction!r}")
+        if self.action not in ACTIONS:
+            raise ValueError(f"event action must be one of {', '.join(ACTIONS)}, got "
+                             f"{self.action!r}")
+        if isinstance(self.count, bool) or not isinstance(self.count, numbers.Integral) or \
+                self.count < 1:
+            raise ValueError(f"event count must be a whole number >= 1, got {self.count!r}")
+        python = getattr(self.g, "py_func", self.g)
+        if not isinstance(python, types.FunctionType):
+            raise TypeError(f"event g must be a function g(x, t, p), got "
+                            f"{type(self.g).__name__}")
+        if not self.name:
+            object.__setattr__(self, "name", python.__name__)
+
+    @property
+    def python(self):
+        """The Python function of ``g``."""
+        return getattr(self.g, "py_func", self.g)
+
+
+def located(function) -> tuple[str, str]:
+    """``(module, name)`` where ``function`` is bound at the top level, so that a compiled
+    loop can import it; a one-line ValueError where it is not."""
+    python = getattr(function, "py_func", function)
+    home = sys.modules.get(python.__module__)
+    if python.__qualname__ != python.__name__ or getattr(home, python.__name__, None) is not \
+            function:
+        raise ValueError(f"event g {python.__qualname__} must be defined at the top level of "
+                         f"its module ({python.__module__}) under its own name, so the "
+                         "compiled loop can import it")
+    return python.__module__, python.__name__
+
+
+def checked_events(events, x, p) -> tuple:
+    """``events`` as a tuple of :class:`Event`, each ``g`` compiled and tried on the state
+    ``x`` (n,) at ``t = 0`` with the row ``p``: one line where it does not compile, raises, or
+    returns anything but one real number.
+
+    Parameters
+    ----------
+    events : Event or sequence of Event
+    x, p : ndarray
+        A member's start and its parameter row (the run's first).
+
+    Returns
+    -------
+    tuple of Event
+    """
+    if isinstance(events, Event):
+        events = (events,)
+    try:
+        events = tuple(events or ())
+    except TypeError:
+        raise TypeError(f"events must be Events, got {type(events).__name__}") from None
+    names = []
+    for event in events:
+        if not isinstance(event, Event):
+            raise TypeError(f"events must be stability.engine.events.Event, got "
+                            f"{type(event).__name__}")
+        if event.name in names:
+            raise ValueError(f"two events are named {event.name!r}; give them names of their own")
+        names.append(event.name)
+        located(event.g)
+        _tried(event, np.ascontiguousarray(x, dtype=float), np.ascontiguousarray(p, dtype=float))
+    return events
+
+
+def _tried(event: Event, x, p) -> None:
+    compiled = event.g if isinstance(event.g, Dispatcher) else njit(event.python)
+    try:
+        with np.errstate(all="ignore"), warnings.catch_warnings():
+            warnings.simplefilter("ignore")
+            out = compiled(x.copy(), 0.0, p)
+    except NumbaError as exc:
+        lines = [line.strip() for line in str(exc).splitlines() if line.strip()]
+        reason = next((line for line in lines if not line.startswith(
+            ("Failed in", "During:", "File ", "^"))), type(exc).__name__)
+        raise TypeError(f"event {event.name!r}: Numba cannot compile g(x, t, p): "
+                        f"{reason:.160}") from None
+    except Exception as exc:
+        raise ValueError(f"event {event.name!r}: g(x, t, p) raised {type(exc).__name__}: "
+                         f"{exc} at the first member's start") from None
+    if isinstance(out, (bool, np.bool_)) or not isinstance(out, (numbers.Real, np.floating,
+                                                                  np.integer)):
+        raise TypeError(f"event {event.name!r}: g(x, t, p) must return one real number, got "
+                        f"{type(out).__name__}")
+
+
+__all__ = ["ACTIONS", "DIRECTIONS", "Event", "checked_events", "located"]

@@ -1,0 +1,31 @@
+"""run_adaptive through the one pipeline: the Dataset as declared, and bitwise the same in one
+piece as chunked into a store."""
+
+import numpy as np
+
+import stability
+from stability.ensemble.schema import ADAPTIVE_RUN
+from stability.free_body.scene import FREE_BODY
+from tests.engine.test_adaptive import MOMENTS, free_body_starts, middle_axis
+
+
+def run(**options):
+    m0 = free_body_starts(24, seed=5)
+    return stability.run_adaptive(
+        FREE_BODY, m0, [MOMENTS, np.array([1.0, 1.5, 2.2])],
+        np.linspace(20.0, 40.0, 24), rtol=1e-10, atol=1e-13, sizes=[10, 14],
+        events=stability.Event(middle_axis, count=3),
+        options=stability.RunOptions(progress=False, **options))
+
+
+def test_the_dataset_is_as_declared_and_the_same_bitwise_in_one_piece_as_in_a_chunked_store(
+        tmp_path):
+    whole = run()
+    assert ADAPTIVE_RUN.problems(whole) == []
+    assert np.all(whole.status == 0) and np.array_equal(whole.t_final, whole.t_end)
+    assert whole.accepted_steps.attrs["units"] == "1" and whole.t_final.attrs["units"] == "s"
+    assert int(whole.event_count.min()) >= 1
+    stored = run(store=tmp_path / "store", chunk_members=7)
+    for name in whole.data_vars:
+        assert np.array_equal(whole[name].values, stored[name].values, equal_nan=True), name
+    assert stored.sizes["member"] == 24
