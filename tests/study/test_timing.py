@@ -20,7 +20,7 @@ def test_the_table_adds_up_to_the_wall_time_and_names_every_stage():
     assert "where the time went" in table.text()
 
 
-@pytest.mark.parametrize("kind", ["bat", "sleeping_top"])
+@pytest.mark.parametrize("kind", ["bat"])
 def test_a_study_run_ends_with_where_its_time_went(tmp_path, kind):
     """A quick run through the pipeline: its member loop's seconds are booked (> 0), the figures
     and the write too, and the rows add up to the wall time."""
