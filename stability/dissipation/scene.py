@@ -80,8 +80,7 @@ import numpy as np
 from numba import njit
 
 from ..util import conventions as cv
-from ..free_body.scene import component
-from ..engine.scene import Scene
+from ..engine.scene import Scene, component
 from ..engine.tangent import Linearisation
 from .methods import (B_B, B_I1, B_I2, B_I3, B_K, B_MU, B_MU_B, GYROSTAT_METHODS, P_INV1,
                       P_INV2, P_INV3, P_INV_J, SPHERE_METHODS, WHIP_METHODS, gyrostat_jvp,

@@ -28,8 +28,7 @@ from numba import njit
 
 from ..util import conventions as cv
 from .methods import AVERAGED_METHODS, METHODS
-from ..free_body.scene import component
-from ..engine.scene import Scene
+from ..engine.scene import Scene, component
 
 
 @njit(forceinline=True, error_model="numpy")

@@ -47,6 +47,15 @@ import sys
 from dataclasses import dataclass, field
 from typing import Callable, Mapping
 
+from numba import njit
+
+
+@njit(forceinline=True, error_model="numpy")
+def component(x1, x2, x3, index):
+    """Component ``index`` (0, 1, 2) of a 3-vector, as a select (branch-free in the loop): what
+    a scene's ``observe`` reads the spin axis and the two across it with."""
+    return x1 if index == 0 else (x2 if index == 1 else x3)
+
 
 def _own_step(spec):
     return spec.step

@@ -14,10 +14,9 @@ import numpy as np
 from numba import njit
 
 from ..util import conventions as cv
-from ..free_body.scene import component
+from ..engine.scene import Scene, component
 from ..free_body.scene_attitude import example as example_mq
 from ..free_body.scene_attitude import quaternion_norm
-from ..engine.scene import Scene
 from .methods import ENGINE_RULES, rotate, rotate3, world_state
 
 

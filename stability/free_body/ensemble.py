@@ -42,7 +42,6 @@ from ..ensemble.chunks import run_plan
 from ..ensemble.options import RunOptions, run_options
 from .keep import Keep, kept
 from ..analysis.members import summary_members
-from ..ensemble.memory import DEFAULT_MAX_MEMORY
 from .timescales import (
     DEFAULT_EPSILON,
     DEFAULT_MEMBERS,

@@ -18,14 +18,8 @@ from .exact import exact_omega_of_starts
 from ..integrators import METHODS
 from ..integrators.rk4 import euler_jvp, euler_rhs
 from ..integrators.spec import P_I1, P_INV1, body_params
-from ..engine.scene import Scene
+from ..engine.scene import Scene, component
 from ..engine.tangent import Linearisation
-
-
-@njit(forceinline=True, error_model="numpy")
-def component(x1, x2, x3, index):
-    """Component ``index`` (0, 1, 2) of a 3-vector, as a select (branch-free in the loop)."""
-    return x1 if index == 0 else (x2 if index == 1 else x3)
 
 
 @njit(inline="always")

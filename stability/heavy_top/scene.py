@@ -29,8 +29,7 @@ from numba import njit
 from ..util import conventions as cv
 from .exact import body_states
 from .methods import METHODS, N_TOP, top_jvp, top_params, top_rhs
-from ..free_body.scene import component
-from ..engine.scene import Scene
+from ..engine.scene import Scene, component
 from ..engine.tangent import Linearisation
 
 
