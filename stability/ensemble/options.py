@@ -89,12 +89,6 @@ class RunOptions:
                              "real folder inside the output folder: remove the link")
         return replace(self, store=store)
 
-    def stored(self) -> dict:
-        """The options that say where the chunks go and run, by name (``store``, ``resume``,
-        ``scheduler``, ``chunk_members``, ``threads``)."""
-        return {"store": self.store, "resume": self.resume, "scheduler": self.scheduler,
-                "chunk_members": self.chunk_members, "threads": self.threads}
-
 
 def run_options(options) -> RunOptions:
     """``options`` as :class:`RunOptions` (None: the defaults); ValueError for anything else."""

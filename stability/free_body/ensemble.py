@@ -234,12 +234,11 @@ def _default_timescales(body, axis, spin, epsilon, starts, h, t_end, save_every)
 
 
 def _run_ensemble(body, axis, spin, epsilon, members, *, h, t_end, seed, method, starts,
-                  keep, options, config=None, command=None):
-    """:func:`run_ensemble` once its step and horizon are known; ``config`` and ``command``:
-    what the Dataset records as made it (a study's; by default this call)."""
+                  keep, options):
+    """:func:`run_ensemble` once its step and horizon are known."""
     kwargs = dict(body=body, axis=axis, spin=spin, epsilon=epsilon, members=members, h=h,
-                  t_end=t_end, seed=seed, method=method, starts=starts, config=config,
-                  command=command, **plan_arguments(keep, options))
+                  t_end=t_end, seed=seed, method=method, starts=starts,
+                  **plan_arguments(keep, options))
     if options.store is not None:
         return run_streamed(kwargs, options)
     if options.resume or options.scheduler is not None:

@@ -12,7 +12,7 @@ from stability.util import conventions as cv
 from stability.ensemble.plan import Plan
 from stability.output.dataset import LEVEL, SUMMARIES, summary_bytes
 from stability import Keep, RunOptions
-from stability.free_body.ensemble import _run_ensemble, run_ensemble
+from stability.free_body.ensemble import plan_arguments, run_ensemble
 from stability.output.dataset import LOOP_THREADS
 from stability.free_body.plan import ensemble_memory
 from stability.free_body.starts import RNG_CHUNK, max_angular_speed, perturbed_starts
@@ -167,19 +167,25 @@ def test_config_toml_holds_the_resolved_arguments(reference):
     np.testing.assert_array_equal(config["levels"], reference.level.values)
 
 
-def test_caller_config_is_stored():
+def test_caller_config_is_stored(tmp_path):
+    """A study's configuration and command, as the tennis-racket study hands them to the
+    streamed run, are what the Dataset records."""
     import tomllib
+
+    from stability.free_body.streamed import run_streamed
 
     study = {"study": {"kind": "tennis_racket", "members": 3, "epsilon": np.float64(1e-3)},
              "output": {"folder": "out", "figures": ["flips", "polhode"]}}
-    ds = _run_ensemble(BODY, 3, 1.0, 1e-3, 3, h=0.01, t_end=1.0, seed=0, method="lp2",
-                       starts=None, keep=Keep(), options=RunOptions(progress=False),
-                       config=study, command="stability run x.toml")
+    kwargs = dict(body=BODY, axis=3, spin=1.0, epsilon=1e-3, members=3, h=0.01, t_end=1.0,
+                  config=study, command="stability run x.toml",
+                  **plan_arguments(Keep(), RunOptions()))
+    ds = run_streamed(kwargs, RunOptions(store=tmp_path / "s", progress=False))
     assert tomllib.loads(ds.attrs["config_toml"]) == {
         "study": {"kind": "tennis_racket", "members": 3, "epsilon": 1e-3},
         "output": {"folder": "out", "figures": ["flips", "polhode"]},
     }
-    assert ds.attrs["history"].endswith(": stability run x.toml")
+    first, streamed = ds.attrs["history"].splitlines()  # the command, then the run's record
+    assert first.endswith(": stability run x.toml") and ": streamed to " in streamed
 
 
 # --- flagged members --------------------------------------------------------------------------
