@@ -16,9 +16,11 @@ from __future__ import annotations
 import math
 
 import numpy as np
+import numba
 from numba import njit, prange
 
 from ..core.body import canonical_m_to_w
+from ..ensemble.combine import log_bin, log_bins
 from ..util import conventions as cv
 from .regimes import DEPARTURE_FACTOR, MIN_CROSSINGS, MIN_POINTS, WINDOW_HIGH_FRACTION
 
@@ -117,12 +119,10 @@ def _crossings(x):
 
 @njit(cache=True, error_model="numpy")
 def _member(t, w, valid, a, b, c, spin, low_factor, high_fraction, exponential, algebraic,
-            oscillation, neutral, undetermined, amp):
-    """One member's (rate, regime) from its samples ``w`` (T, 3); its amplitudes into ``amp``."""
+            oscillation, neutral, undetermined, amp, tt, scratch, ones):
+    """One member's (rate, regime) from its samples ``w`` (T, 3); its amplitudes into ``amp``.
+    ``tt`` and ``scratch`` (T,) are work space, ``ones`` (T,) all ones."""
     n_times = w.shape[0]
-    tt = np.empty(n_times)  # the sample times, NaN where the amplitude is not finite
-    scratch = np.empty(n_times)
-    ones = np.ones(n_times)
     max_perp = -math.inf
     finite = True
     for k in range(n_times):
@@ -167,36 +167,44 @@ def _member(t, w, valid, a, b, c, spin, low_factor, high_fraction, exponential, 
 
 
 @njit(cache=True, parallel=True, error_model="numpy")
-def _rates(t, w, valid, a, b, c, spin, low_factor, high_fraction, exponential, algebraic,
-           oscillation, neutral, undetermined, amplitudes):
-    n_members = w.shape[0]
+def _rates(t, w0, m, canonical, perm, signs, moments, valid, a, b, c, spin, low_factor,
+           high_fraction, exponential, algebraic, oscillation, neutral, undetermined,
+           amplitudes, keep, log_low, width, counts):
+    """Every member's (rate, regime), the members in one contiguous block per entry of
+    ``counts`` (n_blocks, T, bins), each block on one thread with its own work space.
+
+    ``canonical``: the samples are ``w0`` then ``m`` (canonical angular momenta, (N, T - 1,
+    3)), each turned into body-frame w as it is read
+    (:func:`stability.core.body.canonical_m_to_w`: the numbers of the series built first);
+    else ``m`` is the body-frame series (N, T, 3). ``keep``: each member's amplitudes into
+    ``amplitudes[i]`` (N, T); else into the block's row of ``amplitudes`` (n_blocks, T), and
+    counted (when ``counts`` has bins) in the log bins of :func:`log_bin`."""
+    n_members, n_times = valid.size, t.size
+    n_blocks, _, n_bins = counts.shape
     rates = np.empty(n_members)
     regimes = np.empty(n_members, dtype=np.int8)
-    for i in prange(n_members):
-        rates[i], regimes[i] = _member(
-            t, w[i], valid[i], a, b, c, spin, low_factor, high_fraction, exponential,
-            algebraic, oscillation, neutral, undetermined, amplitudes[i])
-    return rates, regimes
-
-
-@njit(cache=True, parallel=True, error_model="numpy")
-def _rates_canonical(t, w0, m, perm, signs, moments, valid, a, b, c, spin, low_factor,
-                     high_fraction, exponential, algebraic, oscillation, neutral, undetermined,
-                     amplitudes):
-    """:func:`_rates` of the samples ``w0`` then ``m`` (canonical angular momenta, (N, T - 1,
-    3)) each turned into body-frame w as it is read
-    (:func:`stability.core.body.canonical_m_to_w`: the same numbers as from the series built
-    first)."""
-    n_members, n_times = w0.shape[0], t.size
-    rates = np.empty(n_members)
-    regimes = np.empty(n_members, dtype=np.int8)
-    for i in prange(n_members):
+    size = (n_members + n_blocks - 1) // n_blocks
+    for block in prange(n_blocks):
         w = np.empty((n_times, 3))
-        w[0] = w0[i]
-        canonical_m_to_w(m[i, : n_times - 1], perm, signs, moments, w[1:])
-        rates[i], regimes[i] = _member(
-            t, w, valid[i], a, b, c, spin, low_factor, high_fraction, exponential,
-            algebraic, oscillation, neutral, undetermined, amplitudes[i])
+        tt = np.empty(n_times)
+        scratch = np.empty(n_times)
+        ones = np.ones(n_times)
+        for i in range(block * size, min(n_members, (block + 1) * size)):
+            if canonical:
+                w[0] = w0[i]
+                canonical_m_to_w(m[i, : n_times - 1], perm, signs, moments, w[1:])
+                series = w
+            else:
+                series = m[i]
+            amp = amplitudes[i] if keep else amplitudes[block]
+            rates[i], regimes[i] = _member(
+                t, series, valid[i], a, b, c, spin, low_factor, high_fraction, exponential,
+                algebraic, oscillation, neutral, undetermined, amp, tt, scratch, ones)
+            if n_bins > 0:
+                for k in range(n_times):
+                    v = amp[k]
+                    if math.isfinite(v) and v > 0.0:
+                        counts[block, k, log_bin(v, log_low, width, n_bins)] += 1
     return rates, regimes
 
 
@@ -211,24 +219,41 @@ def _arguments(t, n, axis, spin, low_factor, high_fraction, valid):
             cv.REGIME_OSCILLATION, cv.REGIME_NEUTRAL, cv.REGIME_UNDETERMINED)
 
 
+def _fit(t, w0, m, canonical, frame, moments, n, axis, spin, low_factor, high_fraction,
+         valid, edges):
+    """Both entries' call of the kernel: (rates, regimes, amplitudes or their counts)."""
+    t, valid, *rest = _arguments(t, n, axis, spin, low_factor, high_fraction, valid)
+    perm, signs = frame
+    blocks = max(1, min(numba.get_num_threads(), n))
+    if edges is None:  # every member's amplitudes kept, nothing counted
+        log_low, width, n_bins = 0.0, 1.0, 0
+        amplitudes = np.empty((n, t.size))
+    else:  # one row of work space per block, the amplitudes counted
+        log_low, width, n_bins = log_bins(edges)
+        amplitudes = np.empty((blocks, t.size))
+    counts = np.zeros((blocks, t.size if n_bins else 0, n_bins), dtype=np.int32)
+    rates, regimes = _rates(
+        t, w0, m, canonical, np.asarray(perm, dtype=np.int64),
+        np.asarray(signs, dtype=np.float64), np.asarray(moments, dtype=np.float64), valid,
+        *rest, amplitudes, edges is None, log_low, width, counts)
+    if edges is None:
+        return rates, regimes, amplitudes
+    return rates, regimes, counts.sum(axis=0).astype(np.int32)
+
+
 def canonical_growth_rates(t, w0, m, frame, moments, axis: int, spin: float,
-                           low_factor: float, high_fraction: float, valid=None):
+                           low_factor: float, high_fraction: float, valid=None, edges=None):
     """:func:`series_growth_rates` of members whose samples after the start are the member
     loop's canonical angular momenta ``m`` (N, >= T - 1, 3) in the frame ``frame = (perm,
     signs)`` (:func:`stability.core.body.canonical_frame`) of a body of ``moments``: the body-
     frame series is never built (the same numbers as from it)."""
     w0 = np.ascontiguousarray(w0, dtype=np.float64)
-    t, valid, *rest = _arguments(t, w0.shape[0], axis, spin, low_factor, high_fraction, valid)
-    perm, signs = frame
-    amplitudes = np.empty((w0.shape[0], t.size))
-    rates, regimes = _rates_canonical(
-        t, w0, m, np.asarray(perm, dtype=np.int64), np.asarray(signs, dtype=np.float64),
-        np.asarray(moments, dtype=np.float64), valid, *rest, amplitudes)
-    return rates, regimes, amplitudes
+    return _fit(t, w0, m, True, frame, moments, w0.shape[0], axis, spin, low_factor,
+                high_fraction, valid, edges)
 
 
 def series_growth_rates(t, w, axis: int, spin: float, low_factor: float, high_fraction: float,
-                        valid=None):
+                        valid=None, edges=None):
     """Each member's growth rate fitted over its linear phase, its regime and its amplitude.
 
     Parameters
@@ -245,6 +270,10 @@ def series_growth_rates(t, w, axis: int, spin: float, low_factor: float, high_fr
         The window (:func:`~stability.analysis.estimates.measured_growth_rate`).
     valid : array_like of bool, shape (N,), optional
         Members whose status is ok; default all.
+    edges : ndarray, optional
+        Log-bin edges (:func:`stability.ensemble.combine.log_edges`): the amplitudes are then
+        counted as they are made, :func:`~stability.ensemble.combine.log_histogram` of them
+        (the same counts), and never kept.
 
     Returns
     -------
@@ -255,10 +284,9 @@ def series_growth_rates(t, w, axis: int, spin: float, low_factor: float, high_fr
         The regime codes of :mod:`stability.util.conventions`.
     amplitudes : ndarray, shape (N, T)
         The perpendicular amplitude ``sqrt(w_b^2 + w_c^2)`` of each sample, rad/s; NaN for the
-        members not ``valid``.
+        members not ``valid``. With ``edges``, their counts instead: int32 (T, bins) over the
+        ``valid`` members.
     """
     w = np.ascontiguousarray(w, dtype=np.float64)
-    t, valid, *rest = _arguments(t, w.shape[0], axis, spin, low_factor, high_fraction, valid)
-    amplitudes = np.empty(w.shape[:2])
-    rates, regimes = _rates(t, w, valid, *rest, amplitudes)
-    return rates, regimes, amplitudes
+    return _fit(t, np.empty((0, 3)), w, False, (np.arange(3), np.ones(3)), np.ones(3),
+                w.shape[0], axis, spin, low_factor, high_fraction, valid, edges)

@@ -235,7 +235,8 @@ def _run_plan(plan: Plan, options, measure, compress, partial):
     try:
         streamed = stream_chunks(job, chunks, scheduler=scheduler, threads=threads,
                                  progress=progress, payload=payload,
-                                 compress=measure is not None if compress is None else compress)
+                                 compress=measure is not None if compress is None else compress,
+                                 hold=hasattr(measure, "combine"))
         if measure is not None:
             finished_before = not streamed.todo and read_manifest(chunks.dir)["complete"]
             return measured_whole(measure, chunks, None if finished_before else streamed)
@@ -254,19 +255,21 @@ def measured_whole(measure, chunks: ChunkStore, streamed=None) -> xr.Dataset:
     recorded (the measurement's ``whole_attrs``, else :func:`summed_attrs`) unless a call
     before finished it (``streamed`` None: its attributes then).
 
-    With the measurement's own ``combine(paths, members) -> (Dataset, chunk attributes)`` (a
-    measurement that keeps summaries and a sample, :mod:`stability.ensemble.combine`), the
-    chunks joined in memory, each file read once; else the Dataset over the chunk files
-    (:func:`small_loaded`)."""
+    With the measurement's own ``combine(paths, members, held) -> (Dataset, chunk
+    attributes)`` (a measurement that keeps summaries and a sample,
+    :mod:`stability.ensemble.combine`), the chunks joined in memory: those this call ran from
+    the Datasets it held (``streamed.held``, by path), the others read from their files once;
+    else the Dataset over the chunk files (:func:`small_loaded`)."""
     combine = getattr(measure, "combine", None)
     ds = chunk_attrs = None
     if combine is not None:
         ds, chunk_attrs = combine([chunks.path(k) for k in range(chunks.n_chunks)],
-                                  chunks.members)
+                                  chunks.members, (streamed.held if streamed else None) or {})
     if streamed is not None:
         whole = getattr(measure, "whole_attrs", None)
-        chunks.complete(whole(chunks, *streamed, chunk_attrs=chunk_attrs) if whole is not None
-                        else summed_attrs(chunks, streamed.elapsed, chunk_attrs))
+        chunks.complete(
+            whole(chunks, streamed.todo, streamed.elapsed, chunk_attrs=chunk_attrs)
+            if whole is not None else summed_attrs(chunks, streamed.elapsed, chunk_attrs))
     if ds is None:
         return small_loaded(chunks.open())
     ds.attrs = dict(read_manifest(chunks.dir)["attrs"])

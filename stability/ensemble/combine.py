@@ -102,6 +102,22 @@ def log_edges(low: float, high: float, width: float = LOG_BIN_WIDTH) -> np.ndarr
     return 10.0 ** (math.log10(low) + width * np.arange(n + 1))
 
 
+@njit(cache=True, error_model="numpy")
+def log_bin(v, log_low, width, n_bins):
+    """The bin of a finite ``v > 0`` among ``n_bins`` log bins from ``10**log_low`` of
+    ``width`` decades, those below and above in the first and the last (:func:`log_bins`)."""
+    k = int(math.floor((math.log10(v) - log_low) / width))
+    return min(max(k, 0), n_bins - 1)
+
+
+def log_bins(edges: np.ndarray) -> tuple[float, float, int]:
+    """``(log_low, width, n_bins)`` of the log bins ``edges`` (:func:`log_edges`), for
+    :func:`log_bin`."""
+    n_bins = edges.size - 1
+    log_low = math.log10(edges[0])
+    return log_low, (math.log10(edges[-1]) - log_low) / n_bins, n_bins
+
+
 @njit(cache=True, parallel=True, error_model="numpy")
 def _log_counts(values, log_low, width, n_bins, n_blocks):
     n_members, n_times = values.shape
@@ -112,8 +128,7 @@ def _log_counts(values, log_low, width, n_bins, n_blocks):
             for t in range(n_times):
                 v = values[i, t]
                 if math.isfinite(v) and v > 0.0:
-                    k = int(math.floor((math.log10(v) - log_low) / width))
-                    counts[block, t, min(max(k, 0), n_bins - 1)] += 1
+                    counts[block, t, log_bin(v, log_low, width, n_bins)] += 1
     return counts.sum(axis=0).astype(np.int32)
 
 
@@ -129,11 +144,8 @@ def log_histogram(values: np.ndarray, edges: np.ndarray) -> np.ndarray:
     ndarray of int32, shape (times, len(edges) - 1)
     """
     values = np.ascontiguousarray(values, dtype=np.float64)
-    n_bins = edges.size - 1
-    log_low = math.log10(edges[0])
-    width = (math.log10(edges[-1]) - log_low) / n_bins
     blocks = max(1, min(numba.get_num_threads(), values.shape[0]))
-    return _log_counts(values, log_low, width, n_bins, blocks)
+    return _log_counts(values, *log_bins(edges), blocks)
 
 
 def histogram_quantiles(counts: np.ndarray, edges: np.ndarray, q) -> np.ndarray:
@@ -171,10 +183,13 @@ def histogram_quantiles(counts: np.ndarray, edges: np.ndarray, q) -> np.ndarray:
     return out
 
 
-def combine_chunks(paths, members: int) -> tuple[xr.Dataset, list]:
+def combine_chunks(paths, members: int, held=None) -> tuple[xr.Dataset, list]:
     """The chunks ``paths`` of a run of ``members`` members, in order, joined in memory.
 
-    Each chunk file is read once, as untrusted input (:func:`stability.output.io.load`).
+    Each chunk file is read once, as untrusted input (:func:`stability.output.io.load`),
+    unless ``held`` (a dict, emptied as it is used) holds its Dataset by path: a chunk this
+    process ran and wrote, joined from memory (the numbers the file holds) and let go of at
+    once.
     Variables along ``member`` are joined in member order, those along ``series_member`` too;
     a variable whose attributes mark it :data:`SUMMED` is summed over the chunks; any other is
     the first chunk's. The attributes are the first chunk's.
@@ -195,8 +210,11 @@ def combine_chunks(paths, members: int) -> tuple[xr.Dataset, list]:
     chunk_attrs = []
     first = None
     lo = 0
+    held = {} if held is None else held
     for path in paths:
-        ds = load(path, math.inf)  # checked as untrusted, in the order it was held
+        ds = held.pop(path, None)
+        if ds is None:
+            ds = load(path, math.inf)  # checked as untrusted, in the order it was held
         chunk_attrs.append(dict(ds.attrs))
         n = ds.sizes.get(cv.MEMBER, 0)
         if first is None:

@@ -52,15 +52,17 @@ class RunInterrupted(KeyboardInterrupt):
 
 
 class Streamed(NamedTuple):
-    """What :func:`stream_chunks` ran: the chunks' indices, and the seconds from the start of
-    the first to the end of the last (0.0 for none), however many ran side by side."""
+    """What :func:`stream_chunks` ran: the chunks' indices, the seconds from the start of the
+    first to the end of the last (0.0 for none), however many ran side by side, and (asked
+    for with ``hold``) the Datasets of those run in this process by their files' paths."""
 
     todo: list
     elapsed: float
+    held: dict | None = None
 
 
 def stream_chunks(job, chunks: ChunkStore, *, scheduler=None, threads=None, progress=None,
-                  compress=True, payload: bytes | None = None) -> Streamed:
+                  compress=True, payload: bytes | None = None, hold: bool = False) -> Streamed:
     """Run the chunks of ``chunks`` that are not done with ``job``.
 
     Parameters
@@ -75,6 +77,9 @@ def stream_chunks(job, chunks: ChunkStore, *, scheduler=None, threads=None, prog
     payload : bytes, optional
         ``job`` already pickled by :func:`sendable` (a caller that checked it so before making
         the store), so that it is not pickled again for the scheduler.
+    hold : bool, default False
+        Keep the Dataset of each chunk run in this process as well as writing it (a measured
+        chunk, small), so that the caller joins them without reading its files back.
 
     Returns
     -------
@@ -88,23 +93,27 @@ def stream_chunks(job, chunks: ChunkStore, *, scheduler=None, threads=None, prog
     """
     todo = chunks.missing()
     elapsed = 0.0
+    held = {} if hold else None
     if todo:
         if scheduler is None:
-            elapsed = _run_here(job, chunks, todo, threads, progress, compress)
+            elapsed = _run_here(job, chunks, todo, threads, progress, compress, held)
         else:
             elapsed = _run_on_dask(job, chunks, todo, scheduler, progress, compress, payload)
-    return Streamed(todo, elapsed)
+    return Streamed(todo, elapsed, held)
 
 
-def _run_here(job, chunks, todo, threads, progress, compress) -> float:
-    """The missing chunks in this process, on all its Numba threads; the seconds taken."""
+def _run_here(job, chunks, todo, threads, progress, compress, held=None) -> float:
+    """The missing chunks in this process, on all its Numba threads; the seconds taken. Each
+    chunk's Dataset goes into ``held`` too (by its file's path), when given."""
     tracker = _Tracker(chunks, todo, progress)
     try:
         with numba_threads(checked_threads(threads)):
             for k in todo:
                 lo, hi = chunks.bounds(k)
                 ds = job(lo, hi, tracker.inner_progress, threads)
-                chunks.write(k, ds, compress)
+                path = chunks.write(k, ds, compress)
+                if held is not None:
+                    held[path] = ds
                 tracker.finished(k, hi - lo)
     except KeyboardInterrupt:  # Ctrl-C between chunks, or while compiling or writing
         tracker.stopped()

@@ -66,3 +66,37 @@ def test_a_window_too_short_gives_no_rate():
     rates, regimes, _ = series_growth_rates(ds.time.values, ds.w.values, 2, 10.0, 1.0001,
                                             1.00011e-4, valid=None)
     assert np.all(regimes == cv.REGIME_EXPONENTIAL) and np.all(np.isnan(rates))
+
+
+def test_amplitudes_counted_in_the_fit_are_their_log_histogram():
+    """With ``edges`` the amplitudes are counted in the fit's pass, never kept: the counts
+    are log_histogram's of the amplitudes the fit gives without it, and the rates and regimes
+    unchanged, from the body-frame series and from the loop's canonical momenta alike."""
+    from stability.analysis.growth_fit import canonical_growth_rates
+    from stability.core.body import canonical_frame, from_canonical, to_canonical
+    from stability.ensemble.combine import log_edges, log_histogram
+
+    ds = _ensemble(2, 1e-4)
+    t, w = ds.time.values, ds.w.transpose(cv.MEMBER, cv.TIME, cv.AXIS).values
+    valid = np.ones(w.shape[0], dtype=bool)
+    valid[[2, 9]] = False
+    edges = log_edges(1e-5, 50.0)
+    rates, regimes, amp = series_growth_rates(t, w, 2, 10.0, 10.0, 0.03, valid=valid)
+    expected = log_histogram(amp, edges)
+    assert expected.sum() == (w.shape[0] - 2) * t.size  # every valid sample counted
+    got = series_growth_rates(t, w, 2, 10.0, 10.0, 0.03, valid=valid, edges=edges)
+    np.testing.assert_array_equal(got[0], rates)
+    np.testing.assert_array_equal(got[1], regimes)
+    np.testing.assert_array_equal(got[2], expected)
+
+    moments = stability.RigidBody.preset("tennis_racket").moments
+    frame = canonical_frame(moments)
+    m = np.stack([to_canonical(w[i, 1:] * moments, *frame) for i in range(w.shape[0])])
+    read = w.copy()  # the series the kernel reads the momenta as
+    read[:, 1:] = np.stack([from_canonical(m[i], *frame) for i in range(w.shape[0])]) / moments
+    rates, regimes, amp = series_growth_rates(t, read, 2, 10.0, 10.0, 0.03, valid=valid)
+    got = canonical_growth_rates(t, w[:, 0], m, frame, moments, 2, 10.0, 10.0, 0.03,
+                                 valid=valid, edges=edges)
+    np.testing.assert_array_equal(got[0], rates)
+    np.testing.assert_array_equal(got[1], regimes)
+    np.testing.assert_array_equal(got[2], log_histogram(amp, edges))

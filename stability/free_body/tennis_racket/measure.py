@@ -6,7 +6,8 @@ fitted over its linear phase (the fit of :func:`stability.measured_growth_rate`,
 member), its exact flip interval 2K/nu, the asymptote (2/lambda) ln(4/k') and k', its largest
 attitude error where the attitude is carried, and the histogram over the chunk's ok members of
 the perpendicular amplitude at each time (log bins,
-:func:`stability.ensemble.combine.log_histogram`).
+:func:`stability.ensemble.combine.log_histogram`), counted in the fit's pass over each member's
+samples.
 The chunk keeps these and the time series of its members in the study's series sample
 (:func:`stability.ensemble.combine.series_sample`), nothing more: a study of a million members
 holds their summaries, never their series. :meth:`TennisChunks.combine` joins the chunks;
@@ -24,7 +25,7 @@ import xarray as xr
 
 from ...analysis.growth_fit import canonical_growth_rates, series_growth_rates
 from ...ensemble.combine import (SERIES_MEMBER, SUMMED, combine_chunks, log_edges,
-                                 log_histogram, sampled_in, series_sample)
+                                 sampled_in, series_sample)
 from ...util import conventions as cv
 from ..measure import complementary_moduli, exact_flip_intervals
 from ...ensemble.schema import ENSEMBLE
@@ -82,9 +83,8 @@ def measure_series(time, w, ok, w0, body, axis: int, spin: float, window, edges)
     counts : ndarray of int32, shape (T, bins)
         The ok members' perpendicular amplitudes per time in the bins ``edges``.
     """
-    rate, _, amp = series_growth_rates(time, w, axis, spin, *window, valid=ok)
-    numbers = {"member_growth_rate": rate, **_exact_numbers(body, w0)}
-    return numbers, log_histogram(amp, edges)  # of the ok members (amp NaN for the others)
+    rate, _, counts = series_growth_rates(time, w, axis, spin, *window, valid=ok, edges=edges)
+    return {"member_growth_rate": rate, **_exact_numbers(body, w0)}, counts  # of the ok members
 
 
 def _exact_numbers(body, w0) -> dict:
@@ -177,11 +177,10 @@ class TennisChunks(EnsembleChunks):
             t = members.time
             m = run.saved[:, : t.size - 1, :3]
             frame = self.frame()
-            rate, _, amp = canonical_growth_rates(
+            rate, _, counts = canonical_growth_rates(
                 t, members.w0, m, frame, plan.body.moments, axis, plan.spin, *self.window,
-                valid=ok)
+                valid=ok, edges=edges)
             numbers = {"member_growth_rate": rate, **_exact_numbers(plan.body, members.w0)}
-            counts = log_histogram(amp, edges)
             w = np.empty((sample.size, t.size, 3))  # the sample's alone
             w[:, 0] = members.w0[sample]
             canonical_to_w(np.ascontiguousarray(m[sample]), frame, plan.body.moments,
@@ -214,7 +213,8 @@ class TennisChunks(EnsembleChunks):
                 "tennis_racket": {"window": list(self.window),
                                   "series_members": self.series_members}}
 
-    def combine(self, paths, n_members: int):
+    def combine(self, paths, n_members: int, held=None):
         """The chunks joined in memory, and their attributes
-        (:func:`stability.ensemble.combine.combine_chunks`)."""
-        return combine_chunks(paths, n_members)
+        (:func:`stability.ensemble.combine.combine_chunks`; ``held``: the chunks this call ran,
+        by path, not read back)."""
+        return combine_chunks(paths, n_members, held)
