@@ -37,6 +37,27 @@ UPWARD = {
                                   "METHODS with the others",
 }
 
+#: Where a family builds on another, each importing module with its reason: no other module of a
+#: family imports another family, and the family's docstring names the modules it imports.
+BUILDS_ON = {
+    ("stability.asteroid.spin_state", "free_body"): "the spin state from the periods inverts "
+                                                    "the free body's exact solution",
+    ("stability.asteroid.lightcurve", "free_body"): "a light curve observes the exact attitude",
+    ("stability.asteroid.measure", "free_body"): "periods read off the exact attitude",
+    ("stability.earth.model", "free_body"): "Euler's wobble is the free body's oscillation "
+                                            "about its stable axis",
+    ("stability.earth.wobble", "free_body"): "the wobble is run as a free-body ensemble and "
+                                             "integration",
+    ("stability.earth.studies.earth_wobble", "free_body"): "the wobble study takes the free "
+                                                           "body's methods and memory bound",
+    ("stability.engine_body.scene", "free_body"): "the engines' state starts where the attitude "
+                                                  "scene's does",
+    ("stability.engine_body.measure", "free_body"): "the engines' flips against the exact "
+                                                    "motion and the linear theory",
+    ("stability.engine_body.studies.engine_artefacts", "free_body"): "the study takes the free "
+                                                                     "body's methods and starts",
+}
+
 #: Lines a module may have; those over it hold two ideas (or more), but for these, each with
 #: its reason, until they are split.
 MAX_LINES = 800
@@ -249,3 +270,32 @@ def test_every_module_has_a_test_module_or_is_listed_as_covered_elsewhere():
              for f in where.split(" (")[0].split()]
     missing = [f for f in named if not (ROOT / f).is_file()]
     assert missing == []
+
+
+def _families() -> tuple:
+    import stability.registry
+
+    return stability.registry.FAMILIES
+
+
+def test_a_family_imports_another_only_where_it_builds_on_it():
+    """Every import from one family into another is a module of :data:`BUILDS_ON`, which holds
+    no stale entry, and the importing family's docstring names each module it imports; the
+    families that build on none import none."""
+    families = _families()
+    found, named = set(), {}
+    for module, imported, *_ in internal_imports():
+        own, target = layer(module), layer(imported)
+        if own in families and target in families and own != target:
+            found.add((module, target))
+            named.setdefault(own, set()).add(imported)
+    assert sorted(found - set(BUILDS_ON)) == [], "imports between families not in BUILDS_ON"
+    assert sorted(set(BUILDS_ON) - found) == [], "BUILDS_ON entries no module needs"
+    assert len(BUILDS_ON) <= 9
+    for family in ("heavy_top", "dissipation", "struck", "rolling", "free_body"):
+        assert family not in named, f"{family} imports another family: {sorted(named[family])}"
+    for family, imported in named.items():
+        doc = ast.get_docstring(ast.parse((ROOT / "stability" / family / "__init__.py")
+                                          .read_text(encoding="utf-8"))) or ""
+        unnamed = sorted(m for m in imported if f":mod:`{m}`" not in doc.replace("\n", " "))
+        assert unnamed == [], f"stability/{family}/__init__.py does not name {unnamed}"

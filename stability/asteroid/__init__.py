@@ -2,8 +2,9 @@
 
 A tumbling asteroid is the torque-free rigid body of :mod:`stability.free_body`, described by
 planetary scientists through the two periods of its light curve and its moment ratios. The
-family builds on the free body's exact solution and exact attitude (:mod:`stability.free_body.
-exact`, :mod:`stability.free_body.exact_attitude`), which it inverts and observes. Its modules,
+family builds on the free body's exact solution and exact attitude
+(:mod:`stability.free_body.exact`, :mod:`stability.free_body.exact_attitude`), which it inverts
+and observes. Its modules,
 each importing only downward:
 
 - :mod:`.spin_state`: the state (mode SAM or LAM, E/E0, |L|) from the periods and back;

@@ -45,7 +45,8 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from ..free_body.model import euler_system, intermediate_axis
+from ..core.axes import intermediate_axis
+from ..free_body.model import euler_system
 from ..core.body import RigidBody
 from ..free_body.propagate import propagate
 from ..engine import propagate_groups

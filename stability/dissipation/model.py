@@ -53,7 +53,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..free_body.model import spin_axis
+from ..core.axes import spin_axis
 from .methods import whip_params, whip_rhs
 from .scene import sphere_rigid_state, whip_rigid_state
 

@@ -33,7 +33,7 @@ from pathlib import Path
 
 import numpy as np
 
-from ..free_body.model import MOMENT_NAMES
+from ..core.axes import MOMENT_NAMES
 from ..study.config import UNSET, ConfigError, Key, Schema, Section
 from ..study.kind import StudyKind, StudySummary, SummaryTable, run_rows
 from ..study.outputs import output_files, write_outputs

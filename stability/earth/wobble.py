@@ -19,7 +19,7 @@ import numpy as np
 import xarray as xr
 
 from ..util import conventions as cv
-from ..free_body.attitude import quaternion_to_matrix
+from ..core.quaternions import quaternion_to_matrix
 from .model import ARCSEC, CHANDLER_PERIOD_DAYS, DAY, euler_period, oblate_euler_period
 from ..free_body.ensemble import completed, run_ensemble
 from ..free_body.keep import Keep

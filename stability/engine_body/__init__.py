@@ -14,9 +14,10 @@ The family's modules, each importing only downward:
 - :mod:`.figures`: its figure, drawn from the Dataset.
 
 It builds on the free body, whose flip it measures and whose scenes it shares the state with
-(:mod:`stability.free_body.scene`, :mod:`stability.free_body.scene_attitude`, the exact solution
-:mod:`stability.free_body.exact`, the linear theory :mod:`stability.free_body.model`, the attitude
-methods :mod:`stability.free_body.attitude`, :mod:`stability.free_body.starts`), and on
+(:mod:`stability.free_body.scene_attitude`, the exact solution :mod:`stability.free_body.exact`
+and its flip intervals :mod:`stability.free_body.measure`, the linear theory
+:mod:`stability.free_body.model`, the attitude methods :mod:`stability.free_body.attitude`, the
+starts :mod:`stability.free_body.starts`), and on
 the shared layers: :mod:`stability.core`, :mod:`stability.util`, :mod:`stability.integrators`
 (MethodSpec, rotations, the registry of the package's methods), :mod:`stability.engine.scene` (the
 scene contract), the scene-generic ensembles (:mod:`stability.ensemble.chunks`), the estimators

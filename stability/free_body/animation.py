@@ -26,7 +26,7 @@ from ..plotting.style import AXIS_COLORS
 from ..util.checks import positive_float
 from .exact import exact_omega, full_period
 from .exact_attitude import exact_attitude
-from .model import intermediate_axis, moment_name
+from ..core.axes import intermediate_axis, moment_name
 from .twisting_racket.figures import BACK_COLOR, FRONT_COLOR, racket_outline
 
 _HANDLE_COLOR = "#7a5a2a"

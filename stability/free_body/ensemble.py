@@ -52,7 +52,7 @@ from ..util import conventions as cv
 from ..util.checks import checked_progress, did_you_mean, positive_float, vectors3
 from ..util.threads import checked_threads, numba_threads
 from .plan import NO_SPIN, NO_STARTS, EnsemblePlan, plan_ensemble
-from .model import spin_axis
+from ..core.axes import spin_axis
 from .results import RunPart, finish_run, members_dataset
 from .starts import axis_index, nonnegative_float
 from .streamed import run_streamed
@@ -87,7 +87,7 @@ def run_ensemble(
     axis : int or str
         Principal axis (1, 2 or 3, as the body numbers them) of the steady spin, or the name of
         its moment, ``"smallest"``, ``"intermediate"`` or ``"largest"``
-        (:func:`~stability.free_body.model.spin_axis`, as study files take it). Flips are sign
+        (:func:`~stability.core.axes.spin_axis`, as study files take it). Flips are sign
         changes of the component of w along it.
     spin : float
         Spin rate W in rad/s, > 0 (not with ``starts``).

@@ -10,9 +10,10 @@ import pytest
 import stability
 from stability.free_body.model import (
     angular_momentum, angular_momentum_norm, axis_stability, euler_rhs, euler_system, growth_rate,
-    intermediate_axis, invariant_differences, kinetic_energy, moment_name, omega_squared,
-    oscillation_frequency, perpendicular_axes, principal_axis,
+    invariant_differences, kinetic_energy, omega_squared, oscillation_frequency,
+    perpendicular_axes,
 )
+from stability.core.axes import intermediate_axis
 from stability.core.body import RigidBody
 
 BODY = RigidBody(1.0, 2.0, 3.0)
@@ -247,14 +248,8 @@ def test_bad_w_shape(w):
 # ------------------------------------------------------------------- axes and Euler's equations
 
 
-def test_perpendicular_principal_and_named_axes():
+def test_perpendicular_axes():
     assert [perpendicular_axes(a) for a in (1, 2, 3)] == [(2, 3), (1, 3), (1, 2)]
-    body = RigidBody(3.0, 1.0, 2.0)
-    assert [principal_axis(body, w) for w in ("smallest", "intermediate", "largest")] == [2, 3, 1]
-    assert [moment_name(body, a) for a in (1, 2, 3)] == ["largest", "smallest", "intermediate"]
-    assert principal_axis(body, "intermediate") == intermediate_axis(body)
-    with pytest.raises(ValueError, match="smallest, intermediate, largest"):
-        principal_axis(body, "middle")
 
 
 def test_euler_rhs_is_m_cross_w_and_the_scipy_system_stacks_it():

@@ -36,7 +36,7 @@ from pathlib import Path
 
 import numpy as np
 
-from ..model import MOMENT_NAMES, spin_axis
+from ...core.axes import MOMENT_NAMES, spin_axis
 from ..attitude import FREE_BODY_SCENES, attitude_methods, carries_attitude
 from ...core.body import RigidBody
 from ..plan import DEFAULT_LEVELS, PEAK_COPIES, OutOfRange, check_random_starts, ensemble_memory

@@ -26,7 +26,7 @@ import numpy as np
 
 from .. import reference as ref
 from . import measure as wp
-from ..model import principal_axis
+from ...core.axes import principal_axis
 from ...core.body import RigidBody
 from .drift import long_horizon
 from ..starts import perturbed_starts

@@ -6,7 +6,7 @@ import pytest
 from matplotlib.figure import Figure
 
 import stability
-from stability.free_body.model import intermediate_axis
+from stability.core.axes import intermediate_axis
 from stability.free_body.tennis_racket.analysis import analyse_ensemble
 from stability.free_body.tennis_racket import figures as tennis
 from stability.plotting.style import (
