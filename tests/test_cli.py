@@ -6,6 +6,7 @@ import sys
 import tomllib
 from pathlib import Path
 
+import netCDF4
 import numpy as np
 import pytest
 
@@ -162,7 +163,14 @@ def test_quick_run_writes_dataset_and_figures(tmp_path, capsys):
     err = capsys.readouterr().err.strip()
     assert len(err.splitlines()) == 1 and "already exists; pass --overwrite" in err
     assert {p.name: p.stat().st_mtime_ns for p in out.iterdir()} == before
-    assert main(args + ["--overwrite", "--set", "output.figures=false"]) == 0
+    # ... here with the Dataset compressed by zstd: the same numbers, another filter
+    assert main(args + ["--overwrite", "--set", "output.figures=false",
+                        "--set", "output.compression='zstd'"]) == 0
+    with netCDF4.Dataset(out / "tennis_racket.nc") as nc:
+        assert nc["passage_time"].filters()["zstd"] and not nc["passage_time"].filters()["zlib"]
+    again = stability.load(out / "tennis_racket.nc")
+    for name in ("w", "passage_time", "member_growth_rate", "perp_amplitude_count", "status"):
+        np.testing.assert_array_equal(again[name].values, ds[name].values)
 
 
 def test_the_attitude_scene_adds_each_members_attitude_to_the_same_w(tmp_path, capsys):

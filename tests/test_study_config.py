@@ -89,6 +89,8 @@ BAD = {
     ),
     "empty fit window": ("[analysis]\nfit_below = 1e-4\n", ["fit_below must be >", "empty"]),
     "bad figure format": ('[output]\nformats = ["gif"]\n', ["formats must be a list of values"]),
+    "unknown compression": ('[output]\ncompression = "lz5"\n',
+                            ['compression must be one of "zlib", "zstd", "none"', '"lz5"']),
     "dataset not netCDF": ('[output]\ndataset = "run.csv"\n',
                            ['[output] dataset must be a string ending in .nc, got "run.csv"']),
     "section as value": ("ensemble = 5\n", ["[ensemble] must be a section"]),

@@ -264,7 +264,7 @@ def omega_squared(body, axis, spin):
 
     Examples
     --------
-    >>> body = RigidBody(1.0, 2.0, 3.0)
+    >>> body = stability.RigidBody(1.0, 2.0, 3.0)
     >>> [float(omega_squared(body, a, 1.0)) for a in (1, 2, 3)]
     [0.3333333333333333, -0.3333333333333333, 1.0]
     """

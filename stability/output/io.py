@@ -1,7 +1,7 @@
 """Datasets to netCDF4 files and back: ``save(ds, path)`` and ``load(path)``.
 
-``save`` writes netCDF4 through xarray with zlib compression (level 4, byte shuffle) and chunks
-along ``member``, to a temporary file in the target's directory that is renamed over the target
+``save`` writes netCDF4 through xarray with zlib compression (level 1, byte shuffle; or zstd,
+or none: :data:`COMPRESSIONS`) and chunks along ``member``, to a temporary file in the target's directory that is renamed over the target
 only when complete (``os.replace`` is atomic on one filesystem), so an interrupted write never
 leaves a broken file; it refuses to replace an existing file unless asked. ``load`` reads the
 file back into memory and returns a Dataset identical (``xarray.testing.assert_identical``) to
@@ -33,9 +33,19 @@ from .untrusted import read_dataset
 from ..ensemble.memory import DEFAULT_MAX_MEMORY
 from ..ensemble.schema import file_order, held_order
 
-#: zlib compression level (1 fastest ... 9 smallest), with the shuffle filter: on the summaries of
-#: a million-member ensemble (260 MB) level 1 writes 72 MB/s into 144 MB, level 4 51 MB/s into 142.
-COMPLEVEL = 1
+#: The compressions :func:`save` offers (``[output] compression``), each as netCDF4 encodes it,
+#: read back by xarray and the CF checker; zlib after the shuffle filter (netCDF4 applies
+#: shuffle with zlib alone). On the summaries of a million-member ensemble (260 MB, two cores):
+#: zlib level 1 writes 66 MB/s into 143 MB (level 4: 59 MB/s, 140 MB; without shuffle 72 MB/s,
+#: 160 MB), zstd level 1 511 MB/s into 158 MB (level 3: 247 MB/s, 155 MB), none 338 MB/s into
+#: 269 MB; blosc refuses such data ("buffer is uncompressible").
+#: zlib is the default: every netCDF-4 reader has it, where zstd needs netCDF-C 4.9 with its
+#: plugins (netCDF4-python's wheels and conda's builds have them).
+COMPRESSIONS = {
+    "zlib": {"zlib": True, "complevel": 1, "shuffle": True},
+    "zstd": {"compression": "zstd", "complevel": 1},
+    "none": {"zlib": False},
+}
 
 #: Target size of one netCDF chunk in bytes (a chunk holds whole members).
 CHUNK_BYTES = 4 * 2**20
@@ -45,7 +55,7 @@ READ = {"engine": "netcdf4", "decode_times": False, "decode_timedelta": False}
 
 
 @contextlib.contextmanager
-def saving(ds: xr.Dataset, path, overwrite: bool = False):
+def saving(ds: xr.Dataset, path, overwrite: bool = False, compress=True):
     """:func:`save` in a background thread while the ``with`` block runs (figures, say).
 
     The netCDF library compresses and writes without holding the interpreter lock, so a study
@@ -60,6 +70,8 @@ def saving(ds: xr.Dataset, path, overwrite: bool = False):
         Target file, conventionally ``*.nc``. Its directory must exist.
     overwrite : bool, default False
         Replace an existing file.
+    compress : bool or str, default True
+        As for :func:`save`.
 
     Raises
     ------
@@ -67,12 +79,12 @@ def saving(ds: xr.Dataset, path, overwrite: bool = False):
         As :func:`save`, when the block ends.
     """
     with ThreadPoolExecutor(max_workers=1) as pool:
-        written = pool.submit(save, ds, path, overwrite)
+        written = pool.submit(save, ds, path, overwrite, compress)
         yield
         written.result()
 
 
-def save(ds: xr.Dataset, path, overwrite: bool = False, compress: bool = True) -> Path:
+def save(ds: xr.Dataset, path, overwrite: bool = False, compress=True) -> Path:
     """Write ``ds`` to the netCDF4 file ``path``, atomically.
 
     The netCDF library is driven from a worker thread, so Ctrl-C in the main thread never
@@ -87,8 +99,10 @@ def save(ds: xr.Dataset, path, overwrite: bool = False, compress: bool = True) -
         Target file, conventionally ``*.nc``. Its directory must exist.
     overwrite : bool, default False
         Replace an existing file.
-    compress : bool, default True
-        zlib-compress the variables (:data:`COMPLEVEL`); off for scratch files read back soon.
+    compress : bool or str, default True
+        How the variables are compressed: a name of :data:`COMPRESSIONS` (``"zlib"``,
+        ``"zstd"``, ``"none"``); True is ``"zlib"``, False ``"none"`` (scratch files read back
+        soon).
 
     Returns
     -------
@@ -121,9 +135,10 @@ def save(ds: xr.Dataset, path, overwrite: bool = False, compress: bool = True) -
         )
     if not path.parent.is_dir():
         raise ValueError(f"directory {path.parent} does not exist; create it first")
+    codec = _compression(compress)
     check_storable(ds)
     ds = file_order(ds)
-    encoding = _encoding(ds, compress)
+    encoding = _encoding(ds, codec)
     temporary = path.with_name(f".{path.name}.{os.getpid()}.{uuid.uuid4().hex[:8]}.tmp")
     try:
         _write_in_thread(ds, temporary, encoding)
@@ -201,8 +216,20 @@ def _write(ds: xr.Dataset, path: Path, encoding: dict) -> None:
         netCDF4.set_chunk_cache(size, elements, preemption)
 
 
-def _encoding(ds: xr.Dataset, compress: bool = True) -> dict:
-    """Compression and member-aligned chunks for every numeric variable.
+def _compression(compress) -> str:
+    """The name in :data:`COMPRESSIONS` of ``compress`` (a name, or True for zlib and False for
+    none); ValueError naming the choices for anything else."""
+    if compress is True or compress is False:
+        return "zlib" if compress else "none"
+    if compress not in COMPRESSIONS:
+        raise ValueError(f"compression must be one of {', '.join(COMPRESSIONS)}, "
+                         f"got {compress!r}")
+    return compress
+
+
+def _encoding(ds: xr.Dataset, codec: str = "zlib") -> dict:
+    """Compression ``codec`` (:data:`COMPRESSIONS`) and member-aligned chunks for every numeric
+    variable.
 
     Chunks hold whole members (all times and axes) and about :data:`CHUNK_BYTES`; coordinates
     get no fill value (they are never missing), so reading adds no attributes.
@@ -212,9 +239,7 @@ def _encoding(ds: xr.Dataset, compress: bool = True) -> dict:
         dtype = np.dtype(var.dtype)  # a range index reports its dtype as a name
         if dtype.kind not in "iuf" or var.ndim == 0:
             continue
-        enc = {"zlib": True, "complevel": COMPLEVEL, "shuffle": True, "dtype": dtype}
-        if not compress:
-            enc = {"zlib": False, "dtype": dtype}
+        enc = {**COMPRESSIONS[codec], "dtype": dtype}
         if name in ds.coords:
             enc["_FillValue"] = None
         shape = var.shape

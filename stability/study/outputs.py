@@ -80,7 +80,8 @@ def write_outputs(ds, config: dict, out_dir, name: str, figures: dict, *, overwr
     out = config["output"]
     files = [out_dir / out["dataset"]]
     spent = timings if timings is not None else {}
-    with deferred_interrupt() as stop, saving(ds, files[0], overwrite=overwrite):
+    with deferred_interrupt() as stop, saving(ds, files[0], overwrite=overwrite,
+                                              compress=out.get("compression", "zlib")):
         started = time.perf_counter()
         for file, text in {**(texts or {}), "config.toml": to_toml(config)}.items():
             (out_dir / file).write_text(text, encoding="utf-8")

@@ -9,6 +9,7 @@ import math
 from ..core.body import RigidBody
 from ..integrators import METHODS
 from ..ensemble.memory import memory_problem
+from ..output.io import COMPRESSIONS
 
 from .config import ConfigError, Key, Schema, Section, toml_text
 from ..ensemble.options import RunOptions
@@ -106,7 +107,8 @@ def _growth(schema: Schema, config: dict, section: str, key: str) -> float:
 def output_section(name: str, figures, extra=(), dataset: Key | None = None) -> Section:
     """The ``[output]`` section of a study: its folder ``results/<name>``, the Dataset
     (``dataset``, default the key of the file name ``<name>.nc``), the ``extra`` keys (more
-    files), whether to draw ``figures`` (their stems) and in which formats."""
+    files), whether to draw ``figures`` (their stems), in which formats, and the Dataset's
+    compression (:data:`stability.output.io.COMPRESSIONS`)."""
     what = "draw the figure" if len(figures) == 1 else f"draw the {len(figures)} figures"
     if dataset is None:
         dataset = Key("dataset", "str", f"{name}.nc", "file name of the Dataset (netCDF)",
@@ -117,6 +119,10 @@ def output_section(name: str, figures, extra=(), dataset: Key | None = None) -> 
         *extra,
         Key("figures", "bool", True, what),
         Key("formats", "strs", ["png", "pdf"], "figure formats", choices=FIGURE_FORMATS),
+        Key("compression", "str", "zlib",
+            "how the Dataset is compressed: zlib (every netCDF-4 reader has it), zstd (about 8 "
+            "times as fast to write, a little larger; needs netCDF-C 4.9 with its plugins to "
+            "read) or none", choices=tuple(COMPRESSIONS)),
     ))
 
 
