@@ -26,7 +26,7 @@ propagated, then *measured*. Without a measurement the chunk is the raw
 family whose per-member results are small: final states and tracked events); with one
 (``measure=``, a picklable ``measure(part, propagation, lo, hi, threads) -> xarray.Dataset``)
 each chunk is kept as the measurement's Dataset of its members and the result is the
-measurement's combination of the chunks (``combine``), or the Dataset over the chunk files: the
+measurement's join of the chunks (``joiner``), or the Dataset over the chunk files: the
 free body's :func:`stability.run_ensemble` with a store is that path, with its own start rule
 and measurement, and so is :func:`stability.run_scene`, every scene's Dataset. The starts are
 the plan's ``x0``, or a rule that makes any members' starts alone (``starts=``: the free body
@@ -155,13 +155,14 @@ def run_plan(plan: Plan, options=None, *, measure=None, compress=None, partial=F
         ``chunk_steps`` and ``device`` are the plan's own.
     measure : callable, optional
         The measurement each chunk is kept as (:class:`ChunkJob`); the result is then the
-        measured Dataset. It may also have ``combine(paths, members) -> (Dataset, chunk
-        attributes)``, the whole run in memory from its chunk files (:func:`measured_whole`);
+        measured Dataset. It may also have ``joiner(members)``, a
+        :class:`~stability.ensemble.combine.ChunkJoin` that joins the chunks into the whole run
+        in memory as they come (:func:`measured_whole`);
         ``identity(run) -> dict``, what makes the run what it is for the store's fingerprint
         (default: the run's :meth:`Plan.identity` and the measurement's class); and
         ``whole_attrs(chunks, todo, elapsed, chunk_attrs=None) -> dict``, the attributes of
         the whole Dataset from the store, the chunks this call ran and the seconds they took
-        (``chunk_attrs``: the chunks' attributes where ``combine`` read them; default
+        (``chunk_attrs``: the chunks' attributes where they were joined; default
         :func:`summed_attrs`).
     compress : bool, optional
         zlib-compress the chunk files; default: only a measured run's (a raw run's are read
@@ -233,13 +234,14 @@ def _run_plan(plan: Plan, options, measure, compress, partial):
     payload = sendable(job) if scheduler is not None else None
     chunks = ChunkStore(store, identity, n, chunk_members, resume=resume)
     try:
+        join = measure.joiner(n) if hasattr(measure, "joiner") else None
         streamed = stream_chunks(job, chunks, scheduler=scheduler, threads=threads,
                                  progress=progress, payload=payload,
                                  compress=measure is not None if compress is None else compress,
-                                 hold=hasattr(measure, "combine"))
+                                 kept=None if join is None else join.add)
         if measure is not None:
             finished_before = not streamed.todo and read_manifest(chunks.dir)["complete"]
-            return measured_whole(measure, chunks, None if finished_before else streamed)
+            return measured_whole(measure, chunks, None if finished_before else streamed, join)
         parts = []
         for k in range(chunks.n_chunks):
             # the run's own memory check came first: a chunk is held to the machine's
@@ -250,21 +252,22 @@ def _run_plan(plan: Plan, options, measure, compress, partial):
     return _propagation(run, parts)
 
 
-def measured_whole(measure, chunks: ChunkStore, streamed=None) -> xr.Dataset:
+def measured_whole(measure, chunks: ChunkStore, streamed=None, join=None) -> xr.Dataset:
     """The Dataset of a measured store whose chunks are all done, its whole attributes
     recorded (the measurement's ``whole_attrs``, else :func:`summed_attrs`) unless a call
     before finished it (``streamed`` None: its attributes then).
 
-    With the measurement's own ``combine(paths, members, held) -> (Dataset, chunk
-    attributes)`` (a measurement that keeps summaries and a sample,
-    :mod:`stability.ensemble.combine`), the chunks joined in memory: those this call ran from
-    the Datasets it held (``streamed.held``, by path), the others read from their files once;
-    else the Dataset over the chunk files (:func:`small_loaded`)."""
-    combine = getattr(measure, "combine", None)
+    With ``join`` (the measurement's ``joiner(members)``, a
+    :class:`~stability.ensemble.combine.ChunkJoin` given the chunks this call ran as they
+    came), the chunks joined in memory, the others read from their files once; else the
+    Dataset over the chunk files (:func:`small_loaded`)."""
     ds = chunk_attrs = None
-    if combine is not None:
-        ds, chunk_attrs = combine([chunks.path(k) for k in range(chunks.n_chunks)],
-                                  chunks.members, (streamed.held if streamed else None) or {})
+    if join is not None:
+        for k in range(chunks.n_chunks):
+            lo = chunks.bounds(k)[0]
+            if not join.holds(lo):
+                join.add_file(lo, chunks.path(k))
+        ds, chunk_attrs = join.result()
     if streamed is not None:
         whole = getattr(measure, "whole_attrs", None)
         chunks.complete(

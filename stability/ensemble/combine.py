@@ -183,16 +183,101 @@ def histogram_quantiles(counts: np.ndarray, edges: np.ndarray, q) -> np.ndarray:
     return out
 
 
-def combine_chunks(paths, members: int, held=None) -> tuple[xr.Dataset, list]:
-    """The chunks ``paths`` of a run of ``members`` members, in order, joined in memory.
+class ChunkJoin:
+    """The chunks of a run of ``members`` members joined in memory as they come, in any order.
 
-    Each chunk file is read once, as untrusted input (:func:`stability.output.io.load`),
-    unless ``held`` (a dict, emptied as it is used) holds its Dataset by path: a chunk this
-    process ran and wrote, joined from memory (the numbers the file holds) and let go of at
-    once.
-    Variables along ``member`` are joined in member order, those along ``series_member`` too;
-    a variable whose attributes mark it :data:`SUMMED` is summed over the chunks; any other is
-    the first chunk's. The attributes are the first chunk's.
+    Variables along ``member`` are placed at their members (each chunk's from its first member
+    ``lo``), those along ``series_member`` are joined in member order; a variable whose
+    attributes mark it :data:`SUMMED` (integer counts: the sum does not depend on the order) is
+    summed over the chunks; any other, and the attributes, are the lowest chunk's. A chunk is
+    let go of once added: the memory is the run's summaries, not twice them.
+    """
+
+    def __init__(self, members: int):
+        self.members = members
+        self.joined: dict[str, np.ndarray] = {}
+        self.series: dict[str, list] = {}
+        self.summed: dict[str, np.ndarray] = {}
+        self.attrs: dict[int, dict] = {}
+        self.first = None  # (lo, Dataset) of the lowest chunk so far, but its joined variables
+        self.order = []  # the lowest chunk's variables, in its order
+        self.template: dict[str, tuple] = {}  # (dims, attrs) of its variables along member
+        self.coords = set()
+        self.names = None
+        self.count = 0
+
+    def holds(self, lo: int) -> bool:
+        """Whether the chunk of members from ``lo`` is added."""
+        return lo in self.attrs
+
+    def add_file(self, lo: int, path) -> None:
+        """Add the chunk file ``path`` of members from ``lo``, read as untrusted input."""
+        self.add(lo, load(path, math.inf), path)  # in the order it was held
+
+    def add(self, lo: int, ds: xr.Dataset, source="a chunk") -> None:
+        """Add the chunk ``ds`` of members ``lo ... lo + n - 1`` (``source`` names it in the
+        errors). ValueError if it holds other variables than the chunks before it, or members
+        beyond the run's."""
+        n = ds.sizes.get(cv.MEMBER, 0)
+        if self.names is None:
+            self.names = set(ds.variables)
+        elif set(ds.variables) != self.names:
+            raise ValueError(f"{source} holds other variables than the run's first chunk: "
+                             "the store is damaged; run again without --resume")
+        if lo + n > self.members:
+            raise ValueError(f"{source} holds members beyond the run's {self.members}")
+        self.attrs[lo] = dict(ds.attrs)
+        for name, var in ds.variables.items():
+            if cv.MEMBER in var.dims and var.dims[0] == cv.MEMBER:
+                if name not in self.joined:
+                    self.joined[name] = np.empty((self.members,) + var.shape[1:],
+                                                 dtype=var.dtype)
+                self.joined[name][lo:lo + n] = var.values
+            elif SERIES_MEMBER in var.dims:
+                self.series.setdefault(name, []).append((lo, var))
+            elif var.attrs.get(SUMMED):
+                total = self.summed.get(name)
+                self.summed[name] = var.values.copy() if total is None else total + var.values
+        if self.first is None or lo < self.first[0]:
+            kept = [name for name in ds.variables if name in self.joined or name in self.series]
+            self.first = (lo, ds.drop_vars(kept))
+            self.order, self.coords = list(ds.variables), set(ds.coords)
+            self.template = {name: (ds.variables[name].dims, ds.variables[name].attrs)
+                             for name in kept if name in self.joined}
+        self.count += n
+
+    def result(self) -> tuple[xr.Dataset, list]:
+        """The whole run, and each chunk's attributes in member order. ValueError if the
+        chunks added do not hold the run's members."""
+        if self.first is None or self.count != self.members:
+            raise ValueError(f"the chunks hold {self.count} members, the run {self.members}: "
+                             "the store is damaged; run again without --resume")
+        first = self.first[1]
+        order = [name for name in self.order if name in self.names]
+        variables = {}
+        for name in order:
+            if name in self.joined:
+                dims, attrs = self.template[name]
+                variables[name] = xr.Variable(dims, self.joined.pop(name), attrs)
+            elif name in self.series:
+                parts = [var for _, var in sorted(self.series[name], key=lambda p: p[0])]
+                variables[name] = xr.Variable.concat(parts, SERIES_MEMBER)
+            elif name in self.summed:
+                var = first.variables[name]
+                variables[name] = xr.Variable(var.dims, self.summed[name], var.attrs,
+                                              var.encoding)
+            else:
+                variables[name] = first.variables[name]
+        coords = {name: variables.pop(name) for name in list(variables)
+                  if name in self.coords}
+        return (xr.Dataset(variables, coords=coords, attrs=self.attrs[min(self.attrs)]),
+                [self.attrs[lo] for lo in sorted(self.attrs)])
+
+
+def combine_chunks(paths, members: int) -> tuple[xr.Dataset, list]:
+    """The chunks ``paths`` of a run of ``members`` members, in order, joined in memory
+    (:class:`ChunkJoin`), each file read once as untrusted input
+    (:func:`stability.output.io.load`).
 
     Returns
     -------
@@ -205,48 +290,10 @@ def combine_chunks(paths, members: int, held=None) -> tuple[xr.Dataset, list]:
     ValueError
         If the chunks do not hold ``members`` members together, or differ in their variables.
     """
-    joined: dict[str, np.ndarray] = {}
-    series: dict[str, list] = {}
-    chunk_attrs = []
-    first = None
+    join = ChunkJoin(members)
     lo = 0
-    held = {} if held is None else held
     for path in paths:
-        ds = held.pop(path, None)
-        if ds is None:
-            ds = load(path, math.inf)  # checked as untrusted, in the order it was held
-        chunk_attrs.append(dict(ds.attrs))
-        n = ds.sizes.get(cv.MEMBER, 0)
-        if first is None:
-            first = ds
-            names = set(ds.variables)
-        elif set(ds.variables) != names:
-            raise ValueError(f"{path} holds other variables than the run's first chunk: "
-                             "the store is damaged; run again without --resume")
-        for name, var in ds.variables.items():
-            if cv.MEMBER in var.dims and var.dims[0] == cv.MEMBER:
-                if name not in joined:
-                    joined[name] = np.empty((members,) + var.shape[1:], dtype=var.dtype)
-                if lo + n > members:
-                    raise ValueError(f"{path} holds members beyond the run's {members}")
-                joined[name][lo:lo + n] = var.values
-            elif SERIES_MEMBER in var.dims:
-                series.setdefault(name, []).append(var)
-            elif var.attrs.get(SUMMED) and ds is not first:
-                first.variables[name].values = first.variables[name].values + var.values
-        lo += n
-        if ds is not first:
-            ds.close()
-    if first is None or lo != members:
-        raise ValueError(f"the chunks hold {lo} members, the run {members}: the store is "
-                         "damaged; run again without --resume")
-    variables = {}
-    for name, var in first.variables.items():
-        if name in joined:
-            variables[name] = xr.Variable(var.dims, joined[name], var.attrs, var.encoding)
-        elif name in series:
-            variables[name] = xr.Variable.concat(series[name], SERIES_MEMBER)
-        else:
-            variables[name] = var
-    coords = {name: variables.pop(name) for name in list(variables) if name in first.coords}
-    return xr.Dataset(variables, coords=coords, attrs=dict(first.attrs)), chunk_attrs
+        ds = load(path, math.inf)
+        join.add(lo, ds, path)
+        lo += ds.sizes.get(cv.MEMBER, 0)
+    return join.result()

@@ -52,17 +52,15 @@ class RunInterrupted(KeyboardInterrupt):
 
 
 class Streamed(NamedTuple):
-    """What :func:`stream_chunks` ran: the chunks' indices, the seconds from the start of the
-    first to the end of the last (0.0 for none), however many ran side by side, and (asked
-    for with ``hold``) the Datasets of those run in this process by their files' paths."""
+    """What :func:`stream_chunks` ran: the chunks' indices, and the seconds from the start of
+    the first to the end of the last (0.0 for none), however many ran side by side."""
 
     todo: list
     elapsed: float
-    held: dict | None = None
 
 
 def stream_chunks(job, chunks: ChunkStore, *, scheduler=None, threads=None, progress=None,
-                  compress=True, payload: bytes | None = None, hold: bool = False) -> Streamed:
+                  compress=True, payload: bytes | None = None, kept=None) -> Streamed:
     """Run the chunks of ``chunks`` that are not done with ``job``.
 
     Parameters
@@ -77,9 +75,10 @@ def stream_chunks(job, chunks: ChunkStore, *, scheduler=None, threads=None, prog
     payload : bytes, optional
         ``job`` already pickled by :func:`sendable` (a caller that checked it so before making
         the store), so that it is not pickled again for the scheduler.
-    hold : bool, default False
-        Keep the Dataset of each chunk run in this process as well as writing it (a measured
-        chunk, small), so that the caller joins them without reading its files back.
+    kept : callable, optional
+        ``kept(lo, ds)``, given each chunk run in this process once it is written (its first
+        member and its Dataset): a caller that joins measured chunks as they come, without
+        reading their files back.
 
     Returns
     -------
@@ -93,27 +92,26 @@ def stream_chunks(job, chunks: ChunkStore, *, scheduler=None, threads=None, prog
     """
     todo = chunks.missing()
     elapsed = 0.0
-    held = {} if hold else None
     if todo:
         if scheduler is None:
-            elapsed = _run_here(job, chunks, todo, threads, progress, compress, held)
+            elapsed = _run_here(job, chunks, todo, threads, progress, compress, kept)
         else:
             elapsed = _run_on_dask(job, chunks, todo, scheduler, progress, compress, payload)
-    return Streamed(todo, elapsed, held)
+    return Streamed(todo, elapsed)
 
 
-def _run_here(job, chunks, todo, threads, progress, compress, held=None) -> float:
+def _run_here(job, chunks, todo, threads, progress, compress, kept=None) -> float:
     """The missing chunks in this process, on all its Numba threads; the seconds taken. Each
-    chunk's Dataset goes into ``held`` too (by its file's path), when given."""
+    chunk's Dataset goes to ``kept(lo, ds)`` too, when given, once it is written."""
     tracker = _Tracker(chunks, todo, progress)
     try:
         with numba_threads(checked_threads(threads)):
             for k in todo:
                 lo, hi = chunks.bounds(k)
                 ds = job(lo, hi, tracker.inner_progress, threads)
-                path = chunks.write(k, ds, compress)
-                if held is not None:
-                    held[path] = ds
+                chunks.write(k, ds, compress)
+                if kept is not None:
+                    kept(lo, ds)
                 tracker.finished(k, hi - lo)
     except KeyboardInterrupt:  # Ctrl-C between chunks, or while compiling or writing
         tracker.stopped()

@@ -10,7 +10,7 @@ the perpendicular amplitude at each time (log bins,
 samples.
 The chunk keeps these and the time series of its members in the study's series sample
 (:func:`stability.ensemble.combine.series_sample`), nothing more: a study of a million members
-holds their summaries, never their series. :meth:`TennisChunks.combine` joins the chunks;
+holds their summaries, never their series. :meth:`TennisChunks.joiner` joins the chunks as they come;
 :func:`stability.free_body.tennis_racket.analysis.finish_analysis` reduces them (the mean
 growth rate, the amplitude quantiles from the summed histograms).
 """
@@ -24,7 +24,7 @@ import numpy as np
 import xarray as xr
 
 from ...analysis.growth_fit import canonical_growth_rates, series_growth_rates
-from ...ensemble.combine import (SERIES_MEMBER, SUMMED, combine_chunks, log_edges,
+from ...ensemble.combine import (SERIES_MEMBER, SUMMED, ChunkJoin, log_edges,
                                  sampled_in, series_sample)
 from ...util import conventions as cv
 from ..measure import complementary_moduli, exact_flip_intervals
@@ -213,8 +213,7 @@ class TennisChunks(EnsembleChunks):
                 "tennis_racket": {"window": list(self.window),
                                   "series_members": self.series_members}}
 
-    def combine(self, paths, n_members: int, held=None):
-        """The chunks joined in memory, and their attributes
-        (:func:`stability.ensemble.combine.combine_chunks`; ``held``: the chunks this call ran,
-        by path, not read back)."""
-        return combine_chunks(paths, n_members, held)
+    def joiner(self, members: int) -> ChunkJoin:
+        """What joins the chunks in memory as they come
+        (:class:`stability.ensemble.combine.ChunkJoin`)."""
+        return ChunkJoin(members)
