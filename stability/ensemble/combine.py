@@ -190,7 +190,8 @@ class ChunkJoin:
     ``lo``), those along ``series_member`` are joined in member order; a variable whose
     attributes mark it :data:`SUMMED` (integer counts: the sum does not depend on the order) is
     summed over the chunks; any other, and the attributes, are the lowest chunk's. A chunk is
-    let go of once added: the memory is the run's summaries, not twice them.
+    let go of once added (but the lowest so far): the memory is the run's summaries and one
+    chunk, not twice the summaries.
     """
 
     def __init__(self, members: int):
@@ -199,11 +200,8 @@ class ChunkJoin:
         self.series: dict[str, list] = {}
         self.summed: dict[str, np.ndarray] = {}
         self.attrs: dict[int, dict] = {}
-        self.first = None  # (lo, Dataset) of the lowest chunk so far, but its joined variables
-        self.order = []  # the lowest chunk's variables, in its order
-        self.template: dict[str, tuple] = {}  # (dims, attrs) of its variables along member
-        self.coords = set()
-        self.names = None
+        self.first = None  # (lo, Dataset) of the lowest chunk so far: its order, coordinates,
+        self.names = None  # attributes and other variables; the first added chunk's names
         self.count = 0
 
     def holds(self, lo: int) -> bool:
@@ -239,11 +237,7 @@ class ChunkJoin:
                 total = self.summed.get(name)
                 self.summed[name] = var.values.copy() if total is None else total + var.values
         if self.first is None or lo < self.first[0]:
-            kept = [name for name in ds.variables if name in self.joined or name in self.series]
-            self.first = (lo, ds.drop_vars(kept))
-            self.order, self.coords = list(ds.variables), set(ds.coords)
-            self.template = {name: (ds.variables[name].dims, ds.variables[name].attrs)
-                             for name in kept if name in self.joined}
+            self.first = (lo, ds)
         self.count += n
 
     def result(self) -> tuple[xr.Dataset, list]:
@@ -253,23 +247,20 @@ class ChunkJoin:
             raise ValueError(f"the chunks hold {self.count} members, the run {self.members}: "
                              "the store is damaged; run again without --resume")
         first = self.first[1]
-        order = [name for name in self.order if name in self.names]
         variables = {}
-        for name in order:
+        for name, var in first.variables.items():
             if name in self.joined:
-                dims, attrs = self.template[name]
-                variables[name] = xr.Variable(dims, self.joined.pop(name), attrs)
+                variables[name] = xr.Variable(var.dims, self.joined.pop(name), var.attrs)
             elif name in self.series:
-                parts = [var for _, var in sorted(self.series[name], key=lambda p: p[0])]
+                parts = [part for _, part in sorted(self.series[name], key=lambda p: p[0])]
                 variables[name] = xr.Variable.concat(parts, SERIES_MEMBER)
             elif name in self.summed:
-                var = first.variables[name]
                 variables[name] = xr.Variable(var.dims, self.summed[name], var.attrs,
                                               var.encoding)
             else:
-                variables[name] = first.variables[name]
+                variables[name] = var
         coords = {name: variables.pop(name) for name in list(variables)
-                  if name in self.coords}
+                  if name in first.coords}
         return (xr.Dataset(variables, coords=coords, attrs=self.attrs[min(self.attrs)]),
                 [self.attrs[lo] for lo in sorted(self.attrs)])
 

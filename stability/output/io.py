@@ -1,12 +1,13 @@
 """Datasets to netCDF4 files and back: ``save(ds, path)`` and ``load(path)``.
 
 ``save`` writes netCDF4 through xarray with zlib compression (level 1, byte shuffle; or zstd,
-or none: :data:`COMPRESSIONS`) and chunks along ``member``, to a temporary file in the target's directory that is renamed over the target
-only when complete (``os.replace`` is atomic on one filesystem), so an interrupted write never
-leaves a broken file; it refuses to replace an existing file unless asked. ``load`` reads the
-file back into memory and returns a Dataset identical (``xarray.testing.assert_identical``) to
-the one saved; it refuses, in one line, a file that is not a regular one, that reaches outside
-itself (HDF5 external links, external storage) or that declares more than fits in memory
+or none: :data:`COMPRESSIONS`) and chunks along ``member``, to a temporary file in the target's
+directory that is renamed over the target only when complete (``os.replace`` is atomic on one
+filesystem), so an interrupted write never leaves a broken file; it refuses to replace an
+existing file unless asked. ``load`` reads the file back into memory and returns a Dataset
+identical (``xarray.testing.assert_identical``) to the one saved; it refuses, in one line, a
+file that is not a regular one, that reaches outside itself (HDF5 external links, external
+storage) or that declares more than fits in memory
 (:mod:`stability.output.untrusted`). Time coordinates are float numbers with CF time units
 counted from a nominal date (``"s since 1970-01-01 00:00:00"``,
 :data:`stability.util.conventions.TIME_ORIGIN`): ``load`` passes ``decode_times=False`` (and

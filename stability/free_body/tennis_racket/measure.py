@@ -10,8 +10,8 @@ the perpendicular amplitude at each time (log bins,
 samples.
 The chunk keeps these and the time series of its members in the study's series sample
 (:func:`stability.ensemble.combine.series_sample`), nothing more: a study of a million members
-holds their summaries, never their series. :meth:`TennisChunks.joiner` joins the chunks as they come;
-:func:`stability.free_body.tennis_racket.analysis.finish_analysis` reduces them (the mean
+holds their summaries, never their series. :meth:`TennisChunks.joiner` joins the chunks as
+they come; :func:`stability.free_body.tennis_racket.analysis.finish_analysis` reduces them (the mean
 growth rate, the amplitude quantiles from the summed histograms).
 """
 
