@@ -499,3 +499,36 @@ def test_a_scene_declares_the_units_of_what_it_tracks(home, mistakes, monkeypatc
     assert spring.tracked_units == "m"
     assert define_scene("spring", ["x", "v"], ["m", "m s-1"], mistakes.rhs,
                         ["k"]).tracked_units == ""
+
+
+def test_the_users_named_parameter_dispersed_runs_each_member_with_its_own_draw(home, tmp_path):
+    """omega dispersed log-uniformly over a decade (:mod:`stability.uncertainty.scenes`): the
+    omega each member reports is its draw, bitwise, in one piece and in chunks resumed, and
+    each end state is the exact solution of its own omega to RK4's error (h omega <= 0.05)."""
+    from stability.uncertainty.designs import unit_design
+    from stability.uncertainty.dispersions import dispersions
+    from stability.uncertainty.scenes import nominal, run_dispersed
+    _, scene = home
+    disp = dispersions({"omega": {"distribution": "log-uniform", "lower": 0.5, "upper": 5.0}},
+                       nominal(scene, [1.0]))
+    unit = unit_design("sobol", 16, 1, 2)
+    kwargs = dict(h=0.01, n_steps=200)
+    draws, whole = run_dispersed(scene, "rk4", [1.0, 0.0], disp, unit, **kwargs,
+                                 options=RunOptions(progress=False))
+    w = draws["omega"]
+    assert w.min() < 1.0 and w.max() > 3.0
+    assert np.array_equal(whole.omega.values, w)
+    assert np.max(np.abs(whole.x_final.values - np.cos(2.0 * w))) < 1e-6
+    assert np.max(np.abs(whole.v_final.values + w * np.sin(2.0 * w))) < 1e-5
+    store = tmp_path / "store"
+    run_dispersed(scene, "rk4", [1.0, 0.0], disp, unit, **kwargs,
+                  options=RunOptions(store=store, chunk_members=5, progress=False))
+    chunks = sorted(store.rglob("*.nc"))
+    assert len(chunks) >= 3
+    chunks[1].unlink()
+    _, resumed = run_dispersed(scene, "rk4", [1.0, 0.0], disp, unit, **kwargs,
+                               options=RunOptions(store=store, chunk_members=5, resume=True,
+                                                  progress=False))
+    for name in ("omega", "x_final", "v_final"):
+        assert np.array_equal(resumed[name].values, whole[name].values), name
+

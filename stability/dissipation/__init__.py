@@ -19,7 +19,9 @@ the rest (dual-spin stabilisation). The family's modules, each importing only do
 - :mod:`.explorer`: the Explorer-like ensembles and their Dataset; :mod:`.dual_spin`: the
   dual-spin maps and theirs;
 - :mod:`.studies`: the study kinds ``explorer`` and ``dual_spin``; :mod:`.figures`: their
-  figures.
+  figures;
+- :mod:`.dispersion`: the study kind ``explorer_dispersion``, the Explorer uncertain in its
+  body, spin, damper and start (:mod:`stability.uncertainty`).
 
 This package's ``__init__`` imports nothing, so that the scene registry
 (:mod:`stability.registry`) can import :mod:`.scene` without the rest.
@@ -28,5 +30,6 @@ This package's ``__init__`` imports nothing, so that the scene registry
 #: What the family registers (:mod:`stability.registry`): its scenes, its study kinds and the
 #: declarations of the Datasets they write, each as ``"module:name"`` inside this package.
 SCENES = ("scene:SPHERE_DAMPER", "scene:WHIP_DAMPER", "scene:GYROSTAT")
-STUDIES = {"explorer": "studies:STUDY", "dual_spin": "studies:DUAL_SPIN_STUDY"}
-DATASETS = ("schema:EXPLORER", "schema:DUAL_SPIN")
+STUDIES = {"explorer": "studies:STUDY", "dual_spin": "studies:DUAL_SPIN_STUDY",
+           "explorer_dispersion": "dispersion.study:STUDY"}
+DATASETS = ("schema:EXPLORER", "schema:DUAL_SPIN", "dispersion.schema:EXPLORER_DISPERSION")

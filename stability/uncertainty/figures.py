@@ -28,7 +28,9 @@ def indices_figure(ds, fig=None):
         ax.bar(x - 0.2, row.first_order, 0.4, yerr=row.first_order_conf, capsize=3,
                label="first order S_i")
         ax.bar(x + 0.2, row.total, 0.4, yerr=row.total_conf, capsize=3, label="total S_Ti")
-        ax.set_xticks(x, [str(p) for p in ds.parameter.values])
+        many = ds.parameter.size > 5  # slanted, so that long names do not run together
+        ax.set_xticks(x, [str(p) for p in ds.parameter.values], rotation=30 if many else 0,
+                      ha="right" if many else "center")
         ax.set_xlabel(label("dispersed parameter", "1"))
         ax.set_title(str(row.output_long_name.values), fontsize=9)
         ax.axhline(0.0, color="0.3", lw=0.6)

@@ -8,6 +8,12 @@ their absolute values, with a bootstrap confidence interval) ranks the parameter
 r (d + 1) evaluations, for many parameters where Sobol' indices cost too much, and sigma flags
 effects that are nonlinear or interact. Both are divided by the output's standard deviation
 over the design, so that outputs of any units share one Dataset.
+
+SALib's levels j / (p - 1) include 0 and 1, where an unbounded distribution (a normal) is
+infinite: the members are drawn at the middles of p equal cells instead,
+u = (j + 1/2) / p, and the effects, which SALib divides by its own step, are multiplied by
+p / (p - 1), the ratio of its step to the one taken, so that an effect is still the change of
+the output over the whole unit range (c (upper - lower) for Y = c x).
 """
 
 from __future__ import annotations
@@ -29,10 +35,13 @@ from .sobol import problem
 @dataclass(frozen=True)
 class MorrisDesign:
     """Trajectories of the unit cube for :func:`morris_indices`: ``unit`` (r (d + 1), columns),
-    row k design point k; ``levels`` the grid's p."""
+    row k design point k, at the middles of the cells (what the members are drawn from);
+    ``grid`` the same points on SALib's levels j / (p - 1) (what its analysis reads);
+    ``levels`` the grid's p."""
 
     dispersions: Dispersions
     unit: np.ndarray
+    grid: np.ndarray
     trajectories: int
     levels: int
     seed: int
@@ -46,8 +55,9 @@ def morris_design(dispersions: Dispersions, trajectories: int, levels: int = 4,
     if levels < 2 or levels % 2:
         raise ValueError(f"levels must be even and >= 2, got {levels}")
     seed = positive_int("seed", seed, allow_zero=True)
-    unit = morris_sample.sample(problem(dispersions), trajectories, num_levels=levels, seed=seed)
-    return MorrisDesign(dispersions, unit, trajectories, levels, seed)
+    grid = morris_sample.sample(problem(dispersions), trajectories, num_levels=levels, seed=seed)
+    unit = (grid * (levels - 1) + 0.5) / levels
+    return MorrisDesign(dispersions, unit, grid, trajectories, levels, seed)
 
 
 def morris_indices(design: MorrisDesign, outputs: Mapping, *, resamples: int = 100,
@@ -69,9 +79,10 @@ def morris_indices(design: MorrisDesign, outputs: Mapping, *, resamples: int = 1
             raise ValueError(f"output {name!r} must be finite, one value per design point "
                              f"({design.unit.shape[0]}), got shape {y.shape}")
         sd = float(np.std(y))
-        got = morris_analyze.analyze(sal, design.unit, y, num_resamples=resamples,
+        got = morris_analyze.analyze(sal, design.grid, y, num_resamples=resamples,
                                      conf_level=conf_level, num_levels=design.levels, seed=seed)
-        scale = 1.0 / sd if sd > 0.0 else np.nan
+        p = design.levels
+        scale = p / (p - 1) / sd if sd > 0.0 else np.nan
         for key in rows:
             rows[key].append(np.asarray(got[key], dtype=float) * scale)
         units.append(unit)

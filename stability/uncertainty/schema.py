@@ -4,6 +4,8 @@
 
 from __future__ import annotations
 
+from dataclasses import replace
+
 from ..ensemble.schema import ONE, coordinate, declare, variable
 
 OUTPUT, PARAMETER = "output", "parameter"
@@ -38,4 +40,17 @@ MORRIS_SCREENING = declare("morris_screening", "Morris elementary effects of per
                              "over the standard deviation of the output"),
     "sigma": variable(_DIMS, ONE, "standard deviation of the elementary effects, over the "
                       "standard deviation of the output"),
+}, file="")
+
+#: A dispersed study's analysis: the Sobol' indices or the Morris screening, whichever its
+#: ``[sensitivity] method`` chose (:mod:`stability.study.sensitivity`); what a dispersed
+#: study's Dataset extends.
+SENSITIVITY = declare("sensitivity", "Sobol' indices or Morris screening of per-member "
+                      "outputs over the dispersed parameters",
+                      "stability.study.sensitivity.analyse", {
+    **_AXES,
+    **{name: replace(var, optional="Sobol' analyses ([sensitivity] method = 'sobol')")
+       for name, var in SOBOL_INDICES.variables.items() if name not in _AXES},
+    **{name: replace(var, optional="Morris screenings ([sensitivity] method = 'morris')")
+       for name, var in MORRIS_SCREENING.variables.items() if name not in _AXES},
 }, file="")

@@ -2,6 +2,7 @@
 (in one piece, in chunks, resumed), dispersed tensors physical, and the study end to end."""
 
 import numpy as np
+import pytest
 import tomli_w
 
 import stability
@@ -143,6 +144,51 @@ def test_the_stored_draws_are_bitwise_what_the_kernels_ran_with(tmp_path):
         assert np.array_equal(ds.flip_interval_run.values, whole.flip_interval_run.values)
     exact = M.closed_form(draws)["flip_interval"]
     assert np.nanmax(np.abs(whole.flip_interval_run.values / exact - 1.0)) < 1e-4
+
+
+def test_the_stored_draws_are_what_the_kernels_ran_with_on_dask_workers(tmp_path):
+    """The same members in chunks of 5 on a local dask cluster of two processes: the moments
+    and starts each chunk reports back are the draws, and every output is the one-piece
+    run's, bitwise."""
+    distributed = pytest.importorskip("distributed")
+    _, draws = racket_draws(12)
+    kwargs = dict(steps_per_flip=64, flips=2)
+    whole = M.integrated(draws, 12, **kwargs)
+    with distributed.LocalCluster(n_workers=2, threads_per_worker=1, processes=True,
+                                  dashboard_address=None) as cluster, \
+            distributed.Client(cluster) as client:
+        there = M.integrated(draws, 12, **kwargs, options=RunOptions(
+            store=tmp_path / "store", chunk_members=5, scheduler=client, progress=False))
+    assert len(list((tmp_path / "store").rglob("*.nc"))) >= 3
+    assert np.array_equal(there.parameters.values, draws["moments"])
+    got_m = np.column_stack([there[f"m{k}_start"].values for k in (1, 2, 3)])
+    assert np.array_equal(got_m, draws["w0"] * draws["moments"])
+    for name in ("flip_interval_run", "axis_crossings", "status"):
+        assert np.array_equal(there[name].values, whole[name].values, equal_nan=True), name
+
+
+def test_morris_screening_from_the_study_file(tmp_path):
+    """``[sensitivity] method = "morris"``: r (d + 1) members (the axes one group); the growth
+    rate W sqrt((I2 - I1)(I3 - I2) / (I1 I3)) moves with the spin most (10 % against the
+    moments' 2 %) and not with the start (mu* = 0) or the axes (round-off)."""
+    raw = {"study": "dispersion", "dispersions": SPEC | {"truncate": True},
+           "sensitivity": {"method": "morris", "trajectories": 20},
+           "integration": {"members": 0},
+           "output": {"dir": str(tmp_path / "out"), "formats": ["png"]}}
+    study = tmp_path / "racket.toml"
+    study.write_text(tomli_w.dumps(raw), encoding="utf-8")
+    summary = run_study(study, progress=False)
+    path = tmp_path / "out" / "dispersion.nc"
+    assert_declared(path, "dispersion")
+    assert_cf_compliant(path)
+    ds = stability.load(path)
+    assert ds.member.size == 20 * 7 and "mu_star" in ds and "first_order" not in ds
+    growth = ds.mu_star.sel(output="growth_rate")
+    assert str(growth.parameter.values[int(np.argmax(growth.values))]) == "rate"
+    assert float(growth.sel(parameter="epsilon")) == 0.0
+    assert float(growth.sel(parameter="axes")) < 1e-12  # re-diagonalised: round-off
+    assert summary.values["dominant"] in ds.parameter.values
+    assert (tmp_path / "out" / "indices.png").is_file()
 
 
 def test_the_study_writes_its_dataset_and_names_what_dominates(tmp_path):

@@ -4,13 +4,13 @@ from ...ensemble.schema import (
     AXIS, KG_M2, MEMBER, ONE, PER_SECOND, RADIAN, RAD_PER_S, SECOND, member_coordinate,
     status_variable, variable
 )
-from ...uncertainty.schema import SOBOL_INDICES
+from ...uncertainty.schema import SENSITIVITY
 
 _AXES_NOTE = "dispersions of the axes (axes)"
 _RUN = "run"
 _RUN_NOTE = "runs that integrate members ([integration] members > 0)"
 
-DISPERSION = SOBOL_INDICES.extend(
+DISPERSION = SENSITIVITY.extend(
     "dispersion", "a dispersed free body tossed about its middle axis: draws, outputs, indices",
     ("stability.free_body.dispersion.measure.dispersion_dataset",), "dispersion.nc", {
         MEMBER: member_coordinate("design point (member) of the Saltelli design"),

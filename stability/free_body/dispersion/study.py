@@ -3,12 +3,12 @@
 The ``[dispersions]`` section names what is uncertain, each a table of a distribution
 (:func:`stability.uncertainty.distributions.distribution`): the moments (``moments`` alike, or
 ``I1``, ``I2``, ``I3``), the misalignment of the axes (``axes``, rad), the spin ``rate``, the
-nudge ``epsilon`` and its ``direction``. A Saltelli design of ``[sensitivity] base`` points
-(:func:`stability.uncertainty.sobol.sobol_design`) gives each member its values; every member's
-flip interval and growth rate come in closed form (:mod:`.measure`), the first
-``[integration] members`` are integrated too (chunk by chunk, resumable), and the Sobol'
-indices of both outputs (:func:`stability.uncertainty.sobol.sobol_indices`) are written with
-the draws and drawn as bars (:func:`stability.uncertainty.figures.indices_figure`).
+nudge ``epsilon`` and its ``direction``. The design of ``[sensitivity]``
+(:mod:`stability.study.sensitivity`: a Saltelli design for Sobol' indices, trajectories for
+Morris screening) gives each member its values; every member's flip interval and growth rate
+come in closed form (:mod:`.measure`), the first ``[integration] members`` are integrated too
+(chunk by chunk, resumable), and the indices of both outputs are written with the draws and
+drawn.
 """
 
 from __future__ import annotations
@@ -19,25 +19,27 @@ from pathlib import Path
 import numpy as np
 
 from ...core.body import RigidBody
-from ...study.config import UNSET, ConfigError, Key, Schema, Section
-from ...study.kind import StudyKind, StudySummary, SummaryTable
+from ...study.config import ConfigError, Key, Schema, Section
+from ...study.kind import StudyKind, StudySummary
 from ...study.outputs import output_files, write_outputs
 from ...study.sections import (
     MEMBER_BYTES, check_memory, check_run, method_names, output_section, run_section,
     study_run_options, tossed_body_sections
 )
-from ...uncertainty.dispersions import ALL_MOMENTS, AXES, MOMENTS, dispersions
-from ...uncertainty.figures import indices_figure
-from ...uncertainty.sobol import sobol_design, sobol_indices
+from ...study.sensitivity import (
+    analyse, analysis_figure, checked_dispersions, design_members, dispersions_section,
+    dominant, draw_design, index_tables, sensitivity_section, summary_values
+)
+from ...uncertainty.dispersions import ALL_MOMENTS, AXES, MOMENTS
 from ...util.threads import numba_threads
 from .measure import TOSS, closed_form, dispersion_dataset, integrated, members, nominal
 
 NAME = "dispersion"
 FIGURES = ("indices",)
 BODY, RATE = tossed_body_sections()
-_NAMES = (ALL_MOMENTS, *MOMENTS, AXES, *TOSS)
-_UNITS = {"I1": "kg m2", "I2": "kg m2", "I3": "kg m2", ALL_MOMENTS: "kg m2", AXES: "rad",
-          "rate": "rad/s", "epsilon": "1", "direction": "rad"}
+#: What a dispersion may name, and its unit.
+_UNITS = {ALL_MOMENTS: "kg m2", **{m: "kg m2" for m in MOMENTS}, AXES: "rad",
+          **dict(zip(TOSS, ("rad/s", "1", "rad")))}
 
 SCHEMA = Schema(
     top=(Key("title", "str", "A dispersed tossed body: which uncertainty dominates its flip?",
@@ -51,20 +53,8 @@ SCHEMA = Schema(
             Key("direction", "float", 0.0, "direction of the nudge from the smallest-moment "
                 "axis towards the largest", unit="rad"),
         )),
-        Section("dispersions", "what is uncertain: a table {distribution = ..., ...} each", (
-            *(Key(name, "table", UNSET, f"dispersion of {name} (in {_UNITS[name]})")
-              for name in _NAMES),
-            Key("truncate", "bool", False, "truncate the largest moment to the triangle "
-                "inequality where the moments' dispersions could break it"),
-        )),
-        Section("sensitivity", "the Saltelli design and the Sobol' indices", (
-            Key("base", "int", 4096, "base points N (a power of 2); N (d + 2) members",
-                minimum=2),
-            Key("seed", "int", 1, "seed of the scrambled Sobol' design", minimum=0),
-            Key("resamples", "int", 100, "bootstrap resamples of the indices", minimum=10),
-            Key("conf_level", "float", 0.95, "level of the confidence intervals", minimum=0.5,
-                maximum=0.999),
-        )),
+        dispersions_section(_UNITS, truncate=True),
+        sensitivity_section(),
         Section("integration", "the first members integrated, checking the closed form", (
             Key("members", "int", 16, "members integrated (0: none)", minimum=0),
             Key("method", "str", "lp4", "integrator", choices=method_names),
@@ -76,7 +66,8 @@ SCHEMA = Schema(
     ),
 )
 
-QUICK = {"sensitivity": {"base": 256, "resamples": 20}, "integration": {"members": 4}}
+QUICK = {"sensitivity": {"base": 256, "trajectories": 16, "resamples": 20},
+         "integration": {"members": 4}}
 
 
 def outputs(config: dict) -> list[str]:
@@ -88,32 +79,20 @@ def _dispersions(config: dict, source: str):
     """The checked dispersions of ``config``; a bad one is a one-line ConfigError."""
     body = RigidBody.preset(config["body"]["preset"])
     toss = config["toss"]
-    spec = {k: v for k, v in config["dispersions"].items() if k != "truncate"}
-    try:
-        return dispersions(spec, nominal(body.moments, toss["rate"], toss["epsilon"],
-                                         toss["direction"]),
-                           truncate=config["dispersions"]["truncate"])
-    except ValueError as exc:
-        key = next((k for k in spec if repr(k) in str(exc)), "")
-        raise ConfigError(str(exc), source, "dispersions", key if key else "") from None
+    return checked_dispersions(config, source, nominal(body.moments, toss["rate"],
+                                                       toss["epsilon"], toss["direction"]))
 
 
 def check(config: dict, source: str) -> dict:
-    """Dispersions that are physical and known, a power of 2 of base points, and the members
-    within memory."""
-    _dispersions(config, source)
-    base = config["sensitivity"]["base"]
-    if base & (base - 1):
-        raise ConfigError(f"must be a power of 2 (the Sobol' sequence's balance), got {base}",
-                          source, "sensitivity", "base")
-    d = len(_dispersions(config, source).names)
-    n = base * (d + 2)
+    """Dispersions that are physical and known, a design ``[sensitivity]`` can draw, and the
+    members within memory."""
+    n = design_members(config, source, _dispersions(config, source))
     if config["integration"]["members"] > n:
         raise ConfigError(f"must be at most the {n} members of the design", source,
                           "integration", "members")
     check_memory(SCHEMA, config, source, n * (MEMBER_BYTES + 30 * 8),
-                 [("sensitivity", "base")], f"the {n} members of the design",
-                 "use fewer base points")
+                 [("sensitivity", "base"), ("sensitivity", "trajectories")],
+                 f"the {n} members of the design", "use fewer base points or trajectories")
     check_run(config, source)
     return config
 
@@ -124,8 +103,8 @@ def run(config: dict, out_dir: Path, *, overwrite=False, threads=None, progress=
     Dataset and the figure of the indices."""
     t_start = time.perf_counter()
     disp = _dispersions(config, "<study>")
-    sens, integ = config["sensitivity"], config["integration"]
-    design = sobol_design(disp, sens["base"], sens["seed"])
+    integ = config["integration"]
+    design = draw_design(config, disp)
     draws = members(disp, design.unit)
     with numba_threads(threads):
         out = closed_form(draws)
@@ -137,10 +116,9 @@ def run(config: dict, out_dir: Path, *, overwrite=False, threads=None, progress=
                                                           threads, progress))
     described = {"flip_interval": (out["flip_interval"], "s", "exact flip interval 2K/nu"),
                  "growth_rate": (out["growth_rate"], "s-1", "linear growth rate")}
-    indices = sobol_indices(design, described, resamples=sens["resamples"],
-                            conf_level=sens["conf_level"], seed=sens["seed"])
+    indices = analyse(config, design, described)
     ds = dispersion_dataset(disp, draws, out, run_ds, indices)
-    ds, files = write_outputs(ds, config, out_dir, NAME, {"indices": indices_figure},
+    ds, files = write_outputs(ds, config, out_dir, NAME, {"indices": analysis_figure},
                               overwrite=overwrite, history=history, threads=threads,
                               attrs={"body": config["body"]["preset"]})
     return summarize(ds, out_dir, files, time.perf_counter() - t_start)
@@ -148,16 +126,13 @@ def run(config: dict, out_dir: Path, *, overwrite=False, threads=None, progress=
 
 def summarize(ds, out_dir, files, wall) -> StudySummary:
     """The indices of each output, the dominant parameter, and the integrated check."""
-    flip = ds.sel(output="flip_interval")
-    dominant = str(flip.parameter.values[int(np.argmax(flip.total.values))])
-    values = {"dominant": dominant, "wall_time": wall, "members": int(ds.member.size),
-              "indices": {str(o): {str(p): (float(ds.first_order.sel(output=o, parameter=p)),
-                                            float(ds.total.sel(output=o, parameter=p)))
-                                   for p in ds.parameter.values} for o in ds.output.values}}
+    top = dominant(ds, "flip_interval")
+    values = {"dominant": top, "wall_time": wall, "members": int(ds.member.size),
+              "analysis": ds.attrs["analysis"], "indices": summary_values(ds)}
     rows = [(f"{ds.member.size} members of {ds.attrs['body']}: flip interval",
              "{:.3f} to {:.3f}".format(float(ds.flip_interval.min()),
                                        float(ds.flip_interval.max())), "s"),
-            ("dominates the flip interval (largest total index)", dominant, "")]
+            ("dominates the flip interval", top, "")]
     if "run_flip_interval" in ds:
         n = ds.run.size
         error = np.abs(ds.run_flip_interval.values / ds.flip_interval.values[:n] - 1.0)
@@ -165,15 +140,7 @@ def summarize(ds, out_dir, files, wall) -> StudySummary:
         rows.append((f"integrated ({n} members): max |run / exact - 1|",
                      f"{values['max_run_error']:.1e}", ""))
     rows.append(("wall time", f"{wall:.1f}", "s"))
-    tables = [SummaryTable(f"Sobol' indices of the {o.replace('_', ' ')} "
-                           f"({float(ds.attrs['conf_level']):g} intervals)",
-                           [("parameter", ""), ("S_i", ""), ("+-", ""), ("S_Ti", ""), ("+-", "")],
-                           [(str(p), *(f"{float(ds[v].sel(output=o, parameter=p)):.3f}"
-                                       for v in ("first_order", "first_order_conf", "total",
-                                                 "total_conf")))
-                            for p in ds.parameter.values])
-              for o in ds.output.values]
-    return StudySummary(NAME, Path(out_dir), files, rows, values, tables)
+    return StudySummary(NAME, Path(out_dir), files, rows, values, index_tables(ds))
 
 
 STUDY = StudyKind(
