@@ -75,6 +75,20 @@ def study_kind(name) -> StudyKind:
     return registered(STUDIES, name, "study kind", "kinds")
 
 
+def _check_dispersible(kind, raw: dict, source: str) -> None:
+    """A ``[dispersions]`` section in a study whose kind draws none is one line naming the
+    kinds that do."""
+    names = [s.name for s in kind.schema.sections]
+    if "dispersions" in raw and "dispersions" not in names:
+        dispersed = [k for k, other in STUDIES.items()
+                     if "dispersions" in [s.name for s in other.schema.sections]]
+        raise ConfigError(
+            f"study {kind.name!r} draws no dispersions; the studies that take [dispersions] "
+            f"and report which uncertainty dominates are {', '.join(dispersed)}; or disperse "
+            "any scene's named parameters with stability.uncertainty.scenes.run_dispersed",
+            source)
+
+
 def load_study(path, *, overrides=(), members=None, quick=False):
     """Read, override and validate a study file.
 
@@ -120,6 +134,7 @@ def load_study(path, *, overrides=(), members=None, quick=False):
             source,
         )
     kind = STUDIES[name]
+    _check_dispersible(kind, raw, source)
     if quick:
         for section, values in kind.quick.items():
             raw.setdefault(section, {})

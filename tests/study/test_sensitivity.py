@@ -5,6 +5,7 @@ function whose indices are known."""
 import numpy as np
 import pytest
 
+from stability.study import load_study
 from stability.study.config import ConfigError
 from stability.study.sensitivity import (
     analyse, design_members, dominant, draw_design, index_tables, summary_values
@@ -51,3 +52,14 @@ def test_a_design_it_cannot_draw_is_one_line(sensitivity, message):
     with pytest.raises(ConfigError, match=message) as info:
         design_members(config(**sensitivity), "x.toml", DISP)
     assert "\n" not in str(info.value)
+
+
+def test_dispersions_in_a_study_that_draws_none_name_the_studies_that_do(tmp_path):
+    path = tmp_path / "bat.toml"
+    path.write_text('study = "bat"\n[dispersions]\nmass = {distribution = "uniform", '
+                    'relative = 0.1}\n', encoding="utf-8")
+    with pytest.raises(ConfigError, match=r"study 'bat' draws no dispersions; the studies "
+                       r"that take \[dispersions\] .* are dispersion, explorer_dispersion; "
+                       r"or disperse any scene's named parameters") as info:
+        load_study(path)
+    assert "\n" not in str(info.value) and str(info.value).startswith(str(path))
