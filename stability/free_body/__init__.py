@@ -44,5 +44,6 @@ DATASETS = (
     "schema:FTLE_MAP",
     "schema:WORK_PRECISION",
     "schema:TWISTING_RACKET",
+    "schema:FLIP_SENSITIVITY",
     "dispersion.schema:DISPERSION",
 )

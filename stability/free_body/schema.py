@@ -12,7 +12,7 @@ from ..ensemble.schema import (
 )
 
 __all__ = ["TRAJECTORY", "TENNIS_RACKET", "STABILITY_MAP", "FTLE_MAP", "WORK_PRECISION",
-           "TWISTING_RACKET"]
+           "TWISTING_RACKET", "FLIP_SENSITIVITY"]
 
 
 # One trajectory (stability.integrate)
@@ -400,4 +400,30 @@ TWISTING_RACKET = declare(
         AXIS: ENSEMBLE[AXIS],
         QUATERNION: replace(ENSEMBLE[QUATERNION], optional=""),
     },
+)
+
+
+# The first flip's sensitivities (stability.free_body.flip_sensitivity.flip_sensitivities)
+# --------------------------------
+
+FLIP_SENSITIVITY = declare(
+    "flip_sensitivity",
+    "first flip times of free bodies spun near their middle axis, and their derivatives with "
+    "respect to the moments and the start, by the tangent of the computed RK4 map",
+    "stability.free_body.flip_sensitivity.flip_sensitivities",
+    {
+        MEMBER: member_coordinate(),
+        AXIS: coordinate(AXIS, ONE, "principal axis of the body", kind="i"),
+        "moments": variable((MEMBER, AXIS), KG_M2, "principal moments, ascending"),
+        "w0": variable((MEMBER, AXIS), RAD_PER_S, "initial angular velocity"),
+        "step": variable(MEMBER, SECOND, "RK4 step h"),
+        "flip_time": variable(MEMBER, SECOND, "time of the first sign change of the middle "
+                              "component (the root of its cubic Hermite interpolant over the "
+                              "step)"),
+        "dflip_dmoments": variable((MEMBER, AXIS), "s kg-1 m-2", "derivative of the first flip "
+                                   "time with respect to each moment at a fixed w0"),
+        "dflip_dw0": variable((MEMBER, AXIS), "s2", "derivative of the first flip time with "
+                              "respect to each component of w0"),
+    },
+    file="",
 )
