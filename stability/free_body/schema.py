@@ -266,6 +266,18 @@ FTLE_MAP = declare(
     },
 )
 
+#: The FTLE map's names in the stability map study's Dataset (``[ftle] run = true``).
+FTLE_IN_MAP = {"I1": "ftle_I1", "I2": "ftle_I2", "ftle": "ftle", "ftle_spread": "ftle_spread",
+               "growth_rate_analytic": "ftle_growth_rate_analytic",
+               "omega_squared": "ftle_omega_squared",
+               "eigenvector_aspect": "ftle_eigenvector_aspect", "physical": "ftle_physical"}
+_FTLE_NOTE = "maps with the FTLE ([ftle] run = true)"
+STABILITY_MAP = STABILITY_MAP.extend(
+    STABILITY_MAP.name, STABILITY_MAP.title, STABILITY_MAP.written_by, STABILITY_MAP.file,
+    {FTLE_IN_MAP[name]: replace(var, dims=tuple(FTLE_IN_MAP.get(d, d) for d in var.dims),
+                                optional=_FTLE_NOTE)
+     for name, var in FTLE_MAP.variables.items()})
+
 # The work-precision study (stability.free_body.work_precision.measure)
 # -------------------------------------------
 

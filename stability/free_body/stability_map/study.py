@@ -26,15 +26,18 @@ from ...analysis.fits import richardson_bias
 from ...core.body import RigidBody
 from . import measure as smap
 from ..plan import ensemble_memory
+from ..schema import FTLE_IN_MAP
 from . import figures as figures
 from ..tennis_racket.flipsweep import flip_sweep
 from ...integrators import method_spec
 from ...output.dataset import software_attrs
 from ...output.store import ChunkStore
+from .ftle_map import ftle_map
 from .shapes import amplitude_levels, analytic_omega_squared, edge_series, horizons, shape_grid
 from ...util import conventions as cv
 from ...util.threads import numba_threads
 from ...version import __version__
+from ...ensemble.options import RunOptions
 from ...study.config import UNSET, ConfigError, Key, Schema, Section
 from ...study.kind import StudyKind, StudySummary
 from ...study.outputs import output_files, write_outputs
@@ -44,6 +47,8 @@ NAME = "stability_map"
 
 #: Figure file stems: the map, measured against analytic, flip intervals, the edges.
 FIGURES = ("fig1_map", "fig2_measured_vs_analytic", "fig3_flip_interval", "fig4_edges")
+#: Figure 5's stem, drawn where ``[ftle] run`` is set.
+FTLE_FIGURE = "fig5_ftle_map"
 
 
 SCHEMA = Schema(
@@ -116,9 +121,23 @@ SCHEMA = Schema(
             Key("t_end", "float", 400.0, "length of the time series", unit="s",
                 minimum=0.0, exclusive_minimum=True),
         )),
+        Section("ftle", "the map from tangents: finite-time Lyapunov exponents over a grid of "
+                "inertia ratios (figure 5)", (
+            Key("run", "bool", False, "draw it (the FTLE of each cell's state-transition "
+                "matrix, beside the analytic rate)"),
+            Key("axis", "int", 2, "the spin axis mapped", choices=(1, 2, 3)),
+            Key("divisions", "int", 24, "cells per side of the grid of I1 / I3, I2 / I3",
+                minimum=2),
+            Key("horizon", "float", 10.0, "the FTLE's horizon T (in the linear phase: "
+                "epsilon exp(rate T) << 1)", unit="s", minimum=0.0, exclusive_minimum=True),
+            Key("epsilon", "float", 1e-8, "start off the axis, relative to the spin",
+                minimum=0.0, maximum=1e-3),
+            Key("members", "int", 2, "starts per cell, in random directions", minimum=1),
+            Key("windows", "int", 10, "renormalisations over the horizon", minimum=1),
+        )),
         Section("run", "where the batches of ensembles run",
                 (scheduler_key("the batches of ensembles"),)),
-        output_section(NAME, FIGURES),
+        output_section(NAME, FIGURES + (FTLE_FIGURE,)),
     ),
 )
 
@@ -184,9 +203,14 @@ def _check_memory(config: dict, source: str) -> None:
                  "run together)", "lower [ensemble] members or [grid] divisions")
 
 
+def figure_stems(config: dict) -> tuple:
+    """The figures a run draws: figure 5 with ``[ftle] run``."""
+    return FIGURES + ((FTLE_FIGURE,) if config["ftle"]["run"] else ())
+
+
 def outputs(config: dict) -> list[str]:
     """Files a run writes into the output folder."""
-    return output_files(config, FIGURES)
+    return output_files(config, figure_stems(config))
 
 
 # ----------------------------------------------------------------------------------- the run
@@ -208,9 +232,10 @@ def run(config: dict, out_dir: Path, *, overwrite=False, threads=None, progress=
                            scheduler=scheduler or config["run"]["scheduler"] or None)
     compute_time = time.perf_counter() - t_start
     draw = (figures.map_figure, figures.scatter_figure, figures.flip_interval_figure,
-            figures.edges_figure)
+            figures.edges_figure, lambda ds: figures.ftle_map_figure(ftle_part(ds)))
     stages = {}
-    ds, files = write_outputs(ds, config, out_dir, NAME, dict(zip(FIGURES, draw)),
+    ds, files = write_outputs(ds, config, out_dir, NAME,
+                              dict(zip(figure_stems(config), draw)),
                               overwrite=overwrite, history=history, threads=threads,
                               timings=stages)
     wall = time.perf_counter() - t_start
@@ -288,7 +313,62 @@ def compute(config: dict, progress=None, work_dir=None, resume=False, scheduler=
     }
     ds = smap.map_dataset(specs, integ["h"], spin, moments, edges, omega2, t_end, levels, out,
                           half, bias, sweep, edge, attrs)
+    if config["ftle"]["run"]:
+        ds = with_ftle(ds, config, work_dir, resume, scheduler, progress)
     return ds, work
+
+
+def with_ftle(ds, config: dict, work_dir, resume: bool, scheduler, progress):
+    """The map with the FTLE map of ``[ftle]`` (:func:`~.ftle_map.ftle_map`, resumable in
+    ``work_dir/ftle``) merged in, its names as :data:`~stability.free_body.schema.FTLE_IN_MAP`
+    gives them and its settings as ``ftle_*`` attributes."""
+    f = config["ftle"]
+    options = RunOptions(store=None if work_dir is None else Path(work_dir) / "ftle",
+                         resume=resume, scheduler=scheduler if work_dir is not None else None,
+                         progress=progress)
+    t0 = time.perf_counter()
+    fm = ftle_map(f["divisions"], axis=f["axis"], spin=config["spin"]["rate"],
+                  horizon=f["horizon"], epsilon=f["epsilon"], members=f["members"],
+                  windows=f["windows"], seed=config["ensemble"]["seed"], options=options)
+    fm = fm.rename({old: new for old, new in FTLE_IN_MAP.items() if old != new})
+    out = ds.merge(fm, combine_attrs="drop_conflicts")
+    out.attrs = {**ds.attrs, **{f"ftle_{key}": fm.attrs[key] for key in FTLE_ATTRS},
+                 "ftle_run_time": time.perf_counter() - t0}
+    return out
+
+
+def ftle_rows(ds) -> tuple[list, dict]:
+    """The FTLE map against linear theory: about the middle axis the FTLE lies in
+    ``[sigma, sigma + log((1 + rho) / 2) / T]``, about a stable one in ``[0, log(rho) / T]``
+    (:mod:`.ftle_map`); how many cells do, the largest departure from sigma, the cost."""
+    part = ftle_part(ds)
+    axis, horizon = int(part.attrs["axis"]), float(part.attrs["horizon"])
+    inside = part.physical.values == 1
+    ftle, rate = part.ftle.values[inside], part.growth_rate_analytic.values[inside]
+    rho = part.eigenvector_aspect.values[inside]
+    top = np.log((1.0 + rho) / 2.0) if axis == 2 else np.log(rho)
+    slack = 1e-9 * np.maximum(np.abs(rate), 1.0)
+    within = (ftle >= rate - slack) & (ftle <= rate + top / horizon + slack)
+    gap = float(np.max(np.abs(ftle - rate)))
+    rows = [(f"FTLE map, axis {axis}, T = {horizon:g} s: cells within the linear bound",
+             f"{int(within.sum())} of {within.size}", ""),
+            ("  largest |FTLE - sqrt(-Omega^2)|", f"{gap:.2e}", "s-1"),
+            ("  its run", f"{float(ds.attrs['ftle_run_time']):.1f}", "s")]
+    return rows, {"ftle_cells": int(within.size), "ftle_cells_within": int(within.sum()),
+                  "ftle_largest_gap": gap, "ftle_run_time": float(ds.attrs["ftle_run_time"])}
+
+
+#: The FTLE map's settings the study's Dataset keeps (as ``ftle_<name>``).
+FTLE_ATTRS = ("axis", "spin", "horizon", "epsilon", "members", "step", "windows", "method")
+
+
+def ftle_part(ds):
+    """The FTLE map inside a study's Dataset, as :func:`~.ftle_map.ftle_map` returns it (what
+    :func:`~.figures.ftle_map_figure` draws)."""
+    names = [new for new in FTLE_IN_MAP.values() if new in ds.variables]
+    part = ds[names].rename({new: old for old, new in FTLE_IN_MAP.items() if old != new})
+    part.attrs = {key: ds.attrs[f"ftle_{key}"] for key in FTLE_ATTRS}
+    return part
 
 
 def summarize(ds, out_dir, files, wall, compute_time, work, stages=None) -> StudySummary:
@@ -296,6 +376,10 @@ def summarize(ds, out_dir, files, wall, compute_time, work, stages=None) -> Stud
     where its time went (``stages``: ``figures`` and ``dataset`` as
     :func:`~stability.study.outputs.write_outputs` times them)."""
     rows, values = smap.headline(ds)
+    if "ftle" in ds:
+        more, extra = ftle_rows(ds)
+        rows += more
+        values.update(extra)
     stages = stages or {}
     peak = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024.0  # KiB on Linux
     rate = work["member_steps"] / work["loop_time"] if work["loop_time"] > 0 else math.nan

@@ -39,6 +39,7 @@ def small_map(tmp_path_factory):
             ("integration.methods", '["rk4", "exact"]'), ("integration.h", "[0.1, 0.1]"),
             ("integration.bias_stride", "3"), ("flips.shapes", "[0.25, 0.75]"),
             ("flips.epsilons", "[1e-2, 1e-4, 1e-6]"), ("edges.t_end", "60.0"),
+            ("ftle.run", "true"), ("ftle.divisions", "4"),
             ("output.formats", '["png"]'),
         ],
     )
@@ -147,6 +148,23 @@ def test_the_edges_figure_says_in_words_when_a_misfit_was_not_fitted(small_map):
     texts = [t.get_text() for ax in edges_figure(ds).axes for t in ax.texts]
     assert texts and not any("nan" in text for text in texts)
     assert any("not fitted" in text for text in texts)
+
+
+def test_the_maps_ftle_is_the_ftle_maps_and_within_the_linear_bound(small_map):
+    """``[ftle] run``: the study's FTLE part is :func:`ftle_map`'s, bitwise, every real cell's
+    FTLE lies in [sigma, sigma + log((1 + rho) / 2) / T], and figure 5 is drawn."""
+    from stability.free_body.stability_map.ftle_map import ftle_map
+    from stability.free_body.stability_map.study import ftle_part
+
+    summary, ds = small_map
+    part = ftle_part(ds)
+    direct = ftle_map(4, axis=2, spin=1.0, horizon=10.0, epsilon=1e-8, members=2, windows=10,
+                      seed=1)
+    for name in direct.variables:
+        assert np.array_equal(part[name].values, direct[name].values, equal_nan=True), name
+    assert summary.values["ftle_cells_within"] == summary.values["ftle_cells"] > 0
+    assert "fig5_ftle_map.png" in {p.name for p in summary.files}
+    assert_readable(figures.ftle_map_figure(part))
 
 
 def test_dataset_follows_cf(small_map):
