@@ -51,6 +51,7 @@ from ..core.body import RigidBody
 from ..free_body.propagate import propagate
 from ..engine import propagate_groups
 from ..engine.reference import plain_rk4
+from ..engine.tangent import tangent_scene
 from ..free_body.ensemble import run_ensemble
 from ..free_body.keep import Keep
 from ..ensemble.options import RunOptions
@@ -270,12 +271,22 @@ def engine_costs(repeat=3, workload=None) -> list[BenchRow]:
                           options=RunOptions(progress=False))
         return work / ds.attrs["member_steps_per_second"]
 
+    tangent = tangent_scene(scene, 1)
+    x0 = np.hstack([m0, np.full((members, 3), 1.0 / math.sqrt(3.0))])
+
+    def tangent_loop():
+        return propagate_groups(tangent, "rk4", x0, p[None, :], [members], h, steps,
+                                progress=False).wall_time
+
     plain_rk4(m0.copy(), p, h, 1)  # compile or load once, outside the timings
+    propagate_groups(tangent, "rk4", x0[:1], p[None, :], [1], h, 1, progress=False)
     variants = (
         ("plain RK4 loop", plain, "uncompensated, no checks: the reference"),
         ("engine rk4, uncompensated", engine_loop(False), "the engine's loop, m += dm"),
         ("engine rk4", engine_loop(True), "compensated (every run)"),
         ("run_ensemble rk4, summaries only", ensemble, "compensated + tracking"),
+        ("engine rk4 with one tangent", tangent_loop, "the state and v' = J v (issue bar: "
+         "2.5 x the engine's rk4)"),
     )
     walls = [[] for _ in variants]
     for _ in range(max(repeat, ENGINE_ROUNDS)):
