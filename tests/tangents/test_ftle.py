@@ -127,6 +127,27 @@ def test_the_ftle_is_bitwise_the_same_in_one_piece_and_chunked_into_a_store(tmp_
     xr.testing.assert_identical(stored.drop_attrs(), again.drop_attrs())
 
 
+def test_the_ftle_is_bitwise_the_same_on_one_thread_and_on_dask_workers(tmp_path):
+    """The same members on one Numba thread, and in chunks of 2 on a local dask cluster of two
+    processes: every number of the Dataset is the one made here with every thread."""
+    distributed = pytest.importorskip("distributed")
+    rng = np.random.default_rng(6)
+    x0 = np.column_stack([1e-2 * rng.standard_normal(6), np.full(6, 4.0),
+                          1e-2 * rng.standard_normal(6)])
+    kwargs = dict(h=0.01, every=20, windows=6, vectors=3)
+    whole = run_tangents(FREE_BODY, x0, MOMENTS, **kwargs)
+    one = run_tangents(FREE_BODY, x0, MOMENTS, **kwargs,
+                       options=RunOptions(threads=1, progress=False))
+    with distributed.LocalCluster(n_workers=2, threads_per_worker=1, processes=True,
+                                  dashboard_address=None) as cluster, \
+            distributed.Client(cluster) as client:
+        there = run_tangents(FREE_BODY, x0, MOMENTS, **kwargs, options=RunOptions(
+            store=tmp_path / "store", chunk_members=2, scheduler=client, progress=False))
+    for ds in (one, there):
+        for name in whole.data_vars:
+            assert np.array_equal(whole[name].values, ds[name].values, equal_nan=True), name
+
+
 def test_the_dataset_is_as_declared_and_follows_cf(tmp_path, intermediate):
     path = stability.save(intermediate, tmp_path / "tangents.nc")
     assert_declared(path, "tangents")
