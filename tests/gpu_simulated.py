@@ -189,6 +189,36 @@ def every_scene():
     return out
 
 
+def tangents_on_gpu():
+    """The tangent scenes (state and two tangents, RK4 of the variational equations) of the
+    scenes that declare a linearisation, on the GPU against the CPU loop, in chunked
+    launches: the tangents, the state-transition matrix's columns, are carried there too."""
+    from stability.engine import propagate_groups
+    from stability.engine.gpu import gpu_methods, propagate_groups_gpu
+    from stability.engine.tangent import tangent_scene
+    from stability.registry import SCENES
+
+    out = {}
+    for base in SCENES.values():
+        if base.linearisation is None or base.example is None:
+            continue
+        scene = tangent_scene(base, 2)
+        x0, sets = base.example(SCENE_MEMBERS[0], seed=3)
+        tangents = np.zeros((x0.shape[0], 2 * base.width))
+        tangents[:, 0], tangents[:, base.width + 1] = 1.0, 1.0
+        start = np.hstack([x0, tangents])
+        x = np.concatenate([start, start[:SCENE_MEMBERS[1]]])
+        for method in gpu_methods(scene):
+            spec = scene.method(method)
+            params = np.array([spec.params(s, SCENE_H) for s in (list(sets) * 2)[:2]])
+            runs = [run(scene, spec, x, params, list(SCENE_MEMBERS), SCENE_H, list(SCENE_STEPS),
+                        save_every=SCENE_SAVE, progress=False, **kw)
+                    for run, kw in ((propagate_groups_gpu, {"chunk_steps": SCENE_CHUNK}),
+                                    (propagate_groups, {}))]
+            out[f"{scene.name}/{method}"] = scene_differences(*runs)
+    return out
+
+
 def tennis_on_gpu():
     """The tennis-racket study's measurement of chunks run on the GPU (the loop's canonical
     series read as they come back) against the same chunks on the CPU."""
@@ -316,6 +346,7 @@ def main():
     results["every_scene"] = every_scene()
     results["stored"] = stored_on_gpu()
     results["tennis"] = tennis_on_gpu()
+    results["tangents"] = tangents_on_gpu()
     print(json.dumps(results))
 
 

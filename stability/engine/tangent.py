@@ -47,6 +47,9 @@ from .scene import Scene
 
 #: The size of the imaginary step of the complex-step derivative, relative to max(1, |x|).
 COMPLEX_STEP = 1e-20
+#: The most positional arguments CPython passes one by one (its compiler's
+#: STACK_USE_GUIDELINE); a call with more builds a tuple.
+CALL_ARGUMENTS = 30
 
 
 @dataclass(frozen=True)
@@ -274,6 +277,12 @@ def _kernels(scene: Scene, k: int):
         unpack_x="; ".join(f"x{i} = x[{i}]" for i in range(n)),
         unpack_v="; ".join(f"u{i} = v[{i}]" for i in range(n)),
         vs=", ".join(plain_v))
+    if n * (k + 1) + 4 > CALL_ARGUMENTS:
+        # CPython passes more than CALL_ARGUMENTS arguments as one tuple (CALL_FUNCTION_EX),
+        # which Numba's inliner refuses ("Calling a closure with *args"): the loop's calls of
+        # the step and observe go through typing instead, and LLVM inlines them
+        source = source.replace('@njit(inline="always")',
+                                '@njit(forceinline=True, error_model="numpy")')
     functions = [lin.rhs.py_func, scene.observe.py_func]
     functions += [lin.jvp.py_func] if lin.jvp is not None else []
     roots = tuple(dict.fromkeys([rhs_module, observe_module]

@@ -4,9 +4,9 @@ r"""The sensitivity of a free body's first flip to its moments and its start, by
 A body spun near its middle axis flips when the middle component of its angular momentum
 changes sign. The moments are carried as state that does not change (the scene
 :data:`FREE_BODY_MOMENTS`: ``m' = m x I^-1 m``, ``I' = 0``), so the tangent scene of it
-(:func:`stability.engine.tangent.tangent_scene`, RK4 of the state and the whole 6 x 6
-state-transition matrix, the exact derivative of the computed RK4 map) carries the derivatives
-of the state with respect to the moments beside those with respect to the start.
+(:func:`stability.engine.tangent.tangent_scene`, RK4 of the state and six tangents, the exact
+derivative of the computed RK4 map) carries the derivatives of the state with respect to the
+moments beside those with respect to the start.
 
 The computed flip time is the root of the cubic Hermite interpolant of ``m2`` over the step in
 which it changes sign (from its values and slopes ``h m2'`` at both ends, error O(h^4) like
@@ -163,12 +163,13 @@ def flip_sensitivities(moments, w0, *, steps_per_flip: int = 400, h=None,
     by_I = np.zeros((n, 6, 3))
     by_I[:, :3, :] = w0[:, :, None] * eye  # dm0 = w0_k e_k at a fixed w0, dI = e_k
     by_I[:, 3:, :] = eye
-    tscene = tangent_scene(FREE_BODY_MOMENTS, 3)
-    values = {"flip_time": None, "moments": moments, "w0": w0, "step": h}
-    for name, q, within in (("dflip_dmoments", by_I, "moments"), ("dflip_dw0", by_w, "start")):
-        start = np.hstack([m0, moments, q.transpose(0, 2, 1).reshape(n, 18)])
-        t, x0, x1 = _around_the_flip(tscene, start, rows, h, steps, options.within(within))
-        values["flip_time"], values[name] = _flip_and_derivatives(h, t, x0, x1)
+    q = np.concatenate([by_I, by_w], axis=2)  # the six directions, carried together
+    start = np.hstack([m0, moments, q.transpose(0, 2, 1).reshape(n, 36)])
+    t, x0, x1 = _around_the_flip(tangent_scene(FREE_BODY_MOMENTS, 6), start, rows, h, steps,
+                                 options.within("tangents"))
+    flip, derivatives = _flip_and_derivatives(h, t, x0, x1)
+    values = {"flip_time": flip, "dflip_dmoments": derivatives[:, :3],
+              "dflip_dw0": derivatives[:, 3:], "moments": moments, "w0": w0, "step": h}
     coords = {cv.MEMBER: FLIP_SENSITIVITY.entry(cv.MEMBER, np.arange(n)),
               cv.AXIS: FLIP_SENSITIVITY.entry(cv.AXIS, np.arange(1, 4))}
     ds = xr.Dataset(FLIP_SENSITIVITY.entries(values), coords=coords)
@@ -253,11 +254,11 @@ def _slope(y0, d0, y1, d1, s):
 
 
 def _flip_and_derivatives(h, t, x0, x1):
-    """The flip time and its derivatives along the three tangents, from the states and
-    tangents at both ends of the step of the sign change."""
+    """The flip time and its derivatives along the tangents, from the states and tangents at
+    both ends of the step of the sign change."""
     n = x0.shape[0]
-    V0 = x0[:, 6:].reshape(n, 3, 6).transpose(0, 2, 1)  # column j: tangent j
-    V1 = x1[:, 6:].reshape(n, 3, 6).transpose(0, 2, 1)
+    V0 = x0[:, 6:].reshape(n, -1, 6).transpose(0, 2, 1)  # column j: tangent j
+    V1 = x1[:, 6:].reshape(n, -1, 6).transpose(0, 2, 1)
     f0, g0 = _slope_and_gradient(x0)
     f1, g1 = _slope_and_gradient(x1)
     y0, y1, d0, d1 = x0[:, 1], x1[:, 1], h * f0, h * f1

@@ -97,6 +97,26 @@ def test_the_state_part_is_the_scenes_own_rk4_run_bitwise():
     assert np.array_equal(both[:, :3], alone)
 
 
+def test_a_tangent_scene_of_over_thirty_numbers_is_the_narrow_ones_bitwise():
+    """The gyrostat (10 numbers) with two tangents: 30 numbers and the step's h, p, s, more
+    arguments than CPython passes one by one, so its kernels are LLVM-inlined instead of
+    Numba-inlined; each tangent and the state are those of the one-tangent scene, bitwise."""
+    gyrostat = SCENES["gyrostat"]
+    x0, sets = gyrostat.example(3, seed=1)
+    rng = np.random.default_rng(2)
+    v = rng.standard_normal((2, 3, gyrostat.width))
+    wide, narrow = tangent_scene(gyrostat, 2), tangent_scene(gyrostat, 1)
+    row = wide.method("rk4").params(sets[0], H)
+    both = propagate_groups(wide, "rk4", np.hstack([x0, v[0], v[1]]), row[None], [3], H, 100,
+                            progress=False).x_final
+    for j in range(2):
+        one = propagate_groups(narrow, "rk4", np.hstack([x0, v[j]]), row[None], [3], H, 100,
+                               progress=False).x_final
+        n = gyrostat.width
+        assert np.array_equal(both[:, :n], one[:, :n])
+        assert np.array_equal(both[:, n * (j + 1):n * (j + 2)], one[:, n:])
+
+
 def test_the_tangent_is_a_central_difference_of_two_nearby_runs():
     """Near the separatrix, through the linear phase into the first flip (the tangent grows
     ~100-fold): to 1e-7 relative with a step of 1e-6 of the state (truncation ~1e-12 times the
