@@ -119,12 +119,11 @@ def test_every_scene_and_method_runs_on_the_gpu(simulated):
 
 @needs_numba_cuda
 def test_the_tangent_scenes_run_on_the_gpu_as_on_the_cpu(simulated):
-    """The state with two tangents of every scene that declares a linearisation (free body,
-    heavy top, sphere damper, gyrostat), saved and in chunked launches: the CPU loop's result,
-    bitwise under the simulator."""
+    """The state with two tangents of the free body, the heavy top and the sphere damper,
+    saved and in chunked launches: the CPU loop's result, bitwise under the simulator."""
     runs = simulated["tangents"]
-    assert {case.split("_tangent")[0] for case in runs} >= {
-        "free_body", "heavy_top", "sphere_damper", "gyrostat"}
+    assert {case.split("_tangent")[0] for case in runs} == {
+        "free_body", "heavy_top", "sphere_damper"}
     for case, r in runs.items():
         assert r["shapes"] and r["status_equal"] and r["bitwise"], case
         assert r["steps_done"][0] == r["steps_done"][1], case

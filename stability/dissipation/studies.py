@@ -55,8 +55,18 @@ FIGURES = ("explorer_nutation", "explorer_flat_time", "explorer_end_state")
 RPM = 2.0 * math.pi / 60.0
 
 
-def _positive(name, default, doc, unit):
+def positive_key(name, default, doc, unit):
+    """A key of a number > 0."""
     return Key(name, "float", default, doc, unit=unit, minimum=0.0, exclusive_minimum=True)
+
+
+#: The keys of a uniform solid cylinder, Explorer 1's by default (this study's and the
+#: dispersed Explorer's ``[body]``).
+CYLINDER_KEYS = (
+    positive_key("length", EXPLORER_1.length, "length of the cylinder", "m"),
+    positive_key("diameter", EXPLORER_1.diameter, "diameter of the cylinder", "m"),
+    positive_key("mass", EXPLORER_1.mass, "mass of the cylinder", "kg"),
+)
 
 
 SCHEMA = Schema(
@@ -65,9 +75,7 @@ SCHEMA = Schema(
     sections=(
         Section("body", "the satellite: a uniform solid cylinder spun about its long axis, or "
                 "measured principal moments spun about the smallest", (
-            _positive("length", EXPLORER_1.length, "length of the cylinder", "m"),
-            _positive("diameter", EXPLORER_1.diameter, "diameter of the cylinder", "m"),
-            _positive("mass", EXPLORER_1.mass, "mass of the cylinder", "kg"),
+            *CYLINDER_KEYS,
             Key("moments", "floats", UNSET, "measured principal moments I1, I2, I3 (instead "
                 "of length, diameter and mass)", unit="kg m2", minimum=0.0,
                 exclusive_minimum=True, length=3),
@@ -75,13 +83,13 @@ SCHEMA = Schema(
                 "moments: 1, 2, 3 or the name of its moment; the smallest's (a damper turns "
                 "a minor-axis spin over)", choices=(1, 2, 3) + MOMENT_NAMES),
             Key("name", "str", UNSET, "label of a body given by moments"),
-            _positive("spin", 750.0, "spin about the spin axis at release", "rpm"),
+            positive_key("spin", 750.0, "spin about the spin axis at release", "rpm"),
             Key("rate", "float", UNSET, "spin about the spin axis at release (instead of "
                 "spin)", unit="rad/s", minimum=0.0, exclusive_minimum=True),
         ), exclusive=(("moments", "length"), ("moments", "diameter"), ("moments", "mass"),
                       ("spin", "rate"))),
         Section("damper", "the spherical damper (standing for what flexes and dissipates)", (
-            _positive("inertia", 1e-4, "moment of inertia J of the sphere", "kg m2"),
+            positive_key("inertia", 1e-4, "moment of inertia J of the sphere", "kg m2"),
             Key("dampings", "floats", [0.1, 0.3, 1.0, 3.0, 10.0],
                 "viscous coefficients c in units of the energy sink's optimum "
                 "c* = J W I_s / I_t, one group each", minimum=0.0, exclusive_minimum=True),
@@ -89,11 +97,11 @@ SCHEMA = Schema(
         Section("whips", "four whip antennas: two pairs of tip masses on springs, bending "
                 "along the spin axis", (
             Key("run", "bool", True, "run the whip antennas beside the sphere (RK4)"),
-            _positive("mass", 0.02, "mass of a pair of tips", "kg"),
-            _positive("arm", 0.5, "distance of the tips from the long axis", "m"),
-            _positive("frequency_ratio", 0.3, "the tips' natural frequency over the nutation "
+            positive_key("mass", 0.02, "mass of a pair of tips", "kg"),
+            positive_key("arm", 0.5, "distance of the tips from the long axis", "m"),
+            positive_key("frequency_ratio", 0.3, "the tips' natural frequency over the nutation "
                       "frequency the body feels", "1"),
-            _positive("damping_ratio", 0.5, "the tips' damping ratio", "1"),
+            positive_key("damping_ratio", 0.5, "the tips' damping ratio", "1"),
             Key("angles", "floats", [0.05, 1.0], "initial nutation angles of their members",
                 unit="degree", minimum=0.0, exclusive_minimum=True),
             Key("step_angle", "float", 0.06, "h times the spin (RK4 damps the nutation by "
@@ -395,25 +403,25 @@ DUAL_SPIN_SCHEMA = Schema(
     sections=(
         Section("body", "the gyrostat: an axisymmetric platform and a rotor on its axis, on a "
                 "free bearing", (
-            _positive("transverse", 100.0, "the whole body's transverse moment A_t (rotor "
+            positive_key("transverse", 100.0, "the whole body's transverse moment A_t (rotor "
                       "included)", "kg m2"),
-            _positive("rotor", 25.0, "the rotor's axial moment Jr", "kg m2"),
+            positive_key("rotor", 25.0, "the rotor's axial moment Jr", "kg m2"),
             Key("platform_spin", "float", 1.0, "the platform's spin w_p about the rotor's axis",
                 unit="rad/s"),
         )),
         Section("dampers", "the spherical dampers: one on the platform, one in the rotor", (
-            _positive("inertia", 5.0, "moment of inertia J of each damper's sphere", "kg m2"),
-            _positive("platform", 1.0, "the platform damper's viscous coefficient over its "
+            positive_key("inertia", 5.0, "moment of inertia J of each damper's sphere", "kg m2"),
+            positive_key("platform", 1.0, "the platform damper's viscous coefficient over its "
                       "energy-sink optimum c* = J h / A_t (h = A3 w_p + Jr Omega, per cell)",
                       "1"),
-            _positive("rotor", 0.3, "the rotor damper's, over the same c*", "1"),
+            positive_key("rotor", 0.3, "the rotor damper's, over the same c*", "1"),
             Key("placements", "strs", list(PLACEMENTS), "the maps: dampers on the platform, in "
                 "the rotor, one on each", choices=PLACEMENTS),
         )),
         Section("map", "the inertia ratio A3 / A_t (below 1 minor axis, above 1 major axis) "
                 "and the rotor's speed relative to the platform", (
-            _positive("ratio_min", 0.5, "smallest inertia ratio", "1"),
-            _positive("ratio_max", 1.5, "largest inertia ratio", "1"),
+            positive_key("ratio_min", 0.5, "smallest inertia ratio", "1"),
+            positive_key("ratio_max", 1.5, "largest inertia ratio", "1"),
             Key("ratios", "int", 12, "inertia ratios, evenly spaced", minimum=2),
             Key("speed_min", "float", -1.5, "smallest relative speed of the rotor",
                 unit="rad/s"),
@@ -430,7 +438,7 @@ DUAL_SPIN_SCHEMA = Schema(
                 minimum=0.0, exclusive_minimum=True, maximum=1.0),
             Key("efolds", "float", 4.0, "e-folds of a decaying nutation run past the settling",
                 minimum=0.0, exclusive_minimum=True),
-            _positive("max_time", 3000.0, "the longest a cell runs past the settling (the "
+            positive_key("max_time", 3000.0, "the longest a cell runs past the settling (the "
                       "rates vanish near the boundary)", "s"),
             Key("samples", "int", 600, "states kept by the longest cell", minimum=64),
         )),

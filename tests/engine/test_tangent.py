@@ -98,23 +98,24 @@ def test_the_state_part_is_the_scenes_own_rk4_run_bitwise():
 
 
 def test_a_tangent_scene_of_over_thirty_numbers_is_the_narrow_ones_bitwise():
-    """The gyrostat (10 numbers) with two tangents: 30 numbers and the step's h, p, s, more
-    arguments than CPython passes one by one, so its kernels are LLVM-inlined instead of
-    Numba-inlined; each tangent and the state are those of the one-tangent scene, bitwise."""
-    gyrostat = SCENES["gyrostat"]
-    x0, sets = gyrostat.example(3, seed=1)
-    rng = np.random.default_rng(2)
-    v = rng.standard_normal((2, 3, gyrostat.width))
-    wide, narrow = tangent_scene(gyrostat, 2), tangent_scene(gyrostat, 1)
-    row = wide.method("rk4").params(sets[0], H)
-    both = propagate_groups(wide, "rk4", np.hstack([x0, v[0], v[1]]), row[None], [3], H, 100,
+    """The free body with its moments as state (6 numbers) and six tangents: 42 numbers and
+    the step's h, p, s, more arguments than CPython passes one by one, so its kernels are
+    LLVM-inlined instead of Numba-inlined (the loop the flip sensitivities run); the state and
+    each tangent are those of the one-tangent scene, bitwise."""
+    from stability.free_body.flip_sensitivity import FREE_BODY_MOMENTS as scene
+    from stability.integrators.spec import body_params
+
+    x0 = np.array([[1e-3, 2.0, 0.0, 1.0, 2.0, 3.0], [0.2, 1.0, -0.1, 1.0, 1.5, 2.2]])
+    v = np.random.default_rng(2).standard_normal((6, 2, 6))
+    wide, narrow = tangent_scene(scene, 6), tangent_scene(scene, 1)
+    rows = np.array([body_params(x[3:]) for x in x0])
+    both = propagate_groups(wide, "rk4", np.hstack([x0, *v]), rows, [1, 1], H, 100,
                             progress=False).x_final
-    for j in range(2):
-        one = propagate_groups(narrow, "rk4", np.hstack([x0, v[j]]), row[None], [3], H, 100,
+    for j in (0, 5):
+        one = propagate_groups(narrow, "rk4", np.hstack([x0, v[j]]), rows, [1, 1], H, 100,
                                progress=False).x_final
-        n = gyrostat.width
-        assert np.array_equal(both[:, :n], one[:, :n])
-        assert np.array_equal(both[:, n * (j + 1):n * (j + 2)], one[:, n:])
+        assert np.array_equal(both[:, :6], one[:, :6])
+        assert np.array_equal(both[:, 6 * (j + 1):6 * (j + 2)], one[:, 6:])
 
 
 def test_the_tangent_is_a_central_difference_of_two_nearby_runs():

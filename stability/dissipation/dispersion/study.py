@@ -31,17 +31,12 @@ from ...study.sensitivity import (
 )
 from ...util.threads import numba_threads
 from ..methods import SPHERE_METHODS
-from ..model import EXPLORER_1
-from ..studies import RELAXATION_STEP
+from ..studies import CYLINDER_KEYS, RELAXATION_STEP, positive_key
 from .measure import PARAMETERS, dispersion_dataset, integrated, linear, members, nominal
 
 NAME = "explorer_dispersion"
 FIGURES = ("indices",)
 _UNITS = dict(zip(PARAMETERS, ("m", "m", "kg", "rpm", "kg m2", "N m s", "degree")))
-
-
-def _positive(name, default, doc, unit):
-    return Key(name, "float", default, doc, unit=unit, minimum=0.0, exclusive_minimum=True)
 
 
 SCHEMA = Schema(
@@ -50,14 +45,12 @@ SCHEMA = Schema(
     sections=(
         Section("body", "the nominal satellite: a uniform solid cylinder spun about its long "
                 "axis", (
-            _positive("length", EXPLORER_1.length, "length of the cylinder", "m"),
-            _positive("diameter", EXPLORER_1.diameter, "diameter of the cylinder", "m"),
-            _positive("mass", EXPLORER_1.mass, "mass of the cylinder", "kg"),
-            _positive("spin", 750.0, "spin about the long axis at release", "rpm"),
+            *CYLINDER_KEYS,
+            positive_key("spin", 750.0, "spin about the long axis at release", "rpm"),
         )),
         Section("damper", "the nominal spherical damper", (
-            _positive("inertia", 1e-4, "moment of inertia J of the sphere", "kg m2"),
-            _positive("damping", 1.0, "viscous coefficient c in units of the energy sink's "
+            positive_key("inertia", 1e-4, "moment of inertia J of the sphere", "kg m2"),
+            positive_key("damping", 1.0, "viscous coefficient c in units of the energy sink's "
                       "optimum c* = J W I_s / I_t (of the nominal body)", "1"),
         )),
         Section("start", "the nominal start", (
