@@ -32,7 +32,8 @@ SOBOL_INDICES = declare("sobol_indices", "first-order and total Sobol' indices o
 }, file="")
 
 MORRIS_SCREENING = declare("morris_screening", "Morris elementary effects of per-member outputs "
-                           "over the dispersed parameters", "stability.uncertainty.morris.morris_indices", {
+                           "over the dispersed parameters",
+                           "stability.uncertainty.morris.morris_indices", {
     **_AXES,
     "mu_star": variable(_DIMS, ONE, "mean absolute elementary effect mu*, over the standard "
                         "deviation of the output"),

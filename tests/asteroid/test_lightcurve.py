@@ -26,8 +26,8 @@ def test_oumuamua_lam_light_curve_shows_belton_2018_frequencies():
     """Belton et al., ApJL 856, L21 (2018), abstract: a LAM with the long axis precessing
     with P_phi = 8.67 h and rotating about it with P_psi = 54.48 h; the light curve's two
     fundamental frequencies 2.77 +- 0.11 and 6.42 +- 0.18 cycles/day, here 2 f_phi (the double
-    minimum at 2.77 c/d, the strongest line) and 2 (f_phi + f_psi), among the four strongest. Shape: a uniform 6 : 1.2 : 1 cigar (the paper's
-    moment ratios are not used)."""
+    minimum at 2.77 c/d, the strongest line) and 2 (f_phi + f_psi), among the four strongest.
+    Shape: a uniform 6 : 1.2 : 1 cigar (the paper gives no moment ratios)."""
     a, b, c = 6.0, 1.2, 1.0
     moments = np.array([b * b + c * c, a * a + c * c, a * a + b * b]) / (a * a + b * b)
     s = spin_state(moments, 54.48, 8.67, "LAM")
