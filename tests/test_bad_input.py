@@ -16,7 +16,7 @@ or where a web server answers.
 Cases covered elsewhere and not repeated here: study-file keys of the wrong type or range, unknown
 keys and sections, a section given as a value, a missing or bad top-level ``study`` key, a missing
 file and bad ``--set``/``--members`` values (``tests/test_study_config.py``); unknown subcommands
-and ``--threads`` out of range (``tests/test_cli.py``); bad bodies, starts of the wrong shape,
+and ``--threads`` out of range (``tests/cli/test_main.py``); bad bodies, starts of the wrong shape,
 non-finite values, bad seeds, time-series runs above ``max_memory`` (``tests/core/test_body.py``,
 ``tests/free_body/test_ensemble.py``); hopeless steps at the level of the loop
 (``tests/test_hard_cases.py``).

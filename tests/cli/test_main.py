@@ -18,9 +18,9 @@ from stability.study import STUDIES, load_study
 from stability.study.config import toml_text
 from stability.free_body.tennis_racket.study import FIGURES
 
-from .helpers import assert_cf_compliant, assert_declared, one_line
+from ..helpers import assert_cf_compliant, assert_declared, one_line
 
-ROOT = Path(__file__).resolve().parents[1]
+ROOT = Path(__file__).resolve().parents[2]
 TENNIS = ROOT / "studies" / "tennis_racket.toml"
 
 
