@@ -19,9 +19,10 @@ the method's), ``t* = t_n + s* h``. Its derivative along a direction q of the st
 
 ``H(s) = y_0 h_{00}(s) + h y'_0 h_{10}(s) + y_1 h_{01}(s) + h y'_1 h_{11}(s)``, whose
 coefficients' derivatives come from the tangents at both ends, ``dy = e_2 . X q`` and
-``dy' = grad f_2 . X q`` (the moments' columns include ``df_2/dI``). The directions are those
-of the start's angular velocity ``w0`` (``dm0 = I dw0``) and of each moment at a fixed ``w0``
-(``dm0 = w0_k e_k``, ``dI = e_k``): a body made heavier about one axis and tossed the same way.
+``dy' = (J X q)_2`` (:func:`moments_jvp`, whose moments' columns give ``df_2/dI``). The
+directions are those of the start's angular velocity ``w0`` (``dm0 = I dw0``) and of each
+moment at a fixed ``w0`` (``dm0 = w0_k e_k``, ``dI = e_k``): a body made heavier about one axis
+and tossed the same way.
 """
 
 from __future__ import annotations
@@ -217,14 +218,15 @@ def _one_step(tscene, x, rows, h) -> np.ndarray:
     return run.propagate().x_final
 
 
-def _slope_and_gradient(x):
-    """``f_2`` and its gradient over the 6 numbers of the state, at states ``x`` (N, >= 6)."""
-    m1, m3, I1, I3 = x[:, 0], x[:, 2], x[:, 3], x[:, 5]
-    a2 = (I3 - I1) / (I3 * I1)  # 1/I1 - 1/I3
-    zero = np.zeros_like(m1)
-    grad = np.column_stack([a2 * m3, zero, a2 * m1, -m3 * m1 / (I1 * I1), zero,
-                            m3 * m1 / (I3 * I3)])
-    return a2 * m3 * m1, grad
+def _slope_and_products(x, V):
+    """``f_2`` at states ``x`` (N, >= 6) and ``(J v)_2`` of each tangent ``v`` (the columns of
+    ``V``, (N, 6, k)): the scene's own :func:`moments_rhs` and :func:`moments_jvp`, evaluated
+    in NumPy over the members (neither reads its parameter row)."""
+    state = [x[:, i] for i in range(6)]
+    f2 = moments_rhs.py_func(*state, None)[1]
+    jv2 = moments_jvp.py_func(*(c[:, None] for c in state), *(V[:, i, :] for i in range(6)),
+                              None)[1]
+    return f2, jv2
 
 
 def _hermite_root(y0, d0, y1, d1):
@@ -259,12 +261,11 @@ def _flip_and_derivatives(h, t, x0, x1):
     n = x0.shape[0]
     V0 = x0[:, 6:].reshape(n, -1, 6).transpose(0, 2, 1)  # column j: tangent j
     V1 = x1[:, 6:].reshape(n, -1, 6).transpose(0, 2, 1)
-    f0, g0 = _slope_and_gradient(x0)
-    f1, g1 = _slope_and_gradient(x1)
+    f0, jv0 = _slope_and_products(x0, V0)
+    f1, jv1 = _slope_and_products(x1, V1)
     y0, y1, d0, d1 = x0[:, 1], x1[:, 1], h * f0, h * f1
     s, (h00, h10, h01, h11), slope = _hermite_root(y0, d0, y1, d1)
     dy0, dy1 = V0[:, 1, :], V1[:, 1, :]
-    dd0 = h[:, None] * np.einsum("ni,nij->nj", g0, V0)
-    dd1 = h[:, None] * np.einsum("ni,nij->nj", g1, V1)
+    dd0, dd1 = h[:, None] * jv0, h[:, None] * jv1
     dH = dy0 * h00[:, None] + dd0 * h10[:, None] + dy1 * h01[:, None] + dd1 * h11[:, None]
     return t + s * h, -h[:, None] * dH / slope[:, None]
