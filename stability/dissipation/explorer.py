@@ -176,9 +176,8 @@ def run_damped(damper, method, group_values, angles, *, spin, step_angle=0.5, ta
     for g, values in enumerate(group_values):
         A = damper.moments(values)
         major = A.size - 1 - int(np.argmax(A[::-1]))
-        w = tilted_rotation(A, spin, angles, azimuths)
+        w, H = tilted_start(damper, values, spin, angles, azimuths)
         x0.append(damper.rigid_state(values, w))
-        H = np.linalg.norm(w * A, axis=1)
         theory["H"][g] = H
         for k in range(K):
             lam = damper.eigenvalues(values, 0, H[k] / A[0])
@@ -210,6 +209,34 @@ def run_damped(damper, method, group_values, angles, *, spin, step_angle=0.5, ta
     out.update(status=run.status.reshape(G, K), step=hs, t_end=steps * hs, sample_time=t,
                save_every=save_every, wall_time=wall, member_steps=int(K * steps.sum()))
     return out
+
+
+def tilted_start(damper, values, spin, angles, azimuths):
+    """The rigid turn about the long axis with H tilted from it (:func:`~.model.tilted_rotation`
+    with the system's moments), what a damped body's run starts from.
+
+    Parameters
+    ----------
+    damper : Damper
+    values : ndarray
+        The scene's parameter set (axis 1 the long, least-inertia axis).
+    spin : float
+        The spin W about the long axis, rad s-1.
+    angles : array_like, shape (K,)
+        Nutation angles between the long axis and H, rad.
+    azimuths : array_like, shape (K,)
+        Directions of the tilt, rad.
+
+    Returns
+    -------
+    w : ndarray, shape (K, 3)
+        The angular velocities, rad s-1.
+    H : ndarray, shape (K,)
+        ``|H|``, kg m2 s-1; ``|H| / A_1`` is the spin the linear theory takes.
+    """
+    A = damper.moments(values)
+    w = tilted_rotation(A, spin, angles, azimuths)
+    return w, np.linalg.norm(w * A, axis=1)
 
 
 def _measured(damper, group_values, kept, t, theory, angles, fit_top, flat_angle) -> dict:

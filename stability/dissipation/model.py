@@ -462,6 +462,8 @@ def energy_lost(angular_momentum, start_moment, end_moment):
 
 # --- presets ---------------------------------------------------------------------------------
 
+#: Revolutions per minute to rad s-1.
+RPM = 2.0 * math.pi / 60.0
 #: 750 revolutions per minute, in rad s-1.
 RPM_750 = 750.0 * 2.0 * math.pi / 60.0
 

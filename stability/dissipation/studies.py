@@ -45,14 +45,12 @@ from .explorer import Whips, measure_explorer
 from .figures import (dual_spin_map_figure, dual_spin_rate_figure, end_state_figure,
                       flat_time_figure, nutation_figure)
 from .methods import SPHERE_METHODS
-from .model import (EXPLORER_1, Cylinder, Spinner, energy_sink_optimum,
+from .model import (EXPLORER_1, RPM, Cylinder, Spinner, energy_sink_optimum,
                     equivalent_transverse_moment)
 
 NAME = "explorer"
 #: Figure stems: the nutation angle, the flat-spin time against damping, the end state.
 FIGURES = ("explorer_nutation", "explorer_flat_time", "explorer_end_state")
-#: Revolutions per minute to rad s-1.
-RPM = 2.0 * math.pi / 60.0
 
 
 def positive_key(name, default, doc, unit):

@@ -27,16 +27,13 @@ import numpy as np
 import xarray as xr
 
 from ...ensemble.options import RunOptions
-from ..explorer import SPHERE, run_damped
-from ..model import (Cylinder, energy_sink_optimum, equivalent_transverse_moment,
-                     sphere_eigenvalues, tilted_rotation)
-from ..scene import sphere_moments
+from ..explorer import SPHERE, run_damped, tilted_start
+from ..model import RPM, Cylinder, energy_sink_optimum, equivalent_transverse_moment
 from .schema import EXPLORER_DISPERSION
 
 #: The parameters a dispersion may name, in the study file's units: L (m), d (m), M (kg), the
 #: spin (rpm), the sphere's J (kg m2), its c (N m s) and the initial nutation angle (degree).
 PARAMETERS = ("length", "diameter", "mass", "spin", "inertia", "damping", "angle")
-RPM = 2.0 * math.pi / 60.0
 
 
 def nominal(length, diameter, mass, spin_rpm, inertia, damping_factor, angle) -> dict:
@@ -55,12 +52,10 @@ def members(disp, unit) -> dict:
     what its run takes: ``values`` (N, 5), the scene's parameter set (I_s, I_t, I_t, J, c);
     ``W`` (N,) the spin, rad/s; ``theta0`` (N,) the angle, rad."""
     out = disp.draw(unit)
-    r = 0.5 * out["diameter"]
-    axial = 0.5 * out["mass"] * r * r
-    transverse = out["mass"] * (3.0 * r * r + out["length"] ** 2) / 12.0
-    out["values"] = np.column_stack([axial, transverse, transverse, out["inertia"],
-                                     out["damping"]])
     out["W"] = out["spin"] * RPM
+    # the cylinder's moments, member by member (its formulas work on arrays as on numbers)
+    shell = Cylinder(out["length"], out["diameter"], out["mass"], out["W"]).moments.T
+    out["values"] = np.column_stack([shell, out["inertia"], out["damping"]])
     out["theta0"] = np.radians(out["angle"])
     return out
 
@@ -71,10 +66,9 @@ def linear(draws: dict, flat_angle: float) -> dict:
     growth = np.empty(n)
     for k in range(n):
         values = draws["values"][k]
-        A = sphere_moments(values)
-        w = tilted_rotation(A, draws["W"][k], draws["theta0"][k:k + 1], np.zeros(1))
-        H = float(np.linalg.norm(w[0] * A))
-        growth[k] = sphere_eigenvalues(values, 0, H / A[0])[0].real
+        _, H = tilted_start(SPHERE, values, draws["W"][k], draws["theta0"][k:k + 1],
+                            np.zeros(1))
+        growth[k] = SPHERE.eigenvalues(values, 0, H[0] / SPHERE.moments(values)[0])[0].real
     flat = np.log(math.tan(flat_angle) / np.tan(draws["theta0"])) / growth
     return {"growth_rate": growth, "flat_time": flat}
 
