@@ -65,6 +65,9 @@ FAC_MIN = 0.2  # h_new >= h / 5 after a rejection ...
 FAC_MAX = 10.0  # ... and h_new <= 10 h
 #: Steps (accepted and rejected) a member may take by default.
 MAX_STEPS = 100_000
+#: Which scenes have adaptive steps, for the refusals of those that have none.
+WITH_VECTOR_FIELD = ("scenes that declare a vector field have them: every scene of define_scene, "
+                     "free_body, heavy_top, sphere_damper and gyrostat")
 
 #: Statuses of an adaptive member (:data:`stability.util.conventions`).
 STATUS_FLAGS = (cv.STATUS_OK, cv.STATUS_NONFINITE, cv.STATUS_MAX_STEPS,
@@ -114,6 +117,18 @@ def _dense(r, theta, out):
         out[i] = r[0, i] + theta * (r[1, i] + u * (r[2, i] + theta * (r[3, i] + u * r[4, i])))
 
 
+@njit(forceinline=True, error_model="numpy")
+def _coefficients(r, y, z, h, k1, k3, k4, k5, k6, k7):
+    """The continuous extension of the step h from y to z (DOPRI5's CONTD5 coefficients)."""
+    for j in range(y.shape[0]):
+        r[0, j] = y[j]
+        r[1, j] = z[j] - y[j]
+        r[2, j] = h * k1[j] - r[1, j]
+        r[3, j] = r[1, j] - h * k7[j] - r[2, j]
+        r[4, j] = h * (D1 * k1[j] + D3 * k3[j] + D4 * k4[j] + D5 * k5[j] + D6 * k6[j]
+                       + D7 * k7[j])
+
+
 @njit(error_model="numpy")
 def _root(k, r, t0, h, ga, gb, p, y):
     """The time of the sign change of event k in [t0, t0 + h], by Illinois on the dense output."""
@@ -156,8 +171,9 @@ def _rms(v, y, z, rtol, atol):
 
 
 @njit(error_model="numpy")
-def _member(i, x, rows, group, t_end, rtol, atol, max_steps, directions, stops, keep, t_final,
-            accepted, rejected, error, h_last, status, counts, times, stop_event):
+def _member(i, x, rows, group, t_end, rtol, atol, max_steps, directions, stops, keep, samples,
+            t_final, accepted, rejected, error, error_sum, h_last, status, counts, times,
+            stop_event, x_sample):
     p = rows[group[i]]
     n = x.shape[1]
     m = directions.shape[0]
@@ -178,6 +194,11 @@ def _member(i, x, rows, group, t_end, rtol, atol, max_steps, directions, stops, 
     order = np.empty(m, dtype=np.int64)
     tend = t_end[i]
     t = 0.0
+    n_samples = samples.shape[0]
+    si = 0
+    while si < n_samples and samples[si] <= 0.0:  # samples at the start
+        x_sample[i, si, :] = y
+        si += 1
     _f(y, p, k1)
     for k in range(m):
         g_old[k] = _g(k, y, t, p)
@@ -210,6 +231,7 @@ def _member(i, x, rows, group, t_end, rtol, atol, max_steps, directions, stops, 
     nacc = 0
     nrej = 0
     err = np.nan
+    esum = 0.0
     used = np.nan
     code = STATUS_OK
     stopped = -1
@@ -267,6 +289,10 @@ def _member(i, x, rows, group, t_end, rtol, atol, max_steps, directions, stops, 
         was_rejected = False
         nacc += 1
         err = e
+        local = 0.0  # the local error estimate's Euclidean norm, summed over the steps
+        for j in range(n):
+            local += s[j] * s[j]
+        esum += math.sqrt(local)
         used = h
         t_new = tend if last else t + h
         hits = 0
@@ -277,14 +303,9 @@ def _member(i, x, rows, group, t_end, rtol, atol, max_steps, directions, stops, 
             if (up and directions[k] >= 0) or (down and directions[k] <= 0):
                 order[hits] = k
                 hits += 1
+        if hits > 0 or (si < n_samples and samples[si] < t_new):
+            _coefficients(r, y, z, h, k1, k3, k4, k5, k6, k7)  # the step's continuous extension
         if hits > 0:
-            for j in range(n):  # the continuous extension of the step
-                r[0, j] = y[j]
-                r[1, j] = z[j] - y[j]
-                r[2, j] = h * k1[j] - r[1, j]
-                r[3, j] = r[1, j] - h * k7[j] - r[2, j]
-                r[4, j] = h * (D1 * k1[j] + D3 * k3[j] + D4 * k4[j] + D5 * k5[j]
-                               + D6 * k6[j] + D7 * k7[j])
             for q in range(hits):
                 k = order[q]
                 t_hit[k] = _root(k, r, t, t_new - t, g_old[k], g_new[k], p, s)
@@ -303,6 +324,13 @@ def _member(i, x, rows, group, t_end, rtol, atol, max_steps, directions, stops, 
                 if stops[k] and counts[i, k] == keep[k]:
                     stopped = k
                     break
+        t_upto = t_hit[stopped] if stopped >= 0 else t_new
+        while si < n_samples and samples[si] <= t_upto:  # samples asked for within the step
+            if samples[si] == t_new:
+                x_sample[i, si, :] = z
+            else:
+                _dense(r, (samples[si] - t) / (t_new - t), x_sample[i, si])
+            si += 1
         if stopped >= 0:  # the state at the located time, from the continuous extension
             _dense(r, (t_hit[stopped] - t) / (t_new - t), y)
             t = t_hit[stopped]
@@ -319,17 +347,20 @@ def _member(i, x, rows, group, t_end, rtol, atol, max_steps, directions, stops, 
     accepted[i] = nacc
     rejected[i] = nrej
     error[i] = err
+    error_sum[i] = esum
     h_last[i] = used
     status[i] = code
     stop_event[i] = stopped
 
 
 @njit(parallel=True, error_model="numpy")
-def integrate(x, rows, group, t_end, rtol, atol, max_steps, directions, stops, keep, t_final,
-              accepted, rejected, error, h_last, status, counts, times, stop_event):
+def integrate(x, rows, group, t_end, rtol, atol, max_steps, directions, stops, keep, samples,
+              t_final, accepted, rejected, error, error_sum, h_last, status, counts, times,
+              stop_event, x_sample):
     for i in prange(x.shape[0]):
         _member(i, x, rows, group, t_end, rtol, atol, max_steps, directions, stops, keep,
-                t_final, accepted, rejected, error, h_last, status, counts, times, stop_event)
+                samples, t_final, accepted, rejected, error, error_sum, h_last, status, counts,
+                times, stop_event, x_sample)
 '''
 
 
@@ -348,6 +379,11 @@ class AdaptiveRun:
         Steps accepted and rejected (redone shorter).
     error : ndarray, shape (N,)
         The last accepted step's error estimate, in units of the tolerance (<= 1).
+    error_sum : ndarray, shape (N,)
+        The Euclidean norms of the accepted steps' local error estimates, summed (the
+        components' numbers in their own units): an estimate of the Euclidean norm of the
+        global error at ``t_final``, a bound where the flow does not stretch the steps' errors
+        (a rotation, a contraction).
     h_last : ndarray, shape (N,)
         The last accepted step.
     status : ndarray of int8, shape (N,)
@@ -359,6 +395,9 @@ class AdaptiveRun:
         largest count.
     stop_event : ndarray of int, shape (N,)
         The event that stopped the member, -1 for none.
+    x_sample : ndarray, shape (N, S, n)
+        The state at each of the ``samples`` asked for, from the continuous extension (NaN past
+        ``t_final``).
     wall_time, compile_time : float
         Seconds in the loop, and compiling or loading it.
     """
@@ -373,6 +412,8 @@ class AdaptiveRun:
     event_count: np.ndarray
     event_time: np.ndarray
     stop_event: np.ndarray
+    error_sum: np.ndarray
+    x_sample: np.ndarray
     wall_time: float = 0.0
     compile_time: float = 0.0
 
@@ -393,8 +434,22 @@ def checked_tolerances(rtol, atol, max_steps=MAX_STEPS) -> tuple[float, float, i
     return float(rtol), float(atol), int(max_steps)
 
 
+def checked_samples(samples) -> np.ndarray:
+    """The sample times as a float64 array (S,); a one-line ValueError where they are not
+    finite, >= 0 and ascending."""
+    if samples is None:
+        return np.zeros(0)
+    try:
+        times = np.ascontiguousarray(samples, dtype=float).reshape(-1)
+    except (TypeError, ValueError):
+        raise ValueError(f"samples must be times in s, got {samples!r}") from None
+    if not np.all(np.isfinite(times)) or np.any(times < 0) or np.any(np.diff(times) < 0):
+        raise ValueError("samples must be finite times >= 0 in s, in ascending order")
+    return times
+
+
 def integrate_adaptive(scene, x0, rows, group, t_end, *, rtol, atol, events=(),
-                       max_steps=MAX_STEPS) -> AdaptiveRun:
+                       max_steps=MAX_STEPS, samples=None) -> AdaptiveRun:
     """Integrate each member of ``scene`` from time 0 to its own ``t_end`` with adaptive
     Dormand-Prince 5(4) steps, locating its events; see the module docstring.
 
@@ -417,6 +472,9 @@ def integrate_adaptive(scene, x0, rows, group, t_end, *, rtol, atol, events=(),
         :class:`stability.engine.events.Event`.
     max_steps : int, default MAX_STEPS
         Steps a member may take (accepted and rejected) before it is flagged ``max_steps``.
+    samples : array_like, shape (S,), optional
+        Times (s, ascending) at which each member's state is kept, taken from the continuous
+        extension of the step that holds them: the integration is the same with and without.
 
     Returns
     -------
@@ -424,10 +482,10 @@ def integrate_adaptive(scene, x0, rows, group, t_end, *, rtol, atol, events=(),
     """
     scene = checked_scene(scene, "integrate_adaptive")
     rtol, atol, max_steps = checked_tolerances(rtol, atol, max_steps)
+    samples = checked_samples(samples)
     if scene.linearisation is None:
         raise ValueError(f"scene {scene.name!r} declares no vector field (a linearisation), so "
-                         "it has no adaptive steps; scenes that do: free_body, sphere_damper "
-                         "and every scene of define_scene")
+                         f"it has no adaptive steps; {WITH_VECTOR_FIELD}")
     x = np.array(x0, dtype=float, ndmin=2, copy=True)
     rows = np.ascontiguousarray(np.atleast_2d(rows), dtype=float)
     group = np.ascontiguousarray(group, dtype=np.int64).reshape(-1)
@@ -448,13 +506,14 @@ def integrate_adaptive(scene, x0, rows, group, t_end, *, rtol, atol, events=(),
         x_final=x, t_final=np.zeros(n), accepted=np.zeros(n, np.int64),
         rejected=np.zeros(n, np.int64), error=np.zeros(n), h_last=np.zeros(n),
         status=np.zeros(n, np.int8), event_count=np.zeros((n, m), np.int64),
-        event_time=np.full((n, m, kept), np.nan), stop_event=np.zeros(n, np.int64))
+        event_time=np.full((n, m, kept), np.nan), stop_event=np.zeros(n, np.int64),
+        error_sum=np.zeros(n), x_sample=np.full((n, samples.size, scene.width), np.nan))
     directions = np.array([DIRECTIONS[e.direction] for e in events], dtype=np.int64)
     stops = np.array([ACTIONS[e.action] for e in events], dtype=np.bool_)
     keep = np.array([e.count for e in events], dtype=np.int64)
-    arguments = (rows, group, t_end, rtol, atol, max_steps, directions, stops, keep,
-                 out.t_final, out.accepted, out.rejected, out.error, out.h_last, out.status,
-                 out.event_count, out.event_time, out.stop_event)
+    arguments = (rows, group, t_end, rtol, atol, max_steps, directions, stops, keep, samples,
+                 out.t_final, out.accepted, out.rejected, out.error, out.error_sum, out.h_last,
+                 out.status, out.event_count, out.event_time, out.stop_event, out.x_sample)
     t0 = time.perf_counter()
     if not loop.signatures:
         with compiling(loop):
@@ -512,5 +571,5 @@ def _bound(function, module: str) -> tuple[str, str]:
     return home, name
 
 
-__all__ = ["AdaptiveRun", "MAX_STEPS", "STATUS_FLAGS", "STATUS_MEANINGS", "adaptive_loop",
-           "checked_tolerances", "integrate_adaptive"]
+__all__ = ["AdaptiveRun", "MAX_STEPS", "STATUS_FLAGS", "STATUS_MEANINGS", "WITH_VECTOR_FIELD",
+           "adaptive_loop", "checked_samples", "checked_tolerances", "integrate_adaptive"]

@@ -17,10 +17,13 @@ from dataclasses import dataclass
 import numpy as np
 import xarray as xr
 
-from ..engine.adaptive import MAX_STEPS, checked_tolerances, integrate_adaptive
+from ..engine.adaptive import (
+    MAX_STEPS, WITH_VECTOR_FIELD, checked_samples, checked_tolerances, integrate_adaptive,
+)
 from ..engine.events import checked_events
 from ..engine.scene import Scene, checked_scene
 from ..engine.user_scene import ParameterRow
+from ..output.dataset import header_attrs
 from ..util import conventions as cv
 from ..util.checks import real_array
 from ..version import __version__
@@ -35,8 +38,8 @@ REFERENCE = ("Dormand & Prince, J. Comput. Appl. Math. 6, 19 (1980); Hairer, Nor
              "Solving ODEs I, II.4 (step control) and II.6 (dense output)")
 
 
-def run_adaptive(scene, x0, parameters, t_end, *, rtol, atol, events=(), sizes=None,
-                 max_steps=MAX_STEPS, options=None) -> xr.Dataset:
+def run_adaptive(scene, x0, parameters, t_end, *, rtol, atol, events=(), samples=None,
+                 sizes=None, max_steps=MAX_STEPS, options=None) -> xr.Dataset:
     """Run members of ``scene`` with adaptive Dormand-Prince 5(4) steps and user events.
 
     Parameters
@@ -54,6 +57,10 @@ def run_adaptive(scene, x0, parameters, t_end, *, rtol, atol, events=(), sizes=N
         Tolerances of the error per step (``rtol > 0``, ``atol >= 0``).
     events : Event or sequence of Event, optional
         :class:`stability.engine.events.Event`.
+    samples : array_like, shape (S,), optional
+        Times (s, ascending) at which every member's state is kept (the Dataset's ``time``),
+        from the continuous extension of the step that holds each: the run is the same with
+        and without.
     sizes : array_like of int, shape (G,), optional
         Members per group; by default all in the one group.
     max_steps : int, default MAX_STEPS
@@ -70,15 +77,15 @@ def run_adaptive(scene, x0, parameters, t_end, *, rtol, atol, events=(), sizes=N
     Raises
     ------
     ValueError, TypeError
-        One line, before any work: tolerances, shapes, events (a ``g`` that does not compile
-        or returns no number, an unknown direction or action, a count < 1).
+        One line, before any work: tolerances, shapes, sample times, events (a ``g`` that does
+        not compile or returns no number, an unknown direction or action, a count < 1).
     """
     scene = checked_scene(scene, "run_adaptive")
     rtol, atol, max_steps = checked_tolerances(rtol, atol, max_steps)
+    samples = checked_samples(samples)
     if scene.linearisation is None:
         raise ValueError(f"scene {scene.name!r} declares no vector field, so it has no adaptive "
-                         "steps; scenes that do: free_body, sphere_damper and every scene of "
-                         "define_scene")
+                         f"steps; {WITH_VECTOR_FIELD}")
     x0 = real_array("x0", x0, "the scene's units")
     if x0.ndim != 2 or x0.shape[1] != scene.width or x0.shape[0] == 0:
         raise ValueError(f"x0 must have shape (members, {scene.width}) for scene "
@@ -102,7 +109,7 @@ def run_adaptive(scene, x0, parameters, t_end, *, rtol, atol, events=(), sizes=N
     plan = Plan(scene, next(iter(scene.methods)), x0, rows, sizes, np.zeros(len(sets)),
                 np.zeros(len(sets), dtype=np.int64), label=f"{scene.name} ({METHOD})")
     measure = AdaptiveMeasure(scene, sizes, numbers, bool(named and scene.parameters), t_end,
-                              rtol, atol, max_steps, events)
+                              rtol, atol, max_steps, events, samples)
     return run_plan(plan, options, measure=measure)
 
 
@@ -120,6 +127,7 @@ class AdaptiveMeasure:
     atol: float
     max_steps: int
     events: tuple
+    samples: np.ndarray
 
     integrates = True
 
@@ -130,8 +138,11 @@ class AdaptiveMeasure:
                                scene.parameter_units if self.named else ())
 
     def identity(self, run: Plan) -> dict:
-        """The run, its end times, tolerances and events (their functions' names and code)."""
+        """The run, its end times, sample times, tolerances and events (their functions' names
+        and code)."""
         h = hashlib.sha256(self.t_end.tobytes())
+        if self.samples.size:
+            h.update(b"samples" + self.samples.tobytes())
         h.update(np.ascontiguousarray(self.numbers).tobytes())
         for e in self.events:
             h.update(f"{e.name} {e.direction} {e.action} {e.count}".encode())
@@ -146,15 +157,19 @@ class AdaptiveMeasure:
         local = np.searchsorted(np.cumsum(part.sizes), np.arange(hi - lo), side="right")
         run = integrate_adaptive(scene, part.x0, part.params, local, self.t_end[lo:hi],
                                  rtol=self.rtol, atol=self.atol, events=self.events,
-                                 max_steps=self.max_steps)
+                                 max_steps=self.max_steps, samples=self.samples)
         data = {f"{c}_start": part.x0[:, k] for k, c in enumerate(scene.components)}
         data.update({f"{c}_final": run.x_final[:, k] for k, c in enumerate(scene.components)})
         data.update(member_group=group_of.astype(np.int64), t_end=self.t_end[lo:hi],
                     t_final=run.t_final, accepted_steps=run.accepted,
-                    rejected_steps=run.rejected, error_estimate=run.error, h_last=run.h_last,
+                    rejected_steps=run.rejected, error_estimate=run.error,
+                    error_sum=run.error_sum, h_last=run.h_last,
                     status=run.status)
         coords = {cv.MEMBER: np.arange(lo, hi, dtype=np.int64),
                   "group": np.arange(self.sizes.size, dtype=np.int64)}
+        if self.samples.size:
+            coords[cv.TIME] = self.samples
+            data.update({c: run.x_sample[:, :, k] for k, c in enumerate(scene.components)})
         if self.events:
             coords["event"] = np.array([e.name for e in self.events])
             data.update(stop_event=run.stop_event, event_count=run.event_count,
@@ -165,16 +180,21 @@ class AdaptiveMeasure:
         else:
             data["parameters"] = self.numbers
         declared = self.declaration()
-        attrs = {"title": f"{hi - lo}-member adaptive run of scene {scene.name}",
-                 "scene": scene.name, "scene_components": " ".join(scene.components),
-                 "scene_units": UNITS_SEPARATOR.join(scene.units),
-                 **({"scene_parameters": " ".join(scene.parameters)} if self.named else {}),
-                 **({"scene_parameter_units": UNITS_SEPARATOR.join(scene.parameter_units)}
-                    if self.named and scene.parameter_units else {}),
-                 "method": METHOD, "method_reference": REFERENCE, "rtol": self.rtol,
-                 "atol": self.atol, "max_steps": self.max_steps,
-                 "wall_time": run.wall_time, "compile_time": run.compile_time,
-                 "software": f"stability {__version__}"}
+        members = int(self.sizes.sum())
+        command = (f"stability.run_adaptive({scene.name!r}, <{members} starts>, "
+                   f"<{self.sizes.size} parameter sets>, rtol={self.rtol!r}, "
+                   f"atol={self.atol!r}, events=<{len(self.events)}>, "
+                   f"samples=<{self.samples.size}>)")
+        attrs = header_attrs(f"{members}-member adaptive run of scene {scene.name} "
+                             f"({scene.title})", command, REFERENCE)
+        attrs.update({
+            "scene": scene.name, "scene_components": " ".join(scene.components),
+            "scene_units": UNITS_SEPARATOR.join(scene.units),
+            **({"scene_parameters": " ".join(scene.parameters)} if self.named else {}),
+            **({"scene_parameter_units": UNITS_SEPARATOR.join(scene.parameter_units)}
+               if self.named and scene.parameter_units else {}),
+            "method": METHOD, "rtol": self.rtol, "atol": self.atol, "max_steps": self.max_steps,
+            "wall_time": run.wall_time, "compile_time": run.compile_time})
         return xr.Dataset(declared.entries(data), coords=declared.entries(coords), attrs=attrs)
 
 

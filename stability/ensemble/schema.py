@@ -390,6 +390,7 @@ COMPONENT, PARAMETER, INVARIANT = "<component>", "<parameter>", "<invariant>"
 #: Units of what a template variable holds, where its scene says them.
 _OWN = "(its own)"
 _TRACKED_UNITS = "(the tracked quantity's)"
+_STATE_UNITS = "(the state's)"
 
 
 @dataclass(frozen=True)
@@ -399,7 +400,8 @@ class SceneSchema(DatasetSchema):
     :attr:`variables` is the template: a name holding ``<component>``, ``<parameter>`` or
     ``<invariant>`` stands for one variable per state component, named parameter or
     invariant of the scene, with its units (``(its own)``: the component's or parameter's;
-    ``(the tracked quantity's)``: those of what the scene's ``observe`` tracks). :meth:`of`
+    ``(the tracked quantity's)``: those of what the scene's ``observe`` tracks; ``(the
+    state's)``: those of every component where they share one, else ``"1"``). :meth:`of`
     makes the declaration of one scene's Dataset; :meth:`problems` checks a Dataset against
     the declaration of the scene its attributes name (``scene``, ``scene_components``,
     ``scene_units``, ``scene_parameters``, ``scene_parameter_units``, ``scene_invariants``,
@@ -475,6 +477,8 @@ class SceneSchema(DatasetSchema):
             elif name == "parameters":
                 if not parameters:
                     put(name, replace(var, optional=""))
+            elif var.units == _STATE_UNITS:  # a norm over the components
+                put(name, replace(var, units=units[0] if len(set(units)) == 1 else ONE))
             else:
                 put(name, replace(var, units=tracked_units) if var.units == _TRACKED_UNITS
                     else var)
@@ -584,6 +588,7 @@ SCENE_RUN = SceneSchema(
 
 
 _EVENTS = "runs with events"
+_SAMPLES = "runs with sample times"
 _OCCURRENCE = "occurrence"
 
 ADAPTIVE_RUN = SceneSchema(
@@ -593,6 +598,12 @@ ADAPTIVE_RUN = SceneSchema(
         _GROUP: coordinate(_GROUP, ONE, "group of members (one parameter set)", kind="i"),
         "event": coordinate("event", ONE, "user event (the name of its function)", kind="U",
                             optional=_EVENTS),
+        TIME: time_coordinate("time since the start of the samples asked for",
+                              optional=_SAMPLES),
+        COMPONENT: variable((MEMBER, TIME), _OWN, f"{COMPONENT} (state component) at each "
+                            "sample time", optional=_SAMPLES, comment=(
+                                "from the continuous extension of the step that holds the "
+                                "time (order 4); NaN past t_final")),
         f"{COMPONENT}_start": variable(MEMBER, _OWN, f"{COMPONENT} (state component) at the "
                                        "start"),
         f"{COMPONENT}_final": variable(MEMBER, _OWN, f"{COMPONENT} (state component) at the end "
@@ -607,6 +618,12 @@ ADAPTIVE_RUN = SceneSchema(
                                    "units of the tolerance atol + rtol |x|", comment=(
                                        "the embedded order-4 solution's difference, RMS over "
                                        "the components; at most 1")),
+        "error_sum": variable(MEMBER, _STATE_UNITS, "Euclidean norms of the accepted steps' "
+                              "local error estimates, summed", comment=(
+                                  "an estimate of the Euclidean norm of the global error at "
+                                  "t_final; a bound where the flow does not stretch the steps' "
+                                  "errors; components of different units are added as numbers "
+                                  "in their own units")),
         "h_last": variable(MEMBER, SECOND, "last accepted step h"),
         "status": variable(MEMBER, ONE, "member status", kind="i",
                            flag_values=(cv.STATUS_OK, cv.STATUS_NONFINITE, cv.STATUS_MAX_STEPS,

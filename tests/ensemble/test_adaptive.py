@@ -7,6 +7,10 @@ import stability
 from stability.ensemble.schema import ADAPTIVE_RUN
 from stability.free_body.scene import FREE_BODY
 from tests.engine.test_adaptive import MOMENTS, free_body_starts, middle_axis
+from tests.helpers import assert_cf_compliant
+
+
+SAMPLES = np.linspace(0.0, 30.0, 16)
 
 
 def run(**options):
@@ -14,7 +18,7 @@ def run(**options):
     return stability.run_adaptive(
         FREE_BODY, m0, [MOMENTS, np.array([1.0, 1.5, 2.2])],
         np.linspace(20.0, 40.0, 24), rtol=1e-10, atol=1e-13, sizes=[10, 14],
-        events=stability.Event(middle_axis, count=3),
+        events=stability.Event(middle_axis, count=3), samples=SAMPLES,
         options=stability.RunOptions(progress=False, **options))
 
 
@@ -25,6 +29,14 @@ def test_the_dataset_is_as_declared_and_the_same_bitwise_in_one_piece_as_in_a_ch
     assert np.all(whole.status == 0) and np.array_equal(whole.t_final, whole.t_end)
     assert whole.accepted_steps.attrs["units"] == "1" and whole.t_final.attrs["units"] == "s"
     assert int(whole.event_count.min()) >= 1
+    assert np.array_equal(whole.time, SAMPLES) and whole.time.attrs["standard_name"] == "time"
+    assert whole.m2.dims == ("member", "time") and whole.m2.attrs["units"] == "kg m2 s-1"
+    assert np.array_equal(whole.m1[:, 0], whole.m1_start)
+    past = SAMPLES[None, :] > whole.t_end.values[:, None]
+    assert past.any() and np.all(np.isnan(whole.m3.values[past]))
+    assert whole.error_sum.attrs["units"] == "kg m2 s-1" and np.all(whole.error_sum > 0)
+    stability.save(whole, tmp_path / "adaptive.nc")
+    assert_cf_compliant(tmp_path / "adaptive.nc")
     stored = run(store=tmp_path / "store", chunk_members=7)
     for name in whole.data_vars:
         assert np.array_equal(whole[name].values, stored[name].values, equal_nan=True), name
