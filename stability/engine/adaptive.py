@@ -225,7 +225,7 @@ def _member(i, x, rows, group, t_end, rtol, atol, max_steps, directions, stops, 
     top = max(d1, d2)
     h1 = max(1e-6, 1e-3 * h) if top <= 1e-15 else (0.01 / top) ** 0.2
     h = min(100.0 * h, h1, tend)
-    fac_old = 1e-4
+    log_fac_old = math.log(1e-4)
     was_rejected = False
     bad = False
     nacc = 0
@@ -275,15 +275,16 @@ def _member(i, x, rows, group, t_end, rtol, atol, max_steps, directions, stops, 
             was_rejected = True
             continue
         bad = False
-        fac11 = e ** EXPO1
-        fac = max(1.0 / FAC_MAX, min(1.0 / FAC_MIN, fac11 / fac_old ** BETA / SAFE))
+        log_e = math.log(e)  # e^EXPO1 / fac_old^BETA as one exponential
+        fac = max(1.0 / FAC_MAX, min(1.0 / FAC_MIN,
+                                     math.exp(EXPO1 * log_e - BETA * log_fac_old) / SAFE))
         h_new = h / fac
         if e > 1.0:
             nrej += 1
-            h = h / min(1.0 / FAC_MIN, fac11 / SAFE)
+            h = h / min(1.0 / FAC_MIN, math.exp(EXPO1 * log_e) / SAFE)
             was_rejected = True
             continue
-        fac_old = max(e, 1e-4)
+        log_fac_old = math.log(max(e, 1e-4))
         if was_rejected:
             h_new = min(h_new, h)
         was_rejected = False
