@@ -343,7 +343,7 @@ WORK_PRECISION = declare(
         "long_time": coordinate("long_time", SECOND, "time in the long-horizon run"),
         "h": coordinate(_WMS, SECOND, "step size"),
         "rtol": coordinate(_WMS, ONE, "scipy relative tolerance"),
-        "order": coordinate("method", ONE, "declared order (dop853: 8, adaptive)"),
+        "order": coordinate("method", ONE, "declared order (dopri5: 5, dop853: 8; both adaptive)"),
         "attitude_reference_error": variable(
             ("workload", "metric"),
             ONE,

@@ -17,6 +17,7 @@ from __future__ import annotations
 import numpy as np
 
 from .drift import envelope
+from .measure import ADAPTIVE
 from ...integrators import METHODS
 from ...plotting.style import EXACT_COLOR, label, new_figure, styled
 from ...util import conventions as cv
@@ -42,6 +43,9 @@ def _method_styles(ds):
     styles = {}
     for k, m in enumerate(str(x) for x in ds.method.values):
         spec = METHODS.get(m)
+        if m == ADAPTIVE:  # the member loop's adaptive steps: black, dashed, over the others
+            styles[m] = ("k", "--", "P")
+            continue
         if spec is None:  # scipy
             styles[m] = (SCIPY_COLOR, "-.", "x")
             continue

@@ -27,6 +27,9 @@ from ..schema import WORK_PRECISION
 
 #: Name of scipy's DOP853 in the ``method`` dimension (run as one system over all members).
 SCIPY = "dop853"
+#: Name of the member loop's adaptive Dormand-Prince 5(4) in the ``method`` dimension, and its
+#: order.
+ADAPTIVE, ADAPTIVE_ORDER = "dopri5", 5.0
 
 #: Workloads in the order of the ``workload`` dimension: spin about the intermediate axis (the
 #: hard, ill-conditioned one) and about a stable axis.
@@ -64,7 +67,8 @@ def work_precision_dataset(methods, results, floors, long_results, reference_err
     Parameters
     ----------
     methods : list of str
-        Registry names of the methods that ran, in order; ``SCIPY`` is appended if it ran.
+        Registry names of the methods that ran, in order; ``ADAPTIVE`` and ``SCIPY`` are
+        appended where they ran.
     results : dict
         ``(workload, method) -> list of sweep points``
         (:func:`stability.free_body.work_precision.sweeps.sweep_method`,
@@ -80,9 +84,8 @@ def work_precision_dataset(methods, results, floors, long_results, reference_err
     attrs : dict
         Global attributes (title, provenance, the workloads in words, ...).
     """
-    methods = list(methods) + (
-        [SCIPY] if any(key[1] == SCIPY for key in results) else []
-    )
+    methods = list(methods) + [name for name in (ADAPTIVE, SCIPY)
+                               if any(key[1] == name for key in results)]
     n_sweep = max((len(p) for p in results.values()), default=1)
     arrays = _sweep_arrays(results, methods, n_sweep)
     data = {name: arrays[name] for name in _SWEPT}
@@ -110,8 +113,8 @@ def work_precision_dataset(methods, results, floors, long_results, reference_err
         "h": arrays["h"],
         "rtol": arrays["rtol"],
         "order": np.array([
-            (np.inf if specs[m].is_exact else float(specs[m].order)) if specs[m] else 8.0
-            for m in methods]),
+            (np.inf if specs[m].is_exact else float(specs[m].order)) if specs[m]
+            else ADAPTIVE_ORDER if m == ADAPTIVE else 8.0 for m in methods]),
     }
     ds = xr.Dataset(WORK_PRECISION.entries(data), coords=WORK_PRECISION.entries(coords))
     ds.attrs.update(attrs)
@@ -424,8 +427,10 @@ def markdown_report(ds: xr.Dataset) -> str:
         "",
         f"Body {ds.attrs['body']}. Times are kernel wall times for the whole ensemble "
         f"(compilation excluded) with {ds.attrs.get('numba_num_threads', '?')} threads; "
-        "errors are relative errors of w at the end against the exact solution; dop853 is "
-        "scipy's solve_ivp on the ensemble as one vectorized system (wall time of the call).",
+        "errors are relative errors of w at the end against the exact solution; dopri5 is "
+        "the member loop's adaptive Dormand-Prince 5(4), each member with its own steps "
+        "(time per member-step: per step tried); dop853 is scipy's solve_ivp on the ensemble "
+        "as one vectorized system (wall time of the call).",
         "",
         f"## Tennis racket: {ds.attrs['tennis_workload']}",
         "",

@@ -1,8 +1,9 @@
 """The speed-against-error study: which integrator to use, at which accuracy, in numbers.
 
 Every registered method (``stability.METHODS``, so methods added later join by themselves) runs two
-ensembles over a sweep of step sizes h, and scipy's DOP853 runs them as one system over a sweep of
-tolerances, in the same process: **tennis** (spin about the intermediate axis, each member nudged
+ensembles over a sweep of step sizes h, the member loop's adaptive Dormand-Prince 5(4) over a
+sweep of tolerances (each member its own steps), and scipy's DOP853 runs them as one system over
+a sweep of tolerances, in the same process: **tennis** (spin about the intermediate axis, each member nudged
 by ``epsilon`` in a random perpendicular direction, over a few flips: the hard, ill-conditioned
 workload) and **stable** (spin about the largest or smallest axis). Each is scored against the
 exact solution and the conditioning floor (:mod:`stability.free_body.reference`), timed
@@ -33,7 +34,7 @@ from ..starts import perturbed_starts
 from . import figures as figures
 from ...integrators import METHODS, method_spec
 from ...output.dataset import software_attrs
-from .sweeps import jittered_starts, step_grid, sweep_method, sweep_scipy
+from .sweeps import jittered_starts, step_grid, sweep_adaptive, sweep_method, sweep_scipy
 from ...util.progress import progress_bar
 from ...util.threads import numba_threads
 from ...study.config import ConfigError, Key, Schema, Section
@@ -98,6 +99,14 @@ SCHEMA = Schema(
                 "stop refining a method once its median relative w error is below this",
                 minimum=0.0, exclusive_minimum=True),
         )),
+        Section("adaptive", "the member loop's adaptive Dormand-Prince 5(4), each member its "
+                "own steps", (
+            Key("enabled", "bool", True, "run it"),
+            Key("rtols", "floats", [1e-4, 1e-6, 1e-8, 1e-10, 1e-12],
+                "relative tolerances, one sweep point each", minimum=1e-15, maximum=0.1),
+            Key("atols", "floats", [1e-7, 1e-9, 1e-11, 1e-13, 1e-15],
+                "absolute tolerances on m = I w, one per rtol", unit="kg m2 s-1", minimum=0.0),
+        )),
         Section("scipy", "scipy's DOP853 on each ensemble as one system", (
             Key("enabled", "bool", True, "run it"),
             Key("rtols", "floats", [1e-3, 1e-5, 1e-7, 1e-9, 1e-11, 1e-13],
@@ -127,6 +136,7 @@ QUICK = {
     "tennis": {"members": 256, "t_end": 30.0},
     "stable": {"members": 256, "t_end": 30.0},
     "sweep": {"h_max": 0.5, "h_min": 0.03, "per_octave": 1, "budget": 2.0},
+    "adaptive": {"rtols": [1e-6, 1e-9], "atols": [1e-9, 1e-12]},
     "scipy": {"rtols": [1e-4, 1e-8]},
     "attitude": {"members": 32},
     "long": {"steps": 20_000, "members": 4, "samples": 1000},
@@ -145,6 +155,10 @@ def check(config: dict, source: str) -> dict:
             f"must be three distinct moments (the study needs an intermediate axis), got "
             f"{config['body']['moments']}", source, "body", "moments",
         )
+    adaptive = config["adaptive"]
+    if len(adaptive["atols"]) != len(adaptive["rtols"]):
+        raise ConfigError(f"must give one atol per rtol ({len(adaptive['rtols'])}), got "
+                          f"{len(adaptive['atols'])}", source, "adaptive", "atols")
     sweep = config["sweep"]
     if sweep["h_min"] > sweep["h_max"]:
         raise ConfigError(f"must be <= h_max = {sweep['h_max']}, got {sweep['h_min']}",
@@ -221,7 +235,7 @@ def measure(config: dict, progress=None):
     body = _body(config)
     methods = [method_spec(m) for m in _selected_methods(config)]
     sweep = config["sweep"]
-    bar = progress_bar(2 * (len(methods) + 1) + len(methods), progress, NAME)
+    bar = progress_bar(2 * (len(methods) + 2) + len(methods), progress, NAME)
     results, floors, reference_errors = {}, {}, {}
     for workload in wp.WORKLOADS:
         section = config[workload]
@@ -245,6 +259,11 @@ def measure(config: dict, progress=None):
                 spec, body, w0, w_ref, t_end, counts, sweep["budget"], sweep["stop_error"],
                 attitude)
             bar.update(1)
+        if config["adaptive"]["enabled"]:
+            bar.set_postfix_str(f"{workload}: {wp.ADAPTIVE}")
+            results[(workload, wp.ADAPTIVE)] = sweep_adaptive(
+                body, w0, w_ref, t_end, config["adaptive"]["rtols"], config["adaptive"]["atols"])
+        bar.update(1)
         if config["scipy"]["enabled"]:
             bar.set_postfix_str(f"{workload}: scipy {wp.SCIPY}")
             results[(workload, wp.SCIPY)] = sweep_scipy(

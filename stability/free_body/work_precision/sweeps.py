@@ -1,4 +1,5 @@
-"""Timed sweeps: one method over a ladder of step sizes, or SciPy's DOP853 over tolerances.
+"""Timed sweeps: one method over a ladder of step sizes, or an adaptive one over tolerances
+(the member loop's Dormand-Prince 5(4), SciPy's DOP853).
 
 Each point of a sweep runs the whole ensemble once and records the kernel's wall time (compilation
 excluded; short runs repeated, :func:`timed_propagate`), the work (right-hand-side evaluations or
@@ -17,10 +18,12 @@ import time
 
 import numpy as np
 
+from ...engine.adaptive import integrate_adaptive
 from ..model import euler_system
 from ..attitude import IDENTITY, attitude_error, propagate_attitude
 from ..propagate import propagate
 from ..reference import METRICS, error_statistics, final_errors
+from ..scene import FREE_BODY
 from ...util import conventions as cv
 
 #: Kernel runs shorter than MIN_TIMING seconds are repeated up to REPEATS times and the fastest
@@ -269,6 +272,57 @@ def sweep_method(spec, body, w0, w_ref, t_end, counts, budget, stop_error,
         points.append(point)
         if point["w_error"][2] < stop_error or stalled >= 3:
             break
+    return points
+
+
+def sweep_adaptive(body, w0, w_ref, t_end, rtols, atols) -> list[dict]:
+    """The member loop's adaptive Dormand-Prince 5(4) (:mod:`stability.engine.adaptive`), each
+    member with its own steps, per pair of tolerances.
+
+    ``wall_time`` is the loop's (compilation excluded), repeated while short like
+    :func:`timed_propagate`; ``steps`` and ``evaluations`` are means over members (6 per
+    step tried, accepted or rejected, the last stage of each being the next one's first, and 2
+    for the first step's choice).
+
+    Parameters
+    ----------
+    body : RigidBody
+        The body.
+    w0 : ndarray, shape (N, 3)
+        Starts, rad/s.
+    w_ref : ndarray, shape (N, 3)
+        Reference w at ``t_end``, rad/s.
+    t_end : float
+        Run length, s.
+    rtols, atols : sequence of float
+        Relative tolerances and absolute ones (kg m2 s-1, on m = I w), pairwise, one sweep
+        point each.
+
+    Returns
+    -------
+    list of dict
+        :func:`sweep_point` per pair, in their order.
+    """
+    moments = body.moments
+    m0 = moments * w0
+    members = w0.shape[0]
+    rows = np.atleast_2d(FREE_BODY.linearisation.params(moments, 0.0))
+    group = np.zeros(members, dtype=np.int64)
+    points = []
+    for rtol, atol in zip(rtols, atols):
+        run = integrate_adaptive(FREE_BODY, m0, rows, group, t_end, rtol=rtol, atol=atol)
+        best, total, repeats = run.wall_time, run.wall_time, 1
+        while total < MIN_TIMING and repeats < REPEATS:
+            again = integrate_adaptive(FREE_BODY, m0, rows, group, t_end, rtol=rtol, atol=atol)
+            best, total, repeats = min(best, again.wall_time), total + again.wall_time, repeats + 1
+        ok = run.status == cv.STATUS_OK
+        w_end = np.where(ok[:, None], run.x_final / moments, np.nan)
+        tried = run.accepted + run.rejected
+        points.append(sweep_point(
+            rtol=rtol, steps=float(np.mean(tried)), wall=best,
+            evaluations=float(np.mean(6 * tried + 2)), iterations=0.0,
+            failed=int(np.sum(~ok)), members=members,
+            errors=final_errors(moments, w0, w_end, w_ref)))
     return points
 
 

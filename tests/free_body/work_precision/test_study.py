@@ -33,7 +33,7 @@ def test_quick_study_writes_dataset_figures_and_table(quick):
                  "work_precision.png", "work_precision.pdf",
                  "invariant_drift.png", "invariant_drift.pdf"):
         assert (out / name).is_file(), name
-    assert list(ds.method.values) == list(stability.METHODS) + [wp.SCIPY]
+    assert list(ds.method.values) == list(stability.METHODS) + [wp.ADAPTIVE, wp.SCIPY]
     assert list(ds.workload.values) == list(wp.WORKLOADS)
     assert list(ds.metric.values) == list(METRICS)
     for name, var in {**ds.data_vars, **ds.coords}.items():
@@ -96,6 +96,23 @@ def test_scipy_runs_on_the_same_ensembles(quick):
         assert np.all(np.diff(sel.evaluations.values[ran]) > 0)
         err = sel.w_error.sel(metric="median").values[ran]
         assert err[-1] < err[0]
+
+
+def test_the_adaptive_method_runs_its_tolerances_with_error_following_rtol(quick):
+    """dopri5 ran each (rtol, atol) of the quick file on both workloads without failures: six
+    evaluations per step tried (plus two for the first step), the median error within a
+    small multiple of rtol and falling with it (tennis: 3.9e-6 and 1.2e-9 at rtol 1e-6 and
+    1e-9; stable: 3.6e-7 and 3.3e-10)."""
+    _, ds, _ = quick
+    assert float(ds.order.sel({"method": wp.ADAPTIVE})) == 5.0
+    for workload in wp.WORKLOADS:
+        sel = ds.sel({"workload": workload, "method": wp.ADAPTIVE})
+        ran = np.isfinite(sel.rtol.values)
+        rtol = sel.rtol.values[ran]
+        assert rtol.tolist() == [1e-6, 1e-9] and np.all(sel.failed.values[ran] == 0)
+        assert np.allclose(sel.evaluations.values[ran], 6 * sel.steps.values[ran] + 2)
+        err = sel.w_error.sel(metric="median").values[ran]
+        assert np.all(err < 10 * rtol) and err[1] < err[0] / 100
 
 
 def test_long_horizon_tells_bounded_from_drifting_errors(quick):
@@ -177,6 +194,8 @@ def test_figures_label_every_axis_with_units(quick):
         (("body.moments", "[1.0, 1.0, 1.5]"), r"\[body\] moments must be three distinct"),
         (("sweep.methods", '["rk5"]'), r"\[sweep\] methods must be a list of values from"),
         (("long.samples", "10000000"), r"\[long\] samples must be <= steps"),
+        (("adaptive.atols", "[1e-9]"), r"\[adaptive\] atols must give one atol per rtol"),
+        (("adaptive.rtols", "[0.0]"), r"\[adaptive\] rtols"),
         (("tennis.membres", "5"), r"unknown key 'membres' \(did you mean 'members'\?\)"),
     ],
 )
