@@ -8,6 +8,9 @@ default tennis-racket study's step). Timed on it, in one run:
 
 - every registered method through the parallel member loop (:func:`stability.free_body.propagate.propagate`,
   nothing saved), with 1 and 2 threads (compile time excluded and reported apart);
+- the member loop's adaptive Dormand-Prince 5(4) (:mod:`stability.engine.adaptive`), each
+  member with its own steps, at SciPy's tolerance, with the most threads; quoted as the
+  equivalent member-steps/s like SciPy's, with its mean steps per member;
 - SciPy's ``solve_ivp`` with DOP853 on the whole ensemble as one system of 3N equations (a
   vectorized right-hand side over the members), at a tolerance that gives an error comparable
   to RK4's at this h; its speed is quoted as the equivalent member-steps/s, members x steps /
@@ -51,12 +54,14 @@ from ..core.body import RigidBody
 from ..free_body.propagate import propagate
 from ..engine import propagate_groups
 from ..engine.reference import plain_rk4
+from ..engine.adaptive import integrate_adaptive
 from ..engine.tangent import tangent_scene
 from ..free_body.ensemble import run_ensemble
 from ..free_body.keep import Keep
 from ..ensemble.options import RunOptions
 from ..free_body.starts import perturbed_starts
 from ..free_body.exact import exact_omega_of_starts
+from ..free_body.scene import FREE_BODY
 from ..heavy_top.exact import cos_theta, nutation_period
 from ..heavy_top.model import HeavyTop, tilted_starts
 from ..integrators import METHODS, method_spec
@@ -81,13 +86,13 @@ class BenchRow:
     Attributes
     ----------
     solver : str
-        Method name, ``"scipy DOP853"`` or ``"numpy RK4"``.
+        Method name, ``"adaptive dopri5"``, ``"scipy DOP853"`` or ``"numpy RK4"``.
     threads : int
         Threads it ran on (1 for SciPy and NumPy).
     wall : float
         Seconds for the whole workload, compilation excluded.
     rate : float
-        Member-steps per second (equivalent for adaptive SciPy).
+        Member-steps per second (equivalent for the adaptive ones, SciPy and dopri5).
     error : float
         Max over members of |w(T) - w_exact(T)| in rad/s (NaN if not measured).
     note : str
@@ -131,7 +136,7 @@ def workload(members: int, seed: int = 0):
 
 
 def bench(members=10_000, steps=1000, threads=None, methods=None, scipy=True, numpy=True,
-          repeat=3, log=None, engine=True) -> BenchReport:
+          repeat=3, log=None, engine=True, adaptive=True) -> BenchReport:
     """Time every method (and SciPy DOP853, NumPy RK4) on one ensemble; see the module docstring.
 
     Parameters
@@ -146,6 +151,8 @@ def bench(members=10_000, steps=1000, threads=None, methods=None, scipy=True, nu
         Also time SciPy's DOP853 and the NumPy RK4.
     engine : bool
         Also measure what the engine costs on workload W1 (:func:`engine_costs`).
+    adaptive : bool
+        Also time the member loop's adaptive Dormand-Prince 5(4) (:func:`_time_adaptive`).
     repeat : int
         Runs per timing; the shortest wall time is kept (the least disturbed by other load).
     log : callable, optional
@@ -190,6 +197,12 @@ def bench(members=10_000, steps=1000, threads=None, methods=None, scipy=True, nu
                     spec.name, n_threads, wall, members * steps / wall, error,
                     f"compile/load {compile_time:.2f} s" if n_threads == threads[0] else "",
                 ))
+        if adaptive:
+            numba.set_num_threads(threads[-1])
+            log(f"timing adaptive dopri5 on {threads[-1]} thread(s) ...")
+            rows = [_time_adaptive(moments, m0, t_end, steps, reference, threads[-1])
+                    for _ in range(repeat)]
+            report.rows.append(min(rows, key=lambda row: row.wall))
     finally:
         numba.set_num_threads(before)
     report.environment = {
@@ -338,6 +351,22 @@ def numpy_rk4(moments, m0, h, steps):
         m2 = m2 + sixth * (a2 + 2.0 * (b2 + c2) + d2)
         m3 = m3 + sixth * (a3 + 2.0 * (b3 + c3) + d3)
     return np.stack([m1, m2, m3], axis=1)
+
+
+def _time_adaptive(moments, m0, t_end, steps, reference, threads) -> BenchRow:
+    """The member loop's Dormand-Prince 5(4) at SciPy's rtol, and an atol that is rtol of the
+    state's small components (the nudge, EPSILON of the spin, in m = I w): those grow as
+    exp(Omega t) near the intermediate axis, and so does what an atol lets through."""
+    members = m0.shape[0]
+    run = integrate_adaptive(FREE_BODY, m0, FREE_BODY.linearisation.params(moments, 0.0),
+                             np.zeros(members, dtype=np.int64), t_end, rtol=SCIPY_RTOL,
+                             atol=SCIPY_RTOL * EPSILON * SPIN * float(np.min(moments)))
+    return BenchRow(
+        "adaptive dopri5", threads, run.wall_time, members * steps / run.wall_time,
+        _error(run.x_final / moments, reference),
+        f"rtol {SCIPY_RTOL:g}, {np.mean(run.accepted):.0f} steps per member "
+        f"({np.mean(run.rejected):.1f} rejected), compile/load {run.compile_time:.2f} s",
+    )
 
 
 def _time_scipy(solve_ivp, moments, w0, t_end, steps, reference) -> BenchRow:

@@ -186,6 +186,8 @@ def build_parser() -> argparse.ArgumentParser:
     bench.add_argument("--repeat", type=_positive_int, default=3, metavar="N",
                        help="runs per timing, the best kept (default 3)")
     bench.add_argument("--no-scipy", action="store_true", help="skip scipy DOP853")
+    bench.add_argument("--no-adaptive", action="store_true",
+                       help="skip the member loop's adaptive Dormand-Prince 5(4)")
     bench.add_argument("--no-numpy", action="store_true", help="skip the NumPy RK4")
     bench.add_argument("--no-engine", action="store_true",
                        help="skip the table of what the engine costs on W1 (about 4 s)")
@@ -496,6 +498,7 @@ def _cmd_bench(args) -> int:
             repeat=args.repeat,
             log=log,
             engine=not args.no_engine,
+            adaptive=not args.no_adaptive,
         )
         print(format_report(report))
     if args.scene in ("heavy_top", "all"):
