@@ -20,8 +20,12 @@ are located on.
 The loop is written once, as the template below, and rendered for each scene (its vector field
 ``rhs(x_0, ..., x_{n-1}, p)``, the scene's :class:`~stability.engine.tangent.Linearisation`) and
 events (their ``g``), then kept in the disk cache (:func:`stability.engine.cache.load_module`).
-Members run in parallel (``prange``); each depends on nothing but its own start, row, end time and
-the tolerances, so the results are bitwise the same for any threads and any chunks. A member that
+Members run in parallel (``prange``) in tasks of ``BLOCK`` members, ``LANES`` of them in step:
+one member's step is a chain of seven dependent evaluations, which alone leaves the processor
+waiting on each; the stages of eight members are computed together, and a lane whose member ends
+takes the next. Each member depends on nothing but its own start, row, end time and the
+tolerances (its arithmetic is the same on any lane), so the results are bitwise the same for any
+threads and any chunks. A member that
 needs more than ``max_steps`` steps (accepted and rejected) stops there with a status, and so does
 one whose step falls below round-off in ``t`` (non-finite where its error estimate had become
 NaN or inf): nothing hangs.
@@ -63,8 +67,13 @@ EXPO1 = 0.2 - 0.75 * BETA
 SAFE = 0.9
 FAC_MIN = 0.2  # h_new >= h / 5 after a rejection ...
 FAC_MAX = 10.0  # ... and h_new <= 10 h
+LOG_FLOOR = math.log(1e-4)  # the error's floor in the controller's memory, as its logarithm
 #: Steps (accepted and rejected) a member may take by default.
 MAX_STEPS = 100_000
+#: Members a thread integrates in step (their stages computed together), and members per task
+#: of the parallel loop (a lane whose member ends takes the next of its task).
+LANES = 8
+BLOCK = 64
 #: Which scenes have adaptive steps, for the refusals of those that have none.
 WITH_VECTOR_FIELD = ("scenes that declare a vector field have them: every scene of define_scene, "
                      "free_body, heavy_top, sphere_damper and gyrostat")
@@ -87,8 +96,8 @@ from numba import njit, prange
 
 from stability.engine.adaptive import (
     A21, A31, A32, A41, A42, A43, A51, A52, A53, A54, A61, A62, A63, A64, A65, B1, B3, B4, B5,
-    B6, BETA, C2, C3, C4, C5, D1, D3, D4, D5, D6, D7, E1, E3, E4, E5, E6, E7, EXPO1, FAC_MAX,
-    FAC_MIN, SAFE,
+    B6, BETA, BLOCK, C2, C3, C4, C5, D1, D3, D4, D5, D6, D7, E1, E3, E4, E5, E6, E7, EXPO1,
+    FAC_MAX, FAC_MIN, LANES, LOG_FLOOR, SAFE,
 )
 from stability.util.conventions import (
     STATUS_MAX_STEPS, STATUS_NONFINITE, STATUS_OK, STATUS_STEP_TOO_SMALL,
@@ -101,6 +110,14 @@ from {rhs_module} import {rhs_name} as rhs
 def _f(y, p, out):
     {fs}, = rhs({ys}, p)
 {stores}
+
+
+@njit(forceinline=True, error_model="numpy")
+def _f_lanes(s, rows, row, out):
+    """The vector field on every lane: s and out (n, LANES), lane l's parameters rows[row[l]]."""
+    for l in range(LANES):
+        {lane_fs}, = rhs({lane_ss}, rows[row[l]])
+{lane_stores}
 
 
 @njit(forceinline=True, error_model="numpy")
@@ -118,15 +135,16 @@ def _dense(r, theta, out):
 
 
 @njit(forceinline=True, error_model="numpy")
-def _coefficients(r, y, z, h, k1, k3, k4, k5, k6, k7):
-    """The continuous extension of the step h from y to z (DOPRI5's CONTD5 coefficients)."""
+def _coefficients(r, y, z, h, k1, k3, k4, k5, k6, k7, l):
+    """The continuous extension of lane l's step h from y to z (DOPRI5's CONTD5
+    coefficients)."""
     for j in range(y.shape[0]):
-        r[0, j] = y[j]
-        r[1, j] = z[j] - y[j]
-        r[2, j] = h * k1[j] - r[1, j]
-        r[3, j] = r[1, j] - h * k7[j] - r[2, j]
-        r[4, j] = h * (D1 * k1[j] + D3 * k3[j] + D4 * k4[j] + D5 * k5[j] + D6 * k6[j]
-                       + D7 * k7[j])
+        r[0, j] = y[j, l]
+        r[1, j] = z[j, l] - y[j, l]
+        r[2, j] = h * k1[j, l] - r[1, j]
+        r[3, j] = r[1, j] - h * k7[j, l] - r[2, j]
+        r[4, j] = h * (D1 * k1[j, l] + D3 * k3[j, l] + D4 * k4[j, l] + D5 * k5[j, l]
+                       + D6 * k6[j, l] + D7 * k7[j, l])
 
 
 @njit(error_model="numpy")
@@ -161,207 +179,288 @@ def _root(k, r, t0, h, ga, gb, p, y):
     return best
 
 
-@njit(error_model="numpy")
-def _rms(v, y, z, rtol, atol):
+@njit(forceinline=True, error_model="numpy")
+def _rms(v, y, z, rtol, atol, l):
     total = 0.0
     for i in range(v.shape[0]):
-        s = v[i] / (atol + rtol * max(abs(y[i]), abs(z[i])))
+        s = v[i, l] / (atol + rtol * max(abs(y[i, l]), abs(z[i, l])))
         total += s * s
     return math.sqrt(total / v.shape[0])
 
 
 @njit(error_model="numpy")
-def _member(i, x, rows, group, t_end, rtol, atol, max_steps, directions, stops, keep, samples,
-            t_final, accepted, rejected, error, error_sum, h_last, status, counts, times,
-            stop_event, x_sample):
-    p = rows[group[i]]
-    n = x.shape[1]
-    m = directions.shape[0]
-    y = x[i].copy()
-    z = np.empty(n)
-    s = np.empty(n)
-    k1 = np.empty(n)
-    k2 = np.empty(n)
-    k3 = np.empty(n)
-    k4 = np.empty(n)
-    k5 = np.empty(n)
-    k6 = np.empty(n)
-    k7 = np.empty(n)
-    r = np.empty((5, n))
-    g_old = np.empty(m)
-    g_new = np.empty(m)
-    t_hit = np.empty(m)
-    order = np.empty(m, dtype=np.int64)
-    tend = t_end[i]
-    t = 0.0
-    n_samples = samples.shape[0]
-    si = 0
-    while si < n_samples and samples[si] <= 0.0:  # samples at the start
-        x_sample[i, si, :] = y
-        si += 1
-    _f(y, p, k1)
-    for k in range(m):
-        g_old[k] = _g(k, y, t, p)
-    # the first step: Hairer, Norsett & Wanner, II.4, p. 169
-    scale0 = np.empty(n)
-    for j in range(n):
-        scale0[j] = atol + rtol * abs(y[j])
-    d0 = 0.0
-    d1 = 0.0
-    for j in range(n):
-        d0 += (y[j] / scale0[j]) ** 2
-        d1 += (k1[j] / scale0[j]) ** 2
-    d0 = math.sqrt(d0 / n)
-    d1 = math.sqrt(d1 / n)
-    h = 1e-6 if (d0 < 1e-5 or d1 < 1e-5) else 0.01 * d0 / d1
-    h = min(h, tend)
-    for j in range(n):
-        s[j] = y[j] + h * k1[j]
-    _f(s, p, k2)
-    d2 = 0.0
-    for j in range(n):
-        d2 += ((k2[j] - k1[j]) / scale0[j]) ** 2
-    d2 = math.sqrt(d2 / n) / h
-    top = max(d1, d2)
-    h1 = max(1e-6, 1e-3 * h) if top <= 1e-15 else (0.01 / top) ** 0.2
-    h = min(100.0 * h, h1, tend)
-    log_fac_old = math.log(1e-4)
-    was_rejected = False
-    bad = False
-    nacc = 0
-    nrej = 0
-    err = np.nan
-    esum = 0.0
-    used = np.nan
-    code = STATUS_OK
-    stopped = -1
-    while t < tend:
-        if nacc + nrej >= max_steps:
-            code = STATUS_MAX_STEPS
-            break
-        if not (t + h > t):
-            code = STATUS_NONFINITE if bad else STATUS_STEP_TOO_SMALL
-            break
-        last = t + 1.01 * h >= tend
-        if last:
-            h = tend - t
-        for j in range(n):
-            s[j] = y[j] + h * A21 * k1[j]
-        _f(s, p, k2)
-        for j in range(n):
-            s[j] = y[j] + h * (A31 * k1[j] + A32 * k2[j])
-        _f(s, p, k3)
-        for j in range(n):
-            s[j] = y[j] + h * (A41 * k1[j] + A42 * k2[j] + A43 * k3[j])
-        _f(s, p, k4)
-        for j in range(n):
-            s[j] = y[j] + h * (A51 * k1[j] + A52 * k2[j] + A53 * k3[j] + A54 * k4[j])
-        _f(s, p, k5)
-        for j in range(n):
-            s[j] = y[j] + h * (A61 * k1[j] + A62 * k2[j] + A63 * k3[j] + A64 * k4[j]
-                               + A65 * k5[j])
-        _f(s, p, k6)
-        for j in range(n):
-            z[j] = y[j] + h * (B1 * k1[j] + B3 * k3[j] + B4 * k4[j] + B5 * k5[j] + B6 * k6[j])
-        _f(z, p, k7)
-        for j in range(n):
-            s[j] = h * (E1 * k1[j] + E3 * k3[j] + E4 * k4[j] + E5 * k5[j] + E6 * k6[j]
-                        + E7 * k7[j])
-        e = _rms(s, y, z, rtol, atol)
-        if not (e < math.inf):  # NaN or inf: a much shorter step
-            bad = True
-            nrej += 1
-            h *= FAC_MIN
-            was_rejected = True
-            continue
-        bad = False
-        log_e = math.log(e)  # e^EXPO1 / fac_old^BETA as one exponential
-        fac = max(1.0 / FAC_MAX, min(1.0 / FAC_MIN,
-                                     math.exp(EXPO1 * log_e - BETA * log_fac_old) / SAFE))
-        h_new = h / fac
-        if e > 1.0:
-            nrej += 1
-            h = h / min(1.0 / FAC_MIN, math.exp(EXPO1 * log_e) / SAFE)
-            was_rejected = True
-            continue
-        log_fac_old = math.log(max(e, 1e-4))
-        if was_rejected:
-            h_new = min(h_new, h)
-        was_rejected = False
-        nacc += 1
-        err = e
-        local = 0.0  # the local error estimate's Euclidean norm, summed over the steps
-        for j in range(n):
-            local += s[j] * s[j]
-        esum += math.sqrt(local)
-        used = h
-        t_new = tend if last else t + h
-        hits = 0
-        for k in range(m):
-            g_new[k] = _g(k, z, t_new, p)
-            up = g_old[k] < 0.0 and g_new[k] >= 0.0
-            down = g_old[k] >= 0.0 and g_new[k] < 0.0
-            if (up and directions[k] >= 0) or (down and directions[k] <= 0):
-                order[hits] = k
-                hits += 1
-        if hits > 0 or (si < n_samples and samples[si] < t_new):
-            _coefficients(r, y, z, h, k1, k3, k4, k5, k6, k7)  # the step's continuous extension
-        if hits > 0:
-            for q in range(hits):
-                k = order[q]
-                t_hit[k] = _root(k, r, t, t_new - t, g_old[k], g_new[k], p, s)
-            for q in range(1, hits):  # in the order of their times (then of the events)
-                k = order[q]
-                w = q
-                while w > 0 and t_hit[order[w - 1]] > t_hit[k]:
-                    order[w] = order[w - 1]
-                    w -= 1
-                order[w] = k
-            for q in range(hits):
-                k = order[q]
-                counts[i, k] += 1
-                if counts[i, k] <= keep[k]:
-                    times[i, k, counts[i, k] - 1] = t_hit[k]
-                if stops[k] and counts[i, k] == keep[k]:
-                    stopped = k
-                    break
-        t_upto = t_hit[stopped] if stopped >= 0 else t_new
-        while si < n_samples and samples[si] <= t_upto:  # samples asked for within the step
-            if samples[si] == t_new:
-                x_sample[i, si, :] = z
-            else:
-                _dense(r, (samples[si] - t) / (t_new - t), x_sample[i, si])
-            si += 1
-        if stopped >= 0:  # the state at the located time, from the continuous extension
-            _dense(r, (t_hit[stopped] - t) / (t_new - t), y)
-            t = t_hit[stopped]
-            break
-        for j in range(n):
-            y[j] = z[j]
-            k1[j] = k7[j]
-        for k in range(m):
-            g_old[k] = g_new[k]
-        t = t_new
-        h = h_new
-    x[i, :] = y
-    t_final[i] = t
-    accepted[i] = nacc
-    rejected[i] = nrej
-    error[i] = err
-    error_sum[i] = esum
-    h_last[i] = used
+def _finish(i, l, y, t, nacc, nrej, err, esum, used, code, stopped, x, t_final, accepted,
+            rejected, error, error_sum, h_last, status, stop_event, lane):
+    """Member i's results, from lane l, which it leaves free."""
+    for j in range(x.shape[1]):
+        x[i, j] = y[j, l]
+    t_final[i] = t[l]
+    accepted[i] = nacc[l]
+    rejected[i] = nrej[l]
+    error[i] = err[l]
+    error_sum[i] = esum[l]
+    h_last[i] = used[l]
     status[i] = code
     stop_event[i] = stopped
+    lane[l] = -1
+
+
+@njit(error_model="numpy")
+def _block(first, last, x, rows, group, t_end, rtol, atol, max_steps, directions, stops, keep,
+           samples, t_final, accepted, rejected, error, error_sum, h_last, status, counts, times,
+           stop_event, x_sample):
+    """Members first to last - 1 on LANES lanes in step: the stages of all lanes are computed
+    together (independent chains the processor overlaps), the rest lane by lane; a lane whose
+    member ends takes the next. A member's arithmetic does not depend on its lane or on the
+    other members, so neither do its results."""
+    n = x.shape[1]
+    m = directions.shape[0]
+    n_samples = samples.shape[0]
+    y = np.zeros((n, LANES))
+    z = np.zeros((n, LANES))
+    s = np.zeros((n, LANES))
+    k1 = np.zeros((n, LANES))
+    k2 = np.zeros((n, LANES))
+    k3 = np.zeros((n, LANES))
+    k4 = np.zeros((n, LANES))
+    k5 = np.zeros((n, LANES))
+    k6 = np.zeros((n, LANES))
+    k7 = np.zeros((n, LANES))
+    r = np.empty((LANES, 5, n))
+    g_old = np.empty((LANES, max(m, 1)))
+    g_new = np.empty((LANES, max(m, 1)))
+    t_hit = np.empty(max(m, 1))
+    order = np.empty(max(m, 1), dtype=np.int64)
+    a1 = np.empty(n)
+    a2 = np.empty(n)
+    a3 = np.empty(n)
+    a4 = np.empty(n)
+    lane = np.full(LANES, -1, dtype=np.int64)  # the member on each lane, -1 for none
+    row = np.zeros(LANES, dtype=np.int64)
+    t = np.zeros(LANES)
+    h = np.zeros(LANES)
+    h_new = np.zeros(LANES)
+    tend = np.zeros(LANES)
+    log_fac_old = np.zeros(LANES)
+    was_rejected = np.zeros(LANES, dtype=np.bool_)
+    bad = np.zeros(LANES, dtype=np.bool_)
+    last_step = np.zeros(LANES, dtype=np.bool_)
+    nacc = np.zeros(LANES, dtype=np.int64)
+    nrej = np.zeros(LANES, dtype=np.int64)
+    err = np.zeros(LANES)
+    esum = np.zeros(LANES)
+    used = np.zeros(LANES)
+    si = np.zeros(LANES, dtype=np.int64)
+    following = first
+    while True:
+        busy = 0
+        for l in range(LANES):  # each lane: its member's next step, or the next member
+            while True:
+                if lane[l] < 0:
+                    if following >= last:
+                        break
+                    i = following
+                    following += 1
+                    lane[l] = i
+                    row[l] = group[i]
+                    p = rows[row[l]]
+                    for j in range(n):
+                        y[j, l] = x[i, j]
+                        a1[j] = x[i, j]
+                    tend[l] = t_end[i]
+                    t[l] = 0.0
+                    si[l] = 0
+                    while si[l] < n_samples and samples[si[l]] <= 0.0:  # samples at the start
+                        x_sample[i, si[l], :] = x[i]
+                        si[l] += 1
+                    _f(a1, p, a2)
+                    for j in range(n):
+                        k1[j, l] = a2[j]
+                    for k in range(m):
+                        g_old[l, k] = _g(k, a1, 0.0, p)
+                    # the first step: Hairer, Norsett & Wanner, II.4, p. 169
+                    d0 = 0.0
+                    d1 = 0.0
+                    for j in range(n):
+                        a3[j] = atol + rtol * abs(a1[j])
+                        d0 += (a1[j] / a3[j]) ** 2
+                        d1 += (a2[j] / a3[j]) ** 2
+                    d0 = math.sqrt(d0 / n)
+                    d1 = math.sqrt(d1 / n)
+                    h0 = 1e-6 if (d0 < 1e-5 or d1 < 1e-5) else 0.01 * d0 / d1
+                    h0 = min(h0, tend[l])
+                    for j in range(n):
+                        a4[j] = a1[j] + h0 * a2[j]
+                    _f(a4, p, a1)
+                    d2 = 0.0
+                    for j in range(n):
+                        d2 += ((a1[j] - a2[j]) / a3[j]) ** 2
+                    d2 = math.sqrt(d2 / n) / h0
+                    top = max(d1, d2)
+                    h1 = max(1e-6, 1e-3 * h0) if top <= 1e-15 else (0.01 / top) ** 0.2
+                    h[l] = min(100.0 * h0, h1, tend[l])
+                    log_fac_old[l] = LOG_FLOOR
+                    was_rejected[l] = False
+                    bad[l] = False
+                    nacc[l] = 0
+                    nrej[l] = 0
+                    err[l] = np.nan
+                    esum[l] = 0.0
+                    used[l] = np.nan
+                i = lane[l]
+                if nacc[l] + nrej[l] >= max_steps:
+                    _finish(i, l, y, t, nacc, nrej, err, esum, used, STATUS_MAX_STEPS, -1, x,
+                            t_final, accepted, rejected, error, error_sum, h_last, status,
+                            stop_event, lane)
+                    continue
+                if not (t[l] + h[l] > t[l]):
+                    _finish(i, l, y, t, nacc, nrej, err, esum, used,
+                            STATUS_NONFINITE if bad[l] else STATUS_STEP_TOO_SMALL, -1, x,
+                            t_final, accepted, rejected, error, error_sum, h_last, status,
+                            stop_event, lane)
+                    continue
+                last_step[l] = t[l] + 1.01 * h[l] >= tend[l]
+                if last_step[l]:
+                    h[l] = tend[l] - t[l]
+                busy += 1
+                break
+        if busy == 0:
+            return
+        for j in range(n):  # the stages, all lanes together
+            for l in range(LANES):
+                s[j, l] = y[j, l] + h[l] * A21 * k1[j, l]
+        _f_lanes(s, rows, row, k2)
+        for j in range(n):
+            for l in range(LANES):
+                s[j, l] = y[j, l] + h[l] * (A31 * k1[j, l] + A32 * k2[j, l])
+        _f_lanes(s, rows, row, k3)
+        for j in range(n):
+            for l in range(LANES):
+                s[j, l] = y[j, l] + h[l] * (A41 * k1[j, l] + A42 * k2[j, l] + A43 * k3[j, l])
+        _f_lanes(s, rows, row, k4)
+        for j in range(n):
+            for l in range(LANES):
+                s[j, l] = y[j, l] + h[l] * (A51 * k1[j, l] + A52 * k2[j, l] + A53 * k3[j, l]
+                                            + A54 * k4[j, l])
+        _f_lanes(s, rows, row, k5)
+        for j in range(n):
+            for l in range(LANES):
+                s[j, l] = y[j, l] + h[l] * (A61 * k1[j, l] + A62 * k2[j, l] + A63 * k3[j, l]
+                                            + A64 * k4[j, l] + A65 * k5[j, l])
+        _f_lanes(s, rows, row, k6)
+        for j in range(n):
+            for l in range(LANES):
+                z[j, l] = y[j, l] + h[l] * (B1 * k1[j, l] + B3 * k3[j, l] + B4 * k4[j, l]
+                                            + B5 * k5[j, l] + B6 * k6[j, l])
+        _f_lanes(z, rows, row, k7)
+        for j in range(n):
+            for l in range(LANES):
+                s[j, l] = h[l] * (E1 * k1[j, l] + E3 * k3[j, l] + E4 * k4[j, l]
+                                  + E5 * k5[j, l] + E6 * k6[j, l] + E7 * k7[j, l])
+        for l in range(LANES):  # each lane's error, step control, events and samples
+            i = lane[l]
+            if i < 0:
+                continue
+            p = rows[row[l]]
+            e = _rms(s, y, z, rtol, atol, l)
+            if not (e < math.inf):  # NaN or inf: a much shorter step
+                bad[l] = True
+                nrej[l] += 1
+                h[l] *= FAC_MIN
+                was_rejected[l] = True
+                continue
+            bad[l] = False
+            log_e = math.log(e)  # e^EXPO1 / fac_old^BETA as one exponential
+            fac = max(1.0 / FAC_MAX, min(1.0 / FAC_MIN,
+                                         math.exp(EXPO1 * log_e - BETA * log_fac_old[l]) / SAFE))
+            h_new[l] = h[l] / fac
+            if e > 1.0:
+                nrej[l] += 1
+                h[l] = h[l] / min(1.0 / FAC_MIN, math.exp(EXPO1 * log_e) / SAFE)
+                was_rejected[l] = True
+                continue
+            log_fac_old[l] = log_e if e > 1e-4 else LOG_FLOOR  # log(max(e, 1e-4))
+            if was_rejected[l]:
+                h_new[l] = min(h_new[l], h[l])
+            was_rejected[l] = False
+            nacc[l] += 1
+            err[l] = e
+            local = 0.0  # the local error estimate's Euclidean norm, summed over the steps
+            for j in range(n):
+                local += s[j, l] * s[j, l]
+            esum[l] += math.sqrt(local)
+            used[l] = h[l]
+            t0 = t[l]
+            t_new = tend[l] if last_step[l] else t0 + h[l]
+            for j in range(n):
+                a1[j] = z[j, l]
+            hits = 0
+            for k in range(m):
+                g_new[l, k] = _g(k, a1, t_new, p)
+                up = g_old[l, k] < 0.0 and g_new[l, k] >= 0.0
+                down = g_old[l, k] >= 0.0 and g_new[l, k] < 0.0
+                if (up and directions[k] >= 0) or (down and directions[k] <= 0):
+                    order[hits] = k
+                    hits += 1
+            if hits > 0 or (si[l] < n_samples and samples[si[l]] < t_new):
+                _coefficients(r[l], y, z, h[l], k1, k3, k4, k5, k6, k7, l)  # the extension
+            stopped = -1
+            if hits > 0:
+                for q in range(hits):
+                    k = order[q]
+                    t_hit[k] = _root(k, r[l], t0, t_new - t0, g_old[l, k], g_new[l, k], p, a2)
+                for q in range(1, hits):  # in the order of their times (then of the events)
+                    k = order[q]
+                    w = q
+                    while w > 0 and t_hit[order[w - 1]] > t_hit[k]:
+                        order[w] = order[w - 1]
+                        w -= 1
+                    order[w] = k
+                for q in range(hits):
+                    k = order[q]
+                    counts[i, k] += 1
+                    if counts[i, k] <= keep[k]:
+                        times[i, k, counts[i, k] - 1] = t_hit[k]
+                    if stops[k] and counts[i, k] == keep[k]:
+                        stopped = k
+                        break
+            t_upto = t_hit[stopped] if stopped >= 0 else t_new
+            while si[l] < n_samples and samples[si[l]] <= t_upto:  # samples within the step
+                if samples[si[l]] == t_new:
+                    x_sample[i, si[l], :] = a1
+                else:
+                    _dense(r[l], (samples[si[l]] - t0) / (t_new - t0), x_sample[i, si[l]])
+                si[l] += 1
+            if stopped >= 0:  # the state at the located time, from the continuous extension
+                _dense(r[l], (t_hit[stopped] - t0) / (t_new - t0), a2)
+                for j in range(n):
+                    y[j, l] = a2[j]
+                t[l] = t_hit[stopped]
+                _finish(i, l, y, t, nacc, nrej, err, esum, used, STATUS_OK, stopped, x,
+                        t_final, accepted, rejected, error, error_sum, h_last, status,
+                        stop_event, lane)
+                continue
+            for j in range(n):
+                y[j, l] = z[j, l]
+                k1[j, l] = k7[j, l]
+            for k in range(m):
+                g_old[l, k] = g_new[l, k]
+            t[l] = t_new
+            h[l] = h_new[l]
+            if t[l] >= tend[l]:
+                _finish(i, l, y, t, nacc, nrej, err, esum, used, STATUS_OK, -1, x, t_final,
+                        accepted, rejected, error, error_sum, h_last, status, stop_event, lane)
 
 
 @njit(parallel=True, error_model="numpy")
 def integrate(x, rows, group, t_end, rtol, atol, max_steps, directions, stops, keep, samples,
               t_final, accepted, rejected, error, error_sum, h_last, status, counts, times,
               stop_event, x_sample):
-    for i in prange(x.shape[0]):
-        _member(i, x, rows, group, t_end, rtol, atol, max_steps, directions, stops, keep,
-                samples, t_final, accepted, rejected, error, error_sum, h_last, status, counts,
-                times, stop_event, x_sample)
+    blocks = (x.shape[0] + BLOCK - 1) // BLOCK
+    for b in prange(blocks):
+        _block(b * BLOCK, min(x.shape[0], (b + 1) * BLOCK), x, rows, group, t_end, rtol, atol,
+               max_steps, directions, stops, keep, samples, t_final, accepted, rejected, error,
+               error_sum, h_last, status, counts, times, stop_event, x_sample)
 '''
 
 
@@ -551,6 +650,8 @@ def _loop(scene: Scene, gs: tuple):
         scene=scene.name, m=len(gs), rhs_module=rhs_module, rhs_name=rhs_name,
         g_imports="\n".join(g_imports), fs=fs, ys=ys,
         stores="\n".join(f"    out[{i}] = f{i}" for i in range(n)),
+        lane_fs=fs, lane_ss=", ".join(f"s[{i}, l]" for i in range(n)),
+        lane_stores="\n".join(f"        out[{i}, l] = f{i}" for i in range(n)),
         g_calls="\n".join(g_calls) or "    pass")
     functions = [lin.rhs.py_func] + [getattr(g, "py_func", g) for g in gs]
     roots = tuple(dict.fromkeys([rhs_module, "stability.engine.adaptive"]
