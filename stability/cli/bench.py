@@ -10,7 +10,8 @@ default tennis-racket study's step). Timed on it, in one run:
   nothing saved), with 1 and 2 threads (compile time excluded and reported apart);
 - the member loop's adaptive Dormand-Prince 5(4) (:mod:`stability.engine.adaptive`), each
   member with its own steps, at SciPy's tolerance, with the most threads; quoted as the
-  equivalent member-steps/s like SciPy's, with its mean steps per member;
+  equivalent member-steps/s like SciPy's, with its mean steps per member; and again with one
+  event, the sign changes of w2 (the flips), to show what locating events costs;
 - SciPy's ``solve_ivp`` with DOP853 on the whole ensemble as one system of 3N equations (a
   vectorized right-hand side over the members), at a tolerance that gives an error comparable
   to RK4's at this h; its speed is quoted as the equivalent member-steps/s, members x steps /
@@ -47,6 +48,7 @@ import time
 from dataclasses import dataclass, field
 
 import numpy as np
+from numba import njit
 
 from ..core.axes import intermediate_axis
 from ..free_body.model import euler_system
@@ -55,6 +57,7 @@ from ..free_body.propagate import propagate
 from ..engine import propagate_groups
 from ..engine.reference import plain_rk4
 from ..engine.adaptive import integrate_adaptive
+from ..engine.events import Event
 from ..engine.tangent import tangent_scene
 from ..free_body.ensemble import run_ensemble
 from ..free_body.keep import Keep
@@ -200,9 +203,10 @@ def bench(members=10_000, steps=1000, threads=None, methods=None, scipy=True, nu
         if adaptive:
             numba.set_num_threads(threads[-1])
             log(f"timing adaptive dopri5 on {threads[-1]} thread(s) ...")
-            rows = [_time_adaptive(moments, m0, t_end, steps, reference, threads[-1])
-                    for _ in range(repeat)]
-            report.rows.append(min(rows, key=lambda row: row.wall))
+            for events in ((), (Event(flip_crossing, count=4, name="flips"),)):
+                rows = [_time_adaptive(moments, m0, t_end, steps, reference, threads[-1],
+                                       events) for _ in range(repeat)]
+                report.rows.append(min(rows, key=lambda row: row.wall))
     finally:
         numba.set_num_threads(before)
     report.environment = {
@@ -353,19 +357,28 @@ def numpy_rk4(moments, m0, h, steps):
     return np.stack([m1, m2, m3], axis=1)
 
 
-def _time_adaptive(moments, m0, t_end, steps, reference, threads) -> BenchRow:
+@njit
+def flip_crossing(x, t, p):
+    """The event of the bench's adaptive row: m2 changes sign where the racket flips."""
+    return x[1]
+
+
+def _time_adaptive(moments, m0, t_end, steps, reference, threads, events=()) -> BenchRow:
     """The member loop's Dormand-Prince 5(4) at SciPy's rtol, and an atol that is rtol of the
     state's small components (the nudge, EPSILON of the spin, in m = I w): those grow as
     exp(Omega t) near the intermediate axis, and so does what an atol lets through."""
     members = m0.shape[0]
     run = integrate_adaptive(FREE_BODY, m0, FREE_BODY.linearisation.params(moments, 0.0),
                              np.zeros(members, dtype=np.int64), t_end, rtol=SCIPY_RTOL,
-                             atol=SCIPY_RTOL * EPSILON * SPIN * float(np.min(moments)))
+                             atol=SCIPY_RTOL * EPSILON * SPIN * float(np.min(moments)),
+                             events=events)
     return BenchRow(
-        "adaptive dopri5", threads, run.wall_time, members * steps / run.wall_time,
-        _error(run.x_final / moments, reference),
+        "adaptive dopri5" + (", one event" if events else ""), threads, run.wall_time,
+        members * steps / run.wall_time, _error(run.x_final / moments, reference),
         f"rtol {SCIPY_RTOL:g}, {np.mean(run.accepted):.0f} steps per member "
-        f"({np.mean(run.rejected):.1f} rejected), compile/load {run.compile_time:.2f} s",
+        f"({np.mean(run.rejected):.1f} rejected)"
+        + (f", {np.mean(run.event_count):.2f} crossings per member" if events else "")
+        + f", compile/load {run.compile_time:.2f} s",
     )
 
 
