@@ -580,6 +580,34 @@ def integrate_adaptive(scene, x0, rows, group, t_end, *, rtol, atol, events=(),
     -------
     AdaptiveRun
     """
+    events, out, arguments = prepared_run(scene, x0, rows, group, t_end, rtol=rtol, atol=atol,
+                                          events=events, max_steps=max_steps, samples=samples)
+    loop = adaptive_loop(scene, tuple((e.g, e.name) for e in events))
+    t0 = time.perf_counter()
+    if not loop.signatures:
+        with compiling(loop):
+            loop(np.ones((0, scene.width)), *arguments)
+    out.compile_time = time.perf_counter() - t0
+    t0 = time.perf_counter()
+    loop(out.x_final, *arguments)
+    out.wall_time = time.perf_counter() - t0
+    return out
+
+
+def prepared_run(scene, x0, rows, group, t_end, *, rtol, atol, events=(), max_steps=MAX_STEPS,
+                 samples=None) -> tuple:
+    """The checked input of :func:`integrate_adaptive` (its parameters), as the loop takes it.
+
+    Returns
+    -------
+    events : tuple of Event
+        The checked events.
+    out : AdaptiveRun
+        The results to fill, ``x_final`` holding the starts.
+    arguments : tuple
+        The loop's arguments after the states (``integrate(out.x_final, *arguments)``), the
+        arrays of ``out`` among them.
+    """
     scene = checked_scene(scene, "integrate_adaptive")
     rtol, atol, max_steps = checked_tolerances(rtol, atol, max_steps)
     samples = checked_samples(samples)
@@ -599,7 +627,6 @@ def integrate_adaptive(scene, x0, rows, group, t_end, *, rtol, atol, events=(),
         raise ValueError("t_end must be finite and > 0 for every member")
     events = checked_events(events, x[0] if x.shape[0] else np.ones(scene.width),
                             rows[0] if rows.shape[0] else np.ones(1))
-    loop = adaptive_loop(scene, tuple((e.g, e.name) for e in events))
     n, m = x.shape[0], len(events)
     kept = max([e.count for e in events], default=0)
     out = AdaptiveRun(
@@ -614,15 +641,7 @@ def integrate_adaptive(scene, x0, rows, group, t_end, *, rtol, atol, events=(),
     arguments = (rows, group, t_end, rtol, atol, max_steps, directions, stops, keep, samples,
                  out.t_final, out.accepted, out.rejected, out.error, out.error_sum, out.h_last,
                  out.status, out.event_count, out.event_time, out.stop_event, out.x_sample)
-    t0 = time.perf_counter()
-    if not loop.signatures:
-        with compiling(loop):
-            loop(np.ones((0, scene.width)), *arguments)
-    out.compile_time = time.perf_counter() - t0
-    t0 = time.perf_counter()
-    loop(x, *arguments)
-    out.wall_time = time.perf_counter() - t0
-    return out
+    return events, out, arguments
 
 
 def adaptive_loop(scene: Scene, events: tuple = ()):
@@ -674,4 +693,5 @@ def _bound(function, module: str) -> tuple[str, str]:
 
 
 __all__ = ["AdaptiveRun", "MAX_STEPS", "STATUS_FLAGS", "STATUS_MEANINGS", "WITH_VECTOR_FIELD",
-           "adaptive_loop", "checked_samples", "checked_tolerances", "integrate_adaptive"]
+           "adaptive_loop", "checked_samples", "checked_tolerances", "integrate_adaptive",
+           "prepared_run"]
