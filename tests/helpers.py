@@ -237,3 +237,10 @@ def once_per_run(tmp_path_factory, name: str, make) -> Path:
             make(folder)
             (folder / ".made").touch()
     return folder
+
+
+def invariants(moments, m):
+    """Relative |m| and energy of states m (..., 3) against the first one."""
+    L = np.linalg.norm(m, axis=-1)
+    E = 0.5 * np.sum(m * m / moments, axis=-1)
+    return np.abs(L / L[0] - 1.0), E / E[0] - 1.0

@@ -1,4 +1,5 @@
-"""The exact torque-free solution, the flip interval, and the ``exact`` method.
+"""The exact torque-free solution and the flip interval (the ``exact`` method built on it is
+tested in ``tests/integrators/test_exact_flow.py``).
 
 References used here, each independent of the code under test:
 - scipy's DOP853 at rtol = atol = 1e-12 on Euler's equations written out in the test;
@@ -15,14 +16,10 @@ import numpy as np
 import pytest
 from scipy.integrate import solve_ivp
 
-import stability
 from stability import RigidBody, exact_omega, flip_interval, full_period
 from stability.free_body.exact import (
-    elliptic_frequency, elliptic_parameters, flip_interval_asymptote, flow, regime,
+    elliptic_frequency, elliptic_parameters, flip_interval_asymptote, regime,
 )
-from stability.integrators import METHODS
-from stability.integrators.exact_flow import exact_step
-from stability.integrators.spec import body_params
 
 EPS = np.finfo(float).eps
 
@@ -332,77 +329,6 @@ def test_flip_interval_unsorted_body_counts_the_intermediate_axis():
 # The ``exact`` method.
 
 
-def test_exact_method_is_registered():
-    spec = METHODS["exact"]
-    assert spec.is_exact and spec.order == math.inf
-    assert spec.preserves_casimir and spec.preserves_energy and spec.symmetric and spec.explicit
-    assert spec.describe()["order"] == "exact"
-
-
-def run_kernel(I, w0, h, n_steps):
-    """Steps of the ``exact`` kernel in the canonical frame, summed as
-    stability.free_body.propagate does."""
-    p = body_params(I)
-    m = I * np.asarray(w0, dtype=float)
-    comp = np.zeros(3)
-    out = np.empty((n_steps, 3))
-    for n in range(n_steps):
-        d1, d2, d3, iterations = exact_step(m[0], m[1], m[2], h, p, 0)
-        assert iterations == 0
-        y = np.array([d1, d2, d3]) - comp  # Kahan
-        s = m + y
-        comp = (s - m) - y
-        m = s
-        out[n] = m / I
-    return out
-
-
-@pytest.mark.parametrize(
-    "I, w0, n_steps",
-    [
-        ((1.0, 1.7, 2.2), (0.4, 0.9, -0.3), 2000),  # "minor"
-        ((1.0, 1.7, 2.2), (0.2, -0.5, 0.9), 2000),  # "major"
-        ((2.0, 2.0, 3.0), (0.6, -0.5, 0.7), 2000),  # symmetric, I1 = I2
-        ((1.0, 2.0, 2.0), (0.6, -0.5, 0.7), 2000),  # symmetric, I2 = I3
-        (SEP_I, (2.0, 5.0, -1.0), 200),  # on the separatrix (short: the saddle amplifies)
-    ],
-)
-def test_exact_kernel_increments_reproduce_exact_omega(I, w0, n_steps):
-    """The increments summed over many steps of h = 0.01 stay within 1e-13 of one evaluation
-    (measured: <= 4e-15 after 2000 steps; without cancellation-free increments it was 4e-13)."""
-    I = np.array(I)
-    h = 0.01
-    got = run_kernel(I, w0, h, n_steps)
-    ref = exact_omega(RigidBody(*I, physical=False), w0, h * np.arange(1, n_steps + 1))
-    assert np.max(np.abs(got - ref)) <= 1e-13 * np.linalg.norm(w0)
-
-
-def test_integrate_with_exact_method():
-    body = RigidBody(2.2, 1.0, 1.7)  # unsorted
-    w0 = np.array([-0.3, 0.4, 0.9])
-    ds = stability.integrate(body, w0, t_end=100.0, h=0.05, method="exact", progress=False)
-    ref = exact_omega(body, w0, ds.time.values)
-    assert ds.attrs["method_order"] == "exact"
-    assert np.max(np.abs(ds.w.values - ref)) <= 1e-13
-    I = body.moments
-    m = ds.w.values * I
-    L = np.linalg.norm(m, axis=1)
-    E = np.sum(m * ds.w.values, axis=1)
-    assert np.max(np.abs(L / L[0] - 1.0)) <= 1e-14
-    assert np.max(np.abs(E / E[0] - 1.0)) <= 1e-14
-    # Long steps (several periods each) go through the same kernel.
-    ds = stability.integrate(body, w0, t_end=100.0, h=10.0, method="exact", progress=False)
-    assert np.max(np.abs(ds.w.values - exact_omega(body, w0, ds.time.values))) <= 1e-12
-
-
-def test_exact_flow_is_reversible():
-    I1, I2, I3 = 1.0, 1.7, 2.2
-    w = (0.4, 0.9, -0.3)
-    fwd = flow(I1, I2, I3, *w, 0.37)
-    back = flow(I1, I2, I3, *fwd, -0.37)
-    np.testing.assert_allclose(back, w, rtol=0, atol=2 * EPS)
-
-
 # ---------------------------------------------------------------------------------------------
 # Bad input.
 
@@ -463,3 +389,4 @@ def test_exact_omega_of_many_starts_is_bitwise_exact_omega_of_each(moments):
     many = exact_omega_of_starts(body, w0, 7.3)
     for j, w in enumerate(w0):
         assert np.array_equal(many[j], exact_omega(body, w, 7.3))
+

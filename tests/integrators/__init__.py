@@ -1,0 +1,1 @@
+"""Tests of the integrators (stability.integrators), one module per family of methods."""
