@@ -244,3 +244,8 @@ def invariants(moments, m):
     L = np.linalg.norm(m, axis=-1)
     E = 0.5 * np.sum(m * m / moments, axis=-1)
     return np.abs(L / L[0] - 1.0), E / E[0] - 1.0
+
+
+def starts(scene, n, seed=0):
+    """n starts of the scene's own example (for the free body: near the intermediate axis)."""
+    return scene.example(n, seed)[0]

@@ -1,6 +1,6 @@
 """Faults of the compiled-loop cache, for real: damaged files, umasks, a second user, a held lock.
 
-Each case runs the engine tests' small decay loop (``tests.test_engine.SCRIPT``) in a new
+Each case runs the engine tests' small decay loop (``tests.engine.test_cache.SCRIPT``) in a new
 process on a cache folder of its own (``STABILITY_CACHE_DIR``) and reads what the process
 printed: its cache hits and misses (a miss is a compile) and its stderr, every line of it. The
 loop is compiled for the module by two cold runs at once, under umask 022 and 002; the cases
@@ -27,7 +27,7 @@ import pytest
 WAIT_NOTICE_S = 3.0  # stability.engine.cache.WAIT_NOTICE_S
 
 from .helpers import STOP_GUARD_S, once_per_run, wait_until
-from .test_engine import KERNEL, SCRIPT
+from .engine.test_cache import KERNEL, SCRIPT
 from .test_faults import Lines
 
 ROOT = Path(__file__).resolve().parents[1]
