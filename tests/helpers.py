@@ -249,3 +249,79 @@ def invariants(moments, m):
 def starts(scene, n, seed=0):
     """n starts of the scene's own example (for the free body: near the intermediate axis)."""
     return scene.example(n, seed)[0]
+
+
+# Signals whose growth rate and flips are known exactly, for the estimators' tests.
+
+LAM = 0.7  # s-1
+SPIN = 1.0  # rad/s
+
+
+def series_dataset(w, t, axis, spin=SPIN):
+    n = w.shape[0]
+    return xr.Dataset(
+        {"w": (("member", "time", "axis"), w, {"units": "rad s-1"})},
+        coords={"member": np.arange(n), "time": t, "axis": [1, 2, 3]},
+        attrs={"axis": axis, "spin": spin},
+    )
+
+
+def separatrix(n_members, lam=LAM, dt=0.05, t_end=60.0, seed=0):
+    """One exact flip per member: the sech/tanh separatrix (literature 1.4) about axis 2.
+
+    Perpendicular amplitude A_max sech(lam (t - t0)), spin-axis component -W tanh(lam (t - t0)):
+    growth at exactly ``lam`` while small, saturation at A_max, one flip at t0.
+    """
+    rng = np.random.default_rng(seed)
+    t = np.arange(0.0, t_end + dt / 2, dt)
+    t0 = rng.uniform(0.4 * t_end, 0.5 * t_end, n_members)
+    phi = rng.uniform(0, 2 * np.pi, n_members)
+    a_max = 0.6 * SPIN
+    u = lam * (t[None, :] - t0[:, None])
+    w = np.empty((n_members, t.size, 3))
+    w[:, :, 0] = a_max * np.cos(phi)[:, None] / np.cosh(u)
+    w[:, :, 2] = a_max * np.sin(phi)[:, None] / np.cosh(u)
+    w[:, :, 1] = -SPIN * np.tanh(u)
+    return t, w, t0, a_max
+
+
+def oscillation(n_members, omega, dt=0.05, periods=12, aspect=3.0, seed=2):
+    """Motion near a stable axis 3: an ellipse of aspect ``aspect`` at angular frequency omega."""
+    rng = np.random.default_rng(seed)
+    t = np.arange(0.0, periods * 2 * np.pi / omega, dt)
+    amp = 1e-4 * rng.uniform(0.5, 1.5, n_members)
+    phase = rng.uniform(0, 2 * np.pi, n_members)
+    arg = omega * t[None, :] + phase[:, None]
+    w = np.empty((n_members, t.size, 3))
+    w[:, :, 0] = amp[:, None] * np.cos(arg)
+    w[:, :, 1] = aspect * amp[:, None] * np.sin(arg)
+    w[:, :, 2] = SPIN
+    return t, w
+
+
+def summaries_from_separatrix(n_members, levels, lam=LAM, seed=3):
+    """Summaries-only Dataset of the separatrix flip: passage times known in closed form."""
+    rng = np.random.default_rng(seed)
+    t0 = rng.uniform(20.0, 30.0, n_members)
+    a_max = 0.6 * SPIN
+    a0 = a_max / np.cosh(lam * t0)
+    # First time a_max sech(lam (t - t0)) reaches the level, before the peak at t0.
+    passage = t0[:, None] - np.arccosh(a_max / levels[None, :]) / lam
+    passage = np.where(levels[None, :] <= a0[:, None], 0.0, passage)
+    w0 = np.stack([a0, SPIN * np.tanh(lam * t0), np.zeros(n_members)], axis=1)
+    nan = np.full(n_members, np.nan)
+    return xr.Dataset(
+        {
+            "passage_time": (("member", "level"), passage),
+            "flip_count": (("member",), np.ones(n_members)),
+            "first_flip_time": (("member",), t0),
+            "last_flip_time": (("member",), t0),
+            "perp_crossing_count": (("member",), np.zeros(n_members)),
+            "first_perp_crossing": (("member",), nan),
+            "last_perp_crossing": (("member",), nan),
+            "max_perp_amplitude": (("member",), np.full(n_members, a_max)),
+            "w0": (("member", "axis"), w0),
+        },
+        coords={"member": np.arange(n_members), "level": levels, "axis": [1, 2, 3]},
+        attrs={"axis": 2, "spin": SPIN},
+    )

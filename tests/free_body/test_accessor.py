@@ -8,7 +8,7 @@ import stability
 from stability.analysis.estimates import measured_growth_rate
 from stability.free_body.accessor import StabilityAccessor
 
-from ..analysis.test_estimates import (
+from ..helpers import (
     oscillation,
     separatrix,
     series_dataset,
