@@ -325,3 +325,10 @@ def summaries_from_separatrix(n_members, levels, lam=LAM, seed=3):
         coords={"member": np.arange(n_members), "level": levels, "axis": [1, 2, 3]},
         attrs={"axis": 2, "spin": SPIN},
     )
+
+
+def default_dataset(kind) -> str:
+    """The Dataset's file name of ``kind``'s default study (the tennis study's is named from
+    the body)."""
+    default = kind.schema.section("output").key("dataset").default
+    return default if default is not None else kind.outputs(kind.resolve({}))[0]

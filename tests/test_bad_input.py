@@ -9,14 +9,14 @@ call the public API and expect a ``ValueError`` whose message holds the fragment
 The in-process rows (``stability.cli.main`` here, as nothing in them runs) cover what a study
 run reads besides its options: the study file itself (not a regular file, too large, not UTF-8,
 integers beyond a float's range, a byte-order mark that must parse), a run's ``manifest.json``
-and ``progress.json`` damaged in every way a reader could trip on, a count that no memory holds
-for every study kind, and a dask scheduler address that takes the connection and never answers
-or where a web server answers.
+and ``progress.json`` damaged in every way a reader could trip on, and a dask scheduler address
+that takes the connection and never answers or where a web server answers.
 
 Cases covered elsewhere and not repeated here: study-file keys of the wrong type or range, unknown
 keys and sections, a section given as a value, a missing or bad top-level ``study`` key, a missing
-file and bad ``--set``/``--members`` values (``tests/test_study_config.py``); unknown subcommands
-and ``--threads`` out of range (``tests/cli/test_main.py``); bad bodies, starts of the wrong shape,
+file and bad ``--set``/``--members`` values (``tests/study/test_config.py``); a count that no
+memory holds, for every study kind (``tests/study/test_sections.py``); unknown subcommands and
+``--threads`` out of range (``tests/cli/test_main.py``); bad bodies, starts of the wrong shape,
 non-finite values, bad seeds, time-series runs above ``max_memory`` (``tests/core/test_body.py``,
 ``tests/free_body/test_ensemble.py``); hopeless steps at the level of the loop
 (``tests/test_hard_cases.py``).
@@ -501,17 +501,13 @@ def test_the_table_is_large_enough():
     assert len(CLI) + len(API) >= 45
 
 
-# --- in process: the file itself, a run's work folder, memory, the scheduler -----------------
+# --- in process: the file itself, a run's work folder, the scheduler ------------------------------
 #
 # Refused before any work, so ``stability.cli.main`` runs in this process (no interpreter to
 # start): exit status 2, one line on stderr naming the file or key, nothing on stdout.
 
 #: A whole number beyond a float's range (about 1.8e308), written as a TOML literal.
 HUGE = "1" + "0" * 400
-#: An ensemble no machine holds.
-ABSURD = "10000000000000"
-
-
 
 
 def study_file(tmp_path, text) -> Path:
@@ -593,40 +589,6 @@ def test_study_file_with_a_byte_order_mark_parses(tmp_path, capsys):
                       .encode("utf-8"))
     assert main(["run", str(path), "--dry-run"]) == 0
     assert "members = 7" in capsys.readouterr().out
-
-
-#: kind -> (arguments making its count absurd, fragments of the line).
-MEMORY = {
-    "bat": (["--set", f"strikes.count={ABSURD}"], ["[strikes] count = " + ABSURD]),
-    "dual_spin": (["--set", f"integration.samples={ABSURD}"],
-                  ["[integration] samples = " + ABSURD]),
-    "earth_wobble": (["--members", ABSURD], ["(--members): [wobble] members = " + ABSURD,
-                                             "the summaries of"]),
-    "engine_artefacts": (["--set", f"ensemble.members={ABSURD}"],
-                         ["[ensemble] members = " + ABSURD]),
-    "explorer": (["--set", f"integration.samples={ABSURD}"],
-                 ["[integration] samples = " + ABSURD]),
-    "gyroscope": (["--set", f"spins.count={ABSURD}"], ["[spins] count = " + ABSURD]),
-    "rolling": (["--members", ABSURD], ["(--members): [launch] members = " + ABSURD]),
-    "rolling samples": (["--set", f"launch.samples={ABSURD}"],
-                        ["[launch] samples = " + ABSURD]),
-    "sleeping_top": (["--members", ABSURD], ["(--members): [ensemble] members = " + ABSURD]),
-    "twisting_racket": (["--set", f"ensemble.members={ABSURD}"],
-                        ["[ensemble] members = " + ABSURD]),
-}
-
-
-@pytest.mark.parametrize("case", sorted(MEMORY))
-def test_absurd_count_is_refused_by_the_memory_check(case, tmp_path, capsys):
-    args, fragments = MEMORY[case]
-    out = tmp_path / "out"
-    kind = case.split()[0]
-    line = one_line(capsys, ["run", str(ROOT / "studies" / f"{kind}.toml"), "--quick",
-                             "--out", str(out), "--no-progress", *args])
-    for fragment in [*fragments, "TiB in memory, above the", "a run may hold; "]:
-        assert fragment in line, (fragment, line)
-    assert "this machine has" in line or not hasattr(os, "sysconf")
-    assert not out.exists()
 
 
 def work_folder(tmp_path) -> Path:
@@ -814,3 +776,4 @@ def test_spin_beyond_any_step_is_named_not_computed(tmp_path, capsys, rate):
     assert line.endswith("; use a smaller rate"), line
     assert "inf" not in line and "nan" not in line and "h <= 0 s" not in line, line
     assert not (tmp_path / "out").exists()
+

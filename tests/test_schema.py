@@ -21,8 +21,7 @@ import stability
 from stability.ensemble.schema import KINDS, SCHEMAS
 from stability.study import STUDIES
 
-from .helpers import assert_declared
-from .test_study_config import default_dataset
+from .helpers import assert_declared, default_dataset
 
 ROOT = Path(__file__).resolve().parents[1]
 BODY = stability.RigidBody(1.0, 2.0, 3.0, physical=False)

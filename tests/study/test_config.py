@@ -1,8 +1,5 @@
 """Study files: schema validation, one-line errors with exit status 2, resolved configuration."""
 
-import re
-import subprocess
-import sys
 import tomllib
 from pathlib import Path
 
@@ -12,18 +9,8 @@ from stability.cli import main
 from stability.study import STUDIES, ConfigError, Key, load_study, resolve, to_toml
 from stability.study.config import parse
 
-ROOT = Path(__file__).resolve().parents[1]
+ROOT = Path(__file__).resolve().parents[2]
 TENNIS = ROOT / "studies" / "tennis_racket.toml"
-#: Each study kind's study file in studies/, by kind.
-STUDY_FILES = {tomllib.loads(path.read_text(encoding="utf-8"))["study"]: path
-               for path in sorted((ROOT / "studies").glob("*.toml"))}
-
-
-def default_dataset(kind) -> str:
-    """The Dataset's file name of ``kind``'s default study (the tennis study's is named from
-    the body)."""
-    default = kind.schema.section("output").key("dataset").default
-    return default if default is not None else kind.outputs(kind.resolve({}))[0]
 
 
 def write_study(tmp_path, text, name="x.toml"):
@@ -199,89 +186,6 @@ def test_resolve_reports_the_first_problem_with_its_source():
     assert (info.value.section, info.value.key) == ("spin", "rate")
 
 
-def test_every_kind_declares_a_complete_schema():
-    for name, kind in STUDIES.items():
-        assert kind.name == name
-        described = kind.schema.describe()
-        for section in kind.schema.sections:
-            assert f"[{section.name}]" in described
-            for key in section.keys:
-                assert key.doc and f"{key.name} = " in described
-        assert "output" in [s.name for s in kind.schema.sections]
-        assert "dir" in [k.name for k in kind.schema.section("output").keys]
-        # Quick mode is valid, alone or over the kind's study file (a kind whose sections
-        # have no defaults: what a dispersion study disperses is the user's to say), and the
-        # members option, if any, points at a real key.
-        try:
-            kind.resolve({"study": name, **kind.quick})
-        except ConfigError:
-            load_study(STUDY_FILES[name], quick=True)
-        if kind.members_key is not None:
-            kind.schema.section(kind.members_key[0]).key(kind.members_key[1])
-
-
-def test_every_kind_has_its_dataset_checked_against_cf():
-    """Some test passes each kind's Dataset (its file name) to ``assert_cf_compliant``, so that
-    a new kind cannot ship a file that CF readers reject."""
-    sources = "".join(path.read_text(encoding="utf-8")  # family folders too (tests/<family>/)
-                      for path in sorted(Path(__file__).parent.rglob("test_*.py")))
-    checked = set(re.findall(r'assert_cf_compliant\([^,\n]*"([^"\n]+\.nc)"', sources))
-    for name, kind in STUDIES.items():
-        assert default_dataset(kind) in checked, name
-
-
-def test_summary_table_aligns_names_over_units_and_cells():
-    from stability.study.kind import StudySummary, SummaryTable
-
-    table = SummaryTable("two rules", [("rule", ""), ("error", "rel."), ("step", "s")],
-                         [("a", "+1.0e-03", "0.1"), ("long_name", "no flip", "12.5")])
-    assert table.text().splitlines() == [
-        "two rules",
-        "rule          error  step",
-        "             (rel.)   (s)",
-        "a          +1.0e-03   0.1",
-        "long_name   no flip  12.5",
-    ]
-    summary = StudySummary("x", ".", rows=[("wall time", "1.0", "s")], tables=[table])
-    assert summary.table().split("\n\n") == ["wall time  1.0  s", table.text()]
-
-
-#: Imports the homes of the kinds in turn, each first in a process of its own: forked from one
-#: that holds the libraries the package uses (a new interpreter each took a second and a half
-#: to import them) and no module of the package, so each child imports the package afresh.
-FRESH_IMPORTS = """
-import importlib, os, sys, traceback
-import matplotlib.figure, numba, numpy, pandas, scipy.integrate, xarray
-assert not [name for name in sys.modules if name.split(".")[0] == "stability"]
-failed = []
-for home in sys.argv[1:]:
-    pid = os.fork()
-    if pid == 0:
-        try:
-            importlib.import_module(home)
-            from stability.study import STUDIES
-            assert all(kind.schema is not None for kind in STUDIES.values())
-        except BaseException:
-            traceback.print_exc()
-            os._exit(1)
-        os._exit(0)
-    if os.waitpid(pid, 0)[1] != 0:
-        failed.append(home)
-print("failed:", failed)
-sys.exit(1 if failed else 0)
-"""
-
-
-def test_a_kind_imported_first_in_a_fresh_process_is_complete_in_the_registry():
-    """A kind's module imports the framework, which registers every kind: imported first, the
-    kind is still whole when the registry reads it (``import stability.dissipation.studies``)."""
-    homes = sorted({kind.run.__module__ for kind in STUDIES.values()})
-    run = subprocess.run([sys.executable, "-c", FRESH_IMPORTS, *homes], capture_output=True,
-                         text=True, timeout=300)
-    assert run.returncode == 0, (run.stdout[-500:], run.stderr[-4000:])
-    assert run.stdout.strip() == "failed: []"
-
-
 @pytest.mark.parametrize("overrides, title, dataset", [
     ([], "Tennis-racket flips of a perturbed spin about the intermediate axis",
      "tennis_racket.nc"),
@@ -329,3 +233,4 @@ def test_a_phone_runs_checks_before_the_run_use_its_own_file_names(tmp_path, cap
     err = capsys.readouterr().err
     assert "its run there is finished (phone.nc exists)" in err
     assert sorted(p.name for p in out.iterdir()) == ["phone.nc"]
+
