@@ -24,7 +24,7 @@ for a new scene (copy ``stability/free_body/scene.py``):
    contact) on a dyadic time, where a step ends.
 5. Name it in its family's ``SCENES`` (the family's ``__init__.py``, which
    :mod:`stability.registry` reads). The generic tests then check
-   every method of it: ``tests/test_scenes_generic.py`` the order against the exact solution
+   every method of it: ``tests/test_registry.py`` the order against the exact solution
    and the invariants as declared, ``tests/engine/test_run.py`` bitwise reproducibility across
    groups, chunks and thread counts. Tests of what is particular to the scene go in a file of
    its own.

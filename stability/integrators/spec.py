@@ -22,7 +22,7 @@ Checklist for a new method (see ``stability/integrators/__init__.py``):
 2. Declare a ``MethodSpec`` beside it: order, what it preserves, cost, reference.
 3. Measure its ``max_step_angle`` (below) and declare it on the spec.
 4. Add it to ``METHODS``; the generic order, invariant and step-bound tests pick it up from there
-   (``tests/test_scenes_generic.py`` for every scene it runs).
+   (``tests/test_registry.py`` for every scene it runs).
 """
 
 from __future__ import annotations
