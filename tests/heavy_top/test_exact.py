@@ -22,8 +22,15 @@ from stability.heavy_top.exact import (
     body_states, carlson_rj, cos_theta, figure_axis_path, mean_precession_rate, nutation_period,
     nutation_roots, precession_angle,
 )
+from stability.heavy_top import exact as exact_top
+from stability.heavy_top.model import (
+    HeavyTop, gyroscopic_nutation_amplitude, gyroscopic_nutation_frequency,
+    gyroscopic_precession_rate, tilted_starts,
+)
 
 G = 9.81
+#: The literature's worked example (notes 5.3): a 0.1 kg disk of radius 3 cm, 4 cm from the pivot.
+DISK = HeavyTop.disk(0.1, 0.03, 0.04)
 
 
 def gyroscope(theta0_deg, w3=314.16):
@@ -393,3 +400,46 @@ def test_carlson_rj_matches_mpmath():
     worst = max(worst, abs(float((complete - mp.elliprj(0.0, 0.5, 1.0, 1e-9))
                                  / mp.elliprj(0.0, 0.5, 1.0, 1e-9))))
     assert worst < 2e-15
+
+
+def test_the_worked_example_of_the_notes():
+    """Disk top at w3 = 314 rad/s released at rest horizontally (the notes: W = 2.78 rad/s,
+    w_n = 77.5 rad/s, 4.1 degrees), against references written out here.
+
+    Released at rest at u = cos(theta) = 0, the energy and p_phi give
+    u'^2 = f(u) = beta u (u - u2)(u - u3) with beta = 2 M g l / A, a = C w3 / A and u2, u3 the
+    roots of beta u^2 - a^2 u - beta (Goldstein, section 5.7): u2 is the lowest point, the
+    period is twice the integral of du / sqrt(f) from u2 to 0 and phi' = -a u / (1 - u^2),
+    integrated by quadrature with the 1 / sqrt end-point weights. The fast-top values are
+    M g l / (C w3), C w3 / A and 2 A M g l / (C w3)^2.
+    """
+    from scipy.integrate import quad
+
+    w3 = 314.0
+    x0 = tilted_starts(w3, np.pi / 2, 1, top=DISK)
+    A, _, C = DISK.pivot_moments
+    mgl = DISK.mgl
+    a, beta = C * w3 / A, 2.0 * mgl / A
+    u2, u3 = sorted(np.roots([beta, -a * a, -beta]).real)
+    weight = {"weight": "alg", "wvar": (-0.5, -0.5), "epsabs": 0.0, "epsrel": 1e-13}
+
+    def half_period_integral(g):  # integral of g(u) du / sqrt(f(u)) from u2 to 0
+        return quad(lambda u: g(u) / np.sqrt(beta * (u3 - u)), u2, 0.0, **weight)[0]
+
+    period = 2.0 * half_period_integral(lambda u: 1.0)
+    precession = 2.0 * half_period_integral(lambda u: -a * u / (1.0 - u * u)) / period
+    amplitude = np.degrees(np.arccos(u2) - np.pi / 2)
+    assert exact_top.mean_precession_rate(x0, A, C, mgl)[0] == pytest.approx(precession,
+                                                                              rel=1e-10)
+    assert exact_top.nutation_period(x0, A, C, mgl)[0] == pytest.approx(period, rel=1e-10)
+    u1_code, u2_code, _ = exact_top.nutation_roots(x0, A, C, mgl)
+    assert np.degrees(np.arccos(u1_code) - np.arccos(u2_code))[0] == pytest.approx(
+        amplitude, rel=1e-10)
+    assert gyroscopic_precession_rate(DISK, w3) == pytest.approx(mgl / (C * w3), rel=1e-14)
+    assert gyroscopic_nutation_frequency(DISK, w3) == pytest.approx(a, rel=1e-14)
+    assert gyroscopic_nutation_amplitude(DISK, w3, np.pi / 2) == pytest.approx(
+        2.0 * A * mgl / (C * w3) ** 2, rel=1e-14)
+    # the notes' figures, at the notes' precision
+    assert precession == pytest.approx(2.78, abs=0.015)
+    assert 2.0 * np.pi / period == pytest.approx(77.5, abs=0.25)
+    assert amplitude == pytest.approx(4.1, abs=0.05)

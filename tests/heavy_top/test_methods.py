@@ -1,17 +1,15 @@
-"""The heavy top: its methods' orders, invariants and the sleeping top's linear theory."""
+"""The heavy top's methods (stability.heavy_top.methods): their orders against DOP853 and the
+exact solution, and the invariants the splittings keep."""
 
-import math
 
 import numpy as np
 import pytest
 from scipy.integrate import solve_ivp
 
-import stability
 from stability.engine import propagate_groups
-from stability.heavy_top.measure import measure_sleeping_tops
 from stability.heavy_top.methods import METHODS
 from stability.heavy_top.model import (
-    HeavyTop, critical_spin, sleeping_frequencies, sleeping_growth_rate, tilted_starts,
+    HeavyTop, tilted_starts,
 )
 from stability.registry import SCENES
 
@@ -95,75 +93,6 @@ def test_kick_and_free_parts_are_exact_for_a_symmetric_top_without_gravity():
     assert np.abs(coarse - fine).max() < 1e-12
 
 
-def test_tilted_starts_have_the_asked_tilt_spin_and_tilt_rate():
-    top = HeavyTop.disk(0.1, 0.03, 0.04)
-    x = tilted_starts(300.0, 0.2, 50, top=top, seed=1, tilt_rate=0.5)
-    A, _, C = top.pivot_moments
-    assert np.allclose(np.arccos(x[:, 5]), 0.2)
-    assert np.allclose(x[:, 2] / C, 300.0)
-    # theta' = (g x w)_3 / -sin(theta) for g3 = cos(theta): the asked rate.
-    w = x[:, :3] / top.pivot_moments
-    g3_rate = x[:, 3] * w[:, 1] - x[:, 4] * w[:, 0]
-    assert np.allclose(-g3_rate / np.sin(0.2), 0.5)
-
-
-def test_critical_spin_and_rates_of_the_worked_gyroscope():
-    """Disk M = 0.1 kg, r = 3 cm, l = 4 cm (literature notes 5.3): threshold ~119 rad/s."""
-    top = HeavyTop.disk(0.1, 0.03, 0.04, gravity=9.81)
-    assert critical_spin(top) == pytest.approx(118.9, abs=0.1)
-    assert sleeping_growth_rate(top, 0.0) == pytest.approx(math.sqrt(top.mgl / 1.825e-4))
-    assert sleeping_growth_rate(top, 200.0) == 0.0
-    slow, fast = sleeping_frequencies(top, 300.0)
-    A, _, C = top.pivot_moments
-    assert slow * fast == pytest.approx(top.mgl / A) and slow + fast == pytest.approx(C * 300 / A)
-
-
-def test_sleeping_top_growth_matches_the_analytic_rate_on_both_sides():
-    """Measured rates within 1e-4 of sqrt(4 A M g l - C^2 w3^2) / (2 A) below the threshold;
-    bounded tilt (rate 0, amplification as the linear theory's |s+| + |s-| over |s+ - s-|)
-    above it."""
-    top = HeavyTop.disk(0.1, 0.03, 0.04)
-    wc = critical_spin(top)
-    spins = wc * np.array([0.0, 0.5, 0.9, 1.2, 2.0])
-    ds = measure_sleeping_tops([top], spins, members=8,
-                               options=stability.RunOptions(progress=False))
-    below = spins < wc
-    err = ds.relative_error.values[0, below]
-    assert np.all(np.abs(err) < 1e-4), err
-    assert np.all(ds.growth_rate_measured.values[0, ~below] == 0.0)
-    slow, fast = sleeping_frequencies(top, spins[~below])
-    bound = (slow + fast) / (fast - slow)  # |A| + |B| over the start, released with xi' = 0
-    amp = ds.tilt_amplification.values[0, ~below]
-    assert np.all(amp <= bound * (1 + 1e-3)) and np.all(amp > 0.9 * bound)
-    assert ds.critical_spin.attrs["units"] == "rad s-1"
-
-
-@pytest.mark.parametrize("kwargs,match", [
-    ({"mass": -1.0, "length": 0.04, "central_moments": (1, 1, 2)}, "mass must be"),
-    ({"mass": 0.1, "length": -0.01, "central_moments": (1, 1, 2)}, "length"),
-    ({"mass": 0.1, "length": 0.04, "central_moments": (1, 1, 3)}, "triangle inequality"),
-    ({"mass": 0.1, "length": 0.04, "central_moments": (1, 2)}, "3 principal moments"),
-    ({"mass": 0.1, "length": 0.04, "central_moments": (1, 1, 1), "gravity": -9.8},
-     "gravity"),
-])
-def test_unphysical_tops_are_refused_with_one_line(kwargs, match):
-    with pytest.raises(ValueError, match=match):
-        HeavyTop(**kwargs)
-
-
-def test_pivot_moments_below_m_l_squared_are_refused():
-    with pytest.raises(ValueError, match="parallel-axis"):
-        HeavyTop.from_pivot_moments((1e-4, 1e-4, 4.5e-5), 0.1, 0.04)
-    top = HeavyTop.from_pivot_moments((1.825e-4, 1.825e-4, 4.5e-5), 0.1, 0.04)
-    assert np.allclose(top.central_moments, (2.25e-5, 2.25e-5, 4.5e-5))
-
-
-def test_linear_theory_is_refused_for_an_asymmetric_top():
-    top = HeavyTop(0.1, 0.04, (2e-5, 3e-5, 4.5e-5))
-    with pytest.raises(ValueError, match="symmetric top"):
-        critical_spin(top)
-
-
 @pytest.mark.parametrize("name", list(METHODS))
 def test_symmetric_top_tilt_converges_to_the_exact_solution_at_the_declared_order(name):
     """cos(theta) = g3 of a released gyroscope against the exact Jacobi-sn solution
@@ -186,3 +115,4 @@ def test_symmetric_top_tilt_converges_to_the_exact_solution_at_the_declared_orde
         errors.append(np.abs(r.x_final[:, 5] - exact).max())
     slopes = np.diff(np.log(errors)) / np.diff(np.log(hs))
     assert np.all(np.abs(slopes - spec.order) < 0.2), (errors, slopes)
+

@@ -9,9 +9,9 @@ import xarray as xr
 from stability.heavy_top.figures import sleeping_top_figure
 from stability.study import run_study
 
-from ..helpers import assert_cf_compliant, assert_declared, assert_readable, quick_study
+from ...helpers import assert_cf_compliant, assert_declared, assert_readable, quick_study
 
-ROOT = Path(__file__).resolve().parents[2]
+ROOT = Path(__file__).resolve().parents[3]
 STUDY = ROOT / "studies" / "sleeping_top.toml"
 
 

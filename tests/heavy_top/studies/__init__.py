@@ -1,0 +1,1 @@
+"""Tests of the heavy top's studies (stability.heavy_top.studies)."""
