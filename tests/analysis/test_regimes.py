@@ -10,12 +10,8 @@ import xarray as xr
 
 import stability
 from stability.analysis.estimates import measured_growth_rate
-from stability.analysis.regimes import (
-    WINDOW_ATTRS,
-    WINDOW_HIGH_FRACTION,
-    WINDOW_LOW_FACTOR,
-    member_regimes,
-)
+from stability.analysis.regimes import (WINDOW_ATTRS, WINDOW_HIGH_FRACTION, WINDOW_LOW_FACTOR,
+                                        member_regimes)
 from stability.free_body.measure import flip_statistics, measured_omega_squared
 from stability.util.conventions import REGIME_ALGEBRAIC, REGIME_NEUTRAL
 

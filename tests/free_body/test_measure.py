@@ -5,12 +5,8 @@ import numpy as np
 import pytest
 
 import stability
-from stability.free_body.measure import (
-    complementary_moduli,
-    exact_flip_intervals,
-    flip_statistics,
-    measured_omega_squared,
-)
+from stability.free_body.measure import (complementary_moduli, exact_flip_intervals,
+                                         flip_statistics, measured_omega_squared)
 from stability.util.conventions import REGIME_EXPONENTIAL, REGIME_OSCILLATION
 
 from ..helpers import LAM, SPIN, separatrix, series_dataset

@@ -18,11 +18,11 @@ import numpy as np
 import pytest
 from scipy.integrate import quad, solve_ivp
 
+from stability.heavy_top import exact as exact_top
 from stability.heavy_top.exact import (
     body_states, carlson_rj, cos_theta, figure_axis_path, mean_precession_rate, nutation_period,
     nutation_roots, precession_angle,
 )
-from stability.heavy_top import exact as exact_top
 from stability.heavy_top.model import (
     HeavyTop, gyroscopic_nutation_amplitude, gyroscopic_nutation_frequency,
     gyroscopic_precession_rate, tilted_starts,

@@ -8,9 +8,7 @@ from scipy.integrate import solve_ivp
 
 from stability.engine import propagate_groups
 from stability.heavy_top.methods import METHODS
-from stability.heavy_top.model import (
-    HeavyTop, tilted_starts,
-)
+from stability.heavy_top.model import HeavyTop, tilted_starts
 from stability.registry import SCENES
 
 SCENE = SCENES["heavy_top"]

@@ -6,13 +6,8 @@ import math
 import numpy as np
 import pytest
 
-from stability.heavy_top.model import (
-    HeavyTop,
-    critical_spin,
-    sleeping_frequencies,
-    sleeping_growth_rate,
-    tilted_starts,
-)
+from stability.heavy_top.model import (HeavyTop, critical_spin, sleeping_frequencies,
+                                       sleeping_growth_rate, tilted_starts)
 
 #: The literature's worked example (notes 5.3): a 0.1 kg disk of radius 3 cm, 4 cm from the pivot.
 DISK = HeavyTop.disk(0.1, 0.03, 0.04)

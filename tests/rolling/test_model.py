@@ -1,7 +1,5 @@
 """Rolling with and without slipping (scene ``rolling_body``) against the formulas."""
 
-import math
-from pathlib import Path
 
 import numpy as np
 import pytest
@@ -17,7 +15,6 @@ from stability.rolling.model import (
 )
 from stability.registry import SCENES
 
-from ..helpers import assert_cf_compliant, assert_declared, assert_readable
 
 SCENE = SCENES["rolling_body"]
 
@@ -84,43 +81,6 @@ def test_launch_on_a_floor_rolls_from_the_formula_time_at_the_formula_speed(step
     np.testing.assert_allclose(out[:, V], R * out[:, W], rtol=1e-13, atol=1e-14 * v0.max())
 
 
-def test_a_member_switches_twice_on_a_track_and_keeps_its_energy():
-    """Rolling down a gentle slope, slipping down a steep one (static friction cannot hold it),
-    rolling again on the floor: two switches, the first where the steep section starts, at the
-    time the rolling acceleration gives; the energy with the heat added back is kept."""
-    k, R, mu_s, mu_k = SHAPES["sphere"], 0.1, 0.3, 0.25
-    row = track_row(k, R, mu_s, mu_k, angles=(0.2, 1.0, 0.0), starts=(0.5, 1.5))
-    assert rolls(0.2, mu_s, k) and not rolls(1.0, mu_s, k)
-    x0 = start_states(0.0, 0.0, row[None])
-    t_switch = math.sqrt(2 * 0.5 / rolling_acceleration(0.2, k))
-    h = 0.0137  # steps never land on an event
-    out = run(row, x0, h, 400, save_every=1)
-    samples = np.concatenate([x0, out.saved[0]])
-    assert out.x_final[0, SWITCHES] == 2 and out.x_final[0, MODE] == 0
-    energy = SCENE.invariants["energy"](samples, row)
-    assert np.abs(energy).max() < 1e-13 * np.abs(0.5 * samples[:, V] ** 2).max()
-    slipping = samples[:, MODE] != 0
-    t = np.arange(samples.shape[0]) * h
-    assert t[slipping].min() == pytest.approx(t_switch, abs=h)
-    assert out.x_final[0, X_ROLL] > 1.5  # rolls again on the floor
-
-
-def test_a_slip_started_where_kinetic_friction_cannot_stop_it_never_ends():
-    """Hysteresis: with mu_k (1 + 1/k) < tan(theta) <= mu_s (1 + 1/k) a body released at rest
-    rolls, a body nudged into a forward slip slips for ever; below that band the slip ends at
-    t = u0 / (mu_k g cos (1 + 1/k) - g sin)."""
-    k, R, mu_s, mu_k = SHAPES["cylinder"], 0.05, 0.3, 0.2
-    band = math.atan(0.5 * (mu_k + mu_s) * (1 + 1 / k))
-    below = math.atan(0.5 * mu_k * (1 + 1 / k))
-    rows = np.array([track_row(k, R, mu_s, mu_k, angles=(a,)) for a in (band, band, below)])
-    x0 = start_states(np.array([0.0, 0.1, 0.1]), 0.0, rows)
-    out = run(rows, x0, 2.0, 3).x_final
-    assert out[0, HEAT] == 0.0 and out[0, MODE] == 0  # at rest: rolls
-    assert out[1, MODE] == 1 and out[1, SWITCHES] == 0  # nudged: slips on
-    rate = G * (mu_k * math.cos(below) * (1 + 1 / k) - math.sin(below))
-    assert out[2, T_ROLL] == pytest.approx(0.1 / rate, rel=1e-14)
-
-
 def test_incline_map_has_no_cell_on_the_wrong_side_and_the_launches_match():
     ds = measure_incline(["sphere", "hoop"], np.radians(np.linspace(3, 60, 12)),
                          np.linspace(0.05, 0.5, 10), members=3,
@@ -136,33 +96,3 @@ def test_incline_map_has_no_cell_on_the_wrong_side_and_the_launches_match():
     np.testing.assert_allclose(dl.heat, dl.energy_lost_formula, rtol=1e-12)
     np.testing.assert_allclose(dl.energy_lost, dl.energy_lost_formula, rtol=1e-8)
 
-
-def test_a_track_must_be_described_in_order():
-    with pytest.raises(ValueError, match="must ascend"):
-        track_row(0.4, 0.1, 0.3, 0.2, angles=(0.1, 0.2, 0.3), starts=(2.0, 1.0))
-    with pytest.raises(ValueError, match="one start fewer"):
-        track_row(0.4, 0.1, 0.3, 0.2, angles=(0.1, 0.2), starts=())
-
-
-def test_rolling_study_meets_its_claim_with_units_everywhere(tmp_path):
-    import stability
-    from stability.rolling.figures import rolling_launch_figure, rolling_map_figure
-    from stability.study import run_study
-
-    root = Path(__file__).resolve().parents[2]
-    summary = run_study(root / "studies" / "rolling.toml", tmp_path, quick=True,
-                        progress=False, overrides=[("output.formats", "['png']")])
-    v = summary.values
-    assert v["cells_wrong_side"] == 0 and v["members_against_own_formula"] == 0
-    for key in ("t_roll", "x_roll", "v_final", "heat", "acceleration", "spin_rate"):
-        assert v[f"max_error_{key}"] < v["claim"], key
-    assert v["members_failed"] == 0
-    assert sorted(p.name for p in summary.files) == [
-        "config.toml", "rolling.nc", "rolling_launch.png", "rolling_map.png"]
-    ds = stability.load(tmp_path / "rolling.nc")
-    for name, var in {**ds.data_vars, **ds.coords}.items():
-        assert var.attrs.get("units") and var.attrs.get("long_name"), name
-    assert_readable(rolling_map_figure(ds))
-    assert_readable(rolling_launch_figure(ds))
-    assert_cf_compliant(tmp_path / "rolling.nc")
-    assert_declared(tmp_path / "rolling.nc", "rolling")

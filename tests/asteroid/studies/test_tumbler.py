@@ -8,9 +8,9 @@ from stability.asteroid.figures import tumbler_figure
 from stability.plotting.style import missing_units
 from stability.study import ConfigError, load_study
 
-from ..helpers import assert_cf_compliant, assert_declared, quick_study
+from ...helpers import assert_cf_compliant, assert_declared, quick_study
 
-ROOT = Path(__file__).resolve().parents[2]
+ROOT = Path(__file__).resolve().parents[3]
 
 
 @pytest.fixture(scope="module")

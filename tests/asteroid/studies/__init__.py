@@ -1,0 +1,1 @@
+"""Tests of the asteroid study (stability.asteroid.studies)."""

@@ -1,0 +1,1 @@
+"""Tests of the Earth's studies (stability.earth.studies)."""

@@ -1,0 +1,1 @@
+"""Tests of the engine artefacts study (stability.engine_body.studies)."""

@@ -1,0 +1,1 @@
+"""Tests of the rolling study (stability.rolling.studies)."""

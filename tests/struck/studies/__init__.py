@@ -1,0 +1,1 @@
+"""Tests of the struck body's study (stability.struck.studies)."""
