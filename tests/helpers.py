@@ -332,3 +332,13 @@ def default_dataset(kind) -> str:
     the body)."""
     default = kind.schema.section("output").key("dataset").default
     return default if default is not None else kind.outputs(kind.resolve({}))[0]
+
+
+def random_members(n, seed):
+    """Random asymmetric bodies (canonical) and starts in both regimes, off the separatrix."""
+    rng = np.random.default_rng(seed)
+    a, b = np.sort(rng.uniform(0.2, 1.0, (2, n)), axis=0)
+    moments = np.column_stack([a, b, (a + b) * rng.uniform(0.55, 1.0, n)])
+    moments.sort(axis=1)
+    w0 = rng.normal(size=(n, 3)) * rng.uniform(0.5, 5.0, (n, 1))
+    return moments, w0

@@ -94,13 +94,11 @@ COVERED_ELSEWHERE = {
     "stability.cli.bench": "tests/cli/test_main.py (stability bench)",
     "stability.core.compensated": "tests/free_body/test_exact.py (the exact solution's invariants)",
     "stability.core.quaternions": "tests/free_body/test_attitude.py",
-    "stability.core.roots": "tests/free_body/twisting_racket/test_geometric_phase.py",
     "stability.core.trig": "tests/integrators/test_lie_poisson.py (the splitting's rotations)",
     "stability.dissipation.measure": "tests/dissipation/test_explorer.py",
     "stability.dissipation.scene": "tests/dissipation/test_methods.py",
     "stability.dissipation.studies": "tests/dissipation/test_explorer.py",
-    "stability.free_body.exact_attitude": "tests/free_body/twisting_racket/test_geometric_phase.py",
-    "stability.free_body.twisting_racket.figures": "tests/free_body/twisting_racket/test_geometric_phase.py",
+    "stability.free_body.twisting_racket.figures": "tests/free_body/twisting_racket/test_study.py",
     "stability.engine.gpu.bench": "tests/test_gpu.py",
     "stability.cli.gpu_bench": "tests/test_gpu.py (python -m stability.cli.gpu_bench)",
     "stability.engine.gpu.device": "tests/test_gpu.py",
@@ -129,7 +127,6 @@ COVERED_ELSEWHERE = {
     "stability.study.outputs": "tests/study/test_config.py, tests/test_faults.py",
     "stability.free_body.tennis_racket.study": "tests/cli/test_main.py",
     "stability.heavy_top.studies.common": "tests/heavy_top/studies/test_gyroscope.py",
-    "stability.free_body.twisting_racket.study": "tests/free_body/twisting_racket/test_geometric_phase.py",
     "stability.free_body.timescales": "tests/free_body/test_ensemble.py",
     "stability.free_body.twisting_racket.measure": "tests/free_body/twisting_racket/test_geometric_phase.py",
     "stability.util.checks": "tests/test_bad_input.py",
@@ -138,13 +135,9 @@ COVERED_ELSEWHERE = {
     "stability.util.interrupts": "tests/test_faults.py, tests/test_animation.py, "
                                  "tests/test_scene_ensemble.py (real SIGINTs)",
     "stability.version": "tests/cli/test_main.py",
-    "stability.uncertainty.designs": "tests/uncertainty/test_free_body.py",
-    "stability.uncertainty.distributions": "tests/uncertainty/test_dispersions.py",
-    "stability.uncertainty.inertia": "tests/uncertainty/test_free_body.py",
-    "stability.uncertainty.morris": "tests/uncertainty/test_sobol.py",
-    "stability.uncertainty.figures": "tests/uncertainty/test_free_body.py (the study's figure)",
-    "stability.free_body.dispersion.measure": "tests/uncertainty/test_free_body.py",
-    "stability.free_body.dispersion.study": "tests/uncertainty/test_free_body.py",
+    "stability.uncertainty.designs": "tests/free_body/dispersion/test_measure.py, "
+                                     "tests/uncertainty/test_dispersions.py",
+    "stability.uncertainty.figures": "tests/free_body/dispersion/test_study.py (the study's figure)",
 }
 
 

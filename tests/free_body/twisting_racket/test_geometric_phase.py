@@ -1,57 +1,16 @@
-"""The exact attitude, Montgomery's angle and the twist: each against an independent route."""
-
-from pathlib import Path
+"""Montgomery's angle and the twist (stability.free_body.twisting_racket.geometric_phase): each
+against an independent route."""
 
 import numpy as np
 import pytest
-import xarray as xr
-from scipy.integrate import solve_ivp
 
 import stability
-from stability.free_body.attitude import attitude_error, propagate_attitudes, quaternion_multiply
+from stability.free_body.attitude import attitude_error, propagate_attitudes
 from stability.free_body.exact_attitude import exact_attitude, free_motion
 from stability.free_body.twisting_racket.geometric_phase import exact_angles, run_angles, wrap
-from stability.core.roots import bracketed_newton
 from stability.free_body.twisting_racket.measure import tossed_members
 
-from ...helpers import assert_cf_compliant, assert_declared, assert_readable
-
-ROOT = Path(__file__).resolve().parents[3]
-
-
-def random_members(n, seed):
-    """Random asymmetric bodies (canonical) and starts in both regimes, off the separatrix."""
-    rng = np.random.default_rng(seed)
-    a, b = np.sort(rng.uniform(0.2, 1.0, (2, n)), axis=0)
-    moments = np.column_stack([a, b, (a + b) * rng.uniform(0.55, 1.0, n)])
-    moments.sort(axis=1)
-    w0 = rng.normal(size=(n, 3)) * rng.uniform(0.5, 5.0, (n, 1))
-    return moments, w0
-
-
-def dop853_attitude(moments, w0, q0, t):
-    def rhs(_, y):
-        w = y[:3] / moments
-        return np.r_[np.cross(y[:3], w), 0.5 * quaternion_multiply(y[3:], np.r_[0.0, w])]
-
-    sol = solve_ivp(rhs, (0.0, t[-1]), np.r_[moments * w0, q0], method="DOP853", rtol=1e-13,
-                    atol=1e-13, t_eval=t)
-    return sol.y[3:].T
-
-
-@pytest.mark.parametrize("seed", [0, 1, 2])
-def test_exact_attitude_matches_dop853_in_any_axis_order(seed):
-    rng = np.random.default_rng(seed)
-    moments, w0 = random_members(1, seed)
-    order = rng.permutation(3)  # the body's own axis order, not the canonical one
-    body = stability.RigidBody(*moments[0][order])
-    q0 = rng.normal(size=4)
-    q0 /= np.linalg.norm(q0)
-    t = np.linspace(0.0, 25.0, 11)
-    q = exact_attitude(body, w0[0][order], t, q0)
-    reference = dop853_attitude(body.moments, w0[0][order], q0, t)
-    assert np.max(attitude_error(q, reference)) < 5e-11  # DOP853's own error
-    assert attitude_error(q[:1], q0[None])[0] < 1e-15
+from ...helpers import random_members
 
 
 def test_montgomery_and_twist_hold_for_random_bodies_from_runs_and_exactly():
@@ -136,22 +95,6 @@ def test_attitude_run_bad_input_says_what_is_wrong():
         run_angles(runs, [1.0, 1.0], [0.5, 0.5])
 
 
-def test_separatrix_and_handle_spin_are_refused_with_a_reason():
-    with pytest.raises(ValueError, match="separatrix"):
-        free_motion(np.array([1.0, 2.0, 3.0]), np.array([0.0, 1.0, 0.0]))
-    with pytest.raises(ValueError, match="handle"):
-        free_motion(np.array([1.0, 2.0, 3.0]), np.array([1.0, 0.0, 0.0]))
-
-
-def test_bracketed_newton_reaches_round_off_and_flags_bad_brackets():
-    target = np.array([0.3, 0.7, -0.5])
-    roots = bracketed_newton(lambda x: (np.cos(x) - target, -np.sin(x)),
-                             np.zeros(3), np.full(3, 3.0))
-    np.testing.assert_allclose(roots, np.arccos(target), rtol=2e-15)
-    bad = bracketed_newton(lambda x: (x * x + 1.0, 2 * x), np.array([-1.0]), np.array([1.0]))
-    assert np.isnan(bad[0])
-
-
 def test_ensemble_carries_the_attitude_with_its_exact_error():
     body = stability.RigidBody.preset("tennis_racket")
     kwargs = dict(axis=2, spin=10.0, epsilon=1e-3, members=8, h=0.002, t_end=2.0,
@@ -184,20 +127,3 @@ def test_ensemble_attitude_bad_input(kwargs, message):
     with pytest.raises(ValueError, match=message):
         stability.run_ensemble(body, **{**call, "keep": stability.Keep(**call["keep"])})
 
-
-def test_study_twisting_racket_quick(tmp_path):
-    from stability.free_body.twisting_racket.figures import flip_figure, twist_figure
-    from stability.study import run_study
-
-    summary = run_study(ROOT / "studies" / "twisting_racket.toml", tmp_path, quick=True,
-                        progress=False, overrides=[("output.formats", "['png']")])
-    v = summary.values
-    assert v["max_montgomery_error"] < v["claim"] and v["max_twist_error"] < v["claim"]
-    assert v["members_failed"] == 0 and 0.15 < v["twist_defect_member0"] < 0.3
-    with xr.open_dataset(tmp_path / "twisting_racket.nc") as ds:
-        for name, var in {**ds.data_vars, **ds.coords}.items():
-            assert var.attrs.get("units") and var.attrs.get("long_name"), name
-        assert_readable(twist_figure(ds))
-        assert_readable(flip_figure(ds))
-    assert_cf_compliant(tmp_path / "twisting_racket.nc")
-    assert_declared(tmp_path / "twisting_racket.nc", "twisting_racket")
