@@ -1,10 +1,13 @@
 """Fixtures shared by the tests."""
 
+import json
 import signal
 
 import pytest
 
 import stability
+
+from .helpers import once_per_run, run_gpu_script
 
 
 def pytest_configure(config):
@@ -19,6 +22,15 @@ def pytest_configure(config):
 def body123():
     """The test body of the literature notes, I = (1, 2, 3) kg m^2 (a mathematical body)."""
     return stability.RigidBody(1.0, 2.0, 3.0, physical=False)
+
+
+@pytest.fixture(scope="module")
+def simulated(tmp_path_factory):
+    """The GPU kernels' results under the CUDA simulator (about 25 CPU s), made once in a run of
+    the suite (``tests/gpu_simulated.py``; tests/engine/gpu/__init__.py says why a subprocess)."""
+    folder = once_per_run(tmp_path_factory, "gpu_simulated", lambda folder: (
+        folder / "results.json").write_text(json.dumps(run_gpu_script(True))))
+    return json.loads((folder / "results.json").read_text())
 
 
 def pytest_collection_modifyitems(config, items):

@@ -3,13 +3,18 @@
 import contextlib
 import fcntl
 import functools
+import importlib.util
+import json
 import os
 import shutil
+import subprocess
+import sys
 import time
 import warnings
 from pathlib import Path
 
 import numpy as np
+import pytest
 import xarray as xr
 from scipy.integrate import solve_ivp
 
@@ -342,3 +347,28 @@ def random_members(n, seed):
     moments.sort(axis=1)
     w0 = rng.normal(size=(n, 3)) * rng.uniform(0.5, 5.0, (n, 1))
     return moments, w0
+
+
+# The GPU kernels under numba-cuda's CUDA simulator, in a subprocess (tests/engine/gpu/__init__.py
+# says why), for the GPU tests and the ``simulated`` fixture of tests/conftest.py.
+
+GPU_SCRIPT = Path(__file__).resolve().parent / "gpu_simulated.py"
+#: What a GPU must meet against the CPU loop, relative (under the simulator: bitwise).
+GPU_TOLERANCE = 1e-12
+
+needs_numba_cuda = pytest.mark.skipif(
+    importlib.util.find_spec("numba_cuda") is None, reason="numba-cuda is not installed"
+)
+
+
+def run_gpu_script(simulator, *args):
+    """The JSON ``tests/gpu_simulated.py`` prints, run with the simulator on or off."""
+    root = Path(__file__).resolve().parents[1]
+    env = {k: v for k, v in os.environ.items() if k != "NUMBA_ENABLE_CUDASIM"}
+    if simulator:
+        env["NUMBA_ENABLE_CUDASIM"] = "1"
+    env["PYTHONPATH"] = os.pathsep.join(filter(None, [str(root), env.get("PYTHONPATH")]))
+    done = subprocess.run([sys.executable, str(GPU_SCRIPT), *args], env=env, cwd=root,
+                          capture_output=True, text=True, timeout=900)
+    assert done.returncode == 0, done.stderr[-4000:]
+    return json.loads(done.stdout.strip().splitlines()[-1])

@@ -99,14 +99,8 @@ COVERED_ELSEWHERE = {
     "stability.dissipation.scene": "tests/dissipation/test_methods.py",
     "stability.dissipation.studies": "tests/dissipation/test_explorer.py",
     "stability.free_body.twisting_racket.figures": "tests/free_body/twisting_racket/test_study.py",
-    "stability.engine.gpu.bench": "tests/test_gpu.py",
-    "stability.cli.gpu_bench": "tests/test_gpu.py (python -m stability.cli.gpu_bench)",
-    "stability.engine.gpu.device": "tests/test_gpu.py",
-    "stability.engine.gpu.kernels": "tests/test_gpu.py",
-    "stability.engine.gpu.methods": "tests/test_gpu.py",
-    "stability.free_body.propagate_gpu": "tests/test_gpu.py",
-    "stability.engine.gpu.retarget": "tests/test_gpu.py",
-    "stability.engine.gpu.run": "tests/test_gpu.py",
+    "stability.engine.gpu.bench": "tests/cli/test_gpu_bench.py (python -m stability.cli.gpu_bench)",
+    "stability.engine.gpu.retarget": "tests/engine/gpu/test_kernels.py (every kernel's device twin)",
     "stability.integrators.munthe_kaas": "tests/integrators/test_geometric.py",
     "stability.integrators.rotations": "tests/integrators/test_geometric.py, "
                                        "tests/integrators/test_lie_poisson.py",
@@ -137,7 +131,7 @@ COVERED_ELSEWHERE = {
     "stability.version": "tests/cli/test_main.py",
     "stability.uncertainty.designs": "tests/free_body/dispersion/test_measure.py, "
                                      "tests/uncertainty/test_dispersions.py",
-    "stability.uncertainty.figures": "tests/free_body/dispersion/test_study.py (the study's figure)",
+    "stability.uncertainty.figures": "tests/free_body/dispersion/test_study.py (its figure)",
 }
 
 

@@ -33,3 +33,12 @@ def test_a_plan_refuses_starts_given_twice_and_an_unknown_device():
         Plan(scene, "lp2", x0, row, [2], 0.05, 3, starts=lambda lo, hi: x0[lo:hi])
     with pytest.raises(ValueError, match="device must be 'cpu' or 'gpu', got 'tpu'"):
         Plan(scene, "lp2", x0, row, [2], 0.05, 3, device="tpu")
+
+
+def test_grouped_run_refuses_an_unknown_device():
+    from stability.ensemble.plan import Plan
+    from stability.free_body.scene import FREE_BODY
+
+    with pytest.raises(ValueError, match="device must be 'cpu' or 'gpu', got 'tpu'"):
+        Plan(FREE_BODY, "rk4", [[0.0, 1.0, 0.0]], [[1.0] * 9], [1], 0.1, 1,
+             device="tpu")

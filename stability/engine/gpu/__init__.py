@@ -17,7 +17,8 @@ aside, ``cosh``, ``asinh`` of the exact flow) is not glibc's, and a reassociated
 expression rounds differently. The sine and cosine of the Lie-Poisson rotations are the
 package's own polynomials (:mod:`stability.core.trig`), so they differ only by contraction. Each
 difference is an ulp per step; over n steps they add up like the method's own round-off
-(a few 1e-15 relative for ``rk4`` and ``lp2`` over hundreds of steps, ``tests/test_gpu.py``).
+(a few 1e-15 relative for ``rk4`` and ``lp2`` over hundreds of steps,
+``tests/free_body/test_propagate_gpu.py``).
 """
 
 from .device import NO_GPU_MESSAGE, NoGPUError, real_gpu
