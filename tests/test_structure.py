@@ -75,9 +75,6 @@ MAX_LOCAL_IMPORTS = 18
 COVERED_ELSEWHERE = {
     "stability.engine.events": "tests/engine/test_adaptive.py",
     "stability.output.hdf5_links": "tests/output/test_untrusted.py (hostile HDF5 files)",
-    "stability.free_body.starts": "tests/free_body/test_ensemble.py",
-    "stability.free_body.plan": "tests/free_body/test_ensemble.py, tests/test_bad_input.py",
-    "stability.free_body.results": "tests/free_body/test_ensemble.py, tests/test_status.py",
     "stability.free_body.streamed": "tests/output/test_stream.py",
     "stability.util.numba_env": "tests/test_faults.py, tests/cli/test_main.py (NUMBA_NUM_THREADS)",
     "stability.ensemble.chunks": "tests/test_scene_ensemble.py",
@@ -121,10 +118,9 @@ COVERED_ELSEWHERE = {
     "stability.study.outputs": "tests/study/test_config.py, tests/test_faults.py",
     "stability.free_body.tennis_racket.study": "tests/cli/test_main.py",
     "stability.heavy_top.studies.common": "tests/heavy_top/studies/test_gyroscope.py",
-    "stability.free_body.timescales": "tests/free_body/test_ensemble.py",
     "stability.free_body.twisting_racket.measure": "tests/free_body/twisting_racket/test_geometric_phase.py",
     "stability.util.checks": "tests/test_bad_input.py",
-    "stability.util.conventions": "tests/free_body/test_ensemble.py",
+    "stability.util.conventions": "tests/free_body/test_results.py (the status codes)",
     "stability.util.formatting": "tests/test_bad_input.py (sizes in the memory refusals)",
     "stability.util.interrupts": "tests/test_faults.py, tests/test_animation.py, "
                                  "tests/test_scene_ensemble.py (real SIGINTs)",

@@ -1,4 +1,5 @@
-"""run_ensemble: starts, reproducibility, flagged members, summaries against known answers."""
+"""run_ensemble: reproducibility, its Dataset, summaries against known answers, interruption and
+bad input."""
 
 import math
 from dataclasses import replace
@@ -10,12 +11,10 @@ import pytest
 import stability
 from stability.util import conventions as cv
 from stability.ensemble.plan import Plan
-from stability.output.dataset import LEVEL, SUMMARIES, summary_bytes
+from stability.output.dataset import LEVEL, SUMMARIES
 from stability import Keep, RunOptions
 from stability.free_body.ensemble import plan_arguments, run_ensemble
 from stability.output.dataset import LOOP_THREADS
-from stability.free_body.plan import ensemble_memory
-from stability.free_body.starts import RNG_CHUNK, max_angular_speed, perturbed_starts
 
 BODY = stability.RigidBody(1.0, 2.0, 3.0, name="I=(1,2,3)")
 #: Growth rate about the intermediate axis for spin W = 1: sqrt((I2-I1)(I3-I2)/(I1 I3)).
@@ -25,45 +24,6 @@ LAMBDA = math.sqrt((2.0 - 1.0) * (3.0 - 2.0) / (1.0 * 3.0))
 def _bits(ds):
     """Every data variable and coordinate as raw bytes, for bitwise comparison."""
     return {name: np.ascontiguousarray(var.values).tobytes() for name, var in ds.variables.items()}
-
-
-def _float_vars(ds):
-    return [name for name, var in ds.data_vars.items() if var.dtype.kind == "f" and name != "w0"]
-
-
-# --- starts -----------------------------------------------------------------------------------
-
-
-@pytest.mark.parametrize("axis", [1, 2, 3])
-def test_starts_are_perpendicular_with_norm_epsilon_spin(axis):
-    spin, epsilon, n = 2.5, 1e-3, RNG_CHUNK + 500  # two RNG chunks
-    w0 = perturbed_starts(axis, spin, epsilon, n, seed=7)
-    a = axis - 1
-    assert np.all(w0[:, a] == spin)  # the spin component is exact
-    perp = np.delete(w0, a, axis=1)
-    np.testing.assert_allclose(np.linalg.norm(perp, axis=1), epsilon * spin, rtol=4e-16)
-    # Directions uniform on the circle: mean of the unit vectors ~ 0 within 5 / sqrt(n).
-    unit = perp / (epsilon * spin)
-    assert np.all(np.abs(unit.mean(axis=0)) < 5.0 / math.sqrt(n))
-    assert np.unique(np.round(unit, 12), axis=0).shape[0] == n
-
-
-def test_starts_do_not_depend_on_the_number_of_members():
-    large = perturbed_starts(2, 1.0, 1e-2, 3 * RNG_CHUNK + 11, seed=3)
-    for n in (1, 100, RNG_CHUNK, RNG_CHUNK + 1):
-        np.testing.assert_array_equal(perturbed_starts(2, 1.0, 1e-2, n, seed=3), large[:n])
-
-
-def test_seed_sequence_is_not_consumed():
-    ss = np.random.SeedSequence(12345)
-    first = perturbed_starts(1, 1.0, 0.1, 50, seed=ss)
-    np.testing.assert_array_equal(perturbed_starts(1, 1.0, 0.1, 50, seed=ss), first)
-    np.testing.assert_array_equal(perturbed_starts(1, 1.0, 0.1, 50, seed=12345), first)
-
-
-def test_fixed_direction_is_normalised():
-    w0 = perturbed_starts(1, 2.0, 0.05, 4, direction=[0.0, 3.0, 4.0])
-    np.testing.assert_allclose(w0, np.tile([2.0, 0.06, 0.08], (4, 1)), rtol=1e-15)
 
 
 # --- reproducibility --------------------------------------------------------------------------
@@ -188,66 +148,6 @@ def test_caller_config_is_stored(tmp_path):
     assert first.endswith(": stability run x.toml") and ": streamed to " in streamed
 
 
-# --- flagged members --------------------------------------------------------------------------
-
-
-def _assert_masked_exactly_where_not_ok(ds):
-    bad = ds.status.values != cv.STATUS_OK
-    for name in _float_vars(ds) + ["w"] * ("w" in ds):
-        values = ds[name].values.reshape(ds.member.size, -1)
-        if name not in ("fail_time",):
-            assert np.all(np.isnan(values[bad])), name  # every non-ok member is masked
-    # No NaN presented as valid data: an ok member has finite states, errors and amplitudes.
-    for name in ("w", "energy_error", "angular_momentum_error", "max_perp_amplitude"):
-        values = ds[name].values.reshape(ds.member.size, -1)
-        assert np.all(np.isfinite(values[~bad])), name
-        assert np.all(np.isnan(values).any(axis=1) <= bad), name
-    assert np.all(np.isnan(ds.fail_time.values) == ~bad)
-
-
-def test_absurd_step_flags_every_member_as_non_finite():
-    # One slow member keeps the run from being refused up front; the 70 others blow up.
-    starts = np.vstack([[0.0, 0.01, 0.0], perturbed_starts(2, 1.0, 0.1, 70)])
-    ds = run_ensemble(BODY, 2, starts=starts, method="rk4", h=5.0, t_end=1000.0)
-    assert ds.status.values[0] == cv.STATUS_OK
-    assert np.all(ds.status.values[1:] == cv.STATUS_NONFINITE)
-    _assert_masked_exactly_where_not_ok(ds)
-    assert np.all(ds.fail_time.values[1:] <= 1000.0)
-
-
-def test_large_step_flags_diverged_members():
-    # RK4 at h W = 1 stays finite but loses far more than 1e-2 of the energy.
-    ds = run_ensemble(BODY, 2, 1.0, 0.1, 8, method="rk4", h=1.0, t_end=200.0)
-    assert np.all(ds.status.values == cv.STATUS_DIVERGED)
-    _assert_masked_exactly_where_not_ok(ds)
-    np.testing.assert_array_equal(ds.fail_time.values, 200.0)
-
-
-def test_mixed_ensemble_is_masked_per_member():
-    # Spins from 0.1 to 20 rad/s at h = 0.3 s: h W from 0.03 (fine) to 6 (blows up).
-    spins = np.geomspace(0.1, 20.0, 40)
-    starts = np.column_stack([0.01 * spins, spins, 0.02 * spins])
-    ds = run_ensemble(BODY, 2, starts=starts, method="rk4", h=0.3, t_end=60.0,
-                      keep=stability.Keep(save_every=2))
-    counts = np.bincount(ds.status.values, minlength=5)
-    assert counts[cv.STATUS_OK] > 0 and counts[cv.STATUS_NONFINITE] > 0
-    assert counts[cv.STATUS_OK] + counts[cv.STATUS_NONFINITE] + counts[cv.STATUS_DIVERGED] \
-        + counts[cv.STATUS_STEP_TOO_LARGE] == 40
-    _assert_masked_exactly_where_not_ok(ds)
-    ok = ds.status.values == cv.STATUS_OK
-    assert np.all(np.abs(ds.energy_error.values[ok]) <= 1e-2)
-    assert np.all(ok[: ok.sum()])  # the slow spins are the ones that stay ok
-
-
-def test_divergence_tolerance_is_a_keyword():
-    strict = run_ensemble(BODY, 3, 1.0, 0.1, 4, method="rk4", h=0.5, t_end=500.0,
-                          keep=stability.Keep(divergence_tolerance=1e-6))
-    loose = run_ensemble(BODY, 3, 1.0, 0.1, 4, method="rk4", h=0.5, t_end=500.0)
-    assert np.all(strict.status.values == cv.STATUS_DIVERGED)
-    assert np.all(loose.status.values == cv.STATUS_OK)
-    assert np.all(np.abs(loose.energy_error.values) > 1e-6)
-
-
 # --- summaries against known answers ----------------------------------------------------------
 
 
@@ -370,24 +270,6 @@ def test_interrupted_chunked_run_keeps_the_completed_chunks(monkeypatch):
     assert ds.member.size == 10 and ds.attrs["members_requested"] == 25
 
 
-# --- memory -----------------------------------------------------------------------------------
-
-
-def test_ensemble_memory_counts_members_samples_and_summaries():
-    assert ensemble_memory(1000, 500, n_levels=13) == 1000 * 501 * 24 + 1000 * summary_bytes(13)
-    assert ensemble_memory(10**6, 0, n_levels=13) == 10**6 * summary_bytes(13)
-    assert summary_bytes(13) == 8 * (3 + 1 + 10 + 13) + 9
-
-
-def test_big_time_series_is_refused_but_summaries_only_is_not():
-    big = dict(h=0.01, t_end=100.0)  # 10**6 members x 10001 samples: 240 GB
-    with pytest.raises(ValueError, match=r"summaries only \(Keep\(save_every=0\)\)"):
-        run_ensemble(BODY, 2, 1.0, 1e-3, 10**6, **big)
-    with pytest.raises(ValueError, match="max_memory"):
-        run_ensemble(BODY, 2, 1.0, 1e-3, 1000, h=0.01, t_end=1.0,
-                     options=stability.RunOptions(max_memory=1e5))
-
-
 # --- bad input --------------------------------------------------------------------------------
 
 GOOD = dict(body=BODY, axis=2, spin=1.0, epsilon=1e-3, members=4, h=0.01, t_end=1.0)
@@ -437,78 +319,6 @@ def test_bad_input_is_one_clear_value_error(change, message):
     with pytest.raises(ValueError, match=message):
         run_ensemble(**{**GOOD, **change}, keep=None if keep is None else stability.Keep(**keep),
                      options=None if options is None else stability.RunOptions(**options))
-
-
-@pytest.mark.parametrize("direction, message", [
-    ([0.0, 1.0, 0.0], "not perpendicular to axis 2"),
-    ([0.0, 0.0, 0.0], "nonzero"),
-    ([[1.0, 0.0, 0.0]], r"direction must have shape \(3,\)"),
-])
-def test_a_fixed_direction_is_checked_where_the_starts_are_drawn(direction, message):
-    with pytest.raises(ValueError, match=message):
-        perturbed_starts(2, 1.0, 1e-3, 4, direction=direction)
-
-
-def test_one_line_start_chooses_step_and_horizon_from_the_physics():
-    """run_ensemble(body, axis, spin): step angle 0.02 rad, four flip intervals, 100 members
-    at epsilon 1e-3; the rules are in the Dataset, and an explicit step or horizon stays."""
-    from stability.free_body.exact import flip_interval
-    from stability.free_body.timescales import DEFAULT_FLIPS, DEFAULT_STEP_ANGLE, nominal_start
-
-    ds = run_ensemble(BODY, axis=2, spin=1.0, options=stability.RunOptions(progress=False),
-                      keep=stability.Keep(save_every=0))
-    h, t_end = ds.attrs["h"], ds.attrs["t_end"]
-    w0 = nominal_start(2, 1.0, 1e-3)
-    assert h * float(max_angular_speed(BODY.moments, w0[None])[0]) == pytest.approx(
-        DEFAULT_STEP_ANGLE, rel=1e-12)
-    interval = flip_interval(BODY, w0)
-    assert DEFAULT_FLIPS * interval <= t_end < DEFAULT_FLIPS * interval + h
-    assert ds.sizes["member"] == 100 and ds.attrs["epsilon"] == 1e-3
-    assert "0.02 rad" in ds.attrs["h_rule"] and "4 flip intervals" in ds.attrs["t_end_rule"]
-    # the rule says the interval, the four of them and the horizon they round up to
-    assert (f"4 x {interval:.6g} s = {4 * interval:.6g} s, rounded up to whole saved steps: "
-            f"{t_end:.6g} s") in ds.attrs["t_end_rule"]
-    flips = ds.flip_count.values[ds.status.values == 0]
-    assert flips.size == 100 and 3 <= np.median(flips) <= 5  # about one a flip interval
-    stable = run_ensemble(BODY, axis=3, spin=1.0, h=0.05,
-                          options=stability.RunOptions(progress=False),
-                          keep=stability.Keep(save_every=0))
-    assert stable.attrs["h"] == 0.05 and "h_rule" not in stable.attrs
-    assert np.all(stable.flip_count.values == 0)
-    assert stable.attrs["t_end"] == pytest.approx(
-        DEFAULT_FLIPS * flip_interval(BODY, nominal_start(3, 1.0, 1e-3)), abs=0.05)
-    # a horizon given without a step: the default step, shortened so that the horizon is a
-    # whole number of saved steps (it was refused as not a whole number of steps)
-    fitted = run_ensemble(BODY, axis=2, spin=1.0, t_end=7.0, keep=stability.Keep(save_every=3),
-                          options=stability.RunOptions(progress=False))
-    steps = round(7.0 / fitted.attrs["h"])
-    assert steps % 3 == 0 and steps * fitted.attrs["h"] == pytest.approx(7.0, rel=1e-14)
-    assert 1.0 <= h / fitted.attrs["h"] < 1.0 + 3 * h / 7.0  # no longer than the default
-    assert fitted.sizes["time"] == steps // 3 + 1
-    assert f"shortened to t_end / {steps}" in fitted.attrs["h_rule"]
-
-
-def test_integrate_chooses_step_and_horizon_from_the_physics_where_not_given():
-    """integrate(body, w0): the step angle 0.02 rad and four flip intervals, as run_ensemble
-    chooses them; the trajectory ends on the exact motion; a given horizon keeps its value."""
-    from stability.free_body.exact import flip_interval
-    from stability.free_body.timescales import DEFAULT_FLIPS, DEFAULT_STEP_ANGLE
-
-    w0 = np.array([1e-3, 1.0, 1e-3])
-    ds = stability.integrate(BODY, w0)
-    h, t_end = ds.attrs["h"], float(ds.time[-1])
-    speed = float(max_angular_speed(BODY.moments, w0[None])[0])
-    assert h * speed == pytest.approx(DEFAULT_STEP_ANGLE, rel=1e-12)
-    assert DEFAULT_FLIPS * flip_interval(BODY, w0) <= t_end < DEFAULT_FLIPS * flip_interval(
-        BODY, w0) + h
-    assert "0.02 rad" in ds.attrs["h_rule"] and "4 flip intervals" in ds.attrs["t_end_rule"]
-    # rk4 at 0.02 rad a step over four flips: the end state on the exact one to 1e-6
-    np.testing.assert_allclose(ds.w.values[-1], stability.exact_omega(BODY, w0, t_end),
-                               atol=1e-6 * speed)
-    given = stability.integrate(BODY, w0, 5.0, save_every=4)
-    assert float(given.time[-1]) == pytest.approx(5.0, rel=1e-14)
-    assert given.attrs["h"] <= h and "t_end_rule" not in given.attrs
-    assert round(5.0 / given.attrs["h"]) % 4 == 0
 
 
 def test_ensembles_run_together_are_bitwise_the_ensembles_run_alone():
@@ -638,3 +448,4 @@ def test_run_ensemble_takes_the_spin_axis_by_the_name_of_its_moment():
         run_ensemble(racket, axis="middle", **kwargs)
     assert str(info.value) == ("axis must be the principal axis 1, 2 or 3, or the name of its "
                                "moment (smallest, intermediate, largest), got 'middle'")
+
