@@ -73,7 +73,6 @@ MAX_LOCAL_IMPORTS = 18
 
 #: Modules without a test module of their name, and the tests that exercise them.
 COVERED_ELSEWHERE = {
-    "stability.engine.events": "tests/engine/test_adaptive.py",
     "stability.output.hdf5_links": "tests/output/test_untrusted.py (hostile HDF5 files)",
     "stability.free_body.streamed": "tests/output/test_stream.py",
     "stability.util.numba_env": "tests/test_faults.py, tests/cli/test_main.py (NUMBA_NUM_THREADS)",
@@ -92,7 +91,6 @@ COVERED_ELSEWHERE = {
     "stability.core.compensated": "tests/free_body/test_exact.py (the exact solution's invariants)",
     "stability.core.quaternions": "tests/free_body/test_attitude.py",
     "stability.core.trig": "tests/integrators/test_lie_poisson.py (the splitting's rotations)",
-    "stability.dissipation.measure": "tests/dissipation/test_explorer.py",
     "stability.dissipation.scene": "tests/dissipation/test_methods.py",
     "stability.dissipation.studies": "tests/dissipation/test_explorer.py",
     "stability.free_body.twisting_racket.figures": "tests/free_body/twisting_racket/test_study.py",
@@ -101,10 +99,8 @@ COVERED_ELSEWHERE = {
     "stability.integrators.munthe_kaas": "tests/integrators/test_geometric.py",
     "stability.integrators.rotations": "tests/integrators/test_geometric.py, "
                                        "tests/integrators/test_lie_poisson.py",
-    "stability.output.dataset": "tests/output/test_io.py",
     "stability.output.lock": "tests/test_faults_boundary.py",
     "stability.output.publish": "tests/test_faults_boundary.py",
-    "stability.output.store": "tests/output/test_stream.py",
     "stability.plotting.style": "tests/free_body/tennis_racket/test_figures.py",
     "stability.ensemble.run": "tests/test_user_scene.py, tests/test_scene_ensemble.py",
     "stability.engine_body.scene": "tests/test_registry.py",

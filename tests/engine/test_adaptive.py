@@ -60,14 +60,6 @@ def middle_axis(x, t, p):
     return x[1]
 
 
-def returns_tuple(x, t, p):
-    return x[0], x[1]
-
-
-def does_not_compile(x, t, p):
-    return x.no_such_attribute
-
-
 def oscillator_starts(n, seed=0):
     rng = np.random.default_rng(seed)
     phase = rng.uniform(0, 2 * np.pi, n)
@@ -225,32 +217,6 @@ def test_events_in_one_step_come_in_the_order_of_their_times_and_up_is_told_from
 def test_bad_tolerances_are_one_line(rtol, atol, message):
     with pytest.raises(ValueError, match=message) as info:
         checked_tolerances(rtol, atol)
-    assert "\n" not in str(info.value)
-
-
-@pytest.mark.parametrize("make, error, message", [
-    (lambda: Event(position, direction="sideways"), ValueError, "direction must be one of"),
-    (lambda: Event(position, action="halt"), ValueError, "action must be one of"),
-    (lambda: Event(position, count=0), ValueError, "count must be a whole number >= 1"),
-    (lambda: Event(position, count=1.5), ValueError, "count must be a whole number >= 1"),
-    (lambda: Event(3.0), TypeError, "g must be a function"),
-])
-def test_bad_events_are_one_line(make, error, message):
-    with pytest.raises(error, match=message) as info:
-        make()
-    assert "\n" not in str(info.value)
-
-
-@pytest.mark.parametrize("g, error, message", [
-    (does_not_compile, TypeError, "Numba cannot compile g"),
-    (returns_tuple, TypeError, "must return one real number"),
-    (lambda x, t, p: x[0], ValueError, "top level of its module"),
-])
-def test_a_g_that_does_not_compile_or_returns_no_number_is_one_line_before_any_work(
-        g, error, message):
-    with pytest.raises(error, match=message) as info:
-        integrate_adaptive(OSCILLATOR, [[1.0, 0.0]], [[1.0]], [0], 1.0, rtol=1e-6, atol=1e-9,
-                           events=Event(g))
     assert "\n" not in str(info.value)
 
 

@@ -11,7 +11,7 @@ import stability
 from stability.output.io import COMPRESSIONS
 from stability.util import conventions as cv
 from stability.output import io
-from stability.output.dataset import append_history, check_storable, config_toml, storable_attrs
+from stability.output.dataset import append_history, check_storable, config_toml
 
 from ..helpers import assert_cf_compliant, assert_declared
 
@@ -175,18 +175,6 @@ def test_unstorable_attributes_are_refused_before_writing(summaries, tmp_path):
     assert list(tmp_path.iterdir()) == []
 
 
-def test_storable_attrs_converts_what_it_can():
-    out = storable_attrs({"a": True, "b": np.float32(0.5), "c": (1, 2), "d": np.array([3.0]),
-                          "e": np.int64(4), "f": "text"})
-    assert out["a"] == 1 and type(out["a"]) is int
-    assert out["b"] == 0.5 and type(out["b"]) is float
-    np.testing.assert_array_equal(out["c"], [1, 2])
-    assert out["d"] == 3.0 and type(out["d"]) is float
-    assert type(out["e"]) is int and out["f"] == "text"
-    with pytest.raises(ValueError, match="attribute 'g'"):
-        storable_attrs({"g": None})
-
-
 def test_history_appends_one_timestamped_line(summaries, tmp_path):
     changed = append_history(summaries, "stability plot run.nc\n--format png")
     lines = changed.attrs["history"].split("\n")
@@ -233,3 +221,4 @@ def test_integrate_dataset_round_trips_too(tmp_path):
     assert ds.attrs["Conventions"] == "CF-1.10" and "integrate" in ds.attrs["history"]
     back = stability.load(stability.save(ds, tmp_path / "one.nc"))
     xr.testing.assert_identical(back, ds)
+
