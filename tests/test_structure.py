@@ -75,7 +75,6 @@ MAX_LOCAL_IMPORTS = 18
 COVERED_ELSEWHERE = {
     "stability.output.hdf5_links": "tests/output/test_untrusted.py (hostile HDF5 files)",
     "stability.free_body.streamed": "tests/output/test_stream.py",
-    "stability.util.numba_env": "tests/test_faults.py, tests/cli/test_main.py (NUMBA_NUM_THREADS)",
     "stability.ensemble.chunks": "tests/test_scene_ensemble.py",
     "stability.asteroid.figures": "tests/asteroid/studies/test_tumbler.py",
     "stability.dissipation.figures": "tests/dissipation/test_explorer.py, tests/dissipation/test_dual_spin.py",
@@ -87,7 +86,6 @@ COVERED_ELSEWHERE = {
                                    "tests/heavy_top/studies/test_sleeping_top.py",
     "stability.rolling.figures": "tests/rolling/studies/test_rolling.py",
     "stability.struck.figures": "tests/struck/studies/test_bat.py",
-    "stability.cli.bench": "tests/cli/test_main.py (stability bench)",
     "stability.core.compensated": "tests/free_body/test_exact.py (the exact solution's invariants)",
     "stability.core.quaternions": "tests/free_body/test_attitude.py",
     "stability.core.trig": "tests/integrators/test_lie_poisson.py (the splitting's rotations)",
@@ -112,7 +110,6 @@ COVERED_ELSEWHERE = {
     "stability.struck.scene": "tests/test_registry.py",
     "stability.heavy_top.scene": "tests/test_registry.py",
     "stability.study.outputs": "tests/study/test_config.py, tests/test_faults.py",
-    "stability.free_body.tennis_racket.study": "tests/cli/test_main.py",
     "stability.heavy_top.studies.common": "tests/heavy_top/studies/test_gyroscope.py",
     "stability.free_body.twisting_racket.measure": "tests/free_body/twisting_racket/test_geometric_phase.py",
     "stability.util.checks": "tests/test_bad_input.py",

@@ -1,6 +1,6 @@
-"""The ``stability`` command: run (quick, end to end), methods, studies, bench, user errors."""
+"""The ``stability`` command: run (quick, end to end), methods, studies, user errors (bench:
+``tests/cli/test_bench.py``)."""
 
-import os
 import subprocess
 import sys
 import tomllib
@@ -11,9 +11,7 @@ import numpy as np
 import pytest
 
 import stability
-from stability.cli import bench as bench_module
 from stability.cli import main
-from stability.free_body.propagate import propagate
 from stability.study import STUDIES, load_study
 from stability.study.config import toml_text
 from stability.free_body.tennis_racket.study import FIGURES
@@ -196,134 +194,3 @@ def test_the_attitude_scene_adds_each_members_attitude_to_the_same_w(tmp_path, c
     assert 0.0 < float(carried.attitude_error.max()) < 1e-5
     assert float(abs(carried.q_norm_error).max()) < 1e-9
 
-
-def test_default_study_fits_the_analytic_growth_rate(tmp_path, capsys):
-    """The default study's members, seed, step and sampling; the horizon cut to 1.5 s (the
-    fit window ends near 0.7 s, so the fitted number is the default run's own). The headline
-    is what the accessor gives on the saved Dataset."""
-    out = tmp_path / "rate"
-    args = ["run", str(TENNIS), "--out", str(out), "--no-progress",
-            "--set", "integration.t_end=1.5", "--set", "output.figures=false"]
-    assert main(args) == 0
-    capsys.readouterr()
-    ds = stability.load(out / "tennis_racket.nc")
-    assert ds.sizes["member"] == 10_000
-    analytic = ds.attrs["growth_rate_analytic"]
-    fitted = ds.attrs["growth_rate_fitted"]
-    t0, t1 = ds.attrs["growth_fit_window"]
-    assert 0.0 < t0 < t1 < 1.5
-    # about the middle axis at 10 rad/s: sqrt(-Omega^2) = w sqrt((I2 - I1)(I3 - I2) / (I1 I3))
-    i1, i2, i3 = np.sort(stability.RigidBody.preset("tennis_racket").moments)
-    assert analytic == pytest.approx(10.0 * np.sqrt((i2 - i1) * (i3 - i2) / (i1 * i3)),
-                                     rel=1e-14)
-    assert analytic == pytest.approx(float(np.sqrt(-ds.attrs["omega_squared"])), rel=1e-15)
-    assert abs(fitted - analytic) < 1e-3
-    assert abs(fitted - analytic) / analytic < 1e-3
-    assert float(ds.stability.measured_growth_rate().growth_rate) == fitted
-
-
-def test_numpy_baseline_is_the_same_rk4_as_the_kernel():
-    body, axis, w0 = bench_module.workload(40)
-    m0 = w0 * body.moments
-    m_numpy = bench_module.numpy_rk4(body.moments, m0, 2e-3, 50)
-    m_numba = propagate("rk4", body.moments, m0, 2e-3, 50, progress=False).m_final
-    np.testing.assert_allclose(m_numpy, m_numba, rtol=1e-13, atol=1e-16)
-
-
-def test_bench_prints_its_table(capsys):
-    args = ["bench", "--members", "64", "--steps", "20", "--methods", "rk4", "--threads", "1",
-            "--repeat", "1"]
-    assert main(args) == 0
-    lines = capsys.readouterr().out.splitlines()
-    header = next(k for k, line in enumerate(lines) if line.startswith("solver"))
-    for column in ("member-steps/s", "x NumPy RK4", "x SciPy DOP853", "max |w error|"):
-        assert column in lines[header]
-    body = [line for line in lines[header + 2:] if line.strip()]
-    solvers = [line.split("  ")[0].strip() for line in body[:3]]
-    assert [line.split("  ")[0].strip() for line in body[3:5]] == ["scipy DOP853", "numpy RK4"]
-    assert solvers == ["rk4", "adaptive dopri5", "adaptive dopri5, one event"]
-    # then what the engine costs on W1, a row per loop
-    engine = next(k for k, line in enumerate(lines) if "what the engine costs" in line)
-    shown = "\n".join(lines[engine:])
-    for row in ("plain RK4 loop", "engine rk4, uncompensated", "engine rk4",
-                "run_ensemble rk4, summaries only"):
-        assert row in shown
-    assert main([*args, "--no-engine"]) == 0
-    assert "what the engine costs" not in capsys.readouterr().out
-
-
-def test_bench_measures_every_solver_at_known_accuracy():
-    report = bench_module.bench(members=64, steps=20, threads=[1], methods=["rk4", "lp2"],
-                                repeat=2)
-    rows = {row.solver: row for row in report.rows}
-    assert set(rows) == {"rk4", "lp2", "adaptive dopri5", "adaptive dopri5, one event",
-                         "scipy DOP853", "numpy RK4"}
-    for row in rows.values():
-        assert row.wall > 0 and row.rate == pytest.approx(64 * 20 / row.wall)
-        # 20 steps of 2 ms near steady spin: every solver within 1e-6 rad/s of the exact w.
-        assert row.error < 1e-6
-    # The NumPy baseline runs the same RK4 as the kernel: the same error to round-off.
-    assert rows["numpy RK4"].error == pytest.approx(rows["rk4"].error, rel=1e-3, abs=1e-13)
-
-
-def test_bench_heavy_top_prints_every_method_and_its_order(capsys):
-    args = ["bench", "--scene", "heavy_top", "--top-members", "4", "--threads", "1",
-            "--repeat", "1"]
-    assert main(args) == 0
-    out = capsys.readouterr().out
-    assert "solver" not in out  # the free-body table is not run
-    lines = out.splitlines()
-    header = next(k for k, line in enumerate(lines) if line.startswith("method  step angle"))
-    n = len(bench_module.STEP_ANGLES)
-    rows = [[cell.strip() for cell in line.split("  ") if cell.strip()]
-            for line in lines[header + 2:header + 2 + 3 * n]]
-    assert [row[0] for row in rows] == ["rk4"] * n + ["lp2"] * n + ["lp4"] * n
-    for row in rows:
-        error = row[-1]
-        if error.startswith("unstable"):
-            # RK4 turning with the spin is unstable above a step angle of 2 sqrt(2).
-            assert row[0] == "rk4" and float(row[1]) > 2.8
-        else:
-            assert 0.0 < float(error) < 0.1
-    orders = next(k for k, line in enumerate(lines) if line.startswith("method  declared order"))
-    for line in lines[orders + 2:orders + 5]:
-        name, declared, measured = line.split()[:3]
-        assert abs(float(measured) - float(declared)) < 0.2, line
-
-
-def test_heavy_top_errors_against_the_exact_motion_fall_at_each_methods_order():
-    """Halving h in the asymptotic range divides lp4's error by ~2^4 and lp2's by ~2^2."""
-    report = bench_module.top_work_precision(members=4, periods=1.25, step_angles=(0.8, 0.4),
-                                             threads=1, repeat=1)
-    rows = {(row.method, row.step_angle): row for row in report.rows}
-    assert {name for name, _ in rows} == {"rk4", "lp2", "lp4"}
-    for row in rows.values():
-        assert row.failed == 0 and np.isfinite(row.error) and row.error > 0.0
-        assert row.steps * row.h == pytest.approx(report.t_end, rel=1e-12)
-    assert rows["lp4", 0.8].error / rows["lp4", 0.4].error > 2.0**3
-    assert 2.0 < rows["lp2", 0.8].error / rows["lp2", 0.4].error < 2.0**3
-    lp4 = [rows["lp4", a] for a in (0.8, 0.4)]
-    slope, points = bench_module.measured_order([r.h for r in lp4], [r.error for r in lp4])
-    assert points == 2 and slope == pytest.approx(4.0, abs=0.3)
-
-
-@pytest.mark.parametrize("value", ["0", "abc"])
-def test_a_bad_numba_num_threads_is_one_line_naming_it(value, tmp_path):
-    """Numba stopped the import on 0 (ValueError: Number of threads specified must be > 0) and
-    warned with a traceback on abc; the command is now one usage line, and a run of the
-    Python API the same ValueError, from stability's check, before Numba runs anything."""
-    line = (f"NUMBA_NUM_THREADS must be a whole number of threads >= 1 (this machine has "
-            f"{os.cpu_count()} cores), got {value!r}; set it so, or unset it to use all cores")
-    env = {**os.environ, "NUMBA_NUM_THREADS": value}
-    done = subprocess.run([sys.executable, "-m", "stability", "run", str(TENNIS), "--quick",
-                           "--out", str(tmp_path / "o"), "--no-progress"], env=env, cwd=ROOT,
-                          capture_output=True, text=True, timeout=120)
-    assert done.returncode == 2, done.stderr
-    assert done.stderr.strip().splitlines() == [f"stability run: error: {line}"]
-    assert not (tmp_path / "o").exists()
-    api = subprocess.run([sys.executable, "-c", "import stability\nstability.run_ensemble("
-                          "stability.RigidBody(1.0, 2.0, 3.0), 2, 1.0, 0.1, 4, h=0.1, "
-                          "t_end=1.0, options=stability.RunOptions(progress=False))"], env=env, cwd=ROOT,
-                         capture_output=True, text=True, timeout=120)
-    assert api.stderr.strip().splitlines()[-1] == f"ValueError: {line}", api.stderr
-    assert "site-packages/numba" not in api.stderr and "Warning" not in api.stderr
