@@ -87,7 +87,6 @@ COVERED_ELSEWHERE = {
     "stability.rolling.figures": "tests/rolling/studies/test_rolling.py",
     "stability.struck.figures": "tests/struck/studies/test_bat.py",
     "stability.core.compensated": "tests/free_body/test_exact.py (the exact solution's invariants)",
-    "stability.core.quaternions": "tests/free_body/test_attitude.py",
     "stability.core.trig": "tests/integrators/test_lie_poisson.py (the splitting's rotations)",
     "stability.dissipation.scene": "tests/dissipation/test_methods.py",
     "stability.dissipation.studies": "tests/dissipation/test_explorer.py",
@@ -97,7 +96,6 @@ COVERED_ELSEWHERE = {
     "stability.integrators.munthe_kaas": "tests/integrators/test_geometric.py",
     "stability.integrators.rotations": "tests/integrators/test_geometric.py, "
                                        "tests/integrators/test_lie_poisson.py",
-    "stability.output.lock": "tests/test_faults_boundary.py",
     "stability.output.publish": "tests/test_faults_boundary.py",
     "stability.plotting.style": "tests/free_body/tennis_racket/test_figures.py",
     "stability.ensemble.run": "tests/test_user_scene.py, tests/test_scene_ensemble.py",
