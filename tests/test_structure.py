@@ -75,7 +75,6 @@ MAX_LOCAL_IMPORTS = 18
 COVERED_ELSEWHERE = {
     "stability.output.hdf5_links": "tests/output/test_untrusted.py (hostile HDF5 files)",
     "stability.free_body.streamed": "tests/output/test_stream.py",
-    "stability.ensemble.chunks": "tests/test_scene_ensemble.py",
     "stability.asteroid.figures": "tests/asteroid/studies/test_tumbler.py",
     "stability.dissipation.figures": "tests/dissipation/test_explorer.py, tests/dissipation/test_dual_spin.py",
     "stability.earth.figures": "tests/earth/test_wobble.py, tests/earth/studies/test_equinoxes.py",
@@ -98,7 +97,6 @@ COVERED_ELSEWHERE = {
                                        "tests/integrators/test_lie_poisson.py",
     "stability.output.publish": "tests/test_faults_boundary.py",
     "stability.plotting.style": "tests/free_body/tennis_racket/test_figures.py",
-    "stability.ensemble.run": "tests/test_user_scene.py, tests/test_scene_ensemble.py",
     "stability.engine_body.scene": "tests/test_registry.py",
     "stability.free_body.scene": "tests/test_registry.py",
     "stability.free_body.scene_attitude": "tests/test_registry.py",
@@ -114,7 +112,7 @@ COVERED_ELSEWHERE = {
     "stability.util.conventions": "tests/free_body/test_results.py (the status codes)",
     "stability.util.formatting": "tests/test_bad_input.py (sizes in the memory refusals)",
     "stability.util.interrupts": "tests/test_faults.py, tests/test_animation.py, "
-                                 "tests/test_scene_ensemble.py (real SIGINTs)",
+                                 "tests/ensemble/test_chunks.py (real SIGINTs)",
     "stability.version": "tests/cli/test_main.py",
     "stability.uncertainty.designs": "tests/free_body/dispersion/test_measure.py, "
                                      "tests/uncertainty/test_dispersions.py",
