@@ -73,7 +73,6 @@ MAX_LOCAL_IMPORTS = 18
 
 #: Modules without a test module of their name, and the tests that exercise them.
 COVERED_ELSEWHERE = {
-    "stability.output.hdf5_links": "tests/output/test_untrusted.py (hostile HDF5 files)",
     "stability.free_body.streamed": "tests/output/test_stream.py",
     "stability.asteroid.figures": "tests/asteroid/studies/test_tumbler.py",
     "stability.dissipation.figures": "tests/dissipation/test_explorer.py, tests/dissipation/test_dual_spin.py",
