@@ -36,11 +36,6 @@ def run(name, x0, top, h, steps, **kwargs):
                             progress=False, **kwargs)
 
 
-def test_scene_is_registered_with_its_three_methods():
-    assert set(SCENE.methods) == {"rk4", "lp2", "lp4"}
-    assert SCENE.width == 6 and SCENE.components[3:] == ("g1", "g2", "g3")
-
-
 @pytest.mark.parametrize("name", list(METHODS))
 def test_measured_order_matches_the_declared_one(name):
     """Error at t = 2 s against DOP853 for h and h/2 ... : the slope is the declared order."""
