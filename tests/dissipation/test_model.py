@@ -4,10 +4,7 @@ import numpy as np
 import pytest
 
 from stability.dissipation import model
-from stability.dissipation.methods import (sphere_params, sphere_rhs, whip_params, whip_rates,
-                                           whip_rhs)
-from stability.dissipation.scene import (sphere_energy, sphere_moments, whip_energy,
-                                         whip_moments)
+from stability.dissipation.methods import (sphere_params, sphere_rhs, whip_params, whip_rhs)
 
 TRIAXIAL = np.array([1.0, 2.0, 3.0, 0.2, 0.1])  # I1, I2, I3, J, c
 WHIPS = np.array([1.0, 2.0, 3.0, 0.05, 0.5, 3.0, 0.2])  # I1, I2, I3, mu, b, k, c
@@ -23,13 +20,6 @@ def numerical_jacobian(rhs, x, p, step=1e-6):
         down[j] -= step
         out[:, j] = (np.array(rhs(*up, p)) - np.array(rhs(*down, p))) / (2 * step)
     return out
-
-
-def energy_rate(energy, rhs, x, values, p, step=1e-6):
-    """dE/dt = grad E . f by central differences."""
-    grad = np.array([(energy(x + step * e, values) - energy(x - step * e, values)) / (2 * step)
-                     for e in np.eye(x.size)])
-    return grad @ np.array(rhs(*x, p))
 
 
 @pytest.mark.parametrize("axis", [0, 1, 2])
@@ -96,25 +86,6 @@ def test_explorer_moments_are_a_uniform_cylinders():
     assert EXPLORER.spin == pytest.approx(78.5398, rel=1e-5)
 
 
-def test_energy_falls_at_the_dissipated_power_and_h_is_kept_by_both_equations():
-    rng = np.random.default_rng(1)
-    p = sphere_params(TRIAXIAL)
-    for _ in range(3):
-        x = rng.standard_normal(6)
-        u = x[3:] / TRIAXIAL[3] - x[:3] / TRIAXIAL[:3]
-        assert energy_rate(sphere_energy, sphere_rhs, x, TRIAXIAL, p) == pytest.approx(
-            -TRIAXIAL[4] * u @ u, rel=1e-7)
-        f = np.array(sphere_rhs(*x, p))
-        assert abs((x[:3] + x[3:]) @ (f[:3] + f[3:])) < 1e-13
-    p = whip_params(WHIPS)
-    for _ in range(3):
-        x = rng.standard_normal(7) * [1, 1, 1, 0.1, 0.1, 0.1, 0.1]
-        dz = np.array(whip_rates(*x, p)[3:])
-        assert energy_rate(whip_energy, whip_rhs, x, WHIPS, p) == pytest.approx(
-            -WHIPS[6] * dz @ dz, rel=1e-7)
-        assert abs(x[:3] @ np.array(whip_rhs(*x, p))[:3]) < 1e-13
-
-
 @pytest.mark.parametrize("axis", [0, 1, 2])
 def test_whip_jacobian_by_complex_step_is_the_kernels(axis):
     x = model.whip_steady_spin(WHIPS, axis, 1.3)
@@ -128,12 +99,6 @@ def test_whips_turn_a_minor_axis_spin_over_and_damp_the_major_axis():
     assert model.growth_rate(model.whip_eigenvalues(WHIPS, 0, 1.3)) > 0.0
     assert model.growth_rate(model.whip_eigenvalues(WHIPS, 1, 1.3)) > 0.0  # middle
     assert model.growth_rate(model.whip_eigenvalues(WHIPS, 2, 1.3)) < 0.0
-
-
-def test_energy_lost_to_the_flat_spin_and_the_systems_moments():
-    assert np.allclose(sphere_moments(TRIAXIAL), [1.2, 2.2, 3.2])
-    assert np.allclose(whip_moments(WHIPS), [1.025, 2.0125, 3.0125])
-    assert model.energy_lost(2.0, 1.0, 4.0) == pytest.approx(0.5 * 4.0 * 0.75)
 
 
 @pytest.mark.parametrize("make, values, message", [

@@ -12,8 +12,7 @@ import stability
 from stability.util import conventions as cv
 from stability.ensemble.plan import Plan
 from stability.output.dataset import LEVEL, SUMMARIES
-from stability import Keep, RunOptions
-from stability.free_body.ensemble import plan_arguments, run_ensemble
+from stability.free_body.ensemble import run_ensemble
 from stability.output.dataset import LOOP_THREADS
 
 BODY = stability.RigidBody(1.0, 2.0, 3.0, name="I=(1,2,3)")
@@ -125,27 +124,6 @@ def test_config_toml_holds_the_resolved_arguments(reference):
     assert config["body"] == {"name": "I=(1,2,3)", "I1": 1.0, "I2": 2.0, "I3": 3.0,
                               "physical": True}
     np.testing.assert_array_equal(config["levels"], reference.level.values)
-
-
-def test_caller_config_is_stored(tmp_path):
-    """A study's configuration and command, as the tennis-racket study hands them to the
-    streamed run, are what the Dataset records."""
-    import tomllib
-
-    from stability.free_body.streamed import run_streamed
-
-    study = {"study": {"kind": "tennis_racket", "members": 3, "epsilon": np.float64(1e-3)},
-             "output": {"folder": "out", "figures": ["flips", "polhode"]}}
-    kwargs = dict(body=BODY, axis=3, spin=1.0, epsilon=1e-3, members=3, h=0.01, t_end=1.0,
-                  config=study, command="stability run x.toml",
-                  **plan_arguments(Keep(), RunOptions()))
-    ds = run_streamed(kwargs, RunOptions(store=tmp_path / "s", progress=False))
-    assert tomllib.loads(ds.attrs["config_toml"]) == {
-        "study": {"kind": "tennis_racket", "members": 3, "epsilon": 1e-3},
-        "output": {"folder": "out", "figures": ["flips", "polhode"]},
-    }
-    first, streamed = ds.attrs["history"].splitlines()  # the command, then the run's record
-    assert first.endswith(": stability run x.toml") and ": streamed to " in streamed
 
 
 # --- summaries against known answers ----------------------------------------------------------
