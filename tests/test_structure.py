@@ -74,7 +74,8 @@ MAX_LOCAL_IMPORTS = 18
 #: Modules without a test module of their name, and the tests that exercise them.
 COVERED_ELSEWHERE = {
     "stability.asteroid.figures": "tests/asteroid/studies/test_tumbler.py",
-    "stability.dissipation.figures": "tests/dissipation/test_explorer.py, tests/dissipation/test_dual_spin.py",
+    "stability.dissipation.figures": "tests/dissipation/test_studies.py, "
+                                     "tests/dissipation/test_dual_spin.py",
     "stability.earth.figures": "tests/earth/test_wobble.py, tests/earth/studies/test_equinoxes.py",
     "stability.engine_body.figures": "tests/engine_body/studies/test_engine_artefacts.py",
     "stability.free_body.stability_map.figures": "tests/free_body/stability_map/test_study.py",
@@ -85,7 +86,6 @@ COVERED_ELSEWHERE = {
     "stability.struck.figures": "tests/struck/studies/test_bat.py",
     "stability.core.compensated": "tests/free_body/test_exact.py (the exact solution's invariants)",
     "stability.core.trig": "tests/integrators/test_lie_poisson.py (the splitting's rotations)",
-    "stability.dissipation.studies": "tests/dissipation/test_explorer.py",
     "stability.free_body.twisting_racket.figures": "tests/free_body/twisting_racket/test_study.py",
     "stability.engine.gpu.bench": "tests/cli/test_gpu_bench.py (python -m stability.cli.gpu_bench)",
     "stability.engine.gpu.retarget": "tests/engine/gpu/test_kernels.py (every kernel's device twin)",
