@@ -71,7 +71,10 @@ LONG_MODULES = {
 #: count may only fall.
 MAX_LOCAL_IMPORTS = 18
 
-#: Modules without a test module of their name, and the tests that exercise them.
+#: Modules without a test module of their name, and the tests that exercise them: the figures
+#: and the plotting style, drawn by their studies' tests; the scenes checked only by the
+#: registry-wide checks (and their families' tests); and helpers exercised through the modules
+#: that use them.
 COVERED_ELSEWHERE = {
     "stability.asteroid.figures": "tests/asteroid/studies/test_tumbler.py",
     "stability.dissipation.figures": "tests/dissipation/test_studies.py, "
@@ -79,38 +82,39 @@ COVERED_ELSEWHERE = {
     "stability.earth.figures": "tests/earth/test_wobble.py, tests/earth/studies/test_equinoxes.py",
     "stability.engine_body.figures": "tests/engine_body/studies/test_engine_artefacts.py",
     "stability.free_body.stability_map.figures": "tests/free_body/stability_map/test_study.py",
+    "stability.free_body.twisting_racket.figures": "tests/free_body/twisting_racket/test_study.py",
     "stability.free_body.work_precision.figures": "tests/free_body/work_precision/test_study.py",
     "stability.heavy_top.figures": "tests/heavy_top/studies/test_gyroscope.py, "
                                    "tests/heavy_top/studies/test_sleeping_top.py",
+    "stability.plotting.style": "tests/free_body/tennis_racket/test_figures.py",
     "stability.rolling.figures": "tests/rolling/studies/test_rolling.py",
     "stability.struck.figures": "tests/struck/studies/test_bat.py",
+    "stability.uncertainty.figures": "tests/free_body/dispersion/test_study.py (its figure)",
+    "stability.earth.scene": "tests/earth/studies/test_equinoxes.py, tests/test_registry.py",
+    "stability.free_body.scene": "tests/test_registry.py",
+    "stability.free_body.scene_attitude": "tests/test_registry.py",
+    "stability.rolling.scene": "tests/test_registry.py",
+    "stability.struck.scene": "tests/test_registry.py",
     "stability.core.compensated": "tests/free_body/test_exact.py (the exact solution's invariants)",
     "stability.core.trig": "tests/integrators/test_lie_poisson.py (the splitting's rotations)",
-    "stability.free_body.twisting_racket.figures": "tests/free_body/twisting_racket/test_study.py",
     "stability.engine.gpu.bench": "tests/cli/test_gpu_bench.py (python -m stability.cli.gpu_bench)",
-    "stability.engine.gpu.retarget": "tests/engine/gpu/test_kernels.py (every kernel's device twin)",
+    "stability.engine.gpu.retarget": "tests/engine/gpu/test_kernels.py (each kernel's device twin)",
+    "stability.free_body.twisting_racket.measure":
+        "tests/free_body/twisting_racket/test_geometric_phase.py",
+    "stability.heavy_top.studies.common": "tests/heavy_top/studies/test_gyroscope.py",
     "stability.integrators.munthe_kaas": "tests/integrators/test_geometric.py",
     "stability.integrators.rotations": "tests/integrators/test_geometric.py, "
                                        "tests/integrators/test_lie_poisson.py",
     "stability.output.publish": "tests/test_faults_boundary.py",
-    "stability.plotting.style": "tests/free_body/tennis_racket/test_figures.py",
-    "stability.free_body.scene": "tests/test_registry.py",
-    "stability.free_body.scene_attitude": "tests/test_registry.py",
-    "stability.earth.scene": "tests/earth/studies/test_equinoxes.py, tests/test_registry.py",
-    "stability.rolling.scene": "tests/test_registry.py",
-    "stability.struck.scene": "tests/test_registry.py",
     "stability.study.outputs": "tests/study/test_config.py, tests/test_faults.py",
-    "stability.heavy_top.studies.common": "tests/heavy_top/studies/test_gyroscope.py",
-    "stability.free_body.twisting_racket.measure": "tests/free_body/twisting_racket/test_geometric_phase.py",
+    "stability.uncertainty.designs": "tests/free_body/dispersion/test_measure.py, "
+                                     "tests/uncertainty/test_dispersions.py",
     "stability.util.checks": "tests/test_bad_input.py",
     "stability.util.conventions": "tests/free_body/test_results.py (the status codes)",
     "stability.util.formatting": "tests/test_bad_input.py (sizes in the memory refusals)",
     "stability.util.interrupts": "tests/test_faults.py, tests/test_animation.py, "
                                  "tests/ensemble/test_chunks.py (real SIGINTs)",
     "stability.version": "tests/cli/test_main.py",
-    "stability.uncertainty.designs": "tests/free_body/dispersion/test_measure.py, "
-                                     "tests/uncertainty/test_dispersions.py",
-    "stability.uncertainty.figures": "tests/free_body/dispersion/test_study.py (its figure)",
 }
 
 
