@@ -3,7 +3,8 @@
 Run by the ``simulated`` fixture of ``tests/conftest.py`` (for the GPU tests in
 ``tests/engine/gpu/`` and ``tests/free_body/test_propagate_gpu.py``) in a subprocess with
 ``NUMBA_ENABLE_CUDASIM=1`` (or without it, with ``--no-device``, to see the error when there is
-no GPU), so the simulator never leaks into the other test modules of a pytest-xdist worker. Not a test module itself (no ``test_`` prefix).
+no GPU), so the simulator never leaks into the other test modules of a pytest-xdist worker. Not
+a test module itself (no ``test_`` prefix).
 """
 
 import json
