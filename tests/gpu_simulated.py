@@ -302,17 +302,25 @@ def errors():
 
 
 def no_device():
-    """What propagate_gpu says without a GPU and without the simulator."""
+    """What propagate_gpu and run_adaptive say without a GPU and without the simulator."""
     from stability.engine.gpu import NoGPUError, real_gpu
     from stability.free_body.propagate_gpu import propagate_gpu
 
     if real_gpu():
         return {"real_gpu": True}
+    out = {"real_gpu": False, "message": None, "adaptive_message": None}
     try:
         propagate_gpu("rk4", MOMENTS, starts() * MOMENTS, H, 1)
     except NoGPUError as error:
-        return {"real_gpu": False, "message": str(error)}
-    return {"real_gpu": False, "message": None}
+        out["message"] = str(error)
+    try:
+        from stability.free_body.scene import FREE_BODY
+
+        stability.run_adaptive(FREE_BODY, starts() * MOMENTS, MOMENTS, 1.0, rtol=1e-6,
+                               atol=1e-9, options=stability.RunOptions(device="gpu"))
+    except NoGPUError as error:
+        out["adaptive_message"] = str(error)
+    return out
 
 
 def ensemble_on_gpu():
@@ -335,6 +343,44 @@ def ensemble_on_gpu():
             "device": gpu.attrs["config_toml"].count('device = "gpu"')}
 
 
+def adaptive_on_gpu():
+    """run_adaptive on the GPU against the CPU: the free body with a recorded and a stop event
+    and samples, and the user's damped body with an event; every variable of the Datasets."""
+    from tests.engine.test_adaptive import middle_axis
+    from tests.gpu_user_scene import DAMPED_BODY
+    from stability.free_body.scene import FREE_BODY
+
+    m0 = starts()[:4] * MOMENTS
+    x0, sets = DAMPED_BODY.example(4, seed=2)
+    cases = {
+        "free_body": (FREE_BODY, m0, MOMENTS, 30.0, [
+            stability.Event(middle_axis, count=2, name="flips"),
+            stability.Event(middle_axis, direction="down", action="stop", count=2,
+                            name="second_down")]),
+        "user_scene": (DAMPED_BODY, x0, sets[0], 15.0, [
+            stability.Event(middle_axis, count=3, name="w2_crossings")]),
+    }
+    out = {}
+    for name, (scene, start, parameters, t_end, events) in cases.items():
+        runs = [stability.run_adaptive(
+            scene, start, parameters, t_end, rtol=1e-7, atol=1e-10, events=events,
+            samples=np.linspace(0.0, t_end, 7),
+            options=stability.RunOptions(progress=False, device=device))
+            for device in ("cpu", "gpu")]
+        worst, bitwise, same_nan = 0.0, True, True
+        for variable in runs[0].data_vars:
+            a, b = (r[variable].values.astype(float) for r in runs)
+            same_nan &= bool(np.array_equal(np.isnan(a), np.isnan(b)))
+            bitwise &= bool(np.array_equal(a, b, equal_nan=True))
+            ok = ~np.isnan(a)
+            scale = np.maximum(np.abs(a[ok]), 1e-300)
+            worst = max(worst, float(np.max(np.abs(a[ok] - b[ok]) / scale, initial=0.0)))
+        out[name] = {"worst": worst, "bitwise": bitwise, "same_nan": same_nan,
+                     "events": int(np.sum(runs[0].event_count.values)),
+                     "stopped": int(np.sum(runs[0].stop_event.values >= 0))}
+    return out
+
+
 def main():
     # The simulator runs a block's threads as Python threads that take a lock around every
     # device-function call; preempted every 5 ms they hand that lock over one switch interval
@@ -353,6 +399,7 @@ def main():
     results["stored"] = stored_on_gpu()
     results["tennis"] = tennis_on_gpu()
     results["tangents"] = tangents_on_gpu()
+    results["adaptive"] = adaptive_on_gpu()
     print(json.dumps(results))
 
 

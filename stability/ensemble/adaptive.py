@@ -67,7 +67,9 @@ def run_adaptive(scene, x0, parameters, t_end, *, rtol, atol, events=(), samples
         Steps per member (accepted and rejected) before it is flagged ``max_steps``.
     options : RunOptions, optional
         How and where it runs (``store``, ``resume``, ``chunk_members``, ``threads`` ...);
-        never changes the result.
+        never changes the result, but ``device="gpu"``: the members then run on a CUDA GPU
+        (:func:`stability.engine.gpu.integrate_adaptive_gpu`), with results that agree with
+        the CPU's to round-off.
 
     Returns
     -------
@@ -107,7 +109,8 @@ def run_adaptive(scene, x0, parameters, t_end, *, rtol, atol, events=(), samples
                         else real_array("parameters", s).reshape(-1) for s in sets])
     options = run_options(options)
     plan = Plan(scene, next(iter(scene.methods)), x0, rows, sizes, np.zeros(len(sets)),
-                np.zeros(len(sets), dtype=np.int64), label=f"{scene.name} ({METHOD})")
+                np.zeros(len(sets), dtype=np.int64), label=f"{scene.name} ({METHOD})",
+                device=options.device)
     measure = AdaptiveMeasure(scene, sizes, numbers, bool(named and scene.parameters), t_end,
                               rtol, atol, max_steps, events, samples)
     return run_plan(plan, options, measure=measure)
@@ -155,9 +158,13 @@ class AdaptiveMeasure:
         scene = self.scene
         group_of = np.searchsorted(np.cumsum(self.sizes), np.arange(lo, hi), side="right")
         local = np.searchsorted(np.cumsum(part.sizes), np.arange(hi - lo), side="right")
-        run = integrate_adaptive(scene, part.x0, part.params, local, self.t_end[lo:hi],
-                                 rtol=self.rtol, atol=self.atol, events=self.events,
-                                 max_steps=self.max_steps, samples=self.samples)
+        integrate = integrate_adaptive
+        if part.device == "gpu":
+            from ..engine.gpu import integrate_adaptive_gpu as integrate  # numba-cuda: optional
+
+        run = integrate(scene, part.x0, part.params, local, self.t_end[lo:hi], rtol=self.rtol,
+                        atol=self.atol, events=self.events, max_steps=self.max_steps,
+                        samples=self.samples)
         data = {f"{c}_start": part.x0[:, k] for k, c in enumerate(scene.components)}
         data.update({f"{c}_final": run.x_final[:, k] for k, c in enumerate(scene.components)})
         data.update(member_group=group_of.astype(np.int64), t_end=self.t_end[lo:hi],

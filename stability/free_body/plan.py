@@ -132,8 +132,7 @@ def plan_ensemble(body, axis, spin=None, epsilon=None, members=None, *, h, t_end
     if device not in ("cpu", "gpu"):
         raise ValueError(f"device must be 'cpu' or 'gpu', got {device!r}")
     if device == "gpu":
-        from ..engine.gpu import NoGPUError, gpu_method
-        from ..engine.gpu.device import cuda_module
+        from ..engine.gpu import NoGPUError, cuda_module, gpu_method
 
         gpu_method(spec.name, FREE_BODY_SCENES[scene])  # ValueError naming the GPU's methods
         try:

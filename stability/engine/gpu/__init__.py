@@ -2,7 +2,8 @@
 
 One member per thread, its state in registers, members coalesced (structure of arrays,
 ``(n, N)``): :func:`propagate_groups_gpu` is :func:`stability.engine.propagate_groups` on the
-GPU, for any scene and method (:func:`gpu_methods`), the user's own scenes included;
+GPU, for any scene and method (:func:`gpu_methods`), the user's own scenes included, and
+:func:`integrate_adaptive_gpu` is :func:`stability.engine.adaptive.integrate_adaptive` on it;
 the free body's :func:`~stability.free_body.propagate_gpu.propagate_gpu` is
 :func:`stability.free_body.propagate.propagate` on the GPU, with the same tracking of flips,
 crossings, amplitudes and levels. The kernels run the CPU's own step kernels, compiled for the
@@ -21,9 +22,11 @@ difference is an ulp per step; over n steps they add up like the method's own ro
 ``tests/free_body/test_propagate_gpu.py``).
 """
 
-from .device import NO_GPU_MESSAGE, NoGPUError, real_gpu
+from .adaptive import integrate_adaptive_gpu
+from .device import NO_GPU_MESSAGE, NoGPUError, cuda_module, real_gpu
 from .methods import NOT_ON_GPU, THREADS_PER_BLOCK, gpu_method, gpu_methods
 from .run import propagate_groups_gpu
 
-__all__ = ["NOT_ON_GPU", "NO_GPU_MESSAGE", "NoGPUError", "THREADS_PER_BLOCK",
-           "gpu_method", "gpu_methods", "propagate_groups_gpu", "real_gpu"]
+__all__ = ["NOT_ON_GPU", "NO_GPU_MESSAGE", "NoGPUError", "THREADS_PER_BLOCK", "cuda_module",
+           "gpu_method", "gpu_methods", "integrate_adaptive_gpu", "propagate_groups_gpu",
+           "real_gpu"]

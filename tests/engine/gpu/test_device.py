@@ -14,4 +14,5 @@ def test_no_gpu_and_no_simulator_says_what_to_do():
     if r["real_gpu"]:
         pytest.skip("a CUDA GPU is present")
     assert r["message"] == NO_GPU_MESSAGE
+    assert r["adaptive_message"] == NO_GPU_MESSAGE  # run_adaptive(device="gpu") too
     assert "NUMBA_ENABLE_CUDASIM=1" in r["message"]
