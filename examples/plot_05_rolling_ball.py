@@ -12,7 +12,8 @@ import matplotlib.pyplot as plt
 import numpy as np
 
 import stability
-from stability.rolling.model import launch_formulas, measure_launches
+from stability.rolling.measure import measure_launches
+from stability.rolling.model import launch_formulas
 
 ds = measure_launches(radius=0.0286, mass=0.17, k=0.4, mu_k=0.2, speeds=(0.5, 4.0),
                       spin_ratios=(-1.5, 2.5), members=200,

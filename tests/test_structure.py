@@ -232,3 +232,18 @@ def test_a_family_imports_another_only_where_it_builds_on_it():
                                           .read_text(encoding="utf-8"))) or ""
         unnamed = sorted(m for m in imported if f":mod:`{m}`" not in doc.replace("\n", " "))
         assert unnamed == [], f"stability/{family}/__init__.py does not name {unnamed}"
+
+
+#: What runs members: a family's model holds its formulas and none of these.
+RUNS_MEMBERS = ("stability.ensemble.chunks", "stability.ensemble.plan", "stability.engine",
+                "stability.engine.run", "stability.ensemble.run")
+
+
+def test_no_familys_model_runs_an_ensemble():
+    """A family's ``model.py`` holds its formulas and presets; the runs and their measurement
+    are its ``measure.py`` (the struck body and rolling had theirs in the model)."""
+    families = _families()
+    running = sorted({module for module, imported, *_ in internal_imports()
+                      if module.endswith(".model") and layer(module) in families
+                      and imported in RUNS_MEMBERS})
+    assert running == [], f"models that run members: {running}"

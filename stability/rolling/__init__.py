@@ -8,8 +8,9 @@ The family's modules, each importing only downward:
 - :mod:`.scene`: the scene ``rolling_body`` (the state, what the loop tracks, the energy with
   the friction's work added back);
 - :mod:`.model`: the formulas (roll or slip on an incline, accelerations, a launched body's
-  slip time, final speed and heat, the shapes' I / (M R^2)) and the ensembles run and measured
-  (:func:`~.model.measure_incline`, :func:`~.model.measure_launches`);
+  slip time, final speed and heat, the shapes' I / (M R^2));
+- :mod:`.measure`: the ensembles run and measured against them (:func:`~.measure.measure_incline`,
+  :func:`~.measure.measure_launches`);
 - :mod:`.studies`: the study kind ``rolling``;
 - :mod:`.figures`: its figures, drawn from the Dataset.
 

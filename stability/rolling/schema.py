@@ -10,7 +10,7 @@ from ..ensemble.schema import (
 __all__ = ["ROLLING"]
 
 
-# Rolling and slipping (stability.rolling.model.measure_incline and measure_launches) ----------
+# Rolling and slipping (stability.rolling.measure.measure_incline and measure_launches) ----------
 
 _CELL = ("shape", "angle", "mu_s")
 _SAMR = _CELL + ("replica",)
@@ -19,7 +19,7 @@ ROLLING = declare(
     "balls, cylinders and hoops on inclines (roll or slip, per shape, angle, "
     "friction and replica) and launched along a floor (per member), from the runs and by the "
     "formulas",
-    ("stability.rolling.model.measure_incline", "stability.rolling.model.measure_launches"),
+    ("stability.rolling.measure.measure_incline", "stability.rolling.measure.measure_launches"),
     {
         "slipped": variable(_SAMR, ONE, "slipped (friction did work) in the run", kind="i"),
         "rolls_formula": variable(

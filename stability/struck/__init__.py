@@ -9,7 +9,8 @@ The family's modules, each importing only downward:
   after the contact, the held body's exact solution);
 - :mod:`.model`: :class:`~.model.StruckBody` and its presets (a tapered wooden baseball bat, the
   tennis racket), the formulas (centre of percussion, reaction at the hands, the free hands'
-  velocity), and the strikes run and measured (:func:`~.model.measure_strikes`);
+  velocity);
+- :mod:`.measure`: the strikes run and measured against them (:func:`~.measure.measure_strikes`);
 - :mod:`.studies`: the study kind ``bat``;
 - :mod:`.figures`: its figure, drawn from the Dataset.
 

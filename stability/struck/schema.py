@@ -9,14 +9,14 @@ from ..ensemble.schema import (
 __all__ = ["BAT"]
 
 
-# The struck bat (stability.struck.model.measure_strikes) --------------------------------------
+# The struck bat (stability.struck.measure.measure_strikes) --------------------------------------
 
 _HPS = ("hold", "pivot", "strike")
 BAT = declare(
     "bat",
     "the centre of percussion of a struck bat or racket, held at the hands or free, "
     "from the runs and by the formulas",
-    "stability.struck.model.measure_strikes",
+    "stability.struck.measure.measure_strikes",
     {
         "angular_velocity": variable(_HPS, RAD_PER_S, "angular velocity just after the contact"),
         "cm_velocity_across": variable(

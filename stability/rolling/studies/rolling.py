@@ -25,7 +25,8 @@ from ...study.sections import (
 )
 from ...util.threads import numba_threads
 from ..figures import rolling_launch_figure, rolling_map_figure
-from ..model import SHAPES, measure_incline, measure_launches
+from ..measure import measure_incline, measure_launches
+from ..model import SHAPES
 
 NAME = "rolling"
 FIGURES = ("rolling_map", "rolling_launch")

@@ -2,7 +2,7 @@
 
 A baseball bat (tapered, from cylinders and cones) or the tennis-racket preset is struck across
 its axis at a grid of points, with the hands at each of a list of pivots, held (a hinge) and
-free; :func:`stability.struck.model.measure_strikes` integrates each strike through its contact
+free; :func:`stability.struck.measure.measure_strikes` integrates each strike through its contact
 (scene ``struck_body``) and finds the centre of percussion (zero reaction at the held hands,
 the free body's hands at rest) and the sweet zone (reaction below ``sting`` J) from the runs,
 beside ``q = I_P / (M d)``. Outputs: the Dataset, the figure
@@ -24,7 +24,8 @@ from ...study.sections import (
 )
 from ...util.threads import numba_threads
 from ..figures import bat_figure
-from ..model import baseball_bat, check_pivot, measure_strikes, tennis_racket
+from ..measure import measure_strikes
+from ..model import baseball_bat, check_pivot, tennis_racket
 
 NAME = "bat"
 FIGURE = "bat"
