@@ -95,26 +95,18 @@ COVERED_ELSEWHERE = {
     "stability.free_body.scene_attitude": "tests/test_registry.py",
     "stability.rolling.scene": "tests/test_registry.py",
     "stability.struck.scene": "tests/test_registry.py",
-    "stability.core.compensated": "tests/free_body/test_exact.py (the exact solution's invariants)",
-    "stability.core.trig": "tests/integrators/test_lie_poisson.py (the splitting's rotations)",
     "stability.engine.gpu.bench": "tests/cli/test_gpu_bench.py (python -m stability.cli.gpu_bench)",
     "stability.engine.gpu.retarget": "tests/engine/gpu/test_kernels.py (each kernel's device twin)",
     "stability.free_body.twisting_racket.measure":
         "tests/free_body/twisting_racket/test_geometric_phase.py",
     "stability.heavy_top.studies.common": "tests/heavy_top/studies/test_gyroscope.py",
     "stability.integrators.munthe_kaas": "tests/integrators/test_geometric.py",
-    "stability.integrators.rotations": "tests/integrators/test_geometric.py, "
-                                       "tests/integrators/test_lie_poisson.py",
     "stability.output.publish": "tests/test_faults_boundary.py",
     "stability.study.outputs": "tests/study/test_config.py, tests/test_faults.py",
     "stability.uncertainty.designs": "tests/free_body/dispersion/test_measure.py, "
                                      "tests/uncertainty/test_dispersions.py",
-    "stability.util.checks": "tests/test_bad_input.py",
-    "stability.util.conventions": "tests/free_body/test_results.py (the status codes)",
-    "stability.util.formatting": "tests/test_bad_input.py (sizes in the memory refusals)",
     "stability.util.interrupts": "tests/test_faults.py, tests/test_animation.py, "
                                  "tests/ensemble/test_chunks.py (real SIGINTs)",
-    "stability.version": "tests/cli/test_main.py",
 }
 
 
