@@ -101,10 +101,7 @@ COVERED_ELSEWHERE = {
         "tests/free_body/twisting_racket/test_geometric_phase.py",
     "stability.heavy_top.studies.common": "tests/heavy_top/studies/test_gyroscope.py",
     "stability.integrators.munthe_kaas": "tests/integrators/test_geometric.py",
-    "stability.output.publish": "tests/test_faults_boundary.py",
     "stability.study.outputs": "tests/study/test_config.py, tests/test_faults.py",
-    "stability.uncertainty.designs": "tests/free_body/dispersion/test_measure.py, "
-                                     "tests/uncertainty/test_dispersions.py",
     "stability.util.interrupts": "tests/test_faults.py, tests/test_animation.py, "
                                  "tests/ensemble/test_chunks.py (real SIGINTs)",
 }
