@@ -97,9 +97,6 @@ COVERED_ELSEWHERE = {
     "stability.struck.scene": "tests/test_registry.py",
     "stability.engine.gpu.bench": "tests/cli/test_gpu_bench.py (python -m stability.cli.gpu_bench)",
     "stability.engine.gpu.retarget": "tests/engine/gpu/test_kernels.py (each kernel's device twin)",
-    "stability.free_body.twisting_racket.measure":
-        "tests/free_body/twisting_racket/test_geometric_phase.py",
-    "stability.heavy_top.studies.common": "tests/heavy_top/studies/test_gyroscope.py",
     "stability.integrators.munthe_kaas": "tests/integrators/test_geometric.py",
     "stability.study.outputs": "tests/study/test_config.py, tests/test_faults.py",
     "stability.util.interrupts": "tests/test_faults.py, tests/test_animation.py, "
