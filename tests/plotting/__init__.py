@@ -1,0 +1,1 @@
+"""Tests of the figures' style and checks (stability.plotting)."""
