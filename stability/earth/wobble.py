@@ -21,8 +21,10 @@ import xarray as xr
 from ..util import conventions as cv
 from ..core.quaternions import quaternion_to_matrix
 from .model import ARCSEC, CHANDLER_PERIOD_DAYS, DAY, euler_period, oblate_euler_period
+from ..free_body.attitude import attitude_methods
 from ..free_body.ensemble import completed, run_ensemble
 from ..free_body.keep import Keep
+from ..free_body.plan import ensemble_memory
 from ..analysis.estimates import measured_frequency
 from ..free_body.integrate import integrate
 from ..ensemble.chunks import default_chunk_members
@@ -31,6 +33,18 @@ from .schema import EARTH_WOBBLE
 
 #: Dimension of the cone member's samples.
 CONE_TIME = "cone_time"
+
+
+def wobble_methods() -> tuple[str, ...]:
+    """The methods the wobble runs with: those that carry the attitude (the pole's path is the
+    attitude's)."""
+    return attitude_methods()
+
+
+def wobble_memory(members: int) -> int:
+    """Bytes of the summaries of a wobble run of ``members`` members (the free-body ensemble's
+    bound, no series kept)."""
+    return ensemble_memory(members, 0)
 
 
 def _angle(u, v):

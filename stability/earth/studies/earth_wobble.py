@@ -13,13 +13,11 @@ import math
 import time
 from pathlib import Path
 
-from ...free_body.attitude import attitude_methods
 from ...core.body import RigidBody
 from ..model import ARCSEC, earth_moments
-from ...free_body.plan import ensemble_memory
 from ..figures import wobble_cones_figure
 from ...util.threads import numba_threads
-from ..wobble import measure_free_wobble
+from ..wobble import measure_free_wobble, wobble_memory, wobble_methods
 from ...study.config import ConfigError, Key, Schema, Section
 from ...study.kind import StudyKind, StudySummary
 from ...study.outputs import output_files, write_outputs
@@ -32,7 +30,7 @@ FIGURE = "earth_wobble"
 
 def _attitude_methods() -> tuple:
 
-    return attitude_methods()
+    return wobble_methods()
 
 
 SCHEMA = Schema(
@@ -92,7 +90,7 @@ def check(config: dict, source: str) -> dict:
     except ValueError as exc:
         raise ConfigError(str(exc), source, "earth", "polar_factor") from None
     members = config["wobble"]["members"]
-    check_memory(SCHEMA, config, source, ensemble_memory(members, 0), [("wobble", "members")],
+    check_memory(SCHEMA, config, source, wobble_memory(members), [("wobble", "members")],
                  f"the summaries of {members} members", "use fewer members")
     check_run(config, source)
     return config
