@@ -42,8 +42,18 @@ def wobble_methods() -> tuple[str, ...]:
 
 
 def wobble_memory(members: int) -> int:
-    """Bytes of the summaries of a wobble run of ``members`` members (the free-body ensemble's
-    bound, no series kept)."""
+    """Bytes of the summaries of a wobble run (the free-body ensemble's bound, no series kept).
+
+    Parameters
+    ----------
+    members : int
+        Members of the run.
+
+    Returns
+    -------
+    int
+        Bytes.
+    """
     return ensemble_memory(members, 0)
 
 

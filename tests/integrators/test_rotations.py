@@ -13,7 +13,6 @@ from stability.integrators.rotations import (
     quaternion_increment, rotate_increment, solve3,
 )
 
-mpmath.mp.dps = 40
 RNG = np.random.default_rng(5)
 EPS = np.finfo(float).eps
 
@@ -46,14 +45,16 @@ def test_the_exponential_rotates_as_expm_on_both_sides_of_the_small_angle_switch
         k = theta * axis / np.linalg.norm(axis)
         v = RNG.standard_normal(3)
         a, b, cm1, d = exp_coefficients(theta)
-        t = mpmath.mpf(theta)
-        exact = ((mpmath.sin(t) / t, (1 - mpmath.cos(t)) / t ** 2, mpmath.cos(t / 2) - 1,
-                  mpmath.sin(t / 2) / t) if theta else (1, mpmath.mpf(1) / 2, 0, mpmath.mpf(1) / 2))
+        with mpmath.workdps(40):  # the precision here, whatever another module set
+            t = mpmath.mpf(theta)
+            exact = ((mpmath.sin(t) / t, (1 - mpmath.cos(t)) / t ** 2, mpmath.cos(t / 2) - 1,
+                      mpmath.sin(t / 2) / t) if theta else (1, 0.5, 0, 0.5))
+            exact = [float(x) for x in exact]
         # a and b to 4 eps (near theta = pi, a = sin(theta) / theta is formed from cos(theta/2)
         # and loses relative, not absolute, accuracy); c and d to 4 eps of themselves, so a
         # tiny angle's quaternion keeps its relative accuracy
         for got, want, floor in zip((a, b, cm1, d), exact, (1.0, 1.0, 0.0, 0.0)):
-            assert abs(got - float(want)) <= 4 * EPS * max(abs(float(want)), floor), (
+            assert abs(got - want) <= 4 * EPS * max(abs(want), floor), (
                 theta, got, want)
         increment = np.array(rotate_increment(*k, *v, a, b))
         # (the matrix reference cancels: it is good to the rounding of v only)

@@ -160,10 +160,29 @@ def timed_propagate(spec, moments, m0, h, n_steps):
     wall : float
         Fastest kernel wall time over the repeats, s.
     """
-    run = propagate(spec, moments, m0, h, n_steps, progress=False)
+    return fastest_of(lambda: propagate(spec, moments, m0, h, n_steps, progress=False))
+
+
+def fastest_of(run_once):
+    """``run_once()`` (a run with a ``wall_time``), repeated while short as
+    :func:`timed_propagate` says: the first run and the fastest wall time.
+
+    Parameters
+    ----------
+    run_once : callable
+        Runs the kernel once; returns an object with ``wall_time`` (s).
+
+    Returns
+    -------
+    run : object
+        The first run.
+    wall : float
+        Fastest wall time over the repeats, s.
+    """
+    run = run_once()
     best, total, repeats = run.wall_time, run.wall_time, 1
     while total < MIN_TIMING and repeats < REPEATS:
-        again = propagate(spec, moments, m0, h, n_steps, progress=False)
+        again = run_once()
         best, total, repeats = min(best, again.wall_time), total + again.wall_time, repeats + 1
     return run, best
 
@@ -310,11 +329,8 @@ def sweep_adaptive(body, w0, w_ref, t_end, rtols, atols) -> list[dict]:
     group = np.zeros(members, dtype=np.int64)
     points = []
     for rtol, atol in zip(rtols, atols):
-        run = integrate_adaptive(FREE_BODY, m0, rows, group, t_end, rtol=rtol, atol=atol)
-        best, total, repeats = run.wall_time, run.wall_time, 1
-        while total < MIN_TIMING and repeats < REPEATS:
-            again = integrate_adaptive(FREE_BODY, m0, rows, group, t_end, rtol=rtol, atol=atol)
-            best, total, repeats = min(best, again.wall_time), total + again.wall_time, repeats + 1
+        run, best = fastest_of(lambda: integrate_adaptive(FREE_BODY, m0, rows, group, t_end,
+                                                          rtol=rtol, atol=atol))
         ok = run.status == cv.STATUS_OK
         w_end = np.where(ok[:, None], run.x_final / moments, np.nan)
         tried = run.accepted + run.rejected
