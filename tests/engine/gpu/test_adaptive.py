@@ -1,6 +1,6 @@
 """The adaptive Dormand-Prince 5(4) loop on the GPU (stability.engine.gpu.adaptive) under the
-simulator: run_adaptive(device="gpu") gives the CPU's Dataset, events, stops and samples
-included, for the free body and for a scene of the user's own."""
+simulator: run_adaptive(device="gpu") gives the CPU's Dataset, events (recorded, and one that
+stops its members) and samples included, for the free body and for a scene of the user's own."""
 
 from ...helpers import GPU_TOLERANCE as TOLERANCE
 from ...helpers import needs_numba_cuda
