@@ -239,7 +239,6 @@ def _block(first, last, x, rows, group, t_end, rtol, atol, max_steps, directions
     row = np.zeros(LANES, dtype=np.int64)
     t = np.zeros(LANES)
     h = np.zeros(LANES)
-    h_new = np.zeros(LANES)
     tend = np.zeros(LANES)
     log_fac_old = np.zeros(LANES)
     was_rejected = np.zeros(LANES, dtype=np.bool_)
@@ -373,7 +372,7 @@ def _block(first, last, x, rows, group, t_end, rtol, atol, max_steps, directions
             log_e = math.log(e)  # e^EXPO1 / fac_old^BETA as one exponential
             fac = max(1.0 / FAC_MAX, min(1.0 / FAC_MIN,
                                          math.exp(EXPO1 * log_e - BETA * log_fac_old[l]) / SAFE))
-            h_new[l] = h[l] / fac
+            h_new = h[l] / fac
             if e > 1.0:
                 nrej[l] += 1
                 h[l] = h[l] / min(1.0 / FAC_MIN, math.exp(EXPO1 * log_e) / SAFE)
@@ -381,7 +380,7 @@ def _block(first, last, x, rows, group, t_end, rtol, atol, max_steps, directions
                 continue
             log_fac_old[l] = log_e if e > 1e-4 else LOG_FLOOR  # log(max(e, 1e-4))
             if was_rejected[l]:
-                h_new[l] = min(h_new[l], h[l])
+                h_new = min(h_new, h[l])
             was_rejected[l] = False
             nacc[l] += 1
             err[l] = e
@@ -446,7 +445,7 @@ def _block(first, last, x, rows, group, t_end, rtol, atol, max_steps, directions
             for k in range(m):
                 g_old[l, k] = g_new[l, k]
             t[l] = t_new
-            h[l] = h_new[l]
+            h[l] = h_new
             if t[l] >= tend[l]:
                 _finish(i, l, y, t, nacc, nrej, err, esum, used, STATUS_OK, -1, x, t_final,
                         accepted, rejected, error, error_sum, h_last, status, stop_event, lane)
