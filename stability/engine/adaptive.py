@@ -533,6 +533,16 @@ def checked_tolerances(rtol, atol, max_steps=MAX_STEPS) -> tuple[float, float, i
     return float(rtol), float(atol), int(max_steps)
 
 
+def adaptive_scene(scene, caller: str) -> Scene:
+    """``scene`` checked (:func:`~stability.engine.scene.checked_scene`) and with a vector field
+    to take adaptive steps on; a one-line ValueError naming the scenes that have one."""
+    scene = checked_scene(scene, caller)
+    if scene.linearisation is None:
+        raise ValueError(f"scene {scene.name!r} declares no vector field (a linearisation), so "
+                         f"it has no adaptive steps; {WITH_VECTOR_FIELD}")
+    return scene
+
+
 def checked_samples(samples) -> np.ndarray:
     """The sample times as a float64 array (S,); a one-line ValueError where they are not
     finite, >= 0 and ascending."""
@@ -607,12 +617,9 @@ def prepared_run(scene, x0, rows, group, t_end, *, rtol, atol, events=(), max_st
         The loop's arguments after the states (``integrate(out.x_final, *arguments)``), the
         arrays of ``out`` among them.
     """
-    scene = checked_scene(scene, "integrate_adaptive")
+    scene = adaptive_scene(scene, "integrate_adaptive")
     rtol, atol, max_steps = checked_tolerances(rtol, atol, max_steps)
     samples = checked_samples(samples)
-    if scene.linearisation is None:
-        raise ValueError(f"scene {scene.name!r} declares no vector field (a linearisation), so "
-                         f"it has no adaptive steps; {WITH_VECTOR_FIELD}")
     x = np.array(x0, dtype=float, ndmin=2, copy=True)
     rows = np.ascontiguousarray(np.atleast_2d(rows), dtype=float)
     group = np.ascontiguousarray(group, dtype=np.int64).reshape(-1)
@@ -692,5 +699,5 @@ def _bound(function, module: str) -> tuple[str, str]:
 
 
 __all__ = ["AdaptiveRun", "MAX_STEPS", "STATUS_FLAGS", "STATUS_MEANINGS", "WITH_VECTOR_FIELD",
-           "adaptive_loop", "checked_samples", "checked_tolerances", "integrate_adaptive",
+           "adaptive_loop", "adaptive_scene", "checked_samples", "checked_tolerances", "integrate_adaptive",
            "prepared_run"]

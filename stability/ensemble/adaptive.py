@@ -18,10 +18,10 @@ import numpy as np
 import xarray as xr
 
 from ..engine.adaptive import (
-    MAX_STEPS, WITH_VECTOR_FIELD, checked_samples, checked_tolerances, integrate_adaptive,
+    MAX_STEPS, adaptive_scene, checked_samples, checked_tolerances, integrate_adaptive,
 )
 from ..engine.events import checked_events
-from ..engine.scene import Scene, checked_scene
+from ..engine.scene import Scene
 from ..engine.user_scene import ParameterRow
 from ..output.dataset import header_attrs
 from ..util import conventions as cv
@@ -82,12 +82,9 @@ def run_adaptive(scene, x0, parameters, t_end, *, rtol, atol, events=(), samples
         One line, before any work: tolerances, shapes, sample times, events (a ``g`` that does
         not compile or returns no number, an unknown direction or action, a count < 1).
     """
-    scene = checked_scene(scene, "run_adaptive")
+    scene = adaptive_scene(scene, "run_adaptive")
     rtol, atol, max_steps = checked_tolerances(rtol, atol, max_steps)
     samples = checked_samples(samples)
-    if scene.linearisation is None:
-        raise ValueError(f"scene {scene.name!r} declares no vector field, so it has no adaptive "
-                         f"steps; {WITH_VECTOR_FIELD}")
     x0 = real_array("x0", x0, "the scene's units")
     if x0.ndim != 2 or x0.shape[1] != scene.width or x0.shape[0] == 0:
         raise ValueError(f"x0 must have shape (members, {scene.width}) for scene "

@@ -291,3 +291,18 @@ def test_the_error_against_dop853_is_within_1e_8_and_the_summed_estimates_bound_
     assert np.max(relative) < 1e-8
     assert np.mean(bounded) >= 0.99
     assert np.median(overestimate) < 1e3  # an estimate, not a wild bound
+
+
+def test_a_scene_without_a_vector_field_is_refused_naming_those_that_have_one():
+    from stability import run_adaptive
+    from stability.rolling.scene import ROLLING_BODY
+
+    start = np.zeros((1, ROLLING_BODY.width))
+    for call in (lambda: integrate_adaptive(ROLLING_BODY, start, [[0.0]], [0], 1.0, rtol=1e-6,
+                                            atol=1e-9),
+                 lambda: run_adaptive(ROLLING_BODY, start, np.zeros(8), 1.0, rtol=1e-6,
+                                      atol=1e-9)):
+        with pytest.raises(ValueError, match="'rolling_body' declares no vector field") as info:
+            call()
+        assert "heavy_top, sphere_damper and gyrostat" in str(info.value)
+        assert "\n" not in str(info.value)
