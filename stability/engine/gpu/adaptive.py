@@ -271,9 +271,7 @@ def integrate_adaptive_gpu(scene, x0, rows, group, t_end, *, rtol, atol, events=
     kernel[blocks, threads_per_block](*on_device)
     cuda.synchronize()
     out.wall_time = time.perf_counter() - t0
-    filled = {id(a) for a in (out.x_final, out.t_final, out.accepted, out.rejected, out.error,
-                              out.error_sum, out.h_last, out.status, out.event_count,
-                              out.event_time, out.stop_event, out.x_sample)}
+    filled = {id(a) for a in vars(out).values() if isinstance(a, np.ndarray)}  # the results
     for host, device in zip(arrays, on_device):
         if id(host) in filled:
             device.copy_to_host(host)
