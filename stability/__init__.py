@@ -22,7 +22,8 @@ from .free_body.model import axis_stability, growth_rate, omega_squared, oscilla
 from .core.body import Part, RigidBody
 from .free_body.exact import exact_omega, flip_interval, full_period
 from .free_body.integrate import integrate
-from .integrators import METHODS, MethodSpec, method_spec
+from .free_body.methods import METHODS, method_spec
+from .integrators.spec import MethodSpec
 from .free_body import accessor  # noqa: F401  (registers the ds.stability accessor)
 from .analysis.estimates import measured_frequency, measured_growth_rate
 from .analysis.regimes import member_regimes

@@ -32,10 +32,7 @@ LAYERS = {
 }
 
 #: Imports against the layer order still in the code, each with its reason, until it goes.
-UPWARD = {
-    ("integrators", "free_body"): "the exact flow is a method of the free body, registered in "
-                                  "METHODS with the others",
-}
+UPWARD: dict = {}
 
 #: Where a family builds on another, each importing module with its reason: no other module of a
 #: family imports another family, and the family's docstring names the modules it imports.

@@ -274,7 +274,7 @@ API_MODULES = (
                                  "analysis.periodic", "core.roots",
                                  "free_body.work_precision.drift", "free_body.reference")),
     ("Scenes, integrators and the engine", ("registry", "engine.scene", "engine.user_scene",
-                                            "integrators", "engine")),
+                                            "integrators", "free_body.methods", "engine")),
     ("Studies' library functions", ("free_body.twisting_racket.measure", "engine_body.measure",
                                      "struck.model", "struck.measure", "rolling.model",
                                      "rolling.measure", "heavy_top.measure",

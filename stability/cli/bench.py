@@ -67,7 +67,7 @@ from ..free_body.exact import exact_omega_of_starts
 from ..free_body.scene import FREE_BODY
 from ..heavy_top.exact import cos_theta, nutation_period
 from ..heavy_top.model import HeavyTop, tilted_starts
-from ..integrators import METHODS, method_spec
+from ..free_body.methods import METHODS, method_spec
 from ..integrators.spec import body_params
 from ..registry import SCENES
 from ..util.checks import positive_float, positive_int

@@ -431,7 +431,7 @@ def _cmd_studies(args) -> int:
 
 
 def _cmd_methods(args) -> int:
-    from ..integrators import METHODS
+    from ..free_body.methods import METHODS
 
     print(methods_table(METHODS, references=args.references))
     return 0

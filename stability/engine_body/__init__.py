@@ -17,9 +17,9 @@ It builds on the free body, whose flip it measures and whose scenes it shares th
 (:mod:`stability.free_body.scene_attitude`, the exact solution :mod:`stability.free_body.exact`
 and its flip intervals :mod:`stability.free_body.measure`, the linear theory
 :mod:`stability.free_body.model`, the attitude methods :mod:`stability.free_body.attitude`, the
-starts :mod:`stability.free_body.starts`), and on
+starts :mod:`stability.free_body.starts`, its methods :mod:`stability.free_body.methods`), and on
 the shared layers: :mod:`stability.core`, :mod:`stability.util`, :mod:`stability.integrators`
-(MethodSpec, rotations, the registry of the package's methods), :mod:`stability.engine.scene` (the
+(MethodSpec, rotations), :mod:`stability.engine.scene` (the
 scene contract), the scene-generic ensembles (:mod:`stability.ensemble.chunks`), the estimators
 (:mod:`stability.analysis`), :mod:`stability.output`, the Dataset register
 (:mod:`stability.ensemble.schema`), :mod:`stability.study` (the study framework) and

@@ -26,7 +26,7 @@ from ..analysis.estimates import flip_estimate, omega_squared_estimate
 from ..analysis.members import tracked_members
 from ..free_body.measure import exact_flip_intervals
 from ..free_body.exact import exact_omega
-from ..integrators import METHODS
+from ..free_body.methods import METHODS
 from ..output.dataset import storable_attrs
 from ..ensemble.chunks import run_plan
 from ..ensemble.options import RunOptions, run_options

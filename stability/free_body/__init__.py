@@ -17,11 +17,10 @@ The family's modules, each importing only downward:
 - :mod:`.figures`: Poinsot's construction, drawn from a body and a start;
 - one sub-package per study, each with its measurements, its study kind and its figures:
   :mod:`.tennis_racket`, :mod:`.stability_map`, :mod:`.work_precision`, :mod:`.twisting_racket`,
-  :mod:`.dispersion` (a dispersed body, :mod:`stability.uncertainty`).
-
-Its methods (RK4, the Lie-Poisson splittings, DMV, LGVI, RKMK4, the midpoint rule and the exact
-flow) are the package's methods on Euler's equations, which other families build on: they live
-in :mod:`stability.integrators`.
+  :mod:`.dispersion` (a dispersed body, :mod:`stability.uncertainty`);
+- :mod:`.methods`: its methods by name (``stability.METHODS``): RK4, the Lie-Poisson
+  splittings, DMV, LGVI, RKMK4 and the midpoint rule, the methods on Euler's equations of
+  :mod:`stability.integrators` that other families build on, and its own exact flow.
 
 This package's ``__init__`` imports nothing, so that the scene registry can import
 :mod:`.scene` without the rest.

@@ -19,7 +19,7 @@ from ..output.dataset import provenance_attrs, storable_attrs
 from .schema import TRAJECTORY
 from .propagate import propagate, untrusted
 from .timescales import default_timescales
-from ..integrators import method_spec
+from .methods import method_spec
 
 
 def integrate(

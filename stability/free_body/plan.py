@@ -12,7 +12,7 @@ import numpy as np
 from .attitude import FREE_BODY_SCENES, attitude_spec, carries_attitude
 from ..core.body import RigidBody
 from .keep import DEFAULT_DIVERGENCE_TOLERANCE
-from ..integrators import method_spec
+from .methods import method_spec
 from ..ensemble.memory import DEFAULT_MAX_MEMORY, limit_words, machine_memory
 from ..output.dataset import config_toml, summary_bytes
 from ..util.checks import positive_float, positive_int, real_array, step_count, vectors3

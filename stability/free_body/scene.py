@@ -15,7 +15,7 @@ from numba import njit
 from ..util import conventions as cv
 from ..core.body import RigidBody
 from .exact import exact_omega_of_starts
-from ..integrators import METHODS
+from .methods import METHODS
 from ..integrators.rk4 import euler_jvp, euler_rhs
 from ..integrators.spec import P_I1, P_INV1, body_params
 from ..engine.scene import Scene, component

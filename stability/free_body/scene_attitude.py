@@ -12,7 +12,7 @@ import numpy as np
 from numba import njit
 
 from ..util import conventions as cv
-from ..integrators import METHODS
+from .methods import METHODS
 from ..engine.scene import Scene
 from .scene import angular_momentum, energy, example as example_m, observe as observe_m
 from .scene import tracked as tracked_m

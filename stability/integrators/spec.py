@@ -16,12 +16,12 @@ stage. Kernels are ``njit(inline="always")`` so that the loop inlines them; the 
 call are ``njit(forceinline=True, error_model="numpy")`` where they are short
 (:mod:`stability.engine.loop`, "Inlining").
 
-Checklist for a new method (see ``stability/integrators/__init__.py``):
+Checklist for a new method (see :mod:`stability.free_body.methods`):
 
 1. Write the step kernel in a module of its family, with the equation it implements tagged.
 2. Declare a ``MethodSpec`` beside it: order, what it preserves, cost, reference.
 3. Measure its ``max_step_angle`` (below) and declare it on the spec.
-4. Add it to ``METHODS``; the generic order, invariant and step-bound tests pick it up from there
+4. Add it to ``METHODS`` of :mod:`stability.free_body.methods`; the generic order, invariant and step-bound tests pick it up from there
    (``tests/test_registry.py`` for every scene it runs).
 """
 

@@ -7,7 +7,6 @@ import math
 
 
 from ..core.body import RigidBody
-from ..integrators import METHODS
 from ..ensemble.memory import memory_problem
 from ..output.io import COMPRESSIONS
 
@@ -23,13 +22,6 @@ def preset_names() -> tuple:
     """The names of ``stability.RigidBody.presets()``, for a ``preset`` key's choices."""
 
     return tuple(RigidBody.presets())
-
-
-def method_names() -> tuple:
-    """The names of the registered integrators (``stability methods``), for a method key's
-    choices."""
-
-    return tuple(METHODS)
 
 
 def tossed_body_sections(rate_default: float = 10.0) -> tuple:

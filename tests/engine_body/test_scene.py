@@ -2,7 +2,7 @@
 package's methods."""
 
 from stability.engine_body.methods import ENGINE_RULES
-from stability.integrators import METHODS
+from stability.free_body.methods import METHODS
 
 from .test_methods import CONSISTENT, SCENE
 

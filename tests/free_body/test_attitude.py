@@ -18,7 +18,7 @@ from stability.free_body.attitude import (
 )
 from stability.util.conventions import STATUS_NONFINITE, STATUS_NOT_CONVERGED, STATUS_OK
 from stability.free_body.propagate import CHECK_EVERY, propagate
-from stability.integrators import METHODS
+from stability.free_body.methods import METHODS
 
 # Unsorted moments (canonical frame = a cyclic relabelling) and a tilted start, so the frame
 # conversions of m and q are exercised.

@@ -1,5 +1,5 @@
 """The exact torque-free solution and the flip interval (the ``exact`` method built on it is
-tested in ``tests/integrators/test_exact_flow.py``).
+tested in ``tests/free_body/test_methods.py``).
 
 References used here, each independent of the code under test:
 - scipy's DOP853 at rtol = atol = 1e-12 on Euler's equations written out in the test;

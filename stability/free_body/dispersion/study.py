@@ -22,8 +22,9 @@ from ...core.body import RigidBody
 from ...study.config import ConfigError, Key, Schema, Section
 from ...study.kind import StudyKind, StudySummary
 from ...study.outputs import output_files, write_outputs
+from ..methods import method_names
 from ...study.sections import (
-    MEMBER_BYTES, check_memory, check_run, method_names, output_section, run_section,
+    MEMBER_BYTES, check_memory, check_run, output_section, run_section,
     study_run_options, tossed_body_sections
 )
 from ...study.sensitivity import (

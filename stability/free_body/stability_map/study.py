@@ -29,7 +29,7 @@ from ..plan import ensemble_memory
 from ..schema import FTLE_IN_MAP
 from . import figures as figures
 from ..tennis_racket.flipsweep import flip_sweep
-from ...integrators import method_spec
+from ..methods import method_names, method_spec
 from ...output.dataset import software_attrs
 from ...output.store import ChunkStore
 from .ftle_map import ftle_map
@@ -41,7 +41,7 @@ from ...ensemble.options import RunOptions
 from ...study.config import UNSET, ConfigError, Key, Schema, Section
 from ...study.kind import StudyKind, StudySummary
 from ...study.outputs import output_files, write_outputs
-from ...study.sections import check_memory, check_run, method_names, output_section, scheduler_key
+from ...study.sections import check_memory, check_run, output_section, scheduler_key
 
 NAME = "stability_map"
 

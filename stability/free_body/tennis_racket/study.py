@@ -52,8 +52,9 @@ from ...util.formatting import format_bytes
 from ...study.config import UNSET, ConfigError, Key, Schema, Section
 from ...study.kind import StudyKind, StudySummary
 from ...study.outputs import output_files, write_outputs
+from ..methods import method_names
 from ...study.sections import (
-    check_memory, check_run, method_names, output_section, preset_names, run_section
+    check_memory, check_run, output_section, preset_names, run_section
 )
 
 NAME = "tennis_racket"

@@ -18,7 +18,7 @@ import numpy as np
 
 from .drift import envelope
 from .measure import ADAPTIVE
-from ...integrators import METHODS
+from ..methods import METHODS
 from ...plotting.style import EXACT_COLOR, label, new_figure, styled
 from ...util import conventions as cv
 

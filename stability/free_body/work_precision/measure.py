@@ -21,7 +21,7 @@ import numpy as np
 import xarray as xr
 
 from .drift import drift_kind, envelope, log_slope
-from ...integrators import METHODS
+from ..methods import METHODS
 from ..reference import METRICS
 from ..schema import WORK_PRECISION
 

@@ -32,7 +32,7 @@ from ...core.body import RigidBody
 from .drift import long_horizon
 from ..starts import perturbed_starts
 from . import figures as figures
-from ...integrators import METHODS, method_spec
+from ..methods import METHODS, method_names, method_spec
 from ...output.dataset import software_attrs
 from .sweeps import jittered_starts, step_grid, sweep_adaptive, sweep_method, sweep_scipy
 from ...util.progress import progress_bar
@@ -40,7 +40,7 @@ from ...util.threads import numba_threads
 from ...study.config import ConfigError, Key, Schema, Section
 from ...study.kind import StudyKind, StudySummary
 from ...study.outputs import output_files, write_outputs
-from ...study.sections import check_memory, method_names, output_section
+from ...study.sections import check_memory, output_section
 
 NAME = "work_precision"
 

@@ -1,5 +1,6 @@
-"""The exact flow as a one-step method (stability.integrators.exact_flow): registered, its kernel's
-increments reproduce exact_omega, and it runs and reverses through integrate."""
+"""The free body's methods (stability.free_body.methods): the table, and the exact flow as a
+one-step method: registered, its kernel's increments reproduce exact_omega, and it runs and
+reverses through integrate."""
 
 import math
 
@@ -9,8 +10,7 @@ import pytest
 import stability
 from stability import RigidBody, exact_omega
 from stability.free_body.exact import flow
-from stability.integrators import METHODS
-from stability.integrators.exact_flow import exact_step
+from stability.free_body.methods import METHODS, exact_step
 from stability.integrators.spec import body_params
 
 EPS = np.finfo(float).eps
