@@ -2,6 +2,7 @@
 
 import json
 import signal
+import threading
 
 import pytest
 
@@ -24,13 +25,28 @@ def body123():
     return stability.RigidBody(1.0, 2.0, 3.0, physical=False)
 
 
+def _simulate(folder):
+    (folder / "results.json").write_text(json.dumps(run_gpu_script(True)))
+
+
 @pytest.fixture(scope="module")
 def simulated(tmp_path_factory):
-    """The GPU kernels' results under the CUDA simulator (about 25 CPU s), made once in a run of
-    the suite (``tests/gpu_simulated.py``; tests/engine/gpu/__init__.py says why a subprocess)."""
-    folder = once_per_run(tmp_path_factory, "gpu_simulated", lambda folder: (
-        folder / "results.json").write_text(json.dumps(run_gpu_script(True))))
+    """The GPU kernels' results under the CUDA simulator (about 25 CPU s warm, minutes on a
+    clean clone), made once in a run of the suite (``tests/gpu_simulated.py``;
+    tests/engine/gpu/__init__.py says why a subprocess)."""
+    folder = once_per_run(tmp_path_factory, "gpu_simulated", _simulate)
     return json.loads((folder / "results.json").read_text())
+
+
+@pytest.fixture(scope="session", autouse=True)
+def simulate_in_the_background(request, tmp_path_factory):
+    """Where a test of the run reads :func:`simulated`, its results start being made at the
+    run's first test, in a thread that waits on the simulator's process: a worker that reaches
+    those tests then waits for what is left of it, not for all of it, while the tests before
+    them ran beside it (on a clean clone the wait had idled one of two workers for minutes)."""
+    if any("simulated" in getattr(item, "fixturenames", ()) for item in request.session.items):
+        threading.Thread(target=once_per_run, args=(tmp_path_factory, "gpu_simulated", _simulate),
+                         daemon=True).start()
 
 
 def pytest_collection_modifyitems(config, items):

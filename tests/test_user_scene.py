@@ -199,8 +199,9 @@ def test_a_worker_that_cannot_import_the_users_module_is_named_in_one_line(home,
     with distributed.LocalCluster(n_workers=1, threads_per_worker=1, processes=True,
                                   dashboard_address=None) as cluster, \
             distributed.Client(cluster) as client:
-        client.run(leave_path, str(folder))  # the worker inherited this process's path
-        (worker,) = client.scheduler_info()["workers"]
+        # the worker inherited this process's path; client.run answers by worker address
+        # (the client's scheduler_info can still be empty under load, before its first refresh)
+        (worker,) = client.run(leave_path, str(folder))
         with pytest.raises(ValueError) as info:
             run_plan(oscillator_run(scene),
                      RunOptions(store=tmp_path / "store", chunk_members=6, scheduler=client,
