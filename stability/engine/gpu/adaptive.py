@@ -42,6 +42,8 @@ def integrate(x, rows, group, t_end, rtol, atol, max_steps, directions, stops, k
     m = directions.shape[0]
     y = cuda.local.array({n}, float64)
     z = cuda.local.array({n}, float64)
+    c = cuda.local.array({n}, float64)
+    cz = cuda.local.array({n}, float64)
     s = cuda.local.array({n}, float64)
     a1 = cuda.local.array({n}, float64)
     k1 = cuda.local.array({n}, float64)
@@ -58,6 +60,7 @@ def integrate(x, rows, group, t_end, rtol, atol, max_steps, directions, stops, k
     order = cuda.local.array({m}, int64)
     for j in range(n):
         y[j] = x[i, j]
+        c[j] = 0.0
     tend = t_end[i]
     t = 0.0
     n_samples = samples.shape[0]
@@ -126,7 +129,11 @@ def integrate(x, rows, group, t_end, rtol, atol, max_steps, directions, stops, k
                                + A65 * k5[j])
         _f(s, p, k6)
         for j in range(n):
-            z[j] = y[j] + h * (B1 * k1[j] + B3 * k3[j] + B4 * k4[j] + B5 * k5[j] + B6 * k6[j])
+            d = h * (B1 * k1[j] + B3 * k3[j] + B4 * k4[j] + B5 * k5[j] + B6 * k6[j]) + c[j]
+            zj = y[j] + d
+            back = zj - y[j]
+            cz[j] = (y[j] - (zj - back)) + (d - back)
+            z[j] = zj
         _f(z, p, k7)
         for j in range(n):
             s[j] = h * (E1 * k1[j] + E3 * k3[j] + E4 * k4[j] + E5 * k5[j] + E6 * k6[j]
@@ -215,6 +222,7 @@ def integrate(x, rows, group, t_end, rtol, atol, max_steps, directions, stops, k
             break
         for j in range(n):
             y[j] = z[j]
+            c[j] = cz[j]
             k1[j] = k7[j]
         for k in range(m):
             g_old[k] = g_new[k]
