@@ -347,18 +347,17 @@ def adaptive_on_gpu():
     """run_adaptive on the GPU against the CPU: the free body with a stop event at its second
     down crossing (the first recorded) and samples, and the user's damped body with an event;
     every variable of the Datasets."""
-    from tests.engine.test_adaptive import middle_axis
     from tests.gpu_user_scene import DAMPED_BODY
-    from stability.free_body.scene import FREE_BODY
+    from stability.free_body.scene import FREE_BODY, flip_event
 
     m0 = starts()[:3] * MOMENTS
     x0, sets = DAMPED_BODY.example(2, seed=2)
     cases = {
         "free_body": (FREE_BODY, m0, MOMENTS, 20.0, [  # the loop the CPU tests compile
-            stability.Event(middle_axis, direction="down", action="stop", count=2,
+            stability.Event(flip_event, direction="down", action="stop", count=2,
                             name="second_down")]),
         "user_scene": (DAMPED_BODY, x0, sets[0], 10.0, [
-            stability.Event(middle_axis, count=3, name="w2_crossings")]),
+            stability.Event(flip_event, count=3, name="w2_crossings")]),
     }
     out = {}
     for name, (scene, start, parameters, t_end, events) in cases.items():

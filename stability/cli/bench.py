@@ -48,7 +48,6 @@ import time
 from dataclasses import dataclass, field
 
 import numpy as np
-from numba import njit
 
 from ..core.axes import intermediate_axis
 from ..free_body.model import euler_system
@@ -64,7 +63,7 @@ from ..free_body.keep import Keep
 from ..ensemble.options import RunOptions
 from ..free_body.starts import perturbed_starts
 from ..free_body.exact import exact_omega_of_starts
-from ..free_body.scene import FREE_BODY
+from ..free_body.scene import FREE_BODY, flip_event
 from ..heavy_top.exact import cos_theta, nutation_period
 from ..heavy_top.model import HeavyTop, tilted_starts
 from ..free_body.methods import METHODS, method_spec
@@ -203,7 +202,7 @@ def bench(members=10_000, steps=1000, threads=None, methods=None, scipy=True, nu
         if adaptive:
             numba.set_num_threads(threads[-1])
             log(f"timing adaptive dopri5 on {threads[-1]} thread(s) ...")
-            for events in ((), (Event(flip_crossing, count=4, name="flips"),)):
+            for events in ((), (Event(flip_event, count=4, name="flips"),)):
                 rows = [_time_adaptive(moments, m0, t_end, steps, reference, threads[-1],
                                        events) for _ in range(repeat)]
                 report.rows.append(min(rows, key=lambda row: row.wall))
@@ -355,12 +354,6 @@ def numpy_rk4(moments, m0, h, steps):
         m2 = m2 + sixth * (a2 + 2.0 * (b2 + c2) + d2)
         m3 = m3 + sixth * (a3 + 2.0 * (b3 + c3) + d3)
     return np.stack([m1, m2, m3], axis=1)
-
-
-@njit
-def flip_crossing(x, t, p):
-    """The event of the bench's adaptive row: m2 changes sign where the racket flips."""
-    return x[1]
 
 
 def _time_adaptive(moments, m0, t_end, steps, reference, threads, events=()) -> BenchRow:

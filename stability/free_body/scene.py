@@ -22,6 +22,28 @@ from ..engine.scene import Scene, component
 from ..engine.tangent import Linearisation
 
 
+@njit
+def flip_event(x, t, p):
+    """The g of an event (:class:`stability.Event`) at the free body's flips: ``m2``, the
+    component along the intermediate axis (canonical frame), changes sign at each one.
+
+    Parameters
+    ----------
+    x : ndarray
+        A member's state ``(m1, m2, m3)`` (kg m^2/s).
+    t : float
+        The time (s).
+    p : ndarray
+        The member's parameter row.
+
+    Returns
+    -------
+    float
+        ``m2``.
+    """
+    return x[1]
+
+
 @njit(inline="always")
 def observe(m1, m2, m3, p, ia, ib, ic):
     """Angular velocity along the spin axis ``ia`` and the perpendicular axes ``ib``, ``ic``."""

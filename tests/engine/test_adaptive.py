@@ -23,7 +23,7 @@ from stability.dissipation.scene import GYROSTAT, SPHERE_DAMPER
 from stability.engine.adaptive import checked_samples, checked_tolerances, integrate_adaptive
 from stability.engine.events import Event
 from stability.free_body.exact import flip_interval, flow
-from stability.free_body.scene import FREE_BODY, exact
+from stability.free_body.scene import FREE_BODY, exact, flip_event
 from stability.heavy_top.scene import HEAVY_TOP
 from stability.integrators.spec import body_params
 
@@ -53,11 +53,6 @@ def above_half(x, t, p):
 @njit
 def above_04(x, t, p):
     return x[0] - 0.4
-
-
-@njit
-def middle_axis(x, t, p):
-    return x[1]
 
 
 def oscillator_starts(n, seed=0):
@@ -142,7 +137,7 @@ def test_flip_times_agree_with_the_exact_schedule_to_1e_9():
     w0 = m0 / MOMENTS
     body = RigidBody(*MOMENTS, physical=False)
     run = integrate_adaptive(FREE_BODY, m0, body_params(MOMENTS), np.zeros(n, int), t_end,
-                             rtol=1e-12, atol=1e-15, events=Event(middle_axis, count=4))
+                             rtol=1e-12, atol=1e-15, events=Event(flip_event, count=4))
     found = run.event_time[:, 0]
     # the first crossing of the exact w2, by bisection in a bracket checked to hold it
     first = np.empty(n)
@@ -173,10 +168,10 @@ def test_a_stop_event_ends_a_member_at_its_located_time():
     w0 = m0 / MOMENTS
     body = RigidBody(*MOMENTS, physical=False)
     record = integrate_adaptive(FREE_BODY, m0, body_params(MOMENTS), np.zeros(n, int), 100.0,
-                                rtol=1e-12, atol=1e-15, events=Event(middle_axis, count=2))
+                                rtol=1e-12, atol=1e-15, events=Event(flip_event, count=2))
     stop = integrate_adaptive(FREE_BODY, m0, body_params(MOMENTS), np.zeros(n, int), 100.0,
                               rtol=1e-12, atol=1e-15,
-                              events=Event(middle_axis, action="stop", count=2))
+                              events=Event(flip_event, action="stop", count=2))
     assert np.array_equal(stop.t_final, record.event_time[:, 0, 1])
     assert np.all(stop.stop_event == 0) and np.all(stop.event_count[:, 0] == 2)
     assert np.max(np.abs(stop.x_final[:, 1])) < 1e-12
@@ -237,7 +232,7 @@ def test_samples_lie_on_the_exact_motion_and_leave_the_run_bitwise_unchanged():
     assert max(errors) < 2e-9  # measured 7.8e-10: the order-4 extension, against 9e-11 at t_end
     stop = integrate_adaptive(FREE_BODY, m0, body_params(MOMENTS), np.zeros(n, int), t_end,
                               rtol=1e-10, atol=1e-14, samples=samples,
-                              events=Event(middle_axis, action="stop"))
+                              events=Event(flip_event, action="stop"))
     past = samples[None, :] > stop.t_final[:, None]
     assert past.any() and np.all(np.isnan(stop.x_sample[past]))
     assert np.all(np.isfinite(stop.x_sample[~past]))

@@ -5,8 +5,8 @@ import numpy as np
 
 import stability
 from stability.ensemble.schema import ADAPTIVE_RUN
-from stability.free_body.scene import FREE_BODY
-from tests.engine.test_adaptive import MOMENTS, free_body_starts, middle_axis
+from stability.free_body.scene import FREE_BODY, flip_event
+from tests.engine.test_adaptive import MOMENTS, free_body_starts
 from tests.helpers import assert_cf_compliant
 
 
@@ -18,7 +18,7 @@ def run(**options):
     return stability.run_adaptive(
         FREE_BODY, m0, [MOMENTS, np.array([1.0, 1.5, 2.2])],
         np.linspace(20.0, 40.0, 24), rtol=1e-10, atol=1e-13, sizes=[10, 14],
-        events=stability.Event(middle_axis, count=3), samples=SAMPLES,
+        events=stability.Event(flip_event, count=3), samples=SAMPLES,
         options=stability.RunOptions(progress=False, **options))
 
 
