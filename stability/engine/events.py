@@ -17,6 +17,7 @@ sign twice within one step is not seen; a tighter ``rtol`` gives shorter steps.
 
 from __future__ import annotations
 
+import importlib
 import numbers
 import sys
 import types
@@ -82,6 +83,21 @@ class Event:
     def python(self):
         """The Python function of ``g``."""
         return getattr(self.g, "py_func", self.g)
+
+    def __reduce__(self):
+        """Pickled by reference to ``g`` (its module and name), as the compiled loop imports
+        it: a dask worker then holds its own module's ``g``, the one :func:`located` finds
+        there, not a copy rebuilt from the pickle; a ``g`` the loop could not import is the
+        one-line ValueError of :func:`located`."""
+        module, name = located(self.g)
+        return _by_reference, (module, name, self.direction, self.action, self.count,
+                               self.name)
+
+
+def _by_reference(module: str, name: str, direction: str, action: str, count: int,
+                  label: str) -> Event:
+    """The :class:`Event` of ``g`` = ``module.name``, imported (see :meth:`Event.__reduce__`)."""
+    return Event(getattr(importlib.import_module(module), name), direction, action, count, label)
 
 
 def located(function) -> tuple[str, str]:

@@ -1,6 +1,8 @@
 """The events of an adaptive run (stability.engine.events): a bad event, or a g that does not
 compile or returns no number, is one line before any work."""
 
+import pickle
+
 import pytest
 
 from stability.engine.adaptive import integrate_adaptive
@@ -40,4 +42,19 @@ def test_a_g_that_does_not_compile_or_returns_no_number_is_one_line_before_any_w
     with pytest.raises(error, match=message) as info:
         integrate_adaptive(OSCILLATOR, [[1.0, 0.0]], [[1.0]], [0], 1.0, rtol=1e-6, atol=1e-9,
                            events=Event(g))
+    assert "\n" not in str(info.value)
+
+
+def test_an_event_travels_by_reference_to_its_g():
+    """Pickled for a dask worker, an event names its g: unpickled, it holds the module's own
+    function (what the compiled loop imports there), not a copy of it; a g the loop could not
+    import is one line when pickled."""
+    from stability.free_body.scene import flip_event
+
+    event = Event(flip_event, direction="up", action="stop", count=3, name="flip")
+    back = pickle.loads(pickle.dumps(event))
+    assert back == event and back.g is flip_event
+    assert pickle.loads(pickle.dumps(Event(position))).g is position
+    with pytest.raises(ValueError, match="must be defined at the top level") as info:
+        pickle.dumps(Event(lambda x, t, p: x[0]))
     assert "\n" not in str(info.value)

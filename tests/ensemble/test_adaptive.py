@@ -2,6 +2,7 @@
 piece as chunked into a store."""
 
 import numpy as np
+import pytest
 
 import stability
 from stability.ensemble.schema import ADAPTIVE_RUN
@@ -41,3 +42,20 @@ def test_the_dataset_is_as_declared_and_the_same_bitwise_in_one_piece_as_in_a_ch
     for name in whole.data_vars:
         assert np.array_equal(whole[name].values, stored[name].values, equal_nan=True), name
     assert stored.sizes["member"] == 24
+
+
+def test_one_thread_two_threads_and_two_dask_workers_give_the_same_bits(tmp_path):
+    """Members of one chunk take different numbers of steps, and who runs them changes nothing:
+    one Numba thread, two, and two worker processes of a dask cluster (each chunk of 7 a task,
+    the loop loaded from the disk cache there) give bitwise the same Dataset."""
+    distributed = pytest.importorskip("distributed")
+    two = run(threads=2)
+    assert len(np.unique(two.accepted_steps)) > 10  # the lanes end at different steps
+    one = run(threads=1)
+    with distributed.LocalCluster(n_workers=2, threads_per_worker=1, processes=True,
+                                  dashboard_address=None) as cluster, \
+            distributed.Client(cluster) as client:
+        there = run(store=tmp_path / "store", chunk_members=7, scheduler=client)
+    for name in two.data_vars:
+        assert np.array_equal(one[name].values, two[name].values, equal_nan=True), name
+        assert np.array_equal(there[name].values, two[name].values, equal_nan=True), name
