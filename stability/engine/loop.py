@@ -213,7 +213,7 @@ from stability.engine.loop import (
 )
 from {step_module} import {step_name} as step
 from {observe_module} import {observe_name} as observe
-
+{event_header}
 # Rows of the block's float work array w (state x, compensation c, stage sums d, tracking) and
 # of its integer array iw.
 {rows}
@@ -222,7 +222,7 @@ from {observe_module} import {observe_name} as observe
 @njit(nogil=True, error_model="numpy")
 def _block(
     b, x, comp, params, block_lo, block_size, block_group, hs, steps, step0, save_every, saved,
-    k0, status, fail_step, iterations, axes, track, levels, thresholds, passage,
+    k0, status, fail_step, iterations, axes, track, levels, thresholds, passage,{event_args}
 ):
     tracking = track.shape[0] > 0
     lo = block_lo[b]
@@ -251,7 +251,7 @@ def _block(
         for j in range(size):
             w[MAX_AMP2 + j] = tr[T_MAX_AMP2, j]
             w[NEXT_THRESHOLD + j] = th[int(tr[T_NEXT_LEVEL, j])]
-    k = k0[g]
+{event_load}    k = k0[g]
     for n in range(n_steps):
 {stages}
         if tracking:
@@ -277,7 +277,7 @@ def _block(
         else:
             for j in range(size):
 {advance_plain}
-        if (first_step + n + 1) % CHECK_EVERY == 0:  # global steps: chunking changes nothing
+{event_pass}        if (first_step + n + 1) % CHECK_EVERY == 0:  # global steps: chunking changes nothing
             for j in range(size):
                 now_bad = not_finite({total})
                 first = now_bad == 1 and iw[BAD + j] == 0
@@ -311,21 +311,180 @@ def _block(
         for col in range(N_TRACK):
             for j in range(size):
                 track[lo + j, col] = tr[col, j]
-
+{event_store}
 
 
 @njit(nogil=True, error_model="numpy")
 def advance(
     blocks, x, comp, params, block_lo, block_size, block_group, hs, steps, step0, save_every,
-    saved, k0, status, fail_step, iterations, axes, track, levels, thresholds, passage,
+    saved, k0, status, fail_step, iterations, axes, track, levels, thresholds, passage,{event_args}
 ):
     for k in range(blocks.shape[0]):
         _block(
             blocks[k], x, comp, params, block_lo, block_size, block_group, hs, steps, step0,
             save_every, saved, k0, status, fail_step, iterations, axes, track, levels,
-            thresholds, passage,
+            thresholds, passage,{event_args}
         )
 '''
+
+
+#: The event arguments the loop takes with events: per event its direction code, whether it
+#: stops, times kept; per member (carried between calls) each g at the current state, the
+#: crossings counted, the times kept, and where and when a stop event ended the member.
+EVENT_ARGS = ("ev_dir", "ev_stop", "ev_keep", "ev_prev", "ev_count", "ev_time", "stop_x",
+              "stop_t", "stop_event")
+
+_EVENT_HELPERS = '''
+
+@njit(forceinline=True, error_model="numpy")
+def _g(k, y, t, p):
+{g_calls}
+    return 0.0
+
+
+@njit(error_model="numpy")
+def _flow(y, tau, p, out):
+    """The method's own step of length tau from y, its stages as the loop takes them: the
+    continuous extension an event is located on (the exact flow, for an exact method)."""
+{d_zero}
+    for s in range({stages}):
+        {es}, it = step({shifted}, tau, p, s)
+{d_add}
+{out_set}
+
+
+@njit(error_model="numpy")
+def _root(k, y, t0, h, ga, gb, p, out):
+    """The time of event k's sign change in [t0, t0 + h]: Illinois on g along _flow."""
+    a = t0
+    b = t0 + h
+    side = 0
+    best, gbest = (a, ga) if abs(ga) < abs(gb) else (b, gb)
+    for _ in range(200):
+        if b - a <= 4.0 * 2.220446049250313e-16 * max(abs(a), abs(b)):
+            break
+        c = b - gb * (b - a) / (gb - ga)
+        if not (a < c < b):
+            c = 0.5 * (a + b)
+        _flow(y, c - t0, p, out)
+        gc = _g(k, out, c, p)
+        if abs(gc) < abs(gbest):
+            best, gbest = c, gc
+        if gc == 0.0:
+            break
+        if (gc < 0.0) == (gb < 0.0):
+            b, gb = c, gc
+            if side == -1:
+                ga *= 0.5
+            side = -1
+        else:
+            a, ga = c, gc
+            if side == 1:
+                gb *= 0.5
+            side = 1
+    return best
+
+
+@njit(error_model="numpy")
+def _step_events(i, y, t0, h, p, gp, gn, ev_dir, ev_stop, ev_keep, ev_count, ev_time, stop_x,
+                 stop_t, stop_event, t_hit, order, out):
+    """Member i's crossings in the step from y at t0: located, taken in the order of their
+    times (then of the events), counted and kept; a stop event's last one ends the member
+    there (its state and time kept in stop_x, stop_t)."""
+    hits = 0
+    for k in range(gn.shape[0]):
+        up = gp[k] < 0.0 and gn[k] >= 0.0
+        down = gp[k] >= 0.0 and gn[k] < 0.0
+        if (up and ev_dir[k] >= 0) or (down and ev_dir[k] <= 0):
+            order[hits] = k
+            hits += 1
+    for q in range(hits):
+        k = order[q]
+        t_hit[k] = _root(k, y, t0, h, gp[k], gn[k], p, out)
+    for q in range(1, hits):
+        k = order[q]
+        w = q
+        while w > 0 and t_hit[order[w - 1]] > t_hit[k]:
+            order[w] = order[w - 1]
+            w -= 1
+        order[w] = k
+    for q in range(hits):
+        k = order[q]
+        ev_count[i, k] += 1
+        if ev_count[i, k] <= ev_keep[k]:
+            ev_time[i, k, ev_count[i, k] - 1] = t_hit[k]
+        if ev_stop[k] != 0 and ev_count[i, k] == ev_keep[k]:
+            _flow(y, t_hit[k] - t0, p, out)
+            for c in range(out.shape[0]):
+                stop_x[i, c] = out[c]
+            stop_t[i] = t_hit[k]
+            stop_event[i] = k
+            return
+'''
+
+
+def event_source(width, stages, events) -> dict:
+    """The template's event parts: the loop without events has none of them (the same source
+    as before events existed); with events, each step evaluates every g at the new state of
+    every member not stopped, and the members where one changed sign are finished by
+    ``_step_events``, which locates each crossing on the method's own step from the state
+    before (``_flow``) by the Illinois method. Time is the loop's, ``steps x h`` from 0."""
+    keys = ("event_header", "event_args", "event_load", "event_pass", "event_store")
+    if not events:
+        return dict.fromkeys(keys, "")
+    m = len(events)
+    header = []
+    for k, (module, name, compiled) in enumerate(events):
+        header.append(f"from {module} import {name} as user_g{k}")
+        python = f"user_g{k}.py_func" if compiled else f"user_g{k}"  # inlined into the loop
+        header.append(f'g{k} = njit(inline="always", error_model="numpy")({python})')
+    ds = [f"d{i}" for i in range(width)]
+    helpers = _EVENT_HELPERS.format(
+        g_calls="\n".join(f"    if k == {k}:\n        return float(g{k}(y, t, p))"
+                          for k in range(m)),
+        stages=stages, es=", ".join(f"e{i}" for i in range(width)),
+        shifted=", ".join(f"y[{i}] + d{i}" for i in range(width)),
+        d_zero=_indent([f"{d} = 0.0" for d in ds], 1),
+        d_add=_indent([f"d{i} += e{i}" for i in range(width)], 2),
+        out_set=_indent([f"out[{i}] = y[{i}] + d{i}" for i in range(width)], 1))
+    load = ["ys = np.empty(NW)", "yo = np.empty(NW)", "out = np.empty(NW)",
+            "gp = np.empty(NE)", "gn = np.empty(NE)", "t_hit = np.empty(NE)",
+            "order = np.empty(NE, dtype=np.int64)",
+            "for j in range(size):",
+            "    w[STOPPED + j] = 1.0 if stop_event[lo + j] >= 0 else 0.0"]
+    fill = [f"ys[{i}] = w[X{i} + j]" for i in range(width)]
+    load += ["    if first_step == 0:  # each g at the start"] + ["        " + f for f in fill]
+    load += [f"        w[GP{k} + j] = _g({k}, ys, 0.0, p)" for k in range(m)]
+    load += ["    else:"] + [f"        w[GP{k} + j] = ev_prev[lo + j, {k}]" for k in range(m)]
+    # A pass of its own after the commit, which stays the vector loop it is without events
+    # (g inside it made that loop scalar): each g at the new state of every member not
+    # stopped (its state a strided view of the block's rows), and whether it changed sign.
+    step_pass = ["t_new = (first_step + n + 1) * h", "any_hit = 0", "for j in range(size):",
+                 "    hit = False"]
+    step_pass += ["    xv = w[j:j + NW * BLOCK:BLOCK]  # member j's state: X0 ... are rows 0 ..."]
+    for k in range(m):
+        step_pass += [f"    gv = _g({k}, xv, t_new, p)", f"    hit |= crossed(w[GP{k} + j], gv)",
+                      f"    w[GN{k} + j] = gv"]
+    step_pass += ["    hit &= w[STOPPED + j] == 0.0",
+                  "    w[EHIT + j] = 1.0 if hit else 0.0", "    any_hit |= 1 if hit else 0",
+                  "if any_hit != 0:",
+                  "    for j in range(size):",
+                  "        if w[EHIT + j] == 0.0:",
+                  "            continue"]
+    step_pass += [f"        yo[{i}] = w[XO{i} + j]" for i in range(width)]
+    step_pass += [f"        gp[{k}] = w[GP{k} + j]" for k in range(m)]
+    step_pass += [f"        gn[{k}] = w[GN{k} + j]" for k in range(m)]
+    step_pass += ["        _step_events(lo + j, yo, t_new - h, h, p, gp, gn, ev_dir, ev_stop, "
+                  "ev_keep, ev_count, ev_time, stop_x, stop_t, stop_event, t_hit, order, out)",
+                  "        w[STOPPED + j] = 1.0 if stop_event[lo + j] >= 0 else 0.0",
+                  "for j in range(size):"]
+    step_pass += [f"    w[GP{k} + j] = w[GN{k} + j]" for k in range(m)]
+    store = ["for j in range(size):"] + [f"    ev_prev[lo + j, {k}] = w[GP{k} + j]"
+                                         for k in range(m)]
+    return {"event_header": "\n".join(header) + f"\n\nNW = {width}\nNE = {m}\n" + helpers,
+            "event_args": " " + ", ".join(EVENT_ARGS) + ",",
+            "event_load": _indent(load, 1) + "\n", "event_pass": _indent(step_pass, 2) + "\n",
+            "event_store": _indent(store, 1) + "\n"}
 
 
 def _indent(lines, depth):
@@ -333,7 +492,7 @@ def _indent(lines, depth):
 
 
 def render(scene_name, method_name, width, stages, implicit, step, observe,
-           compensated=True) -> str:
+           compensated=True, events=()) -> str:
     """Source of the member loop for one (scene, method) pair; see the module docstring.
 
     Parameters
@@ -352,6 +511,9 @@ def render(scene_name, method_name, width, stages, implicit, step, observe,
         and the tracking kernel ``observe(x_0, ..., x_{width-1}, p, ia, ib, ic) -> (a, b, c)``.
     compensated : bool
         Kahan-compensated update (the default), or the plain ``x += d`` (for benchmarks).
+    events : sequence of (str, str, bool)
+        Each event's ``g`` as (module, name, whether it is already ``@njit``): the loop then
+        takes the event arrays too (:func:`event_source`).
 
     The kernel's increments go to the stage sums ``D`` in one loop and are committed in
     another, with or without tracking: the kernel is inlined once (compile time), and the
@@ -361,6 +523,9 @@ def render(scene_name, method_name, width, stages, implicit, step, observe,
     rows = [f"X{i}" for i in range(width)] + [f"C{i}" for i in range(width)]
     rows += [f"D{i}" for i in range(width)]
     rows += ["OLD_A", "OLD_B", "OLD_C", "MAX_AMP2", "NEXT_THRESHOLD", "EVENT"]
+    if events:  # the state before the step, each event's g before and after it, a hit flag
+        rows += [f"XO{i}" for i in range(width)] + ["EHIT", "STOPPED"]
+        rows += [f"GP{k}" for k in range(len(events))] + [f"GN{k}" for k in range(len(events))]
     irows = ["BAD", "FIRST_BAD", "NONCONV", "FIRST_NONCONV", "ITERS"]
     row_lines = [f"{name} = {k} * BLOCK" for k, name in enumerate(rows)]
     row_lines += [f"N_ROWS = {len(rows)}", ""]
@@ -412,7 +577,8 @@ def render(scene_name, method_name, width, stages, implicit, step, observe,
     update = commit(ds)
     # Tracked: the state before the update, the update, and the events of the step.
     tracked = [f"x_old{i} = {xs(i)}" for i in range(width)]
-    tracked += update
+    kept_old = [f"w[XO{i} + j] = {xs(i)}" for i in range(width)] if events else []
+    tracked += kept_old + update
     tracked += [
         f"a0, b0, c0 = observe({old}, p, ia, ib, ic)",
         f"va, vb, vc = observe({state}, p, ia, ib, ic)",
@@ -437,9 +603,10 @@ def render(scene_name, method_name, width, stages, implicit, step, observe,
         load=_indent(load, 2),
         stages=_indent(stage_loops, 2),
         advance_tracked=_indent(tracked, 4),
-        advance_plain=_indent(update, 4),
+        advance_plain=_indent(kept_old + update, 4),
         total=" + ".join(xs(i) for i in range(width)),
         state=state,
         save=_indent(save, 4),
         store=_indent(store, 2),
+        **event_source(width, stages, events),
     )

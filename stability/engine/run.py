@@ -30,6 +30,7 @@ from .cache import compiling, load_module
 from .loop import BLOCK, CHECK_EVERY, N_TRACK, T_FIRST_A, T_FIRST_B, T_LAST_A, T_LAST_B
 from .loop import T_MAX_AMP2, T_NEXT_LEVEL, T_PREV_A, T_PREV_AMP2, T_PREV_B, T_COUNT_A
 from .loop import T_COUNT_B, level_thresholds, render
+from .events import ACTIONS, DIRECTIONS, located
 from .scene import checked_scene
 
 #: Wall time a chunk of steps aims at (s): short enough for a live progress bar and a prompt
@@ -41,7 +42,7 @@ FIRST_CHUNK = 64
 _LOOPS: dict = {}
 
 
-def compiled_loop(scene, spec, compensated=True):
+def compiled_loop(scene, spec, compensated=True, events=()):
     """The member loop of ``scene`` with method ``spec`` (a Numba dispatcher), made once.
 
     Rendered and imported through the disk cache (:mod:`stability.engine.cache`); compiled on
@@ -55,6 +56,9 @@ def compiled_loop(scene, spec, compensated=True):
         A method of the scene.
     compensated : bool, default True
         Kahan-compensated update; False only to measure what compensation costs.
+    events : tuple of Event, optional
+        Events the loop locates (:mod:`stability.engine.events`): a loop of its own, which
+        takes the event arrays of :class:`MemberArrays` too.
 
     Returns
     -------
@@ -68,11 +72,13 @@ def compiled_loop(scene, spec, compensated=True):
         bound to its own name, so the rendered loop cannot import it.
     """
     kernel = scene.kernel(spec)
-    key = (scene.name, spec.name, kernel, compensated)
+    gs = tuple((*located(event.g), hasattr(event.g, "py_func")) for event in events)
+    key = (scene.name, spec.name, kernel, compensated, gs)
     if key not in _LOOPS:
         source = render(scene.name, spec.name, scene.width, spec.stages, spec.implicit, kernel,
-                        scene.observe, compensated)
-        stem = f"{scene.name}__{spec.name}" + ("" if compensated else "__plain")
+                        scene.observe, compensated, gs)
+        stem = f"{scene.name}__{spec.name}" + ("" if compensated else "__plain") + (
+            f"__events{len(gs)}" if gs else "")
         for function in (kernel, scene.observe):
             home = sys.modules.get(function.py_func.__module__)
             if getattr(home, function.py_func.__name__, None) is not function:
@@ -82,14 +88,16 @@ def compiled_loop(scene, spec, compensated=True):
                     f"own name in {function.py_func.__module__}, so the compiled loop can "
                     "import it"
                 )
-        roots = (kernel.py_func.__module__, scene.observe.py_func.__module__,
-                 "stability.engine.loop")
-        code = (kernel.py_func, scene.observe.py_func)
+        functions = [event.python for event in events]
+        roots = tuple(dict.fromkeys([kernel.py_func.__module__, scene.observe.py_func.__module__,
+                                     "stability.engine.loop"]
+                                    + [f.__module__ for f in functions]))
+        code = (kernel.py_func, scene.observe.py_func, *functions)
         _LOOPS[key] = load_module(stem, source, roots, code).advance
     return _LOOPS[key]
 
 
-def loop_ready(advance, width, n_params) -> float:
+def loop_ready(advance, width, n_params, n_events=0) -> float:
     """Compile or load ``advance`` for the standard argument types; the seconds it took.
 
     Ctrl-C (or SIGTERM, through :func:`~stability.util.interrupts.request_stop`) during the
@@ -112,11 +120,21 @@ def loop_ready(advance, width, n_params) -> float:
                 np.zeros((1, 0, width)), np.zeros(1, i64), np.zeros(1, np.int8),
                 np.full(1, -1, i64), np.zeros(1, i64), np.zeros((1, 3), i64),
                 np.zeros((0, N_TRACK)), np.zeros((1, 0)), np.full((1, 1), np.inf),
-                np.zeros((1, 0)),
+                np.zeros((1, 0)), *_event_arrays_for_types(width, n_events),
             )
     if interrupt.requested:
         raise KeyboardInterrupt
     return time.perf_counter() - t0
+
+
+def _event_arrays_for_types(width, n_events) -> tuple:
+    """Arrays of the types the loop with ``n_events`` events takes for them (none without)."""
+    if not n_events:
+        return ()
+    i64 = np.int64
+    return (np.zeros(n_events, i64), np.zeros(n_events, i64), np.ones(n_events, i64),
+            np.zeros((1, n_events)), np.zeros((1, n_events), i64), np.zeros((1, n_events, 1)),
+            np.zeros((1, width)), np.zeros(1), np.zeros(1, i64))
 
 
 @dataclass
@@ -318,7 +336,7 @@ def tracking_results(track, passage):
 
 def propagate_groups(
     scene, method, x0, params, sizes, h, n_steps, *, save_every=0, axes=None, levels=None,
-    progress=None, chunk_steps=None, compensated=True, label=None, partial=False,
+    progress=None, chunk_steps=None, compensated=True, label=None, partial=False, events=(),
 ):
     """Advance groups of members of ``scene`` with ``method``, in the kernels' frame.
 
@@ -361,11 +379,18 @@ def propagate_groups(
     partial : bool, default False
         On Ctrl-C, return what was done (``interrupted`` True, ``steps_done`` short) instead
         of raising: for callers that keep the completed part of a run.
+    events : tuple of Event, optional
+        Events (checked, :func:`stability.engine.events.checked_events`) whose crossings the
+        loop locates on each step of the method itself (:func:`stability.engine.loop.
+        event_source`); a stop event ends its member at the located time and state (its
+        ``x_final``; the loop's later steps of it are dropped).
 
     Returns
     -------
     Propagation
-        In the kernels' frame; ``steps_done`` per group; tracking results in ``extras``.
+        In the kernels' frame; ``steps_done`` per group; tracking results in ``extras``, and
+        with events ``event_count`` (N, E), ``event_time`` (N, E, K), ``stop_event`` (N,, -1:
+        none) and ``t_final`` (N,, the stop's time or the end's).
 
     Raises
     ------
@@ -374,11 +399,13 @@ def propagate_groups(
     """
     scene = checked_scene(scene, "propagate_groups")
     spec = scene.method(method)
-    advance = compiled_loop(scene, spec, compensated)
-    arrays = member_arrays(scene, x0, params, sizes, h, n_steps, save_every, axes, levels)
+    events = tuple(events)
+    advance = compiled_loop(scene, spec, compensated, events)
+    arrays = member_arrays(scene, x0, params, sizes, h, n_steps, save_every, axes, levels,
+                           events)
     a = arrays
     saved = np.empty((a.x.shape[0], a.n_saved, scene.width))
-    compile_time = loop_ready(advance, scene.width, a.params.shape[1])
+    compile_time = loop_ready(advance, scene.width, a.params.shape[1], len(events))
     done = np.zeros(a.sizes.size, dtype=np.int64)
     k_saved = np.zeros(a.sizes.size, dtype=np.int64)
 
@@ -388,7 +415,7 @@ def propagate_groups(
         run_blocks(advance, block_size * this[block_group], threads, (
             a.x, a.comp, a.params, block_lo, block_size, block_group, a.hs, this, done,
             save_every, saved, k_saved, a.status, a.fail_step, a.iterations, a.axes, a.track,
-            a.levels, a.thresholds, a.passage,
+            a.levels, a.thresholds, a.passage, *a.event_arrays,
         ))
 
     wall, interrupted = run_in_chunks(
@@ -427,6 +454,7 @@ class MemberArrays:
     fail_step: np.ndarray
     iterations: np.ndarray
     n_saved: int
+    event_arrays: tuple = ()
 
     def propagation(self, saved, done, k_saved, interrupted, wall, compile_time) -> Propagation:
         """The result once the loop has done ``done`` steps per group and saved ``k_saved``
@@ -437,6 +465,7 @@ class MemberArrays:
         lost = (status == 0) & ~np.all(np.isfinite(x), axis=1)
         status[lost] = 1
         fail_step[lost] = np.repeat(done, self.sizes)[lost]
+        ended = _stopped(self, status, fail_step, done)
         kept = int(k_saved.max()) if self.sizes.size else 0
         saved = saved[:, :kept]
         if self.sizes.size > 1 and kept:
@@ -446,13 +475,29 @@ class MemberArrays:
             x_final=x, saved=saved, status=status, fail_step=fail_step,
             iterations=self.iterations, steps_done=done, interrupted=interrupted,
             wall_time=wall, compile_time=compile_time,
-            extras={} if self.track.shape[0] == 0 else tracking_results(self.track,
-                                                                         self.passage),
+            extras={**({} if self.track.shape[0] == 0 else
+                       tracking_results(self.track, self.passage)), **ended},
         )
 
 
+def _stopped(arrays, status, fail_step, done) -> dict:
+    """With events: the members a stop event ended take its located state as ``x_final``
+    (status ok: a state that stopped being finite later was past their end), and the event
+    results by name (see :func:`propagate_groups`)."""
+    if not arrays.event_arrays:
+        return {}
+    _, _, _, _, count, times, stop_x, stop_t, stop_event = arrays.event_arrays
+    ended = stop_event >= 0
+    arrays.x[ended] = stop_x[ended]
+    status[ended] = 0
+    fail_step[ended] = -1
+    t_end = np.repeat(done * arrays.hs, arrays.sizes)
+    return {"event_count": count, "event_time": times, "stop_event": stop_event,
+            "t_final": np.where(ended, stop_t, t_end)}
+
+
 def member_arrays(scene, x0, params, sizes, h, n_steps, save_every=0, axes=None,
-                  levels=None) -> MemberArrays:
+                  levels=None, events=()) -> MemberArrays:
     """Lay out groups of members of ``scene`` for the loop; arguments as
     :func:`propagate_groups` takes them. ValueError for shapes that do not fit."""
     x = np.array(x0, dtype=float, order="C", copy=True)
@@ -489,7 +534,24 @@ def member_arrays(scene, x0, params, sizes, h, n_steps, save_every=0, axes=None,
         fail_step=np.full(n_members, -1, dtype=np.int64),
         iterations=np.zeros(n_members, dtype=np.int64),
         n_saved=int(total.max(initial=0)) // save_every if save_every > 0 else 0,
+        event_arrays=_event_arrays(events, n_members, scene.width),
     )
+
+
+def _event_arrays(events, n_members, width) -> tuple:
+    """The loop's event arrays (:data:`stability.engine.loop.EVENT_ARGS`) for ``events``
+    before any step: nothing counted, no time kept, no member stopped (each g at the start is
+    computed by the loop at its first step)."""
+    if not events:
+        return ()
+    m = len(events)
+    keep = max(event.count for event in events)
+    return (np.array([DIRECTIONS[e.direction] for e in events], dtype=np.int64),
+            np.array([ACTIONS[e.action] for e in events], dtype=np.int64),
+            np.array([e.count for e in events], dtype=np.int64),
+            np.zeros((n_members, m)), np.zeros((n_members, m), dtype=np.int64),
+            np.full((n_members, m, keep), np.nan), np.full((n_members, width), np.nan),
+            np.full(n_members, np.nan), np.full(n_members, -1, dtype=np.int64))
 
 
 def _per_group(value, dtype, shape) -> np.ndarray:
