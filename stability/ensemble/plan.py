@@ -11,11 +11,13 @@ and where it runs (:class:`~stability.ensemble.options.RunOptions`) never change
 from __future__ import annotations
 
 import hashlib
+import inspect
 from dataclasses import dataclass, replace
 
 import numpy as np
 
 from ..engine import propagate_groups
+from ..engine.events import located
 from ..engine.run import Propagation
 from ..engine.scene import Scene, checked_scene
 
@@ -59,6 +61,9 @@ class Plan:
         round-off, not bitwise, so the device is part of a stored run's identity).
     chunk_steps : int, optional
         Steps per call of the loop (:func:`propagate_groups`); never changes the result.
+    events : tuple of Event, default ()
+        User events the member loop locates (:func:`propagate_groups`; checked by the caller,
+        :func:`stability.engine.events.checked_events`); the CPU's loop only.
     starts : callable, optional
         The start rule, instead of ``x0``: ``starts(lo, hi)`` gives the initial states of
         members ``lo ... hi - 1`` alone (the same whichever members are asked with them);
@@ -80,11 +85,16 @@ class Plan:
     device: str = "cpu"
     chunk_steps: int | None = None
     starts: object = None
+    events: tuple = ()
 
     def __post_init__(self):
         checked_scene(self.scene, "Plan")
         if self.device not in ("cpu", "gpu"):
             raise ValueError(f"device must be 'cpu' or 'gpu', got {self.device!r}")
+        if self.events and self.device == "gpu":
+            raise ValueError("events run on the CPU's fixed-step loop, not yet on the GPU's: "
+                             "run them with device='cpu', or on the GPU with adaptive steps "
+                             "(stability.run_adaptive)")
         if (self.x0 is None) == (self.starts is None):
             raise ValueError("give the starts as x0 or as a rule, starts=, not both")
         normalised = object.__setattr__  # frozen: the arrays are set once, here
@@ -132,6 +142,8 @@ class Plan:
         return {"scene": self.scene.name, **({"scene_source": source} if source else {}),
                 **({"starts": rule()} if self.starts is not None else {}),
                 **({"device": self.device} if self.device != "cpu" else {}),
+                **({"events": [_event_identity(e) for e in self.events]} if self.events
+                   else {}),
                 "method": getattr(self.method, "name", self.method),
                 "save_every": self.save_every,
                 "arrays": {name: None if a is None else _digest(a) for name, a in arrays.items()}}
@@ -160,9 +172,23 @@ class Plan:
         return propagator(self.scene, self.method, self.x0, self.params, self.sizes, self.h,
                           self.n_steps, save_every=self.save_every, axes=self.axes,
                           levels=self.levels, progress=progress, chunk_steps=self.chunk_steps,
-                          label=self.label, partial=partial)
+                          label=self.label, partial=partial,
+                          **({"events": self.events} if self.events else {}))
 
 
+
+
+def _event_identity(event) -> dict:
+    """An event as a store's fingerprint holds it: where its g is and a digest of its source
+    (an edited g is another run), and what it keeps."""
+    module, name = located(event.g)
+    try:
+        source = inspect.getsource(event.python)
+    except (OSError, TypeError):  # no source file: its compiled code stands for it
+        source = event.python.__code__.co_code.hex()
+    return {"g": f"{module}.{name}", "g_source": hashlib.sha256(source.encode()).hexdigest(),
+            "direction": event.direction, "action": event.action, "count": event.count,
+            "name": event.name}
 
 
 def _digest(a: np.ndarray) -> str:

@@ -22,6 +22,7 @@ from dataclasses import dataclass, replace
 import numpy as np
 import xarray as xr
 
+from ..engine.events import checked_events
 from ..engine.loop import N_TRACK
 from .memory import memory_problem
 from ..output.dataset import header_attrs, method_attrs, storable_attrs
@@ -47,7 +48,7 @@ TRACKED = ("axis_crossings", "first_axis_crossing", "last_axis_crossing", "perp_
 
 def run_scene(scene, method, x0, parameters, *, h, n_steps, sizes=None, save_every=0,
               axes=None, levels=None, tracked_units=None, options=None,
-              label=None) -> xr.Dataset:
+              label=None, events=()) -> xr.Dataset:
     """Run members of ``scene`` with ``method`` in groups and return their labelled Dataset.
 
     Parameters
@@ -101,6 +102,11 @@ def run_scene(scene, method, x0, parameters, *, h, n_steps, sizes=None, save_eve
         the machine has).
     label : str, optional
         The progress bar's label.
+    events : Event or sequence of Event, optional
+        User events (:class:`stability.Event`): each ``g(x, t, p)``'s sign changes located on
+        the method's own step (the exact flow for an exact method) to round-off in ``t``,
+        kept as ``event_count`` and ``event_time``; a stop event ends its member at the
+        located state (``t_final``, the final state there). Time ``t`` starts at 0. On the CPU.
 
     Returns
     -------
@@ -160,6 +166,7 @@ def run_scene(scene, method, x0, parameters, *, h, n_steps, sizes=None, save_eve
                          "states only (save_every=0)")
     numbers = _numbers(scene, spec, sets)
     rows = _rows(scene, spec, sets, hs)
+    events = checked_events(events, np.asarray(x0[0], dtype=float), rows[0])
     axes, levels, tracked_units = _tracking(scene, axes, levels, tracked_units, groups)
     if chunk_members is not None:
         chunk_members = positive_int("chunk_members", chunk_members)
@@ -167,7 +174,8 @@ def run_scene(scene, method, x0, parameters, *, h, n_steps, sizes=None, save_eve
     measure = SceneMeasure(
         scene=scene, method=spec.name, sets=sets, numbers=numbers,
         named=named, sizes=sizes, h=hs, n_steps=steps, save_every=save_every, axes=axes,
-        levels=levels, tracked_units=tracked_units or "")
+        levels=levels, tracked_units=tracked_units or "",
+        events=tuple(event.name for event in events))
     measure.declaration()  # two variables of one name: refused before any work
     n_saved = int(steps.max()) // save_every if save_every else 0
     if store is not None and chunk_members is None:
@@ -190,7 +198,7 @@ def run_scene(scene, method, x0, parameters, *, h, n_steps, sizes=None, save_eve
         raise ValueError(f"x0 must be finite; its row {row} is not")
     plan = Plan(scene, spec.name, x0, rows, sizes, hs, steps, save_every=save_every, axes=axes,
                 levels=levels, label=label or f"{scene.name} ({spec.name})",
-                device=options.device, chunk_steps=options.chunk_steps)
+                device=options.device, chunk_steps=options.chunk_steps, events=events)
     return run_plan(plan, replace(options, chunk_members=chunk_members), measure=measure)
 
 
@@ -231,6 +239,8 @@ class SceneMeasure:
     levels : ndarray, shape (G, L), or None
     tracked_units : str
         Units of the tracked amplitude ("" without tracking).
+    events : tuple of str, default ()
+        The names of the run's events.
     """
 
     scene: Scene
@@ -245,6 +255,7 @@ class SceneMeasure:
     axes: np.ndarray | None
     levels: np.ndarray | None
     tracked_units: str
+    events: tuple = ()
 
     @property
     def n_saved(self) -> int:
@@ -284,6 +295,8 @@ class SceneMeasure:
             series[:, 0] = x0
             series[:, 1:1 + run.saved.shape[1]] = run.saved
             coords[cv.TIME] = np.arange(self.n_saved + 1) * (self.save_every * self.h[0])
+            if self.events:  # a stopped member's series ends where it stopped
+                series[coords[cv.TIME][None, :] > run.extras["t_final"][:, None]] = np.nan
             data.update({c: series[:, :, k] for k, c in enumerate(scene.components)})
         data.update({f"{c}_start": x0[:, k] for k, c in enumerate(scene.components)})
         data.update({f"{c}_final": x1[:, k] for k, c in enumerate(scene.components)})
@@ -293,6 +306,10 @@ class SceneMeasure:
         data["iterations"] = np.asarray(run.iterations, dtype=np.int64)
         for name, invariant in scene.invariants.items():
             data[f"{name}_drift"] = self._drift(invariant, x0, x1, group, ok)
+        if self.events:
+            coords["event"] = np.array(self.events)
+            data.update({name: run.extras[name] for name in
+                         ("t_final", "stop_event", "event_count", "event_time")})
         if self.axes is not None:
             tracked = self._tracked(run.extras, ok)
             if "passage_time" in tracked:

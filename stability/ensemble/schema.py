@@ -514,6 +514,9 @@ _TRACK = "track"
 _COMPONENT_VALUE = ("the state as the scene's kernels hold it; members whose status is not ok "
                     "keep what the loop left")
 
+_EVENTS = "runs with events"
+_OCCURRENCE = "occurrence"
+
 SCENE_RUN = SceneSchema(
     "scene_run", "a run of any scene's members in groups, per member and per group",
     "stability.run_scene", "", {
@@ -524,6 +527,8 @@ SCENE_RUN = SceneSchema(
         LEVEL: coordinate(LEVEL, _TRACKED_UNITS, "amplitude level across the spin axis of the "
                           "passage times", optional="runs that track at levels (axes and "
                           "levels given)", comment="the levels of every group, ascending"),
+        "event": coordinate("event", ONE, "user event (the name of its function)", kind="U",
+                            optional=_EVENTS),
         COMPONENT: variable((MEMBER, TIME), _OWN, f"{COMPONENT} (state component) at each saved "
                             "time", optional=_SERIES, comment=_COMPONENT_VALUE + "; NaN past the "
                             "end of a shorter group"),
@@ -544,6 +549,17 @@ SCENE_RUN = SceneSchema(
                                        "over the run, (I(end) - I(0)) / |I(0)|",
                                        optional="scenes that declare invariants",
                                        comment="NaN where the invariant is 0 at the start"),
+        "t_final": variable(MEMBER, SECOND, "time the member's run ended", optional=_EVENTS,
+                            comment="the end of its group's steps, or a stop event's located "
+                                    "time (the final state is the one there)"),
+        "stop_event": variable(MEMBER, ONE, "event that stopped the member (-1: none)",
+                               kind="i", optional=_EVENTS),
+        "event_count": variable((MEMBER, "event"), ONE, "crossings of the event found",
+                                kind="i", optional=_EVENTS),
+        "event_time": variable((MEMBER, "event", _OCCURRENCE), SECOND, "time of each crossing "
+                               "of the event, in order", optional=_EVENTS, comment=(
+                                   "located on the method's own step from the state before "
+                                   "it; NaN past the crossings found or kept")),
         "axis_crossings": variable(MEMBER, ONE, "sign changes of the tracked spin-axis quantity",
                                    kind="i", optional=_TRACKING),
         "first_axis_crossing": variable(MEMBER, SECOND, "time of the first sign change of the "
@@ -587,9 +603,7 @@ SCENE_RUN = SceneSchema(
         "`stability.ensemble.schema.SCENE_RUN.of(...)` gives one scene's declaration"))
 
 
-_EVENTS = "runs with events"
 _SAMPLES = "runs with sample times"
-_OCCURRENCE = "occurrence"
 
 ADAPTIVE_RUN = SceneSchema(
     "adaptive_run", "a run of any scene's members with adaptive Dormand-Prince 5(4) steps and "

@@ -103,3 +103,40 @@ def test_every_registered_scene_declares_what_it_tracks_and_a_tracked_run_takes_
                              levels=[0.1], options=stability.RunOptions(progress=False))
     assert ds.max_perp_amplitude.attrs["units"] == ds.level.attrs["units"] == "1"
     assert ds.attrs["tracked_units"] == "1"
+
+
+def test_a_scenes_run_with_events_keeps_them_as_declared_and_the_same_in_a_chunked_store(
+        tmp_path):
+    """Events through run_scene: the crossings and a stop in the Dataset as the register
+    declares them, the stopped members' final states and series ending at their stop, and a
+    store in chunks bitwise the run in one piece; on the GPU, one line."""
+    from stability.engine.events import Event
+    from stability.free_body.scene import FREE_BODY, flip_event
+    from tests.engine.test_adaptive import MOMENTS, free_body_starts
+    from tests.helpers import assert_cf_compliant
+
+    m0 = free_body_starts(20, seed=6)
+    events = [Event(flip_event, count=3, name="flips"),
+              Event(flip_event, action="stop", count=2, name="second_flip")]
+
+    def run(**options):
+        return stability.run_scene(FREE_BODY, "exact", m0, MOMENTS, h=0.2, n_steps=300,
+                                   save_every=5, events=events,
+                                   options=stability.RunOptions(progress=False, **options))
+
+    whole = run()
+    assert_declared(stability.save(whole, tmp_path / "events.nc"), "scene_run")
+    assert_cf_compliant(tmp_path / "events.nc")
+    assert whole.event.values.tolist() == ["flips", "second_flip"]
+    assert np.all(whole.stop_event == 1) and np.all(whole.event_count.sel(event="flips") == 2)
+    assert np.array_equal(whole.t_final, whole.event_time.sel(event="flips")[:, 1])
+    assert np.max(np.abs(whole.m2_final)) < 1e-12  # each member ends at its second flip
+    after = whole.time > whole.t_final
+    assert after.any() and bool(np.isnan(whole.m1.where(after, np.nan)).all())  # past it
+    assert not np.isnan(whole.m1.where(~after, 0.0)).any()
+    stored = run(store=tmp_path / "store", chunk_members=6)
+    for name in whole.variables:
+        assert whole[name].equals(stored[name]), name
+    with pytest.raises(ValueError, match="not yet on the GPU") as info:
+        run(device="gpu")
+    assert "\n" not in str(info.value)
