@@ -236,6 +236,15 @@ COMPLEX = np.array([1.0, 2.0, 3.0j])
 #: name -> (call, fragment of the ValueError's message).
 APOPHIS = (0.61, 0.965, 1.0)
 
+def g_that_raises(x, t, p):
+    """An event's g that fails at the start (a user's bug)."""
+    return x[0] / 0 if x[0] != 0.0 else 1 // 0
+
+
+def first_component(x, t, p):
+    return x[0]
+
+
 API = {
     "tumbler mode neither SAM nor LAM": (
         lambda: asteroid.spin_states(APOPHIS, 263.0, 27.38, "XAM"),
@@ -464,6 +473,24 @@ API = {
                                     {"I1": 1.0, "I2": 2.0, "I3": 3.0, "J": 0.2}, **SCENE_RUN),
         "parameter set 0: scene 'sphere_damper': the parameter set must name exactly I1, I2, "
         "I3, J, c (or give those numbers in that order); missing: c"),
+    "event whose g raises (scene)": (
+        lambda: stability.run_scene("heavy_top", "lp2", TOP_STARTS, TOP, **SCENE_RUN,
+                                    events=stability.Event(g_that_raises)),
+        "event 'g_that_raises': g(x, t, p) raised ZeroDivisionError"),
+    "event g not at the top level (scene)": (
+        lambda: stability.run_scene("heavy_top", "lp2", TOP_STARTS, TOP, **SCENE_RUN,
+                                    events=stability.Event(lambda x, t, p: x[0])),
+        "must be defined at the top level of its module (tests.test_bad_input) under its own "
+        "name, so the compiled loop can import it"),
+    "two events of one name (scene)": (
+        lambda: stability.run_scene("heavy_top", "lp2", TOP_STARTS, TOP, **SCENE_RUN,
+                                    events=[stability.Event(first_component)] * 2),
+        "two events are named 'first_component'; give them names of their own"),
+    "events on the GPU's fixed steps (scene)": (
+        lambda: stability.run_scene("heavy_top", "lp2", TOP_STARTS, TOP, **SCENE_RUN,
+                                    events=stability.Event(first_component),
+                                    options=stability.RunOptions(device="gpu")),
+        "events run on the CPU's fixed-step loop, not yet on the GPU's"),
     "run beyond memory (scene)": (
         lambda: stability.run_scene("heavy_top", "lp2", TOP_STARTS, TOP, h=0.01,
                                     n_steps=10**12, save_every=1),
