@@ -106,6 +106,7 @@ from stability.engine.adaptive import (
     B6, BETA, BLOCK, C2, C3, C4, C5, D1, D3, D4, D5, D6, D7, E1, E3, E4, E5, E6, E7, EXPO1,
     FAC_MAX, FAC_MIN, LANES, LOG_FLOOR, SAFE,
 )
+from stability.engine.events import taken_in_order
 from stability.util.conventions import (
     STATUS_MAX_STEPS, STATUS_NONFINITE, STATUS_OK, STATUS_STEP_TOO_SMALL,
 )
@@ -422,21 +423,7 @@ def _block(first, last, x, rows, group, t_end, rtol, atol, max_steps, directions
                 for q in range(hits):
                     k = order[q]
                     t_hit[k] = _root(k, r[l], t0, t_new - t0, g_old[l, k], g_new[l, k], p, a2)
-                for q in range(1, hits):  # in the order of their times (then of the events)
-                    k = order[q]
-                    w = q
-                    while w > 0 and t_hit[order[w - 1]] > t_hit[k]:
-                        order[w] = order[w - 1]
-                        w -= 1
-                    order[w] = k
-                for q in range(hits):
-                    k = order[q]
-                    counts[i, k] += 1
-                    if counts[i, k] <= keep[k]:
-                        times[i, k, counts[i, k] - 1] = t_hit[k]
-                    if stops[k] and counts[i, k] == keep[k]:
-                        stopped = k
-                        break
+                stopped = taken_in_order(order, hits, t_hit, counts[i], times[i], keep, stops)
             t_upto = t_hit[stopped] if stopped >= 0 else t_new
             while si[l] < n_samples and samples[si[l]] <= t_upto:  # samples within the step
                 if samples[si[l]] == t_new:
@@ -694,7 +681,8 @@ def _loop(scene: Scene, gs: tuple):
         lane_stores="\n".join(f"        out[{i}, l] = f{i}" for i in range(n)),
         g_calls="\n".join(g_calls) or "    pass")
     functions = [lin.rhs.py_func] + [getattr(g, "py_func", g) for g in gs]
-    roots = tuple(dict.fromkeys([rhs_module, "stability.engine.adaptive"]
+    roots = tuple(dict.fromkeys([rhs_module, "stability.engine.adaptive",
+                                 "stability.engine.events"]
                                 + [f.__module__ for f in functions]))
     stem = f"{scene.name}__dopri5" + (f"__events{len(gs)}" if gs else "")
     return load_module(stem, source, roots, tuple(functions)).integrate

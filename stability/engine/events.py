@@ -100,6 +100,31 @@ def _by_reference(module: str, name: str, direction: str, action: str, count: in
     return Event(getattr(importlib.import_module(module), name), direction, action, count, label)
 
 
+@njit(error_model="numpy")
+def taken_in_order(order, hits, t_hit, count, times, keep, stops) -> int:
+    """The crossings of one step, ``order[:hits]`` (event numbers) at the located times
+    ``t_hit``, taken in the order of their times (then of the events): each counted in
+    ``count[k]``, its time kept in ``times[k]`` while its count is at most ``keep[k]``. Returns
+    the event whose ``count``-th crossing stops the member (``stops[k]``; later crossings of the
+    step are not taken), or -1. The compiled loops, fixed-step and adaptive, finish a step with
+    it."""
+    for q in range(1, hits):
+        k = order[q]
+        w = q
+        while w > 0 and t_hit[order[w - 1]] > t_hit[k]:
+            order[w] = order[w - 1]
+            w -= 1
+        order[w] = k
+    for q in range(hits):
+        k = order[q]
+        count[k] += 1
+        if count[k] <= keep[k]:
+            times[k, count[k] - 1] = t_hit[k]
+        if stops[k] and count[k] == keep[k]:
+            return k
+    return -1
+
+
 def located(function) -> tuple[str, str]:
     """``(module, name)`` where ``function`` is bound at the top level, so that a compiled
     loop can import it; a one-line ValueError where it is not."""
@@ -168,4 +193,4 @@ def _tried(event: Event, x, p) -> None:
                         f"{type(out).__name__}")
 
 
-__all__ = ["ACTIONS", "DIRECTIONS", "Event", "checked_events", "located"]
+__all__ = ["ACTIONS", "DIRECTIONS", "Event", "checked_events", "located", "taken_in_order"]

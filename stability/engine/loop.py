@@ -401,25 +401,13 @@ def _step_events(i, y, t0, h, p, gp, gn, ev_dir, ev_stop, ev_keep, ev_count, ev_
     for q in range(hits):
         k = order[q]
         t_hit[k] = _root(k, y, t0, h, gp[k], gn[k], p, out)
-    for q in range(1, hits):
-        k = order[q]
-        w = q
-        while w > 0 and t_hit[order[w - 1]] > t_hit[k]:
-            order[w] = order[w - 1]
-            w -= 1
-        order[w] = k
-    for q in range(hits):
-        k = order[q]
-        ev_count[i, k] += 1
-        if ev_count[i, k] <= ev_keep[k]:
-            ev_time[i, k, ev_count[i, k] - 1] = t_hit[k]
-        if ev_stop[k] != 0 and ev_count[i, k] == ev_keep[k]:
-            _flow(y, t_hit[k] - t0, p, out)
-            for c in range(out.shape[0]):
-                stop_x[i, c] = out[c]
-            stop_t[i] = t_hit[k]
-            stop_event[i] = k
-            return
+    k = taken_in_order(order, hits, t_hit, ev_count[i], ev_time[i], ev_keep, ev_stop)
+    if k >= 0:
+        _flow(y, t_hit[k] - t0, p, out)
+        for c in range(out.shape[0]):
+            stop_x[i, c] = out[c]
+        stop_t[i] = t_hit[k]
+        stop_event[i] = k
 '''
 
 
@@ -433,7 +421,7 @@ def event_source(width, stages, events) -> dict:
     if not events:
         return dict.fromkeys(keys, "")
     m = len(events)
-    header = []
+    header = ["from stability.engine.events import taken_in_order"]
     for k, (module, name, compiled) in enumerate(events):
         header.append(f"from {module} import {name} as user_g{k}")
         python = f"user_g{k}.py_func" if compiled else f"user_g{k}"  # inlined into the loop

@@ -91,6 +91,7 @@ def compiled_loop(scene, spec, compensated=True, events=()):
         functions = [event.python for event in events]
         roots = tuple(dict.fromkeys([kernel.py_func.__module__, scene.observe.py_func.__module__,
                                      "stability.engine.loop"]
+                                    + (["stability.engine.events"] if events else [])
                                     + [f.__module__ for f in functions]))
         code = (kernel.py_func, scene.observe.py_func, *functions)
         _LOOPS[key] = load_module(stem, source, roots, code).advance
