@@ -75,8 +75,8 @@ MAX_COVERED_ELSEWHERE = 20
 #: MAX_COVERED_ELSEWHERE of them.
 COVERED_ELSEWHERE = {
     "stability.asteroid.figures": "tests/asteroid/studies/test_tumbler.py",
-    "stability.dissipation.figures": "tests/dissipation/test_studies.py, "
-                                     "tests/dissipation/test_dual_spin.py",
+    "stability.dissipation.figures": "tests/dissipation/studies/test_explorer.py, "
+                                     "tests/dissipation/studies/test_dual_spin.py",
     "stability.earth.figures": "tests/earth/test_wobble.py, tests/earth/studies/test_equinoxes.py",
     "stability.engine_body.figures": "tests/engine_body/studies/test_engine_artefacts.py",
     "stability.free_body.stability_map.figures": "tests/free_body/stability_map/test_study.py",

@@ -285,8 +285,8 @@ API_MODULES = (
                                      "free_body.stability_map.shapes",
                                      "free_body.tennis_racket.flipsweep", "free_body.polhodes")),
     ("Energy dissipation: damped bodies and dual spin", (
-        "dissipation.model", "dissipation.measure", "dissipation.explorer",
-        "dissipation.gyrostat", "dissipation.dual_spin", "dissipation.figures")),
+        "dissipation.model", "dissipation.measure", "dissipation.model_gyrostat",
+        "dissipation.measure_gyrostat", "dissipation.figures")),
     ("Figures and animations", ("plotting.animation", "free_body.animation",
                                 "heavy_top.animation", "free_body.figures")),
 )
