@@ -43,8 +43,8 @@ BUILDS_ON = {
     ("stability.asteroid.measure", "free_body"): "periods read off the exact attitude",
     ("stability.earth.model", "free_body"): "Euler's wobble is the free body's oscillation "
                                             "about its stable axis",
-    ("stability.earth.wobble", "free_body"): "the wobble is run as a free-body ensemble and "
-                                             "integration",
+    ("stability.earth.measure", "free_body"): "the wobble is run as a free-body ensemble and "
+                                              "integration",
     ("stability.engine_body.scene", "free_body"): "the engines' state starts where the attitude "
                                                   "scene's does",
     ("stability.engine_body.measure", "free_body"): "the engines' flips against the exact "
@@ -77,7 +77,7 @@ COVERED_ELSEWHERE = {
     "stability.asteroid.figures": "tests/asteroid/studies/test_tumbler.py",
     "stability.dissipation.figures": "tests/dissipation/studies/test_explorer.py, "
                                      "tests/dissipation/studies/test_dual_spin.py",
-    "stability.earth.figures": "tests/earth/test_wobble.py, tests/earth/studies/test_equinoxes.py",
+    "stability.earth.figures": "tests/earth/test_measure.py, tests/earth/studies/test_equinoxes.py",
     "stability.engine_body.figures": "tests/engine_body/studies/test_engine_artefacts.py",
     "stability.free_body.stability_map.figures": "tests/free_body/stability_map/test_study.py",
     "stability.free_body.twisting_racket.figures": "tests/free_body/twisting_racket/test_study.py",
