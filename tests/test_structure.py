@@ -37,8 +37,8 @@ UPWARD: dict = {}
 #: Where a family builds on another, each importing module with its reason: no other module of a
 #: family imports another family, and the family's docstring names the modules it imports.
 BUILDS_ON = {
-    ("stability.asteroid.spin_state", "free_body"): "the spin state from the periods inverts "
-                                                    "the free body's exact solution",
+    ("stability.asteroid.model", "free_body"): "the spin state from the periods inverts the "
+                                               "free body's exact solution",
     ("stability.asteroid.lightcurve", "free_body"): "a light curve observes the exact attitude",
     ("stability.asteroid.measure", "free_body"): "periods read off the exact attitude",
     ("stability.earth.model", "free_body"): "Euler's wobble is the free body's oscillation "
