@@ -19,7 +19,7 @@ import numpy as np
 
 import stability
 from stability.dissipation import model
-from stability.dissipation.explorer import measure_explorer
+from stability.dissipation.measure import measure_explorer
 
 body = model.EXPLORER_1
 I_s, I_t = body.moments[:2]

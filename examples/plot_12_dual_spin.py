@@ -9,9 +9,10 @@ gave the rule: with a damper dissipating :math:`D_i` on body :math:`i`, which se
 at the frequency :math:`\\lambda_i = h / A_t - \\omega_i`, the nutation decays iff
 :math:`D_p / \\lambda_p + D_r / \\lambda_r > 0`.
 
-Here the body is the registered scene ``gyrostat`` (:mod:`stability.dissipation.gyrostat`): an
-axisymmetric platform spinning at 1 rad/s, a rotor on a free bearing along its axis, a viscous
-spherical damper on the platform or in the rotor. First a despun platform, by the
+Here the body is the registered scene ``gyrostat``
+(:mod:`stability.dissipation.model_gyrostat`): an axisymmetric platform spinning at 1 rad/s, a
+rotor on a free bearing along its axis, a viscous spherical damper on the platform or in the
+rotor. First a despun platform, by the
 eigenvalues; then a small map over the inertia ratio and the rotor's speed, each cell run
 with RK4 and its nutation's rate measured against the eigenvalue.
 """
@@ -20,9 +21,10 @@ import matplotlib.pyplot as plt
 import numpy as np
 
 import stability
-from stability.dissipation import gyrostat
-from stability.dissipation.dual_spin import DualSpinBody, measure_dual_spin
+from stability.dissipation import model_gyrostat
 from stability.dissipation.figures import dual_spin_map_figure
+from stability.dissipation.measure_gyrostat import measure_dual_spin
+from stability.dissipation.model_gyrostat import DualSpinBody
 
 # %%
 # A despun platform (:math:`\omega_p = 0`) on a minor-axis body (:math:`A_3 / A_t = 0.6`), the
@@ -30,10 +32,10 @@ from stability.dissipation.figures import dual_spin_map_figure
 # same damper stabilises on the platform and destabilises in the rotor.
 for where, values in (("platform", [100.0, 100.0, 60.0, 25.0, 5.0, 0.4, 5.0, 0.0]),
                       ("rotor", [100.0, 100.0, 60.0, 25.0, 5.0, 0.0, 5.0, 0.4])):
-    rate = gyrostat.growth_rate(gyrostat.eigenvalues(values, 0.0, 3.0))
-    sink = gyrostat.energy_sink_rate(values, 0.0, 3.0)
+    rate = model_gyrostat.growth_rate(model_gyrostat.eigenvalues(values, 0.0, 3.0))
+    sink = model_gyrostat.energy_sink_rate(values, 0.0, 3.0)
     print(f"damper on the {where}: growth rate {rate:+.5f} 1/s (energy sink {sink:+.5f})")
-h, lam_p, lam_r = gyrostat.nutation_frequencies(values, 0.0, 3.0)
+h, lam_p, lam_r = model_gyrostat.nutation_frequencies(values, 0.0, 3.0)
 print(f"h = {h:g} kg m2/s, lambda_p = {lam_p:+.3f} rad/s, lambda_r = {lam_r:+.3f} rad/s")
 
 # %%

@@ -5,7 +5,7 @@ A tumbling asteroid: Apophis from its two periods to its light curve
 Apophis tumbles in a short-axis mode (Pravec et al., Icarus 233, 48 (2014)): from its moment
 ratios :math:`I_1/I_3 = 0.61`, :math:`I_2/I_3 = 0.965` and its periods
 :math:`P_\psi = 263` h (rotation about the short axis) and :math:`P_\phi = 27.38` h (mean
-precession of that axis about :math:`L`), :func:`stability.asteroid.spin_state.spin_states`
+precession of that axis about :math:`L`), :func:`stability.asteroid.model.spin_states`
 finds the states they fit, with their :math:`E/E_0`. The synthetic Lommel-Seeliger light curve
 of the SAM state (a uniform ellipsoid of those moments, the attitude exact) has its strongest
 line at :math:`2 (f_\phi - f_\psi)`, the :math:`P_1 = 30.56` h of the paper.
@@ -15,7 +15,7 @@ import matplotlib.pyplot as plt
 import numpy as np
 
 from stability.asteroid.lightcurve import lightcurve, main_frequencies, spectrum
-from stability.asteroid.spin_state import spin_states
+from stability.asteroid.model import spin_states
 
 states = spin_states((0.61, 0.965, 1.0), 263.0, 27.38)
 for s in states:

@@ -37,7 +37,7 @@ import pytest
 import stability
 from stability.free_body import model as analytic, attitude, propagate as driver, exact
 from stability.analysis.members import zero_crossings
-from stability.asteroid import shape as asteroid_shape, spin_state as asteroid
+from stability.asteroid import model as asteroid
 from stability.core.body import Part
 from stability.free_body.ensemble import run_ensembles
 from stability.free_body.starts import perturbed_starts
@@ -260,10 +260,10 @@ API = {
         lambda: asteroid.spin_states((0.3, 0.6, 1.0), 263.0, 27.38),
         "violate the triangle inequality I3 <= I1 + I2"),
     "shape model open": (
-        lambda: asteroid_shape.mass_properties(
+        lambda: asteroid.mass_properties(
             (np.eye(3).tolist() + [[0.0, 0.0, 0.0]], [[0, 1, 2], [0, 3, 1], [1, 3, 2]])),
         "mesh: the mesh is open or has edges shared by more than two facets"),
-    "shape model missing": (lambda: asteroid_shape.mass_properties("no/such/shape.obj"),
+    "shape model missing": (lambda: asteroid.mass_properties("no/such/shape.obj"),
                             "no/such/shape.obj: no such file"),
     "complex moment": (lambda: stability.RigidBody(1 + 0j, 2.0, 3.0), "I1 must be a number"),
     "boolean moment": (lambda: stability.RigidBody(True, 2.0, 3.0), "I1 must be a number"),

@@ -28,7 +28,7 @@ ALSO_INSTALLS = {"matplotlib": ("mpl_toolkits",)}
 OPTIONAL = {
     "distributed": ("distributed", "stability.output.stream"),
     "numba.cuda": ("gpu", "stability.engine.gpu"),
-    "trimesh": ("shapes", "stability.asteroid.shape"),
+    "trimesh": ("shapes", "stability.asteroid.model"),
 }
 
 

@@ -8,6 +8,7 @@ are those it has reached.
 """
 
 import ast
+import importlib
 from pathlib import Path
 
 from .test_dependencies import internal_imports, modules
@@ -37,14 +38,14 @@ UPWARD: dict = {}
 #: Where a family builds on another, each importing module with its reason: no other module of a
 #: family imports another family, and the family's docstring names the modules it imports.
 BUILDS_ON = {
-    ("stability.asteroid.spin_state", "free_body"): "the spin state from the periods inverts "
-                                                    "the free body's exact solution",
+    ("stability.asteroid.model", "free_body"): "the spin state from the periods inverts the "
+                                               "free body's exact solution",
     ("stability.asteroid.lightcurve", "free_body"): "a light curve observes the exact attitude",
     ("stability.asteroid.measure", "free_body"): "periods read off the exact attitude",
     ("stability.earth.model", "free_body"): "Euler's wobble is the free body's oscillation "
                                             "about its stable axis",
-    ("stability.earth.wobble", "free_body"): "the wobble is run as a free-body ensemble and "
-                                             "integration",
+    ("stability.earth.measure", "free_body"): "the wobble is run as a free-body ensemble and "
+                                              "integration",
     ("stability.engine_body.scene", "free_body"): "the engines' state starts where the attitude "
                                                   "scene's does",
     ("stability.engine_body.measure", "free_body"): "the engines' flips against the exact "
@@ -75,9 +76,9 @@ MAX_COVERED_ELSEWHERE = 20
 #: MAX_COVERED_ELSEWHERE of them.
 COVERED_ELSEWHERE = {
     "stability.asteroid.figures": "tests/asteroid/studies/test_tumbler.py",
-    "stability.dissipation.figures": "tests/dissipation/test_studies.py, "
-                                     "tests/dissipation/test_dual_spin.py",
-    "stability.earth.figures": "tests/earth/test_wobble.py, tests/earth/studies/test_equinoxes.py",
+    "stability.dissipation.figures": "tests/dissipation/studies/test_explorer.py, "
+                                     "tests/dissipation/studies/test_dual_spin.py",
+    "stability.earth.figures": "tests/earth/test_measure.py, tests/earth/studies/test_equinoxes.py",
     "stability.engine_body.figures": "tests/engine_body/studies/test_engine_artefacts.py",
     "stability.free_body.stability_map.figures": "tests/free_body/stability_map/test_study.py",
     "stability.free_body.twisting_racket.figures": "tests/free_body/twisting_racket/test_study.py",
@@ -230,3 +231,83 @@ def test_no_familys_model_runs_an_ensemble():
                       if module.endswith(".model") and layer(module) in families
                       and imported in RUNS_MEMBERS})
     assert running == [], f"models that run members: {running}"
+
+
+#: The modules every family has: its physics, its per-member measurement, its Datasets'
+#: declarations and its figures (with ``__init__.py``, which declares what it registers).
+FAMILY_MODULES = ("model", "measure", "schema", "figures")
+#: The modules of a family that registers a scene (its ``SCENES``), and only of one: the scene
+#: and its METHODS table. A family that registers none integrates nothing (the asteroid: the
+#: free body's exact motion) and has neither.
+SCENE_MODULES = ("scene", "methods")
+#: The file of a study kind's module in a study of several modules (a sub-package of the
+#: family), and the one module ``studies/`` may hold besides the kinds.
+STUDY_MODULE, STUDIES_COMMON = "study", "common"
+
+
+def test_every_family_has_the_same_shape():
+    """Every family of :data:`stability.registry.FAMILIES` has the same shape, so that a family
+    copied from the smallest (``stability/struck/``) has every part the others have:
+
+    - ``model.py`` (the physics: equations, parameters, presets, starts; no runs),
+      ``measure.py`` (the runs and what is measured per member), ``schema.py`` (its Datasets'
+      declarations) and ``figures.py``;
+    - ``scene.py`` (the registered scene) and ``methods.py`` (its METHODS table) if and only if
+      it registers a scene; ``exact.py`` where there is an exact solution (optional: the free
+      body and the heavy top);
+    - its study kinds (its ``STUDIES``) each ``studies/<kind>.py``, a module of the package
+      ``studies/`` named after the kind, or, for a study of several modules (its own measure,
+      schema and figures), a sub-package of the family whose ``study.py`` is the kind (the free
+      body's ``tennis_racket/`` and the others: the free body has no ``studies/``, the
+      dissipation family has both); ``studies/`` holds the kinds' modules and at most
+      ``common.py`` (what its kinds share), and every other sub-package of a family is a study;
+    - no ``studies.py`` or ``study.py`` beside ``model.py``: a kind is never at the top.
+
+    Further modules are allowed, each of one idea (the structure test above holds the length):
+    the families differ in how much physics they carry (the free body's exact attitude, GPU and
+    streamed runs; the heavy top's animation; the gyrostat's model and measurement beside the
+    damped body's, ``model_gyrostat.py`` and ``measure_gyrostat.py``), and a closed list would
+    push unrelated ideas into one module past the length. What is fixed is what every family
+    has, where a reader looks first."""
+    import stability.registry
+
+    wrong = []
+    for family in stability.registry.FAMILIES:
+        folder = ROOT / "stability" / family
+        package = importlib.import_module(f"stability.{family}")
+        modules_here = {p.stem for p in folder.glob("*.py")}
+        packages_here = {p.name for p in folder.iterdir()
+                         if p.is_dir() and (p / "__init__.py").is_file()}
+        needed = set(FAMILY_MODULES) | {"__init__"}
+        needed |= set(SCENE_MODULES) if package.SCENES else set()
+        wrong += [f"{family} has no {m}.py" for m in sorted(needed - modules_here)]
+        if not package.SCENES:
+            wrong += [f"{family} registers no scene but has {m}.py"
+                      for m in SCENE_MODULES if m in modules_here]
+        wrong += [f"{family} has {m}.py at its top" for m in ("studies", STUDY_MODULE)
+                  if m in modules_here]
+        kinds_in_studies, study_packages = set(), set()
+        for kind, where in package.STUDIES.items():
+            module, attribute = where.split(":")
+            parts = module.split(".")
+            if parts == ["studies", kind]:
+                kinds_in_studies.add(kind)
+            elif len(parts) == 2 and parts[1] == STUDY_MODULE and parts[0] != "studies":
+                study_packages.add(parts[0])
+            else:
+                wrong.append(f"{family}'s kind {kind} is at {where}, not studies.{kind}:STUDY "
+                             f"or <sub-package>.{STUDY_MODULE}:STUDY")
+                continue
+            path = folder.joinpath(*parts).with_suffix(".py")
+            if attribute != "STUDY" or not path.is_file():
+                wrong.append(f"{family}'s kind {kind}: no STUDY in {path.relative_to(ROOT)}")
+        if kinds_in_studies:
+            present = {p.stem for p in (folder / "studies").glob("*.py")} - {"__init__"}
+            wrong += [f"{family}/studies/{m}.py is no kind of {family}'s STUDIES"
+                      for m in sorted(present - kinds_in_studies - {STUDIES_COMMON})]
+        elif "studies" in packages_here:
+            wrong.append(f"{family} has studies/ but registers no kind there")
+        wrong += [f"{family}/{p}/ is neither studies/ nor a study registered as "
+                  f"{p}.{STUDY_MODULE}:STUDY"
+                  for p in sorted(packages_here - study_packages - {"studies"})]
+    assert wrong == [], "\n".join(wrong)

@@ -278,15 +278,15 @@ API_MODULES = (
     ("Studies' library functions", ("free_body.twisting_racket.measure", "engine_body.measure",
                                      "struck.model", "struck.measure", "rolling.model",
                                      "rolling.measure", "heavy_top.measure",
-                                     "earth.wobble", "earth.equinoxes", "earth.model",
+                                     "earth.measure", "earth.model",
                                      "free_body.stability_map.measure",
                                      "free_body.work_precision.measure",
                                      "free_body.work_precision.sweeps",
                                      "free_body.stability_map.shapes",
                                      "free_body.tennis_racket.flipsweep", "free_body.polhodes")),
     ("Energy dissipation: damped bodies and dual spin", (
-        "dissipation.model", "dissipation.measure", "dissipation.explorer",
-        "dissipation.gyrostat", "dissipation.dual_spin", "dissipation.figures")),
+        "dissipation.model", "dissipation.measure", "dissipation.model_gyrostat",
+        "dissipation.measure_gyrostat", "dissipation.figures")),
     ("Figures and animations", ("plotting.animation", "free_body.animation",
                                 "heavy_top.animation", "free_body.figures")),
 )

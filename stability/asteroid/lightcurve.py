@@ -28,7 +28,7 @@ import numpy as np
 from ..core.quaternions import matrix_to_quaternion, quaternion_to_matrix
 from ..free_body.exact_attitude import exact_attitude
 from ..util.checks import positive_int, real_array
-from .spin_state import SpinState
+from .model import SpinState
 
 #: The scattering laws by name.
 LAWS = ("lommel-seeliger", "lambert")
@@ -142,7 +142,7 @@ def lightcurve(state: SpinState, t, sun, observer, shape=None,
     Parameters
     ----------
     state : SpinState
-        The tumbler (:func:`stability.asteroid.spin_state.spin_states`); the attitude starts
+        The tumbler (:func:`stability.asteroid.model.spin_states`); the attitude starts
         with L along space Z.
     t : array_like, shape (n,)
         Times, in the state's time unit.

@@ -1,7 +1,7 @@
 """What the asteroid studies measure from computed motion: a state's two periods read off its
 exact attitude, and the main frequencies of its synthetic light curve.
 
-The periods are measured, not taken from the closed forms of :mod:`.spin_state`: P_psi is the
+The periods are measured, not taken from the closed forms of :mod:`.model`: P_psi is the
 time between the first and the last of N upward zero crossings of the body's m2 = (R^T L)_2
 (each crossing refined by brentq on the attitude itself), over N - 1 periods; P_phi is 2 pi
 over the mean rate of the reference axis's azimuth about L between those two crossings, at
@@ -22,7 +22,7 @@ from .lightcurve import (
     spectrum,
 )
 from .schema import TUMBLER
-from .spin_state import SpinState, spin_states
+from .model import SpinState, spin_states
 
 #: The reference axis (canonical, 0-based) of each mode: the short axis in SAM, the long in LAM.
 REFERENCE_AXIS = {"SAM": 2, "LAM": 0}

@@ -12,16 +12,16 @@ the rest (dual-spin stabilisation). The family's modules, each importing only do
   platform and a rotor on a free bearing, a spherical damper on each);
 - :mod:`.model`: steady spins, their linear theory (eigenvalues in closed form and from the
   Jacobian), the energy-sink estimate, the energy a flat spin sheds, the Explorer 1 preset;
-- :mod:`.gyrostat`: the gyrostat's steady spins, their linear theory and Likins' energy-sink
-  criterion;
+- :mod:`.model_gyrostat`: the gyrostat's steady spins, their linear theory and Likins'
+  energy-sink criterion, and the dual-spin map's body (:class:`~.model_gyrostat.DualSpinBody`);
 - :mod:`.measure`: what the studies read from a run (nutation angle, fitted rates, times to a
-  flat spin, the end state);
-- :mod:`.explorer`: the Explorer-like ensembles and their Dataset; :mod:`.dual_spin`: the
-  dual-spin maps and theirs;
-- :mod:`.studies`: the study kinds ``explorer`` and ``dual_spin``; :mod:`.figures`: their
-  figures;
+  flat spin, the end state), and the Explorer-like ensembles run and measured;
+  :mod:`.measure_gyrostat`: the dual-spin maps run and measured;
+- :mod:`.schema`: the declarations of the Datasets;
+- :mod:`.studies`: the study kinds ``explorer`` and ``dual_spin``, one module each;
+  :mod:`.figures`: their figures;
 - :mod:`.dispersion`: the study kind ``explorer_dispersion``, the Explorer uncertain in its
-  body, spin, damper and start (:mod:`stability.uncertainty`).
+  body, spin, damper and start (:mod:`stability.uncertainty`), a study of several modules.
 
 This package's ``__init__`` imports nothing, so that the scene registry
 (:mod:`stability.registry`) can import :mod:`.scene` without the rest.
@@ -30,6 +30,6 @@ This package's ``__init__`` imports nothing, so that the scene registry
 #: What the family registers (:mod:`stability.registry`): its scenes, its study kinds and the
 #: declarations of the Datasets they write, each as ``"module:name"`` inside this package.
 SCENES = ("scene:SPHERE_DAMPER", "scene:WHIP_DAMPER", "scene:GYROSTAT")
-STUDIES = {"explorer": "studies:STUDY", "dual_spin": "studies:DUAL_SPIN_STUDY",
+STUDIES = {"explorer": "studies.explorer:STUDY", "dual_spin": "studies.dual_spin:STUDY",
            "explorer_dispersion": "dispersion.study:STUDY"}
 DATASETS = ("schema:EXPLORER", "schema:DUAL_SPIN", "dispersion.schema:EXPLORER_DISPERSION")

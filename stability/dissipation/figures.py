@@ -1,6 +1,6 @@
 """Figures of the dissipation studies, each drawn from its Dataset alone.
 
-The Explorer study (:func:`stability.dissipation.explorer.measure_explorer`):
+The Explorer study (:func:`stability.dissipation.measure.measure_explorer`):
 
 - :func:`nutation_figure`: the nutation angle against time, growing at the linear rate, then
   the turn into the flat spin at every damping;
@@ -9,7 +9,7 @@ The Explorer study (:func:`stability.dissipation.explorer.measure_explorer`):
 - :func:`end_state_figure`: the energy falling to that of the flat spin, and every member's
   measured rates, |H| and energy against the theory.
 
-The dual-spin study (:func:`stability.dissipation.dual_spin.measure_dual_spin`):
+The dual-spin study (:func:`stability.dissipation.measure_gyrostat.measure_dual_spin`):
 
 - :func:`dual_spin_map_figure`: for each placement of the dampers, the map of the linear growth
   rate over the inertia ratio and the rotor's speed, the eigenvalues' and the energy-sink
@@ -26,7 +26,8 @@ from ..util import conventions as cv
 from ..plotting.style import (
     AXIS_COLORS, EXACT_COLOR, label, new_figure, place_legend, plain_log_ticks, styled,
 )
-from .dual_spin import DECAYS, GROWS, body_of, linear_map
+from .measure_gyrostat import DECAYS, GROWS
+from .model_gyrostat import body_of, linear_map
 from .model import energy_sink_rate, nutation_growth_rate
 
 #: Minutes per second, for time axes.

@@ -48,7 +48,7 @@ angular momentum, ``p`` and ``q`` those of the platform's and the rotor's damper
     p' = p x w - cp u_p,            q' = q x w - cq u_q,                               (2)
 
 (A1, A2, A3 the whole body's principal moments, the rotor's included; derivation in
-:mod:`stability.dissipation.gyrostat`). The total ``H = m + p + q`` obeys ``H' = H x w``: |H|
+:mod:`stability.dissipation.model_gyrostat`). The total ``H = m + p + q`` obeys ``H' = H x w``: |H|
 is kept; the energy falls at ``cp |u_p|^2 + cq |u_q|^2``. RK4 only.
 
 The RK4 kernels are the package's one RK4 text (:func:`stability.integrators.rk4.rk4_source`,

@@ -49,7 +49,7 @@ platform's principal frame: the angular momentum of platform and rotor
 body's moments, the rotor's included; :math:`\Omega` the rotor's spin relative to the platform),
 the rotor's axial momentum :math:`h_r = J_r (\omega_3 + \Omega)` and the spheres' momenta.
 Parameters ``(A1, A2, A3, Jr, Jp, cp, Jq, cq)``. Equations (2) of
-:mod:`stability.dissipation.methods`, derived in :mod:`stability.dissipation.gyrostat`:
+:mod:`stability.dissipation.methods`, derived in :mod:`stability.dissipation.model_gyrostat`:
 
 .. math::
 

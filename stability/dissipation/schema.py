@@ -13,7 +13,7 @@ EXPLORER = declare(
     "explorer",
     "an Explorer-1-like body with an energy sink spun about its minor axis: "
     "nutation growth against the linear eigenvalue, the flat spin it ends in, the energy lost",
-    "stability.dissipation.explorer.measure_explorer",
+    "stability.dissipation.measure.measure_explorer",
     {
         'damping': coordinate('damping', '1', "damping c over the energy sink's optimum c*"),
         'angle': coordinate('angle', 'degree', 'initial nutation angle'),
@@ -163,7 +163,7 @@ DUAL_SPIN = declare(
     "a gyrostat (dual-spin body) with a damper on its platform, in its rotor or "
     "both, over the inertia ratio and the rotor's speed: the nutation measured against its "
     "eigenvalue and the energy-sink criterion",
-    "stability.dissipation.dual_spin.measure_dual_spin",
+    "stability.dissipation.measure_gyrostat.measure_dual_spin",
     {
         "placement": coordinate(
             "placement",

@@ -8,10 +8,12 @@ The family's modules, each importing only downward:
 - :mod:`.scene`: the scenes ``lunisolar_earth`` (angular momentum, attitude and time under the
   Sun and the Moon on their Kepler orbits) and ``precessing_axis`` (the orbit-averaged figure
   axis);
-- :mod:`.model`: the Earth from published moments, its spin, Euler's wobble period;
-- :mod:`.wobble`: the free wobble measured (an ensemble for the period, one member's cones);
-- :mod:`.equinoxes`: the Sun's and the Moon's orbits, the averaged precession formula, and the
-  precession and nutation measured from runs of both scenes;
+- :mod:`.model`: the Earth from published moments, its spin, Euler's wobble period; the Sun's
+  and the Moon's orbits, the starts and parameters of both scenes, the averaged precession
+  formula;
+- :mod:`.measure`: the free wobble measured (an ensemble for the period, one member's cones),
+  and the precession and nutation measured from runs of both scenes;
+- :mod:`.schema`: the declarations of the Datasets;
 - :mod:`.studies`: the study kinds ``earth_wobble`` and ``equinoxes``;
 - :mod:`.figures`: their figures, drawn from the Datasets.
 

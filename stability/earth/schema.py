@@ -9,13 +9,13 @@ from ..ensemble.schema import (
 __all__ = ["EARTH_WOBBLE", "EQUINOXES"]
 
 
-# The Earth's free wobble (stability.earth.wobble.measure_free_wobble) -------------------------
+# The Earth's free wobble (stability.earth.measure.measure_free_wobble) ------------------------
 
 _CONE_TIME = "cone_time"
 EARTH_WOBBLE = declare(
     "earth_wobble",
     "the free wobble of a rigid Earth: its period measured against Euler's, and one member's cones",
-    "stability.earth.wobble.measure_free_wobble",
+    "stability.earth.measure.measure_free_wobble",
     {
         "wobble_period_measured": variable(
             (),
@@ -52,7 +52,7 @@ EARTH_WOBBLE = declare(
     },
 )
 
-# The precession of the equinoxes (stability.earth.equinoxes.measure_equinoxes) ----------------
+# The precession of the equinoxes (stability.earth.measure.measure_equinoxes) -------------------
 
 _MTM = ("model", "torque", MEMBER)
 _CYCLE = "a long run (cycle_years above 0; not in quick mode)"
@@ -60,7 +60,7 @@ EQUINOXES = declare(
     "equinoxes",
     "the precession and nutation of the Earth's axis under the Sun and the "
     "Moon, full and orbit-averaged, per torque and member",
-    "stability.earth.equinoxes.measure_equinoxes",
+    "stability.earth.measure.measure_equinoxes",
     {
         "precession_rate": variable(
             _MTM, ARCSEC_PER_YEAR, "precession of the equinox -dphi/dt, fitted"

@@ -8,8 +8,11 @@ The family's modules, each importing only downward:
   for), the family's registry :data:`~.methods.ENGINE_RULES`;
 - :mod:`.scene`: the scene ``engine_body`` (the state as engines hold it: the space angular
   velocity and the body-to-space quaternion);
+- :mod:`.model`: that state and its conversions from and to the body-frame ``(m, q)``; the
+  physics itself is the free body's (its equations, exact motion and linear theory);
 - :mod:`.measure`: the artefacts measured per rule and step (flips, the flip interval, the
   growth rate, the drift of the invariants, the cost), and the step each rule needs;
+- :mod:`.schema`: the declaration of its Dataset;
 - :mod:`.studies`: the study kind ``engine_artefacts``;
 - :mod:`.figures`: its figure, drawn from the Dataset.
 

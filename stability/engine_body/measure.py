@@ -35,7 +35,8 @@ from ..engine.scene import Scene
 from .scene import ENGINE_BODY
 from .schema import ENGINE_ARTEFACTS
 from ..util import conventions as cv
-from .methods import ENGINE_RULES, body_state, world_state
+from .methods import ENGINE_RULES
+from .model import body_state, world_state
 
 #: Tracked axes in the canonical frame: spin about axis 2, across it axes 1 and 3.
 _AXES = np.array([[1, 0, 2]])

@@ -29,7 +29,6 @@ from __future__ import annotations
 
 import math
 
-import numpy as np
 from numba import njit
 
 from ..integrators.rotations import rotate_increment, solve3
@@ -164,34 +163,6 @@ def no_gyroscopic_step(x0, x1, x2, q0, q1, q2, q3, h, p, s):
     """``omega_w' = omega_w``; (R) with it."""
     r0, r1, r2, r3 = _rotation_update(q0, q1, q2, q3, x0, x1, x2, h)
     return 0.0, 0.0, 0.0, r0, r1, r2, r3, 0
-
-
-# --- NumPy helpers: the package's body-frame (m, q) and the engine state ------------------------
-
-
-def rotate(q, x, transpose=False):
-    """``R(q / |q|) x`` (or ``R^T x``) for quaternions q (N, 4) and vectors x (N, 3)."""
-    q = np.asarray(q, dtype=float)
-    x = np.asarray(x, dtype=float)
-    v = q[:, 1:]
-    s = 2.0 / np.sum(q * q, axis=1)[:, None]
-    u = np.cross(v, x)
-    c = -q[:, :1] if transpose else q[:, :1]
-    return x + s * (c * u + np.cross(v, u))
-
-
-def world_state(moments, m_body, q):
-    """Engine states (N, 7) from body angular momenta m (N, 3) and attitudes q (N, 4)
-    (canonical moments): ``omega_w = R(q) I^-1 m``."""
-    m = np.atleast_2d(np.asarray(m_body, dtype=float))
-    q = np.broadcast_to(np.asarray(q, dtype=float), (m.shape[0], 4))
-    return np.concatenate([rotate(q, m / np.asarray(moments, dtype=float)), q], axis=1)
-
-
-def body_state(x, moments):
-    """``(m, q)`` of engine states x (N, 7): ``m = I R(q)^T omega_w`` (N, 3) and q (N, 4)."""
-    x = np.asarray(x, dtype=float)
-    return np.asarray(moments, dtype=float) * rotate(x[:, 3:], x[:, :3], True), x[:, 3:].copy()
 
 
 _COMMON = dict(params=body_params, family="engine update rule", evaluations=1)

@@ -7,7 +7,7 @@ The methods are the engines' update rules (:mod:`stability.engine_body.methods`)
 package's integrators. The loop tracks the body angular velocity :math:`w = R(q)^T \omega_w`.
 Invariants: the energy :math:`w \cdot I w / 2`, :math:`|I w| = |L|` and :math:`|q| = 1`.
 Conversions from and to the body-frame ``(m, q)``:
-:func:`~stability.engine_body.methods.world_state` and ``body_state``.
+:func:`~stability.engine_body.model.world_state` and ``body_state``.
 """
 
 import numpy as np
@@ -17,7 +17,8 @@ from ..util import conventions as cv
 from ..engine.scene import Scene, component
 from ..free_body.scene_attitude import example as example_mq
 from ..free_body.scene_attitude import quaternion_norm
-from .methods import ENGINE_RULES, rotate, rotate3, world_state
+from .methods import ENGINE_RULES, rotate3
+from .model import rotate, world_state
 
 
 @njit(inline="always")

@@ -7,7 +7,7 @@ from stability.asteroid.lightcurve import (
     brightness, ellipsoid_axes, ellipsoid_mesh, facets, lightcurve, main_frequencies,
 )
 from stability.asteroid.measure import lightcurve_peaks
-from stability.asteroid.spin_state import spin_state, state_of
+from stability.asteroid.model import spin_state, state_of
 
 SUN, OBSERVER = (1.0, 0.0, 0.3), (1.0, 0.2, 0.3)
 

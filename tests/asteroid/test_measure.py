@@ -4,7 +4,7 @@ import numpy as np
 import pytest
 
 from stability.asteroid.measure import draw_members, measure_tumblers, measured_periods
-from stability.asteroid.spin_state import spin_states, state_of
+from stability.asteroid.model import spin_states, state_of
 
 
 @pytest.mark.parametrize("state", [

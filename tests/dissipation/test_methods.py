@@ -1,6 +1,6 @@
 """The damped bodies' methods: measured orders against DOP853, |H| kept to round-off by the
 splittings, the energy falling step by step (the rates the damped runs measure:
-``tests/dissipation/test_explorer.py``)."""
+``tests/dissipation/test_measure.py``)."""
 
 import numpy as np
 import pytest

@@ -94,7 +94,7 @@ sys.exit(1 if failed else 0)
 
 def test_a_kind_imported_first_in_a_fresh_process_is_complete_in_the_registry():
     """A kind's module imports the framework, which registers every kind: imported first, the
-    kind is still whole when the registry reads it (``import stability.dissipation.studies``)."""
+    kind is still whole when the registry reads it (``import stability.dissipation.studies.explorer``)."""
     homes = sorted({kind.run.__module__ for kind in STUDIES.values()})
     run = subprocess.run([sys.executable, "-c", FRESH_IMPORTS, *homes], capture_output=True,
                          text=True, timeout=300)

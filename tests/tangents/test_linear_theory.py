@@ -17,7 +17,7 @@
 - Gyrostat (the dual-spin family's body: A_t = 1, Jr = 0.25, a damper J = 0.05 at c* in the
   rotor, whose nutation grows, or on the platform, where it decays; the map's cell A3 / A_t =
   0.6, Omega = 2 rad s-1), started on its steady spin: the tangent across
-  e3 grows at the real part of the leading eigenvalue :func:`stability.dissipation.dual_spin
+  e3 grows at the real part of the leading eigenvalue :func:`stability.dissipation.model_gyrostat
   .linear_map` gives, measured over a whole nutation period 2 pi / Im(lambda) (the oscillation of
   |v| cancels) after 8 periods (the next mode, > 1 s-1 slower, is down by e^-300): within
   1e-8 relative (RK4's error on it, ~1e-9 at h = P / 512).
@@ -26,8 +26,8 @@
 import numpy as np
 import pytest
 
-from stability.dissipation.dual_spin import DualSpinBody, linear_map
-from stability.dissipation.gyrostat import axisymmetric_eigenvalues, steady_spin
+from stability.dissipation.model_gyrostat import (DualSpinBody, axisymmetric_eigenvalues,
+                                                  linear_map, steady_spin)
 from stability.engine.tangent import tangent_scene
 from stability.heavy_top.model import (HeavyTop, critical_spin, sleeping_frequencies,
                                        sleeping_growth_rate, tilted_starts)

@@ -3,7 +3,7 @@
 A published non-principal-axis rotator (its moment ratios I1/I3, I2/I3, its periods P_psi and
 P_phi and their one-sigma errors, and its mode are keys of the study file; the default is
 (99942) Apophis, Pravec et al., Icarus 233, 48 (2014)) is drawn ``members`` times from normal
-errors; each member's state of that mode (:func:`stability.asteroid.spin_state.spin_states`)
+errors; each member's state of that mode (:func:`stability.asteroid.model.spin_states`)
 gives E/E0 and |L| / I3, and its synthetic light curve (a uniform ellipsoid of its moments,
 :func:`stability.asteroid.lightcurve.lightcurve`) its strongest frequency, set beside the
 theory's. Outputs: the Dataset, one figure (:func:`stability.asteroid.figures.tumbler_figure`)
@@ -24,7 +24,7 @@ from ...study.sections import output_section
 from ..figures import tumbler_figure
 from ..lightcurve import LAWS
 from ..measure import draw_members, measure_tumblers
-from ..spin_state import MODES, spin_states
+from ..model import MODES, spin_states
 
 NAME = "tumbler"
 FIGURE = "tumbler"

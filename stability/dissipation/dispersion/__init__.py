@@ -2,6 +2,6 @@
 in its size, mass, spin, damper and start; which uncertainty dominates its time to the flat spin.
 
 :mod:`.measure` draws the members and computes their outputs (by the linear eigenvalue, and
-integrated by :func:`stability.dissipation.explorer.run_damped`), :mod:`.schema` declares its
+integrated by :func:`stability.dissipation.measure.run_damped`), :mod:`.schema` declares its
 Dataset, :mod:`.study` is the kind.
 """

@@ -11,7 +11,7 @@ damping is dispersed as the viscous coefficient c itself, about the nominal
 
 - the growth rate lambda of the nutation, the leading real part of the linear eigenvalues
   about the long axis (:func:`~stability.dissipation.model.sphere_eigenvalues`, at the spin
-  ``|H| / A_s`` the run starts from, as :func:`~stability.dissipation.explorer.run_damped`
+  ``|H| / A_s`` the run starts from, as :func:`~stability.dissipation.measure.run_damped`
   takes it), s-1;
 - the time to the flat spin at that rate, ``ln(tan(theta_f) / tan(theta0)) / lambda`` (the
   Explorer study's ``flat_time_linear``; the integrated time is within 1.1 % of it there), s;
@@ -27,7 +27,7 @@ import numpy as np
 import xarray as xr
 
 from ...ensemble.options import RunOptions
-from ..explorer import SPHERE, run_damped, tilted_start
+from ..measure import SPHERE, run_damped, tilted_start
 from ..model import RPM, Cylinder, energy_sink_optimum, equivalent_transverse_moment
 from .schema import EXPLORER_DISPERSION
 
@@ -76,7 +76,7 @@ def linear(draws: dict, flat_angle: float) -> dict:
 def integrated(draws: dict, count: int, *, flat_angle: float, method="lp2", step_angle=0.5,
                tail=8.0, samples=2000, fit_top=0.02, options=None) -> dict:
     """The first ``count`` members integrated, each alone
-    (:func:`~stability.dissipation.explorer.run_damped`; with a store, each in its folder
+    (:func:`~stability.dissipation.measure.run_damped`; with a store, each in its folder
     ``member_k``, resumable): ``growth_rate`` fitted, ``flat_time``, ``status``, and
     ``start_angle``, the nutation angle of the state the run started from (degree)."""
     options = options if options is not None else RunOptions(progress=False)

@@ -31,7 +31,8 @@ from ...study.sensitivity import (
 )
 from ...util.threads import numba_threads
 from ..methods import SPHERE_METHODS
-from ..studies import CYLINDER_KEYS, RELAXATION_STEP, positive_key
+from ..studies.common import positive_key
+from ..studies.explorer import CYLINDER_KEYS, RELAXATION_STEP
 from .measure import PARAMETERS, dispersion_dataset, integrated, linear, members, nominal
 
 NAME = "explorer_dispersion"
@@ -135,7 +136,8 @@ def check(config: dict, source: str) -> dict:
 
 def _check_step(config: dict, source: str, disp) -> None:
     """Refuse a step that does not resolve the damper's relaxation, ``h c (1/J + 1/I_s)``
-    above the method's bound (:data:`~stability.dissipation.studies.RELAXATION_STEP`), for a
+    above the method's bound
+    (:data:`~stability.dissipation.studies.explorer.RELAXATION_STEP`), for a
     member integrated."""
     integ = config["integration"]
     draws = members(disp, draw_design(config, disp).unit[:integ["members"]])

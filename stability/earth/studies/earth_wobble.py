@@ -2,7 +2,7 @@
 
 The Earth is built from published ratios (keys of the study file, sources in
 :mod:`stability.earth.model`), spun once a sidereal day with its rotation axis ``offset``
-arcseconds from the figure axis; :func:`stability.earth.wobble.measure_free_wobble` measures the
+arcseconds from the figure axis; :func:`stability.earth.measure.measure_free_wobble` measures the
 period of the free (Euler) wobble and draws its cones. The Dataset's attributes carry the note that
 the observed Chandler period (about 433 d) is longer because the Earth is not rigid.
 """
@@ -17,7 +17,7 @@ from ...core.body import RigidBody
 from ..model import ARCSEC, earth_moments
 from ..figures import wobble_cones_figure
 from ...util.threads import numba_threads
-from ..wobble import measure_free_wobble, wobble_memory, wobble_methods
+from ..measure import measure_free_wobble, wobble_memory, wobble_methods
 from ...study.config import ConfigError, Key, Schema, Section
 from ...study.kind import StudyKind, StudySummary
 from ...study.outputs import output_files, write_outputs

@@ -9,7 +9,7 @@ import xarray as xr
 
 from stability.dissipation.figures import dual_spin_map_figure, dual_spin_rate_figure
 
-from ..helpers import (
+from ...helpers import (
     assert_cf_compliant, assert_declared, assert_readable, bad_study_line, quick_study,
 )
 

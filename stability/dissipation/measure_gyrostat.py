@@ -1,6 +1,7 @@
 """Dual-spin maps: a gyrostat's nutation, measured, against its eigenvalues and the energy sink.
 
-A gyrostat (:mod:`.gyrostat`) with an axisymmetric platform of transverse moment ``A_t`` and a
+A gyrostat (:mod:`.model_gyrostat`, whose :class:`~.model_gyrostat.DualSpinBody` is
+the map's body) with an axisymmetric platform of transverse moment ``A_t`` and a
 rotor of axial moment ``Jr`` spins with its platform at ``w_p`` about the rotor's axis. Over a map
 of the inertia ratio ``A3 / A_t`` (the whole body's spin-axis moment over its transverse one: below
 1 a minor-axis spinner, above 1 a major-axis one) and the rotor's spin ``Omega`` relative to the
@@ -20,7 +21,7 @@ range or decayed by ``efolds`` e-folds at the linear rate (at most ``max_time``)
 - |H|'s largest relative change and the energy's largest rise between kept states.
 
 Per cell: the verdicts of the eigenvalues, of the energy-sink criterion
-(:func:`~.gyrostat.energy_sink_rate`) and of the measurement (each "undetermined" on a
+(:func:`~.model_gyrostat.energy_sink_rate`) and of the measurement (each "undetermined" on a
 boundary, or where the members disagree), and the nutation frequencies each body sees.
 """
 
@@ -28,7 +29,6 @@ from __future__ import annotations
 
 import math
 import time
-from dataclasses import dataclass
 
 import numpy as np
 import xarray as xr
@@ -36,8 +36,8 @@ import xarray as xr
 from .schema import DUAL_SPIN
 from ..ensemble.chunks import run_plan
 from ..ensemble.plan import Plan
-from .gyrostat import (axial_momentum, axisymmetric_eigenvalues, energy_sink_optimum,
-                       energy_sink_rate, first_order_rate, tilted_spin)
+from .model_gyrostat import (axisymmetric_eigenvalues, energy_sink_rate, first_order_rate,
+                             tilted_spin)
 from .measure import (MIN_FIT_SAMPLES, exponential_rate, largest_rise, nutation_angle,
                       relative_drift)
 from .scene import GYROSTAT, gyrostat_energy, gyrostat_momentum
@@ -60,88 +60,6 @@ MAX_HEADROOM = 9.0
 NEUTRAL = 1e-10
 #: Verdict flags: the nutation grows, decays, or too few samples to say.
 GROWS, DECAYS, UNDETERMINED = 0, 1, 2
-
-
-@dataclass(frozen=True)
-class DualSpinBody:
-    """A gyrostat family for the map: an axisymmetric platform, a rotor, two spherical dampers.
-
-    The fields are the constructor's parameters and the instance's attributes.
-
-    Parameters
-    ----------
-    transverse_moment : float
-        ``A_t``, the whole body's transverse moment (rotor included), kg m2.
-    rotor_moment : float
-        ``Jr``, the rotor's axial moment, kg m2.
-    damper_moment : float
-        ``J``, the moment of each damper's sphere, kg m2.
-    platform_spin : float
-        ``w_p``, the platform's spin about the rotor's axis, rad s-1.
-    platform_damping, rotor_damping : float
-        Each damper's viscous coefficient over its energy-sink optimum ``c* = J h / A_t``
-        (``h = A3 w_p + Jr Omega``, per cell).
-    """
-
-    transverse_moment: float
-    rotor_moment: float
-    damper_moment: float
-    platform_spin: float
-    platform_damping: float
-    rotor_damping: float
-
-    def values(self, placement: str, ratio: float, speed: float) -> np.ndarray:
-        """The scene's parameter set ``(A1, A2, A3, Jr, Jp, cp, Jq, cq)`` of a cell: ``A3 =
-        ratio A_t``, the dampers of ``placement`` at their multiples of ``c*``, the other's
-        ``c = 0``."""
-        A_t, J = self.transverse_moment, self.damper_moment
-        values = np.array([A_t, A_t, ratio * A_t, self.rotor_moment, J, 0.0, J, 0.0])
-        star = float(energy_sink_optimum(J, A_t, axial_momentum(values, self.platform_spin,
-                                                                 speed)))
-        if placement in ("platform", "both"):
-            values[5] = self.platform_damping * star
-        if placement in ("rotor", "both"):
-            values[7] = self.rotor_damping * star
-        return values
-
-
-def body_of(ds) -> DualSpinBody:
-    """The gyrostat family of a dual-spin Dataset, from its attributes.
-
-    Parameters
-    ----------
-    ds : xarray.Dataset
-        The dual-spin study's Dataset.
-    """
-    a = ds.attrs
-    return DualSpinBody(float(a["transverse_moment"]), float(a["rotor_moment"]),
-                        float(a["damper_moment"]), float(a["platform_spin"]),
-                        float(a["platform_damping"]), float(a["rotor_damping"]))
-
-
-def linear_map(body, placement, ratios, speeds):
-    """``(linear, sink)`` (R, S): the growth rate (s-1) by the eigenvalues and by the energy
-    sink at every inertia ratio and relative speed, the dampers of ``placement``.
-
-    Parameters
-    ----------
-    body : DualSpinBody
-        The gyrostat family.
-    placement : str
-        Where the dampers sit, one of PLACEMENTS.
-    ratios : array_like
-        Inertia ratios A3 / A_t.
-    speeds : array_like
-        Relative speeds of the rotor, rad s-1.
-    """
-    ratios, speeds = np.asarray(ratios, dtype=float), np.asarray(speeds, dtype=float)
-    linear, sink = np.empty((ratios.size, speeds.size)), np.empty((ratios.size, speeds.size))
-    for i, ratio in enumerate(ratios):
-        for j, speed in enumerate(speeds):
-            values = body.values(placement, ratio, speed)
-            linear[i, j] = axisymmetric_eigenvalues(values, body.platform_spin, speed)[0].real
-            sink[i, j] = energy_sink_rate(values, body.platform_spin, speed)
-    return linear, sink
 
 
 def _fastest(values, w_p, speed, lam) -> float:

@@ -61,7 +61,7 @@ so the nutation grows where the damper's body sees it turn backwards (``lambda_D
 decays where forwards. On ``lambda_D = 0`` a mode with the sphere turning with its body
 (``u = 0``, undamped, ``eta = xi``, frequency ``w_D - w_p``) solves (4) for every c: the growth
 rate of one damper changes sign exactly there, whatever the damping (checked on fine maps in
-``tests/dissipation/test_gyrostat.py``). A triaxial platform: :func:`eigenvalues` (the
+``tests/dissipation/test_model_gyrostat.py``). A triaxial platform: :func:`eigenvalues` (the
 Jacobian by complex-step differentiation, :func:`jacobian`).
 
 **The energy sink** (Iorillo, *Nutation damping dynamics of axisymmetric rotor stabilized
@@ -99,6 +99,8 @@ against the dampers' own relaxation.
 """
 
 from __future__ import annotations
+
+from dataclasses import dataclass
 
 import numpy as np
 
@@ -425,3 +427,87 @@ def tilted_spin(values, platform_spin, relative_spin, angles, azimuths) -> np.nd
     w = np.column_stack([across * np.cos(phi) / (A1 + spheres),
                          across * np.sin(phi) / (A2 + spheres), np.full(across.shape, w_p)])
     return gyrostat_rigid_state(values, w, omega)
+
+
+# --- The dual-spin map's body -------------------------------------------------------------------
+
+@dataclass(frozen=True)
+class DualSpinBody:
+    """A gyrostat family for the map: an axisymmetric platform, a rotor, two spherical dampers.
+
+    The fields are the constructor's parameters and the instance's attributes.
+
+    Parameters
+    ----------
+    transverse_moment : float
+        ``A_t``, the whole body's transverse moment (rotor included), kg m2.
+    rotor_moment : float
+        ``Jr``, the rotor's axial moment, kg m2.
+    damper_moment : float
+        ``J``, the moment of each damper's sphere, kg m2.
+    platform_spin : float
+        ``w_p``, the platform's spin about the rotor's axis, rad s-1.
+    platform_damping, rotor_damping : float
+        Each damper's viscous coefficient over its energy-sink optimum ``c* = J h / A_t``
+        (``h = A3 w_p + Jr Omega``, per cell).
+    """
+
+    transverse_moment: float
+    rotor_moment: float
+    damper_moment: float
+    platform_spin: float
+    platform_damping: float
+    rotor_damping: float
+
+    def values(self, placement: str, ratio: float, speed: float) -> np.ndarray:
+        """The scene's parameter set ``(A1, A2, A3, Jr, Jp, cp, Jq, cq)`` of a cell: ``A3 =
+        ratio A_t``, the dampers of ``placement`` at their multiples of ``c*``, the other's
+        ``c = 0``."""
+        A_t, J = self.transverse_moment, self.damper_moment
+        values = np.array([A_t, A_t, ratio * A_t, self.rotor_moment, J, 0.0, J, 0.0])
+        star = float(energy_sink_optimum(J, A_t, axial_momentum(values, self.platform_spin,
+                                                                 speed)))
+        if placement in ("platform", "both"):
+            values[5] = self.platform_damping * star
+        if placement in ("rotor", "both"):
+            values[7] = self.rotor_damping * star
+        return values
+
+
+def body_of(ds) -> DualSpinBody:
+    """The gyrostat family of a dual-spin Dataset, from its attributes.
+
+    Parameters
+    ----------
+    ds : xarray.Dataset
+        The dual-spin study's Dataset.
+    """
+    a = ds.attrs
+    return DualSpinBody(float(a["transverse_moment"]), float(a["rotor_moment"]),
+                        float(a["damper_moment"]), float(a["platform_spin"]),
+                        float(a["platform_damping"]), float(a["rotor_damping"]))
+
+
+def linear_map(body, placement, ratios, speeds):
+    """``(linear, sink)`` (R, S): the growth rate (s-1) by the eigenvalues and by the energy
+    sink at every inertia ratio and relative speed, the dampers of ``placement``.
+
+    Parameters
+    ----------
+    body : DualSpinBody
+        The gyrostat family.
+    placement : str
+        Where the dampers sit, one of PLACEMENTS.
+    ratios : array_like
+        Inertia ratios A3 / A_t.
+    speeds : array_like
+        Relative speeds of the rotor, rad s-1.
+    """
+    ratios, speeds = np.asarray(ratios, dtype=float), np.asarray(speeds, dtype=float)
+    linear, sink = np.empty((ratios.size, speeds.size)), np.empty((ratios.size, speeds.size))
+    for i, ratio in enumerate(ratios):
+        for j, speed in enumerate(speeds):
+            values = body.values(placement, ratio, speed)
+            linear[i, j] = axisymmetric_eigenvalues(values, body.platform_spin, speed)[0].real
+            sink[i, j] = energy_sink_rate(values, body.platform_spin, speed)
+    return linear, sink

@@ -1,5 +1,5 @@
-"""The Explorer study (stability.dissipation.studies): quick run, its Dataset (CF, units), figures,
-summary and bad input."""
+"""The Explorer study (stability.dissipation.studies.explorer): quick run, its Dataset (CF,
+units), figures, summary and bad input."""
 
 import tomllib
 from pathlib import Path
@@ -11,11 +11,11 @@ import xarray as xr
 from stability.dissipation import model
 from stability.dissipation.figures import end_state_figure, flat_time_figure, nutation_figure
 
-from ..helpers import (
+from ...helpers import (
     assert_cf_compliant, assert_declared, assert_readable, bad_study_line, quick_study,
 )
 
-ROOT = Path(__file__).resolve().parents[2]
+ROOT = Path(__file__).resolve().parents[3]
 
 
 @pytest.fixture(scope="module")

@@ -1,28 +1,16 @@
-"""The dissipation studies: ``explorer`` (a long satellite spun about its minor axis turns over
-into a flat spin) and ``dual_spin`` (where a damper on a gyrostat's platform or in its rotor
-makes the nutation decay).
-
-**explorer** (:data:`STUDY`).
+"""The Explorer study: a long satellite spun about its minor axis turns over into a flat spin.
 
 An Explorer-1-like body (a uniform cylinder of the length, diameter and mass of the file; by
 default Explorer 1's, :data:`~stability.dissipation.model.EXPLORER_1`) spins about its long axis,
 or a body of measured ``[body] moments`` (a :class:`~stability.dissipation.model.Spinner`,
-``studies/spinner.toml``) about the axis of least moment, and carries a spherical damper (moment J; viscous coefficient c, a list of them in units of the
-energy sink's optimum ``c* = J W I_s / I_t``) and, beside it, four whip antennas (two pairs of
-tip masses on springs). Members start at each initial nutation angle of a list;
-:func:`~stability.dissipation.explorer.measure_explorer` runs them past the flat spin and
+``studies/spinner.toml``) about the axis of least moment, and carries a spherical damper (moment
+J; viscous coefficient c, a list of them in units of the energy sink's optimum
+``c* = J W I_s / I_t``) and, beside it, four whip antennas (two pairs of tip masses on springs).
+Members start at each initial nutation angle of a list;
+:func:`~stability.dissipation.measure.measure_explorer` runs them past the flat spin and
 measures each one's growth rate against the linear eigenvalue, its time to the flat spin, its
 end state, |H| and the energy. Outputs: the Dataset, three figures
 (:mod:`stability.dissipation.figures`) and the study's configuration; resumable, and on dask.
-
-**dual_spin** (:data:`DUAL_SPIN_STUDY`). A gyrostat (:mod:`stability.dissipation.gyrostat`):
-an axisymmetric platform spun at ``w_p`` about the axis of its rotor, a spherical damper on the
-platform, in the rotor, or one on each. Over a map of the inertia ratio ``A3 / A_t`` and the
-rotor's speed relative to the platform, each cell a few slightly nutating starts,
-:func:`~stability.dissipation.dual_spin.measure_dual_spin` measures the nutation's growth or
-decay rate against the linear eigenvalue and sets the verdicts of the measurement, the
-eigenvalues and the energy-sink criterion side by side. Outputs: the Dataset, two figures and
-the configuration; resumable, and on dask, through the same stored grouped runs.
 """
 
 from __future__ import annotations
@@ -33,29 +21,23 @@ from pathlib import Path
 
 import numpy as np
 
-from ..core.axes import MOMENT_NAMES
-from ..study.config import UNSET, ConfigError, Key, Schema, Section
-from ..study.kind import StudyKind, StudySummary, SummaryTable, run_rows
-from ..study.outputs import output_files, write_outputs
-from ..study.sections import (check_memory, check_run, output_section, run_section,
-                               study_run_options)
-from ..util.threads import numba_threads
-from .dual_spin import PLACEMENTS, DualSpinBody, measure_dual_spin
-from .explorer import Whips, measure_explorer
-from .figures import (dual_spin_map_figure, dual_spin_rate_figure, end_state_figure,
-                      flat_time_figure, nutation_figure)
-from .methods import SPHERE_METHODS
-from .model import (EXPLORER_1, RPM, Cylinder, Spinner, energy_sink_optimum,
-                    equivalent_transverse_moment)
+from ...core.axes import MOMENT_NAMES
+from ...study.config import UNSET, ConfigError, Key, Schema, Section
+from ...study.kind import StudyKind, StudySummary, run_rows
+from ...study.outputs import output_files, write_outputs
+from ...study.sections import (check_memory, check_run, output_section, run_section,
+                                study_run_options)
+from ...util.threads import numba_threads
+from .common import positive_key, worst
+from ..figures import end_state_figure, flat_time_figure, nutation_figure
+from ..measure import Whips, measure_explorer
+from ..methods import SPHERE_METHODS
+from ..model import (EXPLORER_1, RPM, Cylinder, Spinner, energy_sink_optimum,
+                     equivalent_transverse_moment)
 
 NAME = "explorer"
 #: Figure stems: the nutation angle, the flat-spin time against damping, the end state.
 FIGURES = ("explorer_nutation", "explorer_flat_time", "explorer_end_state")
-
-
-def positive_key(name, default, doc, unit):
-    """A key of a number > 0."""
-    return Key(name, "float", default, doc, unit=unit, minimum=0.0, exclusive_minimum=True)
 
 
 #: The keys of a uniform solid cylinder, Explorer 1's by default (this study's and the
@@ -288,13 +270,6 @@ def run(config: dict, out_dir: Path, *, overwrite=False, threads=None, progress=
     return summarize(ds, out_dir, files, time.perf_counter() - t_start)
 
 
-def _worst(values) -> float:
-    """The largest |value| over the finite ones (NaN if none)."""
-    values = np.abs(np.asarray(values, dtype=float))
-    values = values[np.isfinite(values)]
-    return float(values.max()) if values.size else math.nan
-
-
 def summarize(ds, out_dir, files, wall) -> StudySummary:
     """Rates against the linear theory, the end states, |H| and the energy; the times to the
     flat spin and the optimum damping."""
@@ -303,14 +278,14 @@ def summarize(ds, out_dir, files, wall) -> StudySummary:
     values = {
         "claim": float(ds.attrs["claim"]), "drift_claim": float(ds.attrs["drift_claim"]),
         "members": int(ds.growth_rate_error.size), "members_fitted": fitted,
-        "max_growth_rate_error": _worst(ds.growth_rate_error),
-        "max_decay_rate_error": _worst(ds.decay_rate_error),
+        "max_growth_rate_error": worst(ds.growth_rate_error),
+        "max_decay_rate_error": worst(ds.decay_rate_error),
         "members_fitted_decay": int(np.isfinite(ds.decay_rate_error).sum()),
         "members_major_axis": int(ds.major_axis_end.sum()),
-        "max_angular_momentum_drift": _worst(ds.angular_momentum_drift),
-        "max_energy_rise": _worst(ds.energy_rise),
-        "max_end_energy_error": _worst(ds.end_energy_error),
-        "energy_lost_error_smallest_angle": _worst(ds.energy_lost_error.isel(angle=0)),
+        "max_angular_momentum_drift": worst(ds.angular_momentum_drift),
+        "max_energy_rise": worst(ds.energy_rise),
+        "max_end_energy_error": worst(ds.end_energy_error),
+        "energy_lost_error_smallest_angle": worst(ds.energy_lost_error.isel(angle=0)),
         "c_linear_optimum": float(ds.attrs["c_linear_optimum"]),
         "c_energy_sink_optimum": float(ds.attrs["c_energy_sink_optimum"]),
         "wall_time": wall, "integration_time": float(ds.attrs["wall_time"]),
@@ -349,10 +324,10 @@ def summarize(ds, out_dir, files, wall) -> StudySummary:
     ]
     if "whip_growth_rate_error" in ds:
         values.update({
-            "whip_max_growth_rate_error": _worst(ds.whip_growth_rate_error),
+            "whip_max_growth_rate_error": worst(ds.whip_growth_rate_error),
             "whip_members_fitted": int(np.isfinite(ds.whip_growth_rate_error).sum()),
             "whip_members_major_axis": int(ds.whip_major_axis_end.sum()),
-            "whip_max_angular_momentum_drift": _worst(ds.whip_angular_momentum_drift),
+            "whip_max_angular_momentum_drift": worst(ds.whip_angular_momentum_drift),
             "whip_end_angle": [float(v) for v in ds.whip_end_angle.values],
             "whip_flat_time": [float(v) for v in ds.whip_flat_time.values],
             "whip_energy_lost_error": [float(v) for v in ds.whip_energy_lost_error.values],
@@ -384,236 +359,5 @@ STUDY = StudyKind(
     check=check,
     quick=QUICK,
     quick_note=QUICK_NOTE,
-    resumable=True,
-)
-
-
-# --- dual_spin ---------------------------------------------------------------------------------
-
-DUAL_SPIN_NAME = "dual_spin"
-#: Figure stems: the maps against the criterion, the rates against the eigenvalues.
-DUAL_SPIN_FIGURES = ("dual_spin_map", "dual_spin_rates")
-
-DUAL_SPIN_SCHEMA = Schema(
-    top=(Key("title", "str", "Dual-spin stabilisation: where a damper on the platform or in "
-             "the rotor makes the nutation decay", "one line describing the run (the "
-             "Dataset's title)"),),
-    sections=(
-        Section("body", "the gyrostat: an axisymmetric platform and a rotor on its axis, on a "
-                "free bearing", (
-            positive_key("transverse", 100.0, "the whole body's transverse moment A_t (rotor "
-                      "included)", "kg m2"),
-            positive_key("rotor", 25.0, "the rotor's axial moment Jr", "kg m2"),
-            Key("platform_spin", "float", 1.0, "the platform's spin w_p about the rotor's axis",
-                unit="rad/s"),
-        )),
-        Section("dampers", "the spherical dampers: one on the platform, one in the rotor", (
-            positive_key("inertia", 5.0, "moment of inertia J of each damper's sphere", "kg m2"),
-            positive_key("platform", 1.0, "the platform damper's viscous coefficient over its "
-                      "energy-sink optimum c* = J h / A_t (h = A3 w_p + Jr Omega, per cell)",
-                      "1"),
-            positive_key("rotor", 0.3, "the rotor damper's, over the same c*", "1"),
-            Key("placements", "strs", list(PLACEMENTS), "the maps: dampers on the platform, in "
-                "the rotor, one on each", choices=PLACEMENTS),
-        )),
-        Section("map", "the inertia ratio A3 / A_t (below 1 minor axis, above 1 major axis) "
-                "and the rotor's speed relative to the platform", (
-            positive_key("ratio_min", 0.5, "smallest inertia ratio", "1"),
-            positive_key("ratio_max", 1.5, "largest inertia ratio", "1"),
-            Key("ratios", "int", 12, "inertia ratios, evenly spaced", minimum=2),
-            Key("speed_min", "float", -1.5, "smallest relative speed of the rotor",
-                unit="rad/s"),
-            Key("speed_max", "float", 4.5, "largest relative speed of the rotor", unit="rad/s"),
-            Key("speeds", "int", 12, "relative speeds, evenly spaced", minimum=2),
-        )),
-        Section("start", "the members of each cell", (
-            Key("angles", "floats", [0.001, 0.002], "initial nutation angles between the "
-                "rotor's axis and H", unit="degree", minimum=0.0, exclusive_minimum=True),
-            Key("seed", "int", 0, "seed of the members' azimuths", minimum=0),
-        )),
-        Section("integration", "RK4, its step and the run length", (
-            Key("step_angle", "float", 0.2, "h times a cell's fastest rate", unit="rad",
-                minimum=0.0, exclusive_minimum=True, maximum=1.0),
-            Key("efolds", "float", 4.0, "e-folds of a decaying nutation run past the settling",
-                minimum=0.0, exclusive_minimum=True),
-            positive_key("max_time", 3000.0, "the longest a cell runs past the settling (the "
-                      "rates vanish near the boundary)", "s"),
-            Key("samples", "int", 600, "states kept by the longest cell", minimum=64),
-        )),
-        Section("analysis", "what the run must show", (
-            Key("fit_top", "float", 1e-3, "largest nutation angle of the linear regime fitted",
-                unit="rad", minimum=0.0, exclusive_minimum=True, maximum=0.05),
-            Key("claim", "float", 1e-3, "relative difference of the fitted rates from the "
-                "linear eigenvalues", minimum=0.0, exclusive_minimum=True),
-        )),
-        run_section(),
-        output_section(DUAL_SPIN_NAME, DUAL_SPIN_FIGURES),
-    ),
-)
-
-#: ``--quick``: a 6 x 6 map, one start per cell, fewer kept states.
-DUAL_SPIN_QUICK = {"map": {"ratios": 6, "speeds": 6}, "start": {"angles": [0.001]},
-                   "integration": {"samples": 300}}
-
-
-def dual_spin_body(config) -> DualSpinBody:
-    """The study's gyrostat family from its ``[body]`` and ``[dampers]`` sections."""
-    b, d = config["body"], config["dampers"]
-    return DualSpinBody(b["transverse"], b["rotor"], d["inertia"], b["platform_spin"],
-                        d["platform"], d["rotor"])
-
-
-def dual_spin_map(config):
-    """``(ratios, speeds)``: the map's axes from its ``[map]`` section."""
-    m = config["map"]
-    return (np.linspace(m["ratio_min"], m["ratio_max"], m["ratios"]),
-            np.linspace(m["speed_min"], m["speed_max"], m["speeds"]))
-
-
-def dual_spin_check(config: dict, source: str) -> dict:
-    """Ranges in order, a platform with an axial moment of its own, an axial momentum of one
-    sign over the map, starts in the fitted range, placements listed once."""
-    b, m = config["body"], config["map"]
-    for name in ("ratio", "speed"):
-        if not m[f"{name}_min"] < m[f"{name}_max"]:
-            raise ConfigError(f"must exceed {name}_min = {m[f'{name}_min']:g}, got "
-                              f"{m[f'{name}_max']:g}", source, "map", f"{name}_max")
-    if not m["ratio_min"] * b["transverse"] > b["rotor"]:
-        raise ConfigError(f"times [body] transverse must exceed [body] rotor = {b['rotor']:g} "
-                          f"kg m2 (the platform's own axial moment is A3 - Jr), got "
-                          f"{m['ratio_min']:g}", source, "map", "ratio_min")
-    corners = [b["transverse"] * r * b["platform_spin"] + b["rotor"] * s
-               for r in (m["ratio_min"], m["ratio_max"]) for s in (m["speed_min"],
-                                                                    m["speed_max"])]
-    if min(corners) <= 0.0:
-        raise ConfigError(f"must keep the axial momentum h = A3 w_p + Jr Omega positive over "
-                          f"the map (it is {min(corners):g} kg m2/s at a corner)", source,
-                          "map", "speed_min")
-    placements = config["dampers"]["placements"]
-    if not placements or len(set(placements)) != len(placements):
-        raise ConfigError(f"must list at least one placement, each once, got {placements}",
-                          source, "dampers", "placements")
-    angles, top = config["start"]["angles"], config["analysis"]["fit_top"]
-    if not angles:
-        raise ConfigError("must list at least one angle", source, "start", "angles")
-    if len(set(angles)) != len(angles):
-        raise ConfigError(f"must list each angle once, got {angles}", source, "start",
-                          "angles")
-    if math.radians(max(angles)) >= top:
-        raise ConfigError(f"must be below [analysis] fit_top = {top:g} rad "
-                          f"({math.degrees(top):.3g} degrees), got {max(angles):g}", source,
-                          "start", "angles")
-    members = len(placements) * m["ratios"] * m["speeds"] * len(angles)
-    samples = config["integration"]["samples"]
-    check_memory(DUAL_SPIN_SCHEMA, config, source, members * samples * 10 * 8 * 4,
-                 [("integration", "samples"), ("map", "ratios"), ("map", "speeds")],
-                 f"the states of {members} members, {samples} each",
-                 "keep fewer samples or map fewer cells")
-    check_run(config, source)
-    return config
-
-
-def dual_spin_outputs(config: dict) -> list[str]:
-    """Files a run writes into the output folder."""
-    return output_files(config, DUAL_SPIN_FIGURES)
-
-
-def dual_spin_run(config: dict, out_dir: Path, *, overwrite=False, threads=None, progress=None,
-                  history=None, work=None, resume=False, scheduler=None) -> StudySummary:
-    """Run the map, save the Dataset, draw the figures; the summary against the theory.
-
-    The members run chunk by chunk into the folder ``work`` (a stopped run continues with
-    ``resume``), on ``scheduler`` (default: the file's ``[run] scheduler``)."""
-    t_start = time.perf_counter()
-    s, integ, a = config["start"], config["integration"], config["analysis"]
-    ratios, speeds = dual_spin_map(config)
-    with numba_threads(threads):
-        ds = measure_dual_spin(
-            dual_spin_body(config), ratios, speeds, np.radians(s["angles"]),
-            placements=config["dampers"]["placements"], step_angle=integ["step_angle"],
-            efolds=integ["efolds"], max_time=integ["max_time"], fit_top=a["fit_top"],
-            samples=integ["samples"], seed=s["seed"],
-            options=study_run_options(config, work, resume, scheduler, threads, progress))
-    claim = a["claim"]
-    ds, files = write_outputs(
-        ds, config, out_dir, DUAL_SPIN_NAME,
-        {DUAL_SPIN_FIGURES[0]: dual_spin_map_figure,
-         DUAL_SPIN_FIGURES[1]: lambda ds: dual_spin_rate_figure(ds, claim=claim)},
-        overwrite=overwrite, history=history, threads=threads, attrs={"claim": claim})
-    return dual_spin_summarize(ds, out_dir, files, time.perf_counter() - t_start)
-
-
-def dual_spin_summarize(ds, out_dir, files, wall) -> StudySummary:
-    """Per placement: the verdicts of the measurement, the eigenvalues and the energy-sink
-    criterion against each other, the fitted rates against the eigenvalues; |H|, the energy."""
-    claim = float(ds.attrs["claim"])
-    table = SummaryTable(
-        "verdicts per placement (cells agreeing, of all) and rates against the eigenvalues",
-        [("placement", ""), ("cells", ""), ("measured = eigenvalue", ""),
-         ("criterion = eigenvalue", ""), ("measured = criterion", ""), ("members fitted", ""),
-         ("fitted rate", "max |rel. diff.|"), ("energy-sink rate", "max |rel. diff.|")])
-    values = {"claim": claim, "placements": {}}
-    for placement in ds.placement.values:
-        d = ds.sel(placement=placement)
-        linear, sink, measured = (d[f"verdict_{k}"].values for k in
-                                  ("linear", "energy_sink", "measured"))
-        row = {
-            "cells": int(linear.size),
-            "measured_vs_linear": int((measured == linear).sum()),
-            "sink_vs_linear": int((sink == linear).sum()),
-            "measured_vs_sink": int((measured == sink).sum()),
-            "undetermined": int((measured == 2).sum()),
-            "stable_linear": int((linear == 1).sum()),
-            "members_fitted": int(np.isfinite(d.rate_error.values).sum()),
-            "members": int(d.rate_error.size),
-            "max_rate_error": _worst(d.rate_error),
-            "max_sink_error": _worst(d.rate_sink_error),
-        }
-        values["placements"][str(placement)] = row
-        table.rows.append((str(placement), f"{row['cells']}", f"{row['measured_vs_linear']}",
-                           f"{row['sink_vs_linear']}", f"{row['measured_vs_sink']}",
-                           f"{row['members_fitted']} of {row['members']}",
-                           f"{row['max_rate_error']:.1e}", f"{row['max_sink_error']:.1e}"))
-    per = values["placements"].values()
-    values.update({
-        "cells": sum(r["cells"] for r in per),
-        "measured_vs_linear": sum(r["measured_vs_linear"] for r in per),
-        "sink_vs_linear": sum(r["sink_vs_linear"] for r in per),
-        "measured_vs_sink": sum(r["measured_vs_sink"] for r in per),
-        "members": int(ds.rate_error.size),
-        "members_fitted": int(np.isfinite(ds.rate_error.values).sum()),
-        "max_rate_error": _worst(ds.rate_error),
-        "max_angular_momentum_drift": _worst(ds.angular_momentum_drift),
-        "max_energy_rise": _worst(ds.energy_rise),
-        "wall_time": wall, "integration_time": float(ds.attrs["wall_time"]),
-        "member_steps": int(ds.attrs["member_steps"]),
-        "members_failed": int((ds.status != 0).sum()),
-    })
-    rows = [
-        ("fitted rate vs linear eigenvalue, max |rel. diff.|",
-         f"{values['max_rate_error']:.1e} ({values['members_fitted']} of {values['members']} "
-         "fitted)", ""),
-        ("  the claim", f"{claim:g}", ""),
-        ("cells where the measurement agrees with the eigenvalues",
-         f"{values['measured_vs_linear']} of {values['cells']}", ""),
-        ("cells where the energy-sink criterion agrees with the eigenvalues",
-         f"{values['sink_vs_linear']} of {values['cells']}", ""),
-        ("|H| largest relative change (rk4)", f"{values['max_angular_momentum_drift']:.1e}",
-         ""),
-        ("energy's largest rise between kept states", f"{values['max_energy_rise']:.1e}", ""),
-        *run_rows(values, wall),
-    ]
-    return StudySummary(DUAL_SPIN_NAME, Path(out_dir), files, rows, values, tables=[table])
-
-
-DUAL_SPIN_STUDY = StudyKind(
-    name=DUAL_SPIN_NAME,
-    title="where a damper on a gyrostat's platform or in its rotor makes the nutation decay "
-          "(dual-spin stabilisation)",
-    schema=DUAL_SPIN_SCHEMA,
-    run=dual_spin_run,
-    outputs=dual_spin_outputs,
-    check=dual_spin_check,
-    quick=DUAL_SPIN_QUICK,
     resumable=True,
 )

@@ -1,15 +1,18 @@
-"""The rigid Earth's free wobble: published moments, Euler's period, the cones, the study."""
+"""What the Earth's runs measure (stability.earth.measure): the rigid Earth's free wobble (Euler's
+period, the cones), and the fit of the equinox's line and nutation."""
 
 import math
 
+import numpy as np
 import pytest
 
 import stability
+from stability.earth import model
 from stability.earth.model import (
     ARCSEC, DYNAMICAL_ELLIPTICITY, SIDEREAL_DAY, earth, euler_period,
 )
 from stability.earth.figures import wobble_cones_figure
-from stability.earth.wobble import measure_free_wobble
+from stability.earth.measure import fit_precession, measure_free_wobble
 
 from ..helpers import assert_readable
 
@@ -41,3 +44,14 @@ def test_cones_have_the_angles_of_the_theory(wobble):
     assert ratio == pytest.approx(DYNAMICAL_ELLIPTICITY, rel=0.01)
     assert_readable(wobble_cones_figure(wobble))
 
+
+def test_fit_recovers_a_line_and_its_nutation():
+    t = np.linspace(0.0, 100 * model.YEAR, 5000)
+    node = model.nutation_frequencies("averaged")[0]
+    phi = 0.3 - 2.4e-12 * t + 8.3e-5 * np.sin(node * t + 0.4) + 1e-6 * np.cos(2 * node * t)
+    eps = 0.409 + 4.4e-5 * np.cos(node * t + 0.4)
+    fit = fit_precession(t, phi, eps, model.nutation_frequencies("averaged"))
+    assert fit["precession_rate"] == pytest.approx(2.4e-12, rel=1e-10)
+    assert fit["nutation_longitude"] == pytest.approx(8.3e-5, rel=1e-10)
+    assert fit["nutation_obliquity"] == pytest.approx(4.4e-5, rel=1e-10)
+    assert abs(fit["obliquity_rate"]) < 1e-20

@@ -1,0 +1,1 @@
+"""Tests of the dissipation studies (stability.dissipation.studies)."""
