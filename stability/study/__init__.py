@@ -31,7 +31,8 @@ from .config import (
     REQUIRED, UNSET, ConfigError, Key, Schema, Section, read, resolve, set_value, to_toml,
     toml_text, toml_type,
 )
-from .kind import STUDY_KEY, StudyKind, StudySummary
+from .kind import STUDY_KEY, StudyKind, StudyRun, StudySummary
+from ..ensemble.options import RunOptions
 from ..output.lock import FolderLock
 from ..output.publish import check_target, clean_leftovers, remove_folder, staged
 from ..output.store import ChunkStore, find_stores, read_manifest
@@ -250,7 +251,6 @@ def run_study(
     if resume:
         _check_something_to_resume(out, work, kind.name, None if overwrite else names[0])
     check_target(out, names, overwrite=overwrite, expected_bytes=expected)  # before writing
-    extra = {}
     created = not out.exists()
     made_work = False
     lock = FolderLock(out, what="output folder")
@@ -264,11 +264,12 @@ def run_study(
             if overwrite and not resume and work.exists():
                 remove_folder(out, work.name)  # the user asked to start afresh
             made_work = not work.exists()
-            extra = {"work": work, "resume": resume, "scheduler": scheduler}
+        options = StudyRun(RunOptions(store=work if kind.resumable else None, resume=resume,
+                                      scheduler=scheduler, threads=threads, progress=progress),
+                           overwrite=True, history=history)  # the stage is new: overwrite
         with staged(out) as stage, time_ledger() as spent:
             started = time.perf_counter()
-            summary = kind.run(config, stage.dir, overwrite=True, threads=threads,
-                               progress=progress, history=history, **extra)
+            summary = kind.run(config, stage.dir, options)
             add_time_table(summary, time.perf_counter() - started, spent)
             _check_outputs(stage.dir, names, "wrote")
             stage.publish()

@@ -1,5 +1,6 @@
-"""The study protocol: :class:`StudyKind` (a kind's schema, checks, run and outputs), what a
-run returns (:class:`StudySummary`) and its printed table (:class:`SummaryTable`)."""
+"""The study protocol: :class:`StudyKind` (a kind's schema, checks, run and outputs), what its
+run takes (:class:`StudyRun`), what it returns (:class:`StudySummary`) and its printed table
+(:class:`SummaryTable`)."""
 
 from __future__ import annotations
 
@@ -7,7 +8,7 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Callable
 
-
+from ..ensemble.options import RunOptions
 from .config import ConfigError, Schema, resolve, toml_text
 
 
@@ -28,8 +29,9 @@ class StudyKind:
     schema : Schema
         Sections and keys of its study files.
     run : callable
-        ``run(config, out_dir, *, overwrite, threads, progress, history) -> StudySummary``:
-        runs the resolved ``config`` and writes the outputs into ``out_dir`` (a Path that exists).
+        ``run(config, out_dir, options) -> StudySummary``: runs the resolved ``config`` as
+        ``options`` (a :class:`StudyRun`) say and writes the outputs into ``out_dir`` (a Path
+        that exists).
     outputs : callable
         ``outputs(config) -> list[str]``: the file names (relative to the output folder) a run
         writes, so that a run refuses to start rather than overwrite them after minutes of work.
@@ -48,8 +50,8 @@ class StudyKind:
         ``expected_bytes(config) -> int``: disk space a run needs at most, checked against the
         free space before it starts.
     resumable : bool
-        ``run`` also takes ``work`` (a folder for finished parts, kept when the run is
-        stopped), ``resume`` and ``scheduler`` (``stability run --resume``, ``--scheduler``).
+        ``run`` is given a store in its options (a folder for finished parts, kept when the run
+        is stopped), ``resume`` and ``scheduler`` (``stability run --resume``, ``--scheduler``).
     """
 
     name: str
@@ -97,6 +99,40 @@ class StudyKind:
         if self.quick_note:
             lines.append(f"note: {self.quick_note}")
         return lines
+
+
+@dataclass(frozen=True)
+class StudyRun:
+    """How a study kind's ``run`` goes: the run options it passes on to the package, and how
+    it writes its outputs; the fields are the constructor's parameters.
+
+    Parameters
+    ----------
+    run : RunOptions, optional
+        How the members run (:class:`~stability.ensemble.options.RunOptions`): ``threads`` and
+        ``progress`` for every kind; for a resumable kind also ``store`` (the work folder its
+        finished parts are kept in), ``resume`` and ``scheduler`` (the file's ``[run]
+        scheduler`` where None). Default: in this process, with the default options.
+    overwrite : bool, default False
+        Replace output files that exist.
+    history : str, optional
+        The command line, appended to the Dataset's ``history`` attribute.
+
+    Examples
+    --------
+    >>> StudyRun(RunOptions(threads=2, progress=False), overwrite=True).run.threads
+    2
+    """
+
+    run: RunOptions = field(default_factory=RunOptions)
+    overwrite: bool = False
+    history: str | None = None
+
+    def __post_init__(self):
+        if not isinstance(self.run, RunOptions):
+            raise ValueError(f"run must be a stability.RunOptions, got {type(self.run).__name__}")
+        if not isinstance(self.overwrite, bool):
+            raise ValueError(f"overwrite must be True or False, got {self.overwrite!r:.80}")
 
 
 @dataclass

@@ -8,7 +8,11 @@ import sys
 import tomllib
 from pathlib import Path
 
+import pytest
+
+from stability.ensemble.options import RunOptions
 from stability.study import STUDIES, ConfigError, load_study
+from stability.study.kind import StudyRun
 
 from ..helpers import default_dataset
 
@@ -64,6 +68,15 @@ def test_summary_table_aligns_names_over_units_and_cells():
     ]
     summary = StudySummary("x", ".", rows=[("wall time", "1.0", "s")], tables=[table])
     assert summary.table().split("\n\n") == ["wall time  1.0  s", table.text()]
+
+
+def test_a_study_run_holds_run_options_and_refuses_anything_else():
+    options = StudyRun()
+    assert (options.run, options.overwrite, options.history) == (RunOptions(), False, None)
+    with pytest.raises(ValueError, match="run must be a stability.RunOptions, got dict"):
+        StudyRun({"threads": 2})
+    with pytest.raises(ValueError, match="overwrite must be True or False, got 'yes'"):
+        StudyRun(overwrite="yes")
 
 
 #: Imports the homes of the kinds in turn, each first in a process of its own: forked from one
