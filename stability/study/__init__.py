@@ -1,7 +1,7 @@
 """Studies: a parameter file in, a Dataset and figures out.
 
 A study file (TOML, ``studies/*.toml``) names its kind with ``study = "..."``; ``STUDIES`` maps
-each kind to its :class:`~.kind.StudyKind`: the schema its files are checked against and the
+each kind to its :class:`~.kind.StudyKind` (declared by :mod:`stability.registry`): the schema its files are checked against and the
 ``run`` function that does the work by calling the package. ``run_study`` is what
 ``stability run`` calls. The framework: :mod:`.config` (the file library: keys, sections,
 validation, the resolved configuration), :mod:`.sections` (the sections and checks the kinds
@@ -22,16 +22,14 @@ import errno
 import os
 import stat
 import time
-from collections.abc import Mapping
 from pathlib import Path
 
 from ..output.stream import RunInterrupted
-from ..registry import STUDY_KINDS, load
 from .config import (
     REQUIRED, UNSET, ConfigError, Key, Schema, Section, read, resolve, set_value, to_toml,
     toml_text, toml_type,
 )
-from .kind import STUDY_KEY, StudyKind, StudyRun, StudySummary
+from .kind import STUDIES, STUDY_KEY, StudyKind, StudyRun, StudySummary
 from ..ensemble.options import RunOptions
 from ..output.lock import FolderLock
 from ..output.publish import check_target, clean_leftovers, remove_folder, staged
@@ -39,36 +37,6 @@ from ..output.store import ChunkStore, find_stores, read_manifest
 from ..util.checks import registered
 from ..util.ledger import time_ledger
 from .timing import add_time_table
-
-
-class StudyKinds(Mapping):
-    """The registered study kinds by name, each imported from its family when it is asked for.
-
-    A kind's module imports the study framework (this package) before it defines its
-    ``STUDY``; read while this package loads, the table would find a kind whose module was
-    imported first (``import stability.dissipation.studies`` in a fresh process) half-made.
-
-    Parameters
-    ----------
-    where : mapping of str to (str, str)
-        Each kind's name -> its module's path and the name of its
-        :class:`~.config.StudyKind` there (:data:`stability.registry.STUDY_KINDS`).
-    """
-
-    def __init__(self, where):
-        self._where = dict(where)
-
-    def __getitem__(self, name) -> StudyKind:
-        return load(self._where[name])
-
-    def __iter__(self):
-        return iter(self._where)
-
-    def __len__(self) -> int:
-        return len(self._where)
-
-
-STUDIES: Mapping[str, StudyKind] = StudyKinds(STUDY_KINDS)
 
 
 def study_kind(name) -> StudyKind:

@@ -1,9 +1,11 @@
-"""The study protocol: :class:`StudyKind` (a kind's schema, checks, run and outputs), what its
-run takes (:class:`StudyRun`), what it returns (:class:`StudySummary`) and its printed table
-(:class:`SummaryTable`)."""
+"""The study protocol: :class:`StudyKind` (a kind's schema, checks, run and outputs), the
+register of the kinds by name (:data:`STUDIES`), what a kind's run takes (:class:`StudyRun`),
+what it returns (:class:`StudySummary`) and its printed table (:class:`SummaryTable`)."""
 
 from __future__ import annotations
 
+import functools
+from collections.abc import Mapping
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Callable
@@ -99,6 +101,46 @@ class StudyKind:
         if self.quick_note:
             lines.append(f"note: {self.quick_note}")
         return lines
+
+
+class StudyKinds(Mapping):
+    """The register of study kinds by name, each loaded from its family when first asked for.
+
+    The study framework imports no family (the kinds' modules import it):
+    :mod:`stability.registry`, which reads what each family declares, declares the kinds here
+    with the function that loads one. A kind's module is imported when the kind is first asked
+    for, so that ``import stability`` stays free of the studies' modules and of matplotlib.
+    """
+
+    def __init__(self):
+        self._loaders: dict[str, Callable[[], StudyKind]] = {}
+
+    def declare(self, where: Mapping, load: Callable) -> None:
+        """Register study kinds, each to be loaded when first asked for.
+
+        Parameters
+        ----------
+        where : mapping of str to object
+            Each kind's name -> where it is (:data:`stability.registry.STUDY_KINDS`: its
+            module's path and the name of its :class:`StudyKind` there).
+        load : callable
+            ``load(where[name]) -> StudyKind`` (:func:`stability.registry.load`).
+        """
+        self._loaders.update({name: functools.partial(load, place)
+                              for name, place in where.items()})
+
+    def __getitem__(self, name) -> StudyKind:
+        return self._loaders[name]()
+
+    def __iter__(self):
+        return iter(self._loaders)
+
+    def __len__(self) -> int:
+        return len(self._loaders)
+
+
+#: The study kinds by name (declared by :mod:`stability.registry`).
+STUDIES: Mapping[str, StudyKind] = StudyKinds()
 
 
 @dataclass(frozen=True)

@@ -1,10 +1,8 @@
-"""The study kinds (stability.study.kind): each declares a complete schema and is whole in the
-registry when imported first, its Dataset is checked against CF, and a run's summary table
-aligns."""
+"""The study kinds (stability.study.kind): each declares a complete schema, its Dataset is checked
+against CF, the register loads a kind when first asked for, a run's options refuse what they do
+not hold, and a run's summary table aligns."""
 
 import re
-import subprocess
-import sys
 import tomllib
 from pathlib import Path
 
@@ -12,7 +10,8 @@ import pytest
 
 from stability.ensemble.options import RunOptions
 from stability.study import STUDIES, ConfigError, load_study
-from stability.study.kind import StudyRun
+from stability.registry import STUDY_KINDS
+from stability.study.kind import StudyKinds, StudyRun
 
 from ..helpers import default_dataset
 
@@ -79,37 +78,13 @@ def test_a_study_run_holds_run_options_and_refuses_anything_else():
         StudyRun(overwrite="yes")
 
 
-#: Imports the homes of the kinds in turn, each first in a process of its own: forked from one
-#: that holds the libraries the package uses (a new interpreter each took a second and a half
-#: to import them) and no module of the package, so each child imports the package afresh.
-FRESH_IMPORTS = """
-import importlib, os, sys, traceback
-import matplotlib.figure, numba, numpy, pandas, scipy.integrate, xarray
-assert not [name for name in sys.modules if name.split(".")[0] == "stability"]
-failed = []
-for home in sys.argv[1:]:
-    pid = os.fork()
-    if pid == 0:
-        try:
-            importlib.import_module(home)
-            from stability.study import STUDIES
-            assert all(kind.schema is not None for kind in STUDIES.values())
-        except BaseException:
-            traceback.print_exc()
-            os._exit(1)
-        os._exit(0)
-    if os.waitpid(pid, 0)[1] != 0:
-        failed.append(home)
-print("failed:", failed)
-sys.exit(1 if failed else 0)
-"""
+def test_the_register_loads_a_kind_only_when_it_is_first_asked_for():
+    asked = []
+    kinds = StudyKinds()
+    kinds.declare({"b": ("m", "B"), "a": ("m", "A")}, lambda where: asked.append(where) or where[1])
+    assert (list(kinds), len(kinds), asked) == (["b", "a"], 2, [])
+    assert kinds["a"] == "A" and asked == [("m", "A")]
 
 
-def test_a_kind_imported_first_in_a_fresh_process_is_complete_in_the_registry():
-    """A kind's module imports the framework, which registers every kind: imported first, the
-    kind is still whole when the registry reads it (``import stability.dissipation.studies``)."""
-    homes = sorted({kind.run.__module__ for kind in STUDIES.values()})
-    run = subprocess.run([sys.executable, "-c", FRESH_IMPORTS, *homes], capture_output=True,
-                         text=True, timeout=300)
-    assert run.returncode == 0, (run.stdout[-500:], run.stderr[-4000:])
-    assert run.stdout.strip() == "failed: []"
+def test_the_register_holds_the_kinds_the_families_declare():
+    assert list(STUDIES) == list(STUDY_KINDS) == sorted(STUDY_KINDS)
