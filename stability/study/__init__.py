@@ -1,11 +1,13 @@
 """Studies: a parameter file in, a Dataset and figures out.
 
 A study file (TOML, ``studies/*.toml``) names its kind with ``study = "..."``; ``STUDIES`` maps
-each kind to its :class:`~.kind.StudyKind` (declared by :mod:`stability.registry`): the schema its files are checked against and the
-``run`` function that does the work by calling the package. ``run_study`` is what
-``stability run`` calls. The framework: :mod:`.config` (the file library: keys, sections,
-validation, the resolved configuration), :mod:`.sections` (the sections and checks the kinds
-share), :mod:`.outputs` (what a run writes into its folder) and :mod:`.kind` (the protocol).
+each kind to its :class:`~.kind.StudyKind` (declared by :mod:`stability.registry`): the schema
+its files are checked against and the ``run`` function that does the work by calling the
+package. ``run_study`` is what ``stability run`` calls. The framework: :mod:`.config` (the
+schema: keys, sections, validation, the resolved configuration), :mod:`.load` (a study file
+read, overridden and validated), :mod:`.sections` (the sections and checks the kinds share),
+:mod:`.outputs` (what a run writes into its folder) and :mod:`.kind` (the protocol and the
+register of kinds).
 
 To add a kind of study: write its module in its family's package with its ``SCHEMA``,
 ``outputs`` and ``run`` (see :mod:`stability.heavy_top.studies.gyroscope`), name it in the
@@ -25,10 +27,7 @@ import time
 from pathlib import Path
 
 from ..output.stream import RunInterrupted
-from .config import (
-    REQUIRED, UNSET, ConfigError, Key, Schema, Section, read, resolve, set_value, to_toml,
-    toml_text, toml_type,
-)
+from .config import REQUIRED, UNSET, ConfigError, Key, Schema, Section, resolve, to_toml
 from .kind import STUDIES, STUDY_KEY, StudyKind, StudyRun, StudySummary
 from ..ensemble.options import RunOptions
 from ..output.lock import FolderLock
@@ -36,98 +35,13 @@ from ..output.publish import check_target, clean_leftovers, remove_folder, stage
 from ..output.store import ChunkStore, find_stores, read_manifest
 from ..util.checks import registered
 from ..util.ledger import time_ledger
+from .load import load_study, read
 from .timing import add_time_table
 
 
 def study_kind(name) -> StudyKind:
     """The registered kind ``name``; ``ValueError`` listing the known kinds if there is none."""
     return registered(STUDIES, name, "study kind", "kinds")
-
-
-def _check_dispersible(kind, raw: dict, source: str) -> None:
-    """A ``[dispersions]`` section in a study whose kind draws none is one line naming the
-    kinds that do."""
-    names = [s.name for s in kind.schema.sections]
-    if "dispersions" in raw and "dispersions" not in names:
-        dispersed = [k for k, other in STUDIES.items()
-                     if "dispersions" in [s.name for s in other.schema.sections]]
-        raise ConfigError(
-            f"study {kind.name!r} draws no dispersions; the studies that take [dispersions] "
-            f"and report which uncertainty dominates are {', '.join(dispersed)}; or disperse "
-            "any scene's named parameters with stability.uncertainty.scenes.run_dispersed",
-            source)
-
-
-def load_study(path, *, overrides=(), members=None, quick=False):
-    """Read, override and validate a study file.
-
-    Parameters
-    ----------
-    path : str or Path
-        The TOML study file.
-    overrides : sequence of (str, str)
-        ``("section.key", "value")`` pairs (value in TOML syntax) applied on top of the file,
-        as ``stability run --set`` does.
-    members : int, optional
-        Ensemble size, replacing the kind's members key (``--members``).
-    quick : bool
-        Apply the kind's quick-mode settings (``--quick``) before the overrides.
-
-    Returns
-    -------
-    kind : StudyKind
-    config : dict
-        The resolved configuration (every key present, defaults filled in).
-    source : str
-        The file name, for messages.
-
-    Raises
-    ------
-    ConfigError
-        One line naming the file, section and key, and what is allowed.
-    """
-    source = str(path)
-    raw = read(path)
-    name = raw.get(STUDY_KEY, None)
-    if name is None:
-        raise ConfigError(
-            "missing key 'study' at the top of the file; set study = one of "
-            + ", ".join(toml_text(k) for k in STUDIES),
-            source,
-        )
-    if not isinstance(name, str) or name not in STUDIES:
-        kind = "" if isinstance(name, str) else f" (a {toml_type(name)})"
-        raise ConfigError(
-            f"study must be one of {', '.join(toml_text(k) for k in STUDIES)}, "
-            f"got {toml_text(name)}{kind}",
-            source,
-        )
-    kind = STUDIES[name]
-    _check_dispersible(kind, raw, source)
-    if quick:
-        for section, values in kind.quick.items():
-            raw.setdefault(section, {})
-            if isinstance(raw[section], dict):
-                raw[section].update(values)
-    given = {}  # (section, key) -> the option that set it
-    for dotted, text in overrides:
-        set_value(raw, dotted, text, source=f"{source} (--set {dotted})")
-        section, _, key = dotted.partition(".")
-        given[(section, key)] = f"--set {dotted}"
-    if members is not None:
-        if kind.members_key is None:
-            raise ConfigError(f"study kind {name!r} has no ensemble size; drop --members", source)
-        section, key = kind.members_key
-        raw.setdefault(section, {})[key] = members
-        given[kind.members_key] = "--members"
-    try:
-        config = kind.resolve(raw, source)
-    except ConfigError as exc:
-        option = given.get((exc.section, exc.key))
-        if option is None:
-            raise
-        raise ConfigError(exc.detail, f"{source} ({option})", exc.section, exc.key) from None
-    return kind, config, source
 
 
 def run_study(
