@@ -5,12 +5,14 @@ what it returns (:class:`StudySummary`) and its printed table (:class:`SummaryTa
 from __future__ import annotations
 
 import functools
+import textwrap
 from collections.abc import Mapping
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Callable
 
 from ..ensemble.options import RunOptions
+from ..util.checks import registered
 from .config import ConfigError, Schema, resolve, toml_text
 
 
@@ -141,6 +143,23 @@ class StudyKinds(Mapping):
 
 #: The study kinds by name (declared by :mod:`stability.registry`).
 STUDIES: Mapping[str, StudyKind] = StudyKinds()
+
+
+def study_kind(name) -> StudyKind:
+    """The registered kind ``name``; ``ValueError`` listing the known kinds if there is none."""
+    return registered(STUDIES, name, "study kind", "kinds")
+
+
+def quick_notes(kind: StudyKind, raw: dict | None = None, config: dict | None = None
+                ) -> list[str]:
+    """The lines saying what ``--quick`` sets for ``kind`` (:meth:`StudyKind.quick_lines`):
+    printed by ``stability studies KIND`` and after a quick run's summary."""
+    if not kind.quick:
+        return ["--quick changes nothing in this kind"]
+    lines = ["--quick sets (a small, fast run):"]
+    for line in kind.quick_lines(raw, config):
+        lines += textwrap.wrap(line, 94, initial_indent="  ", subsequent_indent="    ")
+    return lines
 
 
 @dataclass(frozen=True)

@@ -11,7 +11,7 @@ import pytest
 from stability.ensemble.options import RunOptions
 from stability.study import STUDIES, ConfigError, load_study
 from stability.registry import STUDY_KINDS
-from stability.study.kind import StudyKinds, StudyRun
+from stability.study.kind import StudyKind, StudyKinds, StudyRun, quick_notes, study_kind
 
 from ..helpers import default_dataset
 
@@ -88,3 +88,17 @@ def test_the_register_loads_a_kind_only_when_it_is_first_asked_for():
 
 def test_the_register_holds_the_kinds_the_families_declare():
     assert list(STUDIES) == list(STUDY_KINDS) == sorted(STUDY_KINDS)
+
+
+def test_a_kind_is_found_by_name_or_refused_naming_the_kinds():
+    assert study_kind("bat") is STUDIES["bat"]
+    with pytest.raises(ValueError, match="unknown study kind 'bats'; known kinds: bat, "):
+        study_kind("bats")
+
+
+def test_quick_notes_say_what_quick_sets_or_that_it_sets_nothing():
+    bare = StudyKind("bare", "no quick mode", STUDIES["bat"].schema, run=print, outputs=list)
+    assert quick_notes(bare) == ["--quick changes nothing in this kind"]
+    notes = quick_notes(STUDIES["bat"])
+    assert notes[0] == "--quick sets (a small, fast run):"
+    assert all(line.startswith("  ") and len(line) <= 96 for line in notes[1:])
