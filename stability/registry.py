@@ -1,6 +1,7 @@
 """The problem families, in one list: :data:`FAMILIES`. Each family's package declares its
 scenes and study kinds (its ``SCENES`` and ``STUDIES``); here they become :data:`SCENES` by name
-and :data:`STUDY_KINDS`, which :mod:`stability.study` reads.
+and :data:`STUDY_KINDS`, declared to the study framework's register
+(:data:`stability.study.STUDIES`, which loads each kind when first asked for).
 
 To add a family: copy a family's folder (the smallest is ``stability/struck/``; every family has
 its shape: ``scene.py``, ``methods.py``, ``model.py``, ``measure.py``, ``schema.py``,
@@ -19,6 +20,7 @@ import importlib
 from .engine.scene import Scene
 from .engine.user_scene import RESERVED_NAMES
 from .ensemble.schema import DatasetSchema, register
+from .study.kind import STUDIES
 from .tangents.schema import TANGENTS
 from .uncertainty.schema import MORRIS_SCREENING, SOBOL_INDICES
 from .util.checks import registered
@@ -88,6 +90,7 @@ register(TANGENTS)  # the finite-time Lyapunov exponents of stability.tangents
 #: Each study kind's name -> (module, attribute) of its StudyKind, imported when first used.
 STUDY_KINDS: dict[str, tuple] = dict(sorted(
     (name, where) for family in FAMILIES for name, where in declared(family, "STUDIES").items()))
+STUDIES.declare(STUDY_KINDS, load)  # the register the study framework reads
 
 
 def scene(name) -> Scene:

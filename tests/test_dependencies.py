@@ -183,15 +183,15 @@ def _loaded_names(tree, known):
 
 
 def _declared_loads(parsed):
-    """The modules :mod:`stability.registry` loads as it is built: those each family's
-    ``__init__`` names in its ``SCENES`` and ``DATASETS`` (``"scene:HEAVY_TOP"``). Its study
-    kinds (``STUDIES``) are loaded when first asked for, not here."""
+    """The modules :mod:`stability.registry` loads: those each family's ``__init__`` names in
+    its ``SCENES``, ``DATASETS`` and ``STUDIES`` (``"scene:HEAVY_TOP"``), the study kinds'
+    when first asked for, the others as it is built."""
     for module, path, tree in parsed:
         if path.name != "__init__.py":
             continue
         for node in tree.body:
             if not (isinstance(node, ast.Assign) and any(
-                    isinstance(target, ast.Name) and target.id in ("SCENES", "DATASETS")
+                    isinstance(target, ast.Name) and target.id in ("SCENES", "DATASETS", "STUDIES")
                     for target in node.targets)):
                 continue
             for item in ast.walk(node.value):

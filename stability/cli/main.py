@@ -357,7 +357,7 @@ def _cmd_animate(args) -> int:
 
 
 def _cmd_run(args) -> int:
-    from ..study import load_study, run_study
+    from ..study import load_study, quick_notes, run_study
 
     overrides = list(args.overrides)
     kind, config, source = load_study(
@@ -381,7 +381,7 @@ def _cmd_run(args) -> int:
         source=source,
     )
     if args.quick:
-        from ..study import quick_notes, read
+        from ..study.load import read
 
         summary.notes += quick_notes(kind, read(args.study), config)
     print(f"\nsummary of the {kind.name} study ({kind.title})")

@@ -1,4 +1,5 @@
-"""Study files: a declarative schema per study kind, validation, and the resolved configuration.
+"""The schema of study files: a declarative schema per study kind, validation against it, and the
+resolved configuration (reading a file and its overrides is :mod:`.load`).
 
 A study file is TOML. The top-level key ``study`` names the kind (a key of
 ``stability.study.STUDIES``); the rest are sections (``[body]``, ``[spin]``, ``[ensemble]``,
@@ -20,12 +21,8 @@ from __future__ import annotations
 
 import json
 import math
-import os
-import stat
 import sys
-import tomllib
 from dataclasses import dataclass, field
-from pathlib import Path
 from typing import Any, Callable
 
 from ..output.dataset import config_toml
@@ -289,77 +286,6 @@ def toml_type(value) -> str:
             dict: "table"}.get(type(value), type(value).__name__)
 
 
-#: The largest study file read (bytes): a study file is a page of settings; anything larger
-#: is a wrong path (a data file, a device) and is refused before it is read.
-MAX_STUDY_BYTES = 2**20
-
-
-def read(path) -> dict:
-    """Parse a study file; a missing, unreadable or oversized file or bad TOML is a one-line
-    :class:`ConfigError`.
-
-    Only a regular file of at most :data:`MAX_STUDY_BYTES` is read (``/dev/zero``, a FIFO or
-    a folder would be read for ever, wait for ever, or fail obscurely). A UTF-8 byte-order
-    mark, which Windows editors write, is skipped.
-    """
-    path = Path(path)
-    source = str(path)
-    try:
-        with open(path, "rb", opener=_open_without_waiting) as f:
-            info = os.fstat(f.fileno())
-            if not stat.S_ISREG(info.st_mode):
-                raise ConfigError(f"is {_file_kind(info.st_mode)}, not a study file; give the "
-                                  "path of a .toml file", source)
-            data = f.read(MAX_STUDY_BYTES + 1)  # its size may change as it is read
-    except FileNotFoundError:
-        raise ConfigError("no such file", source) from None
-    except IsADirectoryError:
-        raise ConfigError("is a folder, not a study file; give the path of a .toml file",
-                          source) from None
-    except OSError as exc:
-        raise ConfigError(f"cannot read the file ({exc.strerror or exc})", source) from None
-    if len(data) > MAX_STUDY_BYTES:
-        raise ConfigError(f"is larger than the {MAX_STUDY_BYTES // 2**20} MiB a study file may "
-                          "have; give the path of a .toml study file", source)
-    try:
-        text = data.decode("utf-8-sig")
-    except UnicodeDecodeError as exc:
-        raise ConfigError(f"is not UTF-8 text (byte {exc.start}); save it as UTF-8", source
-                          ) from None
-    return parse(text, source)
-
-
-def _open_without_waiting(path, flags):
-    """``os.open`` that does not wait for a writer (a FIFO), so that the kind of file can be
-    checked before anything is read."""
-    return os.open(path, flags | getattr(os, "O_NONBLOCK", 0))
-
-
-def _file_kind(mode: int) -> str:
-    """What a file that is not a regular file is, in words."""
-    for test, words in ((stat.S_ISDIR, "a folder"), (stat.S_ISFIFO, "a FIFO (named pipe)"),
-                        (stat.S_ISCHR, "a character device"), (stat.S_ISBLK, "a block device"),
-                        (stat.S_ISSOCK, "a socket")):
-        if test(mode):
-            return words
-    return "not a regular file"
-
-
-def parse(text: str, source: str = "<study>") -> dict:
-    """Parse TOML text; a syntax error becomes a one-line :class:`ConfigError`."""
-    try:
-        return tomllib.loads(text.removeprefix("\ufeff"))
-    except tomllib.TOMLDecodeError as exc:
-        raise ConfigError(f"not valid TOML: {exc}", source) from None
-    except ValueError:  # tomllib's only other error: an integer too long for int()
-        raise ConfigError(_TOO_LONG, source) from None
-
-
-#: What an integer of more digits than Python converts to int is told.
-_TOO_LONG = (f"holds an integer of more than {sys.get_int_max_str_digits()} digits, beyond the "
-             "range of any number a key takes")
-
-
 def resolve(raw: dict, schema: Schema, source: str = "<study>") -> dict:
     """Check a parsed study file against ``schema`` and fill in the defaults.
 
@@ -467,30 +393,6 @@ def _type_hint(key: Key, value) -> str:
         if _convert(kind, value, None) is not _MISMATCH:
             return ""
     return f" (a {toml_type(value)})"
-
-
-def set_value(raw: dict, dotted: str, text: str, source: str = "--set") -> None:
-    """Apply a command-line override ``section.key=value`` (value in TOML syntax) to ``raw``.
-
-    ``text`` is parsed as a TOML value, so ``5``, ``1e-4``, ``"lp2"`` and ``[1, 2, 3]`` mean what
-    they mean in the file; a bare word that is not TOML (``lp2``) is taken as a string.
-    """
-    section, _, key = dotted.partition(".")
-    if not key or not section:
-        raise ConfigError(
-            f"override {dotted!r} must name a section and a key, as in ensemble.members=100",
-            source,
-        )
-    try:
-        value = tomllib.loads(f"v = {text}")["v"]
-    except tomllib.TOMLDecodeError:
-        value = text
-    except ValueError:  # an integer too long for int()
-        raise ConfigError(_TOO_LONG, source) from None
-    table = raw.setdefault(section, {})
-    if not isinstance(table, dict):
-        raise ConfigError(f"[{section}] is not a section", source)
-    table[key] = value
 
 
 def to_toml(config: dict) -> str:

@@ -1,13 +1,18 @@
-"""The study protocol: :class:`StudyKind` (a kind's schema, checks, run and outputs), what a
-run returns (:class:`StudySummary`) and its printed table (:class:`SummaryTable`)."""
+"""The study protocol: :class:`StudyKind` (a kind's schema, checks, run and outputs), the
+register of the kinds by name (:data:`STUDIES`), what a kind's run takes (:class:`StudyRun`),
+what it returns (:class:`StudySummary`) and its printed table (:class:`SummaryTable`)."""
 
 from __future__ import annotations
 
+import functools
+import textwrap
+from collections.abc import Mapping
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Callable
 
-
+from ..ensemble.options import RunOptions
+from ..util.checks import registered
 from .config import ConfigError, Schema, resolve, toml_text
 
 
@@ -28,8 +33,9 @@ class StudyKind:
     schema : Schema
         Sections and keys of its study files.
     run : callable
-        ``run(config, out_dir, *, overwrite, threads, progress, history) -> StudySummary``:
-        runs the resolved ``config`` and writes the outputs into ``out_dir`` (a Path that exists).
+        ``run(config, out_dir, options) -> StudySummary``: runs the resolved ``config`` as
+        ``options`` (a :class:`StudyRun`) say and writes the outputs into ``out_dir`` (a Path
+        that exists).
     outputs : callable
         ``outputs(config) -> list[str]``: the file names (relative to the output folder) a run
         writes, so that a run refuses to start rather than overwrite them after minutes of work.
@@ -48,8 +54,8 @@ class StudyKind:
         ``expected_bytes(config) -> int``: disk space a run needs at most, checked against the
         free space before it starts.
     resumable : bool
-        ``run`` also takes ``work`` (a folder for finished parts, kept when the run is
-        stopped), ``resume`` and ``scheduler`` (``stability run --resume``, ``--scheduler``).
+        ``run`` is given a store in its options (a folder for finished parts, kept when the run
+        is stopped), ``resume`` and ``scheduler`` (``stability run --resume``, ``--scheduler``).
     """
 
     name: str
@@ -97,6 +103,97 @@ class StudyKind:
         if self.quick_note:
             lines.append(f"note: {self.quick_note}")
         return lines
+
+
+class StudyKinds(Mapping):
+    """The register of study kinds by name, each loaded from its family when first asked for.
+
+    The study framework imports no family (the kinds' modules import it):
+    :mod:`stability.registry`, which reads what each family declares, declares the kinds here
+    with the function that loads one. A kind's module is imported when the kind is first asked
+    for, so that ``import stability`` stays free of the studies' modules and of matplotlib.
+    """
+
+    def __init__(self):
+        self._loaders: dict[str, Callable[[], StudyKind]] = {}
+
+    def declare(self, where: Mapping, load: Callable) -> None:
+        """Register study kinds, each to be loaded when first asked for.
+
+        Parameters
+        ----------
+        where : mapping of str to object
+            Each kind's name -> where it is (:data:`stability.registry.STUDY_KINDS`: its
+            module's path and the name of its :class:`StudyKind` there).
+        load : callable
+            ``load(where[name]) -> StudyKind`` (:func:`stability.registry.load`).
+        """
+        self._loaders.update({name: functools.partial(load, place)
+                              for name, place in where.items()})
+
+    def __getitem__(self, name) -> StudyKind:
+        return self._loaders[name]()
+
+    def __iter__(self):
+        return iter(self._loaders)
+
+    def __len__(self) -> int:
+        return len(self._loaders)
+
+
+#: The study kinds by name (declared by :mod:`stability.registry`).
+STUDIES: Mapping[str, StudyKind] = StudyKinds()
+
+
+def study_kind(name) -> StudyKind:
+    """The registered kind ``name``; ``ValueError`` listing the known kinds if there is none."""
+    return registered(STUDIES, name, "study kind", "kinds")
+
+
+def quick_notes(kind: StudyKind, raw: dict | None = None, config: dict | None = None
+                ) -> list[str]:
+    """The lines saying what ``--quick`` sets for ``kind`` (:meth:`StudyKind.quick_lines`):
+    printed by ``stability studies KIND`` and after a quick run's summary."""
+    if not kind.quick:
+        return ["--quick changes nothing in this kind"]
+    lines = ["--quick sets (a small, fast run):"]
+    for line in kind.quick_lines(raw, config):
+        lines += textwrap.wrap(line, 94, initial_indent="  ", subsequent_indent="    ")
+    return lines
+
+
+@dataclass(frozen=True)
+class StudyRun:
+    """How a study kind's ``run`` goes: the run options it passes on to the package, and how
+    it writes its outputs; the fields are the constructor's parameters.
+
+    Parameters
+    ----------
+    run : RunOptions, optional
+        How the members run (:class:`~stability.ensemble.options.RunOptions`): ``threads`` and
+        ``progress`` for every kind; for a resumable kind also ``store`` (the work folder its
+        finished parts are kept in), ``resume`` and ``scheduler`` (the file's ``[run]
+        scheduler`` where None). Default: in this process, with the default options.
+    overwrite : bool, default False
+        Replace output files that exist.
+    history : str, optional
+        The command line, appended to the Dataset's ``history`` attribute.
+
+    Examples
+    --------
+    >>> StudyRun(RunOptions(threads=2, progress=False), overwrite=True).run.threads
+    2
+    """
+
+    run: RunOptions = field(default_factory=RunOptions)
+    overwrite: bool = False
+    history: str | None = None
+
+    def __post_init__(self):
+        if not isinstance(self.run, RunOptions):
+            raise ValueError(f"run must be a stability.RunOptions, got {type(self.run).__name__}")
+        if not isinstance(self.overwrite, bool):
+            raise ValueError(f"overwrite must be True or False, got {self.overwrite!r:.80}")
 
 
 @dataclass

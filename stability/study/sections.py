@@ -4,13 +4,14 @@ device), the output folder, and the one memory check before any work."""
 from __future__ import annotations
 
 import math
-
+from dataclasses import replace
 
 from ..core.body import RigidBody
 from ..ensemble.memory import memory_problem
 from ..output.io import COMPRESSIONS
 
 from .config import ConfigError, Key, Schema, Section, toml_text
+from .kind import StudyRun
 from ..ensemble.options import RunOptions
 
 
@@ -155,12 +156,11 @@ def check_run(config: dict, source: str) -> None:
             f"as 'tcp://host:8786', got {scheduler!r}", source, "run", "scheduler")
 
 
-def study_run_options(config: dict, work, resume: bool, scheduler, threads,
-               progress=None) -> RunOptions:
-    """The run options (:class:`~stability.ensemble.options.RunOptions`) of a study's run: its
-    chunks in ``work``, the scheduler given (``--scheduler``) or the file's, its
+def study_run_options(config: dict, options: StudyRun) -> RunOptions:
+    """The run options (:class:`~stability.ensemble.options.RunOptions`) of a study's run:
+    those it is given (``options.run``: its chunks in the store, ``--resume``, ``--threads``),
+    on the scheduler given (``--scheduler``) or else the file's, in chunks of the file's
     ``[run] chunk_members``."""
-    return RunOptions(store=work, resume=resume,
-                      scheduler=scheduler or config["run"]["scheduler"] or None,
-                      chunk_members=config["run"]["chunk_members"] or None, threads=threads,
-                      progress=progress)
+    run = options.run
+    return replace(run, scheduler=run.scheduler or config["run"]["scheduler"] or None,
+                   chunk_members=config["run"]["chunk_members"] or None)

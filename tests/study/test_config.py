@@ -1,4 +1,5 @@
-"""Study files: schema validation, one-line errors with exit status 2, resolved configuration."""
+"""The schema of study files (stability.study.config): validation, one-line errors with exit
+status 2, the resolved configuration."""
 
 import tomllib
 from pathlib import Path
@@ -7,7 +8,7 @@ import pytest
 
 from stability.cli import main
 from stability.study import STUDIES, ConfigError, Key, load_study, resolve, to_toml
-from stability.study.config import parse
+from stability.study.load import parse
 
 ROOT = Path(__file__).resolve().parents[2]
 TENNIS = ROOT / "studies" / "tennis_racket.toml"
@@ -101,38 +102,6 @@ def test_bad_study_file_is_one_line_exit_2_and_writes_nothing(case, tmp_path, ca
     assert sorted(p.name for p in tmp_path.iterdir()) == ["x.toml"]
 
 
-@pytest.mark.parametrize(
-    "text, words",
-    [
-        ('study = "tennis"\n', ['study must be one of', '"tennis_racket"', '"tennis"']),
-        ('title = "no kind"\n', ["missing key 'study'"]),
-        ('study = "tennis_racket\n', ["not valid TOML", "line 1"]),
-        ('study = "tennis_racket"\nflavour = 1\n', ["unknown top-level key 'flavour'"]),
-    ],
-)
-def test_bad_top_level(text, words, tmp_path, capsys):
-    path = tmp_path / "x.toml"
-    path.write_text(text)
-    assert main(["run", str(path)]) == 2
-    err = capsys.readouterr().err.strip()
-    assert len(err.splitlines()) == 1 and err.startswith(f"{path}: ")
-    for word in words:
-        assert word in err
-
-
-def test_missing_file_and_bad_override(tmp_path, capsys):
-    assert main(["run", str(tmp_path / "none.toml")]) == 2
-    assert capsys.readouterr().err.strip() == f"{tmp_path / 'none.toml'}: no such file"
-    path, out = write_study(tmp_path, "")
-    assert main(["run", str(path), "--set", "ensemble.members=0"]) == 2
-    err = capsys.readouterr().err.strip()
-    assert "(--set ensemble.members)" in err and "members must be an integer >= 1, got 0" in err
-    assert main(["run", str(path), "--members", "-3"]) == 2
-    err = capsys.readouterr().err.strip()
-    assert len(err.splitlines()) == 1 and "--members" in err
-    assert not out.exists()
-
-
 def test_resolved_config_fills_defaults_and_round_trips_as_toml(tmp_path):
     kind, config, _ = load_study(TENNIS)
     schema = kind.schema
@@ -147,16 +116,6 @@ def test_resolved_config_fills_defaults_and_round_trips_as_toml(tmp_path):
     bare = tmp_path / "bare.toml"
     bare.write_text('study = "tennis_racket"\n')
     assert load_study(bare)[1] == config
-
-
-def test_quick_mode_and_overrides_take_effect():
-    kind, config, _ = load_study(
-        TENNIS, quick=True, overrides=[("ensemble.epsilon", "1e-5"), ("integration.method", "lp2")],
-        members=77,
-    )
-    assert config["ensemble"] == {"members": 77, "epsilon": 1e-5, "seed": 1}
-    assert config["integration"]["method"] == "lp2"
-    assert config["integration"]["t_end"] == kind.quick["integration"]["t_end"]
 
 
 def test_moments_replace_the_preset(tmp_path):

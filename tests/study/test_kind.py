@@ -1,14 +1,17 @@
-"""The study kinds (stability.study.kind): each declares a complete schema and is whole in the
-registry when imported first, its Dataset is checked against CF, and a run's summary table
-aligns."""
+"""The study kinds (stability.study.kind): each declares a complete schema, its Dataset is checked
+against CF, the register loads a kind when first asked for, a run's options refuse what they do
+not hold, and a run's summary table aligns."""
 
 import re
-import subprocess
-import sys
 import tomllib
 from pathlib import Path
 
+import pytest
+
+from stability.ensemble.options import RunOptions
 from stability.study import STUDIES, ConfigError, load_study
+from stability.registry import STUDY_KINDS
+from stability.study.kind import StudyKind, StudyKinds, StudyRun, quick_notes, study_kind
 
 from ..helpers import default_dataset
 
@@ -66,37 +69,36 @@ def test_summary_table_aligns_names_over_units_and_cells():
     assert summary.table().split("\n\n") == ["wall time  1.0  s", table.text()]
 
 
-#: Imports the homes of the kinds in turn, each first in a process of its own: forked from one
-#: that holds the libraries the package uses (a new interpreter each took a second and a half
-#: to import them) and no module of the package, so each child imports the package afresh.
-FRESH_IMPORTS = """
-import importlib, os, sys, traceback
-import matplotlib.figure, numba, numpy, pandas, scipy.integrate, xarray
-assert not [name for name in sys.modules if name.split(".")[0] == "stability"]
-failed = []
-for home in sys.argv[1:]:
-    pid = os.fork()
-    if pid == 0:
-        try:
-            importlib.import_module(home)
-            from stability.study import STUDIES
-            assert all(kind.schema is not None for kind in STUDIES.values())
-        except BaseException:
-            traceback.print_exc()
-            os._exit(1)
-        os._exit(0)
-    if os.waitpid(pid, 0)[1] != 0:
-        failed.append(home)
-print("failed:", failed)
-sys.exit(1 if failed else 0)
-"""
+def test_a_study_run_holds_run_options_and_refuses_anything_else():
+    options = StudyRun()
+    assert (options.run, options.overwrite, options.history) == (RunOptions(), False, None)
+    with pytest.raises(ValueError, match="run must be a stability.RunOptions, got dict"):
+        StudyRun({"threads": 2})
+    with pytest.raises(ValueError, match="overwrite must be True or False, got 'yes'"):
+        StudyRun(overwrite="yes")
 
 
-def test_a_kind_imported_first_in_a_fresh_process_is_complete_in_the_registry():
-    """A kind's module imports the framework, which registers every kind: imported first, the
-    kind is still whole when the registry reads it (``import stability.dissipation.studies.explorer``)."""
-    homes = sorted({kind.run.__module__ for kind in STUDIES.values()})
-    run = subprocess.run([sys.executable, "-c", FRESH_IMPORTS, *homes], capture_output=True,
-                         text=True, timeout=300)
-    assert run.returncode == 0, (run.stdout[-500:], run.stderr[-4000:])
-    assert run.stdout.strip() == "failed: []"
+def test_the_register_loads_a_kind_only_when_it_is_first_asked_for():
+    asked = []
+    kinds = StudyKinds()
+    kinds.declare({"b": ("m", "B"), "a": ("m", "A")}, lambda where: asked.append(where) or where[1])
+    assert (list(kinds), len(kinds), asked) == (["b", "a"], 2, [])
+    assert kinds["a"] == "A" and asked == [("m", "A")]
+
+
+def test_the_register_holds_the_kinds_the_families_declare():
+    assert list(STUDIES) == list(STUDY_KINDS) == sorted(STUDY_KINDS)
+
+
+def test_a_kind_is_found_by_name_or_refused_naming_the_kinds():
+    assert study_kind("bat") is STUDIES["bat"]
+    with pytest.raises(ValueError, match="unknown study kind 'bats'; known kinds: bat, "):
+        study_kind("bats")
+
+
+def test_quick_notes_say_what_quick_sets_or_that_it_sets_nothing():
+    bare = StudyKind("bare", "no quick mode", STUDIES["bat"].schema, run=print, outputs=list)
+    assert quick_notes(bare) == ["--quick changes nothing in this kind"]
+    notes = quick_notes(STUDIES["bat"])
+    assert notes[0] == "--quick sets (a small, fast run):"
+    assert all(line.startswith("  ") and len(line) <= 96 for line in notes[1:])

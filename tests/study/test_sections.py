@@ -1,10 +1,14 @@
 """The checks the study kinds share (stability.study.sections): a count too large for memory is
-refused, naming its key, before any work."""
+refused, naming its key, before any work; a run's options completed by its file's ``[run]``."""
 
 import os
 from pathlib import Path
 
 import pytest
+
+from stability.ensemble.options import RunOptions
+from stability.study.kind import StudyRun
+from stability.study.sections import study_run_options
 
 from ..helpers import one_line
 
@@ -45,3 +49,13 @@ def test_absurd_count_is_refused_by_the_memory_check(case, tmp_path, capsys):
         assert fragment in line, (fragment, line)
     assert "this machine has" in line or not hasattr(os, "sysconf")
     assert not out.exists()
+
+
+def test_a_studys_run_options_take_the_files_scheduler_and_chunks_where_none_is_given():
+    given = StudyRun(RunOptions(store="work", resume=True, threads=2, progress=False))
+    assert study_run_options({"run": {"scheduler": "dask", "chunk_members": 64}}, given) == (
+        RunOptions(store="work", resume=True, scheduler="dask", chunk_members=64, threads=2,
+                   progress=False))
+    given = StudyRun(RunOptions(scheduler="tcp://host:8786"))
+    assert study_run_options({"run": {"scheduler": "dask", "chunk_members": 0}}, given) == (
+        RunOptions(scheduler="tcp://host:8786"))

@@ -18,7 +18,7 @@ from pathlib import Path
 import numpy as np
 
 from ...study.config import ConfigError, Key, Schema, Section
-from ...study.kind import StudyKind, StudySummary
+from ...study.kind import StudyKind, StudyRun, StudySummary
 from ...study.outputs import output_files, write_outputs
 from ...study.sections import output_section
 from ..figures import tumbler_figure
@@ -94,8 +94,7 @@ def outputs(config: dict) -> list[str]:
     return output_files(config, (FIGURE,))
 
 
-def run(config: dict, out_dir: Path, *, overwrite=False, threads=None, progress=None,
-        history=None) -> StudySummary:
+def run(config: dict, out_dir: Path, options: StudyRun) -> StudySummary:
     """Draw the members, solve and light each, save the Dataset, draw the figure."""
     t_start = time.perf_counter()
     t, ens, lc = config["tumbler"], config["ensemble"], config["lightcurve"]
@@ -107,7 +106,8 @@ def run(config: dict, out_dir: Path, *, overwrite=False, threads=None, progress=
                           samples=lc["samples"], rings=lc["rings"], law=lc["law"])
     ds, files = write_outputs(ds, config, out_dir, NAME,
                               {FIGURE: lambda ds: tumbler_figure(ds, t["name"])},
-                              overwrite=overwrite, history=history, threads=threads,
+                              overwrite=options.overwrite, history=options.history,
+                              threads=options.run.threads,
                               attrs={"tumbler": t["name"]})
     return summarize(ds, out_dir, files, time.perf_counter() - t_start)
 

@@ -20,7 +20,7 @@ from pathlib import Path
 import numpy as np
 
 from ...study.config import ConfigError, Key, Schema, Section
-from ...study.kind import StudyKind, StudySummary
+from ...study.kind import StudyKind, StudyRun, StudySummary
 from ...study.outputs import output_files, write_outputs
 from ...study.sections import (
     MEMBER_BYTES, check_memory, check_run, output_section, run_section, study_run_options
@@ -153,8 +153,7 @@ def _check_step(config: dict, source: str, disp) -> None:
                           "step_angle")
 
 
-def run(config: dict, out_dir: Path, *, overwrite=False, threads=None, progress=None,
-        history=None, work=None, resume=False, scheduler=None) -> StudySummary:
+def run(config: dict, out_dir: Path, options: StudyRun) -> StudySummary:
     """Draw the design, compute every member's outputs, integrate the first, write the
     Dataset and the figure of the analysis."""
     t_start = time.perf_counter()
@@ -166,12 +165,12 @@ def run(config: dict, out_dir: Path, *, overwrite=False, threads=None, progress=
     out = linear(draws, flat)
     run_out = None
     if integ["members"]:
-        with numba_threads(threads):
+        with numba_threads(options.run.threads):
             run_out = integrated(
                 draws, integ["members"], flat_angle=flat, method=integ["method"],
                 step_angle=integ["step_angle"], tail=integ["tail"], samples=integ["samples"],
                 fit_top=a["fit_top"],
-                options=study_run_options(config, work, resume, scheduler, threads, progress))
+                options=study_run_options(config, options))
     described = {"flat_time": (out["flat_time"], "s", "time to the flat spin at the linear "
                                "growth rate"),
                  "growth_rate": (out["growth_rate"], "s-1", "growth rate of the nutation by "
@@ -179,7 +178,8 @@ def run(config: dict, out_dir: Path, *, overwrite=False, threads=None, progress=
     analysis = analyse(config, design, described)
     ds = dispersion_dataset(disp, draws, out, run_out, analysis)
     ds, files = write_outputs(ds, config, out_dir, NAME, {"indices": analysis_figure},
-                              overwrite=overwrite, history=history, threads=threads,
+                              overwrite=options.overwrite, history=options.history,
+                              threads=options.run.threads,
                               attrs={"flat_angle": a["flat_angle"]})
     return summarize(ds, out_dir, files, time.perf_counter() - t_start)
 

@@ -20,7 +20,7 @@ from pathlib import Path
 import numpy as np
 
 from ...study.config import ConfigError, Key, Schema, Section
-from ...study.kind import StudyKind, StudySummary, SummaryTable, run_rows
+from ...study.kind import StudyKind, StudyRun, StudySummary, SummaryTable, run_rows
 from ...study.outputs import output_files, write_outputs
 from ...study.sections import (check_memory, check_run, output_section, run_section,
                                 study_run_options)
@@ -158,28 +158,28 @@ def outputs(config: dict) -> list[str]:
     return output_files(config, FIGURES)
 
 
-def run(config: dict, out_dir: Path, *, overwrite=False, threads=None, progress=None,
-                  history=None, work=None, resume=False, scheduler=None) -> StudySummary:
+def run(config: dict, out_dir: Path, options: StudyRun) -> StudySummary:
     """Run the map, save the Dataset, draw the figures; the summary against the theory.
 
-    The members run chunk by chunk into the folder ``work`` (a stopped run continues with
-    ``resume``), on ``scheduler`` (default: the file's ``[run] scheduler``)."""
+    The members run chunk by chunk into the store of ``options.run`` (a stopped run continues
+    with its ``resume``), on its ``scheduler`` (default: the file's ``[run] scheduler``)."""
     t_start = time.perf_counter()
     s, integ, a = config["start"], config["integration"], config["analysis"]
     ratios, speeds = map_axes(config)
-    with numba_threads(threads):
+    with numba_threads(options.run.threads):
         ds = measure_dual_spin(
             body(config), ratios, speeds, np.radians(s["angles"]),
             placements=config["dampers"]["placements"], step_angle=integ["step_angle"],
             efolds=integ["efolds"], max_time=integ["max_time"], fit_top=a["fit_top"],
             samples=integ["samples"], seed=s["seed"],
-            options=study_run_options(config, work, resume, scheduler, threads, progress))
+            options=study_run_options(config, options))
     claim = a["claim"]
     ds, files = write_outputs(
         ds, config, out_dir, NAME,
         {FIGURES[0]: dual_spin_map_figure,
          FIGURES[1]: lambda ds: dual_spin_rate_figure(ds, claim=claim)},
-        overwrite=overwrite, history=history, threads=threads, attrs={"claim": claim})
+        overwrite=options.overwrite, history=options.history,
+        threads=options.run.threads, attrs={"claim": claim})
     return summarize(ds, out_dir, files, time.perf_counter() - t_start)
 
 

@@ -23,7 +23,7 @@ import numpy as np
 
 from ...core.axes import MOMENT_NAMES
 from ...study.config import UNSET, ConfigError, Key, Schema, Section
-from ...study.kind import StudyKind, StudySummary, run_rows
+from ...study.kind import StudyKind, StudyRun, StudySummary, run_rows
 from ...study.outputs import output_files, write_outputs
 from ...study.sections import (check_memory, check_run, output_section, run_section,
                                 study_run_options)
@@ -241,16 +241,15 @@ def outputs(config: dict) -> list[str]:
     return output_files(config, FIGURES)
 
 
-def run(config: dict, out_dir: Path, *, overwrite=False, threads=None, progress=None,
-        history=None, work=None, resume=False, scheduler=None) -> StudySummary:
+def run(config: dict, out_dir: Path, options: StudyRun) -> StudySummary:
     """Run the ensembles, save the Dataset, draw the figures; the summary against the theory.
 
-    The members run chunk by chunk into the folder ``work`` (a stopped run continues with
-    ``resume``), on ``scheduler`` (default: the file's ``[run] scheduler``)."""
+    The members run chunk by chunk into the store of ``options.run`` (a stopped run continues
+    with its ``resume``), on its ``scheduler`` (default: the file's ``[run] scheduler``)."""
     t_start = time.perf_counter()
     d, s, w, integ, a = (config["damper"], config["start"], config["whips"],
                          config["integration"], config["analysis"])
-    with numba_threads(threads):
+    with numba_threads(options.run.threads):
         ds = measure_explorer(
             body(config), d["inertia"], d["dampings"], np.radians(s["angles"]),
             method=integ["method"], step_angle=integ["step_angle"], tail=integ["tail"],
@@ -259,13 +258,13 @@ def run(config: dict, out_dir: Path, *, overwrite=False, threads=None, progress=
             end_tolerance=math.radians(a["end_tolerance"]), whips=whips(config),
             whip_angles=np.radians(w["angles"]), whip_step_angle=w["step_angle"],
             whip_tail=w["tail"], seed=s["seed"],
-            options=study_run_options(config, work, resume, scheduler, threads, progress))
+            options=study_run_options(config, options))
     claim = a["claim"]
     ds, files = write_outputs(
         ds, config, out_dir, NAME,
         {FIGURES[0]: nutation_figure, FIGURES[1]: flat_time_figure,
          FIGURES[2]: lambda ds: end_state_figure(ds, claim=claim)},
-        overwrite=overwrite, history=history, threads=threads,
+        overwrite=options.overwrite, history=options.history, threads=options.run.threads,
         attrs={"claim": claim, "drift_claim": a["drift_claim"]})
     return summarize(ds, out_dir, files, time.perf_counter() - t_start)
 

@@ -19,7 +19,7 @@ from ..figures import wobble_cones_figure
 from ...util.threads import numba_threads
 from ..measure import measure_free_wobble, wobble_memory, wobble_methods
 from ...study.config import ConfigError, Key, Schema, Section
-from ...study.kind import StudyKind, StudySummary
+from ...study.kind import StudyKind, StudyRun, StudySummary
 from ...study.outputs import output_files, write_outputs
 from ...study.sections import (check_memory, check_run, output_section, run_section,
                                 study_run_options)
@@ -96,26 +96,26 @@ def check(config: dict, source: str) -> dict:
     return config
 
 
-def run(config: dict, out_dir: Path, *, overwrite=False, threads=None, progress=None,
-        history=None, work=None, resume=False, scheduler=None) -> StudySummary:
+def run(config: dict, out_dir: Path, options: StudyRun) -> StudySummary:
     """Measure the wobble, save the Dataset, draw the cones; the period against Euler's.
 
-    The ensemble runs chunk by chunk into the folder ``work`` (so that a stopped run continues
-    with ``resume``), on ``scheduler`` (default: the file's ``[run] scheduler``)."""
+    The ensemble runs chunk by chunk into the store of ``options.run`` (so that a stopped run
+    continues with its ``resume``), on its ``scheduler`` (default: the file's ``[run]
+    scheduler``)."""
 
     t_start = time.perf_counter()
     e, w, integ = config["earth"], config["wobble"], config["integration"]
     body = RigidBody(*earth_moments(e["mass"], e["radius"], e["polar_factor"],
                                     e["ellipticity"], e["asymmetry"]), name="Earth")
     spin = 2.0 * math.pi / e["sidereal_day"]
-    with numba_threads(threads):
+    with numba_threads(options.run.threads):
         ds = measure_free_wobble(body, spin, w["offset"] * ARCSEC, members=w["members"],
                                  periods=w["periods"], steps_per_turn=integ["steps_per_turn"],
                                  method=integ["method"], seed=w["seed"],
-                                 options=study_run_options(config, work, resume,
-                                                           scheduler, threads, progress))
+                                 options=study_run_options(config, options))
     ds, files = write_outputs(ds, config, out_dir, NAME, {FIGURE: wobble_cones_figure},
-                              overwrite=overwrite, history=history, threads=threads,
+                              overwrite=options.overwrite, history=options.history,
+                              threads=options.run.threads,
                               attrs={"sidereal_day": e["sidereal_day"]})
     wall = time.perf_counter() - t_start
     sidereal = e["sidereal_day"] / 86400.0

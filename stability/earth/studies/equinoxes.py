@@ -19,7 +19,7 @@ from ..figures import equinoxes_figure
 from ..methods import METHODS
 from ...util.threads import numba_threads
 from ...study.config import Key, Schema, Section
-from ...study.kind import StudyKind, StudySummary
+from ...study.kind import StudyKind, StudyRun, StudySummary
 from ...study.outputs import output_files, write_outputs
 from ...study.sections import check_run, output_section, run_keys, study_run_options
 
@@ -77,24 +77,24 @@ def check(config: dict, source: str) -> dict:
     return config
 
 
-def run(config: dict, out_dir: Path, *, overwrite=False, threads=None, progress=None,
-        history=None, work=None, resume=False, scheduler=None) -> StudySummary:
+def run(config: dict, out_dir: Path, options: StudyRun) -> StudySummary:
     """Run both models, save the Dataset, draw the figure; the summary against published values.
 
-    The runs go chunk by chunk into folders of ``work`` (so that a stopped run continues with
-    ``resume``), on ``scheduler`` (default: the file's ``[run] scheduler``)."""
+    The runs go chunk by chunk into folders of the store of ``options.run`` (so that a stopped
+    run continues with its ``resume``), on its ``scheduler`` (default: the file's ``[run]
+    scheduler``)."""
 
     t_start = time.perf_counter()
     r, integ = config["run"], config["integration"]
-    with numba_threads(threads):
+    with numba_threads(options.run.threads):
         ds = measure_equinoxes(years=r["years"], members=r["members"],
                                steps_per_day=integ["steps_per_day"], method=integ["method"],
                                averaged_step_days=integ["averaged_step"],
                                cycle_years=integ["cycle_years"], seed=r["seed"],
-                               options=study_run_options(config, work, resume,
-                                                         scheduler, threads, progress))
+                               options=study_run_options(config, options))
     ds, files = write_outputs(ds, config, out_dir, NAME, {FIGURE: equinoxes_figure},
-                              overwrite=overwrite, history=history, threads=threads,
+                              overwrite=options.overwrite, history=options.history,
+                              threads=options.run.threads,
                               attrs={"claim": config["analysis"]["claim"]})
     return summarize(ds, out_dir, files, time.perf_counter() - t_start)
 

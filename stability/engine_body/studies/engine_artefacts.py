@@ -20,7 +20,7 @@ from ...free_body.attitude import attitude_methods
 from ...core.body import RigidBody
 from ...free_body.starts import perturbed_starts
 from ...study.config import ConfigError, Key, Schema, Section
-from ...study.kind import StudyKind, StudySummary, SummaryTable
+from ...study.kind import StudyKind, StudyRun, StudySummary, SummaryTable
 from ...study.outputs import output_files, write_outputs
 from ...study.sections import (
     MEMBER_BYTES, check_memory, check_run, output_section, run_section, study_run_options,
@@ -116,12 +116,12 @@ def check(config: dict, source: str) -> dict:
     return config
 
 
-def run(config: dict, out_dir: Path, *, overwrite=False, threads=None, progress=None,
-        history=None, work=None, resume=False, scheduler=None) -> StudySummary:
+def run(config: dict, out_dir: Path, options: StudyRun) -> StudySummary:
     """Step the ensemble with every rule at every frame rate; save the Dataset and the figure.
 
-    Every run goes chunk by chunk into a folder of its own in ``work`` (so that a stopped run
-    continues with ``resume``), on ``scheduler`` (default: the file's ``[run] scheduler``)."""
+    Every run goes chunk by chunk into a folder of its own in the store of ``options.run`` (so
+    that a stopped run continues with its ``resume``), on its ``scheduler`` (default: the file's
+    ``[run] scheduler``)."""
 
     t_start = time.perf_counter()
     toss, ens, rules, analysis = (config["toss"], config["ensemble"], config["rules"],
@@ -130,15 +130,15 @@ def run(config: dict, out_dir: Path, *, overwrite=False, threads=None, progress=
     moments = np.sort(body.moments)
     w0 = perturbed_starts(2, toss["rate"], toss["epsilon"], ens["members"], ens["seed"])
     steps = [1.0 / rate for rate in sorted(rules["frame_rates"])]  # the largest step first
-    with numba_threads(threads):
+    with numba_threads(options.run.threads):
         ds = measure_artefacts(rules["engine"] + rules["methods"], moments, w0, steps,
                                rules["t_end"], tolerance=analysis["tolerance"],
                                search_members=min(analysis["search_members"], ens["members"]),
                                halvings=analysis["halvings"],
-                               options=study_run_options(config, work, resume,
-                                                         scheduler, threads, progress))
+                               options=study_run_options(config, options))
     ds, files = write_outputs(ds, config, out_dir, NAME, {FIGURE: artefacts_figure},
-                              overwrite=overwrite, history=history, threads=threads,
+                              overwrite=options.overwrite, history=options.history,
+                              threads=options.run.threads,
                               attrs={"body": body.name})
     return summarize(ds, out_dir, files, time.perf_counter() - t_start)
 

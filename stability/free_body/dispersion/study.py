@@ -20,7 +20,7 @@ import numpy as np
 
 from ...core.body import RigidBody
 from ...study.config import ConfigError, Key, Schema, Section
-from ...study.kind import StudyKind, StudySummary
+from ...study.kind import StudyKind, StudyRun, StudySummary
 from ...study.outputs import output_files, write_outputs
 from ..methods import method_names
 from ...study.sections import (
@@ -98,8 +98,7 @@ def check(config: dict, source: str) -> dict:
     return config
 
 
-def run(config: dict, out_dir: Path, *, overwrite=False, threads=None, progress=None,
-        history=None, work=None, resume=False, scheduler=None) -> StudySummary:
+def run(config: dict, out_dir: Path, options: StudyRun) -> StudySummary:
     """Draw the design, compute every member's outputs, integrate the first, write the
     Dataset and the figure of the indices."""
     t_start = time.perf_counter()
@@ -107,20 +106,20 @@ def run(config: dict, out_dir: Path, *, overwrite=False, threads=None, progress=
     integ = config["integration"]
     design = draw_design(config, disp)
     draws = members(disp, design.unit)
-    with numba_threads(threads):
+    with numba_threads(options.run.threads):
         out = closed_form(draws)
         run_ds = None
         if integ["members"]:
             run_ds = integrated(draws, integ["members"], method=integ["method"],
                                 steps_per_flip=integ["steps_per_flip"], flips=integ["flips"],
-                                options=study_run_options(config, work, resume, scheduler,
-                                                          threads, progress))
+                                options=study_run_options(config, options))
     described = {"flip_interval": (out["flip_interval"], "s", "exact flip interval 2K/nu"),
                  "growth_rate": (out["growth_rate"], "s-1", "linear growth rate")}
     indices = analyse(config, design, described)
     ds = dispersion_dataset(disp, draws, out, run_ds, indices)
     ds, files = write_outputs(ds, config, out_dir, NAME, {"indices": analysis_figure},
-                              overwrite=overwrite, history=history, threads=threads,
+                              overwrite=options.overwrite, history=options.history,
+                              threads=options.run.threads,
                               attrs={"body": config["body"]["preset"]})
     return summarize(ds, out_dir, files, time.perf_counter() - t_start)
 

@@ -39,7 +39,7 @@ from ...util.threads import numba_threads
 from ...version import __version__
 from ...ensemble.options import RunOptions
 from ...study.config import UNSET, ConfigError, Key, Schema, Section
-from ...study.kind import StudyKind, StudySummary
+from ...study.kind import StudyKind, StudyRun, StudySummary
 from ...study.outputs import output_files, write_outputs
 from ...study.sections import check_memory, check_run, output_section, scheduler_key
 
@@ -216,28 +216,28 @@ def outputs(config: dict) -> list[str]:
 # ----------------------------------------------------------------------------------- the run
 
 
-def run(config: dict, out_dir: Path, *, overwrite=False, threads=None, progress=None,
-        history=None, work=None, resume=False, scheduler=None) -> StudySummary:
+def run(config: dict, out_dir: Path, options: StudyRun) -> StudySummary:
     """Run the map described by the resolved ``config``; write its files into ``out_dir``.
 
-    Each finished batch of ensembles is kept in the folder ``work``, so that a stopped map
-    continues with ``resume``; the batches run on ``scheduler`` (default: the file's ``[run]
-    scheduler``), one task each.
+    Each finished batch of ensembles is kept in the store of ``options.run`` (the work folder),
+    so that a stopped map continues with its ``resume``; the batches run on its ``scheduler``
+    (default: the file's ``[run] scheduler``), one task each.
     """
 
     t_start = time.perf_counter()
-    threads = config["integration"].get("threads") if threads is None else threads
+    run = options.run
+    threads = config["integration"].get("threads") if run.threads is None else run.threads
     with numba_threads(threads):
-        ds, work = compute(config, progress=progress, work_dir=work, resume=resume,
-                           scheduler=scheduler or config["run"]["scheduler"] or None)
+        ds, work = compute(config, progress=run.progress, work_dir=run.store, resume=run.resume,
+                           scheduler=run.scheduler or config["run"]["scheduler"] or None)
     compute_time = time.perf_counter() - t_start
     draw = (figures.map_figure, figures.scatter_figure, figures.flip_interval_figure,
             figures.edges_figure, lambda ds: figures.ftle_map_figure(ftle_part(ds)))
     stages = {}
     ds, files = write_outputs(ds, config, out_dir, NAME,
                               dict(zip(figure_stems(config), draw)),
-                              overwrite=overwrite, history=history, threads=threads,
-                              timings=stages)
+                              overwrite=options.overwrite, history=options.history,
+                              threads=threads, timings=stages)
     wall = time.perf_counter() - t_start
     return summarize(ds, out_dir, files, wall, compute_time, work, stages)
 

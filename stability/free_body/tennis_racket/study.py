@@ -50,7 +50,7 @@ from . import figures as tennis
 from ...util import conventions as cv
 from ...util.formatting import format_bytes
 from ...study.config import UNSET, ConfigError, Key, Schema, Section
-from ...study.kind import StudyKind, StudySummary
+from ...study.kind import StudyKind, StudyRun, StudySummary
 from ...study.outputs import output_files, write_outputs
 from ..methods import method_names
 from ...study.sections import (
@@ -288,13 +288,13 @@ def outputs(config: dict) -> list[str]:
 # ----------------------------------------------------------------------------------- the run
 
 
-def run(config: dict, out_dir: Path, *, overwrite=False, threads=None, progress=None,
-        history=None, work=None, resume=False, scheduler=None) -> StudySummary:
+def run(config: dict, out_dir: Path, options: StudyRun) -> StudySummary:
     """Run the study described by the resolved ``config``; write its files into ``out_dir``.
 
-    The ensemble is streamed chunk by chunk into the folder ``work`` (uncompressed scratch
-    files, :mod:`stability.output.stream`), so that a stopped run continues with ``resume``; its
-    chunks run on ``scheduler`` (default: the file's ``[run] scheduler``).
+    The ensemble is streamed chunk by chunk into the store of ``options.run`` (the work folder,
+    of uncompressed scratch files, :mod:`stability.output.stream`), so that a stopped run
+    continues with its ``resume``; its chunks run on its ``scheduler`` (default: the file's
+    ``[run] scheduler``).
 
     Returns
     -------
@@ -302,7 +302,8 @@ def run(config: dict, out_dir: Path, *, overwrite=False, threads=None, progress=
         Rows: analytic Omega^2 and growth rate, fitted rate and its relative error, median
         flip interval (measured and exact), invariant errors, wall time, member-steps/s.
     """
-    say = _reporter(progress)
+    run = options.run
+    say = _reporter(run.progress)
     t_start = time.perf_counter()
     body = _body(config)
     axis = spin_axis(body, config["spin"]["axis"])
@@ -314,9 +315,9 @@ def run(config: dict, out_dir: Path, *, overwrite=False, threads=None, progress=
         f"{integ['save_every']} steps for {_kept_count(config)} members: "
         f"{format_bytes(_summaries_bytes(config) + _series_bytes(config, _kept_count(config)))}"
         " of results")
-    ds = _ensemble(config, body, axis, work or out_dir / ".ensemble", resume,
-                   scheduler or config["run"]["scheduler"] or None, threads, progress,
-                   history or f"stability run ({NAME})")
+    ds = _ensemble(config, body, axis, run.store or out_dir / ".ensemble", run.resume,
+                   run.scheduler or config["run"]["scheduler"] or None, run.threads,
+                   run.progress, options.history or f"stability run ({NAME})")
     t_ensemble = time.perf_counter() - t_start
     ds = finish_analysis(ds, body, axis, spin, ens["epsilon"],
                          low_factor=config["analysis"]["fit_above"],
@@ -328,7 +329,7 @@ def run(config: dict, out_dir: Path, *, overwrite=False, threads=None, progress=
                tennis.flip_interval_figure)
     stages = {"analysis": t_analysis}
     ds, files = write_outputs(ds, config, out_dir, NAME, dict(zip(FIGURES, figures)),
-                              overwrite=overwrite, history=False, threads=threads,
+                              overwrite=options.overwrite, history=False, threads=run.threads,
                               timings=stages)
     wall = time.perf_counter() - t_start
     return summarize(ds, out_dir, files, wall, t_ensemble, stages=stages)

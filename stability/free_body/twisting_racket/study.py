@@ -22,7 +22,7 @@ from .geometric_phase import wrap
 from .measure import measure_twisting, tossed_members
 from ...util.threads import numba_threads
 from ...study.config import ConfigError, Key, Schema, Section
-from ...study.kind import StudyKind, StudySummary
+from ...study.kind import StudyKind, StudyRun, StudySummary
 from ...study.outputs import output_files, write_outputs
 from ...study.sections import (
     MEMBER_BYTES, check_memory, check_run, output_section, run_section, study_run_options,
@@ -102,12 +102,12 @@ def check(config: dict, source: str) -> dict:
     return config
 
 
-def run(config: dict, out_dir: Path, *, overwrite=False, threads=None, progress=None,
-        history=None, work=None, resume=False, scheduler=None) -> StudySummary:
+def run(config: dict, out_dir: Path, options: StudyRun) -> StudySummary:
     """Toss the ensemble, measure both angles both ways, save the Dataset and the figures.
 
-    The bodies run chunk by chunk into the folder ``work`` (so that a stopped run continues
-    with ``resume``), on ``scheduler`` (default: the file's ``[run] scheduler``)."""
+    The bodies run chunk by chunk into the store of ``options.run`` (so that a stopped run
+    continues with its ``resume``), on its ``scheduler`` (default: the file's ``[run]
+    scheduler``)."""
 
     t_start = time.perf_counter()
     toss, ens, integration = config["toss"], config["ensemble"], config["integration"]
@@ -115,15 +115,15 @@ def run(config: dict, out_dir: Path, *, overwrite=False, threads=None, progress=
     moments, w0, epsilon = tossed_members(
         body.moments, ens["members"], toss["rate"], (toss["epsilon_min"], toss["epsilon_max"]),
         ens["shape_scatter"], ens["seed"])
-    with numba_threads(threads):
+    with numba_threads(options.run.threads):
         ds = measure_twisting(moments, w0, method=integration["method"],
                               steps_per_period=integration["steps_per_period"],
                               save_every=integration["save_every"], epsilon=epsilon,
-                              options=study_run_options(config, work, resume,
-                                                        scheduler, threads, progress))
+                              options=study_run_options(config, options))
     ds, files = write_outputs(ds, config, out_dir, NAME,
                               {"twist": twist_figure, "flip": flip_figure},
-                              overwrite=overwrite, history=history, threads=threads,
+                              overwrite=options.overwrite, history=options.history,
+                              threads=options.run.threads,
                               attrs={"claim": config["analysis"]["claim"], "body": body.name})
     return summarize(ds, out_dir, files, time.perf_counter() - t_start)
 

@@ -38,7 +38,7 @@ from .sweeps import jittered_starts, step_grid, sweep_adaptive, sweep_method, sw
 from ...util.progress import progress_bar
 from ...util.threads import numba_threads
 from ...study.config import ConfigError, Key, Schema, Section
-from ...study.kind import StudyKind, StudySummary
+from ...study.kind import StudyKind, StudyRun, StudySummary
 from ...study.outputs import output_files, write_outputs
 from ...study.sections import check_memory, output_section
 
@@ -208,8 +208,7 @@ def _body(config: dict) -> RigidBody:
 # ----------------------------------------------------------------------------------- the run
 
 
-def run(config: dict, out_dir: Path, *, overwrite=False, threads=None, progress=None,
-        history=None) -> StudySummary:
+def run(config: dict, out_dir: Path, options: StudyRun) -> StudySummary:
     """Run the study described by the resolved ``config``; write its files into ``out_dir``.
 
     Returns
@@ -219,12 +218,12 @@ def run(config: dict, out_dir: Path, *, overwrite=False, threads=None, progress=
         floor, the long-horizon behaviour per method, and the run time.
     """
 
-    with numba_threads(threads):
-        ds, wall = measure(config, progress=progress)
+    with numba_threads(options.run.threads):
+        ds, wall = measure(config, progress=options.run.progress)
     ds, files = write_outputs(
         ds, config, out_dir, NAME,
         dict(zip(FIGURES, (figures.work_precision_figure, figures.invariant_drift_figure))),
-        overwrite=overwrite, history=history, threads=threads,
+        overwrite=options.overwrite, history=options.history, threads=options.run.threads,
         texts={config["output"]["table"]: wp.markdown_report(ds)})
     return summarize(ds, out_dir, files, wall)
 

@@ -19,7 +19,7 @@ from pathlib import Path
 import numpy as np
 
 from ...study.config import ConfigError, Key, Schema, Section
-from ...study.kind import StudyKind, StudySummary, run_rows
+from ...study.kind import StudyKind, StudyRun, StudySummary, run_rows
 from ...study.outputs import output_files, write_outputs
 from ...study.sections import (check_memory, check_run, output_section, run_section,
                                 study_run_options)
@@ -132,32 +132,33 @@ def outputs(config: dict) -> list[str]:
     return output_files(config, FIGURES)
 
 
-def run(config: dict, out_dir: Path, *, overwrite=False, threads=None, progress=None,
-        history=None, work=None, resume=False, scheduler=None) -> StudySummary:
+def run(config: dict, out_dir: Path, options: StudyRun) -> StudySummary:
     """Run the grid, save the Dataset, draw the figures; the summary of run against exact.
 
-    The tops run chunk by chunk into the folder ``work`` (so that a stopped run continues with
-    ``resume``), on ``scheduler`` (default: the file's ``[run] scheduler``)."""
+    The tops run chunk by chunk into the store of ``options.run`` (so that a stopped run
+    continues with its ``resume``), on its ``scheduler`` (default: the file's ``[run]
+    scheduler``)."""
 
     t_start = time.perf_counter()
     top = _top(config)
     s, r, integ, paths = (config["spins"], config["release"], config["integration"],
                           config["paths"])
     spins = np.geomspace(s["min"], s["max"], s["count"])
-    with numba_threads(threads):
+    with numba_threads(options.run.threads):
         ds = measure_gyroscopes(
             top, spins, np.radians(r["tilts"]), r["precession"], method=integ["method"],
             step_angle=integ["step_angle"], periods=integ["periods"],
             samples_per_period=integ["samples_per_period"], seed=r["seed"],
             path_tilt=math.radians(paths["tilt"]), path_spin=paths["spin"],
             path_periods=paths["periods"],
-            options=study_run_options(config, work, resume, scheduler, threads, progress))
+            options=study_run_options(config, options))
     claim = config["analysis"]["claim"]
     ds, files = write_outputs(
         ds, config, out_dir, NAME,
         {FIGURES[0]: gyroscope_paths_figure,
          FIGURES[1]: lambda ds: gyroscope_rates_figure(ds, claim=claim)},
-        overwrite=overwrite, history=history, threads=threads, attrs={"claim": claim})
+        overwrite=options.overwrite, history=options.history,
+        threads=options.run.threads, attrs={"claim": claim})
     return summarize(ds, out_dir, files, time.perf_counter() - t_start)
 
 

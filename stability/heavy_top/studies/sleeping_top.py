@@ -18,7 +18,7 @@ from pathlib import Path
 import numpy as np
 
 from ...study.config import ConfigError, Key, Schema, Section
-from ...study.kind import StudyKind, StudySummary
+from ...study.kind import StudyKind, StudyRun, StudySummary
 from ...study.outputs import output_files, write_outputs
 from ...study.sections import (
     MEMBER_BYTES, check_memory, check_run, output_section, run_section, study_run_options
@@ -106,28 +106,28 @@ def outputs(config: dict) -> list[str]:
     return output_files(config, (FIGURE,))
 
 
-def run(config: dict, out_dir: Path, *, overwrite=False, threads=None, progress=None,
-        history=None, work=None, resume=False, scheduler=None) -> StudySummary:
+def run(config: dict, out_dir: Path, options: StudyRun) -> StudySummary:
     """Run the map, save the Dataset, draw the figure; the summary of measured against analytic.
 
-    The tops run chunk by chunk into the folder ``work`` (so that a stopped run continues with
-    ``resume``), on ``scheduler`` (default: the file's ``[run] scheduler``)."""
+    The tops run chunk by chunk into the store of ``options.run`` (so that a stopped run
+    continues with its ``resume``), on its ``scheduler`` (default: the file's ``[run]
+    scheduler``)."""
 
     t_start = time.perf_counter()
     tops = _tops(config)
     s, ens = config["spins"], config["ensemble"]
     integ, an = config["integration"], config["analysis"]
     spins = np.linspace(s["min"], s["max"], s["count"])
-    with numba_threads(threads):
+    with numba_threads(options.run.threads):
         ds = measure_sleeping_tops(
             tops, spins, members=ens["members"], tilt=ens["tilt"], method=integ["method"],
             step_angle=integ["step_angle"], t_stable=integ["t_stable"],
             low_factor=an["fit_above"], high_fraction=an["fit_below"], seed=ens["seed"],
-            options=study_run_options(config, work, resume, scheduler, threads, progress))
+            options=study_run_options(config, options))
     t = config["top"]
     ds, files = write_outputs(
         ds, config, out_dir, NAME, {FIGURE: lambda ds: sleeping_top_figure(ds, an["claim"])},
-        overwrite=overwrite, history=history, threads=threads,
+        overwrite=options.overwrite, history=options.history, threads=options.run.threads,
         attrs={"mass": t["mass"], "central_moments": np.array(t["central_moments"]),
                "gravity": t["gravity"], "claim": an["claim"], "away_fraction": an["away"]})
     return summarize(ds, out_dir, files, time.perf_counter() - t_start)

@@ -18,7 +18,7 @@ from pathlib import Path
 import numpy as np
 
 from ...study.config import ConfigError, Key, Schema, Section
-from ...study.kind import StudyKind, StudySummary
+from ...study.kind import StudyKind, StudyRun, StudySummary
 from ...study.outputs import output_files, write_outputs
 from ...study.sections import (
     MEMBER_BYTES, check_memory, check_run, output_section, run_section, study_run_options
@@ -142,34 +142,33 @@ def check(config: dict, source: str) -> dict:
     return config
 
 
-def run(config: dict, out_dir: Path, *, overwrite=False, threads=None, progress=None,
-        history=None, work=None, resume=False, scheduler=None) -> StudySummary:
+def run(config: dict, out_dir: Path, options: StudyRun) -> StudySummary:
     """Run both ensembles, save one Dataset, draw the map and the launches.
 
-    Each ensemble runs chunk by chunk into its own folder inside ``work`` (so that a stopped
-    run continues with ``resume``), on ``scheduler`` (default: the file's ``[run]
-    scheduler``)."""
+    Each ensemble runs chunk by chunk into its own folder inside the store of ``options.run``
+    (so that a stopped run continues with its ``resume``), on its ``scheduler`` (default: the
+    file's ``[run] scheduler``)."""
     import xarray as xr
 
 
-    options = study_run_options(config, work, resume, scheduler, threads, progress)
+    run_options = study_run_options(config, options)
 
     t_start = time.perf_counter()
     inc, launch = config["incline"], config["launch"]
-    with numba_threads(threads):
+    with numba_threads(options.run.threads):
         incline = measure_incline(
             inc["shapes"], np.radians(np.linspace(inc["angle_min"], inc["angle_max"],
                                                   inc["angle_count"])),
             np.linspace(inc["mu_s_min"], inc["mu_s_max"], inc["mu_s_count"]),
             members=inc["members"], mu_ratio=inc["mu_k_ratio"], mu_scatter=inc["mu_scatter"],
             shape_scatter=inc["shape_scatter"], duration=inc["duration"], seed=inc["seed"],
-            options=options.within("incline"))
+            options=run_options.within("incline"))
         launches = measure_launches(
             radius=launch["radius"], mass=launch["mass"], k=SHAPES[launch["shape"]],
             mu_k=launch["mu_k"], speeds=(launch["speed_min"], launch["speed_max"]),
             spin_ratios=(launch["spin_min"], launch["spin_max"]), members=launch["members"],
             mu_scatter=launch["mu_scatter"], samples=launch["samples"], seed=launch["seed"],
-            options=options.within("launches"))
+            options=run_options.within("launches"))
     ds = xr.merge([incline, launches], combine_attrs="override")  # variables keep theirs
     ds.attrs = {}
     ds.attrs.update({f"incline_{k}": v for k, v in incline.attrs.items()})
@@ -177,7 +176,8 @@ def run(config: dict, out_dir: Path, *, overwrite=False, threads=None, progress=
     ds, files = write_outputs(ds, config, out_dir, NAME,
                               {FIGURES[0]: rolling_map_figure,
                                FIGURES[1]: rolling_launch_figure},
-                              overwrite=overwrite, history=history, threads=threads,
+                              overwrite=options.overwrite, history=options.history,
+                              threads=options.run.threads,
                               attrs={"claim": config["analysis"]["claim"]})
     return summarize(ds, out_dir, files, time.perf_counter() - t_start)
 

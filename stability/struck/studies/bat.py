@@ -17,7 +17,7 @@ from pathlib import Path
 import numpy as np
 
 from ...study.config import ConfigError, Key, Schema, Section
-from ...study.kind import StudyKind, StudySummary
+from ...study.kind import StudyKind, StudyRun, StudySummary
 from ...study.outputs import output_files, write_outputs
 from ...study.sections import (
     MEMBER_BYTES, check_memory, check_run, output_section, run_section, study_run_options
@@ -119,26 +119,26 @@ def check(config: dict, source: str) -> dict:
     return config
 
 
-def run(config: dict, out_dir: Path, *, overwrite=False, threads=None, progress=None,
-        history=None, work=None, resume=False, scheduler=None) -> StudySummary:
+def run(config: dict, out_dir: Path, options: StudyRun) -> StudySummary:
     """Run the strikes, save the Dataset, draw the bat; the centre of percussion measured.
 
-    The strikes run chunk by chunk into the folder ``work`` (so that a stopped run continues
-    with ``resume``), on ``scheduler`` (default: the file's ``[run] scheduler``)."""
+    The strikes run chunk by chunk into the store of ``options.run`` (so that a stopped run
+    continues with its ``resume``), on its ``scheduler`` (default: the file's ``[run]
+    scheduler``)."""
 
     t_start = time.perf_counter()
     body = _body(config)
     s, hit, analysis = config["strikes"], config["hit"], config["analysis"]
     last = _last_strike(config, body)
-    with numba_threads(threads):
+    with numba_threads(options.run.threads):
         ds = measure_strikes(body, config["hands"]["pivots"],
                              np.linspace(s["first"], last, s["count"]), hit["impulse"],
                              hit["contact_time"], hit["steps_per_contact"],
                              sting=analysis["sting"],
-                             options=study_run_options(config, work, resume, scheduler, threads,
-                                                       progress))
+                             options=study_run_options(config, options))
     ds, files = write_outputs(ds, config, out_dir, NAME, {FIGURE: bat_figure},
-                              overwrite=overwrite, history=history, threads=threads,
+                              overwrite=options.overwrite, history=options.history,
+                              threads=options.run.threads,
                               attrs={"claim": analysis["claim"]})
     return summarize(ds, out_dir, files, time.perf_counter() - t_start)
 
