@@ -272,7 +272,7 @@ API_MODULES = (
                                  "free_body.tennis_racket.analysis",
                                  "free_body.twisting_racket.geometric_phase",
                                  "analysis.periodic", "core.roots",
-                                 "free_body.work_precision.drift", "free_body.reference")),
+                                 "free_body.work_precision.drift", "free_body.accuracy")),
     ("Scenes, integrators and the engine", ("registry", "engine.scene", "engine.user_scene",
                                             "integrators", "free_body.methods", "engine")),
     ("Studies' library functions", ("free_body.twisting_racket.measure", "engine_body.measure",

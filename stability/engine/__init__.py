@@ -5,7 +5,7 @@
 - :mod:`stability.engine.cache`: where rendered loops are kept, and when they are compiled again;
 - :mod:`stability.engine.run`: the Python driver (groups of ensembles, chunks in time, Ctrl-C,
   progress);
-- :mod:`stability.engine.reference`: a plain RK4 loop, the speed reference of ``stability bench``.
+- :mod:`stability.engine.baseline`: a plain RK4 loop, the speed baseline of ``stability bench``.
 """
 
 from .loop import BLOCK, CHECK_EVERY

@@ -12,7 +12,7 @@ The family's modules, each importing only downward:
   attitude) advanced by the engine, and one trajectory of any method;
 - :mod:`.ensemble`: ``run_ensemble``, perturbed ensembles about a steady spin, and their
   per-member summaries;
-- :mod:`.timescales`, :mod:`.reference`, :mod:`.polhodes`: a step and a horizon from the physics,
+- :mod:`.timescales`, :mod:`.accuracy`, :mod:`.polhodes`: a step and a horizon from the physics,
   references to score a run against, the polhodes;
 - :mod:`.figures`: Poinsot's construction, drawn from a body and a start;
 - one sub-package per study, each with its measurements, its study kind and its figures:
