@@ -269,7 +269,7 @@ API_MODULES = (
                                    "output.stream", "util.formatting", "ensemble.schema")),
     ("Measures and estimators", ("analysis.members", "analysis.fits", "analysis.regimes",
                                  "analysis.estimates", "free_body.measure",
-                                 "free_body.tennis_racket.analysis",
+                                 "free_body.tennis_racket.measure",
                                  "free_body.twisting_racket.geometric_phase",
                                  "analysis.periodic", "core.roots",
                                  "free_body.work_precision.drift", "free_body.accuracy")),
