@@ -34,8 +34,8 @@ __all__ = ["METHODS", "MethodSpec", "Part", "RigidBody", "__version__", "axis_st
            "exact_omega", "flip_interval", "full_period",
            "growth_rate", "integrate", "method_spec", "omega_squared", "oscillation_frequency"]
 
-from .free_body.ensemble import run_ensemble, run_ensembles  # noqa: E402
-from .free_body.plan import ensemble_memory  # noqa: E402
+from .free_body.spin_ensembles import run_ensemble, run_ensembles  # noqa: E402
+from .free_body.ensemble_plan import ensemble_memory  # noqa: E402
 from .output.io import load, save  # noqa: E402
 from .engine.user_scene import define_scene  # noqa: E402
 from .api import run_scene  # noqa: E402

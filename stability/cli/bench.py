@@ -58,7 +58,7 @@ from ..engine.baseline import plain_rk4
 from ..engine.adaptive import integrate_adaptive
 from ..engine.events import Event
 from ..engine.tangent import tangent_scene
-from ..free_body.ensemble import run_ensemble
+from ..free_body.spin_ensembles import run_ensemble
 from ..free_body.keep import Keep
 from ..ensemble.options import RunOptions
 from ..free_body.starts import perturbed_starts

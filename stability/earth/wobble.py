@@ -22,9 +22,9 @@ from ..util import conventions as cv
 from ..core.quaternions import quaternion_to_matrix
 from .model import ARCSEC, CHANDLER_PERIOD_DAYS, DAY, euler_period, oblate_euler_period
 from ..free_body.attitude import attitude_methods
-from ..free_body.ensemble import completed, run_ensemble
+from ..free_body.spin_ensembles import completed, run_ensemble
 from ..free_body.keep import Keep
-from ..free_body.plan import ensemble_memory
+from ..free_body.ensemble_plan import ensemble_memory
 from ..analysis.estimates import measured_frequency
 from ..free_body.integrate import integrate
 from ..ensemble.chunks import default_chunk_members

@@ -10,7 +10,7 @@ The family's modules, each importing only downward:
   exact attitude by quadrature;
 - :mod:`.propagate`, :mod:`.attitude`, :mod:`.integrate`: the body's angular momentum (and its
   attitude) advanced by the engine, and one trajectory of any method;
-- :mod:`.ensemble`: ``run_ensemble``, perturbed ensembles about a steady spin, and their
+- :mod:`.spin_ensembles`: ``run_ensemble``, perturbed ensembles about a steady spin, and their
   per-member summaries;
 - :mod:`.timescales`, :mod:`.accuracy`, :mod:`.polhodes`: a step and a horizon from the physics,
   references to score a run against, the polhodes;

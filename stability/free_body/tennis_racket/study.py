@@ -39,7 +39,8 @@ import numpy as np
 from ...core.axes import MOMENT_NAMES, spin_axis
 from ..attitude import FREE_BODY_SCENES, attitude_methods, carries_attitude
 from ...core.body import RigidBody
-from ..plan import DEFAULT_LEVELS, PEAK_COPIES, OutOfRange, check_random_starts, ensemble_memory
+from ..ensemble_plan import (DEFAULT_LEVELS, PEAK_COPIES, OutOfRange, check_random_starts,
+                             ensemble_memory)
 from ..streamed import run_streamed
 from .measure import STUDY_MEMBER_NUMBERS, TennisChunks, analysis_headline, finish_analysis
 from ...ensemble.combine import DEFAULT_SERIES_MEMBERS, series_count

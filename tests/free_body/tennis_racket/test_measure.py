@@ -14,7 +14,7 @@ from stability.ensemble.combine import LOG_BIN_WIDTH, series_sample
 from stability.analysis.members import perpendicular_amplitude
 from stability.free_body.tennis_racket.measure import (TennisChunks, analyse_ensemble,
                                                       finish_analysis)
-from stability.free_body.ensemble import plan_arguments
+from stability.free_body.spin_ensembles import plan_arguments
 from stability.free_body.streamed import run_streamed
 from stability.util import conventions as cv
 
@@ -88,7 +88,7 @@ def test_only_the_samples_series_are_kept(both):
 
 def test_the_measurement_travels_to_a_worker():
     """Pickled for a dask worker: its window and sample go with it, its plan is made there."""
-    from stability.free_body.plan import plan_ensemble
+    from stability.free_body.ensemble_plan import plan_ensemble
 
     chunks = TennisChunks(PLANNED, WINDOW, 9, plan_ensemble(**PLANNED, defer_starts=True))
     back = pickle.loads(pickle.dumps(chunks))
