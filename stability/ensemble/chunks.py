@@ -44,7 +44,7 @@ from dataclasses import dataclass
 import numpy as np
 import xarray as xr
 
-from ..engine.run import Propagation
+from ..engine.driver import Propagation
 from ..util.interrupts import deferred_interrupt
 from ..util.ledger import book
 from ..output.io import READ

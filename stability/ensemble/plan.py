@@ -16,7 +16,7 @@ from dataclasses import dataclass, replace
 import numpy as np
 
 from ..engine import propagate_groups
-from ..engine.run import Propagation
+from ..engine.driver import Propagation
 from ..engine.scene import Scene, checked_scene
 
 

@@ -39,7 +39,7 @@ from ..version import __version__
 #: with its start, and what is written or read back of it.
 PEAK_COPIES = 3
 
-#: The tracked events of the member loop (:func:`stability.engine.run.tracking_results`) that
+#: The tracked events of the member loop (:func:`stability.engine.driver.tracking_results`) that
 #: the Dataset keeps, float ones masked (NaN) for members whose status is not ok.
 TRACKED = ("axis_crossings", "first_axis_crossing", "last_axis_crossing", "perp_crossings",
            "first_perp_crossing", "last_perp_crossing", "max_perp_amplitude", "passage_time")
