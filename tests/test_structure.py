@@ -219,7 +219,7 @@ def test_a_family_imports_another_only_where_it_builds_on_it():
 
 #: What runs members: a family's model holds its formulas and none of these.
 RUNS_MEMBERS = ("stability.ensemble.chunks", "stability.ensemble.plan", "stability.engine",
-                "stability.engine.driver", "stability.ensemble.run")
+                "stability.engine.driver", "stability.ensemble.scene_run")
 
 
 def test_no_familys_model_runs_an_ensemble():

@@ -125,7 +125,7 @@ def run_scene(scene, method, x0, parameters, *, h, n_steps, sizes=None, save_eve
     >>> ds.g3.shape  # the cosine of the tilt of axis 3, per member over time
     (4, 101)
     """
-    scene = checked_scene(scene, "stability.ensemble.run.run_scene")
+    scene = checked_scene(scene, "stability.ensemble.scene_run.run_scene")
     spec = scene.method(method)
     width = scene.width
     options = run_options(options)
