@@ -92,7 +92,8 @@ COVERED_ELSEWHERE = {
     "stability.free_body.scene_attitude": "tests/test_registry.py",
     "stability.rolling.scene": "tests/test_registry.py",
     "stability.struck.scene": "tests/test_registry.py",
-    "stability.engine.gpu.bench": "tests/cli/test_gpu_bench.py (python -m stability.cli.gpu_bench)",
+    "stability.engine.gpu.throughput": "tests/cli/test_gpu_bench.py "
+                                       "(python -m stability.cli.gpu_bench)",
     "stability.engine.gpu.retarget": "tests/engine/gpu/test_kernels.py (each kernel's device twin)",
     "stability.integrators.munthe_kaas": "tests/integrators/test_geometric.py",
     "stability.util.interrupts": "tests/test_faults.py, tests/test_animation.py, "

@@ -17,7 +17,7 @@ import numpy as np
 from .propagate import propagate_many
 from .scene import FREE_BODY
 from .scene_attitude import FREE_BODY_ATTITUDE
-from ..engine.gpu.methods import gpu_method, gpu_methods
+from ..engine.gpu.support import gpu_method, gpu_methods
 from ..engine.gpu.driver import propagate_groups_gpu
 
 #: Methods with a GPU kernel for the free body.

@@ -5,7 +5,7 @@ shapes and tracking set-up (:func:`stability.engine.driver.member_arrays`), the 
 with their progress bar and Ctrl-C (:func:`stability.engine.driver.run_in_chunks`), and a
 :class:`~stability.engine.Propagation` with arrays of the same shapes, in the kernels' frame. The
 host copies the members in (structure of arrays, members last), launches one thread per member in
-blocks of :data:`~stability.engine.gpu.methods.THREADS_PER_BLOCK` (or of the whole warps fewer
+blocks of :data:`~stability.engine.gpu.support.THREADS_PER_BLOCK` (or of the whole warps fewer
 members need) once per chunk (the state stays on the device between chunks, and chunking never
 changes a result), and copies the results out.
 """
@@ -20,7 +20,7 @@ from ..loop import N_TRACK
 from ..driver import member_arrays, run_in_chunks
 from ..scene import checked_scene
 from .device import cuda_module
-from .methods import THREADS_PER_BLOCK, gpu_method
+from .support import THREADS_PER_BLOCK, gpu_method
 
 #: Threads of a CUDA warp: a block of fewer members than THREADS_PER_BLOCK is this many times
 #: the warps they need.
@@ -42,7 +42,7 @@ def propagate_groups_gpu(
         Steps per kernel launch (rounded to a multiple of ``save_every``); by default chosen so
         a launch takes about 0.25 s. Never changes the result.
     threads_per_block : int, optional
-        CUDA block size; default :data:`~stability.engine.gpu.methods.THREADS_PER_BLOCK`, or
+        CUDA block size; default :data:`~stability.engine.gpu.support.THREADS_PER_BLOCK`, or
         fewer for fewer members: whole warps of 32, as many as the members need (the same
         results; under the CUDA simulator, where each thread is a Python thread, a 21-member
         run starts 32 threads per launch instead of 128).

@@ -217,7 +217,7 @@ def member_kernel(scene, spec, tracked=True):
     scene : Scene
         The scene (registered or the user's own).
     spec : MethodSpec
-        One of its methods (:func:`stability.engine.gpu.methods.gpu_method`).
+        One of its methods (:func:`stability.engine.gpu.support.gpu_method`).
     tracked : bool
         Compile the tracking of flips, crossings, amplitudes and levels in (or leave it out).
 

@@ -21,7 +21,7 @@ import numpy as np
 
 from ..driver import member_arrays
 from .kernels import member_kernel
-from .methods import THREADS_PER_BLOCK, gpu_method, gpu_methods
+from .support import THREADS_PER_BLOCK, gpu_method, gpu_methods
 from .driver import DeviceMembers
 
 #: The issue's target for RK4 on one H100 (member-steps/s).
