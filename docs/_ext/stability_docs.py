@@ -279,7 +279,7 @@ API_MODULES = (
     ("Studies' library functions", ("free_body.twisting_racket.measure", "engine_body.measure",
                                      "struck.model", "struck.measure", "rolling.model",
                                      "rolling.measure", "heavy_top.measure",
-                                     "earth.wobble", "earth.equinoxes", "earth.model",
+                                     "earth.wobble", "earth.precession", "earth.model",
                                      "free_body.stability_map.measure",
                                      "free_body.work_precision.measure",
                                      "free_body.work_precision.sweeps",

@@ -10,7 +10,7 @@ The family's modules, each importing only downward:
   axis);
 - :mod:`.model`: the Earth from published moments, its spin, Euler's wobble period;
 - :mod:`.wobble`: the free wobble measured (an ensemble for the period, one member's cones);
-- :mod:`.equinoxes`: the Sun's and the Moon's orbits, the averaged precession formula, and the
+- :mod:`.precession`: the Sun's and the Moon's orbits, the averaged precession formula, and the
   precession and nutation measured from runs of both scenes;
 - :mod:`.studies`: the study kinds ``earth_wobble`` and ``equinoxes``;
 - :mod:`.figures`: their figures, drawn from the Datasets.

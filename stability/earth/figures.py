@@ -4,7 +4,7 @@
   body (it circles the figure axis once per wobble period, the body cone) and from space (it
   circles the fixed angular momentum once a day, on the space cone, ~H times narrower), each in
   arcseconds on the sky.
-- :func:`equinoxes_figure` (:func:`stability.earth.equinoxes.measure_equinoxes`): the precession
+- :func:`equinoxes_figure` (:func:`stability.earth.precession.measure_equinoxes`): the precession
   of the equinoxes, the nutation and a full turn. The longitude of the equinox over the run for
   the Sun alone, the Moon alone and both (full model, member 0) beside the averaged formula; the
   nutation left after the fitted line, full and orbit-averaged models, with the published
@@ -15,7 +15,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from .equinoxes import NODE_PERIOD_DAYS
+from .precession import NODE_PERIOD_DAYS
 from .model import ARCSEC
 from ..plotting.style import AXIS_COLORS, EXACT_COLOR, label, new_figure, place_legend, styled
 
@@ -67,7 +67,7 @@ _NODE_YEARS = NODE_PERIOD_DAYS / 365.25
 
 def _detrended(t, y):
     """``y`` (over ``t`` in years) less its line, fitted together with the node's 18.6-year term
-    as :func:`stability.earth.equinoxes.fit_precession` fits it: a line alone, fitted over a run
+    as :func:`stability.earth.precession.fit_precession` fits it: a line alone, fitted over a run
     that is not a whole number of node periods, takes part of the term and tilts what remains
     (peaks of +9.7" and -10.3" about a 9.2" amplitude over 40 years)."""
     w = 2.0 * np.pi / _NODE_YEARS

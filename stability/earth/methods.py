@@ -149,7 +149,7 @@ def splitting_stage(m1, m2, m3, q0, q1, q2, q3, t, h, p, s):
 def sequence_params(gammas):
     """``params(earth, h)`` of the Strang step K D K composed with weights ``gammas``.
 
-    ``earth`` is the array of :func:`stability.earth.equinoxes.earth_parameters` (A, C and the two
+    ``earth`` is the array of :func:`stability.earth.precession.earth_parameters` (A, C and the two
     orbits); neighbouring kicks merge, so s Strang steps cost s drifts and s + 1 kicks.
     """
     a, b = partitioned_coefficients(gammas)

@@ -5,7 +5,7 @@ axis averaged over their orbits.
 q2, q3, t)``, the body angular momentum, the body-to-space unit quaternion (scalar first; space
 is the ecliptic frame of the epoch) and the time, which the prescribed orbits of the Sun and the
 Moon depend on. Parameters: ``(A, C)`` and the two orbits' elements
-(:func:`stability.earth.equinoxes.earth_parameters`). Equations, methods and references:
+(:func:`stability.earth.precession.earth_parameters`). Equations, methods and references:
 :mod:`stability.earth.methods`. Invariants: :math:`|q| = 1` and :math:`m_3` (the torque of
 either body on an oblate Earth has no component along its figure axis). Tracking: the figure
 axis :math:`k = R(q)\, e_3` in space, its component :math:`k_a` along space axis :math:`a` and

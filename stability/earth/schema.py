@@ -52,7 +52,7 @@ EARTH_WOBBLE = declare(
     },
 )
 
-# The precession of the equinoxes (stability.earth.equinoxes.measure_equinoxes) ----------------
+# The precession of the equinoxes (stability.earth.precession.measure_equinoxes) ----------------
 
 _MTM = ("model", "torque", MEMBER)
 _CYCLE = "a long run (cycle_years above 0; not in quick mode)"
@@ -60,7 +60,7 @@ EQUINOXES = declare(
     "equinoxes",
     "the precession and nutation of the Earth's axis under the Sun and the "
     "Moon, full and orbit-averaged, per torque and member",
-    "stability.earth.equinoxes.measure_equinoxes",
+    "stability.earth.precession.measure_equinoxes",
     {
         "precession_rate": variable(
             _MTM, ARCSEC_PER_YEAR, "precession of the equinox -dphi/dt, fitted"

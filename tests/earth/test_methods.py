@@ -8,7 +8,7 @@ import pytest
 from scipy.integrate import solve_ivp
 from scipy.spatial.transform import Rotation
 
-from stability.earth import equinoxes as eq
+from stability.earth import precession as eq
 from stability.earth.methods import perturber
 from stability.engine import propagate_groups
 from stability.registry import SCENES

@@ -1,6 +1,6 @@
 """The equinoxes study: the precession and nutation of a rigid Earth's axis under Sun and Moon.
 
-:func:`stability.earth.equinoxes.measure_equinoxes` runs the full model (spin, attitude and the two
+:func:`stability.earth.precession.measure_equinoxes` runs the full model (spin, attitude and the two
 prescribed orbits: scene ``lunisolar_earth``) for a century or more with the Sun alone, the Moon
 alone and both, an ensemble of orbital phases each, and the orbit-averaged model (scene
 ``precessing_axis``) beside it and over a full turn of the axis; the measured precession rate and
@@ -14,7 +14,7 @@ import math
 import time
 from pathlib import Path
 
-from ..equinoxes import measure_equinoxes
+from ..precession import measure_equinoxes
 from ..figures import equinoxes_figure
 from ..methods import METHODS
 from ...util.threads import numba_threads

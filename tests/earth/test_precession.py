@@ -4,7 +4,7 @@
 import numpy as np
 import pytest
 
-from stability.earth import equinoxes as eq
+from stability.earth import precession as eq
 from stability.engine import propagate_groups
 from stability.registry import SCENES
 
