@@ -9,7 +9,7 @@ from __future__ import annotations
 
 import functools
 
-from .ensemble import run as scene_run
+from .ensemble import scene_run
 from .registry import scene as registered_scene
 
 

@@ -234,7 +234,7 @@ def tennis_on_gpu():
     from stability.free_body.tennis_racket.measure import TennisChunks
 
     body = stability.RigidBody.preset("tennis_racket")
-    from stability.free_body.ensemble import plan_arguments
+    from stability.free_body.spin_ensembles import plan_arguments
 
     run = dict(body=body, axis=2, spin=10.0, epsilon=1e-5, members=10, h=0.02, t_end=3.0,
                seed=2, method="rk4")

@@ -7,7 +7,7 @@ import numpy as np
 import pytest
 
 import stability
-from stability.ensemble import run as scene_run
+from stability.ensemble import scene_run
 from stability.heavy_top.scene import HEAVY_TOP
 from stability.registry import scene
 

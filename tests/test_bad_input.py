@@ -18,7 +18,7 @@ file and bad ``--set``/``--members`` values (``tests/study/test_config.py``); a 
 memory holds, for every study kind (``tests/study/test_sections.py``); unknown subcommands and
 ``--threads`` out of range (``tests/cli/test_main.py``); bad bodies, starts of the wrong shape,
 non-finite values, bad seeds, time-series runs above ``max_memory`` (``tests/core/test_body.py``,
-``tests/free_body/test_ensemble.py``); hopeless steps at the level of the loop
+``tests/free_body/test_spin_ensembles.py``); hopeless steps at the level of the loop
 (``tests/test_hard_cases.py``).
 """
 
@@ -39,7 +39,7 @@ from stability.free_body import model as analytic, attitude, propagate as driver
 from stability.analysis.members import zero_crossings
 from stability.asteroid import model as asteroid
 from stability.core.body import Part
-from stability.free_body.ensemble import run_ensembles
+from stability.free_body.spin_ensembles import run_ensembles
 from stability.free_body.starts import perturbed_starts
 from stability.registry import SCENES
 

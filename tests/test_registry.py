@@ -9,7 +9,7 @@ Each (scene, method) of the registry runs the scene's own ``example`` to ``T_END
   it, at no less than their order by the others.
 
 A new scene or method is picked up from ``SCENES`` and its ``methods``. Bitwise reproducibility
-over groups, chunks and thread counts is ``tests/engine/test_run.py``'s; over member chunks,
+over groups, chunks and thread counts is ``tests/engine/test_driver.py``'s; over member chunks,
 resumes and dask, ``tests/ensemble/test_chunks.py``'s.
 """
 

@@ -12,7 +12,7 @@ import pytest
 
 import stability
 from stability.util import conventions as cv
-from stability.free_body.ensemble import run_ensemble
+from stability.free_body.spin_ensembles import run_ensemble
 from stability.free_body.starts import max_angular_speed
 from stability.free_body.exact import exact_omega_of_starts
 

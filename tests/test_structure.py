@@ -1,5 +1,5 @@
 """The package's shape, read from its source: layers that import one way, modules of one idea,
-imports at the top, every module tested.
+imports at the top, every module tested, a module's name meaning one thing.
 
 The layers and their order are those of the design (``docs/developers.md``): ``util`` at the
 bottom, then ``core``, then the shared machinery (``output``, ``plotting``, ...). A layer
@@ -93,11 +93,31 @@ COVERED_ELSEWHERE = {
     "stability.free_body.scene_attitude": "tests/test_registry.py",
     "stability.rolling.scene": "tests/test_registry.py",
     "stability.struck.scene": "tests/test_registry.py",
-    "stability.engine.gpu.bench": "tests/cli/test_gpu_bench.py (python -m stability.cli.gpu_bench)",
+    "stability.engine.gpu.throughput": "tests/cli/test_gpu_bench.py "
+                                       "(python -m stability.cli.gpu_bench)",
     "stability.engine.gpu.retarget": "tests/engine/gpu/test_kernels.py (each kernel's device twin)",
     "stability.integrators.munthe_kaas": "tests/integrators/test_geometric.py",
     "stability.util.interrupts": "tests/test_faults.py, tests/test_animation.py, "
                                  "tests/ensemble/test_chunks.py (real SIGINTs)",
+}
+
+
+#: Module names found in more than one folder of the package, each with its one meaning: the
+#: shape every family (or study) repeats, and a loop's CUDA twin named as the CPU's. Any other
+#: name is one module's, so that a name says which module it is.
+REPEATED_NAMES = {
+    "scene": "a family's scenes (stability.engine.scene: the Scene they are)",
+    "methods": "a family's METHODS: its step kernels and their MethodSpecs",
+    "model": "a family's formulas and presets, nothing that runs members",
+    "exact": "a family's exact solution",
+    "measure": "a family's or a study's runs and what is measured in them",
+    "schema": "the declarations of the Datasets a family, a study or a layer writes",
+    "figures": "a family's or a study's figures, drawn from its Datasets",
+    "study": "a study kind in its study's own sub-package",
+    "common": "what the study kinds in a family's studies/ share (its one module besides them)",
+    "animation": "an animation: a family's of its body, written by stability.plotting.animation",
+    "adaptive": "the adaptive member loop: the engine's, and its CUDA twin in stability.engine.gpu",
+    "driver": "the engine's Python driver of the member loop, and its CUDA twin's",
 }
 
 
@@ -220,7 +240,7 @@ def test_a_family_imports_another_only_where_it_builds_on_it():
 
 #: What runs members: a family's model holds its formulas and none of these.
 RUNS_MEMBERS = ("stability.ensemble.chunks", "stability.ensemble.plan", "stability.engine",
-                "stability.engine.run", "stability.ensemble.run")
+                "stability.engine.driver", "stability.ensemble.scene_run")
 
 
 def test_no_familys_model_runs_an_ensemble():
@@ -311,3 +331,17 @@ def test_every_family_has_the_same_shape():
                   f"{p}.{STUDY_MODULE}:STUDY"
                   for p in sorted(packages_here - study_packages - {"studies"})]
     assert wrong == [], "\n".join(wrong)
+
+
+def test_a_module_name_means_one_thing():
+    """A module's name appears in one folder of the package, but the names of
+    :data:`REPEATED_NAMES`, which mean one thing wherever they appear."""
+    folders = {}
+    for _, path, _ in modules():
+        if path.name not in ("__init__.py", "__main__.py"):
+            folders.setdefault(path.stem, []).append(path.relative_to(ROOT).as_posix())
+    repeated = {stem: paths for stem, paths in folders.items() if len(paths) > 1}
+    wrong = [f"{stem}.py means two things: {' and '.join(paths)}"
+             for stem, paths in sorted(repeated.items()) if stem not in REPEATED_NAMES]
+    assert wrong == [], "\n".join(wrong)
+    assert set(REPEATED_NAMES) - set(repeated) == set(), "one module each now: strike them"

@@ -24,7 +24,7 @@ solution, so that speeds are compared at a known accuracy.
 
 Then, on workload W1 (:data:`W1`: I = (1, 2, 3), 10,000 members near the intermediate axis,
 T = 100 s, h = 0.01), what the engine costs (:func:`engine_costs`): a plain uncompensated RK4
-loop blocked for SIMD (:mod:`stability.engine.reference`), the engine's RK4 loop without and
+loop blocked for SIMD (:mod:`stability.engine.baseline`), the engine's RK4 loop without and
 with compensated summation, and ``run_ensemble(keep=Keep(save_every=0))`` (the loop with its
 tracking), each as member-steps/s and as a fraction of the plain loop, all in one process.
 
@@ -54,11 +54,11 @@ from ..free_body.model import euler_system
 from ..core.body import RigidBody
 from ..free_body.propagate import propagate
 from ..engine import propagate_groups
-from ..engine.reference import plain_rk4
+from ..engine.baseline import plain_rk4
 from ..engine.adaptive import integrate_adaptive
 from ..engine.events import Event
 from ..engine.tangent import tangent_scene
-from ..free_body.ensemble import run_ensemble
+from ..free_body.spin_ensembles import run_ensemble
 from ..free_body.keep import Keep
 from ..ensemble.options import RunOptions
 from ..free_body.starts import perturbed_starts
@@ -247,7 +247,7 @@ ENGINE_ROUNDS = 7
 def engine_costs(repeat=3, workload=None) -> list[BenchRow]:
     """Member-steps/s on W1 of a plain RK4 loop and of the engine's, with all threads.
 
-    Rows: the plain uncompensated loop (:func:`stability.engine.reference.plain_rk4`); the
+    Rows: the plain uncompensated loop (:func:`stability.engine.baseline.plain_rk4`); the
     engine's RK4 loop with an uncompensated update; the engine's loop as every run uses it
     (compensated); ``run_ensemble(keep=Keep(save_every=0))`` (compensated, with tracking; its rate
     is the loop's, from the Dataset's ``member_steps_per_second``). Each run takes about 0.1 s,

@@ -5,7 +5,7 @@
 CUDA GPU, and with ``--scenes`` every scene's every method, with CUDA events around launches made
 after a warm-up launch, and prints member-steps/s, the fraction of the issue's target for RK4 on
 one H100 (1e11 member-steps/s) and two bounds, compute and memory (the timing and the bounds
-are :mod:`stability.engine.gpu.bench`'s).
+are :mod:`stability.engine.gpu.throughput`'s).
 
 Without a GPU (or under the simulator, which measures nothing useful) it prints
 ``no CUDA GPU: skipped`` and exits 0.
@@ -18,8 +18,8 @@ import sys
 
 import numpy as np
 
-from ..engine.gpu.bench import (BYTES_PER_MEMBER, FP64_PER_STEP, TARGET_RK4_H100, device_bounds,
-                                scene_table, time_kernel)
+from ..engine.gpu.throughput import (BYTES_PER_MEMBER, FP64_PER_STEP, TARGET_RK4_H100,
+                                     device_bounds, scene_table, time_kernel)
 from ..engine.gpu.device import cuda_module, real_gpu
 from ..free_body.scene import FREE_BODY
 from ..registry import SCENES

@@ -18,8 +18,8 @@ The family's modules, each importing only downward:
 - :mod:`.figures`: their figures, drawn from the Datasets.
 
 It builds on the free body, as the design allows a family to build on another: the wobble is a
-free rigid body's, run by its ensembles (:mod:`stability.free_body.ensemble`, with what they keep,
-:mod:`stability.free_body.keep`, their memory bound, :mod:`stability.free_body.plan`, and the
+free rigid body's, run by its ensembles (:mod:`stability.free_body.spin_ensembles`, with what they keep,
+:mod:`stability.free_body.keep`, their memory bound, :mod:`stability.free_body.ensemble_plan`, and the
 methods that carry the attitude, :mod:`stability.free_body.attitude`) and its integration
 (:mod:`stability.free_body.integrate`), measured by the estimators (:mod:`stability.analysis`),
 with Euler's period from :mod:`stability.free_body.model`. Besides, it uses the shared layers:

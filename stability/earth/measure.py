@@ -37,9 +37,9 @@ from .model import (ARCSEC, CHANDLER_PERIOD_DAYS, DAY, DYNAMICAL_ELLIPTICITY, MO
                     full_start, member_orbits, nutation_frequencies, oblate_euler_period,
                     precession_formula)
 from ..free_body.attitude import attitude_methods
-from ..free_body.ensemble import completed, run_ensemble
+from ..free_body.spin_ensembles import completed, run_ensemble
 from ..free_body.keep import Keep
-from ..free_body.plan import ensemble_memory
+from ..free_body.ensemble_plan import ensemble_memory
 from ..analysis.estimates import measured_frequency
 from ..free_body.integrate import integrate
 from ..ensemble.chunks import default_chunk_members, run_plan

@@ -2,7 +2,7 @@
 
 Layout of the hot path: members are split into blocks of at most ``BLOCK``; blocks run in parallel,
 on threads that each run a share of them with the GIL released
-(:func:`stability.engine.run.run_blocks`), each a call of the block function ``_block``; inside a
+(:func:`stability.engine.driver.run_blocks`), each a call of the block function ``_block``; inside a
 block the time loop is outside and the loop over the block's members is innermost, in
 structure-of-arrays form (one array per state component), so the inlined step kernel vectorizes
 across members. Every step's increment is added with Kahan compensated summation (Hairer, Lubich &
@@ -56,7 +56,7 @@ from numba import njit
 #: Members per block: the vector loop's trip count (a multiple of the SIMD width).
 BLOCK = 64
 #: Steps between finiteness checks, counted from step 0 of the run (and once more after its
-#: last step, by :func:`stability.engine.run.propagate_groups`). Inf and NaN are absorbing, so a
+#: last step, by :func:`stability.engine.driver.propagate_groups`). Inf and NaN are absorbing, so a
 #: failure is caught at the next check: ``fail_step`` is the step count at the first check that
 #: found the state non-finite, at most CHECK_EVERY - 1 steps late
 #: (``stability.engine.untrusted`` masks conservatively).
@@ -190,7 +190,7 @@ def level_thresholds(levels) -> np.ndarray:
 # once a loop touches more than a handful of them). Integers live in ``iw`` the same way.
 #
 # A call of ``advance`` runs the blocks it is given (``blocks``, indices into the block table),
-# one after the other, with the GIL released: :func:`stability.engine.run.run_blocks` gives
+# one after the other, with the GIL released: :func:`stability.engine.driver.run_blocks` gives
 # each of its threads a share of the blocks. The loop has no parallel region of Numba's
 # own (``prange``): Numba's parallel passes and the kernel they build cost 2 s of the 4 to 6 s
 # a loop takes to compile (free_body rk4 5.75 s as a prange loop, 4.0 s as this; heavy_top lp2

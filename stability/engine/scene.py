@@ -25,7 +25,7 @@ for a new scene (copy ``stability/free_body/scene.py``):
 5. Name it in its family's ``SCENES`` (the family's ``__init__.py``, which
    :mod:`stability.registry` reads). The generic tests then check
    every method of it: ``tests/test_registry.py`` the order against the exact solution
-   and the invariants as declared, ``tests/engine/test_run.py`` bitwise reproducibility across
+   and the invariants as declared, ``tests/engine/test_driver.py`` bitwise reproducibility across
    groups, chunks and thread counts. Tests of what is particular to the scene go in a file of
    its own.
 

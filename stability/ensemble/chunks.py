@@ -44,7 +44,7 @@ from dataclasses import dataclass
 import numpy as np
 import xarray as xr
 
-from ..engine.run import Propagation
+from ..engine.driver import Propagation
 from ..util.interrupts import deferred_interrupt
 from ..util.ledger import book
 from ..output.io import READ
@@ -84,7 +84,7 @@ class ChunkJob:
         :class:`~stability.engine.Propagation`, members numbered from ``lo``; ``threads`` is
         what the chunk was asked to run with. Default: :class:`RawChunk`, the propagation as
         it is. A measurement with ``integrates = True`` runs its own loop on the part's starts
-        (:mod:`stability.ensemble.adaptive`) and is given None for the propagation.
+        (:mod:`stability.ensemble.adaptive_run`) and is given None for the propagation.
     """
 
     run: Plan

@@ -18,7 +18,7 @@ import numpy as np
 
 from ..engine import propagate_groups
 from ..engine.events import located
-from ..engine.run import Propagation
+from ..engine.driver import Propagation
 from ..engine.scene import Scene, checked_scene
 
 

@@ -10,9 +10,9 @@ The family's modules, each importing only downward:
   exact attitude by quadrature;
 - :mod:`.propagate`, :mod:`.attitude`, :mod:`.integrate`: the body's angular momentum (and its
   attitude) advanced by the engine, and one trajectory of any method;
-- :mod:`.ensemble`: ``run_ensemble``, perturbed ensembles about a steady spin, and their
+- :mod:`.spin_ensembles`: ``run_ensemble``, perturbed ensembles about a steady spin, and their
   per-member summaries;
-- :mod:`.timescales`, :mod:`.reference`, :mod:`.polhodes`: a step and a horizon from the physics,
+- :mod:`.timescales`, :mod:`.accuracy`, :mod:`.polhodes`: a step and a horizon from the physics,
   references to score a run against, the polhodes;
 - :mod:`.figures`: Poinsot's construction, drawn from a body and a start;
 - one sub-package per study, each with its measurements, its study kind and its figures:

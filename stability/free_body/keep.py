@@ -78,7 +78,7 @@ class Keep:
         return "free_body_attitude" if self.attitude else "free_body"
 
     def plan_arguments(self) -> dict:
-        """These choices as :func:`stability.free_body.plan.plan_ensemble` takes them."""
+        """These choices as :func:`stability.free_body.ensemble_plan.plan_ensemble` takes them."""
         return {"save_every": max(self.save_every, 1), "summaries_only": self.summaries_only,
                 "levels": self.levels, "scene": self.scene,
                 "divergence_tolerance": self.divergence_tolerance}

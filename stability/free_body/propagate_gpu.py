@@ -4,7 +4,7 @@ The GPU twins of :func:`stability.free_body.propagate.propagate` and
 :func:`~stability.free_body.propagate.propagate_many`: the same arguments, the same frame
 conversions, tracking set-up and final checks (they are
 :func:`~stability.free_body.propagate.propagate_many` with
-:func:`stability.engine.gpu.run.propagate_groups_gpu` as its propagator), and a
+:func:`stability.engine.gpu.driver.propagate_groups_gpu` as its propagator), and a
 :class:`stability.engine.Propagation` with arrays of the same shapes.
 """
 
@@ -17,8 +17,8 @@ import numpy as np
 from .propagate import propagate_many
 from .scene import FREE_BODY
 from .scene_attitude import FREE_BODY_ATTITUDE
-from ..engine.gpu.methods import gpu_method, gpu_methods
-from ..engine.gpu.run import propagate_groups_gpu
+from ..engine.gpu.support import gpu_method, gpu_methods
+from ..engine.gpu.driver import propagate_groups_gpu
 
 #: Methods with a GPU kernel for the free body.
 GPU_METHODS = gpu_methods(FREE_BODY)

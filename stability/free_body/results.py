@@ -16,7 +16,7 @@ from ..output.dataset import (
     add_attitude, config_toml, ensemble_dataset, provenance_attrs, threading_layer,
 )
 from ..util import conventions as cv
-from .plan import EnsemblePlan
+from .ensemble_plan import EnsemblePlan
 from .starts import RNG_CHUNK
 
 def members_dataset(plan: EnsemblePlan, run, threads):

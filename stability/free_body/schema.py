@@ -47,7 +47,7 @@ TENNIS_RACKET = ENSEMBLE.extend(
     "tennis_racket",
     "the tennis-racket ensemble with its exact flip intervals and the "
     "quantiles of its perpendicular amplitude",
-    "stability.free_body.tennis_racket.analysis.finish_analysis",
+    "stability.free_body.tennis_racket.measure.finish_analysis",
     "tennis_racket.nc",
     {
         "exact_flip_interval": variable(

@@ -15,7 +15,7 @@ from ..ensemble.chunks import run_plan, summed_attrs
 from ..ensemble.plan import Plan
 from ..util import conventions as cv
 from ..version import __version__
-from .plan import EnsemblePlan, chunk_plan, plan_ensemble
+from .ensemble_plan import EnsemblePlan, chunk_plan, plan_ensemble
 from .results import RunPart, finish_run, members_dataset
 
 __all__ = ["run_streamed", "EnsembleChunks"]
@@ -25,12 +25,13 @@ def run_streamed(kwargs: dict, options, *, compress=True, measurement=None):
 
     Returns the Dataset over the chunk files, its time series dask arrays. See :func:`stability.run_ensemble`
     for ``kwargs``; ``chunk_members`` there is the members per chunk file here
-    (default :data:`stability.free_body.plan.STREAM_CHUNK_MEMBERS`).
+    (default :data:`stability.free_body.ensemble_plan.STREAM_CHUNK_MEMBERS`).
 
     Parameters
     ----------
     kwargs : dict
-        Keyword arguments of :func:`stability.free_body.plan.plan_ensemble` for the whole run.
+        Keyword arguments of :func:`stability.free_body.ensemble_plan.plan_ensemble` for the
+        whole run.
     options : RunOptions
         Where the chunks go and run (:class:`~stability.ensemble.options.RunOptions`): its
         ``store``, the folder of the chunk files (created if missing); ``resume``, finish a run

@@ -111,7 +111,7 @@ def append_history(ds: xr.Dataset, command: str) -> xr.Dataset:
 
 
 #: What runs the member loop's blocks at the same time, recorded as ``numba_threading_layer``:
-#: the package's own threads (:func:`stability.engine.run.run_blocks`); the loop has no parallel
+#: the package's own threads (:func:`stability.engine.driver.run_blocks`); the loop has no parallel
 #: region of Numba's, so no Numba threading layer is used.
 LOOP_THREADS = "none: the member loop's blocks run on the package's threads, GIL released"
 

@@ -15,7 +15,7 @@ from collections.abc import Mapping
 
 import numpy as np
 
-from ..ensemble.run import run_scene
+from ..ensemble.scene_run import run_scene
 from .dispersions import Dispersions
 
 

@@ -5,7 +5,7 @@ import numpy as np
 import pytest
 
 from stability.engine import propagate_groups
-from stability.ensemble import run as scene_run
+from stability.ensemble import scene_run
 from stability.ensemble.plan import Plan
 
 
@@ -13,7 +13,7 @@ from stability.ensemble.plan import Plan
     lambda: propagate_groups("heavy_top", "lp2", np.ones((1, 6)), [[1.0] * 9], [1], 0.1, 1),
     lambda: scene_run.run_scene("heavy_top", "lp2", np.ones((1, 6)), {}, h=0.1, n_steps=1),
     lambda: Plan("heavy_top", "lp2", np.ones((1, 6)), [[1.0] * 9], [1], 0.1, 1),
-], ids=["propagate_groups", "ensemble.run.run_scene", "Plan"])
+], ids=["propagate_groups", "ensemble.scene_run.run_scene", "Plan"])
 def test_below_the_door_a_name_is_refused_in_one_line_saying_how_to_get_the_scene(call):
     with pytest.raises(TypeError, match=r"takes a Scene, got the name 'heavy_top': "
                                         r"stability.registry.scene\('heavy_top'\)") as caught:

@@ -19,7 +19,7 @@ from stability.registry import SCENES
 from ..helpers import assert_declared
 
 #: Every registered scene with its first method (every method's loop is checked for groups and
-#: chunks in time by tests/engine/test_run.py; here the question is the cut into member chunks).
+#: chunks in time by tests/engine/test_driver.py; here the question is the cut into member chunks).
 CASES = [(scene.name, next(iter(scene.methods))) for scene in SCENES.values()]
 
 

@@ -7,7 +7,7 @@ import pytest
 
 import stability
 from stability import Keep, RunOptions
-from stability.free_body.ensemble import plan_arguments
+from stability.free_body.spin_ensembles import plan_arguments
 
 
 @pytest.mark.parametrize("kwargs, message", [

@@ -4,7 +4,7 @@ flagged and masked, each by its own status."""
 import numpy as np
 
 import stability
-from stability.free_body.ensemble import run_ensemble
+from stability.free_body.spin_ensembles import run_ensemble
 from stability.free_body.starts import perturbed_starts
 from stability.util import conventions as cv
 

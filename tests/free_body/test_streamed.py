@@ -5,7 +5,7 @@ import numpy as np
 
 import stability
 from stability import Keep, RunOptions
-from stability.free_body.ensemble import plan_arguments
+from stability.free_body.spin_ensembles import plan_arguments
 
 BODY = stability.RigidBody(1.0, 2.0, 3.0, name="I=(1,2,3)")
 

@@ -24,8 +24,8 @@ difference is an ulp per step; over n steps they add up like the method's own ro
 
 from .adaptive import integrate_adaptive_gpu
 from .device import NO_GPU_MESSAGE, NoGPUError, cuda_module, real_gpu
-from .methods import NOT_ON_GPU, THREADS_PER_BLOCK, gpu_method, gpu_methods
-from .run import propagate_groups_gpu
+from .support import NOT_ON_GPU, THREADS_PER_BLOCK, gpu_method, gpu_methods
+from .driver import propagate_groups_gpu
 
 __all__ = ["NOT_ON_GPU", "NO_GPU_MESSAGE", "NoGPUError", "THREADS_PER_BLOCK", "cuda_module",
            "gpu_method", "gpu_methods", "integrate_adaptive_gpu", "propagate_groups_gpu",

@@ -25,7 +25,7 @@ from numba import cuda, float64, int64
 from ...util import conventions as cv
 from .. import adaptive as cpu
 from .device import cuda_module
-from .methods import THREADS_PER_BLOCK
+from .support import THREADS_PER_BLOCK
 from .retarget import device_twin
 
 _KERNELS: dict = {}

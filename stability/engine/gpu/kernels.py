@@ -38,7 +38,7 @@ from .retarget import device_twin
 
 _KERNELS: dict = {}
 
-#: Kernel arguments, in order (shapes in :func:`stability.engine.gpu.run.propagate_groups_gpu`).
+#: Kernel arguments, in order (shapes in :func:`stability.engine.gpu.driver.propagate_groups_gpu`).
 ARGUMENTS = ("x", "comp", "params", "group", "hs", "steps", "step0", "axes", "track",
              "thresholds", "levels", "passage", "status", "fail_step", "iterations", "saved",
              "save_every", "k0")
@@ -217,7 +217,7 @@ def member_kernel(scene, spec, tracked=True):
     scene : Scene
         The scene (registered or the user's own).
     spec : MethodSpec
-        One of its methods (:func:`stability.engine.gpu.methods.gpu_method`).
+        One of its methods (:func:`stability.engine.gpu.support.gpu_method`).
     tracked : bool
         Compile the tracking of flips, crossings, amplitudes and levels in (or leave it out).
 
@@ -225,7 +225,7 @@ def member_kernel(scene, spec, tracked=True):
     -------
     CUDA kernel
         ``advance[blocks, threads](*ARGUMENTS)``; shapes in
-        :func:`stability.engine.gpu.run.propagate_groups_gpu`.
+        :func:`stability.engine.gpu.driver.propagate_groups_gpu`.
     """
     kernel = scene.kernel(spec)
     key = (scene.name, scene.source, spec.name, kernel, scene.observe, bool(tracked))

@@ -26,7 +26,7 @@ import xarray as xr
 from numba import njit
 
 from ...ensemble.options import RunOptions
-from ...ensemble.run import run_scene
+from ...ensemble.scene_run import run_scene
 from ...uncertainty.dispersions import AXES, Dispersions
 from ...uncertainty.inertia import dispersed_tensor
 from ..exact import Q_K, Q_KIND, Q_RATE, SEPARATRIX, STEADY, motion

@@ -26,7 +26,7 @@ import xarray as xr
 
 from ...analysis.estimates import flip_estimate, omega_squared_estimates
 from ...analysis.members import members as gather_members
-from ..ensemble import completed, run_ensembles
+from ..spin_ensembles import completed, run_ensembles
 from ..keep import Keep
 from ..starts import perturbed_starts
 from ...output.stream import stream_chunks
@@ -65,9 +65,9 @@ def ensemble_estimates(run, analytic: float, exact=None, asymptote=None, *,
 
     Parameters
     ----------
-    run : xarray.Dataset or stability.free_body.ensemble.EnsembleSummary
+    run : xarray.Dataset or stability.free_body.spin_ensembles.EnsembleSummary
         :func:`stability.run_ensemble` with ``keep=Keep(save_every=0)``, or the same ensemble from
-        :func:`stability.free_body.ensemble.run_ensembles` with ``datasets=False``.
+        :func:`stability.free_body.spin_ensembles.run_ensembles` with ``datasets=False``.
     analytic : float
         Analytic Omega^2, s-2.
     exact, asymptote : ndarray, shape (N,), optional
@@ -91,7 +91,7 @@ def batch_estimates(runs, analytic, flips, *, low_factor, high_fraction) -> list
 
     Parameters
     ----------
-    runs : sequence of xarray.Dataset or stability.free_body.ensemble.EnsembleSummary
+    runs : sequence of xarray.Dataset or stability.free_body.spin_ensembles.EnsembleSummary
     analytic : sequence of float
         Analytic Omega^2 of each, s-2.
     flips : sequence of (exact, asymptote)

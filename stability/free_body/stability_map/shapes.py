@@ -24,7 +24,7 @@ from ...analysis.members import zero_crossings
 from ...analysis.regimes import member_regimes
 from ..model import euler_rhs, omega_squared, perpendicular_axes
 from ...core.body import RigidBody
-from ..ensemble import completed
+from ..spin_ensembles import completed
 from ..integrate import integrate
 from ...util import conventions as cv
 

@@ -25,7 +25,7 @@ import numpy as np
 from ...analysis.fits import richardson_bias
 from ...core.body import RigidBody
 from . import measure as smap
-from ..plan import ensemble_memory
+from ..ensemble_plan import ensemble_memory
 from ..schema import FTLE_IN_MAP
 from . import figures as figures
 from ..tennis_racket.flipsweep import flip_sweep

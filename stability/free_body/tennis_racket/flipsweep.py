@@ -15,7 +15,7 @@ import numpy as np
 
 from ..model import growth_rate
 from ...core.body import RigidBody
-from ..ensemble import completed, run_ensembles
+from ..spin_ensembles import completed, run_ensembles
 from ..keep import Keep
 from ..measure import exact_flip_intervals
 

@@ -39,10 +39,10 @@ import numpy as np
 from ...core.axes import MOMENT_NAMES, spin_axis
 from ..attitude import FREE_BODY_SCENES, attitude_methods, carries_attitude
 from ...core.body import RigidBody
-from ..plan import DEFAULT_LEVELS, PEAK_COPIES, OutOfRange, check_random_starts, ensemble_memory
+from ..ensemble_plan import (DEFAULT_LEVELS, PEAK_COPIES, OutOfRange, check_random_starts,
+                             ensemble_memory)
 from ..streamed import run_streamed
-from .analysis import analysis_headline, finish_analysis
-from .measure import STUDY_MEMBER_NUMBERS, TennisChunks
+from .measure import STUDY_MEMBER_NUMBERS, TennisChunks, analysis_headline, finish_analysis
 from ...ensemble.combine import DEFAULT_SERIES_MEMBERS, series_count
 from ...ensemble.options import RunOptions
 from ...output.dataset import summary_bytes
@@ -373,7 +373,7 @@ def _body(config: dict):
 
 def summarize(ds, out_dir, files, wall, t_ensemble, stages=None) -> StudySummary:
     """The summary table of a finished run: the analysis
-    (:func:`stability.free_body.tennis_racket.analysis.analysis_headline`), then where its
+    (:func:`stability.free_body.tennis_racket.measure.analysis_headline`), then where its
     time went.
 
     ``stages``: seconds of the stages after the ensemble (``analysis``; ``figures`` and

@@ -5,7 +5,7 @@ horizon) holds, per (workload, method, sweep point), the step h or tolerance, th
 the whole ensemble and per member-step, the work, the failed members and the (max, p99, median)
 over members of the final errors of w, the energy, |L| and the attitude
 (:mod:`stability.free_body.work_precision.sweeps`); per workload the conditioning floor
-(:func:`stability.free_body.reference.conditioning_floor`) and the attitude reference's own error;
+(:func:`stability.free_body.accuracy.conditioning_floor`) and the attitude reference's own error;
 per method the long-horizon energy and |L| errors and their log-log slope
 (:mod:`stability.free_body.work_precision.drift`).
 
@@ -22,7 +22,7 @@ import xarray as xr
 
 from .drift import drift_kind, envelope, log_slope
 from ..methods import METHODS
-from ..reference import METRICS
+from ..accuracy import METRICS
 from ..schema import WORK_PRECISION
 
 #: Name of scipy's DOP853 in the ``method`` dimension (run as one system over all members).

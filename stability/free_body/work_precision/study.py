@@ -6,7 +6,7 @@ sweep of tolerances (each member its own steps), and scipy's DOP853 runs them as
 a sweep of tolerances, in the same process: **tennis** (spin about the intermediate axis, each member nudged
 by ``epsilon`` in a random perpendicular direction, over a few flips: the hard, ill-conditioned
 workload) and **stable** (spin about the largest or smallest axis). Each is scored against the
-exact solution and the conditioning floor (:mod:`stability.free_body.reference`), timed
+exact solution and the conditioning floor (:mod:`stability.free_body.accuracy`), timed
 (:mod:`stability.free_body.work_precision.sweeps`), and every method also runs a **long horizon**
 of ``>= 1e6`` steps to see what happens to the energy and |L|
 (:mod:`stability.free_body.work_precision.drift`).
@@ -25,7 +25,7 @@ from pathlib import Path
 
 import numpy as np
 
-from .. import reference as ref
+from .. import accuracy as ref
 from . import measure as wp
 from ...core.axes import principal_axis
 from ...core.body import RigidBody

@@ -5,7 +5,7 @@ Each point of a sweep runs the whole ensemble once and records the kernel's wall
 excluded; short runs repeated, :func:`timed_propagate`), the work (right-hand-side evaluations or
 exact sub-flows, ``spec.evaluations`` x steps, and nonlinear-solver iterations per step), the
 members that failed, and the (max, p99, median) over members of the relative errors of w, the
-energy and |L| at the end against a reference (:func:`stability.free_body.reference.final_errors`);
+energy and |L| at the end against a reference (:func:`stability.free_body.accuracy.final_errors`);
 for the methods that carry the attitude, the first members' attitude errors against a reference
 attitude as well. A sweep is a list of such points (dicts), coarsest first;
 :func:`stability.free_body.work_precision.measure.work_precision_dataset` stacks them.
@@ -22,7 +22,7 @@ from ...engine.adaptive import integrate_adaptive
 from ..model import euler_system
 from ..attitude import IDENTITY, attitude_error, propagate_attitude
 from ..propagate import propagate
-from ..reference import METRICS, error_statistics, final_errors
+from ..accuracy import METRICS, error_statistics, final_errors
 from ..scene import FREE_BODY
 from ...util import conventions as cv
 
@@ -110,7 +110,7 @@ def sweep_point(h=np.nan, rtol=np.nan, steps=np.nan, wall=np.nan, evaluations=np
     members : int, default 1
         Ensemble size, for the time per member-step.
     errors : dict, optional
-        :func:`stability.free_body.reference.final_errors` of the run (``w``, ``energy``, ``momentum``,
+        :func:`stability.free_body.accuracy.final_errors` of the run (``w``, ``energy``, ``momentum``,
         each of shape (N,)); None leaves the error statistics NaN.
 
     Returns
@@ -119,7 +119,7 @@ def sweep_point(h=np.nan, rtol=np.nan, steps=np.nan, wall=np.nan, evaluations=np
         ``h``, ``rtol``, ``steps``, ``wall_time``, ``member_step_time`` (s), ``evaluations``,
         ``iterations``, ``failed``, and ``w_error``, ``energy_error``, ``momentum_error``,
         ``attitude_error`` (ndarray, shape (3,), in the order of
-        :data:`stability.free_body.reference.METRICS`; the attitude one NaN, filled in by the caller).
+        :data:`stability.free_body.accuracy.METRICS`; the attitude one NaN, filled in by the caller).
     """
     point = {
         "h": h, "rtol": rtol, "steps": steps, "wall_time": wall,
@@ -202,7 +202,7 @@ def attitude_errors(spec, body, w0, q_ref, h, n_steps) -> np.ndarray:
         Starts, rad/s; every member starts at the identity attitude.
     q_ref : array_like, shape (N, 4)
         Reference attitudes after ``n_steps`` (unit quaternions, scalar first, body to space),
-        from :func:`stability.free_body.reference.attitude_reference`.
+        from :func:`stability.free_body.accuracy.attitude_reference`.
     h : float
         Step, s.
     n_steps : int
@@ -243,7 +243,7 @@ def sweep_method(spec, body, w0, w_ref, t_end, counts, budget, stop_error,
     w0 : ndarray, shape (N, 3)
         Starts, rad/s.
     w_ref : ndarray, shape (N, 3)
-        Reference w at ``t_end``, rad/s (:func:`stability.free_body.reference.exact_final_w`).
+        Reference w at ``t_end``, rad/s (:func:`stability.free_body.accuracy.exact_final_w`).
     t_end : float
         Run length, s.
     counts : array_like of int, shape (K,)
@@ -356,7 +356,7 @@ def sweep_scipy(body, w0, w_ref, t_end, rtols, scale) -> list[dict]:
     w0 : ndarray, shape (N, 3)
         Starts, rad/s.
     w_ref : ndarray, shape (N, 3)
-        Reference w at ``t_end``, rad/s (:func:`stability.free_body.reference.exact_final_w`).
+        Reference w at ``t_end``, rad/s (:func:`stability.free_body.accuracy.exact_final_w`).
     t_end : float
         Run length, s.
     rtols : sequence of float

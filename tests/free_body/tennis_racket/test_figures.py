@@ -7,7 +7,7 @@ from matplotlib.figure import Figure
 
 import stability
 from stability.core.axes import intermediate_axis
-from stability.free_body.tennis_racket.analysis import analyse_ensemble
+from stability.free_body.tennis_racket.measure import analyse_ensemble
 from stability.free_body.tennis_racket import figures as tennis
 from stability.plotting.style import (
     covered_data, label, missing_units, new_figure, place_legend, save,

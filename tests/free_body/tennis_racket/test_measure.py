@@ -1,6 +1,7 @@
 """The tennis-racket study measured chunk by chunk (stability.free_body.tennis_racket.measure):
 the numbers of the run cut into chunks, on a store, are those of the whole ensemble held in
-memory, and only the sample's series are kept."""
+memory, only the sample's series are kept, and the analysis's headline is what the accessor
+gives."""
 
 import pickle
 
@@ -11,9 +12,9 @@ import stability
 from stability import RunOptions
 from stability.ensemble.combine import LOG_BIN_WIDTH, series_sample
 from stability.analysis.members import perpendicular_amplitude
-from stability.free_body.tennis_racket.analysis import analyse_ensemble, finish_analysis
-from stability.free_body.tennis_racket.measure import TennisChunks
-from stability.free_body.ensemble import plan_arguments
+from stability.free_body.tennis_racket.measure import (TennisChunks, analyse_ensemble,
+                                                      finish_analysis)
+from stability.free_body.spin_ensembles import plan_arguments
 from stability.free_body.streamed import run_streamed
 from stability.util import conventions as cv
 
@@ -87,7 +88,7 @@ def test_only_the_samples_series_are_kept(both):
 
 def test_the_measurement_travels_to_a_worker():
     """Pickled for a dask worker: its window and sample go with it, its plan is made there."""
-    from stability.free_body.plan import plan_ensemble
+    from stability.free_body.ensemble_plan import plan_ensemble
 
     chunks = TennisChunks(PLANNED, WINDOW, 9, plan_ensemble(**PLANNED, defer_starts=True))
     back = pickle.loads(pickle.dumps(chunks))
@@ -125,3 +126,20 @@ def test_on_a_dask_cluster_only_the_sample_leaves_the_workers(both, tmp_path):
     for name in local.variables:
         np.testing.assert_array_equal(remote[name].values, local[name].values, err_msg=name)
     assert remote.attrs["growth_rate_fitted"] == local.attrs["growth_rate_fitted"]
+
+
+def test_analyse_ensemble_headline_is_what_the_accessor_gives():
+    body = stability.RigidBody.preset("tennis_racket")
+    ds = stability.run_ensemble(body, 2, 10.0, 1e-4, 32, h=2e-3, t_end=3.0, seed=3,
+                                method="rk4", keep=stability.Keep(save_every=25),
+                                options=stability.RunOptions(progress=False))
+    out = analyse_ensemble(ds, body, 2, 10.0, 1e-4, low_factor=10.0, high_fraction=0.03)
+    headline = out.attrs["growth_rate_fitted"]
+    assert headline == float(out.stability.measured_growth_rate().growth_rate)
+    assert out.attrs["growth_rate_fitted_members"] == 32
+    assert abs(out.attrs["growth_rate_fitted"] / out.attrs["growth_rate_analytic"] - 1) < 1e-3
+    t0, t1 = out.attrs["growth_fit_window"]
+    assert 0 < t0 < t1 < 3.0 and np.isfinite(out.attrs["growth_fit_intercept"])
+    for name in ("exact_flip_interval", "flip_interval_asymptote", "complementary_modulus"):
+        assert out[name].dims == ("member",)
+    assert out.perp_amplitude_median.dims == ("time",)

@@ -7,7 +7,7 @@ import pytest
 import xarray as xr
 
 from stability.free_body.work_precision import measure as wp
-from stability.free_body.reference import METRICS
+from stability.free_body.accuracy import METRICS
 
 
 def synthetic(errors, walls, failed=None, methods=("m",)):

@@ -10,7 +10,7 @@ from stability.free_body.work_precision.figures import (
 )
 from stability.free_body.work_precision import measure as wp
 from stability.free_body.work_precision.drift import drift_kind
-from stability.free_body.reference import METRICS
+from stability.free_body.accuracy import METRICS
 from stability.study import ConfigError, load_study, run_study
 
 from ...helpers import assert_cf_compliant, assert_declared, assert_readable

@@ -5,7 +5,7 @@ import pytest
 
 import stability
 from stability.free_body.propagate import propagate
-from stability.free_body.reference import exact_final_w
+from stability.free_body.accuracy import exact_final_w
 from stability.free_body.work_precision.sweeps import (
     jittered_starts, step_grid, sweep_method, sweep_point, sweep_scipy, timed_propagate,
 )

@@ -1,11 +1,11 @@
-"""The free-body run's plan (stability.free_body.plan): the memory it counts, and a time series too
-large for it refused where summaries only are not."""
+"""The free-body run's plan (stability.free_body.ensemble_plan): the memory it counts, and a time
+series too large for it refused where summaries only are not."""
 
 import pytest
 
 import stability
-from stability.free_body.ensemble import run_ensemble
-from stability.free_body.plan import ensemble_memory
+from stability.free_body.spin_ensembles import run_ensemble
+from stability.free_body.ensemble_plan import ensemble_memory
 from stability.output.dataset import summary_bytes
 
 BODY = stability.RigidBody(1.0, 2.0, 3.0, name="I=(1,2,3)")

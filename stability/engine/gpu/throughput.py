@@ -19,10 +19,10 @@ import time
 
 import numpy as np
 
-from ..run import member_arrays
+from ..driver import member_arrays
 from .kernels import member_kernel
-from .methods import THREADS_PER_BLOCK, gpu_method, gpu_methods
-from .run import DeviceMembers
+from .support import THREADS_PER_BLOCK, gpu_method, gpu_methods
+from .driver import DeviceMembers
 
 #: The issue's target for RK4 on one H100 (member-steps/s).
 TARGET_RK4_H100 = 1e11

@@ -12,7 +12,7 @@ import stability
 from stability.util import conventions as cv
 from stability.ensemble.plan import Plan
 from stability.output.dataset import LEVEL, SUMMARIES
-from stability.free_body.ensemble import run_ensemble
+from stability.free_body.spin_ensembles import run_ensemble
 from stability.output.dataset import LOOP_THREADS
 
 BODY = stability.RigidBody(1.0, 2.0, 3.0, name="I=(1,2,3)")
@@ -302,7 +302,7 @@ def test_bad_input_is_one_clear_value_error(change, message):
 def test_ensembles_run_together_are_bitwise_the_ensembles_run_alone():
     """run_ensembles: bodies, axes, steps, horizons and starts of every kind in one batch give
     Datasets whose variables are bitwise those of run_ensemble one call at a time."""
-    from stability.free_body.ensemble import run_ensembles
+    from stability.free_body.spin_ensembles import run_ensembles
 
     calls = [
         dict(body=BODY, axis=2, spin=1.0, epsilon=1e-3, members=70, h=0.02, t_end=30.0,
@@ -333,7 +333,7 @@ def test_summaries_without_datasets_are_what_the_estimators_read_from_the_datase
     import dataclasses
 
     from stability.analysis.members import members
-    from stability.free_body.ensemble import EnsembleSummary, run_ensembles
+    from stability.free_body.spin_ensembles import EnsembleSummary, run_ensembles
     from stability.free_body.stability_map.measure import ensemble_estimates
 
     calls = [
@@ -368,7 +368,7 @@ def test_summaries_without_datasets_are_what_the_estimators_read_from_the_datase
 
 
 def test_run_ensembles_refuses_settings_of_the_whole_batch_per_call():
-    from stability.free_body.ensemble import run_ensembles
+    from stability.free_body.spin_ensembles import run_ensembles
 
     with pytest.raises(ValueError, match="chunk_steps is set for the whole batch"):
         run_ensembles([dict(body=BODY, axis=2, spin=1.0, epsilon=1e-3, members=5, h=0.1,
@@ -378,7 +378,7 @@ def test_run_ensembles_refuses_settings_of_the_whole_batch_per_call():
 def test_run_ensembles_takes_run_ensembles_defaults_and_names_the_call_it_refuses():
     """A call without h, t_end, epsilon or members gets run_ensemble's defaults (the same
     Dataset, its rules included); a wrong call is refused by its index, before anything runs."""
-    from stability.free_body.ensemble import run_ensembles
+    from stability.free_body.spin_ensembles import run_ensembles
 
     call = dict(body=BODY, axis=2, spin=1.0, members=4, keep=stability.Keep(save_every=0))
     (together,) = run_ensembles([call])

@@ -1,5 +1,5 @@
-"""A scene's ensemble run (stability.ensemble.run, stability.run_scene): parameters by name, the
-level coordinate, the wall and chunk times of a stored run, and what each registered scene
+"""A scene's ensemble run (stability.ensemble.scene_run, stability.run_scene): parameters by name,
+the level coordinate, the wall and chunk times of a stored run, and what each registered scene
 tracks."""
 
 import numpy as np

@@ -1,4 +1,4 @@
-"""The plain speed-reference loop of ``stability bench`` (stability.engine.reference)."""
+"""The plain speed-baseline loop of ``stability bench`` (stability.engine.baseline)."""
 
 import numpy as np
 
@@ -10,12 +10,12 @@ from ..helpers import starts
 MOMENTS = np.array([1.0, 2.0, 3.0])  # canonical already
 
 
-def test_the_speed_reference_loop_is_rk4_on_every_member():
-    """``stability bench``'s plain loop (:mod:`stability.engine.reference`) does the engine's
+def test_the_speed_baseline_loop_is_rk4_on_every_member():
+    """``stability bench``'s plain loop (:mod:`stability.engine.baseline`) does the engine's
     RK4 on every member, the last partial block included: it differs from the engine's
     compensated loop by rounding only (1e-12 of |m| after 200 steps), so the bench's ratio of
     the two rates compares the same arithmetic."""
-    from stability.engine.reference import plain_rk4
+    from stability.engine.baseline import plain_rk4
     from stability.integrators.spec import body_params
 
     scene = SCENES["free_body"]

@@ -1,4 +1,4 @@
-"""Running the CUDA member loop from the host (stability.engine.gpu.run) under the simulator: the
+"""Running the CUDA member loop from the host (stability.engine.gpu.driver) under the simulator: the
 tangent scenes in chunked launches, ensembles, stored runs and the tennis study's chunks, as on
 the CPU."""
 

@@ -1,11 +1,11 @@
 """Running the CUDA member loop from the host, for any scene: ``propagate_groups_gpu``.
 
 The GPU twin of :func:`stability.engine.propagate_groups`: the same arguments, the same checks of
-shapes and tracking set-up (:func:`stability.engine.run.member_arrays`), the same chunks in time
-with their progress bar and Ctrl-C (:func:`stability.engine.run.run_in_chunks`), and a
+shapes and tracking set-up (:func:`stability.engine.driver.member_arrays`), the same chunks in time
+with their progress bar and Ctrl-C (:func:`stability.engine.driver.run_in_chunks`), and a
 :class:`~stability.engine.Propagation` with arrays of the same shapes, in the kernels' frame. The
 host copies the members in (structure of arrays, members last), launches one thread per member in
-blocks of :data:`~stability.engine.gpu.methods.THREADS_PER_BLOCK` (or of the whole warps fewer
+blocks of :data:`~stability.engine.gpu.support.THREADS_PER_BLOCK` (or of the whole warps fewer
 members need) once per chunk (the state stays on the device between chunks, and chunking never
 changes a result), and copies the results out.
 """
@@ -17,10 +17,10 @@ import time
 import numpy as np
 
 from ..loop import N_TRACK
-from ..run import member_arrays, run_in_chunks
+from ..driver import member_arrays, run_in_chunks
 from ..scene import checked_scene
 from .device import cuda_module
-from .methods import THREADS_PER_BLOCK, gpu_method
+from .support import THREADS_PER_BLOCK, gpu_method
 
 #: Threads of a CUDA warp: a block of fewer members than THREADS_PER_BLOCK is this many times
 #: the warps they need.
@@ -42,7 +42,7 @@ def propagate_groups_gpu(
         Steps per kernel launch (rounded to a multiple of ``save_every``); by default chosen so
         a launch takes about 0.25 s. Never changes the result.
     threads_per_block : int, optional
-        CUDA block size; default :data:`~stability.engine.gpu.methods.THREADS_PER_BLOCK`, or
+        CUDA block size; default :data:`~stability.engine.gpu.support.THREADS_PER_BLOCK`, or
         fewer for fewer members: whole warps of 32, as many as the members need (the same
         results; under the CUDA simulator, where each thread is a Python thread, a 21-member
         run starts 32 threads per launch instead of 128).
@@ -98,7 +98,7 @@ def propagate_groups_gpu(
 
 
 class DeviceMembers:
-    """The arrays of :class:`~stability.engine.run.MemberArrays` on the device, laid out for
+    """The arrays of :class:`~stability.engine.driver.MemberArrays` on the device, laid out for
     the kernel (:mod:`stability.engine.gpu.kernels`): structure of arrays, members last.
 
     Parameters

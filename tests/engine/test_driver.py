@@ -1,4 +1,4 @@
-"""Running the member loop (stability.engine.run): grouped ensembles bitwise the runs alone, the
+"""Running the member loop (stability.engine.driver): grouped ensembles bitwise the runs alone, the
 shapes it refuses, the blocks and thread shares it cuts the members into, a forked child's pool."""
 
 import subprocess
@@ -68,7 +68,7 @@ def test_bad_shapes_are_refused_with_the_expected_shape():
 
 
 def test_block_table_covers_every_active_member_once_and_splits_the_last_groups():
-    from stability.engine.run import MIN_BLOCK, block_table
+    from stability.engine.driver import MIN_BLOCK, block_table
 
     sizes = [70, 64, 5, 300]
     lo, size, group = block_table(sizes)
@@ -78,7 +78,7 @@ def test_block_table_covers_every_active_member_once_and_splits_the_last_groups(
     starts = np.cumsum(sizes) - sizes
     assert np.all((lo >= starts[group]) & (lo + size <= starts[group] + np.array(sizes)[group]))
     # Only the active groups; fewer members than blocks for every thread: smaller blocks.
-    from stability.engine.run import BLOCKS_PER_THREAD
+    from stability.engine.driver import BLOCKS_PER_THREAD
 
     for active in ([False, True, False, False], [False, False, True, False]):
         lo, size, group = block_table(sizes, active, threads=2)
@@ -92,7 +92,7 @@ def test_thread_shares_give_every_block_once_and_balance_the_work():
     4/3 of the best possible largest share (Graham 1969; checked against the lower bound
     max(total / threads, largest block)); above, they are runs of consecutive blocks (made
     without a loop over them) and none exceeds total / threads by more than the largest block."""
-    from stability.engine.run import LPT_BLOCKS, thread_shares
+    from stability.engine.driver import LPT_BLOCKS, thread_shares
 
     rng = np.random.default_rng(3)
     for threads in (1, 2, 3, 8):

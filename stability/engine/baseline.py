@@ -1,4 +1,4 @@
-"""The speed reference: plain RK4 on the free body, blocked for SIMD, nothing else.
+"""The speed baseline: plain RK4 on the free body, blocked for SIMD, nothing else.
 
 ``stability bench`` times the package's member loop against this loop in the same process: the
 same block layout (time outside, members innermost over blocks of ``BLOCK`` in ``prange``) and

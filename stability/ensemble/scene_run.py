@@ -40,7 +40,7 @@ from ..version import __version__
 #: with its start, and what is written or read back of it.
 PEAK_COPIES = 3
 
-#: The tracked events of the member loop (:func:`stability.engine.run.tracking_results`) that
+#: The tracked events of the member loop (:func:`stability.engine.driver.tracking_results`) that
 #: the Dataset keeps, float ones masked (NaN) for members whose status is not ok.
 TRACKED = ("axis_crossings", "first_axis_crossing", "last_axis_crossing", "perp_crossings",
            "first_perp_crossing", "last_perp_crossing", "max_perp_amplitude", "passage_time")
@@ -131,7 +131,7 @@ def run_scene(scene, method, x0, parameters, *, h, n_steps, sizes=None, save_eve
     >>> ds.g3.shape  # the cosine of the tilt of axis 3, per member over time
     (4, 101)
     """
-    scene = checked_scene(scene, "stability.ensemble.run.run_scene")
+    scene = checked_scene(scene, "stability.ensemble.scene_run.run_scene")
     spec = scene.method(method)
     width = scene.width
     options = run_options(options)

@@ -1,4 +1,4 @@
-"""Which scenes and methods the GPU runs (stability.engine.gpu.methods): a method without a GPU
+"""Which scenes and methods the GPU runs (stability.engine.gpu.support): a method without a GPU
 kernel is refused, naming those with one."""
 
 import pytest

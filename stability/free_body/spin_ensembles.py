@@ -22,8 +22,8 @@ others. So the Dataset is bitwise the same for any number of threads and any com
 and an ensemble of N members is the first N members of any larger one with the same seed.
 
 Its parts: the start rule (:mod:`~stability.free_body.starts`), the plan that checks and
-resolves the arguments (:mod:`~stability.free_body.plan`), from a propagation to the Dataset
-(:mod:`~stability.free_body.results`), and the run streamed to a store
+resolves the arguments (:mod:`~stability.free_body.ensemble_plan`), from a propagation to the
+Dataset (:mod:`~stability.free_body.results`), and the run streamed to a store
 (:mod:`~stability.free_body.streamed`); here the runs in memory, one or many at once.
 """
 
@@ -51,7 +51,7 @@ from .timescales import (
 from ..util import conventions as cv
 from ..util.checks import checked_progress, did_you_mean, positive_float, vectors3
 from ..util.threads import checked_threads, numba_threads
-from .plan import NO_SPIN, NO_STARTS, EnsemblePlan, plan_ensemble
+from .ensemble_plan import NO_SPIN, NO_STARTS, EnsemblePlan, plan_ensemble
 from ..core.axes import spin_axis
 from .results import RunPart, finish_run, members_dataset
 from .starts import axis_index, nonnegative_float
@@ -177,7 +177,7 @@ def run_ensemble(
 
 
 def plan_arguments(keep: Keep, options: RunOptions) -> dict:
-    """What :func:`stability.free_body.plan.plan_ensemble` takes of an ensemble's choices.
+    """What :func:`stability.free_body.ensemble_plan.plan_ensemble` takes of an ensemble's choices.
 
     Parameters
     ----------
@@ -189,7 +189,7 @@ def plan_arguments(keep: Keep, options: RunOptions) -> dict:
     Returns
     -------
     dict
-        Keyword arguments of :func:`~stability.free_body.plan.plan_ensemble`.
+        Keyword arguments of :func:`~stability.free_body.ensemble_plan.plan_ensemble`.
     """
     return {**keep.plan_arguments(), "max_memory": options.max_memory,
             "chunk_members": options.chunk_members, "chunk_steps": options.chunk_steps,
@@ -362,7 +362,7 @@ def _check_call_keys(k, call) -> None:
 def _planned(call, held=0):
     """The plan of one call of :func:`run_ensembles` and the rules of its default step and
     horizon, with the defaults :func:`run_ensemble` applies; ``held``: bytes of the calls
-    before it (:func:`~stability.free_body.plan.plan_ensemble`)."""
+    before it (:func:`~stability.free_body.ensemble_plan.plan_ensemble`)."""
     call = dict(call)
     keep, options = kept(call.pop("keep", None)), run_options(call.pop("options", None))
     call["axis"] = _named_axis(call["body"], call["axis"])
