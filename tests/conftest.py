@@ -45,6 +45,7 @@ def simulate_in_the_background(request, tmp_path_factory):
     those tests then waits for what is left of it, not for all of it, while the tests before
     them ran beside it (on a clean clone the wait had idled one of two workers for minutes)."""
     if any("simulated" in getattr(item, "fixturenames", ()) for item in request.session.items):
+        tmp_path_factory.getbasetemp()  # made here: made in the thread, it raced the tests'
         threading.Thread(target=once_per_run, args=(tmp_path_factory, "gpu_simulated", _simulate),
                          daemon=True).start()
 
