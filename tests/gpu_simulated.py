@@ -380,6 +380,41 @@ def adaptive_on_gpu():
     return out
 
 
+def fixed_step_events_on_gpu():
+    """run_scene with events on the GPU against the CPU: the free body's RK4 with the flips
+    recorded and a stop at the second, and the user's damped body with its w2 crossings; every
+    variable of the Datasets."""
+    from tests.gpu_user_scene import DAMPED_BODY
+    from stability.free_body.scene import FREE_BODY, flip_event
+
+    x0, sets = DAMPED_BODY.example(2, seed=2)
+    cases = {
+        "free_body": (FREE_BODY, starts()[:3] * MOMENTS, MOMENTS, 0.05, 400, [
+            stability.Event(flip_event, count=3, name="flips"),
+            stability.Event(flip_event, action="stop", count=2, name="second_flip")]),
+        "user_scene": (DAMPED_BODY, x0, sets[0], 0.05, 200, [
+            stability.Event(flip_event, count=3, name="w2_crossings")]),
+    }
+    out = {}
+    for name, (scene, start, parameters, h, n_steps, events) in cases.items():
+        runs = [stability.run_scene(scene, "rk4", start, parameters, h=h, n_steps=n_steps,
+                                    events=events,
+                                    options=stability.RunOptions(progress=False, device=device))
+                for device in ("cpu", "gpu")]
+        worst, bitwise, same_nan = 0.0, True, True
+        for variable in runs[0].data_vars:
+            a, b = (r[variable].values.astype(float) for r in runs)
+            same_nan &= bool(np.array_equal(np.isnan(a), np.isnan(b)))
+            bitwise &= bool(np.array_equal(a, b, equal_nan=True))
+            ok = ~np.isnan(a)
+            scale = np.maximum(np.abs(a[ok]), 1e-300)
+            worst = max(worst, float(np.max(np.abs(a[ok] - b[ok]) / scale, initial=0.0)))
+        out[name] = {"worst": worst, "bitwise": bitwise, "same_nan": same_nan,
+                     "events": int(np.sum(runs[0].event_count.values)),
+                     "stopped": int(np.sum(runs[0].stop_event.values >= 0))}
+    return out
+
+
 def main():
     # The simulator runs a block's threads as Python threads that take a lock around every
     # device-function call; preempted every 5 ms they hand that lock over one switch interval
@@ -399,6 +434,7 @@ def main():
     results["tennis"] = tennis_on_gpu()
     results["tangents"] = tangents_on_gpu()
     results["adaptive"] = adaptive_on_gpu()
+    results["fixed_step_events"] = fixed_step_events_on_gpu()
     print(json.dumps(results))
 
 

@@ -486,11 +486,6 @@ API = {
         lambda: stability.run_scene("heavy_top", "lp2", TOP_STARTS, TOP, **SCENE_RUN,
                                     events=[stability.Event(first_component)] * 2),
         "two events are named 'first_component'; give them names of their own"),
-    "events on the GPU's fixed steps (scene)": (
-        lambda: stability.run_scene("heavy_top", "lp2", TOP_STARTS, TOP, **SCENE_RUN,
-                                    events=stability.Event(first_component),
-                                    options=stability.RunOptions(device="gpu")),
-        "events run on the CPU's fixed-step loop, not yet on the GPU's"),
     "run beyond memory (scene)": (
         lambda: stability.run_scene("heavy_top", "lp2", TOP_STARTS, TOP, h=0.01,
                                     n_steps=10**12, save_every=1),

@@ -121,15 +121,16 @@ def loop_ready(advance, width, n_params, n_events=0) -> float:
                 np.zeros((1, 0, width)), np.zeros(1, i64), np.zeros(1, np.int8),
                 np.full(1, -1, i64), np.zeros(1, i64), np.zeros((1, 3), i64),
                 np.zeros((0, N_TRACK)), np.zeros((1, 0)), np.full((1, 1), np.inf),
-                np.zeros((1, 0)), *_event_arrays_for_types(width, n_events),
+                np.zeros((1, 0)), *idle_event_arrays(width, n_events),
             )
     if interrupt.requested:
         raise KeyboardInterrupt
     return time.perf_counter() - t0
 
 
-def _event_arrays_for_types(width, n_events) -> tuple:
-    """Arrays of the types the loop with ``n_events`` events takes for them (none without)."""
+def idle_event_arrays(width, n_events) -> tuple:
+    """Arrays of the types the loop with ``n_events`` events takes for them (none without),
+    for one idle member: what the CPU and the GPU loops are compiled for."""
     if not n_events:
         return ()
     i64 = np.int64

@@ -62,8 +62,8 @@ class Plan:
     chunk_steps : int, optional
         Steps per call of the loop (:func:`propagate_groups`); never changes the result.
     events : tuple of Event, default ()
-        User events the member loop locates (:func:`propagate_groups`; checked by the caller,
-        :func:`stability.engine.events.checked_events`); the CPU's loop only.
+        User events the member loop locates (:func:`propagate_groups`, on the CPU or the GPU;
+        checked by the caller, :func:`stability.engine.events.checked_events`).
     starts : callable, optional
         The start rule, instead of ``x0``: ``starts(lo, hi)`` gives the initial states of
         members ``lo ... hi - 1`` alone (the same whichever members are asked with them);
@@ -91,10 +91,6 @@ class Plan:
         checked_scene(self.scene, "Plan")
         if self.device not in ("cpu", "gpu"):
             raise ValueError(f"device must be 'cpu' or 'gpu', got {self.device!r}")
-        if self.events and self.device == "gpu":
-            raise ValueError("events run on the CPU's fixed-step loop, not yet on the GPU's: "
-                             "run them with device='cpu', or on the GPU with adaptive steps "
-                             "(stability.run_adaptive)")
         if (self.x0 is None) == (self.starts is None):
             raise ValueError("give the starts as x0 or as a rule, starts=, not both")
         normalised = object.__setattr__  # frozen: the arrays are set once, here

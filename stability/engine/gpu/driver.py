@@ -17,7 +17,7 @@ import time
 import numpy as np
 
 from ..loop import N_TRACK
-from ..driver import member_arrays, run_in_chunks
+from ..driver import idle_event_arrays, member_arrays, run_in_chunks
 from ..scene import checked_scene
 from .device import cuda_module
 from .support import THREADS_PER_BLOCK, gpu_method
@@ -30,13 +30,14 @@ WARP = 32
 def propagate_groups_gpu(
     scene, method, x0, params, sizes, h, n_steps, *, save_every=0, axes=None, levels=None,
     progress=None, chunk_steps=None, label=None, partial=False, threads_per_block=None,
+    events=(),
 ):
     """Advance groups of members of ``scene`` with ``method`` on a CUDA GPU (one per thread).
 
     Parameters
     ----------
     scene, method, x0, params, sizes, h, n_steps, save_every, axes, levels, progress, label,
-    partial
+    partial, events
         As :func:`stability.engine.propagate_groups` takes them.
     chunk_steps : int, optional
         Steps per kernel launch (rounded to a multiple of ``save_every``); by default chosen so
@@ -64,15 +65,17 @@ def propagate_groups_gpu(
     """
     scene = checked_scene(scene, "propagate_groups_gpu")
     spec = gpu_method(method, scene)
-    a = member_arrays(scene, x0, params, sizes, h, n_steps, save_every, axes, levels)
+    events = tuple(events)
+    a = member_arrays(scene, x0, params, sizes, h, n_steps, save_every, axes, levels, events)
     cuda = cuda_module()
     tracked = a.track.shape[0] > 0
     n_members, width = a.x.shape
 
     from .kernels import member_kernel  # imports numba.cuda: only once a device is found
 
-    kernel = member_kernel(scene, spec, tracked)
-    compile_time = _ready(cuda, kernel, width, a.params.shape[1], a.levels.shape[1])
+    kernel = member_kernel(scene, spec, tracked, events)
+    compile_time = _ready(cuda, kernel, width, a.params.shape[1], a.levels.shape[1],
+                          len(events))
 
     members = DeviceMembers(cuda, a)
     if threads_per_block is None:
@@ -124,6 +127,7 @@ class DeviceMembers:
         self.iterations = put(a.iterations)
         self.saved = put(np.full((max(a.n_saved, 1), width, n_members if a.n_saved else 1),
                                  np.nan))
+        self.events = tuple(put(array) for array in a.event_arrays)  # members first
 
     def _put(self, array):
         return self._cuda.to_device(np.ascontiguousarray(array))
@@ -134,7 +138,7 @@ class DeviceMembers:
         return (self.x, self.comp, self.params, self.group, self.hs, self._put(steps),
                 self._put(done), self.axes, self.track, self.thresholds, self.levels,
                 self.passage, self.status, self.fail_step, self.iterations, self.saved,
-                save_every, self._put(k0))
+                save_every, self._put(k0), *self.events)
 
     def copy_back(self, a) -> np.ndarray:
         """Copy the members' state, status and tracking into ``a``; the saved samples
@@ -147,6 +151,8 @@ class DeviceMembers:
         if a.track.shape[0] > 0:
             a.track[:] = self.track.copy_to_host().T
             a.passage[:] = self.passage.copy_to_host().T
+        for host, device in zip(a.event_arrays, self.events):
+            host[...] = device.copy_to_host()
         saved = np.empty((a.x.shape[0], a.n_saved, a.x.shape[1]))
         if a.n_saved:
             saved[:] = self.saved.copy_to_host().transpose(2, 0, 1)
@@ -156,7 +162,7 @@ class DeviceMembers:
 _READY: set = set()
 
 
-def _ready(cuda, kernel, width, n_params, n_levels) -> float:
+def _ready(cuda, kernel, width, n_params, n_levels, n_events=0) -> float:
     """Compile ``kernel`` for the standard argument types (one idle member); seconds it took."""
     key = (id(kernel), n_params, n_levels)
     if key in _READY:
@@ -169,6 +175,7 @@ def _ready(cuda, kernel, width, n_params, n_levels) -> float:
         np.zeros((1, 3), i64), np.zeros((N_TRACK, 1)), np.full((1, n_levels + 1), np.inf),
         np.zeros((1, n_levels)), np.zeros((n_levels, 1)), np.zeros(1, np.int8),
         np.full(1, -1, i64), np.zeros(1, i64), np.zeros((1, width, 1)), 0, np.zeros(1, i64),
+        *idle_event_arrays(width, n_events),
     )
     cuda.synchronize()
     _READY.add(key)

@@ -30,10 +30,13 @@ from __future__ import annotations
 import linecache
 import math
 
-from numba import cuda
+from numba import cuda, float64, int64
 
 from ...util.conventions import STATUS_NONFINITE, STATUS_NOT_CONVERGED, STATUS_OK
 from .. import loop as cpu_loop
+from ..events import located
+from ..loop import EVENT_ARGS
+from ..driver import compiled_loop
 from .retarget import device_twin
 
 _KERNELS: dict = {}
@@ -44,7 +47,7 @@ ARGUMENTS = ("x", "comp", "params", "group", "hs", "steps", "step0", "axes", "tr
              "save_every", "k0")
 
 _TEMPLATE = '''\
-def advance({arguments}):
+def advance({arguments}{event_arguments}):
     i = cuda.grid(1)
     if i >= x.shape[1]:
         return
@@ -63,10 +66,12 @@ def advance({arguments}):
     iters = 0
     k = k0[g]
 {track_load}
+{event_load}
     for n in range(n_steps):
 {stages}
 {commit}
 {track_step}
+{event_step}
         if (first_step + n + 1) % CHECK_EVERY == 0:  # global steps, as on the CPU
             now_bad = not_finite({total})
             if now_bad == 1 and bad == 0:
@@ -88,7 +93,44 @@ def advance({arguments}):
         status[i] = STATUS_NOT_CONVERGED
         fail_step[i] = stuck_at
 {track_store}
+{event_store}
 '''
+
+# Events (the CPU loop's, stability.engine.loop.event_source): each g at the start or carried,
+# then after every step at the new state; where one changed sign, the CPU module's own
+# _step_events (its device twin) locates the crossings on the method's step and takes them.
+_EVENT_LOAD = '''\
+xs = cuda.local.array({width}, float64)
+yo = cuda.local.array({width}, float64)
+out = cuda.local.array({width}, float64)
+gp = cuda.local.array({m}, float64)
+gn = cuda.local.array({m}, float64)
+t_hit = cuda.local.array({m}, float64)
+order = cuda.local.array({m}, int64)
+stopped = stop_event[i] >= 0
+{fill}
+for q in range({m}):
+    gp[q] = _g(q, xs, 0.0, p) if first_step == 0 else ev_prev[i, q]'''
+
+_EVENT_STEP = '''\
+if not stopped:
+    t_new = (first_step + n + 1) * h
+{fill}
+    hit = False
+    for q in range({m}):
+        gn[q] = _g(q, xs, t_new, p)
+        hit = hit or crossed(gp[q], gn[q])
+    if hit:
+{old}
+        _step_events(i, yo, t_new - h, h, p, gp, gn, ev_dir, ev_stop, ev_keep, ev_count,
+                     ev_time, stop_x, stop_t, stop_event, t_hit, order, out)
+        stopped = stop_event[i] >= 0
+    for q in range({m}):
+        gp[q] = gn[q]'''
+
+_EVENT_STORE = '''\
+for q in range({m}):
+    ev_prev[i, q] = gp[q]'''
 
 _TRACK_LOAD = '''\
 ia = axes[g, 0]
@@ -158,7 +200,7 @@ def _indent(text, depth):
     return "\n".join("    " * depth + line if line else line for line in text.splitlines())
 
 
-def render(width, stages, implicit, tracked) -> str:
+def render(width, stages, implicit, tracked, events=0) -> str:
     """Source of the CUDA member loop for a state of ``width`` numbers.
 
     Parameters
@@ -171,6 +213,9 @@ def render(width, stages, implicit, tracked) -> str:
         Count the kernel's solver iterations and its first failure (``it < 0``).
     tracked : bool
         Compile the tracking of flips, crossings, amplitudes and levels in.
+    events : int, default 0
+        Events the loop locates (its namespace then holds the CPU event loop's ``_g`` and
+        ``_step_events``); the kernel takes :data:`stability.engine.loop.EVENT_ARGS` too.
     """
     xs = [f"x{k}" for k in range(width)]
     state = ", ".join(xs)
@@ -188,7 +233,7 @@ def render(width, stages, implicit, tracked) -> str:
         stage += [f"for s in range({stages}):", f"    {es}, it = step({shifted}, h, p, s)"]
         stage += [f"    d{k} += e{k}" for k in range(width)]
         stage += ["    " + line for line in solver]
-    commit = [f"o{k} = x{k}" for k in range(width)] if tracked else []
+    commit = [f"o{k} = x{k}" for k in range(width)] if tracked or events else []
     commit += [f"x{k}, c{k} = kahan(x{k}, c{k}, d{k})" for k in range(width)]
     load = [f"x{k} = x[{k}, i]" for k in range(width)]
     load += [f"c{k} = comp[{k}, i]" for k in range(width)]
@@ -206,10 +251,24 @@ def render(width, stages, implicit, tracked) -> str:
         save=_indent("\n".join(f"saved[k, {j}, i] = x{j}" for j in range(width)), 3),
         store=_indent("\n".join(store), 1),
         track_store=_indent(_TRACK_STORE.format(state=state), 1) if tracked else "",
+        event_arguments=(", " + ", ".join(EVENT_ARGS)) if events else "",
+        **_event_parts(width, events),
     )
 
 
-def member_kernel(scene, spec, tracked=True):
+def _event_parts(width, m) -> dict:
+    if not m:
+        return {"event_load": "", "event_step": "", "event_store": ""}
+    fill = "\n".join(f"xs[{k}] = x{k}" for k in range(width))
+    return {
+        "event_load": _indent(_EVENT_LOAD.format(width=width, m=m, fill=fill), 1),
+        "event_step": _indent(_EVENT_STEP.format(
+            m=m, fill=_indent(fill, 1),
+            old=_indent("\n".join(f"yo[{k}] = o{k}" for k in range(width)), 2)), 2),
+        "event_store": _indent(_EVENT_STORE.format(m=m), 1)}
+
+
+def member_kernel(scene, spec, tracked=True, events=()):
     """The CUDA kernel advancing members of ``scene`` with ``spec`` (made once per process).
 
     Parameters
@@ -220,6 +279,8 @@ def member_kernel(scene, spec, tracked=True):
         One of its methods (:func:`stability.engine.gpu.support.gpu_method`).
     tracked : bool
         Compile the tracking of flips, crossings, amplitudes and levels in (or leave it out).
+    events : tuple of Event, optional
+        Events the kernel locates, as the CPU loop does (its helpers' device twins).
 
     Returns
     -------
@@ -228,14 +289,15 @@ def member_kernel(scene, spec, tracked=True):
         :func:`stability.engine.gpu.driver.propagate_groups_gpu`.
     """
     kernel = scene.kernel(spec)
-    key = (scene.name, scene.source, spec.name, kernel, scene.observe, bool(tracked))
+    key = (scene.name, scene.source, spec.name, kernel, scene.observe, bool(tracked),
+           tuple(located(event.g) for event in events))
     if key not in _KERNELS:
-        _KERNELS[key] = _build(scene, spec, kernel, bool(tracked))
+        _KERNELS[key] = _build(scene, spec, kernel, bool(tracked), tuple(events))
     return _KERNELS[key]
 
 
-def _build(scene, spec, kernel, tracked):
-    source = render(scene.width, spec.stages, spec.implicit, tracked)
+def _build(scene, spec, kernel, tracked, events):
+    source = render(scene.width, spec.stages, spec.implicit, tracked, len(events))
     filename = f"<stability.engine.gpu member loop: {scene.name}, {spec.name}>"
     linecache.cache[filename] = (len(source), None, source.splitlines(True), filename)
     namespace = {
@@ -251,5 +313,10 @@ def _build(scene, spec, kernel, tracked):
     }
     namespace.update({name: getattr(cpu_loop, name) for name in dir(cpu_loop)
                       if name.startswith("T_")})
+    if events:  # the CPU event loop's helpers, as device twins
+        helpers = compiled_loop(scene, spec, True, events).py_func.__globals__
+        namespace.update({name: device_twin(cuda, helpers[name])
+                          for name in ("_g", "_step_events")})
+        namespace.update(float64=float64, int64=int64)
     exec(compile(source, filename, "exec"), namespace)
     return cuda.jit(namespace["advance"])
