@@ -17,7 +17,11 @@ def test_numpy_baseline_is_the_same_rk4_as_the_kernel():
     np.testing.assert_allclose(m_numpy, m_numba, rtol=1e-13, atol=1e-16)
 
 
-def test_bench_prints_its_table(capsys):
+def test_bench_prints_its_table(capsys, monkeypatch):
+    # the table's rows, not W1's timings: a small W1 in two rounds (the full one took 51 s here)
+    monkeypatch.setitem(bench_module.W1, "members", 256)
+    monkeypatch.setitem(bench_module.W1, "t_end", 1.0)
+    monkeypatch.setattr(bench_module, "ENGINE_ROUNDS", 2)
     args = ["bench", "--members", "64", "--steps", "20", "--methods", "rk4", "--threads", "1",
             "--repeat", "1"]
     assert main(args) == 0
