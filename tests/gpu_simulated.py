@@ -343,6 +343,22 @@ def ensemble_on_gpu():
             "device": gpu.attrs["config_toml"].count('device = "gpu"')}
 
 
+def datasets_compared(cpu, gpu) -> dict:
+    """Every variable of a run with events on the CPU against the same on the GPU: the worst
+    relative difference, whether bitwise and NaN at the same places, the crossings and stops."""
+    worst, bitwise, same_nan = 0.0, True, True
+    for variable in cpu.data_vars:
+        a, b = (r[variable].values.astype(float) for r in (cpu, gpu))
+        same_nan &= bool(np.array_equal(np.isnan(a), np.isnan(b)))
+        bitwise &= bool(np.array_equal(a, b, equal_nan=True))
+        ok = ~np.isnan(a)
+        scale = np.maximum(np.abs(a[ok]), 1e-300)
+        worst = max(worst, float(np.max(np.abs(a[ok] - b[ok]) / scale, initial=0.0)))
+    return {"worst": worst, "bitwise": bitwise, "same_nan": same_nan,
+            "events": int(np.sum(cpu.event_count.values)),
+            "stopped": int(np.sum(cpu.stop_event.values >= 0))}
+
+
 def adaptive_on_gpu():
     """run_adaptive on the GPU against the CPU: the free body with a stop event at its second
     down crossing (the first recorded) and samples, and the user's damped body with an event;
@@ -366,17 +382,7 @@ def adaptive_on_gpu():
             samples=np.linspace(0.0, t_end, 7),
             options=stability.RunOptions(progress=False, device=device))
             for device in ("cpu", "gpu")]
-        worst, bitwise, same_nan = 0.0, True, True
-        for variable in runs[0].data_vars:
-            a, b = (r[variable].values.astype(float) for r in runs)
-            same_nan &= bool(np.array_equal(np.isnan(a), np.isnan(b)))
-            bitwise &= bool(np.array_equal(a, b, equal_nan=True))
-            ok = ~np.isnan(a)
-            scale = np.maximum(np.abs(a[ok]), 1e-300)
-            worst = max(worst, float(np.max(np.abs(a[ok] - b[ok]) / scale, initial=0.0)))
-        out[name] = {"worst": worst, "bitwise": bitwise, "same_nan": same_nan,
-                     "events": int(np.sum(runs[0].event_count.values)),
-                     "stopped": int(np.sum(runs[0].stop_event.values >= 0))}
+        out[name] = datasets_compared(*runs)
     return out
 
 
@@ -401,17 +407,7 @@ def fixed_step_events_on_gpu():
                                     events=events,
                                     options=stability.RunOptions(progress=False, device=device))
                 for device in ("cpu", "gpu")]
-        worst, bitwise, same_nan = 0.0, True, True
-        for variable in runs[0].data_vars:
-            a, b = (r[variable].values.astype(float) for r in runs)
-            same_nan &= bool(np.array_equal(np.isnan(a), np.isnan(b)))
-            bitwise &= bool(np.array_equal(a, b, equal_nan=True))
-            ok = ~np.isnan(a)
-            scale = np.maximum(np.abs(a[ok]), 1e-300)
-            worst = max(worst, float(np.max(np.abs(a[ok] - b[ok]) / scale, initial=0.0)))
-        out[name] = {"worst": worst, "bitwise": bitwise, "same_nan": same_nan,
-                     "events": int(np.sum(runs[0].event_count.values)),
-                     "stopped": int(np.sum(runs[0].stop_event.values >= 0))}
+        out[name] = datasets_compared(*runs)
     return out
 
 

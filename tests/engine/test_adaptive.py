@@ -131,18 +131,14 @@ def test_a_member_that_needs_more_steps_than_allowed_is_flagged_not_hung():
     assert np.all(run.t_final < 1e4)
 
 
-def test_flip_times_agree_with_the_exact_schedule_to_1e_9():
-    n, t_end = 1000, 60.0
-    m0 = free_body_starts(n, seed=3)
-    w0 = m0 / MOMENTS
+def exact_schedule(w0, found, bracket):
+    """The first four flips of each start w0 on the exact motion: the first crossing of w2, by
+    bisection in a bracket of relative width ``bracket`` about the crossing ``found`` (checked
+    to hold it), then the flips after it, 2K/nu apart."""
     body = RigidBody(*MOMENTS, physical=False)
-    run = integrate_adaptive(FREE_BODY, m0, body_params(MOMENTS), np.zeros(n, int), t_end,
-                             rtol=1e-12, atol=1e-15, events=Event(flip_event, count=4))
-    found = run.event_time[:, 0]
-    # the first crossing of the exact w2, by bisection in a bracket checked to hold it
-    first = np.empty(n)
+    first = np.empty(len(w0))
     for i, w in enumerate(w0):
-        a, b = found[i, 0] * (1 - 1e-6), found[i, 0] * (1 + 1e-6)
+        a, b = found[i] * (1 - bracket), found[i] * (1 + bracket)
         ga = flow(*MOMENTS, *w, a)[1]
         assert ga > 0.0 > flow(*MOMENTS, *w, b)[1]
         for _ in range(80):
@@ -153,7 +149,18 @@ def test_flip_times_agree_with_the_exact_schedule_to_1e_9():
                 b = c
         first[i] = 0.5 * (a + b)
     spacing = np.array([flip_interval(body, w) for w in w0])
-    want = first[:, None] + spacing[:, None] * np.arange(4)
+    return first[:, None] + spacing[:, None] * np.arange(4)
+
+
+def test_flip_times_agree_with_the_exact_schedule_to_1e_9():
+    n, t_end = 1000, 60.0
+    m0 = free_body_starts(n, seed=3)
+    w0 = m0 / MOMENTS
+    run = integrate_adaptive(FREE_BODY, m0, body_params(MOMENTS), np.zeros(n, int), t_end,
+                             rtol=1e-12, atol=1e-15, events=Event(flip_event, count=4))
+    found = run.event_time[:, 0]
+    want = exact_schedule(w0, found[:, 0], 1e-6)
+    first, spacing = want[:, 0], want[:, 1] - want[:, 0]
     expected = np.minimum(4, np.floor((t_end - first) / spacing).astype(int) + 1)
     assert np.array_equal(np.minimum(run.event_count[:, 0], 4), expected)
     assert expected.min() >= 2

@@ -12,14 +12,13 @@ import math
 
 import numpy as np
 
-from stability.core.body import RigidBody
 from stability.engine import propagate_groups
 from stability.engine.events import Event
-from stability.free_body.exact import flip_interval, flow
 from stability.free_body.scene import FREE_BODY, flip_event
 from stability.util.threads import numba_threads
 
-from .test_adaptive import MOMENTS, OSCILLATOR, above_04, above_half, free_body_starts, position
+from .test_adaptive import (MOMENTS, OSCILLATOR, above_04, above_half, exact_schedule,
+                            free_body_starts, position)
 
 
 def free_body(method, h, n_steps, events, n=200, seed=3, **kwargs):
@@ -29,29 +28,9 @@ def free_body(method, h, n_steps, events, n=200, seed=3, **kwargs):
                                 events=events, progress=False, **kwargs)
 
 
-def exact_schedule(w0, found):
-    """The exact first crossing of w2 (bisection in a bracket around the one found) and the
-    flips after it, 2K/nu apart."""
-    body = RigidBody(*MOMENTS, physical=False)
-    first = np.empty(len(w0))
-    for i, w in enumerate(w0):
-        a, b = found[i] * (1 - 1e-5), found[i] * (1 + 1e-5)
-        ga = flow(*MOMENTS, *w, a)[1]
-        assert ga > 0.0 > flow(*MOMENTS, *w, b)[1]
-        for _ in range(80):
-            c = 0.5 * (a + b)
-            if (flow(*MOMENTS, *w, c)[1] > 0.0) == (ga > 0.0):
-                a = c
-            else:
-                b = c
-        first[i] = 0.5 * (a + b)
-    spacing = np.array([flip_interval(body, w) for w in w0])
-    return first[:, None] + spacing[:, None] * np.arange(4)
-
-
 def flip_errors(m0, run, t_end):
     found = run.extras["event_time"][:, 0]
-    want = exact_schedule(m0 / MOMENTS, found[:, 0])
+    want = exact_schedule(m0 / MOMENTS, found[:, 0], 1e-5)
     expected = np.minimum(4, np.floor((t_end - want[:, 0]) / (want[:, 1] - want[:, 0]))
                           .astype(int) + 1)
     assert np.array_equal(np.minimum(run.extras["event_count"][:, 0], 4), expected)
