@@ -50,7 +50,7 @@ import numpy as np
 
 from ..util import conventions as cv
 from .cache import compiling, load_module
-from .events import ACTIONS, DIRECTIONS, checked_events, located
+from .events import ACTIONS, DIRECTIONS, checked_events, illinois_root, located
 from .scene import Scene, checked_scene
 
 # Dormand & Prince (1980), Table 2 (DOPRI5): nodes c, stages a, weights b (= a7, FSAL), and the
@@ -155,36 +155,7 @@ def _coefficients(r, y, z, h, k1, k3, k4, k5, k6, k7, l):
                        + D6 * k6[j, l] + D7 * k7[j, l])
 
 
-@njit(error_model="numpy")
-def _root(k, r, t0, h, ga, gb, p, y):
-    """The time of the sign change of event k in [t0, t0 + h], by Illinois on the dense output."""
-    a = t0
-    b = t0 + h
-    side = 0
-    best, gbest = (a, ga) if abs(ga) < abs(gb) else (b, gb)
-    for _ in range(200):
-        if b - a <= 4.0 * 2.220446049250313e-16 * max(abs(a), abs(b)):
-            break
-        c = b - gb * (b - a) / (gb - ga)
-        if not (a < c < b):
-            c = 0.5 * (a + b)
-        _dense(r, (c - t0) / h, y)
-        gc = _g(k, y, c, p)
-        if abs(gc) < abs(gbest):
-            best, gbest = c, gc
-        if gc == 0.0:
-            break
-        if (gc < 0.0) == (gb < 0.0):
-            b, gb = c, gc
-            if side == -1:
-                ga *= 0.5
-            side = -1
-        else:
-            a, ga = c, gc
-            if side == 1:
-                gb *= 0.5
-            side = 1
-    return best
+{root}
 
 
 @njit(forceinline=True, error_model="numpy")
@@ -679,7 +650,8 @@ def _loop(scene: Scene, gs: tuple):
         stores="\n".join(f"    out[{i}] = f{i}" for i in range(n)),
         lane_fs=fs, lane_ss=", ".join(f"s[{i}, l]" for i in range(n)),
         lane_stores="\n".join(f"        out[{i}, l] = f{i}" for i in range(n)),
-        g_calls="\n".join(g_calls) or "    pass")
+        g_calls="\n".join(g_calls) or "    pass",
+        root=illinois_root("r", "y", "_dense(r, (c - t0) / h, y)", "the dense output"))
     functions = [lin.rhs.py_func] + [getattr(g, "py_func", g) for g in gs]
     roots = tuple(dict.fromkeys([rhs_module, "stability.engine.adaptive",
                                  "stability.engine.events"]

@@ -9,8 +9,12 @@ sign changed locates the root on the step's continuous extension (the Dormand-Pr
 output, Hairer, Norsett & Wanner, *Solving ODEs I*, II.6) with the Illinois variant of regula
 falsi (Dowell & Jarratt, BIT 11, 168 (1971)) down to round-off in ``t``; several crossings in one
 step are taken in the order of their times (Shampine & Thompson, *Event location for ordinary
-differential equations*, Comput. Math. Appl. 39, 43 (2000)). As there, a function that changes
-sign twice within one step is not seen; a tighter ``rtol`` gives shorter steps.
+differential equations*, Comput. Math. Appl. 39, 43 (2000)). The fixed-step loop
+(:func:`stability.engine.loop.event_source`) does the same at the end of every step, on the
+method's own step from the state before it (the exact flow for an exact method). As there, a
+function that changes sign twice within one step is not seen; a tighter ``rtol`` (a smaller
+``h``) gives shorter steps. Both loops locate with :func:`illinois_root` and take a step's
+crossings with :func:`taken_in_order`.
 
 :func:`checked_events` checks a run's events before any work: each mistake is one line.
 """
@@ -98,6 +102,66 @@ def _by_reference(module: str, name: str, direction: str, action: str, count: in
                   label: str) -> Event:
     """The :class:`Event` of ``g`` = ``module.name``, imported (see :meth:`Event.__reduce__`)."""
     return Event(getattr(importlib.import_module(module), name), direction, action, count, label)
+
+
+#: The Illinois iteration (Dowell & Jarratt 1971) both compiled loops locate a crossing with, as
+#: source for their templates (``illinois_root``): ``_root(k, {extension}, t0, h, ga, gb, p,
+#: {state})`` is the time of event k's sign change in [t0, t0 + h], where g is ga at t0 and gb at
+#: t0 + h, the state at a time c made into ``{state}`` by ``{evaluate}``; the estimate with the
+#: smallest |g| is returned once the bracket is down to round-off.
+_ILLINOIS_ROOT = '''\
+@njit(error_model="numpy")
+def _root(k, {extension}, t0, h, ga, gb, p, {state}):
+    """The time of event k's sign change in [t0, t0 + h], by Illinois on {along}."""
+    a = t0
+    b = t0 + h
+    side = 0
+    best, gbest = (a, ga) if abs(ga) < abs(gb) else (b, gb)
+    for _ in range(200):
+        if b - a <= 4.0 * 2.220446049250313e-16 * max(abs(a), abs(b)):
+            break
+        c = b - gb * (b - a) / (gb - ga)
+        if not (a < c < b):
+            c = 0.5 * (a + b)
+        {evaluate}
+        gc = _g(k, {state}, c, p)
+        if abs(gc) < abs(gbest):
+            best, gbest = c, gc
+        if gc == 0.0:
+            break
+        if (gc < 0.0) == (gb < 0.0):
+            b, gb = c, gc
+            if side == -1:
+                ga *= 0.5
+            side = -1
+        else:
+            a, ga = c, gc
+            if side == 1:
+                gb *= 0.5
+            side = 1
+    return best'''
+
+
+def illinois_root(extension: str, state: str, evaluate: str, along: str) -> str:
+    """The source of a loop's ``_root`` (:data:`_ILLINOIS_ROOT`) for its continuous extension.
+
+    Parameters
+    ----------
+    extension : str
+        The argument the state at a time is made from.
+    state : str
+        The array that state is written into (and ``_g`` reads).
+    evaluate : str
+        The line that writes it, at time ``c``.
+    along : str
+        What the extension is, for the docstring.
+
+    Returns
+    -------
+    str
+    """
+    return _ILLINOIS_ROOT.format(extension=extension, state=state, evaluate=evaluate,
+                                 along=along)
 
 
 @njit(error_model="numpy")
@@ -193,4 +257,5 @@ def _tried(event: Event, x, p) -> None:
                         f"{type(out).__name__}")
 
 
-__all__ = ["ACTIONS", "DIRECTIONS", "Event", "checked_events", "located", "taken_in_order"]
+__all__ = ["ACTIONS", "DIRECTIONS", "Event", "checked_events", "illinois_root", "located",
+           "taken_in_order"]

@@ -53,6 +53,8 @@ import math
 import numpy as np
 from numba import njit
 
+from .events import illinois_root
+
 #: Members per block: the vector loop's trip count (a multiple of the SIMD width).
 BLOCK = 64
 #: Steps between finiteness checks, counted from step 0 of the run (and once more after its
@@ -353,37 +355,7 @@ def _flow(y, tau, p, out):
 {out_set}
 
 
-@njit(error_model="numpy")
-def _root(k, y, t0, h, ga, gb, p, out):
-    """The time of event k's sign change in [t0, t0 + h]: Illinois on g along _flow."""
-    a = t0
-    b = t0 + h
-    side = 0
-    best, gbest = (a, ga) if abs(ga) < abs(gb) else (b, gb)
-    for _ in range(200):
-        if b - a <= 4.0 * 2.220446049250313e-16 * max(abs(a), abs(b)):
-            break
-        c = b - gb * (b - a) / (gb - ga)
-        if not (a < c < b):
-            c = 0.5 * (a + b)
-        _flow(y, c - t0, p, out)
-        gc = _g(k, out, c, p)
-        if abs(gc) < abs(gbest):
-            best, gbest = c, gc
-        if gc == 0.0:
-            break
-        if (gc < 0.0) == (gb < 0.0):
-            b, gb = c, gc
-            if side == -1:
-                ga *= 0.5
-            side = -1
-        else:
-            a, ga = c, gc
-            if side == 1:
-                gb *= 0.5
-            side = 1
-    return best
-
+{root}
 
 @njit(error_model="numpy")
 def _step_events(i, y, t0, h, p, gp, gn, ev_dir, ev_stop, ev_keep, ev_count, ev_time, stop_x,
@@ -434,22 +406,23 @@ def event_source(width, stages, events) -> dict:
         shifted=", ".join(f"y[{i}] + d{i}" for i in range(width)),
         d_zero=_indent([f"{d} = 0.0" for d in ds], 1),
         d_add=_indent([f"d{i} += e{i}" for i in range(width)], 2),
-        out_set=_indent([f"out[{i}] = y[{i}] + d{i}" for i in range(width)], 1))
-    load = ["ys = np.empty(NW)", "yo = np.empty(NW)", "out = np.empty(NW)",
+        out_set=_indent([f"out[{i}] = y[{i}] + d{i}" for i in range(width)], 1),
+        root=illinois_root("y", "out", "_flow(y, c - t0, p, out)", "g along _flow"))
+    load = ["yo = np.empty(NW)", "out = np.empty(NW)",
             "gp = np.empty(NE)", "gn = np.empty(NE)", "t_hit = np.empty(NE)",
             "order = np.empty(NE, dtype=np.int64)",
             "for j in range(size):",
             "    w[STOPPED + j] = 1.0 if stop_event[lo + j] >= 0 else 0.0"]
-    fill = [f"ys[{i}] = w[X{i} + j]" for i in range(width)]
-    load += ["    if first_step == 0:  # each g at the start"] + ["        " + f for f in fill]
-    load += [f"        w[GP{k} + j] = _g({k}, ys, 0.0, p)" for k in range(m)]
+    view = "xv = w[j:j + NW * BLOCK:BLOCK]  # member j's state: X0 ... are rows 0 ..."
+    load += ["    if first_step == 0:  # each g at the start", "        " + view]
+    load += [f"        w[GP{k} + j] = _g({k}, xv, 0.0, p)" for k in range(m)]
     load += ["    else:"] + [f"        w[GP{k} + j] = ev_prev[lo + j, {k}]" for k in range(m)]
     # A pass of its own after the commit, which stays the vector loop it is without events
     # (g inside it made that loop scalar): each g at the new state of every member not
     # stopped (its state a strided view of the block's rows), and whether it changed sign.
     step_pass = ["t_new = (first_step + n + 1) * h", "any_hit = 0", "for j in range(size):",
                  "    hit = False"]
-    step_pass += ["    xv = w[j:j + NW * BLOCK:BLOCK]  # member j's state: X0 ... are rows 0 ..."]
+    step_pass += ["    " + view]
     for k in range(m):
         step_pass += [f"    gv = _g({k}, xv, t_new, p)", f"    hit |= crossed(w[GP{k} + j], gv)",
                       f"    w[GN{k} + j] = gv"]

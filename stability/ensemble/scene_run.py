@@ -106,7 +106,8 @@ def run_scene(scene, method, x0, parameters, *, h, n_steps, sizes=None, save_eve
         User events (:class:`stability.Event`): each ``g(x, t, p)``'s sign changes located on
         the method's own step (the exact flow for an exact method) to round-off in ``t``,
         kept as ``event_count`` and ``event_time``; a stop event ends its member at the
-        located state (``t_final``, the final state there). Time ``t`` starts at 0. On the CPU.
+        located state (``t_final``, the final state there). Time ``t`` starts at 0. On the CPU
+        and the GPU (``options.device``).
 
     Returns
     -------
