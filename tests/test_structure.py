@@ -158,6 +158,36 @@ def test_no_module_serves_names_from_elsewhere():
     assert serving == [], "\n".join(serving)
 
 
+def _defined(tree) -> set:
+    """The names a module's own top-level statements bind (``try``/``if`` bodies included), not
+    those it imports."""
+    names, todo = set(), list(tree.body)
+    while todo:
+        node = todo.pop()
+        if isinstance(node, (ast.FunctionDef, ast.AsyncFunctionDef, ast.ClassDef)):
+            names.add(node.name)
+        elif isinstance(node, (ast.Assign, ast.AnnAssign, ast.AugAssign)):
+            targets = node.targets if isinstance(node, ast.Assign) else [node.target]
+            names.update(n.id for t in targets for n in ast.walk(t) if isinstance(n, ast.Name))
+        elif isinstance(node, (ast.Try, ast.If)):
+            todo += [*node.body, *node.orelse, *getattr(node, "finalbody", []),
+                     *(b for h in getattr(node, "handlers", []) for b in h.body)]
+    return names
+
+
+def test_a_name_is_imported_from_the_module_that_defines_it():
+    """No module but a package's ``__init__`` passes on a name it imported: every ``from m
+    import name`` of the package's own modules names the module whose code binds it, so that a
+    reader who follows an import finds the definition, and a family's module imported for a
+    generic helper does not stand for the layer below it."""
+    parsed = {module: (path, tree) for module, path, tree in modules()}
+    relayed = [f"{module}:{line} takes {name} from {source}"
+               for module, source, name, line, _ in internal_imports()
+               if name is not None and parsed[source][0].name != "__init__.py"
+               and name not in _defined(parsed[source][1])]
+    assert relayed == [], "\n".join(relayed)
+
+
 def test_no_module_is_longer_than_one_idea_but_those_listed():
     lines = {module: len(path.read_text(encoding="utf-8").splitlines())
              for module, path, _ in modules()}

@@ -82,10 +82,10 @@ from numba import njit
 from ..util import conventions as cv
 from ..engine.scene import Scene, component
 from ..engine.tangent import Linearisation
-from .methods import (B_B, B_I1, B_I2, B_I3, B_K, B_MU, B_MU_B, GYROSTAT_METHODS, P_INV1,
-                      P_INV2, P_INV3, P_INV_J, SPHERE_METHODS, WHIP_METHODS, gyrostat_jvp,
-                      gyrostat_params, gyrostat_rhs, sphere_jvp, sphere_params, sphere_rhs,
-                      whip_params, whip_rates)
+from ..integrators.spec import P_INV1, P_INV2, P_INV3
+from .methods import (B_B, B_I1, B_I2, B_I3, B_K, B_MU, B_MU_B, GYROSTAT_METHODS, P_INV_J,
+                      SPHERE_METHODS, WHIP_METHODS, gyrostat_jvp, gyrostat_params, gyrostat_rhs,
+                      sphere_jvp, sphere_params, sphere_rhs, whip_params, whip_rates)
 
 
 @njit(forceinline=True, error_model="numpy")

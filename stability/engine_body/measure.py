@@ -20,7 +20,8 @@ import numpy as np
 import xarray as xr
 
 from ..free_body.model import growth_rate, omega_squared
-from ..free_body.attitude import FREE_BODY_SCENES, IDENTITY, spatial_angular_momentum
+from ..free_body.attitude import FREE_BODY_SCENES
+from ..core.quaternions import IDENTITY, spatial_angular_momentum
 from ..core.body import RigidBody
 from ..analysis.estimates import flip_estimate, omega_squared_estimate
 from ..analysis.members import tracked_members

@@ -11,7 +11,7 @@ import numpy as np
 from matplotlib.ticker import MaxNLocator
 
 from .model import angular_momentum_norm, kinetic_energy
-from .attitude import IDENTITY, quaternion_to_matrix
+from ..core.quaternions import IDENTITY, quaternion_to_matrix
 from .exact import full_period
 from ..plotting.style import AXIS_COLORS, EXACT_COLOR, label, new_figure, styled
 from .polhodes import (

@@ -14,10 +14,12 @@ import xarray as xr
 from ..util import conventions as cv
 from ..core.body import RigidBody
 from ..util.checks import positive_float, positive_int, real_array, step_count, vectors3
-from .attitude import IDENTITY, attitude_spec, carries_attitude, propagate_attitude
+from .attitude import attitude_spec, carries_attitude, propagate_attitude
+from ..core.quaternions import IDENTITY
 from ..output.dataset import provenance_attrs, storable_attrs
 from .schema import TRAJECTORY
-from .propagate import propagate, untrusted
+from .propagate import propagate
+from ..engine.driver import untrusted
 from .timescales import default_timescales
 from .methods import method_spec
 

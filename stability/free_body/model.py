@@ -11,7 +11,7 @@ a grid over inertia space. Moments may be in any order; axis labels 1, 2, 3 are 
 - Linear stability of steady spin about a principal axis: :func:`omega_squared` (with the sign
   of ERRATA 2: > 0 oscillation, < 0 growth), :func:`growth_rate`,
   :func:`oscillation_frequency`, :func:`axis_stability`.
-- Axes: :func:`perpendicular_axes`; which axis carries which moment is
+- Axes: :func:`stability.util.conventions.perpendicular_axes`; which axis carries which moment is
   :mod:`stability.core.axes`.
 - Euler's equations in w for NumPy and SciPy: :func:`euler_rhs`, :func:`euler_system`.
 
@@ -28,7 +28,6 @@ import numpy as np
 
 from ..core.axes import principal_moments as _moments
 from ..util.checks import real_array
-from ..util.conventions import perpendicular_axes
 
 __all__ = [
     "InvariantDifferences",
@@ -42,7 +41,6 @@ __all__ = [
     "kinetic_energy",
     "omega_squared",
     "oscillation_frequency",
-    "perpendicular_axes",
 ]
 
 # --------------------------------------------------------------------------------- invariants

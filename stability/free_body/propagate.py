@@ -10,7 +10,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from .model import perpendicular_axes
+from ..util.conventions import perpendicular_axes
 from ..core.quaternions import canonical_quaternion, quaternion_conjugate, quaternion_multiply
 from ..core.body import canonical_frame, from_canonical, to_canonical
 from ..util.checks import real_array, real_number

@@ -10,7 +10,7 @@ import numba
 import numpy as np
 
 from ..core.body import canonical_m_to_w
-from .attitude import IDENTITY, attitude_error
+from ..core.quaternions import IDENTITY, attitude_error
 from .exact_attitude import exact_attitudes
 from ..output.dataset import (
     add_attitude, config_toml, ensemble_dataset, provenance_attrs, threading_layer,

@@ -35,7 +35,7 @@ from dataclasses import dataclass, replace
 
 import numpy as np
 
-from .attitude import IDENTITY
+from ..core.quaternions import IDENTITY
 from ..core.body import RigidBody
 from .propagate import loop_plan
 from ..ensemble.chunks import run_plan

@@ -12,7 +12,7 @@ import numbers
 
 import numpy as np
 
-from .model import perpendicular_axes
+from ..util.conventions import perpendicular_axes
 from ..util.checks import positive_float, positive_int, real_number, vectors3
 
 __all__ = ["max_angular_speed", "seed_sequence", "perturbed_starts"]

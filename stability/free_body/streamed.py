@@ -7,7 +7,8 @@ from dataclasses import replace
 
 import numpy as np
 
-from .attitude import FREE_BODY_SCENES, IDENTITY
+from .attitude import FREE_BODY_SCENES
+from ..core.quaternions import IDENTITY
 from .propagate import CanonicalGroups, group_levels
 from ..output.dataset import history_line
 from ..output.store import ChunkStore, read_progress

@@ -12,10 +12,8 @@ import pytest
 from scipy.integrate import solve_ivp
 
 import stability
-from stability.free_body.attitude import (
-    attitude_error, attitude_methods, propagate_attitude, quaternion_multiply,
-    spatial_angular_momentum,
-)
+from stability.free_body.attitude import attitude_methods, propagate_attitude
+from stability.core.quaternions import attitude_error, quaternion_multiply, spatial_angular_momentum
 from stability.util.conventions import STATUS_NONFINITE, STATUS_NOT_CONVERGED, STATUS_OK
 from stability.free_body.propagate import CHECK_EVERY, propagate
 from stability.free_body.methods import METHODS

@@ -11,8 +11,8 @@ import stability
 from stability.free_body.model import (
     angular_momentum, angular_momentum_norm, axis_stability, euler_rhs, euler_system, growth_rate,
     invariant_differences, kinetic_energy, omega_squared, oscillation_frequency,
-    perpendicular_axes,
 )
+from stability.util.conventions import perpendicular_axes
 from stability.core.axes import intermediate_axis
 from stability.core.body import RigidBody
 

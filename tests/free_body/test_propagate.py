@@ -9,7 +9,8 @@ import numpy as np
 import pytest
 
 from stability.util.conventions import STATUS_NONFINITE, STATUS_OK
-from stability.free_body.propagate import CHECK_EVERY, propagate, untrusted
+from stability.free_body.propagate import CHECK_EVERY, propagate
+from stability.engine.driver import untrusted
 
 MOMENTS = np.array([1.0, 2.0, 3.0])
 

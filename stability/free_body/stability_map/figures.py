@@ -20,7 +20,8 @@ from __future__ import annotations
 import numpy as np
 
 from ...util.conventions import REGIME_ALGEBRAIC, REGIME_MEANINGS, REGIME_NEUTRAL
-from ..model import growth_rate, perpendicular_axes
+from ..model import growth_rate
+from ...util.conventions import perpendicular_axes
 from ...analysis.regimes import DEPARTURE_FACTOR, MIN_POINTS
 from ..tennis_racket.flipsweep import exact_flip_curve
 from ...plotting.style import AXIS_COLORS, EXACT_COLOR, label, new_figure, place_legend, styled

@@ -32,7 +32,8 @@ from ...output.dataset import header_attrs
 from ...tangents.ftle import run_tangents
 from ...util import conventions as cv
 from ...util.checks import positive_float, positive_int
-from ..model import growth_rate, omega_squared, perpendicular_axes
+from ..model import growth_rate, omega_squared
+from ...util.conventions import perpendicular_axes
 from ..scene import FREE_BODY
 from ..schema import FTLE_MAP
 

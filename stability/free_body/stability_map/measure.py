@@ -32,9 +32,9 @@ from ..starts import perturbed_starts
 from ...output.stream import stream_chunks
 from ...output.untrusted import read_dataset
 from ..schema import STABILITY_MAP
-from .shapes import EDGE_EQUAL_12, EDGE_EQUAL_23, EDGE_FLAT
 from ...util import conventions as cv
-from ...util.conventions import REGIME_ALGEBRAIC, REGIME_NEUTRAL
+from ...util.conventions import (EDGE_EQUAL_12, EDGE_EQUAL_23, EDGE_FLAT, REGIME_ALGEBRAIC,
+                                 REGIME_NEUTRAL)
 from ..measure import exact_flip_intervals
 from ...util.progress import progress_bar
 

@@ -22,14 +22,14 @@ import numpy as np
 from ...analysis.members import zero_crossings
 
 from ...analysis.regimes import member_regimes
-from ..model import euler_rhs, omega_squared, perpendicular_axes
+from ..model import euler_rhs, omega_squared
 from ...core.body import RigidBody
 from ..spin_ensembles import completed
 from ..integrate import integrate
 from ...util import conventions as cv
 
 # Edge flags of a shape (bit mask, CF flag_masks), declared with the other codes.
-from ...util.conventions import EDGE_EQUAL_12, EDGE_EQUAL_23, EDGE_FLAT
+from ...util.conventions import EDGE_EQUAL_12, EDGE_EQUAL_23, EDGE_FLAT, perpendicular_axes
 
 #: The time-series demonstrations on the edges: name, moments (I3 = 1), spin axis.
 EDGE_CASES = (

@@ -19,7 +19,7 @@ from __future__ import annotations
 import numpy as np
 
 from ...core.axes import moment_name
-from ..model import perpendicular_axes
+from ...util.conventions import perpendicular_axes
 from ...analysis.members import sign_change_times
 from ..exact import exact_omega
 from ..measure import complementary_moduli

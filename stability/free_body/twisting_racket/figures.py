@@ -9,7 +9,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..attitude import quaternion_to_matrix, spatial_angular_momentum
+from ...core.quaternions import quaternion_to_matrix, spatial_angular_momentum
 from ...plotting.style import AXIS_COLORS, label, new_figure, place_legend, styled
 
 #: A stylised racket in its body frame (handle along axis 1, head across axis 2), metres.

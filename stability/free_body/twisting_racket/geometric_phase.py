@@ -30,7 +30,7 @@ import math
 
 import numpy as np
 
-from ..attitude import (
+from ...core.quaternions import (
     quaternion_conjugate, quaternion_multiply, quaternion_to_matrix, spatial_angular_momentum,
 )
 from ..exact import MAJOR, PRECESS3

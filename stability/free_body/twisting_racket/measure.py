@@ -17,7 +17,8 @@ import numpy as np
 import xarray as xr
 
 from ...util import conventions as cv
-from ..attitude import IDENTITY, propagate_attitudes
+from ..attitude import propagate_attitudes
+from ...core.quaternions import IDENTITY
 from ...output.dataset import storable_attrs
 from ..starts import seed_sequence
 from ..exact_attitude import exact_attitudes, free_motion

@@ -20,7 +20,8 @@ import numpy as np
 
 from ...engine.adaptive import integrate_adaptive
 from ..model import euler_system
-from ..attitude import IDENTITY, attitude_error, propagate_attitude
+from ..attitude import propagate_attitude
+from ...core.quaternions import IDENTITY, attitude_error
 from ..propagate import propagate
 from ..accuracy import METRICS, error_statistics, final_errors
 from ..scene import FREE_BODY

@@ -5,7 +5,8 @@ import numpy as np
 import pytest
 
 import stability
-from stability.free_body.attitude import attitude_error, propagate_attitudes
+from stability.free_body.attitude import propagate_attitudes
+from stability.core.quaternions import attitude_error
 from stability.free_body.exact_attitude import exact_attitude, free_motion
 from stability.free_body.twisting_racket.geometric_phase import exact_angles, run_angles, wrap
 from stability.free_body.twisting_racket.measure import tossed_members
