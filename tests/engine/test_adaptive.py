@@ -199,13 +199,15 @@ def test_events_in_one_step_come_in_the_order_of_their_times_and_up_is_told_from
     assert run.event_count[0].tolist() == [1, 1]
     assert abs(run.event_time[0, 1, 0] - math.acos(0.5)) < 1e-3
     assert abs(run.t_final[0] - math.acos(0.4)) < 1e-3
+    # the same two g (one loop, compiled once: directions and actions are the run's), each
+    # crossed both ways every period, one event keeping its up crossings, the other its down
     both = integrate_adaptive(OSCILLATOR, x0, [[1.0]], [0], 20.0, rtol=1e-11, atol=1e-13,
-                              events=[Event(position, "up", count=3, name="up"),
-                                      Event(position, "down", count=3, name="down")])
-    down = np.pi / 2 + 2 * np.pi * np.arange(3)
-    assert np.max(np.abs(both.event_time[0, 0] - (down + np.pi))) < 1e-9
-    assert np.max(np.abs(both.event_time[0, 1] - down)) < 1e-9
-    assert both.event_count[0].tolist() == [3, 3]  # up at 4.7, 11.0, 17.3; down 1.6, 7.9, 14.1
+                              events=[Event(above_04, "up", count=3, name="up"),
+                                      Event(above_half, "down", count=3, name="down")])
+    period = 2 * np.pi * np.arange(3)
+    assert np.max(np.abs(both.event_time[0, 0] - (2 * np.pi - math.acos(0.4) + period))) < 1e-9
+    assert np.max(np.abs(both.event_time[0, 1] - (math.acos(0.5) + period))) < 1e-9
+    assert both.event_count[0].tolist() == [3, 4]  # up at 5.1, 11.4, 17.7; down 1.0, 7.3, 13.6, 19.9
 
 
 @pytest.mark.parametrize("rtol, atol, message", [
