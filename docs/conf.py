@@ -72,9 +72,6 @@ sphinx_gallery_conf = {
     "gallery_dirs": "gallery",
     "filename_pattern": r"/plot_",
     "abort_on_example_error": True,
-    # the examples run in as many processes as the build's -j (joblib): they are most of its
-    # time, and one after another they left the build's other processes waiting
-    "parallel": True,
     "download_all_examples": False,
     "remove_config_comments": True,
     "within_subsection_order": "FileNameSortKey",
