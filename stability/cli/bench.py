@@ -11,7 +11,8 @@ default tennis-racket study's step). Timed on it, in one run:
 - the member loop's adaptive Dormand-Prince 5(4) (:mod:`stability.engine.adaptive`), each
   member with its own steps, at SciPy's tolerance, with the most threads; quoted as the
   equivalent member-steps/s like SciPy's, with its mean steps per member; and again with one
-  event, the sign changes of w2 (the flips), to show what locating events costs;
+  event, the sign changes of w2 (the flips), to show what locating events costs; and RK4 with
+  the same event on the fixed-step loop, beside RK4 without it;
 - SciPy's ``solve_ivp`` with DOP853 on the whole ensemble as one system of 3N equations (a
   vectorized right-hand side over the members), at a tolerance that gives an error comparable
   to RK4's at this h; its speed is quoted as the equivalent member-steps/s, members x steps /
@@ -199,6 +200,14 @@ def bench(members=10_000, steps=1000, threads=None, methods=None, scipy=True, nu
                     spec.name, n_threads, wall, members * steps / wall, error,
                     f"compile/load {compile_time:.2f} s" if n_threads == threads[0] else "",
                 ))
+        if any(spec.name == "rk4" for spec in specs):
+            numba.set_num_threads(threads[-1])
+            log(f"timing rk4 with one event on {threads[-1]} thread(s) ...")
+            plain = next(row for row in report.rows
+                         if row.solver == "rk4" and row.threads == threads[-1])
+            rows = [_time_fixed_step_event(moments, m0, steps, reference, threads[-1], plain)
+                    for _ in range(repeat)]
+            report.rows.append(min(rows, key=lambda row: row.wall))
         if adaptive:
             numba.set_num_threads(threads[-1])
             log(f"timing adaptive dopri5 on {threads[-1]} thread(s) ...")
@@ -372,6 +381,23 @@ def _time_adaptive(moments, m0, t_end, steps, reference, threads, events=()) -> 
         f"({np.mean(run.rejected):.1f} rejected)"
         + (f", {np.mean(run.event_count):.2f} crossings per member" if events else "")
         + f", compile/load {run.compile_time:.2f} s",
+    )
+
+
+def _time_fixed_step_event(moments, m0, steps, reference, threads, plain) -> BenchRow:
+    """RK4 through the member loop with one event, the flips (w2's sign changes) located on
+    the method's own step (:mod:`stability.engine.events`): what an event costs beside the
+    same run without it (``plain``, the rk4 row on as many threads)."""
+    members = m0.shape[0]
+    rows = np.atleast_2d(FREE_BODY.method("rk4").params(moments, H))  # W0's frame is canonical
+    run = propagate_groups(FREE_BODY, "rk4", m0, rows, [members], [H], [steps],
+                           events=(Event(flip_event, count=4),), progress=False)
+    counts = run.extras["event_count"]
+    return BenchRow(
+        "rk4, one event", threads, run.wall_time, members * steps / run.wall_time,
+        _error(run.x_final / moments, reference),
+        f"{np.mean(counts):.2f} crossings per member, {run.wall_time / plain.wall - 1:+.0%} "
+        f"over rk4, compile/load {run.compile_time:.2f} s",
     )
 
 

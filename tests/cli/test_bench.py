@@ -30,9 +30,10 @@ def test_bench_prints_its_table(capsys, monkeypatch):
     for column in ("member-steps/s", "x NumPy RK4", "x SciPy DOP853", "max |w error|"):
         assert column in lines[header]
     body = [line for line in lines[header + 2:] if line.strip()]
-    solvers = [line.split("  ")[0].strip() for line in body[:3]]
-    assert [line.split("  ")[0].strip() for line in body[3:5]] == ["scipy DOP853", "numpy RK4"]
-    assert solvers == ["rk4", "adaptive dopri5", "adaptive dopri5, one event"]
+    solvers = [line.split("  ")[0].strip() for line in body[:4]]
+    assert [line.split("  ")[0].strip() for line in body[4:6]] == ["scipy DOP853", "numpy RK4"]
+    assert solvers == ["rk4", "rk4, one event", "adaptive dopri5", "adaptive dopri5, one event"]
+    assert "over rk4" in body[1]
     # then what the engine costs on W1, a row per loop
     engine = next(k for k, line in enumerate(lines) if "what the engine costs" in line)
     shown = "\n".join(lines[engine:])
@@ -47,8 +48,10 @@ def test_bench_measures_every_solver_at_known_accuracy():
     report = bench_module.bench(members=64, steps=20, threads=[1], methods=["rk4", "lp2"],
                                 repeat=2)
     rows = {row.solver: row for row in report.rows}
-    assert set(rows) == {"rk4", "lp2", "adaptive dopri5", "adaptive dopri5, one event",
-                         "scipy DOP853", "numpy RK4"}
+    assert set(rows) == {"rk4", "lp2", "rk4, one event", "adaptive dopri5",
+                         "adaptive dopri5, one event", "scipy DOP853", "numpy RK4"}
+    # the event leaves the states as they are: RK4's own error, bitwise
+    assert rows["rk4, one event"].error == rows["rk4"].error
     for row in rows.values():
         assert row.wall > 0 and row.rate == pytest.approx(64 * 20 / row.wall)
         # 20 steps of 2 ms near steady spin: every solver within 1e-6 rad/s of the exact w.
