@@ -420,17 +420,18 @@ def event_source(width, stages, events) -> dict:
     # A pass of its own after the commit, which stays the vector loop it is without events
     # (g inside it made that loop scalar): each g at the new state of every member not
     # stopped (its state a strided view of the block's rows), and whether it changed sign.
-    step_pass = ["t_new = (first_step + n + 1) * h", "any_hit = 0", "for j in range(size):",
-                 "    hit = False"]
+    # The pass is a reduction (whether any g of the block changed sign), as lean as it can be;
+    # which members crossed, and whether they are stopped, is asked again only where one did.
+    step_pass = ["t_new = (first_step + n + 1) * h", "any_hit = 0", "for j in range(size):"]
     step_pass += ["    " + view]
     for k in range(m):
-        step_pass += [f"    gv = _g({k}, xv, t_new, p)", f"    hit |= crossed(w[GP{k} + j], gv)",
+        step_pass += [f"    gv = _g({k}, xv, t_new, p)",
+                      f"    any_hit |= 1 if crossed(w[GP{k} + j], gv) else 0",
                       f"    w[GN{k} + j] = gv"]
-    step_pass += ["    hit &= w[STOPPED + j] == 0.0",
-                  "    w[EHIT + j] = 1.0 if hit else 0.0", "    any_hit |= 1 if hit else 0",
-                  "if any_hit != 0:",
+    changed = " or ".join(f"crossed(w[GP{k} + j], w[GN{k} + j])" for k in range(m))
+    step_pass += ["if any_hit != 0:",
                   "    for j in range(size):",
-                  "        if w[EHIT + j] == 0.0:",
+                  f"        if w[STOPPED + j] != 0.0 or not ({changed}):",
                   "            continue"]
     step_pass += [f"        yo[{i}] = w[XO{i} + j]" for i in range(width)]
     step_pass += [f"        gp[{k}] = w[GP{k} + j]" for k in range(m)]
@@ -485,7 +486,7 @@ def render(scene_name, method_name, width, stages, implicit, step, observe,
     rows += [f"D{i}" for i in range(width)]
     rows += ["OLD_A", "OLD_B", "OLD_C", "MAX_AMP2", "NEXT_THRESHOLD", "EVENT"]
     if events:  # the state before the step, each event's g before and after it, a hit flag
-        rows += [f"XO{i}" for i in range(width)] + ["EHIT", "STOPPED"]
+        rows += [f"XO{i}" for i in range(width)] + ["STOPPED"]
         rows += [f"GP{k}" for k in range(len(events))] + [f"GN{k}" for k in range(len(events))]
     irows = ["BAD", "FIRST_BAD", "NONCONV", "FIRST_NONCONV", "ITERS"]
     row_lines = [f"{name} = {k} * BLOCK" for k, name in enumerate(rows)]
