@@ -48,12 +48,13 @@ interpolates the time within the step.
 
 from __future__ import annotations
 
+import importlib
 import math
 
 import numpy as np
 from numba import njit
 
-from .events import illinois_root
+from .events import illinois_root, scalar_form
 
 #: Members per block: the vector loop's trip count (a multiple of the SIMD width).
 BLOCK = 64
@@ -256,7 +257,7 @@ def _block(
 {event_load}    k = k0[g]
     for n in range(n_steps):
 {stages}
-        if tracking:
+{event_before}        if tracking:
             any_event = 0
             for j in range(size):
 {advance_tracked}
@@ -383,21 +384,43 @@ def _step_events(i, y, t0, h, p, gp, gn, ev_dir, ev_stop, ev_keep, ev_count, ev_
 '''
 
 
-def event_source(width, stages, events) -> dict:
+def scalar_events(events, width) -> bool:
+    """Whether every g of ``events`` (module, name, compiled) has a scalar form
+    (:func:`stability.engine.events.scalar_form`), so the loop evaluates them on the numbers of
+    the member's row before the commit and keeps no copy of the state."""
+    return bool(events) and all(
+        scalar_form(getattr(importlib.import_module(module), name), width) is not None
+        for module, name, _ in events)
+
+
+def event_source(width, stages, events, new_state=()) -> dict:
     """The template's event parts: the loop without events has none of them (the same source
     as before events existed); with events, each step evaluates every g at the new state of
-    every member not stopped, and the members where one changed sign are finished by
-    ``_step_events``, which locates each crossing on the method's own step from the state
-    before (``_flow``) by the Illinois method. Time is the loop's, ``steps x h`` from 0."""
-    keys = ("event_header", "event_args", "event_load", "event_pass", "event_store")
+    every member, and the members where one changed sign (and that are not stopped) are
+    finished by ``_step_events``, which locates each crossing on the method's own step from
+    the state before (``_flow``) by the Illinois method. Time is the loop's, ``steps x h``
+    from 0.
+
+    The pass that evaluates g is a reduction, whether any g of the block changed sign, as lean
+    as it can be; which members crossed, and whether they are stopped, is asked again only in a
+    step where one did. Where every g has a scalar form (:func:`scalar_events`), the pass runs
+    before the commit on the new state's numbers (``new_state``, the commit's own arithmetic),
+    so that the state before the step is still the block's rows; otherwise after it, on a
+    strided view of each member's row, with the state before the step kept by the commit."""
+    keys = ("event_header", "event_args", "event_load", "event_before", "event_pass",
+            "event_store")
     if not events:
         return dict.fromkeys(keys, "")
     m = len(events)
-    header = ["from stability.engine.events import taken_in_order"]
+    scalar = scalar_events(events, width)
+    header = ["from stability.engine.events import scalar_form, taken_in_order"]
     for k, (module, name, compiled) in enumerate(events):
         header.append(f"from {module} import {name} as user_g{k}")
         python = f"user_g{k}.py_func" if compiled else f"user_g{k}"  # inlined into the loop
         header.append(f'g{k} = njit(inline="always", error_model="numpy")({python})')
+        if scalar:
+            header.append(f'sg{k} = njit(inline="always", error_model="numpy")'
+                          f"(scalar_form({python}, {width}))")
     ds = [f"d{i}" for i in range(width)]
     helpers = _EVENT_HELPERS.format(
         g_calls="\n".join(f"    if k == {k}:\n        return float(g{k}(y, t, p))"
@@ -417,35 +440,34 @@ def event_source(width, stages, events) -> dict:
     load += ["    if first_step == 0:  # each g at the start", "        " + view]
     load += [f"        w[GP{k} + j] = _g({k}, xv, 0.0, p)" for k in range(m)]
     load += ["    else:"] + [f"        w[GP{k} + j] = ev_prev[lo + j, {k}]" for k in range(m)]
-    # A pass of its own after the commit, which stays the vector loop it is without events
-    # (g inside it made that loop scalar): each g at the new state of every member not
-    # stopped (its state a strided view of the block's rows), and whether it changed sign.
-    # The pass is a reduction (whether any g of the block changed sign), as lean as it can be;
-    # which members crossed, and whether they are stopped, is asked again only where one did.
-    step_pass = ["t_new = (first_step + n + 1) * h", "any_hit = 0", "for j in range(size):"]
-    step_pass += ["    " + view]
+    found = ["t_new = (first_step + n + 1) * h", "any_hit = 0", "for j in range(size):"]
+    found += [] if scalar else ["    " + view]
+    numbers = ", ".join(new_state)
     for k in range(m):
-        step_pass += [f"    gv = _g({k}, xv, t_new, p)",
-                      f"    any_hit |= 1 if crossed(w[GP{k} + j], gv) else 0",
-                      f"    w[GN{k} + j] = gv"]
+        found += [f"    gv = float(sg{k}({numbers}, t_new, p))" if scalar
+                  else f"    gv = _g({k}, xv, t_new, p)",
+                  f"    any_hit |= 1 if crossed(w[GP{k} + j], gv) else 0",
+                  f"    w[GN{k} + j] = gv"]
     changed = " or ".join(f"crossed(w[GP{k} + j], w[GN{k} + j])" for k in range(m))
-    step_pass += ["if any_hit != 0:",
-                  "    for j in range(size):",
-                  f"        if w[STOPPED + j] != 0.0 or not ({changed}):",
-                  "            continue"]
-    step_pass += [f"        yo[{i}] = w[XO{i} + j]" for i in range(width)]
-    step_pass += [f"        gp[{k}] = w[GP{k} + j]" for k in range(m)]
-    step_pass += [f"        gn[{k}] = w[GN{k} + j]" for k in range(m)]
-    step_pass += ["        _step_events(lo + j, yo, t_new - h, h, p, gp, gn, ev_dir, ev_stop, "
-                  "ev_keep, ev_count, ev_time, stop_x, stop_t, stop_event, t_hit, order, out)",
-                  "        w[STOPPED + j] = 1.0 if stop_event[lo + j] >= 0 else 0.0",
-                  "for j in range(size):"]
-    step_pass += [f"    w[GP{k} + j] = w[GN{k} + j]" for k in range(m)]
+    before = "X" if scalar else "XO"  # the state before the step: not yet committed, or kept
+    found += ["if any_hit != 0:",
+              "    for j in range(size):",
+              f"        if w[STOPPED + j] != 0.0 or not ({changed}):",
+              "            continue"]
+    found += [f"        yo[{i}] = w[{before}{i} + j]" for i in range(width)]
+    found += [f"        gp[{k}] = w[GP{k} + j]" for k in range(m)]
+    found += [f"        gn[{k}] = w[GN{k} + j]" for k in range(m)]
+    found += ["        _step_events(lo + j, yo, t_new - h, h, p, gp, gn, ev_dir, ev_stop, "
+              "ev_keep, ev_count, ev_time, stop_x, stop_t, stop_event, t_hit, order, out)",
+              "        w[STOPPED + j] = 1.0 if stop_event[lo + j] >= 0 else 0.0"]
+    moved = ["for j in range(size):"] + [f"    w[GP{k} + j] = w[GN{k} + j]" for k in range(m)]
     store = ["for j in range(size):"] + [f"    ev_prev[lo + j, {k}] = w[GP{k} + j]"
                                          for k in range(m)]
     return {"event_header": "\n".join(header) + f"\n\nNW = {width}\nNE = {m}\n" + helpers,
             "event_args": " " + ", ".join(EVENT_ARGS) + ",",
-            "event_load": _indent(load, 1) + "\n", "event_pass": _indent(step_pass, 2) + "\n",
+            "event_load": _indent(load, 1) + "\n",
+            "event_before": _indent(found, 2) + "\n" if scalar else "",
+            "event_pass": _indent(moved if scalar else found + moved, 2) + "\n",
             "event_store": _indent(store, 1) + "\n"}
 
 
@@ -485,8 +507,10 @@ def render(scene_name, method_name, width, stages, implicit, step, observe,
     rows = [f"X{i}" for i in range(width)] + [f"C{i}" for i in range(width)]
     rows += [f"D{i}" for i in range(width)]
     rows += ["OLD_A", "OLD_B", "OLD_C", "MAX_AMP2", "NEXT_THRESHOLD", "EVENT"]
-    if events:  # the state before the step, each event's g before and after it, a hit flag
-        rows += [f"XO{i}" for i in range(width)] + ["STOPPED"]
+    scalar = scalar_events(events, width)
+    if events:  # the state before the step (kept where g is evaluated after the commit), each
+        # event's g before and after it, a stopped flag
+        rows += ([] if scalar else [f"XO{i}" for i in range(width)]) + ["STOPPED"]
         rows += [f"GP{k}" for k in range(len(events))] + [f"GN{k}" for k in range(len(events))]
     irows = ["BAD", "FIRST_BAD", "NONCONV", "FIRST_NONCONV", "ITERS"]
     row_lines = [f"{name} = {k} * BLOCK" for k, name in enumerate(rows)]
@@ -539,7 +563,8 @@ def render(scene_name, method_name, width, stages, implicit, step, observe,
     update = commit(ds)
     # Tracked: the state before the update, the update, and the events of the step.
     tracked = [f"x_old{i} = {xs(i)}" for i in range(width)]
-    kept_old = [f"w[XO{i} + j] = {xs(i)}" for i in range(width)] if events else []
+    kept_old = [f"w[XO{i} + j] = {xs(i)}" for i in range(width)] if events and not scalar \
+        else []
     tracked += kept_old + update
     tracked += [
         f"a0, b0, c0 = observe({old}, p, ia, ib, ic)",
@@ -570,5 +595,7 @@ def render(scene_name, method_name, width, stages, implicit, step, observe,
         state=state,
         save=_indent(save, 4),
         store=_indent(store, 2),
-        **event_source(width, stages, events),
+        **event_source(width, stages, events, [
+            f"kahan({xs(i)}, {cs(i)}, {ds(i)})[0]" if compensated else f"{xs(i)} + {ds(i)}"
+            for i in range(width)]),
     )

@@ -3,10 +3,13 @@ compile or returns no number, is one line before any work."""
 
 import pickle
 
+import numpy as np
+
 import pytest
+from numba import njit
 
 from stability.engine.adaptive import integrate_adaptive
-from stability.engine.events import Event
+from stability.engine.events import Event, scalar_form
 
 from .test_adaptive import OSCILLATOR, position
 
@@ -58,3 +61,40 @@ def test_an_event_travels_by_reference_to_its_g():
     with pytest.raises(ValueError, match="must be defined at the top level") as info:
         pickle.dumps(Event(lambda x, t, p: x[0]))
     assert "\n" not in str(info.value)
+
+
+THRESHOLD = 0.25
+
+
+def reads_numbers(x, t, p):
+    return x[1] * p[0] - THRESHOLD + t
+
+
+def sums(x, t, p):
+    return np.sum(x)
+
+
+def indexes(x, t, p):
+    k = 1
+    return x[k]
+
+
+def writes(x, t, p):
+    x[0] = 1.0
+    return x[0]
+
+
+def out_of_range(x, t, p):
+    return x[3]
+
+
+def test_a_g_that_reads_its_state_by_constant_indices_has_a_scalar_form_and_no_other_does():
+    """The scalar form is g's own arithmetic on the numbers (its module's globals seen), and
+    every other use of the state (a sum, a variable index, a write, an index past the state)
+    leaves g as it is."""
+    scalar = scalar_form(reads_numbers, 3)
+    x, p = np.array([0.3, -1.7, 2.0]), np.array([1.5])
+    assert scalar(*x, 0.5, p) == reads_numbers(x, 0.5, p)
+    assert scalar_form(njit(reads_numbers), 3)(*x, 0.5, p) == reads_numbers(x, 0.5, p)
+    for g in (sums, indexes, writes, out_of_range, lambda x, t, p: x[0]):
+        assert scalar_form(g, 3) is None, g

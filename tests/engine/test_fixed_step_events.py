@@ -13,7 +13,7 @@ import math
 import numpy as np
 
 from stability.engine import propagate_groups
-from stability.engine.events import Event
+from stability.engine.events import Event, located
 from stability.free_body.scene import FREE_BODY, flip_event
 from stability.util.threads import numba_threads
 
@@ -92,3 +92,23 @@ def test_threads_and_steps_per_call_change_nothing_and_the_states_are_those_with
     for name in ("event_count", "event_time", "stop_event", "t_final"):
         assert np.array_equal(one.extras[name], two.extras[name], equal_nan=True), name
 
+
+
+def test_a_g_read_as_numbers_gives_bitwise_what_the_view_of_the_state_gives(monkeypatch):
+    """flip_event reads m2 alone: the loop evaluates its scalar form before the commit, on the
+    new state's numbers; the same run with the scalar form refused (g on a strided view of
+    each member's row after the commit, the state before the step kept) is the same run."""
+    import stability.engine.driver as driver
+    import stability.engine.loop as loop
+
+    events = (Event(flip_event, count=4), Event(flip_event, "up", "stop"))
+    assert loop.scalar_events([(*located(flip_event), True)], 3)
+    _, scalar = free_body("rk4", 0.01, 3000, events, n=64)
+    monkeypatch.setattr(loop, "scalar_form", lambda g, width: None)
+    monkeypatch.setattr(driver, "_LOOPS", {})
+    _, view = free_body("rk4", 0.01, 3000, events, n=64)
+    assert np.array_equal(scalar.x_final, view.x_final)
+    for name, value in scalar.extras.items():
+        assert np.array_equal(value, view.extras[name], equal_nan=True), name
+    assert np.all(scalar.extras["event_count"][:, 0] >= 1)  # flips found, and stops made
+    assert np.any(scalar.extras["stop_event"] == 1)
