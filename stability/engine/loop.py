@@ -403,16 +403,17 @@ def event_source(width, stages, events, new_state=()) -> dict:
 
     The pass that evaluates g is a reduction, whether any g of the block changed sign, as lean
     as it can be; which members crossed, and whether they are stopped, is asked again only in a
-    step where one did. Where every g has a scalar form (:func:`scalar_events`), the pass runs
-    before the commit on the new state's numbers (``new_state``, the commit's own arithmetic),
-    so that the state before the step is still the block's rows; otherwise after it, on a
-    strided view of each member's row, with the state before the step kept by the commit."""
+    step where one did. Given ``new_state`` (where every g has a scalar form,
+    :func:`scalar_events`), the pass runs before the commit on the new state's numbers, those
+    expressions being the commit's own arithmetic, so that the state before the step is still
+    the block's rows; without it, after the commit, on a strided view of each member's row,
+    with the state before the step kept by the commit."""
     keys = ("event_header", "event_args", "event_load", "event_before", "event_pass",
             "event_store")
     if not events:
         return dict.fromkeys(keys, "")
     m = len(events)
-    scalar = scalar_events(events, width)
+    scalar = bool(new_state)
     header = ["from stability.engine.events import scalar_form, taken_in_order"]
     for k, (module, name, compiled) in enumerate(events):
         header.append(f"from {module} import {name} as user_g{k}")
@@ -597,5 +598,5 @@ def render(scene_name, method_name, width, stages, implicit, step, observe,
         store=_indent(store, 2),
         **event_source(width, stages, events, [
             f"kahan({xs(i)}, {cs(i)}, {ds(i)})[0]" if compensated else f"{xs(i)} + {ds(i)}"
-            for i in range(width)]),
+            for i in range(width)] if scalar else ()),
     )
