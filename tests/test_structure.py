@@ -180,11 +180,12 @@ def test_a_name_is_imported_from_the_module_that_defines_it():
     import name`` of the package's own modules names the module whose code binds it, so that a
     reader who follows an import finds the definition, and a family's module imported for a
     generic helper does not stand for the layer below it."""
-    parsed = {module: (path, tree) for module, path, tree in modules()}
+    defined = {module: None if path.name == "__init__.py" else _defined(tree)
+               for module, path, tree in modules()}
     relayed = [f"{module}:{line} takes {name} from {source}"
                for module, source, name, line, _ in internal_imports()
-               if name is not None and parsed[source][0].name != "__init__.py"
-               and name not in _defined(parsed[source][1])]
+               if name is not None and defined[source] is not None
+               and name not in defined[source]]
     assert relayed == [], "\n".join(relayed)
 
 
