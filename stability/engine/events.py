@@ -208,7 +208,7 @@ def scalar_form(function, width: int):
     A g that reads its state only as ``x[i]`` with constant ``i`` (``return x[1]``, ``x[0] -
     0.4``) is the same arithmetic on the numbers themselves: the fixed-step loop then evaluates
     it on the member's row of the block with no array view per member (on the bench's free
-    body, RK4 on one thread, one event costs +35 % over the run without it so, +60 % with a
+    body, RK4 on one thread, one event costs +28 % over the run without it so, +60 % with a
     view per member: ``stability bench``'s row "rk4, one event"). Any other
     use of ``x`` (a loop over it, ``len(x)``, passing it on), a closure, or a source that cannot
     be read, gives None, and the loop keeps the view. The new function has ``g``'s module

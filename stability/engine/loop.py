@@ -437,6 +437,8 @@ def event_source(width, stages, events, new_state=()) -> dict:
             "order = np.empty(NE, dtype=np.int64)",
             "for j in range(size):",
             "    w[STOPPED + j] = 1.0 if stop_event[lo + j] >= 0 else 0.0"]
+    if scalar:
+        return _scalar_event_source(width, m, header, helpers, load, new_state)
     view = "xv = w[j:j + NW * BLOCK:BLOCK]  # member j's state: X0 ... are rows 0 ..."
     load += ["    if first_step == 0:  # each g at the start", "        " + view]
     load += [f"        w[GP{k} + j] = _g({k}, xv, 0.0, p)" for k in range(m)]
@@ -458,6 +460,8 @@ def event_source(width, stages, events, new_state=()) -> dict:
     found += [f"        yo[{i}] = w[{before}{i} + j]" for i in range(width)]
     found += [f"        gp[{k}] = w[GP{k} + j]" for k in range(m)]
     found += [f"        gn[{k}] = w[GN{k} + j]" for k in range(m)]
+    # the step's start as the other path takes it, t_new - h (not t_old: they can differ in
+    # the last bit)
     found += ["        _step_events(lo + j, yo, t_new - h, h, p, gp, gn, ev_dir, ev_stop, "
               "ev_keep, ev_count, ev_time, stop_x, stop_t, stop_event, t_hit, order, out)",
               "        w[STOPPED + j] = 1.0 if stop_event[lo + j] >= 0 else 0.0"]
@@ -469,6 +473,43 @@ def event_source(width, stages, events, new_state=()) -> dict:
             "event_load": _indent(load, 1) + "\n",
             "event_before": _indent(found, 2) + "\n" if scalar else "",
             "event_pass": _indent(moved if scalar else found + moved, 2) + "\n",
+            "event_store": _indent(store, 1) + "\n"}
+
+
+def _scalar_event_source(width, m, header, helpers, load, new_state) -> dict:
+    """:func:`event_source`'s parts where every g has a scalar form: the pass before the commit
+    evaluates each g at both ends of the step, on the block's rows (the state before) and on
+    the new state's numbers, and stores nothing: a read-only reduction. g before the step is
+    the value the previous step found after it (the same numbers, time and arithmetic), so no
+    g is carried from step to step; ``ev_prev`` is filled once, at the end of the call."""
+    old = ", ".join(f"w[X{i} + j]" for i in range(width))
+    numbers = ", ".join(new_state)
+    pair = [f"float(sg{k}({old}, t_old, p))" for k in range(m)], \
+        [f"float(sg{k}({numbers}, t_new, p))" for k in range(m)]
+    found = ["t_old = (first_step + n) * h", "t_new = (first_step + n + 1) * h", "any_hit = 0",
+             "for j in range(size):"]
+    found += [f"    any_hit |= 1 if crossed({a}, {b}) else 0" for a, b in zip(*pair)]
+    found += ["if any_hit != 0:",
+              "    for j in range(size):",
+              "        if w[STOPPED + j] != 0.0:",
+              "            continue"]
+    found += [f"        gp[{k}] = {a}" for k, a in enumerate(pair[0])]
+    found += [f"        gn[{k}] = {b}" for k, b in enumerate(pair[1])]
+    changed = " or ".join(f"crossed(gp[{k}], gn[{k}])" for k in range(m))
+    found += [f"        if not ({changed}):", "            continue"]
+    found += [f"        yo[{i}] = w[X{i} + j]" for i in range(width)]
+    # the step's start as the other path takes it, t_new - h (not t_old: they can differ in
+    # the last bit)
+    found += ["        _step_events(lo + j, yo, t_new - h, h, p, gp, gn, ev_dir, ev_stop, ev_keep, "
+              "ev_count, ev_time, stop_x, stop_t, stop_event, t_hit, order, out)",
+              "        w[STOPPED + j] = 1.0 if stop_event[lo + j] >= 0 else 0.0"]
+    store = ["t_now = (first_step + n_steps) * h", "for j in range(size):"]
+    store += [f"    ev_prev[lo + j, {k}] = float(sg{k}({old}, t_now, p))" for k in range(m)]
+    return {"event_header": "\n".join(header) + f"\n\nNW = {width}\nNE = {m}\n" + helpers,
+            "event_args": " " + ", ".join(EVENT_ARGS) + ",",
+            "event_load": _indent(load, 1) + "\n",
+            "event_before": _indent(found, 2) + "\n",
+            "event_pass": "",
             "event_store": _indent(store, 1) + "\n"}
 
 
@@ -512,7 +553,9 @@ def render(scene_name, method_name, width, stages, implicit, step, observe,
     if events:  # the state before the step (kept where g is evaluated after the commit), each
         # event's g before and after it, a stopped flag
         rows += ([] if scalar else [f"XO{i}" for i in range(width)]) + ["STOPPED"]
-        rows += [f"GP{k}" for k in range(len(events))] + [f"GN{k}" for k in range(len(events))]
+        if not scalar:
+            rows += [f"GP{k}" for k in range(len(events))]
+            rows += [f"GN{k}" for k in range(len(events))]
     irows = ["BAD", "FIRST_BAD", "NONCONV", "FIRST_NONCONV", "ITERS"]
     row_lines = [f"{name} = {k} * BLOCK" for k, name in enumerate(rows)]
     row_lines += [f"N_ROWS = {len(rows)}", ""]
