@@ -231,6 +231,10 @@ def _block(first, last, x, rows, group, t_end, rtol, atol, max_steps, directions
     esum = np.zeros(LANES)
     used = np.zeros(LANES)
     si = np.zeros(LANES, dtype=np.int64)
+    # the codes _finish takes, as int64 variables: literals would compile it once per value
+    no_event = np.int64(-1)
+    ok = np.int64(STATUS_OK)
+    too_many = np.int64(STATUS_MAX_STEPS)
     following = first
     while True:
         busy = 0
@@ -290,13 +294,13 @@ def _block(first, last, x, rows, group, t_end, rtol, atol, max_steps, directions
                     used[l] = np.nan
                 i = lane[l]
                 if nacc[l] + nrej[l] >= max_steps:
-                    _finish(i, l, y, t, nacc, nrej, err, esum, used, STATUS_MAX_STEPS, -1, x,
+                    _finish(i, l, y, t, nacc, nrej, err, esum, used, too_many, no_event, x,
                             t_final, accepted, rejected, error, error_sum, h_last, status,
                             stop_event, lane)
                     continue
                 if not (t[l] + h[l] > t[l]):
                     _finish(i, l, y, t, nacc, nrej, err, esum, used,
-                            STATUS_NONFINITE if bad[l] else STATUS_STEP_TOO_SMALL, -1, x,
+                            STATUS_NONFINITE if bad[l] else STATUS_STEP_TOO_SMALL, no_event, x,
                             t_final, accepted, rejected, error, error_sum, h_last, status,
                             stop_event, lane)
                     continue
@@ -407,7 +411,7 @@ def _block(first, last, x, rows, group, t_end, rtol, atol, max_steps, directions
                 for j in range(n):
                     y[j, l] = a2[j]
                 t[l] = t_hit[stopped]
-                _finish(i, l, y, t, nacc, nrej, err, esum, used, STATUS_OK, stopped, x,
+                _finish(i, l, y, t, nacc, nrej, err, esum, used, ok, stopped, x,
                         t_final, accepted, rejected, error, error_sum, h_last, status,
                         stop_event, lane)
                 continue
@@ -420,7 +424,7 @@ def _block(first, last, x, rows, group, t_end, rtol, atol, max_steps, directions
             t[l] = t_new
             h[l] = h_new
             if t[l] >= tend[l]:
-                _finish(i, l, y, t, nacc, nrej, err, esum, used, STATUS_OK, -1, x, t_final,
+                _finish(i, l, y, t, nacc, nrej, err, esum, used, ok, no_event, x, t_final,
                         accepted, rejected, error, error_sum, h_last, status, stop_event, lane)
 
 
