@@ -40,7 +40,7 @@ from stability.analysis.members import zero_crossings
 from stability.asteroid import model as asteroid
 from stability.core.body import Part
 from stability.free_body.spin_ensembles import run_ensembles
-from stability.free_body.starts import perturbed_starts
+from stability.ensemble.starts import perturbed_starts
 from stability.registry import SCENES
 
 from .helpers import one_line

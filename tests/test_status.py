@@ -13,7 +13,7 @@ import pytest
 import stability
 from stability.util import conventions as cv
 from stability.free_body.spin_ensembles import run_ensemble
-from stability.free_body.starts import max_angular_speed
+from stability.free_body.timescales import max_angular_speed
 from stability.free_body.exact import exact_omega_of_starts
 
 BODY = stability.RigidBody(1.0, 2.0, 3.0)

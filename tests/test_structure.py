@@ -50,8 +50,8 @@ BUILDS_ON = {
                                                   "scene's does",
     ("stability.engine_body.measure", "free_body"): "the engines' flips against the exact "
                                                     "motion and the linear theory",
-    ("stability.engine_body.studies.engine_artefacts", "free_body"): "the study takes the free "
-                                                                     "body's methods and starts",
+    ("stability.engine_body.studies.engine_artefacts", "free_body"): "the study compares the "
+                                                                     "free body's attitude methods",
 }
 
 #: Lines a module may have; those over it hold two ideas (or more), but for these, each with

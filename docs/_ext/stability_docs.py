@@ -263,7 +263,7 @@ API_MODULES = (
                                   "heavy_top.model")),
     ("Exact solutions", ("free_body.exact", "free_body.exact_attitude", "heavy_top.exact",
                          "core.elliptic")),
-    ("Ensembles, runs and files", ("free_body.spin_ensembles", "free_body.starts",
+    ("Ensembles, runs and files", ("free_body.spin_ensembles", "ensemble.starts",
                                    "free_body.ensemble_plan", "free_body.streamed",
                                    "free_body.integrate", "free_body.attitude", "output.io",
                                    "output.plain", "output.stream", "util.formatting",

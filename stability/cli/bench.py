@@ -62,7 +62,7 @@ from ..engine.tangent import tangent_scene
 from ..free_body.spin_ensembles import run_ensemble
 from ..free_body.keep import Keep
 from ..ensemble.options import RunOptions
-from ..free_body.starts import perturbed_starts
+from ..ensemble.starts import perturbed_starts
 from ..free_body.exact import exact_omega_of_starts
 from ..free_body.scene import FREE_BODY, flip_event
 from ..heavy_top.exact import cos_theta, nutation_period

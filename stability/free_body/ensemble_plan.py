@@ -17,10 +17,11 @@ from ..ensemble.memory import DEFAULT_MAX_MEMORY, limit_words, machine_memory
 from ..output.dataset import config_toml, summary_bytes
 from ..util.checks import positive_float, positive_int, real_array, step_count, vectors3
 from ..util.formatting import format_bytes
-from .starts import (
-    RNG_CHUNK, axis_index, max_angular_speed, nonnegative_float, perpendicular_direction,
-    perturbed_starts, random_starts, seed_sequence,
+from ..ensemble.starts import (
+    RNG_CHUNK, axis_index, nonnegative_float, perpendicular_direction, perturbed_starts,
+    random_starts, seed_sequence,
 )
+from .timescales import max_angular_speed
 
 __all__ = ["ensemble_memory"]
 

@@ -17,7 +17,7 @@ from ..output.dataset import (
 )
 from ..util import conventions as cv
 from .ensemble_plan import EnsemblePlan
-from .starts import RNG_CHUNK
+from ..ensemble.starts import RNG_CHUNK
 
 def members_dataset(plan: EnsemblePlan, run, threads):
     """The Dataset of one ensemble from its plan and its run."""

@@ -21,7 +21,7 @@ Reproducibility: the random directions are drawn outside compiled code, from one
 others. So the Dataset is bitwise the same for any number of threads and any compute chunking,
 and an ensemble of N members is the first N members of any larger one with the same seed.
 
-Its parts: the start rule (:mod:`~stability.free_body.starts`), the plan that checks and
+Its parts: the start rule (:mod:`~stability.ensemble.starts`), the plan that checks and
 resolves the arguments (:mod:`~stability.free_body.ensemble_plan`), from a propagation to the
 Dataset (:mod:`~stability.free_body.results`), and the run streamed to a store
 (:mod:`~stability.free_body.streamed`); here the runs in memory, one or many at once.
@@ -54,7 +54,7 @@ from ..util.threads import checked_threads, numba_threads
 from .ensemble_plan import NO_SPIN, NO_STARTS, EnsemblePlan, plan_ensemble
 from ..core.axes import spin_axis
 from .results import RunPart, finish_run, members_dataset
-from .starts import axis_index, nonnegative_float
+from ..ensemble.starts import axis_index, nonnegative_float
 from .streamed import run_streamed
 
 
@@ -99,7 +99,7 @@ def run_ensemble(
         Number of members N (with ``starts``: optional, must equal ``len(starts)``).
     h : float, optional
         Step in s; for ``lp2`` about 0.01 / W to 0.05 / W, for ``rk4`` up to about 0.1 / W.
-        A member whose step angle ``h max|w|`` (:func:`max_angular_speed`) exceeds the
+        A member whose step angle ``h max|w|`` (:func:`~stability.free_body.timescales.max_angular_speed`) exceeds the
         method's ``max_step_angle`` (``stability.METHODS[method].max_step_angle``, 0.3 to 3
         rad) is labelled ``step_too_large``; if every member would be, the run is refused.
         By default the step angle is 0.02 rad (:func:`stability.free_body.timescales.default_step`),

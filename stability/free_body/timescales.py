@@ -2,7 +2,7 @@
 
 ``run_ensemble(body, axis=2, spin=10.0)`` and ``integrate(body, w0)`` need no step and no
 horizon: the step keeps the angle turned per step, ``h max|w|``, at :data:`DEFAULT_STEP_ANGLE`
-(``max|w|`` over the motion, :func:`stability.free_body.starts.max_angular_speed`), and the
+(``max|w|`` over the motion, :func:`max_angular_speed`), and the
 horizon covers :data:`DEFAULT_FLIPS` flip intervals ``2K/nu`` of the exact motion
 (:func:`stability.free_body.exact.flip_intervals`): flips about the intermediate axis, half
 periods of the small oscillation ``pi / Omega`` about a stable one (Landau & Lifshitz,
@@ -19,7 +19,6 @@ import numpy as np
 
 from ..util.checks import positive_float, positive_int
 from .exact import flip_intervals
-from .starts import max_angular_speed
 
 #: Default angle turned per step, h max|w| (rad): 314 steps a turn, well inside every method's
 #: ``max_step_angle`` (1 rad and more) and accurate to about 1e-6 in Omega^2 for lp2.
@@ -31,6 +30,48 @@ FALLBACK_TURNS = 20
 #: Perturbation and ensemble size of ``run_ensemble`` when neither they nor ``starts`` are given.
 DEFAULT_EPSILON = 1e-3
 DEFAULT_MEMBERS = 100
+
+
+def max_angular_speed(moments, w0) -> np.ndarray:
+    """The largest |w| the exact motion from each start reaches, in rad/s; shape (N,).
+
+    The motion keeps the energy E and |L| = |m| (m = I w), so it stays on the set
+    ``sum m_i^2 = |L|^2``, ``sum m_i^2 / I_i = 2E`` where ``|w|^2 = sum m_i^2 / I_i^2``; all three
+    are linear in ``u_i = m_i^2 >= 0``, so the largest |w| on that set is reached where one
+    ``u_i`` is 0 (a vertex of the segment), and is found from the three pairs in closed form.
+    It is at least |w0| and at most |L| / min(I) (reached only by spins about the axis of the
+    smallest moment); for a spin near a principal axis it is |w0| to first order.
+
+    Parameters
+    ----------
+    moments : array_like, shape (3,)
+        Principal moments in kg m^2.
+    w0 : array_like, shape (N, 3)
+        Starts in rad/s.
+    """
+    I = np.asarray(moments, dtype=float)
+    w0 = np.atleast_2d(np.asarray(w0, dtype=float))
+    # The motion is the same for moments scaled alike, and scales with w0: both are brought to
+    # order 1 first, so that the squares below neither overflow (a spin of 1e160 rad/s) nor
+    # underflow (moments of 1e-160 kg m^2) into inf or nan.
+    I = I / I.max()
+    with np.errstate(invalid="ignore", over="ignore"):
+        scale = np.max(np.abs(w0), axis=1)
+        w0 = w0 / np.where(scale > 0.0, scale, 1.0)[:, None]
+    m = w0 * I
+    L2 = np.sum(m * m, axis=1)
+    E2 = np.sum(m * w0, axis=1)  # 2E
+    b, best = 1.0 / I, np.sum(w0 * w0, axis=1)  # |w0|^2: the start is on the set
+    with np.errstate(invalid="ignore", divide="ignore", over="ignore"):
+        for i, j in ((0, 1), (0, 2), (1, 2)):
+            if b[i] == b[j]:
+                continue  # equal moments: |w| is fixed along this edge
+            ui = (E2 - L2 * b[j]) / (b[i] - b[j])
+            uj = L2 - ui
+            inside = (ui >= 0.0) & (uj >= 0.0)
+            best = np.where(inside, np.maximum(best, ui * b[i] ** 2 + uj * b[j] ** 2), best)
+    return np.sqrt(best) * scale
+
 
 
 def nominal_start(axis: int, spin: float, epsilon: float) -> np.ndarray:

@@ -5,7 +5,7 @@ import numpy as np
 
 import stability
 from stability.engine_body.measure import measure_rule, step_for_accuracy
-from stability.free_body.starts import perturbed_starts
+from stability.ensemble.starts import perturbed_starts
 
 
 RACKET = np.sort(stability.RigidBody.preset("tennis_racket").moments)

@@ -4,7 +4,7 @@ import numpy as np
 import pytest
 
 import stability
-from stability.free_body.starts import perturbed_starts
+from stability.ensemble.starts import perturbed_starts
 from stability.free_body.accuracy import (
     METRICS, attitude_reference, conditioning_floor, error_statistics, exact_final_w,
     final_errors,

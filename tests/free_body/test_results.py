@@ -5,7 +5,7 @@ import numpy as np
 
 import stability
 from stability.free_body.spin_ensembles import run_ensemble
-from stability.free_body.starts import perturbed_starts
+from stability.ensemble.starts import perturbed_starts
 from stability.util import conventions as cv
 
 BODY = stability.RigidBody(1.0, 2.0, 3.0, name="I=(1,2,3)")

@@ -6,7 +6,7 @@ import pytest
 
 import stability
 from stability.free_body.spin_ensembles import run_ensemble
-from stability.free_body.starts import max_angular_speed
+from stability.free_body.timescales import max_angular_speed
 
 BODY = stability.RigidBody(1.0, 2.0, 3.0, name="I=(1,2,3)")
 

@@ -18,7 +18,7 @@ import numpy as np
 
 from ...free_body.attitude import attitude_methods
 from ...core.body import RigidBody
-from ...free_body.starts import perturbed_starts
+from ...ensemble.starts import perturbed_starts
 from ...study.config import ConfigError, Key, Schema, Section
 from ...study.kind import StudyKind, StudyRun, StudySummary, SummaryTable
 from ...study.outputs import output_files, write_outputs

@@ -28,7 +28,7 @@ from ...analysis.estimates import flip_estimate, omega_squared_estimates
 from ...analysis.members import members as gather_members
 from ..spin_ensembles import completed, run_ensembles
 from ..keep import Keep
-from ..starts import perturbed_starts
+from ...ensemble.starts import perturbed_starts
 from ...output.stream import stream_chunks
 from ...output.untrusted import read_dataset
 from ..schema import STABILITY_MAP
@@ -159,7 +159,7 @@ def measure_map(bodies, omega2, t_end, levels, specs, runs, *, spin, epsilon, me
     """Run every ensemble of the map and keep its estimates.
 
     Every (shape, axis) runs ``members`` starts ``spin e_a`` nudged by ``epsilon spin`` in the
-    same random perpendicular directions (:func:`stability.free_body.starts.perturbed_starts` with
+    same random perpendicular directions (:func:`stability.ensemble.starts.perturbed_starts` with
     ``seed``), summaries-only, for ``t_end`` rounded up to whole steps. Each entry of ``runs``
     is one batch (:class:`MapBatches`), the estimates of each batch independent of the others'.
 

@@ -20,7 +20,7 @@ from ...util import conventions as cv
 from ..attitude import propagate_attitudes
 from ...core.quaternions import IDENTITY
 from ...output.dataset import storable_attrs
-from ..starts import seed_sequence
+from ...ensemble.starts import seed_sequence
 from ..exact_attitude import exact_attitudes, free_motion
 from .geometric_phase import exact_angles, run_angles, wrap
 from ..schema import TWISTING_RACKET

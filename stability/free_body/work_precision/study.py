@@ -30,7 +30,7 @@ from . import measure as wp
 from ...core.axes import principal_axis
 from ...core.body import RigidBody
 from .drift import long_horizon
-from ..starts import perturbed_starts
+from ...ensemble.starts import perturbed_starts
 from . import figures as figures
 from ..methods import METHODS, method_names, method_spec
 from ...output.dataset import software_attrs

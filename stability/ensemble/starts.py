@@ -1,4 +1,6 @@
-"""The free body's start rule: steady spins about a principal axis, perturbed at random.
+"""The start rule of an ensemble about a steady spin: a spin about a principal axis, perturbed
+at random perpendicular to it (the free body's ensembles, and every family that starts its own
+from theirs).
 
 Member j of an ensemble is drawn from the SeedSequence child ``j // RNG_CHUNK`` of the
 seed, so the draws never depend on how a run is chunked or threaded, and an ensemble of N
@@ -15,52 +17,11 @@ import numpy as np
 from ..util.conventions import perpendicular_axes
 from ..util.checks import positive_float, positive_int, real_number, vectors3
 
-__all__ = ["max_angular_speed", "seed_sequence", "perturbed_starts"]
+__all__ = ["seed_sequence", "perturbed_starts"]
 
 #: Members per SeedSequence child. Fixed, so that the draws never depend on how the
 #: computation is chunked; changing it changes every random ensemble.
 RNG_CHUNK = 4096
-
-
-def max_angular_speed(moments, w0) -> np.ndarray:
-    """The largest |w| the exact motion from each start reaches, in rad/s; shape (N,).
-
-    The motion keeps the energy E and |L| = |m| (m = I w), so it stays on the set
-    ``sum m_i^2 = |L|^2``, ``sum m_i^2 / I_i = 2E`` where ``|w|^2 = sum m_i^2 / I_i^2``; all three
-    are linear in ``u_i = m_i^2 >= 0``, so the largest |w| on that set is reached where one
-    ``u_i`` is 0 (a vertex of the segment), and is found from the three pairs in closed form.
-    It is at least |w0| and at most |L| / min(I) (reached only by spins about the axis of the
-    smallest moment); for a spin near a principal axis it is |w0| to first order.
-
-    Parameters
-    ----------
-    moments : array_like, shape (3,)
-        Principal moments in kg m^2.
-    w0 : array_like, shape (N, 3)
-        Starts in rad/s.
-    """
-    I = np.asarray(moments, dtype=float)
-    w0 = np.atleast_2d(np.asarray(w0, dtype=float))
-    # The motion is the same for moments scaled alike, and scales with w0: both are brought to
-    # order 1 first, so that the squares below neither overflow (a spin of 1e160 rad/s) nor
-    # underflow (moments of 1e-160 kg m^2) into inf or nan.
-    I = I / I.max()
-    with np.errstate(invalid="ignore", over="ignore"):
-        scale = np.max(np.abs(w0), axis=1)
-        w0 = w0 / np.where(scale > 0.0, scale, 1.0)[:, None]
-    m = w0 * I
-    L2 = np.sum(m * m, axis=1)
-    E2 = np.sum(m * w0, axis=1)  # 2E
-    b, best = 1.0 / I, np.sum(w0 * w0, axis=1)  # |w0|^2: the start is on the set
-    with np.errstate(invalid="ignore", divide="ignore", over="ignore"):
-        for i, j in ((0, 1), (0, 2), (1, 2)):
-            if b[i] == b[j]:
-                continue  # equal moments: |w| is fixed along this edge
-            ui = (E2 - L2 * b[j]) / (b[i] - b[j])
-            uj = L2 - ui
-            inside = (ui >= 0.0) & (uj >= 0.0)
-            best = np.where(inside, np.maximum(best, ui * b[i] ** 2 + uj * b[j] ** 2), best)
-    return np.sqrt(best) * scale
 
 
 def seed_sequence(seed) -> np.random.SeedSequence:

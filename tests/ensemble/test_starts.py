@@ -1,4 +1,4 @@
-"""The perturbed starts of an ensemble (stability.free_body.starts): perpendicular with norm epsilon
+"""The perturbed starts of an ensemble (stability.ensemble.starts): perpendicular with norm epsilon
 spin, independent of the member count, from a seed sequence not consumed, along a fixed
 direction checked where they are drawn."""
 
@@ -7,7 +7,7 @@ import math
 import numpy as np
 import pytest
 
-from stability.free_body.starts import RNG_CHUNK, perturbed_starts
+from stability.ensemble.starts import RNG_CHUNK, perturbed_starts
 
 
 @pytest.mark.parametrize("axis", [1, 2, 3])
