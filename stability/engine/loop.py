@@ -438,79 +438,88 @@ def event_source(width, stages, events, new_state=()) -> dict:
             "for j in range(size):",
             "    w[STOPPED + j] = 1.0 if stop_event[lo + j] >= 0 else 0.0"]
     if scalar:
-        return _scalar_event_source(width, m, header, helpers, load, new_state)
-    view = "xv = w[j:j + NW * BLOCK:BLOCK]  # member j's state: X0 ... are rows 0 ..."
-    load += ["    if first_step == 0:  # each g at the start", "        " + view]
-    load += [f"        w[GP{k} + j] = _g({k}, xv, 0.0, p)" for k in range(m)]
-    load += ["    else:"] + [f"        w[GP{k} + j] = ev_prev[lo + j, {k}]" for k in range(m)]
-    found = ["t_new = (first_step + n + 1) * h", "any_hit = 0", "for j in range(size):"]
-    found += [] if scalar else ["    " + view]
-    numbers = ", ".join(new_state)
+        before, after, store = _scalar_pass(width, m, new_state), [], _scalar_store(width, m)
+    else:
+        load, before, (after, store) = load + _view_load(m), [], _view_pass(width, m)
+    return {"event_header": "\n".join(header) + f"\n\nNW = {width}\nNE = {m}\n" + helpers,
+            "event_args": " " + ", ".join(EVENT_ARGS) + ",",
+            "event_load": _indent(load, 1) + "\n",
+            "event_before": _indent(before, 2) + "\n" if before else "",
+            "event_pass": _indent(after, 2) + "\n" if after else "",
+            "event_store": _indent(store, 1) + "\n"}
+
+
+#: A member's state as a strided view of its row of the block.
+_VIEW = "xv = w[j:j + NW * BLOCK:BLOCK]  # member j's state: X0 ... are rows 0 ..."
+#: Locate, take and count member j's crossings of the step ending at t_new, the state before it
+#: in yo and each g before and after in gp, gn (the start as t_new - h on both passes: the
+#: same number, bitwise, whichever pass runs).
+_STEP_EVENTS = ["        _step_events(lo + j, yo, t_new - h, h, p, gp, gn, ev_dir, ev_stop, "
+                "ev_keep, ev_count, ev_time, stop_x, stop_t, stop_event, t_hit, order, out)",
+                "        w[STOPPED + j] = 1.0 if stop_event[lo + j] >= 0 else 0.0"]
+
+
+def _view_load(m):
+    """Each g at the start of the call, into GP: at the run's start from the state, later the
+    value carried from the call before (``ev_prev``)."""
+    return (["    if first_step == 0:  # each g at the start", "        " + _VIEW]
+            + [f"        w[GP{k} + j] = _g({k}, xv, 0.0, p)" for k in range(m)]
+            + ["    else:"] + [f"        w[GP{k} + j] = ev_prev[lo + j, {k}]" for k in range(m)])
+
+
+def _view_pass(width, m):
+    """The pass after the commit where some g has no scalar form: each g on a view of the
+    member's row into GN, the state before the step kept by the commit in XO; then GN moved to
+    GP. Returns (the pass, the store of GP into ``ev_prev`` at the end of the call)."""
+    found = ["t_new = (first_step + n + 1) * h", "any_hit = 0", "for j in range(size):",
+             "    " + _VIEW]
     for k in range(m):
-        found += [f"    gv = float(sg{k}({numbers}, t_new, p))" if scalar
-                  else f"    gv = _g({k}, xv, t_new, p)",
+        found += [f"    gv = _g({k}, xv, t_new, p)",
                   f"    any_hit |= 1 if crossed(w[GP{k} + j], gv) else 0",
                   f"    w[GN{k} + j] = gv"]
     changed = " or ".join(f"crossed(w[GP{k} + j], w[GN{k} + j])" for k in range(m))
-    before = "X" if scalar else "XO"  # the state before the step: not yet committed, or kept
     found += ["if any_hit != 0:",
               "    for j in range(size):",
               f"        if w[STOPPED + j] != 0.0 or not ({changed}):",
               "            continue"]
-    found += [f"        yo[{i}] = w[{before}{i} + j]" for i in range(width)]
+    found += [f"        yo[{i}] = w[XO{i} + j]" for i in range(width)]
     found += [f"        gp[{k}] = w[GP{k} + j]" for k in range(m)]
-    found += [f"        gn[{k}] = w[GN{k} + j]" for k in range(m)]
-    # the step's start as the other path takes it, t_new - h (not t_old: they can differ in
-    # the last bit)
-    found += ["        _step_events(lo + j, yo, t_new - h, h, p, gp, gn, ev_dir, ev_stop, "
-              "ev_keep, ev_count, ev_time, stop_x, stop_t, stop_event, t_hit, order, out)",
-              "        w[STOPPED + j] = 1.0 if stop_event[lo + j] >= 0 else 0.0"]
-    moved = ["for j in range(size):"] + [f"    w[GP{k} + j] = w[GN{k} + j]" for k in range(m)]
+    found += [f"        gn[{k}] = w[GN{k} + j]" for k in range(m)] + _STEP_EVENTS
+    found += ["for j in range(size):"] + [f"    w[GP{k} + j] = w[GN{k} + j]" for k in range(m)]
     store = ["for j in range(size):"] + [f"    ev_prev[lo + j, {k}] = w[GP{k} + j]"
                                          for k in range(m)]
-    return {"event_header": "\n".join(header) + f"\n\nNW = {width}\nNE = {m}\n" + helpers,
-            "event_args": " " + ", ".join(EVENT_ARGS) + ",",
-            "event_load": _indent(load, 1) + "\n",
-            "event_before": _indent(found, 2) + "\n" if scalar else "",
-            "event_pass": _indent(moved if scalar else found + moved, 2) + "\n",
-            "event_store": _indent(store, 1) + "\n"}
+    return found, store
 
 
-def _scalar_event_source(width, m, header, helpers, load, new_state) -> dict:
-    """:func:`event_source`'s parts where every g has a scalar form: the pass before the commit
-    evaluates each g at both ends of the step, on the block's rows (the state before) and on
-    the new state's numbers, and stores nothing: a read-only reduction. g before the step is
-    the value the previous step found after it (the same numbers, time and arithmetic), so no
-    g is carried from step to step; ``ev_prev`` is filled once, at the end of the call."""
+def _scalar_pass(width, m, new_state):
+    """The pass before the commit where every g has a scalar form: each g at both ends of the
+    step, on the block's rows (the state before) and on the new state's numbers, storing
+    nothing (a read-only reduction). g before the step is the number the previous step found
+    after it (the same numbers, time and arithmetic), so no g is carried from step to step."""
     old = ", ".join(f"w[X{i} + j]" for i in range(width))
     numbers = ", ".join(new_state)
-    pair = [f"float(sg{k}({old}, t_old, p))" for k in range(m)], \
-        [f"float(sg{k}({numbers}, t_new, p))" for k in range(m)]
+    before = [f"float(sg{k}({old}, t_old, p))" for k in range(m)]
+    after = [f"float(sg{k}({numbers}, t_new, p))" for k in range(m)]
     found = ["t_old = (first_step + n) * h", "t_new = (first_step + n + 1) * h", "any_hit = 0",
              "for j in range(size):"]
-    found += [f"    any_hit |= 1 if crossed({a}, {b}) else 0" for a, b in zip(*pair)]
+    found += [f"    any_hit |= 1 if crossed({a}, {b}) else 0" for a, b in zip(before, after)]
     found += ["if any_hit != 0:",
               "    for j in range(size):",
               "        if w[STOPPED + j] != 0.0:",
               "            continue"]
-    found += [f"        gp[{k}] = {a}" for k, a in enumerate(pair[0])]
-    found += [f"        gn[{k}] = {b}" for k, b in enumerate(pair[1])]
+    found += [f"        gp[{k}] = {a}" for k, a in enumerate(before)]
+    found += [f"        gn[{k}] = {b}" for k, b in enumerate(after)]
     changed = " or ".join(f"crossed(gp[{k}], gn[{k}])" for k in range(m))
     found += [f"        if not ({changed}):", "            continue"]
     found += [f"        yo[{i}] = w[X{i} + j]" for i in range(width)]
-    # the step's start as the other path takes it, t_new - h (not t_old: they can differ in
-    # the last bit)
-    found += ["        _step_events(lo + j, yo, t_new - h, h, p, gp, gn, ev_dir, ev_stop, ev_keep, "
-              "ev_count, ev_time, stop_x, stop_t, stop_event, t_hit, order, out)",
-              "        w[STOPPED + j] = 1.0 if stop_event[lo + j] >= 0 else 0.0"]
-    store = ["t_now = (first_step + n_steps) * h", "for j in range(size):"]
-    store += [f"    ev_prev[lo + j, {k}] = float(sg{k}({old}, t_now, p))" for k in range(m)]
-    return {"event_header": "\n".join(header) + f"\n\nNW = {width}\nNE = {m}\n" + helpers,
-            "event_args": " " + ", ".join(EVENT_ARGS) + ",",
-            "event_load": _indent(load, 1) + "\n",
-            "event_before": _indent(found, 2) + "\n",
-            "event_pass": "",
-            "event_store": _indent(store, 1) + "\n"}
+    return found + _STEP_EVENTS
+
+
+def _scalar_store(width, m):
+    """Each g at the state the call ends on, into ``ev_prev``, once."""
+    old = ", ".join(f"w[X{i} + j]" for i in range(width))
+    return ["t_now = (first_step + n_steps) * h", "for j in range(size):"] + [
+        f"    ev_prev[lo + j, {k}] = float(sg{k}({old}, t_now, p))" for k in range(m)]
 
 
 def _indent(lines, depth):
