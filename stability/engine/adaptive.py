@@ -27,7 +27,9 @@ and from 2.4e-8 to 2.4e-10 at rtol 1e-14, where without it more steps had made i
 The loop is written once, as the template below, and rendered for each scene (its vector field
 ``rhs(x_0, ..., x_{n-1}, p)``, the scene's :class:`~stability.engine.tangent.Linearisation`) and
 events (their ``g``), then kept in the disk cache (:func:`stability.engine.cache.load_module`).
-Members run in parallel (``prange``) in tasks of ``BLOCK`` members, ``LANES`` of them in step:
+Members run in tasks of ``BLOCK`` members, the tasks shared among threads as the fixed-step
+loop's blocks are (:func:`stability.engine.driver.run_blocks`: the loop releases the GIL, so no
+``prange``, whose parallel lowering took 4 s of each compile), ``LANES`` of them in step:
 one member's step is a chain of seven dependent evaluations, which alone leaves the processor
 waiting on each; the stages of eight members are computed together, and a lane whose member ends
 takes the next. Each member depends on nothing but its own start, row, end time and the
@@ -46,10 +48,12 @@ import sys
 import time
 from dataclasses import dataclass
 
+import numba
 import numpy as np
 
 from ..util import conventions as cv
 from .cache import compiling, load_module
+from .driver import run_blocks
 from .events import ACTIONS, DIRECTIONS, checked_events, illinois_root, located
 from .scene import Scene, checked_scene
 
@@ -99,7 +103,7 @@ Rendered from the template in stability/engine/adaptive.py; do not edit (sources
 import math
 
 import numpy as np
-from numba import njit, prange
+from numba import njit
 
 from stability.engine.adaptive import (
     A21, A31, A32, A41, A42, A43, A51, A52, A53, A54, A61, A62, A63, A64, A65, B1, B3, B4, B5,
@@ -255,8 +259,11 @@ def _block(first, last, x, rows, group, t_end, rtol, atol, max_steps, directions
                     tend[l] = t_end[i]
                     t[l] = 0.0
                     si[l] = 0
-                    while si[l] < n_samples and samples[si[l]] <= 0.0:  # samples at the start
-                        x_sample[i, si[l], :] = x[i]
+                    # samples at the start; element by element, as below: a slice's shape check
+                    # (and its message) cost 4 s of every compile
+                    while si[l] < n_samples and samples[si[l]] <= 0.0:
+                        for j in range(n):
+                            x_sample[i, si[l], j] = x[i, j]
                         si[l] += 1
                     _f(a1, p, a2)
                     for j in range(n):
@@ -402,7 +409,8 @@ def _block(first, last, x, rows, group, t_end, rtol, atol, max_steps, directions
             t_upto = t_hit[stopped] if stopped >= 0 else t_new
             while si[l] < n_samples and samples[si[l]] <= t_upto:  # samples within the step
                 if samples[si[l]] == t_new:
-                    x_sample[i, si[l], :] = a1
+                    for j in range(n):
+                        x_sample[i, si[l], j] = a1[j]
                 else:
                     _dense(r[l], (samples[si[l]] - t0) / (t_new - t0), x_sample[i, si[l]])
                 si[l] += 1
@@ -428,12 +436,13 @@ def _block(first, last, x, rows, group, t_end, rtol, atol, max_steps, directions
                         accepted, rejected, error, error_sum, h_last, status, stop_event, lane)
 
 
-@njit(parallel=True, error_model="numpy")
-def integrate(x, rows, group, t_end, rtol, atol, max_steps, directions, stops, keep, samples,
-              t_final, accepted, rejected, error, error_sum, h_last, status, counts, times,
-              stop_event, x_sample):
-    blocks = (x.shape[0] + BLOCK - 1) // BLOCK
-    for b in prange(blocks):
+@njit(nogil=True, error_model="numpy")
+def integrate(blocks, x, rows, group, t_end, rtol, atol, max_steps, directions, stops, keep,
+              samples, t_final, accepted, rejected, error, error_sum, h_last, status, counts,
+              times, stop_event, x_sample):
+    """The tasks ``blocks`` (of BLOCK members each), one after another: a thread's share."""
+    for q in range(blocks.shape[0]):
+        b = blocks[q]
         _block(b * BLOCK, min(x.shape[0], (b + 1) * BLOCK), x, rows, group, t_end, rtol, atol,
                max_steps, directions, stops, keep, samples, t_final, accepted, rejected, error,
                error_sum, h_last, status, counts, times, stop_event, x_sample)
@@ -572,10 +581,13 @@ def integrate_adaptive(scene, x0, rows, group, t_end, *, rtol, atol, events=(),
     t0 = time.perf_counter()
     if not loop.signatures:
         with compiling(loop):
-            loop(np.ones((0, scene.width)), *arguments)
+            loop(np.zeros(0, np.int64), np.ones((0, scene.width)), *arguments)
     out.compile_time = time.perf_counter() - t0
     t0 = time.perf_counter()
-    loop(out.x_final, *arguments)
+    n = out.x_final.shape[0]
+    tasks = -(-n // BLOCK)
+    members = np.minimum(BLOCK, n - BLOCK * np.arange(tasks))  # each task's work, as members
+    run_blocks(loop, members, numba.get_num_threads(), (out.x_final, *arguments))
     out.wall_time = time.perf_counter() - t0
     return out
 
