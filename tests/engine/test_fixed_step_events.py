@@ -112,3 +112,24 @@ def test_a_g_read_as_numbers_gives_bitwise_what_the_view_of_the_state_gives(monk
         assert np.array_equal(value, view.extras[name], equal_nan=True), name
     assert np.all(scalar.extras["event_count"][:, 0] >= 1)  # flips found, and stops made
     assert np.any(scalar.extras["stop_event"] == 1)
+
+
+def test_the_tracked_flip_detector_counts_the_events_crossings_at_its_stated_tolerance():
+    """The loop's own flip detector (``axis_crossings``, times by linear interpolation between
+    the step's ends) against ``flip_event`` located on RK4's continuous extension in one run:
+    the same crossings of every member, the detector's first and last times within 2e-8 s of
+    the located ones (measured 1.07e-8 at h = 0.01; 8.6e-8 at h = 0.02), the located ones
+    within 1e-9 s of the exact schedule (measured 1.5e-10). The detector is kept beside the
+    events, at this tolerance: the pass that locates an event costs a run +28 %."""
+    m0, run = free_body("rk4", 0.01, 6000, (Event(flip_event, count=4),), axes=[[1, 0, 2]])
+    extras = run.extras
+    count = extras["event_count"][:, 0]
+    assert np.array_equal(extras["axis_crossings"], count) and count.min() >= 2
+    located_times = extras["event_time"][:, 0]
+    assert np.abs(extras["first_axis_crossing"] - located_times[:, 0]).max() < 2e-8
+    within = count <= 4  # the last crossing is kept
+    last = located_times[np.arange(count.size), np.minimum(count, 4) - 1]
+    assert np.abs(extras["last_axis_crossing"] - last)[within].max() < 2e-8
+    assert within.sum() > 100
+    exact_first = exact_schedule(m0 / MOMENTS, located_times[:, 0], 1e-5)[:, 0]
+    assert np.abs(located_times[:, 0] - exact_first).max() < 1e-9
