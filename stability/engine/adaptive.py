@@ -259,8 +259,8 @@ def _block(first, last, x, rows, group, t_end, rtol, atol, max_steps, directions
                     tend[l] = t_end[i]
                     t[l] = 0.0
                     si[l] = 0
-                    # samples at the start; element by element, as below: a slice's shape check
-                    # (and its message) cost 4 s of every compile
+                    # samples at the start; element by element, as below: the two slices' shape
+                    # checks (and their messages) cost 2 s of every compile
                     while si[l] < n_samples and samples[si[l]] <= 0.0:
                         for j in range(n):
                             x_sample[i, si[l], j] = x[i, j]
