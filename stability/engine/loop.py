@@ -393,27 +393,26 @@ def scalar_events(events, width) -> bool:
         for module, name, _ in events)
 
 
-def event_source(width, stages, events, new_state=()) -> dict:
+def event_source(width, stages, events, scalar=False) -> dict:
     """The template's event parts: the loop without events has none of them (the same source
     as before events existed); with events, each step evaluates every g at the new state of
     every member, and the members where one changed sign (and that are not stopped) are
     finished by ``_step_events``, which locates each crossing on the method's own step from
     the state before (``_flow``) by the Illinois method. Time is the loop's, ``steps x h``
-    from 0.
+    from 0. The commit keeps the state before the step in the rows ``XO``.
 
     The pass that evaluates g is a reduction, whether any g of the block changed sign, as lean
     as it can be; which members crossed, and whether they are stopped, is asked again only in a
-    step where one did. Given ``new_state`` (where every g has a scalar form,
-    :func:`scalar_events`), the pass runs before the commit on the new state's numbers, those
-    expressions being the commit's own arithmetic, so that the state before the step is still
-    the block's rows; without it, after the commit, on a strided view of each member's row,
-    with the state before the step kept by the commit."""
-    keys = ("event_header", "event_args", "event_load", "event_before", "event_pass",
-            "event_store")
+    step where one did. With ``scalar`` (every g has a scalar form, :func:`scalar_events`),
+    the reduction is part of the commit loop itself (``event_commit``), on the numbers the
+    commit has at hand, the state before the step and after it: no pass of its own, and no g
+    carried from step to step. Without it, a pass after the commit evaluates each g on a
+    strided view of each member's row and carries it to the next step."""
+    keys = ("event_header", "event_args", "event_load", "event_before", "event_commit",
+            "event_pass", "event_store")
     if not events:
-        return dict.fromkeys(keys, "")
+        return {**dict.fromkeys(keys, ""), "event_commit": []}
     m = len(events)
-    scalar = bool(new_state)
     header = ["from stability.engine.events import scalar_form, taken_in_order"]
     for k, (module, name, compiled) in enumerate(events):
         header.append(f"from {module} import {name} as user_g{k}")
@@ -438,13 +437,17 @@ def event_source(width, stages, events, new_state=()) -> dict:
             "for j in range(size):",
             "    w[STOPPED + j] = 1.0 if stop_event[lo + j] >= 0 else 0.0"]
     if scalar:
-        before, after, store = _scalar_pass(width, m, new_state), [], _scalar_store(width, m)
+        before = ["t_old = (first_step + n) * h", "t_new = (first_step + n + 1) * h",
+                  "any_hit = 0"]
+        commit, after, store = _scalar_reduction(width, m), _scalar_pass(width, m), \
+            _scalar_store(width, m)
     else:
-        load, before, (after, store) = load + _view_load(m), [], _view_pass(width, m)
+        load, before, commit, (after, store) = load + _view_load(m), [], [], _view_pass(width, m)
     return {"event_header": "\n".join(header) + f"\n\nNW = {width}\nNE = {m}\n" + helpers,
             "event_args": " " + ", ".join(EVENT_ARGS) + ",",
             "event_load": _indent(load, 1) + "\n",
             "event_before": _indent(before, 2) + "\n" if before else "",
+            "event_commit": commit,
             "event_pass": _indent(after, 2) + "\n" if after else "",
             "event_store": _indent(store, 1) + "\n"}
 
@@ -491,27 +494,44 @@ def _view_pass(width, m):
     return found, store
 
 
-def _scalar_pass(width, m, new_state):
-    """The pass before the commit where every g has a scalar form: each g at both ends of the
-    step, on the block's rows (the state before) and on the new state's numbers, storing
-    nothing (a read-only reduction). g before the step is the number the previous step found
-    after it (the same numbers, time and arithmetic), so no g is carried from step to step."""
-    old = ", ".join(f"w[X{i} + j]" for i in range(width))
-    numbers = ", ".join(new_state)
-    before = [f"float(sg{k}({old}, t_old, p))" for k in range(m)]
-    after = [f"float(sg{k}({numbers}, t_new, p))" for k in range(m)]
-    found = ["t_old = (first_step + n) * h", "t_new = (first_step + n + 1) * h", "any_hit = 0",
-             "for j in range(size):"]
-    found += [f"    any_hit |= 1 if crossed({a}, {b}) else 0" for a, b in zip(before, after)]
-    found += ["if any_hit != 0:",
-              "    for j in range(size):",
-              "        if w[STOPPED + j] != 0.0:",
-              "            continue"]
-    found += [f"        gp[{k}] = {a}" for k, a in enumerate(before)]
-    found += [f"        gn[{k}] = {b}" for k, b in enumerate(after)]
+def _scalar_g(k, rows, t):
+    """g of event k on the numbers of a member's rows (``X``: the state, ``XO``: before the
+    step) at time t, by its scalar form."""
+    return f"float(sg{k}({rows}, {t}, p))"
+
+
+def _scalar_reduction(width, m):
+    """The lines the commit loop ends with where every g has a scalar form: whether some g may
+    have changed sign in the step, from the state before it (``XO``, which the commit has just
+    written) and after it (``X``), numbers the loop holds in registers. g before the step is
+    the number the previous step found after it (the same numbers, time and arithmetic), so
+    none is carried from step to step. The test is ``not (g_old g_new > 0)``, true wherever
+    :func:`crossed` is (and where the product is 0 or NaN): one multiply and one compare a
+    member, where ``crossed`` took two compares and their exclusive or (the pass after it asks
+    ``crossed`` of each member, so the crossings are the same). With an event that never
+    crosses (20,000 free-body members, 2,000 RK4 steps, one thread) the run costs +5 to +6 %
+    over the one without it, against +7 to +9 % with ``crossed`` itself."""
+    old = ", ".join(f"w[XO{i} + j]" for i in range(width))
+    new = ", ".join(f"w[X{i} + j]" for i in range(width))
+    return [f"any_hit |= 1 if not ({_scalar_g(k, old, 't_old')} * "
+            f"{_scalar_g(k, new, 't_new')} > 0.0) else 0" for k in range(m)]
+
+
+def _scalar_pass(width, m):
+    """The pass after the commit in a step where some g may have changed sign
+    (:func:`_scalar_reduction`): each member's g before and after the step again, and those
+    that crossed located."""
+    old = ", ".join(f"w[XO{i} + j]" for i in range(width))
+    new = ", ".join(f"w[X{i} + j]" for i in range(width))
+    found = ["if any_hit != 0:",
+             "    for j in range(size):",
+             "        if w[STOPPED + j] != 0.0:",
+             "            continue"]
+    found += [f"        gp[{k}] = {_scalar_g(k, old, 't_old')}" for k in range(m)]
+    found += [f"        gn[{k}] = {_scalar_g(k, new, 't_new')}" for k in range(m)]
     changed = " or ".join(f"crossed(gp[{k}], gn[{k}])" for k in range(m))
     found += [f"        if not ({changed}):", "            continue"]
-    found += [f"        yo[{i}] = w[X{i} + j]" for i in range(width)]
+    found += [f"        yo[{i}] = w[XO{i} + j]" for i in range(width)]
     return found + _STEP_EVENTS
 
 
@@ -559,9 +579,9 @@ def render(scene_name, method_name, width, stages, implicit, step, observe,
     rows += [f"D{i}" for i in range(width)]
     rows += ["OLD_A", "OLD_B", "OLD_C", "MAX_AMP2", "NEXT_THRESHOLD", "EVENT"]
     scalar = scalar_events(events, width)
-    if events:  # the state before the step (kept where g is evaluated after the commit), each
-        # event's g before and after it, a stopped flag
-        rows += ([] if scalar else [f"XO{i}" for i in range(width)]) + ["STOPPED"]
+    if events:  # the state before the step (kept by the commit), a stopped flag, and where g
+        # has no scalar form each event's g before and after the step
+        rows += [f"XO{i}" for i in range(width)] + ["STOPPED"]
         if not scalar:
             rows += [f"GP{k}" for k in range(len(events))]
             rows += [f"GN{k}" for k in range(len(events))]
@@ -616,9 +636,9 @@ def render(scene_name, method_name, width, stages, implicit, step, observe,
     update = commit(ds)
     # Tracked: the state before the update, the update, and the events of the step.
     tracked = [f"x_old{i} = {xs(i)}" for i in range(width)]
-    kept_old = [f"w[XO{i} + j] = {xs(i)}" for i in range(width)] if events and not scalar \
-        else []
-    tracked += kept_old + update
+    kept_old = [f"w[XO{i} + j] = {xs(i)}" for i in range(width)] if events else []
+    sources = event_source(width, stages, events, scalar)
+    tracked += kept_old + update + sources["event_commit"]
     tracked += [
         f"a0, b0, c0 = observe({old}, p, ia, ib, ic)",
         f"va, vb, vc = observe({state}, p, ia, ib, ic)",
@@ -643,12 +663,10 @@ def render(scene_name, method_name, width, stages, implicit, step, observe,
         load=_indent(load, 2),
         stages=_indent(stage_loops, 2),
         advance_tracked=_indent(tracked, 4),
-        advance_plain=_indent(kept_old + update, 4),
+        advance_plain=_indent(kept_old + update + sources["event_commit"], 4),
         total=" + ".join(xs(i) for i in range(width)),
         state=state,
         save=_indent(save, 4),
         store=_indent(store, 2),
-        **event_source(width, stages, events, [
-            f"kahan({xs(i)}, {cs(i)}, {ds(i)})[0]" if compensated else f"{xs(i)} + {ds(i)}"
-            for i in range(width)] if scalar else ()),
+        **{key: text for key, text in sources.items() if key != "event_commit"},
     )
