@@ -35,9 +35,10 @@ import numpy as np
 import pytest
 
 import stability
-from stability.free_body import model as analytic, attitude, propagate as driver, exact
+from stability.free_body import model as analytic, propagate as driver, exact
 from stability.analysis.members import zero_crossings
 from stability.asteroid import model as asteroid
+from stability.core import quaternions
 from stability.core.body import Part
 from stability.free_body.spin_ensembles import run_ensembles
 from stability.ensemble.starts import perturbed_starts
@@ -381,9 +382,9 @@ API = {
     "string m0 (propagate)": (
         lambda: driver.propagate("rk4", [1.0, 2.0, 3.0], [["1", "2", "3"]], 0.1, 10),
         "m0 must be real numbers"),
-    "complex quaternion": (lambda: attitude.quaternion_multiply([1j, 0, 0, 0], [1, 0, 0, 0]),
+    "complex quaternion": (lambda: quaternions.quaternion_multiply([1j, 0, 0, 0], [1, 0, 0, 0]),
                            "a must be real numbers"),
-    "boolean rotation matrix": (lambda: attitude.matrix_to_quaternion(np.eye(3, dtype=bool)),
+    "boolean rotation matrix": (lambda: quaternions.matrix_to_quaternion(np.eye(3, dtype=bool)),
                                 "R must be real numbers, got booleans"),
     "complex signal": (lambda: zero_crossings([0.0, 1.0, 2.0], [1j, -1j, 1j]),
                        "x must be real numbers"),

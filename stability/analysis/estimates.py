@@ -39,7 +39,7 @@ from ..util.conventions import REGIME_EXPONENTIAL, REGIME_OSCILLATION, perpendic
 from .fits import exponential_fit, mean_stderr, window_points
 from .members import Members, members
 from .regimes import (MIN_POINTS, REGIME_SIGN, WINDOW_ATTRS, WINDOW_HIGH_FRACTION,
-                      WINDOW_LOW_FACTOR, classify, ensemble_regime, regime_attrs, saturation)
+                      WINDOW_LOW_FACTOR, classify, ensemble_regime, saturation)
 
 def member_rates(mem: Members, regime, low_factor, high_fraction):
     high = high_fraction * saturation(mem)

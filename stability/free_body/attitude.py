@@ -33,10 +33,7 @@ from ..core.body import canonical_frame, from_canonical, to_canonical
 from ..util.checks import positive_int, real_array
 from ..engine import propagate_groups
 from .methods import method_spec
-from ..core.quaternions import (
-    IDENTITY, attitude_error, canonical_quaternion, frame_along, matrix_to_quaternion,
-    quaternion_conjugate, quaternion_multiply, quaternion_to_matrix, spatial_angular_momentum,
-)
+from ..core.quaternions import canonical_quaternion, quaternion_conjugate, quaternion_multiply
 from ..ensemble.chunks import run_plan
 from ..ensemble.plan import Plan
 from .scene import FREE_BODY

@@ -264,7 +264,7 @@ class Herpolhode(NamedTuple):
         sqrt(2E) / |L|, the distance of the plane from the centre, kg^-1/2 m^-1.
     frame : ndarray, shape (3, 3)
         Columns: the plane's two axes and the normal
-        (:func:`stability.free_body.attitude.frame_along`).
+        (:func:`stability.core.quaternions.frame_along`).
     radii : (float, float)
         :func:`herpolhode_radii`: the annulus the curve fills.
     """

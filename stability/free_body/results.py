@@ -93,7 +93,7 @@ def members_dataset(plan: EnsemblePlan, run, threads):
 def carried_attitude(moments, w0, time, q):
     """The attitudes ``q`` (N, T, 4) an ensemble carried, normalised; their norm error
     ``|q| - 1``; and their angle from the exact attitude of each start ``w0`` (N, 3) at
-    ``time`` (T,) from the identity (:func:`~stability.free_body.attitude.attitude_error`)."""
+    ``time`` (T,) from the identity (:func:`~stability.core.quaternions.attitude_error`)."""
     norm = np.linalg.norm(q, axis=-1)
     unit = q / norm[..., None]
     return unit, norm - 1.0, attitude_error(unit, exact_attitudes(moments, w0, time, IDENTITY))

@@ -616,7 +616,7 @@ def _spin_row(row):
     out[Q_JBOT] = -row[Q_JBOT]
     if row[Q_V2] - row[Q_V1] == 0.0:
         s = row[Q_OMU2] * row[Q_OPU1]
-        bma, bpa, u0 = row[Q_BMA], row[Q_BPA], row[Q_U0]
+        bma, bpa = row[Q_BMA], row[Q_BPA]
         # (b - a)/(2 (1 - u0)) - (b + a)/(2 (1 + u0)); nothing turns about an upright top
         out[Q_OMEGA] = 0.5 * (bma * row[Q_OPU1] - bpa * row[Q_OMU2]) / s if s > 0.0 else 0.0
         return out

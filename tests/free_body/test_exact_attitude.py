@@ -6,7 +6,7 @@ import pytest
 from scipy.integrate import solve_ivp
 
 import stability
-from stability.free_body.attitude import attitude_error, quaternion_multiply
+from stability.core.quaternions import attitude_error, quaternion_multiply
 from stability.free_body.exact_attitude import exact_attitude, free_motion
 
 from ..helpers import random_members

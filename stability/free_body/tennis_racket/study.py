@@ -34,8 +34,6 @@ import sys
 import time
 from pathlib import Path
 
-import numpy as np
-
 from ...core.axes import MOMENT_NAMES, spin_axis
 from ..attitude import FREE_BODY_SCENES, attitude_methods, carries_attitude
 from ...core.body import RigidBody
@@ -47,7 +45,6 @@ from ...ensemble.combine import DEFAULT_SERIES_MEMBERS, series_count
 from ...ensemble.options import RunOptions
 from ...output.dataset import summary_bytes
 from . import figures as tennis
-from ...util import conventions as cv
 from ...util.formatting import format_bytes
 from ...study.config import UNSET, ConfigError, Key, Schema, Section
 from ...study.kind import StudyKind, StudyRun, StudySummary
