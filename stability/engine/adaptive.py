@@ -54,7 +54,7 @@ import numpy as np
 from ..util import conventions as cv
 from .cache import compiling, load_module
 from .driver import run_blocks
-from .events import ACTIONS, DIRECTIONS, checked_events, illinois_root, located
+from .events import ACTIONS, DIRECTIONS, bracketed_root, checked_events, located
 from .scene import Scene, checked_scene
 
 # Dormand & Prince (1980), Table 2 (DOPRI5): nodes c, stages a, weights b (= a7, FSAL), and the
@@ -667,7 +667,7 @@ def _loop(scene: Scene, gs: tuple):
         lane_fs=fs, lane_ss=", ".join(f"s[{i}, l]" for i in range(n)),
         lane_stores="\n".join(f"        out[{i}, l] = f{i}" for i in range(n)),
         g_calls="\n".join(g_calls) or "    pass",
-        root=illinois_root("r", "y", "_dense(r, (c - t0) / h, y)", "the dense output"))
+        root=bracketed_root("r", "y", "_dense(r, (c - t0) / h, y)", "the dense output"))
     functions = [lin.rhs.py_func] + [getattr(g, "py_func", g) for g in gs]
     roots = tuple(dict.fromkeys([rhs_module, "stability.engine.adaptive",
                                  "stability.engine.events"]

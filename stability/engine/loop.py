@@ -54,7 +54,7 @@ import math
 import numpy as np
 from numba import njit
 
-from .events import illinois_root, scalar_form
+from .events import bracketed_root, scalar_form
 
 #: Members per block: the vector loop's trip count (a multiple of the SIMD width).
 BLOCK = 64
@@ -398,7 +398,7 @@ def event_source(width, stages, events, scalar=False) -> dict:
     as before events existed); with events, each step evaluates every g at the new state of
     every member, and the members where one changed sign (and that are not stopped) are
     finished by ``_step_events``, which locates each crossing on the method's own step from
-    the state before (``_flow``) by the Illinois method. Time is the loop's, ``steps x h``
+    the state before (``_flow``) by regula falsi (:func:`~.events.bracketed_root`). Time is the loop's, ``steps x h``
     from 0. The commit keeps the state before the step in the rows ``XO``.
 
     The pass that evaluates g is a reduction, whether any g of the block changed sign, as lean
@@ -430,7 +430,7 @@ def event_source(width, stages, events, scalar=False) -> dict:
         d_zero=_indent([f"{d} = 0.0" for d in ds], 1),
         d_add=_indent([f"d{i} += e{i}" for i in range(width)], 2),
         out_set=_indent([f"out[{i}] = y[{i}] + d{i}" for i in range(width)], 1),
-        root=illinois_root("y", "out", "_flow(y, c - t0, p, out)", "g along _flow"))
+        root=bracketed_root("y", "out", "_flow(y, c - t0, p, out)", "g along _flow"))
     load = ["yo = np.empty(NW)", "out = np.empty(NW)",
             "gp = np.empty(NE)", "gn = np.empty(NE)", "t_hit = np.empty(NE)",
             "order = np.empty(NE, dtype=np.int64)",

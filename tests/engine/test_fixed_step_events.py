@@ -1,5 +1,5 @@
 """User events in the fixed-step member loop (stability.engine.loop.event_source): crossings
-located on the method's own step from the state before it, by the Illinois method.
+located on the method's own step from the state before it, by regula falsi.
 
 On the free body's exact flow the flip times agree with the exact schedule (first crossing, then
 2K/nu) to round-off; on RK4 to its own error; two events in one step come in the order of their

@@ -2,7 +2,7 @@
 
 The GPU twin of :mod:`stability.engine.adaptive`: thread i integrates member i to its own end
 time with its own steps, the same PI control, first-step rule, error norm, events located on the
-continuous extension by the Illinois method, and samples, in the same order of operations as the
+continuous extension by the CPU loop's regula falsi, and samples, in the same order of operations as the
 CPU loop's lanes. The scene's vector field, the events' functions and the CPU module's helpers
 (``_f``, ``_g``, ``_dense``, ``_root``) are their device twins
 (:mod:`stability.engine.gpu.retarget`), so the GPU evaluates the scene's own formulas. Its
