@@ -1,20 +1,20 @@
 """Events a user defines: a function ``g(x, t, p)`` whose sign changes are located and kept.
 
 An :class:`Event` names the function, which crossings count (``direction``: ``"up"``, g from
-negative to non-negative; ``"down"``, the reverse; ``"both"``), what a crossing does
-(``action``: ``"record"`` its time, or ``"stop"`` the member there) and how many times are kept
-(``count``; a stop event stops the member at its ``count``-th crossing). The adaptive loop
+negative to non-negative; ``"down"``, the reverse; ``"both"``), what a crossing does (``action``:
+``"record"`` its time, or ``"stop"`` the member there) and how many times are kept (``count``; a
+stop event stops the member at its ``count``-th crossing). The adaptive loop
 (:mod:`stability.engine.adaptive`) compares ``g`` at the ends of each accepted step, and where its
-sign changed locates the root on the step's continuous extension (the Dormand-Prince dense
-output, Hairer, Norsett & Wanner, *Solving ODEs I*, II.6) with the Anderson-Björck variant of
-regula falsi (Anderson & Björck, BIT 13, 253 (1973)) down to round-off in ``t``; several crossings in one
-step are taken in the order of their times (Shampine & Thompson, *Event location for ordinary
+sign changed locates the root on the step's continuous extension (the Dormand-Prince dense output,
+Hairer, Norsett & Wanner, *Solving ODEs I*, II.6) with the Anderson-Björck variant of regula falsi
+(Anderson & Björck, BIT 13, 253 (1973)) down to round-off in ``t``; several crossings in one step
+are taken in the order of their times (Shampine & Thompson, *Event location for ordinary
 differential equations*, Comput. Math. Appl. 39, 43 (2000)). The fixed-step loop
-(:func:`stability.engine.loop.event_source`) does the same at the end of every step, on the
-method's own step from the state before it (the exact flow for an exact method). As there, a
-function that changes sign twice within one step is not seen; a tighter ``rtol`` (a smaller
-``h``) gives shorter steps. Both loops locate with :func:`bracketed_root` and take a step's
-crossings with :func:`taken_in_order`.
+(:func:`stability.engine.loop.event_source`) does the same at the end of every step, on the method's
+own step from the state before it (the exact flow for an exact method). As there, a function that
+changes sign twice within one step is not seen; a tighter ``rtol`` (a smaller ``h``) gives shorter
+steps. Both loops locate with :func:`bracketed_root` and take a step's crossings with
+:func:`taken_in_order`.
 
 :func:`checked_events` checks a run's events before any work: each mistake is one line.
 """

@@ -386,8 +386,8 @@ def _step_events(i, y, t0, h, p, gp, gn, ev_dir, ev_stop, ev_keep, ev_count, ev_
 
 def scalar_events(events, width) -> bool:
     """Whether every g of ``events`` (module, name, compiled) has a scalar form
-    (:func:`stability.engine.events.scalar_form`), so the loop evaluates them on the numbers of
-    the member's row before the commit and keeps no copy of the state."""
+    (:func:`stability.engine.events.scalar_form`), so the commit loop tests them on the numbers
+    it holds, the member's state before and after the step, with no view of the state."""
     return bool(events) and all(
         scalar_form(getattr(importlib.import_module(module), name), width) is not None
         for module, name, _ in events)
@@ -398,8 +398,9 @@ def event_source(width, stages, events, scalar=False) -> dict:
     as before events existed); with events, each step evaluates every g at the new state of
     every member, and the members where one changed sign (and that are not stopped) are
     finished by ``_step_events``, which locates each crossing on the method's own step from
-    the state before (``_flow``) by regula falsi (:func:`~.events.bracketed_root`). Time is the loop's, ``steps x h``
-    from 0. The commit keeps the state before the step in the rows ``XO``.
+    the state before (``_flow``) by regula falsi (:func:`~.events.bracketed_root`). Time is
+    the loop's, ``steps x h`` from 0. The commit keeps the state before the step in the rows
+    ``XO``.
 
     The pass that evaluates g is a reduction, whether any g of the block changed sign, as lean
     as it can be; which members crossed, and whether they are stopped, is asked again only in a
@@ -505,16 +506,22 @@ def _scalar_reduction(width, m):
     have changed sign in the step, from the state before it (``XO``, which the commit has just
     written) and after it (``X``), numbers the loop holds in registers. g before the step is
     the number the previous step found after it (the same numbers, time and arithmetic), so
-    none is carried from step to step. The test is ``not (g_old g_new > 0)``, true wherever
-    :func:`crossed` is (and where the product is 0 or NaN): one multiply and one compare a
-    member, where ``crossed`` took two compares and their exclusive or (the pass after it asks
-    ``crossed`` of each member, so the crossings are the same). With an event that never
-    crosses (20,000 free-body members, 2,000 RK4 steps, one thread) the run costs +5 to +6 %
-    over the one without it, against +7 to +9 % with ``crossed`` itself."""
+    none is carried from step to step. The test is ``not (g_old g_new > 0)`` with
+    ``g_old != g_new``, true wherever :func:`crossed` is (and where the product is 0 or NaN, but
+    for a g that stays at 0, which would send every step to the pass): a multiply and two
+    compares a member, where ``crossed`` took two compares and their exclusive or (the pass
+    after it asks ``crossed`` of each member, so the crossings are the same). With an event
+    that never crosses (20,000 free-body members, 2,000 RK4 steps, one thread) the run costs
+    +5 to +6 % over the one without it, against +7 to +9 % with ``crossed`` itself."""
     old = ", ".join(f"w[XO{i} + j]" for i in range(width))
     new = ", ".join(f"w[X{i} + j]" for i in range(width))
-    return [f"any_hit |= 1 if not ({_scalar_g(k, old, 't_old')} * "
-            f"{_scalar_g(k, new, 't_new')} > 0.0) else 0" for k in range(m)]
+    lines = []
+    for k in range(m):
+        lines += [f"g_before{k} = {_scalar_g(k, old, 't_old')}",
+                  f"g_after{k} = {_scalar_g(k, new, 't_new')}",
+                  f"any_hit |= 1 if not (g_before{k} * g_after{k} > 0.0) "
+                  f"and g_before{k} != g_after{k} else 0"]
+    return lines
 
 
 def _scalar_pass(width, m):

@@ -95,9 +95,9 @@ def test_threads_and_steps_per_call_change_nothing_and_the_states_are_those_with
 
 
 def test_a_g_read_as_numbers_gives_bitwise_what_the_view_of_the_state_gives(monkeypatch):
-    """flip_event reads m2 alone: the loop evaluates its scalar form before the commit, on the
-    new state's numbers; the same run with the scalar form refused (g on a strided view of
-    each member's row after the commit, the state before the step kept) is the same run."""
+    """flip_event reads m2 alone: the commit loop tests its scalar form on the numbers it holds,
+    the state before the step and after it; the same run with the scalar form refused (g on a
+    strided view of each member's row after the commit) is the same run."""
     import stability.engine.driver as driver
     import stability.engine.loop as loop
 

@@ -1,13 +1,13 @@
 """The adaptive Dormand-Prince 5(4) member loop as a CUDA kernel: one member per thread.
 
-The GPU twin of :mod:`stability.engine.adaptive`: thread i integrates member i to its own end
-time with its own steps, the same PI control, first-step rule, error norm, events located on the
-continuous extension by the CPU loop's regula falsi, and samples, in the same order of operations as the
-CPU loop's lanes. The scene's vector field, the events' functions and the CPU module's helpers
+The GPU twin of :mod:`stability.engine.adaptive`: thread i integrates member i to its own end time
+with its own steps, the same PI control, first-step rule, error norm, events located on the
+continuous extension by the CPU loop's regula falsi, and samples, in the same order of operations as
+the CPU loop's lanes. The scene's vector field, the events' functions and the CPU module's helpers
 (``_f``, ``_g``, ``_dense``, ``_root``) are their device twins
-(:mod:`stability.engine.gpu.retarget`), so the GPU evaluates the scene's own formulas. Its
-arguments are the CPU loop's (``integrate``), members as rows; a member's scratch (stages, the
-extension's coefficients, the events' signs) is in thread-local arrays of the state's width.
+(:mod:`stability.engine.gpu.retarget`), so the GPU evaluates the scene's own formulas. Its arguments
+are the CPU loop's (``integrate``), members as rows; a member's scratch (stages, the extension's
+coefficients, the events' signs) is in thread-local arrays of the state's width.
 
 This module imports ``numba.cuda``: import it only after
 :func:`stability.engine.gpu.device.cuda_module` has found a device or the simulator.
