@@ -6,10 +6,9 @@ and :data:`STUDY_KINDS`, declared to the study framework's register
 To add a family: copy a family's folder (the smallest is ``stability/struck/``; every family has
 its shape: ``scene.py``, ``methods.py``, ``model.py``, ``measure.py``, ``schema.py``,
 ``figures.py`` and a study kind per ``studies/<kind>.py``, or per sub-package with its
-``study.py`` for a study of several modules; a family that registers no scene has no
-``scene.py`` nor ``methods.py``; ``tests/test_structure.py`` holds it), declare its scenes and
-study kinds in its ``__init__.py``, and add its name to :data:`FAMILIES`. The
-generic tests, the docs' scene pages and Dataset reference, ``stability methods`` and
+``study.py`` for a study of several modules; ``tests/test_structure.py`` holds it), declare its
+scenes and study kinds in its ``__init__.py``, and add its name to :data:`FAMILIES`. The generic
+tests, the docs' scene pages and Dataset reference, ``stability methods`` and
 ``stability studies`` pick it up from here. A scene in a module of the user's own comes from
 :func:`stability.define_scene` (:mod:`stability.engine.user_scene`, which refuses a name
 registered here) and is passed as it is.

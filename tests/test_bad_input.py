@@ -54,6 +54,8 @@ RUN = dict(h=0.1, t_end=1.0)
 TOP = np.array([1.0, 1.2, 0.5, 0.0, 0.0, 1.5])
 TOP_STARTS = np.tile([0.0, 0.0, 4.0, 0.3, 0.0, 0.95], (3, 1))
 SCENE_RUN = dict(h=0.01, n_steps=10)
+#: Starts of the relaxing tumbler (scene relaxing_tumbler).
+TUMBLER_STARTS = np.array([[1.0, 1.2, 1.4], [0.5, 1.0, -1.2]])
 
 
 @functools.cache
@@ -460,6 +462,33 @@ API = {
     "parameter set the scene refuses": (
         lambda: stability.run_scene("heavy_top", "lp2", TOP_STARTS, np.ones(3), **SCENE_RUN),
         "parameter set 0 of scene 'heavy_top' (lp2): a top is described by 6 numbers"),
+    "relaxing tumbler that gains energy": (
+        lambda: stability.run_scene("relaxing_tumbler", "rk4", TUMBLER_STARTS,
+                                    np.array([1.0, 2.0, 3.0, -0.1]), **SCENE_RUN),
+        "parameter set 0 of scene 'relaxing_tumbler' (rk4): alpha must be >= 0 (it removes "
+        "energy; 0 is the free body), got -0.1"),
+    "relaxing tumbler's moments out of order": (
+        lambda: stability.run_scene("relaxing_tumbler", "rk4", TUMBLER_STARTS,
+                                    np.array([2.0, 1.0, 3.0, 0.1]), **SCENE_RUN),
+        "the moments (I1, I2, I3) must be positive and ascending (the canonical frame), got "
+        "(2.0, 1.0, 3.0)"),
+    "relaxing tumbler without alpha": (
+        lambda: stability.run_scene("relaxing_tumbler", "rk4", TUMBLER_STARTS, np.ones(3),
+                                    **SCENE_RUN),
+        "a relaxing tumbler's parameters are 4 numbers (I1, I2, I3, alpha), got 3"),
+    "relaxing tumbler's alpha not finite": (
+        lambda: stability.run_scene("relaxing_tumbler", "rk4", TUMBLER_STARTS,
+                                    np.array([1.0, 2.0, 3.0, np.nan]), **SCENE_RUN),
+        "a relaxing tumbler's parameters must be finite, got (1.0, 2.0, 3.0, nan)"),
+    "damping time of a sphere": (
+        lambda: asteroid.damping_coefficient((1.0, 1.0, 1.0), 1.0, 10.0),
+        "a sphere (I1 = I3) has no wobble to damp: every axis is principal"),
+    "damping time <= 0": (lambda: asteroid.damping_coefficient((1.0, 2.0, 3.0), 1.0, -10.0),
+                          "damping_time must be finite and > 0 in s, got -10.0"),
+    "wobble about no axis": (lambda: asteroid.wobble_rate((1.0, 2.0, 3.0), 3, 1.0, 0.1),
+                             "axis must be 0, 1 or 2 (canonical, I1 <= I2 <= I3), got 3"),
+    "wobble of a body at rest": (lambda: asteroid.wobble_rate((1.0, 2.0, 3.0), 0, 0.0, 0.1),
+                                 "momentum must be finite and > 0 in kg m2 s-1, got 0.0"),
     "time series over two steps (scene)": (
         lambda: stability.run_scene("heavy_top", "lp2", TOP_STARTS, [TOP, TOP], sizes=[2, 1],
                                     h=[0.01, 0.02], n_steps=10, save_every=2),

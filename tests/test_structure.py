@@ -284,13 +284,10 @@ def test_no_familys_model_runs_an_ensemble():
     assert running == [], f"models that run members: {running}"
 
 
-#: The modules every family has: its physics, its per-member measurement, its Datasets'
-#: declarations and its figures (with ``__init__.py``, which declares what it registers).
-FAMILY_MODULES = ("model", "measure", "schema", "figures")
-#: The modules of a family that registers a scene (its ``SCENES``), and only of one: the scene
-#: and its METHODS table. A family that registers none integrates nothing (the asteroid: the
-#: free body's exact motion) and has neither.
-SCENE_MODULES = ("scene", "methods")
+#: The modules every family has: the scene it registers (its ``SCENES``) and its METHODS table,
+#: its physics, its per-member measurement, its Datasets' declarations and its figures (with
+#: ``__init__.py``, which declares what it registers).
+FAMILY_MODULES = ("scene", "methods", "model", "measure", "schema", "figures")
 #: The file of a study kind's module in a study of several modules (a sub-package of the
 #: family), and the one module ``studies/`` may hold besides the kinds.
 STUDY_MODULE, STUDIES_COMMON = "study", "common"
@@ -303,9 +300,9 @@ def test_every_family_has_the_same_shape():
     - ``model.py`` (the physics: equations, parameters, presets, starts; no runs),
       ``measure.py`` (the runs and what is measured per member), ``schema.py`` (its Datasets'
       declarations) and ``figures.py``;
-    - ``scene.py`` (the registered scene) and ``methods.py`` (its METHODS table) if and only if
-      it registers a scene; ``exact.py`` where there is an exact solution (optional: the free
-      body and the heavy top);
+    - ``scene.py`` (the scenes it registers: at least one) and ``methods.py`` (its METHODS
+      table); ``exact.py`` where there is an exact solution (optional: the free body, the heavy
+      top and the asteroid);
     - its study kinds (its ``STUDIES``) each ``studies/<kind>.py``, a module of the package
       ``studies/`` named after the kind, or, for a study of several modules (its own measure,
       schema and figures), a sub-package of the family whose ``study.py`` is the kind (the free
@@ -330,11 +327,8 @@ def test_every_family_has_the_same_shape():
         packages_here = {p.name for p in folder.iterdir()
                          if p.is_dir() and (p / "__init__.py").is_file()}
         needed = set(FAMILY_MODULES) | {"__init__"}
-        needed |= set(SCENE_MODULES) if package.SCENES else set()
         wrong += [f"{family} has no {m}.py" for m in sorted(needed - modules_here)]
-        if not package.SCENES:
-            wrong += [f"{family} registers no scene but has {m}.py"
-                      for m in SCENE_MODULES if m in modules_here]
+        wrong += [f"{family} registers no scene"] * (not package.SCENES)
         wrong += [f"{family} has {m}.py at its top" for m in ("studies", STUDY_MODULE)
                   if m in modules_here]
         kinds_in_studies, study_packages = set(), set()

@@ -1,5 +1,5 @@
 """A tumbler's physics: its spin state from its two periods and moment ratios (and its periods
-from a state), and the mass properties of its shape model.
+from a state), the mass properties of its shape model, and the linear theory of its relaxation.
 
 **The spin state** (:func:`spin_states`, :func:`state_of`). Conventions (Samarasinha & A'Hearn, Icarus 93, 194 (1991); Kaasalainen, A&A 376, 302 (2001);
 Pravec et al., Icarus 173, 108 (2005) and Icarus 233, 48 (2014)): moments I1 <= I2 <= I3 (I1 about
@@ -44,6 +44,11 @@ and nothing else (no pickle, no scene graph of other files), and refused in one 
 missing, of another format, open (not watertight), with inconsistent or inward-facing facets, or
 of zero or negative volume. trimesh has no test for self-intersection without python-fcl; a mesh
 that crosses itself but is closed and consistently wound is not caught here.
+
+**The relaxation** (:func:`wobble_rate`, :func:`damping_coefficient`): a tumbler whose interior
+dissipates (:mod:`stability.asteroid.methods`, equation (1), the scene ``relaxing_tumbler``)
+loses its wobble about the major axis at a rate the linearisation gives exactly, and gains one
+about the minor axis; its axisymmetric motion is exact (:mod:`stability.asteroid.exact`).
 """
 
 from __future__ import annotations
@@ -57,7 +62,9 @@ import numpy as np
 from ..core.body import RigidBody
 from ..core.elliptic import carlson_rf, ellipk
 from ..free_body.exact import MAJOR, MINOR, Q_K, Q_KIND, Q_M, Q_M1, Q_RATE, motion
+from ..integrators.spec import P_I1, P_I2, P_I3, P_INV1
 from ..util.checks import positive_float, real_array, vectors3
+from .methods import P_ALPHA, relaxation_params
 
 #: The two modes of a tumbler, as the literature names them.
 MODES = ("SAM", "LAM")
@@ -433,6 +440,76 @@ def mass_properties(shape, density: float = 1.0) -> MassProperties:
                           np.asarray(props["center_mass"], float), J, moments, axes)
 
 
+def wobble_rate(moments, axis: int, momentum: float, alpha: float) -> float:
+    """The growth rate (1/s) of a small wobble about a spin about ``axis`` of the relaxing
+    tumbler (:mod:`stability.asteroid.methods`, equation (1)): negative where it dies out.
+
+    Linearised about ``m = L e_j``, the two components across the axis obey
+    ``x' = -k a x - b y``, ``y' = a x - k b y`` with ``k = alpha L``,
+    ``a = L (1/I_b - 1/I_j)`` and ``b = L (1/I_c - 1/I_j)`` (b, c the other axes), whose
+    eigenvalues are ``-k (a + b) / 2 +- sqrt(k^2 (a - b)^2 / 4 - a b)``. About the major axis
+    a, b > 0 and the wobble decays at ``k (a + b) / 2`` while it turns at
+    ``sqrt(a b - k^2 (a - b)^2 / 4)`` (at alpha = 0, the free body's Omega); about the minor
+    axis a, b < 0 and the same dissipation makes it grow (Bloch, Krishnaprasad, Marsden &
+    Ratiu, Comm. Math. Phys. 175, 1 (1996): the instability a dissipation induces); about
+    the intermediate axis a b < 0 and it grows as the free body's does, a little faster.
+
+    Parameters
+    ----------
+    moments : array_like, shape (3,)
+        Canonical moments I1 <= I2 <= I3 (kg m^2).
+    axis : {0, 1, 2}
+        The spin axis.
+    momentum : float
+        |L| (kg m^2/s), > 0.
+    alpha : float
+        The damping coefficient (kg^-1 m^-2 s), >= 0.
+
+    Returns
+    -------
+    float
+        The largest real part of the two eigenvalues.
+    """
+    p = relaxation_params([*np.asarray(moments, dtype=float).reshape(-1), alpha])
+    if axis not in (0, 1, 2):
+        raise ValueError(f"axis must be 0, 1 or 2 (canonical, I1 <= I2 <= I3), got {axis!r}")
+    length = positive_float("momentum", momentum, "kg m2 s-1")
+    inv = p[P_INV1:P_INV1 + 3]
+    others = [k for k in range(3) if k != axis]
+    a, b = (length * (inv[k] - inv[axis]) for k in others)
+    k = p[P_ALPHA] * length
+    disc = 0.25 * k * k * (a - b) ** 2 - a * b
+    return float(-0.5 * k * (a + b) + (math.sqrt(disc) if disc > 0.0 else 0.0))
+
+
+def damping_coefficient(moments, momentum: float, damping_time: float) -> float:
+    """The alpha of equation (1) (kg^-1 m^-2 s) with which a small wobble about the major axis
+    dies out in ``damping_time``: ``alpha = 2 / (tau L^2 (1/I1 + 1/I2 - 2/I3))``, the inverse
+    of :func:`wobble_rate`, exact while the wobble still turns.
+
+    Parameters
+    ----------
+    moments : array_like, shape (3,)
+        Canonical moments I1 <= I2 <= I3 (kg m^2), I1 < I3.
+    momentum : float
+        |L| (kg m^2/s), > 0.
+    damping_time : float
+        The e-folding time tau (s) of the wobble's amplitude, > 0.
+
+    Returns
+    -------
+    float
+    """
+    p = relaxation_params([*np.asarray(moments, dtype=float).reshape(-1), 0.0])
+    length = positive_float("momentum", momentum, "kg m2 s-1")
+    tau = positive_float("damping_time", damping_time, "s")
+    spread = (p[P_I3] - p[P_I1]) / (p[P_I1] * p[P_I3]) + (p[P_I3] - p[P_I2]) / (p[P_I2] * p[P_I3])
+    if not spread > 0.0:
+        raise ValueError("a sphere (I1 = I3) has no wobble to damp: every axis is principal")
+    return 2.0 / (tau * length * length * spread)
+
+
 __all__ = ["MODES", "SpinState", "check_mode", "check_moments", "energy_ratio_bounds",
            "spin_state", "spin_states", "state_of",
-           "FORMATS", "MassProperties", "load_mesh", "mass_properties", "mesh_from_arrays"]
+           "FORMATS", "MassProperties", "load_mesh", "mass_properties", "mesh_from_arrays",
+           "damping_coefficient", "wobble_rate"]

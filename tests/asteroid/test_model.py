@@ -11,7 +11,8 @@ import pytest
 from stability.asteroid.lightcurve import ellipsoid_mesh, main_frequencies
 from stability.asteroid.measure import lightcurve_peaks
 from stability.asteroid.model import (
-    energy_ratio_bounds, mass_properties, spin_state, spin_states, state_of,
+    damping_coefficient, energy_ratio_bounds, mass_properties, spin_state, spin_states, state_of,
+    wobble_rate,
 )
 
 #: Pravec et al., "The tumbling spin state of (99942) Apophis", Icarus 233, 48 (2014). Abstract
@@ -289,3 +290,19 @@ def test_bad_shape_models_are_refused_in_one_line(trimesh, tmp_path):
     assert "must be one of obj, stl" in one_line(lambda: mass_properties(tmp_path / "x.pkl"))
     (tmp_path / "bad.stl").write_bytes(b"\x00" * 40)
     assert "bad.stl" in one_line(lambda: mass_properties(tmp_path / "bad.stl"))
+
+
+def test_the_damping_coefficient_gives_the_damping_time_it_was_made_from():
+    """alpha from a damping time tau, then the major axis's wobble rate from alpha: -1 / tau
+    to 1e-15; at alpha = 0 every rate is the free body's (0 about the stable axes,
+    sqrt(-Omega^2) about the intermediate one)."""
+    moments, length = (0.61, 0.965, 1.0), 3.0
+    for tau in (1e3, 4.2e7, 3.1e16):
+        alpha = damping_coefficient(moments, length, tau)
+        assert wobble_rate(moments, 2, length, alpha) == pytest.approx(-1.0 / tau, rel=1e-15)
+    w2 = length / moments[1]
+    omega2 = (moments[1] - moments[0]) * (moments[1] - moments[2]) * w2 ** 2 / (
+        moments[0] * moments[2])
+    assert wobble_rate(moments, 1, length, 0.0) == pytest.approx(math.sqrt(-omega2), rel=1e-14)
+    assert wobble_rate(moments, 0, length, 0.0) == wobble_rate(moments, 2, length, 0.0) == 0.0
+
