@@ -38,9 +38,8 @@ from .free_body.spin_ensembles import run_ensemble, run_ensembles  # noqa: E402
 from .free_body.ensemble_plan import ensemble_memory  # noqa: E402
 from .output.io import load, save  # noqa: E402
 from .engine.user_scene import define_scene  # noqa: E402
-from .api import run_scene  # noqa: E402
+from .api import run_adaptive, run_scene  # noqa: E402
 from .engine.events import Event  # noqa: E402
-from .ensemble.adaptive_run import run_adaptive  # noqa: E402
 from .ensemble.options import RunOptions  # noqa: E402
 from .free_body.keep import Keep  # noqa: E402
 

@@ -9,7 +9,7 @@ from __future__ import annotations
 
 import functools
 
-from .ensemble import scene_run
+from .ensemble import adaptive_run, scene_run
 from .registry import scene as registered_scene
 
 
@@ -18,4 +18,9 @@ def run_scene(scene, method, x0, parameters, **kwargs):
     return scene_run.run_scene(registered_scene(scene), method, x0, parameters, **kwargs)
 
 
-__all__ = ["run_scene"]
+@functools.wraps(adaptive_run.run_adaptive)
+def run_adaptive(scene, x0, parameters, t_end, **kwargs):
+    return adaptive_run.run_adaptive(registered_scene(scene), x0, parameters, t_end, **kwargs)
+
+
+__all__ = ["run_adaptive", "run_scene"]

@@ -1,5 +1,6 @@
-"""Names are resolved at the door: ``stability.run_scene`` takes a registered scene's name or a
-Scene (the layers below take the Scene alone: ``tests/engine/test_scene.py``)."""
+"""Names are resolved at the door: ``stability.run_scene`` and ``stability.run_adaptive`` take a
+registered scene's name or a Scene (the layers below take the Scene alone:
+``tests/engine/test_scene.py``)."""
 
 import inspect
 
@@ -7,14 +8,16 @@ import numpy as np
 import pytest
 
 import stability
-from stability.ensemble import scene_run
+from stability.ensemble import adaptive_run, scene_run
 from stability.heavy_top.scene import HEAVY_TOP
 from stability.registry import scene
 
 
-def test_the_door_has_the_signature_and_docs_of_the_run_it_opens():
-    assert inspect.signature(stability.run_scene) == inspect.signature(scene_run.run_scene)
-    assert stability.run_scene.__doc__ == scene_run.run_scene.__doc__
+@pytest.mark.parametrize("door,run", [(stability.run_scene, scene_run.run_scene),
+                                       (stability.run_adaptive, adaptive_run.run_adaptive)])
+def test_the_door_has_the_signature_and_docs_of_the_run_it_opens(door, run):
+    assert inspect.signature(door) == inspect.signature(run)
+    assert door.__doc__ == run.__doc__
 
 
 def test_the_door_looks_a_name_up_in_the_registry():
@@ -23,3 +26,16 @@ def test_the_door_looks_a_name_up_in_the_registry():
         stability.run_scene("heavy_tops", "lp2", np.ones((1, 6)), HEAVY_TOP.example(1)[1][0],
                             h=0.01, n_steps=1)
 
+
+
+def test_an_adaptive_run_by_name_is_the_run_of_the_scene():
+    x0, sets = HEAVY_TOP.example(2)
+    runs = [stability.run_adaptive(which, x0, sets[0], 0.5, rtol=1e-8, atol=0.0,
+                                   options=stability.RunOptions(progress=False))
+            for which in ("heavy_top", HEAVY_TOP)]
+    assert runs[0].equals(runs[1])  # the same numbers; the attributes but the timings too:
+    timings = {"wall_time", "compile_time", "member_steps_per_second"}
+    assert ({k: v for k, v in runs[0].attrs.items() if k not in timings}
+            == {k: v for k, v in runs[1].attrs.items() if k not in timings})
+    with pytest.raises(ValueError, match="heavy_tops"):
+        stability.run_adaptive("heavy_tops", x0, sets[0], 0.5, rtol=1e-8, atol=0.0)

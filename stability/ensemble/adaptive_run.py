@@ -44,9 +44,11 @@ def run_adaptive(scene, x0, parameters, t_end, *, rtol, atol, events=(), samples
 
     Parameters
     ----------
-    scene : Scene
-        A scene with a vector field (every scene of :func:`stability.define_scene`,
-        ``free_body``, ``sphere_damper``).
+    scene : str or Scene
+        A scene with a vector field (every scene of :func:`stability.define_scene`;
+        ``free_body``, ``heavy_top``, ``sphere_damper``, ``gyrostat``, ``relaxing_tumbler``):
+        a registered scene's name (looked up by :func:`stability.run_adaptive`) or the
+        scene. This function itself takes the Scene alone.
     x0 : array_like, shape (N, n)
         Starts, group after group, in the kernels' frame and units.
     parameters : parameter set, or list of them
