@@ -32,7 +32,7 @@ from __future__ import annotations
 import numpy as np
 from numba import njit
 
-from ..integrators.rk4 import euler_rhs
+from ..integrators.rk4 import euler_jvp, euler_rhs
 from ..integrators.rotations import cross
 from ..integrators.spec import N_BODY_PARAMS, MethodSpec, body_params
 from ..util.checks import real_array
@@ -86,6 +86,18 @@ def relaxation_rhs(m1, m2, m3, p):
     d1, d2, d3 = cross(m1, m2, m3, c1, c2, c3)
     alpha = p[P_ALPHA]
     return c1 + alpha * d1, c2 + alpha * d2, c3 + alpha * d3
+
+
+@njit(forceinline=True, error_model="numpy")
+def relaxation_jvp(m1, m2, m3, v1, v2, v3, p):
+    """The Jacobian of (1) applied to ``v``, exactly: with ``c = m x w`` and ``c' = J_c v``
+    (:func:`stability.integrators.rk4.euler_jvp`), ``c' + alpha (v x c + m x c')``."""
+    c1, c2, c3 = euler_rhs(m1, m2, m3, p)
+    e1, e2, e3 = euler_jvp(m1, m2, m3, v1, v2, v3, p)
+    f1, f2, f3 = cross(v1, v2, v3, c1, c2, c3)
+    g1, g2, g3 = cross(m1, m2, m3, e1, e2, e3)
+    alpha = p[P_ALPHA]
+    return e1 + alpha * (f1 + g1), e2 + alpha * (f2 + g2), e3 + alpha * (f3 + g3)
 
 
 @njit(inline="always")

@@ -6,7 +6,8 @@ Equation (1) of :mod:`stability.asteroid.methods`: Euler's equations with a diss
 keeps :math:`|m| = |L|` (the invariant) and lowers the energy until m lies along a principal
 axis. Exact solution for an axisymmetric body (:func:`stability.asteroid.exact.relaxed_momentum`,
 here as :func:`exact`); the linear rates about each axis: :func:`stability.asteroid.model.
-wobble_rate`.
+wobble_rate`. With its vector field and Jacobian (``linearisation``) it also runs with adaptive
+steps (:func:`stability.run_adaptive`) and with tangents (:mod:`stability.tangents`).
 """
 
 import numpy as np
@@ -14,9 +15,10 @@ from numba import njit
 
 from ..util import conventions as cv
 from ..engine.scene import Scene, component
+from ..engine.tangent import Linearisation
 from ..integrators.spec import P_I1, P_INV1
 from .exact import relaxed_momentum
-from .methods import METHODS
+from .methods import METHODS, relaxation_jvp, relaxation_params, relaxation_rhs
 
 
 @njit(inline="always")
@@ -78,4 +80,5 @@ RELAXING_TUMBLER = Scene(
     parameters=("I1", "I2", "I3", "alpha"),
     parameter_units=("kg m2", "kg m2", "kg m2", "kg-1 m-2 s"),
     tracked_units=cv.UNITS_ANGULAR_VELOCITY,
+    linearisation=Linearisation(relaxation_rhs, relaxation_jvp, relaxation_params),
 )

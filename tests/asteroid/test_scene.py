@@ -1,7 +1,8 @@
 """The scene ``relaxing_tumbler`` (stability.asteroid.scene) run by the member loop: a small
 wobble about each axis grows or dies out at the linear theory's rate
 (stability.asteroid.model.wobble_rate), a tumbler ends spinning about its major axis at the
-lowest energy its |L| allows, and a run by name is a labelled Dataset."""
+lowest energy its |L| allows, adaptive steps follow the closed form, and a run by name is a
+labelled Dataset."""
 
 import math
 
@@ -93,3 +94,16 @@ def test_a_run_by_name_is_a_dataset_with_its_parameters_labelled():
     np.testing.assert_allclose(np.linalg.norm(np.column_stack(
         [ds[f"m{i}_final"].values for i in (1, 2, 3)]), axis=1), np.linalg.norm(x0, axis=1),
         rtol=1e-12)
+
+
+def test_adaptive_steps_follow_the_closed_form():
+    """rtol = 1e-10, atol = 0, to t = 20 s (oblate and prolate): within 1e-9 of the exact
+    relaxation, relative to its largest component (measured 1.9e-11 oblate, 1.7e-10
+    prolate)."""
+    x0 = np.array([[1.0, 1.2, 1.4], [0.5, -1.0, 0.3]])
+    for parameters in (np.array([1.0, 1.0, 2.0, 0.1]), np.array([1.0, 2.0, 2.0, 0.1])):
+        ds = stability.run_adaptive("relaxing_tumbler", x0, parameters, 20.0, rtol=1e-10,
+                                    atol=0.0, options=stability.RunOptions(progress=False))
+        final = np.column_stack([ds[f"m{i}_final"].values for i in (1, 2, 3)])
+        exact = RELAXING_TUMBLER.exact(x0, parameters, 20.0)
+        assert np.max(np.abs(final - exact)) <= 1e-9 * np.max(np.abs(exact))
