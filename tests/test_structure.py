@@ -39,9 +39,8 @@ UPWARD: dict = {}
 #: family imports another family, and the family's docstring names the modules it imports.
 BUILDS_ON = {
     ("stability.asteroid.model", "free_body"): "the spin state from the periods inverts the "
-                                               "free body's exact solution",
-    ("stability.asteroid.lightcurve", "free_body"): "a light curve observes the exact attitude",
-    ("stability.asteroid.measure", "free_body"): "periods read off the exact attitude",
+                                               "free body's exact solution, and its attitude "
+                                               "is the exact attitude",
     ("stability.earth.model", "free_body"): "Euler's wobble is the free body's oscillation "
                                             "about its stable axis",
     ("stability.earth.measure", "free_body"): "the wobble is run as a free-body ensemble and "
@@ -50,8 +49,6 @@ BUILDS_ON = {
                                                   "scene's does",
     ("stability.engine_body.measure", "free_body"): "the engines' flips against the exact "
                                                     "motion and the linear theory",
-    ("stability.engine_body.studies.engine_artefacts", "free_body"): "the study compares the "
-                                                                     "free body's attitude methods",
 }
 
 #: Lines a module may have; those over it hold two ideas (or more), but for these, each with

@@ -8,8 +8,9 @@ away) is the sum over the facets that are lit and seen, mu0 = n . s > 0 and mu =
 
 (Kaasalainen, Torppa & Muinonen, Icarus 153, 37 (2001); Muinonen & Lumme, A&A 584, A23 (2015)),
 in units of the albedo times the flux; no shadowing, so exact for convex shapes only. s and o
-are turned into the body frame by the exact attitude (:func:`stability.free_body.exact_attitude.
-exact_attitude`) in the frame of L: space Z along the angular momentum.
+are turned into the body frame by the state's exact attitude
+(:meth:`stability.asteroid.model.SpinState.attitude`) in the frame of L: space Z along the
+angular momentum.
 
 A tumbler's light curve is periodic in neither period alone: its spectrum holds the
 combinations j f_psi + k f_phi of the two fundamental frequencies (Kaasalainen 2001, A&A 376,
@@ -25,8 +26,6 @@ import math
 
 import numpy as np
 
-from ..core.quaternions import matrix_to_quaternion, quaternion_to_matrix
-from ..free_body.exact_attitude import exact_attitude
 from ..util.checks import positive_int, real_array
 from .model import SpinState
 
@@ -119,15 +118,6 @@ def brightness(normals, areas, sun, observer, law: str = "lommel-seeliger") -> n
     return out
 
 
-def l_frame_start(w0, moments) -> np.ndarray:
-    """The attitude q0 at t = 0 that puts L = I w0 along space Z (scalar-first quaternion)."""
-    m = np.asarray(moments, float) * np.asarray(w0, float)
-    z = m / np.linalg.norm(m)
-    x = np.cross([0.0, 1.0, 0.0] if abs(z[1]) < 0.9 else [1.0, 0.0, 0.0], z)
-    x /= np.linalg.norm(x)
-    return matrix_to_quaternion(np.array([x, np.cross(z, x), z]))
-
-
 def _direction(name, value) -> np.ndarray:
     d = real_array(name, value)
     if d.shape != (3,) or not np.all(np.isfinite(d)) or not np.any(d):
@@ -165,8 +155,7 @@ def lightcurve(state: SpinState, t, sun, observer, shape=None,
     if shape is None:
         shape = ellipsoid_mesh(*ellipsoid_axes(state.moments))
     normals, areas = facets(*shape)
-    q = exact_attitude(state.body, state.w0, t, l_frame_start(state.w0, state.moments))
-    R = quaternion_to_matrix(q)  # body to space; rows of R^T are the body axes in space
+    R = state.attitude(t)  # body to space; rows of R^T are the body axes in space
     return brightness(normals, areas, np.einsum("nji,j->ni", R, s),
                       np.einsum("nji,j->ni", R, o), law)
 
@@ -225,4 +214,4 @@ def spectral_peaks(frequency, amplitude, count: int = 3) -> np.ndarray:
 
 
 __all__ = ["LAWS", "brightness", "ellipsoid_axes", "ellipsoid_mesh", "facets", "lightcurve",
-           "l_frame_start", "main_frequencies", "spectral_peaks", "spectrum"]
+           "main_frequencies", "spectral_peaks", "spectrum"]

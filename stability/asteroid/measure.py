@@ -14,11 +14,9 @@ import math
 
 import numpy as np
 
-from ..core.quaternions import quaternion_to_matrix
-from ..free_body.exact_attitude import exact_attitude
 from ..util import conventions as cv
 from .lightcurve import (
-    ellipsoid_axes, ellipsoid_mesh, l_frame_start, lightcurve, main_frequencies, spectral_peaks,
+    ellipsoid_axes, ellipsoid_mesh, lightcurve, main_frequencies, spectral_peaks,
     spectrum,
 )
 from .schema import TUMBLER
@@ -26,11 +24,6 @@ from .model import SpinState, spin_states
 
 #: The reference axis (canonical, 0-based) of each mode: the short axis in SAM, the long in LAM.
 REFERENCE_AXIS = {"SAM": 2, "LAM": 0}
-
-
-def _attitude(state: SpinState, t) -> np.ndarray:
-    q0 = l_frame_start(state.w0, state.moments)
-    return quaternion_to_matrix(exact_attitude(state.body, state.w0, np.atleast_1d(t), q0))
 
 
 def measured_periods(state: SpinState, periods: int = 50, samples: int = 64
@@ -57,16 +50,16 @@ def measured_periods(state: SpinState, periods: int = 50, samples: int = 64
     L = np.array([0.0, 0.0, 1.0])
 
     def m2(time):
-        return float(np.einsum("nji,j->ni", _attitude(state, time), L)[0, 1])
+        return float(np.einsum("nji,j->ni", state.attitude(time), L)[0, 1])
 
-    R = _attitude(state, t)
+    R = state.attitude(t)
     y = np.einsum("nji,j->ni", R, L)[:, 1]
     up = np.flatnonzero((y[:-1] < 0.0) & (y[1:] >= 0.0))
     first, last = (brentq(m2, t[j], t[j + 1], xtol=1e-300, rtol=4 * np.finfo(float).eps)
                    for j in (up[0], up[-1]))
     cycles = len(up) - 1
     times = np.concatenate([[first], t[(t > first) & (t < last)], [last]])
-    axis = _attitude(state, times)[:, :, REFERENCE_AXIS[state.mode]]  # reference axis, space
+    axis = state.attitude(times)[:, :, REFERENCE_AXIS[state.mode]]  # reference axis, space
     azimuth = np.unwrap(np.arctan2(axis[:, 1], axis[:, 0]))
     rate = (azimuth[-1] - azimuth[0]) / (last - first)
     return (last - first) / cycles, 2.0 * math.pi / abs(rate)

@@ -61,7 +61,9 @@ import numpy as np
 
 from ..core.body import RigidBody
 from ..core.elliptic import carlson_rf, ellipk
+from ..core.quaternions import matrix_to_quaternion, quaternion_to_matrix
 from ..free_body.exact import MAJOR, MINOR, Q_K, Q_KIND, Q_M, Q_M1, Q_RATE, motion
+from ..free_body.exact_attitude import exact_attitude
 from ..integrators.spec import P_I1, P_I2, P_I3, P_INV1
 from ..util.checks import positive_float, real_array, vectors3
 from .methods import P_ALPHA, relaxation_params
@@ -109,10 +111,26 @@ class SpinState:
         """The state's moments as a :class:`~stability.RigidBody` (axes canonical)."""
         return RigidBody(*self.moments, physical=False, name=f"{self.mode} tumbler")
 
+    def attitude(self, t) -> np.ndarray:
+        """The body-to-space rotations (n, 3, 3) at times ``t`` (n,), in the frame of L (space
+        Z along the angular momentum; :func:`l_frame_start`): the free body's exact attitude
+        (:func:`stability.free_body.exact_attitude.exact_attitude`)."""
+        q0 = l_frame_start(self.w0, self.moments)
+        return quaternion_to_matrix(exact_attitude(self.body, self.w0, np.atleast_1d(t), q0))
+
     @property
     def frequencies(self) -> tuple[float, float]:
         """(f_phi, f_psi) = (1 / P_phi, 1 / P_psi), cycles per time unit."""
         return 1.0 / self.period_phi, 1.0 / self.period_psi
+
+
+def l_frame_start(w0, moments) -> np.ndarray:
+    """The attitude q0 at t = 0 that puts L = I w0 along space Z (scalar-first quaternion)."""
+    m = np.asarray(moments, float) * np.asarray(w0, float)
+    z = m / np.linalg.norm(m)
+    x = np.cross([0.0, 1.0, 0.0] if abs(z[1]) < 0.9 else [1.0, 0.0, 0.0], z)
+    x /= np.linalg.norm(x)
+    return matrix_to_quaternion(np.array([x, np.cross(z, x), z]))
 
 
 def _pi_minus(n: float, m: float, m1: float) -> float:
@@ -510,6 +528,7 @@ def damping_coefficient(moments, momentum: float, damping_time: float) -> float:
 
 
 __all__ = ["MODES", "SpinState", "check_mode", "check_moments", "energy_ratio_bounds",
+           "l_frame_start",
            "spin_state", "spin_states", "state_of",
            "FORMATS", "MassProperties", "load_mesh", "mass_properties", "mesh_from_arrays",
            "damping_coefficient", "wobble_rate"]

@@ -17,17 +17,15 @@ The family's modules, each importing only downward:
 - :mod:`.figures`: its figure, drawn from the Dataset.
 
 It builds on the free body, whose flip it measures and whose scenes it shares the state with
-(:mod:`stability.free_body.scene_attitude`, the exact solution :mod:`stability.free_body.exact`
-and its flip intervals :mod:`stability.free_body.measure`, the linear theory
-:mod:`stability.free_body.model`, the attitude methods :mod:`stability.free_body.attitude`, its
-methods :mod:`stability.free_body.methods`), and on the shared layers: :mod:`stability.core`,
-:mod:`stability.util`, :mod:`stability.integrators` (MethodSpec, rotations),
-:mod:`stability.engine.scene` (the scene contract), the scene-generic ensembles
-(:mod:`stability.ensemble.chunks`) and their start rule (:mod:`stability.ensemble.starts`), the
-estimators
-(:mod:`stability.analysis`), :mod:`stability.output`, the Dataset register
-(:mod:`stability.ensemble.schema`), :mod:`stability.study` (the study framework) and
-:mod:`stability.plotting`.
+(:mod:`stability.free_body.scene_attitude`, the exact solution and its flip intervals
+:mod:`stability.free_body.exact`, the linear theory :mod:`stability.free_body.model`, the
+scenes of the methods it compares :mod:`stability.free_body.attitude`), and on the shared
+layers: :mod:`stability.core`, :mod:`stability.util`, :mod:`stability.integrators`
+(MethodSpec, rotations), :mod:`stability.engine.scene` (the scene contract), the scene-generic
+ensembles (:mod:`stability.ensemble.chunks`) and their start rule
+(:mod:`stability.ensemble.starts`), the estimators (:mod:`stability.analysis`),
+:mod:`stability.output`, the Dataset register (:mod:`stability.ensemble.schema`),
+:mod:`stability.study` (the study framework) and :mod:`stability.plotting`.
 
 This package's ``__init__`` imports nothing, so that the scene registry (:mod:`stability.registry`)
 can import :mod:`.scene` without the rest.

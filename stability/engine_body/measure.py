@@ -25,9 +25,7 @@ from ..core.quaternions import IDENTITY, spatial_angular_momentum
 from ..core.body import RigidBody
 from ..analysis.estimates import flip_estimate, omega_squared_estimate
 from ..analysis.members import tracked_members
-from ..free_body.measure import exact_flip_intervals
-from ..free_body.exact import exact_omega
-from ..free_body.methods import METHODS
+from ..free_body.exact import exact_omega, flip_intervals
 from ..output.dataset import storable_attrs
 from ..ensemble.chunks import run_plan
 from ..ensemble.options import RunOptions, run_options
@@ -48,6 +46,12 @@ LEVELS = np.geomspace(1e-3, 0.3, 12)
 #: The growth rate's fit window: from 10 times the start's amplitude to 3 % of the spin (the
 #: tennis-racket study's), so that nudges of 1e-4 of the spin leave a linear phase to fit.
 GROWTH_WINDOW = (10.0, 0.03)
+
+
+def integrator_rules() -> tuple[str, ...]:
+    """The package's methods an engine rule is set beside: those that carry the attitude
+    (scene ``free_body_attitude``) and the exact flow (``"exact"``, scene ``free_body``)."""
+    return (*FREE_BODY_SCENES["free_body_attitude"].methods, "exact")
 
 
 def rule_scene(rule: str) -> Scene:
@@ -169,7 +173,7 @@ def measure_rule(rule, moments, w0, h, t_end, options=None) -> dict:
     prop, m, q, _ = run_rule(rule, moments, w0, h, t_end, options=options)
     ok = prop.status == cv.STATUS_OK
     mem = tracked_members(prop.extras, w0, 2, spin, LEVELS * spin, prop.status)
-    exact, asymptote = exact_flip_intervals(body, 2, w0)
+    exact, asymptote, _ = flip_intervals(body, w0)  # spin about axis 2, the intermediate
     flips = flip_estimate(mem, exact, asymptote)
     growth = omega_squared_estimate(mem, omega_squared(body, 2, spin), low_factor=GROWTH_WINDOW[0],
                                     high_fraction=GROWTH_WINDOW[1])
@@ -322,7 +326,7 @@ def measure_artefacts(rules, moments, w0, steps, t_end, *, tolerance=0.01, searc
         saved = run_rule(rule, moments, w0[trace_member:trace_member + 1], trace_h, t_end,
                          save_every=1, options=options.within(f"{rule}-trace"))[3]
         traces.append(np.concatenate([w0[trace_member:trace_member + 1, 1], saved[0, :, 1]]))
-    exact = exact_flip_intervals(RigidBody(*moments, physical=False), 2, w0)[0]
+    exact = flip_intervals(RigidBody(*moments, physical=False), w0)[0]
     spin = float(np.median(np.abs(w0[:, 1])))
     exact_trace = _exact_trace(moments, w0[trace_member], trace_h, t_end)
     return _dataset(rules, steps, table, needed, traces, exact_trace, trace_h, moments, exact,
@@ -344,7 +348,7 @@ _TABLE = ("fraction_flipping", "flip_interval", "flip_interval_error", "growth_r
 def _dataset(rules, steps, table, needed, traces, exact_trace, trace_h, moments, exact, spin,
              tolerance, t_end, members):
 
-    specs = {**METHODS, **ENGINE_RULES}
+    specs = {r: rule_scene(r).method(r) for r in rules}
     data = dict(table)
     evaluations = np.array([specs[r].evaluations for r in rules], dtype=float)
     data["evaluations_per_second"] = evaluations[:, None] / np.asarray(steps)[None, :]

@@ -16,7 +16,6 @@ from pathlib import Path
 
 import numpy as np
 
-from ...free_body.attitude import attitude_methods
 from ...core.body import RigidBody
 from ...ensemble.starts import perturbed_starts
 from ...study.config import ConfigError, Key, Schema, Section
@@ -28,7 +27,7 @@ from ...study.sections import (
 )
 from ...util.threads import numba_threads
 from ..figures import artefacts_figure
-from ..measure import measure_artefacts
+from ..measure import integrator_rules, measure_artefacts
 from ..methods import ENGINE_RULES
 
 BODY, RATE = tossed_body_sections()
@@ -91,7 +90,7 @@ def check(config: dict, source: str) -> dict:
         if rule not in ENGINE_RULES:
             raise ConfigError(f"has {rule!r}, not an engine rule; rules: "
                               f"{', '.join(ENGINE_RULES)}", source, "rules", "engine")
-    allowed = (*attitude_methods(), "exact")
+    allowed = integrator_rules()
     for method in rules["methods"]:
         if method not in allowed:
             raise ConfigError(f"has {method!r}; methods that can run here: "
