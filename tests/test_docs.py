@@ -269,7 +269,7 @@ def test_the_site_builds_without_warnings_and_its_internal_links_resolve(tmp_pat
     studies = (out / "studies.html").read_text()
     assert all(kind in studies for kind in STUDIES)
     guides = "".join((out / "guide" / f"{g}.html").read_text() for g in (
-        "free_body", "torqued", "impacts_rolling", "twisting", "dissipation"))
+        "free_body", "torqued", "impacts_rolling", "twisting", "dissipation", "asteroids"))
     assert all("Scene <code" in guides and name in guides for name in SCENES)
     # each scene's equations are mathematics there (MathJax typesets them), not code
     assert all(scene.latex for scene in SCENES.values())

@@ -5,9 +5,10 @@ The state is the body angular momentum ``(m1, m2, m3)`` in the canonical princip
 Equation (1) of :mod:`stability.asteroid.methods`: Euler's equations with a dissipation that
 keeps :math:`|m| = |L|` (the invariant) and lowers the energy until m lies along a principal
 axis. Exact solution for an axisymmetric body (:func:`stability.asteroid.exact.relaxed_momentum`,
-here as :func:`exact`); the linear rates about each axis: :func:`stability.asteroid.model.
-wobble_rate`. With its vector field and Jacobian (``linearisation``) it also runs with adaptive
-steps (:func:`stability.run_adaptive`) and with tangents (:mod:`stability.tangents`).
+here as :func:`exact`); the linear rates about each axis:
+:func:`stability.asteroid.model.wobble_rate`. With its vector field and Jacobian
+(``linearisation``) it also runs with adaptive steps (:func:`stability.run_adaptive`) and with
+tangents (:mod:`stability.tangents`).
 """
 
 import numpy as np
