@@ -49,12 +49,37 @@ from typing import Callable, Mapping
 
 from numba import njit
 
+from ..integrators.spec import P_I1, P_INV1
+
 
 @njit(forceinline=True, error_model="numpy")
 def component(x1, x2, x3, index):
     """Component ``index`` (0, 1, 2) of a 3-vector, as a select (branch-free in the loop): what
     a scene's ``observe`` reads the spin axis and the two across it with."""
     return x1 if index == 0 else (x2 if index == 1 else x3)
+
+
+@njit(forceinline=True, error_model="numpy")
+def angular_velocity_components(m1, m2, m3, p, ia, ib, ic):
+    """The angular velocity along the spin axis ``ia`` and the axes ``ib``, ``ic`` across it,
+    of a body angular momentum ``m`` whose parameters begin with the body's
+    (:func:`stability.integrators.spec.body_params`): what a scene of ``m`` observes."""
+    return (
+        component(m1, m2, m3, ia) * p[P_INV1 + ia],
+        component(m1, m2, m3, ib) * p[P_INV1 + ib],
+        component(m1, m2, m3, ic) * p[P_INV1 + ic],
+    )
+
+
+def angular_velocity_tracked(m, p, axes):
+    """:func:`angular_velocity_components` in NumPy at the start: ``(w_a, w_b, w_c)`` of body
+    angular momenta ``m`` (N, 3).
+
+    ``w = m / I`` (the division, as the caller's ``w0`` was made), which can differ from the
+    loop's ``m (1 / I)`` in the last bit: the start's own amplitude decides which levels it
+    already reaches, so it must be the caller's.
+    """
+    return tuple(m[:, axes[k]] / p[P_I1 + axes[k]] for k in range(3))
 
 
 def _own_step(spec):
@@ -271,4 +296,5 @@ def imported_scene(module: str, name: str, scene: str = "") -> Scene:
     return getattr(home, name)
 
 
-__all__ = ["Scene", "checked_scene", "imported_scene"]
+__all__ = ["Scene", "angular_velocity_components", "angular_velocity_tracked", "checked_scene",
+           "imported_scene"]

@@ -17,8 +17,8 @@ from ..core.body import RigidBody
 from .exact import exact_omega_of_starts
 from .methods import METHODS
 from ..integrators.rk4 import euler_jvp, euler_rhs
-from ..integrators.spec import P_I1, P_INV1, body_params
-from ..engine.scene import Scene, component
+from ..integrators.spec import body_params
+from ..engine.scene import Scene, angular_velocity_components, angular_velocity_tracked
 from ..engine.tangent import Linearisation
 
 
@@ -47,21 +47,13 @@ def flip_event(x, t, p):
 @njit(inline="always")
 def observe(m1, m2, m3, p, ia, ib, ic):
     """Angular velocity along the spin axis ``ia`` and the perpendicular axes ``ib``, ``ic``."""
-    return (
-        component(m1, m2, m3, ia) * p[P_INV1 + ia],
-        component(m1, m2, m3, ib) * p[P_INV1 + ib],
-        component(m1, m2, m3, ic) * p[P_INV1 + ic],
-    )
+    return angular_velocity_components(m1, m2, m3, p, ia, ib, ic)
 
 
 def tracked(m, p, axes):
-    """:func:`observe` in NumPy at the start: ``(w_a, w_b, w_c)`` of states ``m`` (N, 3).
-
-    ``w = m / I`` (the division, as the caller's ``w0`` was made), which can differ from the
-    loop's ``m (1 / I)`` in the last bit: the start's own amplitude decides which levels it
-    already reaches, so it must be the caller's.
-    """
-    return tuple(m[:, axes[k]] / p[P_I1 + axes[k]] for k in range(3))
+    """:func:`observe` in NumPy at the start: ``(w_a, w_b, w_c)`` of states ``m`` (N, 3), ``w``
+    as the caller's ``w0`` was made (:func:`~stability.engine.scene.angular_velocity_tracked`)."""
+    return angular_velocity_tracked(m, p, axes)
 
 
 def energy(m, moments):
