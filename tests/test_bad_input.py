@@ -480,9 +480,19 @@ API = {
         lambda: stability.run_scene("relaxing_tumbler", "rk4", TUMBLER_STARTS,
                                     np.array([1.0, 2.0, 3.0, np.nan]), **SCENE_RUN),
         "a relaxing tumbler's parameters must be finite, got (1.0, 2.0, 3.0, nan)"),
-    "damping time of a sphere": (
-        lambda: asteroid.damping_coefficient((1.0, 1.0, 1.0), 1.0, 10.0),
-        "a sphere (I1 = I3) has no wobble to damp: every axis is principal"),
+    "damping time of a body without one major axis": (
+        lambda: asteroid.damping_coefficient((1.0, 2.0, 2.0), 1.0, 10.0),
+        "the moments (1.0, 2.0, 2.0) have no single major axis (I2 = I3): a wobble about it "
+        "does not die out"),
+    "damping time shorter than a wobble's turn": (
+        lambda: asteroid.damping_coefficient((1.0, 1.999, 2.0), 1.0, 10.0),
+        "damping_time = 10 s is too short for these moments and |L|: the wobble would no "
+        "longer turn; give more than"),
+    "wobble of a body of two moments": (
+        lambda: asteroid.wobble_rate((1.0, 2.0), 0, 1.0, 0.1),
+        "moments must be three numbers (I1, I2, I3), got 2"),
+    "wobble about a boolean axis": (lambda: asteroid.wobble_rate((1.0, 2.0, 3.0), True, 1.0, 0.1),
+                                    "axis must be 0, 1 or 2 (canonical, I1 <= I2 <= I3), got True"),
     "damping time <= 0": (lambda: asteroid.damping_coefficient((1.0, 2.0, 3.0), 1.0, -10.0),
                           "damping_time must be finite and > 0 in s, got -10.0"),
     "wobble about no axis": (lambda: asteroid.wobble_rate((1.0, 2.0, 3.0), 3, 1.0, 0.1),

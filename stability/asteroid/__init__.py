@@ -6,13 +6,13 @@ family builds on the free body's exact solution and exact attitude
 (:mod:`stability.free_body.exact`, :mod:`stability.free_body.exact_attitude`), which it inverts
 and observes. Its modules, each importing only downward:
 
-- :mod:`.scene`, :mod:`.methods`: the scene ``relaxing_tumbler``, a tumbler whose interior
-  dissipates its energy at fixed angular momentum until it spins about its major axis, and its
-  method;
+- :mod:`.methods`: the equations of a tumbler whose interior dissipates its energy at fixed
+  angular momentum until it spins about its major axis, and their method;
+- :mod:`.exact`: their exact solution for an axisymmetric tumbler;
 - :mod:`.model`: the physics: the spin state (mode SAM or LAM, E/E0, |L|) from the periods and
   back, the mass properties of a closed shape mesh (OBJ, STL; the ``shapes`` extra), and the
   linear theory of the relaxation;
-- :mod:`.exact`: the exact relaxation of an axisymmetric tumbler;
+- :mod:`.scene`: the scene ``relaxing_tumbler``;
 - :mod:`.lightcurve`: synthetic Lommel-Seeliger and Lambert light curves from the exact
   attitude, their spectrum and the frequencies theory predicts;
 - :mod:`.measure`: periods read off a computed attitude; the tumbler ensemble;

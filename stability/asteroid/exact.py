@@ -24,15 +24,25 @@ the angle :math:`-\mu Z(t)`, :math:`Z = \int_0^t z\, dt`, which the substitution
 
 An oblate body (axis s the major axis, :math:`\mu < 0`, :math:`\kappa > 0`) ends spinning about
 its axis; a prolate one (axis s the minor axis) ends spinning across it, where every axis is
-principal. Derived here; checked against the integrated equations (the order test of
-``tests/test_registry.py``) and by its own residual (``tests/asteroid/test_exact.py``).
+principal.
+
+The formulas are evaluated in ``s = |z_0| / L`` and ``rho = r_0 / L`` (no square of a start
+near an axis overflows), with :math:`e^{\pm\kappa t / 2}` inside ``hypot`` (overflow and
+underflow give the limits), and :math:`\ln` of the ratio above from ``log1p`` where it is near
+1, by its series where :math:`|\kappa t| < 10^{-12}`: to a few roundings in every regime
+(against mpmath, ``tests/asteroid/test_exact.py``). Derived here; checked against the
+integrated equations (the order test of ``tests/test_registry.py``) and by its own residual.
 """
 
 from __future__ import annotations
 
+import math
+
 import numpy as np
 
-from ..util.checks import real_array, vectors3
+from ..integrators.spec import P_I1
+from ..util.checks import real_number, vectors3
+from .methods import P_ALPHA, relaxation_params
 
 #: The state's components (x, y, z) for a body symmetric about axis 3 and about axis 1.
 AXIS_ORDER = {2: (0, 1, 2), 0: (1, 2, 0)}
@@ -49,18 +59,26 @@ def symmetry_axis(moments) -> int | None:
     return None
 
 
-def _turned(t, kappa, c, length):
-    """Z(t) / sign(z0) of the module docstring, without cancellation at small or large
-    kappa t."""
+def _turned(t, kappa, s, rho):
+    """Z(t) / z0 of the module docstring, with ``s = |z0| / L`` and ``rho = r0 / L``: ``Z =
+    2 L / kappa ln R``, ``R = (s e^(kappa t / 2) + sqrt(s^2 e^(kappa t) + rho^2)) / (s + n0)``,
+    ``n0 = sqrt(s^2 + rho^2) = 1``; ln R from log1p of R - 1 written without cancellation where
+    R is near 1, from the ratio where it is not, with e^(kappa t) factored out where it would
+    overflow, and by its series where kappa t is too small for 1 / kappa."""
     kt = kappa * t
-    if kt == 0.0:
-        return length / np.sqrt(1.0 + c) * t  # z0 t
-    root0 = np.sqrt(1.0 + c)
-    if kt > 1.0:  # e^(kappa t) may overflow: factor it out
-        tail = np.log((1.0 + np.sqrt(1.0 + c * np.exp(-kt))) / (1.0 + root0))
-        return length * t + 2.0 * length / kappa * tail
-    grown = np.expm1(0.5 * kt) + np.expm1(kt) / (np.sqrt(np.exp(kt) + c) + root0)
-    return 2.0 * length / kappa * np.log1p(grown / (1.0 + root0))
+    if abs(kt) < 1e-12:  # z = z0 (1 + rho^2 kappa t / 2): the next term is below a rounding
+        return t * (1.0 + 0.25 * rho * rho * kt)
+    n0 = math.hypot(s, rho)
+    if kt > 700.0:  # e^(kappa t) would overflow: ln R = kappa t / 2 + ln((s + ...) / (s + n0))
+        tail = math.log((s + math.hypot(s, rho * math.exp(-0.5 * kt))) / (s + n0))
+        return (0.5 * kt + tail) / (s * 0.5 * kt) * t
+    now = math.hypot(s * math.exp(0.5 * kt), rho)  # sqrt(s^2 e^(kappa t) + rho^2)
+    excess = (s * math.expm1(0.5 * kt) + s * s * math.expm1(kt) / (now + n0)) / (s + n0)
+    if abs(excess) < 0.5:
+        log_ratio = math.log1p(excess)
+    else:
+        log_ratio = math.log(s * math.exp(0.5 * kt) + now) - math.log(s + n0)
+    return log_ratio / (s * 0.5 * kt) * t
 
 
 def relaxed_momentum(m0, parameters, t) -> np.ndarray | None:
@@ -74,39 +92,40 @@ def relaxed_momentum(m0, parameters, t) -> np.ndarray | None:
     parameters : array_like, shape (4,)
         ``(I1, I2, I3, alpha)`` (:func:`stability.asteroid.methods.relaxation_params`).
     t : float
-        Time (s), >= 0.
+        Time (s).
 
     Returns
     -------
     ndarray, shape (N, 3), or None
     """
-    values = real_array("parameters", parameters).reshape(-1)
-    moments, alpha = values[:3], float(values[3])
+    p = relaxation_params(parameters)
+    moments, alpha = p[P_I1:P_I1 + 3], float(p[P_ALPHA])
     axis = symmetry_axis(moments)
     if axis is None:
         return None
     m0 = vectors3("m0", m0)
+    t = real_number("t", t, "s")
     order = AXIS_ORDER[axis]
-    x0, y0, z0 = (m0[:, k] for k in order)
     across, along = moments[order[0]], moments[axis]
     mu = (across - along) / (across * along)  # 1/C - 1/A
     out = np.empty_like(m0)
-    for n in range(len(m0)):
-        r2 = x0[n] * x0[n] + y0[n] * y0[n]
-        u0 = z0[n] * z0[n]
-        length = np.sqrt(r2 + u0)
-        if r2 == 0.0 or u0 == 0.0:  # a spin about a principal axis stays
-            out[n] = m0[n]
+    for n, m in enumerate(m0):
+        x0, y0, z0 = (float(m[k]) for k in order)
+        r0 = math.hypot(x0, y0)
+        length = math.hypot(r0, z0)
+        if r0 == 0.0 or z0 == 0.0:  # a spin about a principal axis stays
+            out[n] = m
             continue
+        s, rho = abs(z0) / length, r0 / length
         kappa = -2.0 * alpha * mu * length * length
-        c = r2 / u0  # L^2 / z0^2 - 1
-        with np.errstate(over="ignore"):
-            z = np.copysign(length / np.sqrt(1.0 + c * np.exp(-kappa * t)), z0[n])
-            shrink = np.sqrt((1.0 + c) / (np.exp(kappa * t) + c))
-        angle = -mu * np.copysign(_turned(float(t), kappa, c, length), z0[n])
-        cos, sin = np.cos(angle), np.sin(angle)
-        out[n, order[0]] = shrink * (x0[n] * cos - y0[n] * sin)
-        out[n, order[1]] = shrink * (x0[n] * sin + y0[n] * cos)
+        kt = kappa * t
+        with np.errstate(over="ignore", under="ignore"):  # e^(+-kappa t / 2) may be inf or 0
+            z = math.copysign(length * s / np.hypot(s, rho * np.exp(-0.5 * kt)), z0)
+            shrink = math.hypot(s, rho) / np.hypot(s * np.exp(0.5 * kt), rho)
+        angle = -mu * z0 * _turned(t, kappa, s, rho)
+        cos, sin = math.cos(angle), math.sin(angle)
+        out[n, order[0]] = shrink * (x0 * cos - y0 * sin)
+        out[n, order[1]] = shrink * (x0 * sin + y0 * cos)
         out[n, order[2]] = z
     return out
 

@@ -24,7 +24,8 @@ depends on the wobble's amplitude.
 Parameters per body: ``(I1, I2, I3, alpha)``, the canonical (ascending) principal moments and
 the damping coefficient (:func:`relaxation_params`). The kernel evaluates m x omega as the free
 body's kernels do, ``(A1 m2 m3, A2 m3 m1, A3 m1 m2)`` without cancellation
-(:func:`stability.integrators.rk4.euler_rhs`).
+(:func:`stability.integrators.rk4.euler_rhs`); its RK4 is the package's one RK4 text
+(:func:`stability.integrators.rk4.rk4_source`) applied to (1).
 """
 
 from __future__ import annotations
@@ -32,7 +33,7 @@ from __future__ import annotations
 import numpy as np
 from numba import njit
 
-from ..integrators.rk4 import euler_jvp, euler_rhs
+from ..integrators.rk4 import euler_jvp, euler_rhs, rk4_source
 from ..integrators.rotations import cross
 from ..integrators.spec import N_BODY_PARAMS, MethodSpec, body_params
 from ..util.checks import real_array
@@ -100,24 +101,14 @@ def relaxation_jvp(m1, m2, m3, v1, v2, v3, p):
     return e1 + alpha * (f1 + g1), e2 + alpha * (f2 + g2), e3 + alpha * (f3 + g3)
 
 
-@njit(inline="always")
-def rk4_step(m1, m2, m3, h, p, s):
-    """One classical RK4 step of (1); the increment of m and 0 iterations."""
-    a1, a2, a3 = relaxation_rhs(m1, m2, m3, p)
-    hh = 0.5 * h
-    b1, b2, b3 = relaxation_rhs(m1 + hh * a1, m2 + hh * a2, m3 + hh * a3, p)
-    c1, c2, c3 = relaxation_rhs(m1 + hh * b1, m2 + hh * b2, m3 + hh * b3, p)
-    d1, d2, d3 = relaxation_rhs(m1 + h * c1, m2 + h * c2, m3 + h * c3, p)
-    k = h / 6.0
-    return (k * (a1 + 2.0 * (b1 + c1) + d1), k * (a2 + 2.0 * (b2 + c2) + d2),
-            k * (a3 + 2.0 * (b3 + c3) + d3), 0)
+exec(rk4_source(3, "relaxation_rhs", "rk4_step"))  # noqa: S102 (the package's one RK4 text)
 
 
 RK4 = MethodSpec(
     name="rk4",
     title="classical Runge-Kutta",
     order=4,
-    step=rk4_step,
+    step=rk4_step,  # noqa: F821 (made above)
     params=relaxation_params,
     family="Runge-Kutta",
     evaluations=4,

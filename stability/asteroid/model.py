@@ -458,19 +458,34 @@ def mass_properties(shape, density: float = 1.0) -> MassProperties:
                           np.asarray(props["center_mass"], float), J, moments, axes)
 
 
+def _relaxation_body(moments, alpha) -> np.ndarray:
+    """The kernel parameters of ``moments`` (three numbers) and ``alpha``, checked."""
+    values = real_array("moments", moments).reshape(-1)
+    if values.size != 3:
+        raise ValueError(f"moments must be three numbers (I1, I2, I3), got {values.size}")
+    return relaxation_params([*values, alpha])
+
+
+def _linear_terms(p, axis, length):
+    """(a, b, k) of :func:`wobble_rate`'s linearisation about ``L e_axis``."""
+    inv = p[P_INV1:P_INV1 + 3]
+    a, b = (length * (inv[k] - inv[axis]) for k in range(3) if k != axis)
+    return a, b, p[P_ALPHA] * length
+
+
 def wobble_rate(moments, axis: int, momentum: float, alpha: float) -> float:
     """The growth rate (1/s) of a small wobble about a spin about ``axis`` of the relaxing
     tumbler (:mod:`stability.asteroid.methods`, equation (1)): negative where it dies out.
 
-    Linearised about ``m = L e_j``, the two components across the axis obey
-    ``x' = -k a x - b y``, ``y' = a x - k b y`` with ``k = alpha L``,
-    ``a = L (1/I_b - 1/I_j)`` and ``b = L (1/I_c - 1/I_j)`` (b, c the other axes), whose
-    eigenvalues are ``-k (a + b) / 2 +- sqrt(k^2 (a - b)^2 / 4 - a b)``. About the major axis
-    a, b > 0 and the wobble decays at ``k (a + b) / 2`` while it turns at
-    ``sqrt(a b - k^2 (a - b)^2 / 4)`` (at alpha = 0, the free body's Omega); about the minor
-    axis a, b < 0 and the same dissipation makes it grow (Bloch, Krishnaprasad, Marsden &
-    Ratiu, Comm. Math. Phys. 175, 1 (1996): the instability a dissipation induces); about
-    the intermediate axis a b < 0 and it grows as the free body's does, a little faster.
+    Linearised about ``m = L e_j``, the two components across the axis, in the cyclic order
+    ``(j, b, c)``, obey ``x' = -k a x - b y``, ``y' = a x - k b y`` with ``k = alpha L``,
+    ``a = L (1/I_b - 1/I_j)`` and ``b = L (1/I_c - 1/I_j)``, whose eigenvalues are
+    ``-k (a + b) / 2 +- sqrt(k^2 (a - b)^2 / 4 - a b)``. About the major axis a, b > 0 and the
+    wobble decays at ``k (a + b) / 2`` while it turns at ``sqrt(a b - k^2 (a - b)^2 / 4)`` (at
+    alpha = 0, the free body's Omega); about the minor axis a, b < 0 and the same dissipation
+    makes it grow (Bloch, Krishnaprasad, Marsden & Ratiu, Comm. Math. Phys. 175, 1 (1996): the
+    instability a dissipation induces); about the intermediate axis a b < 0 and it grows at
+    ``sqrt(-a b)`` shifted by about ``-k (a + b) / 2`` (slower where 1/I1 + 1/I3 > 2/I2).
 
     Parameters
     ----------
@@ -488,14 +503,10 @@ def wobble_rate(moments, axis: int, momentum: float, alpha: float) -> float:
     float
         The largest real part of the two eigenvalues.
     """
-    p = relaxation_params([*np.asarray(moments, dtype=float).reshape(-1), alpha])
-    if axis not in (0, 1, 2):
+    p = _relaxation_body(moments, alpha)
+    if isinstance(axis, bool) or not isinstance(axis, (int, np.integer)) or axis not in (0, 1, 2):
         raise ValueError(f"axis must be 0, 1 or 2 (canonical, I1 <= I2 <= I3), got {axis!r}")
-    length = positive_float("momentum", momentum, "kg m2 s-1")
-    inv = p[P_INV1:P_INV1 + 3]
-    others = [k for k in range(3) if k != axis]
-    a, b = (length * (inv[k] - inv[axis]) for k in others)
-    k = p[P_ALPHA] * length
+    a, b, k = _linear_terms(p, int(axis), positive_float("momentum", momentum, "kg m2 s-1"))
     disc = 0.25 * k * k * (a - b) ** 2 - a * b
     return float(-0.5 * k * (a + b) + (math.sqrt(disc) if disc > 0.0 else 0.0))
 
@@ -503,12 +514,14 @@ def wobble_rate(moments, axis: int, momentum: float, alpha: float) -> float:
 def damping_coefficient(moments, momentum: float, damping_time: float) -> float:
     """The alpha of equation (1) (kg^-1 m^-2 s) with which a small wobble about the major axis
     dies out in ``damping_time``: ``alpha = 2 / (tau L^2 (1/I1 + 1/I2 - 2/I3))``, the inverse
-    of :func:`wobble_rate`, exact while the wobble still turns.
+    of :func:`wobble_rate` while the wobble still turns; a damping time too short for that
+    (``tau <= |a - b| / ((a + b) sqrt(a b))``), or a body without one major axis (I2 = I3), is
+    refused.
 
     Parameters
     ----------
     moments : array_like, shape (3,)
-        Canonical moments I1 <= I2 <= I3 (kg m^2), I1 < I3.
+        Canonical moments I1 <= I2 < I3 (kg m^2).
     momentum : float
         |L| (kg m^2/s), > 0.
     damping_time : float
@@ -518,13 +531,18 @@ def damping_coefficient(moments, momentum: float, damping_time: float) -> float:
     -------
     float
     """
-    p = relaxation_params([*np.asarray(moments, dtype=float).reshape(-1), 0.0])
+    p = _relaxation_body(moments, 0.0)
     length = positive_float("momentum", momentum, "kg m2 s-1")
     tau = positive_float("damping_time", damping_time, "s")
-    spread = (p[P_I3] - p[P_I1]) / (p[P_I1] * p[P_I3]) + (p[P_I3] - p[P_I2]) / (p[P_I2] * p[P_I3])
-    if not spread > 0.0:
-        raise ValueError("a sphere (I1 = I3) has no wobble to damp: every axis is principal")
-    return 2.0 / (tau * length * length * spread)
+    if not p[P_I2] < p[P_I3]:
+        raise ValueError(f"the moments {tuple(float(x) for x in p[P_I1:P_I1 + 3])} have no "
+                         "single major axis (I2 = I3): a wobble about it does not die out")
+    a, b, _ = _linear_terms(p, 2, length)
+    shortest = abs(a - b) / ((a + b) * math.sqrt(a * b))
+    if not tau > shortest:
+        raise ValueError(f"damping_time = {tau:g} s is too short for these moments and |L|: "
+                         f"the wobble would no longer turn; give more than {shortest:.6g} s")
+    return 2.0 / (tau * length * (a + b))
 
 
 __all__ = ["MODES", "SpinState", "check_mode", "check_moments", "energy_ratio_bounds",

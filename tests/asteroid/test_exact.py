@@ -1,8 +1,10 @@
 """The exact relaxation of an axisymmetric tumbler (stability.asteroid.exact): it solves
-equation (1) (its time derivative against the right-hand side, on both sides of the branch
-at kappa t = 1 and far past it), keeps |L| to round-off while the energy falls, ends on the
-axis the physics says, and at alpha = 0 is the free symmetric top of stability.exact_omega."""
+equation (1) (its time derivative against the right-hand side), is evaluated to round-off in
+every regime of its formulas (against mpmath), keeps |L| to round-off while the energy falls,
+ends on the axis the physics says, and at alpha = 0 is the free symmetric top of
+stability.exact_omega."""
 
+import mpmath as mp
 import numpy as np
 import pytest
 
@@ -25,35 +27,61 @@ def _rates(m, parameters):
                                         (2.0, 3.0, 3.0, 0.02)])
 @pytest.mark.parametrize("t", [0.0, 0.3, 2.0, 9.0])
 def test_the_solution_solves_the_equations(parameters, t):
-    """Its derivative by a central difference (h = 1e-5, error ~1e-10) is (1)'s right-hand
-    side at the solution, to 1e-8 relative to |m| |w|."""
+    """Its derivative by a central difference (h = 1e-5: an error of about 1e-11; the closed
+    form holds for t < 0 too) is (1)'s right-hand side at the solution, to 1e-9 relative to
+    |m| |w|."""
     h = 1e-5
-    at = relaxed_momentum(STARTS, parameters, t + h)
-    before = relaxed_momentum(STARTS, parameters, max(t - h, 0.0))
-    span = 2 * h if t > 0 else h
-    derivative = (at - before) / span if t > 0 else (at - relaxed_momentum(STARTS, parameters,
-                                                                          0.0)) / h
+    derivative = (relaxed_momentum(STARTS, parameters, t + h)
+                  - relaxed_momentum(STARTS, parameters, t - h)) / (2 * h)
     rates = _rates(relaxed_momentum(STARTS, parameters, t), parameters)
     scale = np.max(np.abs(rates)) + np.max(np.abs(STARTS)) ** 2
-    tolerance = 1e-8 if t > 0 else 1e-4  # one-sided at t = 0: an error ~h
-    assert np.max(np.abs(derivative - rates)) <= tolerance * scale
+    assert np.max(np.abs(derivative - rates)) <= 1e-9 * scale
 
 
-def test_the_two_forms_of_the_turned_angle_meet_at_kappa_t_equal_to_one():
-    """The closed form switches formula at kappa t = 1 (for overflow): the states just below
-    and just above agree to 1e-13, as the solution's own change over that time does."""
-    m = STARTS[:1]
-    p = np.array(OBLATE)
-    kappa = 2.0 * p[3] * (1.0 / p[0] - 1.0 / p[2]) * float(np.sum(m * m))
-    t = 1.0 / kappa
-    below, above = relaxed_momentum(m, p, t * (1 - 1e-15)), relaxed_momentum(m, p, t * (1 + 1e-15))
-    assert np.max(np.abs(below - above)) <= 1e-13
+def _high_precision(m0, parameters, t, digits=60):
+    """The module docstring's closed form, evaluated by mpmath at ``digits`` digits; and the
+    angle turned."""
+    with mp.workdps(digits):
+        i1, i2, i3, alpha = (mp.mpf(float(v)) for v in parameters)
+        order, across, along = ((0, 1, 2), i1, i3) if i1 == i2 else ((1, 2, 0), i2, i1)
+        x0, y0, z0 = (mp.mpf(float(m0[k])) for k in order)
+        mu = 1 / along - 1 / across
+        length2 = x0 ** 2 + y0 ** 2 + z0 ** 2
+        kappa, c, t = -2 * alpha * mu * length2, (x0 ** 2 + y0 ** 2) / z0 ** 2, mp.mpf(t)
+        z = mp.sign(z0) * mp.sqrt(length2) / mp.sqrt(1 + c * mp.exp(-kappa * t))
+        shrink = mp.sqrt((1 + c) / (mp.exp(kappa * t) + c))
+        turned = mp.sign(z0) * 2 * mp.sqrt(length2) / kappa * mp.log(
+            (mp.exp(kappa * t / 2) + mp.sqrt(mp.exp(kappa * t) + c)) / (1 + mp.sqrt(1 + c)))
+        angle = -mu * turned
+        out = [0.0] * 3
+        out[order[0]] = float(shrink * (x0 * mp.cos(angle) - y0 * mp.sin(angle)))
+        out[order[1]] = float(shrink * (x0 * mp.sin(angle) + y0 * mp.cos(angle)))
+        out[order[2]] = float(z)
+        return np.array(out), float(abs(angle))
+
+
+@pytest.mark.parametrize("m0,parameters,t", [
+    ((1.0, 1.2, 1.4), OBLATE, 3.0),
+    ((0.9, -0.2, 0.05), PROLATE, 40.0),  # kappa t = -3.4, near the minor axis
+    ((1.0, 1e-9, 1e-9), PROLATE, 2000.0),  # kappa t = -200 from 1e-9 of the axis
+    ((1.0, 1.0, 1e-5), (1.0, 1.0, 2.0, 1e-6), 3e6),  # slow damping near the equator
+    ((1.0, 1e-6, 1e-7), (1.0, 2.0, 2.0, 1e-6), 3e7),  # the angle turned: 1.5e7 rad
+    ((1.0, 0.5, -0.3), (1.0, 1.0, 2.0, 1e-14), 100.0),  # kappa t = 1.3e-13: the series
+    ((1.0, 0.5, 0.3), OBLATE, 1e4),  # kappa t = 1350: e^(kappa t) overflows
+])
+def test_the_closed_form_is_evaluated_to_round_off(m0, parameters, t):
+    """Against mpmath's 60-digit evaluation of the same closed form: within 2e-14 of |L|, and
+    of a few roundings of the angle turned (the conditioning of cos and sin of 1.5e7 rad)."""
+    reference, angle = _high_precision(m0, parameters, t)
+    got = relaxed_momentum(np.array([m0]), parameters, t)[0]
+    length = np.linalg.norm(m0)
+    assert np.max(np.abs(got - reference)) <= (2e-14 + 4e-16 * angle) * length
 
 
 @pytest.mark.parametrize("parameters,axis", [(OBLATE, 2), (PROLATE, 0)])
 def test_angular_momentum_is_kept_while_the_energy_falls_to_the_end_state(parameters, axis):
-    """|m| to 1e-15 relative (a few ulp) at every time; the energy falls at every step of the time grid;
-    at t = 1e4 the oblate body spins about its axis (m3 = +-L) and the prolate one
+    """|m| to 1e-15 relative (a few ulp) at every time; the energy falls at every step of the
+    time grid; at t = 1e4 the oblate body spins about its axis (m3 = +-L) and the prolate one
     across its axis (m1 = 0, the energy L^2 / (2 I2), the lowest there is)."""
     times = np.linspace(0.0, 60.0, 241)
     length = np.linalg.norm(STARTS, axis=1)

@@ -19,6 +19,8 @@ ALPHA = 0.02
 LENGTH = 2.2
 #: The wobble's start, relative to |L|: its nonlinear terms are of its square.
 AMPLITUDE = 1e-6
+#: How close the run's wobble is to the linear theory's, relative to its start, per axis.
+TOLERANCE = {2: 1e-10, 0: 5e-9}
 
 
 def _run(x0, parameters, h, n_steps, save_every):
@@ -37,9 +39,10 @@ def _linear_terms(axis):
 @pytest.mark.parametrize("axis", [2, 0])
 def test_a_wobble_about_the_major_or_minor_axis_changes_at_the_linear_rate(axis):
     """After whole periods 2 pi / w of the damped oscillation (w from the same linear
-    theory), the state across the axis is exp(rate t) times its start, to 1e-8 of it: the
-    wobble dies out about the major axis (rate -0.037 / s) and grows about the minor one
-    (+0.043 / s) as the dissipation makes it."""
+    theory), the state across the axis is exp(rate t) times its start, to 1e-10 of it about
+    the major axis and 5e-9 about the minor one (measured 8.8e-12 and 6.8e-10): the wobble dies
+    out about the major axis (rate -0.037 / s) and grows about the minor one (+0.043 / s) as
+    the dissipation makes it."""
     a, b, k = _linear_terms(axis)
     frequency = math.sqrt(a * b - 0.25 * k * k * (a - b) ** 2)
     per_period, periods = 2000, 5
@@ -54,7 +57,7 @@ def test_a_wobble_about_the_major_or_minor_axis_changes_at_the_linear_rate(axis)
     for n in range(1, periods + 1):
         grown = run.saved[:, n - 1][:, across]  # saved: after each period, not the start
         expected = x0[:, across] * math.exp(rate * n * h * per_period)
-        assert np.max(np.abs(grown - expected)) <= 1e-8 * AMPLITUDE * LENGTH
+        assert np.max(np.abs(grown - expected)) <= TOLERANCE[axis] * AMPLITUDE * LENGTH
 
 
 def test_a_wobble_about_the_intermediate_axis_grows_at_the_linear_rate():
