@@ -63,7 +63,22 @@ def component(x1, x2, x3, index):
 def angular_velocity_components(m1, m2, m3, p, ia, ib, ic):
     """The angular velocity along the spin axis ``ia`` and the axes ``ib``, ``ic`` across it,
     of a body angular momentum ``m`` whose parameters begin with the body's
-    (:func:`stability.integrators.spec.body_params`): what a scene of ``m`` observes."""
+    (:func:`stability.integrators.spec.body_params`): what a scene of ``m`` observes.
+
+    Parameters
+    ----------
+    m1, m2, m3 : float
+        The body angular momentum (kg m^2/s), canonical frame.
+    p : ndarray
+        The member's parameter row, beginning with the body's.
+    ia, ib, ic : int
+        The spin axis and the two across it (0, 1, 2).
+
+    Returns
+    -------
+    w_a, w_b, w_c : float
+        ``m_k / I_k`` along ``ia``, ``ib``, ``ic`` (rad/s).
+    """
     return (
         component(m1, m2, m3, ia) * p[P_INV1 + ia],
         component(m1, m2, m3, ib) * p[P_INV1 + ib],
@@ -72,12 +87,26 @@ def angular_velocity_components(m1, m2, m3, p, ia, ib, ic):
 
 
 def angular_velocity_tracked(m, p, axes):
-    """:func:`angular_velocity_components` in NumPy at the start: ``(w_a, w_b, w_c)`` of body
-    angular momenta ``m`` (N, 3).
+    """:func:`angular_velocity_components` in NumPy at the start.
 
     ``w = m / I`` (the division, as the caller's ``w0`` was made), which can differ from the
     loop's ``m (1 / I)`` in the last bit: the start's own amplitude decides which levels it
     already reaches, so it must be the caller's.
+
+    Parameters
+    ----------
+    m : ndarray, shape (N, 3)
+        Body angular momenta (kg m^2/s), canonical frame.
+    p : ndarray
+        A parameter row beginning with the body's
+        (:func:`stability.integrators.spec.body_params`).
+    axes : sequence of int
+        The spin axis and the two across it.
+
+    Returns
+    -------
+    tuple of ndarray, shape (N,)
+        ``(w_a, w_b, w_c)`` (rad/s).
     """
     return tuple(m[:, axes[k]] / p[P_I1 + axes[k]] for k in range(3))
 
