@@ -38,13 +38,14 @@ from .free_body.spin_ensembles import run_ensemble, run_ensembles  # noqa: E402
 from .free_body.ensemble_plan import ensemble_memory  # noqa: E402
 from .output.io import load, save  # noqa: E402
 from .engine.user_scene import define_scene  # noqa: E402
-from .api import run_adaptive, run_scene  # noqa: E402
+from .api import run_adaptive, run_scene, run_tangents  # noqa: E402
 from .engine.events import Event  # noqa: E402
 from .ensemble.options import RunOptions  # noqa: E402
 from .free_body.keep import Keep  # noqa: E402
 
 __all__ += ["Event", "Keep", "RunOptions", "animate_flip", "animate_top", "define_scene", "ensemble_memory",
-            "load", "run_adaptive", "run_ensemble", "run_ensembles", "run_scene", "save"]
+            "load", "run_adaptive", "run_ensemble", "run_ensembles", "run_scene", "run_tangents",
+            "save"]
 __all__ += ["flip_statistics", "measured_frequency", "measured_growth_rate", "measured_omega_squared", "member_regimes"]  # noqa: E501
 
 #: Names whose modules load matplotlib, imported when first used: ``import stability`` stays

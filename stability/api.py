@@ -11,6 +11,7 @@ import functools
 
 from .ensemble import adaptive_run, scene_run
 from .registry import scene as registered_scene
+from .tangents import ftle
 
 
 @functools.wraps(scene_run.run_scene)
@@ -23,4 +24,9 @@ def run_adaptive(scene, x0, parameters, t_end, **kwargs):
     return adaptive_run.run_adaptive(registered_scene(scene), x0, parameters, t_end, **kwargs)
 
 
-__all__ = ["run_adaptive", "run_scene"]
+@functools.wraps(ftle.run_tangents)
+def run_tangents(scene, x0, parameters, **kwargs):
+    return ftle.run_tangents(registered_scene(scene), x0, parameters, **kwargs)
+
+
+__all__ = ["run_adaptive", "run_scene", "run_tangents"]

@@ -137,9 +137,11 @@ def run_tangents(scene, x0, parameters, *, h, every, windows, vectors=1, sizes=N
 
     Parameters
     ----------
-    scene : Scene
+    scene : str or Scene
         A scene with a linearisation (``free_body``, ``heavy_top``, ``sphere_damper``,
-        ``gyrostat``, a scene of :func:`stability.define_scene`).
+        ``gyrostat``, ``relaxing_tumbler``, a scene of :func:`stability.define_scene`): a
+        registered scene's name (looked up by :func:`stability.run_tangents`) or the scene.
+        This function itself takes the Scene alone.
     x0 : array_like, shape (N, n)
         Initial states, group after group, in the scene's kernels' frame and units.
     parameters : parameter set, or sequence of them
